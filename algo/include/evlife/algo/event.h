@@ -1,0 +1,53 @@
+// Plain event types shared by every module. Trivially copyable, fixed size,
+// integer microsecond time, so that they travel through queues and files as-is.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+namespace evlife {
+
+/// Sensor geometry in pixels.
+struct SensorSize {
+  int width = 0;
+  int height = 0;
+  constexpr bool contains(int x, int y) const noexcept {
+    return x >= 0 && y >= 0 && x < width && y < height;
+  }
+  constexpr long long pixel_count() const noexcept {
+    return static_cast<long long>(width) * height;
+  }
+  friend constexpr bool operator==(SensorSize, SensorSize) = default;
+};
+
+/// One DVS event <x, y, t, p>. Polarity is +1 (ON, brighter) or -1 (OFF).
+struct Event {
+  std::int64_t t_us = 0;  ///< timestamp, microseconds
+  std::uint16_t x = 0;    ///< column, 0 = left
+  std::uint16_t y = 0;    ///< row, 0 = top
+  std::int8_t p = 1;      ///< polarity: +1 or -1
+};
+static_assert(std::is_trivially_copyable_v<Event>);
+static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");
+
+/// An event augmented with its lifetime and velocity (paper eq. 1).
+/// Noise events have lifetime 0 and velocity 0.
+struct AugmentedEvent {
+  Event event;
+  float lifetime_us = 0.0f;  ///< time the edge needs to move one pixel; 0 = noise
+  float vx_px_s = 0.0f;      ///< image-plane velocity, pixels per second
+  float vy_px_s = 0.0f;
+  /// t - t_hat of the prediction made for this pixel by an earlier event
+  /// (paper Fig. 9), microseconds; NaN when no prediction existed.
+  float prediction_error_us = std::numeric_limits<float>::quiet_NaN();
+
+  bool is_noise() const noexcept { return lifetime_us <= 0.0f; }
+  bool has_prediction() const noexcept {
+    return prediction_error_us == prediction_error_us;  // false for NaN
+  }
+};
+static_assert(std::is_trivially_copyable_v<AugmentedEvent>);
+static_assert(sizeof(AugmentedEvent) == 32, "AugmentedEvent must stay 32 bytes");
+
+}  // namespace evlife

@@ -1,0 +1,73 @@
+// The event lifetime estimator (Mueggler et al., ICRA 2015, Section III).
+// Per polarity: a Surface of Active Events, a RANSAC plane fit over the newer
+// half of the N x N window, a least-squares refit regularized towards the
+// predicted plane, lifetime tau = |grad Sigma| and velocity
+// v = grad Sigma / |grad Sigma|^2.
+//
+// All memory is allocated in the constructor. process() never allocates,
+// locks, logs or throws; it is deterministic for given options and input.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "evlife/algo/event.h"
+#include "evlife/algo/lifetime_options.h"
+
+namespace evlife {
+
+/// Counters of what process() has seen (cheap, updated per event).
+struct LifetimeStats {
+  std::uint64_t events = 0;
+  std::uint64_t noise = 0;             ///< events given lifetime 0
+  std::uint64_t predictions = 0;       ///< events that had a prediction
+  std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
+  std::uint64_t bad_polarity = 0;      ///< rejected: p not +1/-1
+};
+
+class LifetimeEstimator {
+ public:
+  /// Throws std::invalid_argument (naming the field) on invalid options.
+  explicit LifetimeEstimator(const LifetimeOptions& options);
+
+  /// Estimates the lifetime and velocity of one event. Events must arrive in
+  /// non-decreasing time per polarity; an out-of-sensor event or a bad
+  /// polarity is returned as noise and counted, never read out of bounds.
+  AugmentedEvent process(const Event& event) noexcept;
+
+  /// Batch form: out[i] = process(in[i]) for i < min(in.size(), out.size()).
+  /// Returns the number of events processed.
+  std::size_t process(std::span<const Event> in, std::span<AugmentedEvent> out) noexcept;
+
+  /// Forgets all history (SAE and predictions); keeps the options.
+  void reset() noexcept;
+
+  const LifetimeOptions& options() const noexcept { return options_; }
+  const LifetimeStats& stats() const noexcept { return stats_; }
+
+ private:
+  // Per pixel and polarity: the SAE value and the prediction made for this
+  // pixel by a neighbour's event (time and gradient of the predicted plane).
+  struct PixelState {
+    std::int64_t last_t_us;       // INT64_MIN: never fired
+    std::int64_t predicted_t_us;  // valid when has_prediction
+    float predicted_gx_us_px;
+    float predicted_gy_us_px;
+    bool has_prediction;
+  };
+  PixelState& state(int polarity_index, int x, int y) noexcept {
+    return states_[(static_cast<std::size_t>(polarity_index) * options_.sensor.height + y) *
+                       options_.sensor.width + x];
+  }
+
+  LifetimeOptions options_;
+  LifetimeStats stats_;
+  int half_window_ = 2;
+  int ransac_iterations_ = 0;
+  double min_support_fraction_ = 0.0;
+  std::vector<PixelState> states_;  // [polarity][y][x]
+};
+
+}  // namespace evlife
