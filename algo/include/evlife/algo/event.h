@@ -27,6 +27,7 @@ struct Event {
   std::uint16_t x = 0;    ///< column, 0 = left
   std::uint16_t y = 0;    ///< row, 0 = top
   std::int8_t p = 1;      ///< polarity: +1 or -1
+  std::uint8_t reserved[3] = {0, 0, 0};  ///< explicit, zeroed: byte-exact copies and files
 };
 static_assert(std::is_trivially_copyable_v<Event>);
 static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");

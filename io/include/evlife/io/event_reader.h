@@ -1,5 +1,10 @@
 // Streaming event readers: constant memory, any file size. Formats are
 // sniffed from the header (or the extension where the format has none).
+//
+// Coordinate convention of every reader: x = 0 is the left column, y = 0 the
+// TOP row (as libcaer delivers DVS128 data over USB). Readers of formats with
+// another origin convert (e.g. jAER AEDAT 2.0 is bottom-left: y is flipped;
+// MATLAB .mat files are 1-based: 1 is subtracted).
 #pragma once
 
 #include <cstddef>
@@ -10,13 +15,14 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "evlife/algo/event.h"
 
 namespace evlife::io {
 
 /// A read failure: names the file and where (byte offset and/or index of
-/// the event at fault; -1 when unknown).
+/// the event at fault; -1 when unknown). what() contains all of it.
 class ReadError : public std::runtime_error {
  public:
   ReadError(const std::string& path, std::int64_t byte_offset, std::int64_t event_index,
@@ -41,17 +47,63 @@ class EventReader {
   /// ReadError (so nothing good is lost).
   virtual std::size_t read(std::span<Event> out) = 0;
 
-  /// Sensor size when the format states it.
+  /// Sensor size when the format states it (or the caller did, see
+  /// ReaderOptions::sensor).
   virtual std::optional<SensorSize> sensor_size() const = 0;
 
   /// Short format name, e.g. "mat", "rpg-text", "aedat2".
   virtual std::string_view format_name() const = 0;
 
   virtual const std::string& path() const = 0;
+
+  /// Records in the file that are not events and were skipped on purpose
+  /// (e.g. AEDAT 2.0 special/external events). Shown to the user.
+  virtual std::uint64_t skipped_record_count() const { return 0; }
+
+  /// Bytes of the file consumed so far (for progress display; approximate
+  /// for compressed formats). 0 when unknown.
+  virtual std::uint64_t bytes_consumed() const { return 0; }
+
+  /// Byte offset in the file of event `event_index` (counted from 0 over the
+  /// whole stream), valid for the events returned by the most recent read();
+  /// -1 when the format cannot say (e.g. compressed data).
+  virtual std::int64_t byte_offset_of_event(std::int64_t event_index) const {
+    (void)event_index;
+    return -1;
+  }
 };
 
-/// Opens `path`, sniffing its format. Throws ReadError for a missing or
-/// unreadable file or an unknown format (the message lists the known ones).
-std::unique_ptr<EventReader> open_event_reader(const std::string& path);
+/// What open_event_reader checks on top of decoding.
+struct ReaderOptions {
+  /// Sensor the events must fit in; overrides what the format states. When
+  /// neither says, coordinates are not bounds-checked (see
+  /// sensor_size_from_data.h to infer one).
+  std::optional<SensorSize> sensor;
+  /// Timestamps going backwards are an error (the estimator needs order).
+  bool require_time_order = true;
+};
+
+/// Opens `path`, sniffing its format, and wraps the reader so that
+/// coordinates outside the sensor and timestamps going backwards raise
+/// ReadError (index of the event, byte offset when known) after the events
+/// before it were delivered. Throws ReadError for a missing or unreadable
+/// file or an unknown format (the message lists the known ones).
+std::unique_ptr<EventReader> open_event_reader(const std::string& path,
+                                               const ReaderOptions& options = {});
+
+/// Same as open_event_reader(path, {sensor}).
+std::unique_ptr<EventReader> open_checked_event_reader(const std::string& path,
+                                                       std::optional<SensorSize> sensor);
+
+/// The decoder alone, without the checks above (format errors still throw).
+std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path);
+
+/// A readable format: short name (as format_name()) and a one-line description.
+struct EventFormatInfo {
+  std::string_view name;
+  std::string_view description;
+};
+/// Every format open_event_reader knows, in sniffing order.
+std::vector<EventFormatInfo> known_event_formats();
 
 }  // namespace evlife::io

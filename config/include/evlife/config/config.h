@@ -1,0 +1,85 @@
+// The evlife configuration: one plain struct per YAML section, parsed and
+// validated once (at start-up, never on a per-event path).
+//
+//   ConfigBuilder b;                       // the struct defaults
+//   b.load_file("my.yaml");                // keys in the file replace defaults
+//   b.set("estimator.window_size=7");      // --set overrides, dotted keys
+//   Config c = b.build();                  // validates every key once
+//
+// Adding a section: add a member to Config, describe its keys in
+// src/<section>_keys.cpp (see estimator_keys.cpp) and list that function in
+// src/config_key.cpp; document the keys in config/evlife.yaml (a test checks
+// that the file lists every key with the struct's default value).
+#pragma once
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "evlife/algo/lifetime_options.h"
+
+namespace evlife::config {
+
+struct Config {
+  LifetimeOptions estimator;  ///< YAML section `estimator:`, 1:1 with LifetimeOptions
+};
+
+/// Any configuration problem: the message names the key, where it was set
+/// (file:line or --set) and what is allowed.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Where a key's value came from.
+struct KeyOrigin {
+  std::string where;       ///< "path:line" or "--set"
+  bool by_user = false;    ///< false for the default file
+};
+
+class ConfigBuilder {
+ public:
+  /// Starts from the struct defaults (the compiled-in defaults).
+  ConfigBuilder();
+
+  /// Reads a YAML file; its keys replace the current values. Throws
+  /// ConfigError for a missing file, a syntax error, an unknown key or a
+  /// value of the wrong type (naming file, line and key). Ranges are checked
+  /// by build(). `by_user` = false marks the shipped default file.
+  void load_file(const std::string& path, bool by_user = true);
+
+  /// Loads EVLIFE_DEFAULT_CONFIG when that file exists (the documented
+  /// defaults in the source tree) and returns its path; returns "" when it
+  /// is gone (installed binary): then the struct defaults stand.
+  std::string load_default_file_if_present();
+
+  /// Applies one "dotted.key=value" override (the value as in YAML).
+  void set(std::string_view assignment);
+
+  /// Validates every key once; throws ConfigError naming the first bad key,
+  /// its value, where it was set and the allowed range.
+  Config build() const;
+
+  /// Non-null when the key was given by a file or --set.
+  const KeyOrigin* origin(std::string_view key) const;
+
+ private:
+  void assign(std::string_view key, std::string_view value, const std::string& where,
+              bool by_user);
+
+  Config config_;
+  std::map<std::string, KeyOrigin, std::less<>> origins_;
+};
+
+/// Path of the documented default file compiled into the library.
+std::string default_config_path();
+
+/// Convenience: defaults, then `path` (if not empty), then overrides; validated.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The effective configuration as YAML (every key, current value).
+std::string to_yaml(const Config& config);
+
+}  // namespace evlife::config

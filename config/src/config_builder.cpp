@@ -1,0 +1,200 @@
+// Loads YAML files and --set overrides into a Config, remembering where each
+// key was set so that every error can name the key, its origin and its range.
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+#include "evlife/config/config.h"
+#include "evlife/config/config_key.h"
+
+namespace evlife::config {
+namespace {
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// True when `prefix` names a section (some key lies below it).
+bool is_section(std::string_view prefix) {
+  for (const auto& k : config_keys()) {
+    if (k.name.size() > prefix.size() && k.name.compare(0, prefix.size(), prefix) == 0 &&
+        k.name[prefix.size()] == '.') {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string unknown_key_message(const std::string& where, std::string_view key) {
+  std::ostringstream msg;
+  msg << where << ": unknown configuration key '" << key << "'";
+  const ConfigKey* best = nullptr;
+  std::size_t best_d = 4;  // suggest only close matches
+  for (const auto& k : config_keys()) {
+    const std::size_t d = edit_distance(key, k.name);
+    if (d < best_d) {
+      best_d = d;
+      best = &k;
+    }
+  }
+  if (best) msg << " (did you mean '" << best->name << "'?)";
+  msg << "; known keys:";
+  for (const auto& k : config_keys()) msg << ' ' << k.name;
+  return msg.str();
+}
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string_view::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+}  // namespace
+
+ConfigBuilder::ConfigBuilder() = default;
+
+void ConfigBuilder::assign(std::string_view key, std::string_view value, const std::string& where,
+                           bool by_user) {
+  const ConfigKey* k = find_config_key(key);
+  if (!k) throw ConfigError(unknown_key_message(where, key));
+  if (!k->parse(config_, value)) {
+    throw ConfigError(where + ": " + std::string(key) + " = '" + std::string(value) +
+                      "' is not a valid " + k->type + " (allowed: " + k->allowed + ")");
+  }
+  origins_[std::string(key)] = KeyOrigin{where, by_user};
+}
+
+void ConfigBuilder::load_file(const std::string& path, bool by_user) {
+  if (!std::filesystem::exists(path)) {
+    throw ConfigError(path + ": configuration file not found");
+  }
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " +
+                      e.msg);
+  }
+  if (root.IsNull()) return;  // empty file: defaults stand
+  auto where = [&](const YAML::Node& n) {
+    return path + ":" + std::to_string(n.Mark().line + 1);
+  };
+  if (!root.IsMap()) throw ConfigError(where(root) + ": expected a map of sections at top level");
+
+  // Depth-first over maps; leaves are scalars named by their dotted path.
+  auto walk = [&](auto&& self, const YAML::Node& map, const std::string& prefix) -> void {
+    for (const auto& item : map) {
+      const std::string name = item.first.as<std::string>();
+      const std::string key = prefix.empty() ? name : prefix + "." + name;
+      const YAML::Node& value = item.second;
+      if (value.IsMap()) {
+        if (!is_section(key)) throw ConfigError(unknown_key_message(where(item.first), key));
+        self(self, value, key);
+      } else if (value.IsScalar()) {
+        assign(key, value.Scalar(), where(item.first), by_user);
+      } else if (!find_config_key(key) && !is_section(key)) {
+        throw ConfigError(unknown_key_message(where(item.first), key));
+      } else {
+        throw ConfigError(where(item.first) + ": " + key +
+                          (value.IsNull() ? " has no value" : " must be a single value"));
+      }
+    }
+  };
+  walk(walk, root, "");
+}
+
+std::string ConfigBuilder::load_default_file_if_present() {
+  const std::string path = default_config_path();
+  if (path.empty() || !std::filesystem::exists(path)) return {};
+  load_file(path, /*by_user=*/false);
+  return path;
+}
+
+void ConfigBuilder::set(std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string_view::npos) {
+    throw ConfigError("--set " + std::string(assignment) + ": expected key=value, e.g. --set " +
+                      "estimator.window_size=7");
+  }
+  const std::string key = trim(assignment.substr(0, eq));
+  std::string value = trim(assignment.substr(eq + 1));
+  if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
+      value.back() == value.front()) {
+    value = value.substr(1, value.size() - 2);
+  }
+  assign(key, value, "--set " + std::string(assignment), /*by_user=*/true);
+}
+
+Config ConfigBuilder::build() const {
+  for (const auto& k : config_keys()) {
+    if (!k.in_range(config_)) {
+      const KeyOrigin* o = origin(k.name);
+      throw ConfigError(k.name + " = " + k.format(config_) + " (" +
+                        (o ? "set at " + o->where : std::string("default")) +
+                        ") is out of range; allowed: " + k.allowed);
+    }
+  }
+  // Cross-field rules of the estimator itself (none today beyond the ranges).
+  const std::string err = validate_lifetime_options(config_.estimator);
+  if (!err.empty()) throw ConfigError("estimator." + err);
+  return config_;
+}
+
+const KeyOrigin* ConfigBuilder::origin(std::string_view key) const {
+  const auto it = origins_.find(key);
+  return it == origins_.end() ? nullptr : &it->second;
+}
+
+std::string default_config_path() {
+#ifdef EVLIFE_DEFAULT_CONFIG
+  return EVLIFE_DEFAULT_CONFIG;
+#else
+  return {};
+#endif
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  ConfigBuilder b;
+  if (!path.empty()) b.load_file(path);
+  for (const auto& o : overrides) b.set(o);
+  return b.build();
+}
+
+std::string to_yaml(const Config& config) {
+  // Keys are listed section by section, so emit a nested map in that order.
+  std::ostringstream out;
+  std::vector<std::string> open;  // currently open map path
+  for (const auto& k : config_keys()) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (std::size_t dot; (dot = k.name.find('.', start)) != std::string::npos; start = dot + 1) {
+      parts.push_back(k.name.substr(start, dot - start));
+    }
+    const std::string leaf = k.name.substr(start);
+    std::size_t common = 0;
+    while (common < open.size() && common < parts.size() && open[common] == parts[common]) ++common;
+    open.resize(common);
+    for (std::size_t i = common; i < parts.size(); ++i) {
+      out << std::string(2 * i, ' ') << parts[i] << ":\n";
+      open.push_back(parts[i]);
+    }
+    out << std::string(2 * parts.size(), ' ') << leaf << ": " << k.format(config) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace evlife::config

@@ -1,0 +1,141 @@
+// Builders of ConfigKey for the usual field types (internal to config/).
+#pragma once
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "evlife/config/config_key.h"
+
+namespace evlife::config::detail {
+
+bool parse_bool(std::string_view text, bool& out);
+bool parse_double(std::string_view text, double& out);
+bool parse_int64(std::string_view text, long long& out);
+bool parse_uint64(std::string_view text, unsigned long long& out);
+std::string format_double(double v);  // shortest text that parses back exactly
+
+/// Numeric interval; open ends exclude the bound. `odd` for window sizes.
+template <typename T>
+struct Range {
+  T lo;
+  T hi;
+  bool lo_open = false;
+  bool hi_open = false;
+  bool odd = false;
+
+  bool contains(T v) const {
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(v)) return false;
+    }
+    const bool lo_ok = lo_open ? v > lo : v >= lo;
+    const bool hi_ok = hi_open ? v < hi : v <= hi;
+    const bool odd_ok = !odd || (static_cast<long long>(v) % 2 != 0);
+    return lo_ok && hi_ok && odd_ok;
+  }
+  std::string text() const {
+    auto num = [](T v) {
+      if constexpr (std::is_floating_point_v<T>) return format_double(v);
+      else return std::to_string(v);
+    };
+    std::string s = std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
+    return odd ? "odd, " + s : s;
+  }
+};
+
+/// `field` is a generic lambda returning a reference to the field in a
+/// Config (called with Config& and const Config&).
+template <typename T, typename Field>
+ConfigKey number_key(std::string name, Field field, Range<T> range) {
+  ConfigKey k;
+  k.name = std::move(name);
+  k.allowed = range.text();
+  if constexpr (std::is_floating_point_v<T>) {
+    k.type = "number";
+    k.parse = [field](Config& c, std::string_view text) {
+      double v = 0;
+      if (!parse_double(text, v)) return false;
+      field(c) = static_cast<T>(v);
+      return true;
+    };
+    k.format = [field](const Config& c) { return format_double(field(c)); };
+  } else if constexpr (std::is_unsigned_v<T>) {
+    k.type = "integer";
+    k.parse = [field](Config& c, std::string_view text) {
+      unsigned long long v = 0;
+      if (!parse_uint64(text, v) || v > static_cast<unsigned long long>(std::numeric_limits<T>::max())) return false;
+      field(c) = static_cast<T>(v);
+      return true;
+    };
+    k.format = [field](const Config& c) { return std::to_string(field(c)); };
+  } else {
+    k.type = "integer";
+    k.parse = [field](Config& c, std::string_view text) {
+      long long v = 0;
+      if (!parse_int64(text, v) || v < static_cast<long long>(std::numeric_limits<T>::min()) ||
+          v > static_cast<long long>(std::numeric_limits<T>::max())) {
+        return false;
+      }
+      field(c) = static_cast<T>(v);
+      return true;
+    };
+    k.format = [field](const Config& c) { return std::to_string(field(c)); };
+  }
+  k.in_range = [field, range](const Config& c) { return range.contains(field(c)); };
+  return k;
+}
+
+template <typename Field>
+ConfigKey bool_key(std::string name, Field field) {
+  ConfigKey k;
+  k.name = std::move(name);
+  k.type = "boolean";
+  k.allowed = "true or false";
+  k.parse = [field](Config& c, std::string_view text) {
+    bool v = false;
+    if (!parse_bool(text, v)) return false;
+    field(c) = v;
+    return true;
+  };
+  k.in_range = [](const Config&) { return true; };
+  k.format = [field](const Config& c) { return std::string(field(c) ? "true" : "false"); };
+  return k;
+}
+
+/// A string restricted to `choices` (empty = any string).
+template <typename Field>
+ConfigKey string_key(std::string name, Field field, std::vector<std::string> choices = {}) {
+  ConfigKey k;
+  k.name = std::move(name);
+  k.type = "string";
+  if (choices.empty()) {
+    k.allowed = "any text";
+  } else {
+    for (const auto& c : choices) k.allowed += (k.allowed.empty() ? "one of: " : ", ") + c;
+  }
+  k.parse = [field](Config& c, std::string_view text) {
+    field(c) = std::string(text);
+    return true;
+  };
+  k.in_range = [field, choices](const Config& c) {
+    if (choices.empty()) return true;
+    for (const auto& s : choices) {
+      if (s == field(c)) return true;
+    }
+    return false;
+  };
+  k.format = [field](const Config& c) { return std::string(field(c)); };
+  return k;
+}
+
+// One function per section appends its keys (listed in config_key.cpp).
+void add_estimator_keys(std::vector<ConfigKey>& keys);
+
+}  // namespace evlife::config::detail

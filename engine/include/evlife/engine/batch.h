@@ -1,0 +1,49 @@
+// The units that travel through the engine's queues. Both are allocated once
+// in fixed pools at start and recycled; a batch is never copied.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::engine {
+
+/// The events of one source chunk that one worker must process, with a flag
+/// per event saying whether the worker owns it (its output is kept) or only
+/// needs it as context (margin: its output is discarded). The worker writes
+/// the outputs of owned events, in order, into `out`.
+struct WorkBatch {
+  explicit WorkBatch(std::size_t capacity)
+      : events(std::make_unique<Event[]>(capacity)),
+        owned(std::make_unique<std::uint8_t[]>(capacity)),
+        out(std::make_unique<AugmentedEvent[]>(capacity)),
+        capacity(capacity) {}
+
+  std::unique_ptr<Event[]> events;
+  std::unique_ptr<std::uint8_t[]> owned;
+  std::unique_ptr<AugmentedEvent[]> out;
+  std::size_t capacity;
+  std::size_t count = 0;        // events to process
+  std::size_t owned_count = 0;  // outputs in `out` once processed
+  std::uint64_t chunk_seq = 0;  // source chunk it came from (checks order)
+  int worker = 0;
+};
+
+/// The merge order of one source chunk: for each accepted event, the worker
+/// whose output queue holds its result (kDropped: dropped, not merged).
+struct OrderBatch {
+  static constexpr std::uint8_t kDropped = 0xFE;
+
+  explicit OrderBatch(std::size_t capacity)
+      : owner(std::make_unique<std::uint8_t[]>(capacity)), capacity(capacity) {}
+
+  std::unique_ptr<std::uint8_t[]> owner;
+  std::size_t capacity;
+  std::size_t count = 0;
+  std::uint64_t chunk_seq = 0;
+  std::int64_t arrival_ns = 0;  // steady clock when the source returned the chunk
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,60 @@
+// Options of the engine: thread roles, tiling, queue sizes and overload
+// policy. A plain struct with defaults; validate_engine_options() names the
+// offending field. Fixed at start: nothing here changes during a run.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "evlife/algo/lifetime_options.h"
+
+namespace evlife::engine {
+
+/// What the router does when a worker's batch pool is exhausted (the worker,
+/// the merger or the sink is slower than the source).
+enum class OverloadPolicy {
+  block,  ///< wait for room: nothing lost, the source is slowed (files)
+  drop,   ///< drop the batch's events for that worker, counted (live cameras)
+};
+
+struct EngineOptions {
+  /// Estimator options; `lifetime.sensor` is overwritten by the source's size.
+  LifetimeOptions lifetime;
+
+  /// Worker threads, each owning a set of tiles. 1..32.
+  int workers = 2;
+
+  /// Each polarity's sensor is cut into tiles_x by tiles_y tiles; the
+  /// 2 * tiles_x * tiles_y tiles are dealt to the workers round robin
+  /// (polarity-major, so with 1x1 tiles and 2 workers: ON -> 0, OFF -> 1).
+  int tiles_x = 1;
+  int tiles_y = 1;
+
+  /// Pixels around a worker's tiles whose events it is also fed (outputs
+  /// discarded) so that windows reaching across a tile border see the same
+  /// past as the single-threaded estimator. -1: automatic (4 * window_size;
+  /// see the README for the measured effect). Ignored with 1x1 tiles.
+  int margin_px = -1;
+
+  /// Events per batch (the unit moved through the queues). 16..65536.
+  std::size_t batch_events = 1024;
+
+  /// Batches per worker in flight (its pool and queue capacity). 2..4096.
+  std::size_t batches_per_worker = 64;
+
+  /// When workers lag. auto_policy: block for offline sources, drop for live ones.
+  bool auto_policy = true;
+  OverloadPolicy policy = OverloadPolicy::block;
+
+  /// Period of the progress line (spdlog info); 0 = only the final summary.
+  double stats_period_s = 1.0;
+};
+
+/// Margin actually used for `options` (resolves -1 and the 1x1 case).
+int effective_margin_px(const EngineOptions& options);
+
+/// Empty when usable, else a message naming the field and its allowed range.
+std::string validate_engine_options(const EngineOptions& options);
+
+}  // namespace evlife::engine

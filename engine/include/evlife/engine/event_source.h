@@ -1,0 +1,91 @@
+// The interface every event source implements: file replay, the DVS128 USB
+// camera, a synthetic scene. The engine's source thread drives it by calling
+// pull() in a loop and pushes what it returns into the pipeline; the source
+// itself never creates a thread, never queues, never decides what to drop.
+//
+// Contract (each point is what the engine relies on):
+//  - pull() is called from ONE thread (the engine's source thread, or a
+//    test's own thread). It fills `out` with up to out.size() events in
+//    non-decreasing time order and returns how many. It may wait, but only
+//    briefly (at most ~20 ms, e.g. one USB transfer timeout or one pacing
+//    sleep), so that the engine can see a stop request; returning 0 with
+//    status() == SourceStatus::ok means "nothing yet, call again".
+//  - End of the stream: pull() returns 0 and status() becomes end_of_stream
+//    (a file was read to its end) or error (corrupt data, a vanished device,
+//    a USB failure). Events decoded before a fault are returned first; the
+//    error is reported on the following call, never instead of them. After
+//    that, pull() keeps returning 0. The engine ends the run cleanly —
+//    everything accepted is processed and written — and the run's exit
+//    status is non-zero on error, with error_message() shown.
+//  - pull() does not throw: an exception is turned into status() == error by
+//    the source (the engine also catches, as a last resort, and treats an
+//    escaping exception as an error of the source).
+//  - Backpressure and drops are the ENGINE's policy (block for offline
+//    sources, drop and count for live ones). A source only counts what it
+//    lost itself before the engine saw it (a device FIFO overflow, a lost USB
+//    transfer) in lost_events(), so the engine can report it per stage.
+//  - request_stop() may be called from any thread (signal handling, the
+//    engine's shutdown); it makes a waiting pull() return soon. It must be
+//    thread-safe; nothing else is.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::engine {
+
+enum class SourceStatus {
+  ok,             ///< streaming; pull() may return events or 0 (= not yet)
+  end_of_stream,  ///< finished normally (file end, stop requested)
+  error,          ///< finished on a fault; see error_message()
+};
+
+/// How the engine should treat a source unless configured otherwise.
+enum class SourceKind {
+  offline,  ///< a recording: default policy blocks the source when workers lag
+  live,     ///< a camera: default policy drops (counted) rather than block it
+};
+
+class EventSource {
+ public:
+  virtual ~EventSource() = default;
+
+  /// Fills `out` with up to out.size() events, in non-decreasing time order;
+  /// returns how many (0 = none now, or finished: check status()). Never throws.
+  virtual std::size_t pull(std::span<Event> out) noexcept = 0;
+
+  /// ok while streaming, then end_of_stream or error (final).
+  virtual SourceStatus status() const noexcept = 0;
+
+  /// Human-readable cause when status() == error, naming the file or device
+  /// and the byte offset / event index where known. Empty otherwise.
+  virtual std::string error_message() const = 0;
+
+  /// Sensor geometry. Known at construction (from the file, the device, or
+  /// the user's --sensor); the engine sizes its state from it.
+  virtual SensorSize sensor_size() const noexcept = 0;
+
+  virtual SourceKind kind() const noexcept = 0;
+
+  /// What this is, for logs: "file:/path/x.mat", "usb:DVS128 serial 0042".
+  virtual std::string describe() const = 0;
+
+  /// Events the source lost before handing them over (device overflow, lost
+  /// transfers, events outside the sensor it refused). 0 for files.
+  virtual std::uint64_t lost_events() const noexcept { return 0; }
+
+  /// Asks a pull() in progress (or the next one) to return promptly and the
+  /// source to finish with end_of_stream. Thread-safe; idempotent.
+  virtual void request_stop() noexcept = 0;
+
+ protected:
+  EventSource() = default;
+  EventSource(const EventSource&) = default;
+  EventSource& operator=(const EventSource&) = default;
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,34 @@
+// Readers of the files written by open_augmented_writer (.csv and .bin),
+// streaming, with the same error rules as EventReader: the good records come
+// first, then the next read() throws ReadError naming the file and the
+// record index / byte offset.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "evlife/algo/event.h"
+#include "evlife/io/event_reader.h"  // ReadError
+
+namespace evlife::io {
+
+class AugmentedEventReader {
+ public:
+  virtual ~AugmentedEventReader() = default;
+  /// Up to out.size() records in file order; 0 = end.
+  virtual std::size_t read(std::span<AugmentedEvent> out) = 0;
+  /// From the .bin header; nullopt for CSV.
+  virtual std::optional<SensorSize> sensor_size() const = 0;
+  virtual std::string_view format_name() const = 0;  ///< "augmented-csv" / "augmented-bin"
+  virtual const std::string& path() const = 0;
+};
+
+/// Sniffs the .bin magic, else expects the CSV header. Throws ReadError for a
+/// missing file or unknown content.
+std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);
+
+}  // namespace evlife::io

@@ -1,0 +1,31 @@
+// Sensor size when neither the format nor the user states it: one pass over
+// the file, the smallest sensor holding every event.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::io {
+
+/// Reads `path` once (constant memory) and returns {max x + 1, max y + 1}.
+/// Throws ReadError when the file cannot be read or holds no event.
+SensorSize sensor_size_from_data(const std::string& path);
+
+/// Where a resolved sensor size came from (for the user's summary).
+enum class SensorSizeSource { format, user, data };
+std::string_view to_string(SensorSizeSource source);
+
+struct ResolvedSensorSize {
+  SensorSize size;
+  SensorSizeSource source = SensorSizeSource::format;
+};
+
+/// The rule of `evlife process`: the format's sensor where it states one,
+/// else `user` (--sensor), else sensor_size_from_data(path).
+ResolvedSensorSize resolve_sensor_size(const std::string& path,
+                                       std::optional<SensorSize> user);
+
+}  // namespace evlife::io

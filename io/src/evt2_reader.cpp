@@ -1,0 +1,111 @@
+#include "evt2_reader.h"
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+
+#include "prophesee_header.h"
+#include "reader_registry.h"
+
+namespace evlife::io {
+namespace {
+
+constexpr std::uint64_t kTimeHighRange = std::uint64_t{1} << 28;
+constexpr std::size_t kWordBytes = 4;
+
+}  // namespace
+
+Evt2Reader::Evt2Reader(const std::string& path) : file_(path) {
+  const PropheseeHeader header = read_prophesee_header(file_);
+  const std::string version = header.evt_version();
+  if (version != "2.0") {
+    throw ReadError(path, 0, -1,
+                    "not a Prophesee EVT 2.0 RAW file (header says evt '" + version + "')");
+  }
+  sensor_ = header.sensor_size();
+  if (sensor_) {
+    max_x_ = static_cast<std::uint32_t>(std::min(sensor_->width, 2048) - 1);
+    max_y_ = static_cast<std::uint32_t>(std::min(sensor_->height, 2048) - 1);
+  }
+}
+
+std::size_t Evt2Reader::read(std::span<Event> out) {
+  if (error_) throw *error_;
+  std::size_t n = 0;
+  while (n < out.size()) {
+    if (file_.fill(kWordBytes) < kWordBytes) {
+      if (file_.available() != 0) {
+        error_.emplace(path(), file_.offset(), event_count_,
+                       "truncated EVT 2.0 word (" + std::to_string(file_.available()) +
+                           " trailing bytes)");
+      }
+      break;
+    }
+    // At most one event per word, so `words` never overruns `out`.
+    const std::size_t words = std::min(file_.available() / kWordBytes, out.size() - n);
+    const std::uint8_t* bytes = file_.data();
+    std::size_t i = 0;
+    for (; i < words; ++i) {
+      std::uint32_t w;
+      std::memcpy(&w, bytes + i * kWordBytes, kWordBytes);
+      const std::uint32_t type = w >> 28;
+      if (type <= 1) {  // CD_OFF / CD_ON
+        const std::uint32_t x = (w >> 11) & 0x7FF;
+        const std::uint32_t y = w & 0x7FF;
+        if (x > max_x_ || y > max_y_) {
+          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes),
+                         event_count_,
+                         "EVT 2.0 event at x=" + std::to_string(x) + " y=" + std::to_string(y) +
+                             " outside the sensor");
+          break;
+        }
+        Event& e = out[n++];
+        e.t_us = time_high_us_ | static_cast<std::int64_t>((w >> 22) & 0x3F);
+        e.x = static_cast<std::uint16_t>(x);
+        e.y = static_cast<std::uint16_t>(y);
+        e.p = type == 1 ? std::int8_t{1} : std::int8_t{-1};
+        ++event_count_;
+      } else if (type == 8) {  // EV_TIME_HIGH
+        const std::uint64_t raw = w & 0x0FFFFFFF;
+        // A drop by more than half the range is a wrap of the 28-bit counter.
+        if (raw < time_high_raw_ && time_high_raw_ - raw > kTimeHighRange / 2) {
+          wrap_us_ += static_cast<std::int64_t>(kTimeHighRange << 6);
+        }
+        time_high_raw_ = raw;
+        time_high_us_ = wrap_us_ + static_cast<std::int64_t>(raw << 6);
+      } else if (type == 10) {  // EXT_TRIGGER
+        ++trigger_count_;
+      } else if (type == 14 || type == 15) {  // OTHERS, CONTINUED
+        ++other_count_;
+      } else {
+        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes),
+                       event_count_, "unknown EVT 2.0 word type " + std::to_string(type));
+        break;
+      }
+    }
+    file_.consume(i * kWordBytes);
+    if (error_) break;
+  }
+  if (error_ && n == 0) throw *error_;
+  return n;
+}
+
+namespace detail {
+namespace {
+
+SniffResult sniff_evt2(std::span<const std::byte> head, std::string_view /*path*/) {
+  const auto header = parse_prophesee_header(head);
+  return header && header->evt_version() == "2.0" ? SniffResult::by_content : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_evt2(const std::string& path) {
+  return std::make_unique<Evt2Reader>(path);
+}
+
+}  // namespace
+
+const ReaderFormat evt2_format{"evt2", "Prophesee RAW EVT 2.0 (.raw, '% evt 2.0' header)",
+                               &sniff_evt2, &open_evt2};
+
+}  // namespace detail
+}  // namespace evlife::io

@@ -1,0 +1,96 @@
+// The events that are active at an instant (paper Sections I and III-B.3).
+// An event is active from its timestamp until timestamp + lifetime; per pixel
+// the latest event replaces older ones; noise (lifetime 0) is never stored.
+// Edge thinning: a new event with velocity v expires the event of the same
+// polarity at the neighbouring pixel in -v direction, so an accelerating edge
+// (whose lifetimes are overestimated) does not smear.
+//
+// Usage along a recording: feed() the augmented events in time order up to t,
+// then read the state at any t >= last_fed_t_us(). Moving on to a later t only
+// feeds the new events: the history is never re-scanned. To look at an
+// earlier t, reset() and feed again from the start (the CLI sorts its --at
+// times instead). State is allocated once in the constructor; feed() and the
+// accessors never allocate, lock or throw.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::render {
+
+/// What feed() has seen.
+struct ActiveEventSetStats {
+  std::uint64_t fed = 0;            ///< events given to feed()
+  std::uint64_t stored = 0;         ///< events that became the latest of their pixel
+  std::uint64_t noise = 0;          ///< lifetime 0: never drawn
+  std::uint64_t out_of_sensor = 0;  ///< coordinates outside the sensor: ignored
+  std::uint64_t late = 0;           ///< older than the pixel's current event: ignored
+  std::uint64_t thinned = 0;        ///< neighbours expired by edge thinning
+};
+
+class ActiveEventSet {
+ public:
+  /// Throws std::invalid_argument for an empty or oversized sensor.
+  explicit ActiveEventSet(SensorSize sensor, bool edge_thinning = true);
+
+  /// Adds one augmented event. Events should come in non-decreasing time.
+  void feed(const AugmentedEvent& a) noexcept;
+  void feed(std::span<const AugmentedEvent> events) noexcept {
+    for (const auto& a : events) feed(a);
+  }
+
+  /// Forgets every event (keeps sensor and options).
+  void reset() noexcept;
+
+  /// True when pixel (x, y) holds an event active at t_us. Valid for
+  /// t_us >= last_fed_t_us() (later events would not have been fed yet).
+  bool is_active(int x, int y, std::int64_t t_us) const noexcept {
+    return t_us < expire_us_[index(x, y)];
+  }
+  /// Same, by linear pixel index y * width + x.
+  bool is_active(std::size_t i, std::int64_t t_us) const noexcept { return t_us < expire_us_[i]; }
+
+  /// Lifetime, polarity and velocity of the latest event stored at a pixel.
+  float lifetime_us(std::size_t i) const noexcept { return lifetime_us_[i]; }
+  std::int8_t polarity(std::size_t i) const noexcept { return polarity_[i]; }
+  float vx_px_s(std::size_t i) const noexcept { return vx_px_s_[i]; }
+  float vy_px_s(std::size_t i) const noexcept { return vy_px_s_[i]; }
+
+  /// Number of pixels active at t_us; O(sensor pixels).
+  std::size_t count_active(std::int64_t t_us) const noexcept;
+
+  /// Raw expiry map (y * width + x), microseconds; INT64_MIN = nothing stored.
+  std::span<const std::int64_t> expire_map_us() const noexcept { return expire_us_; }
+
+  SensorSize sensor() const noexcept { return sensor_; }
+  bool edge_thinning() const noexcept { return edge_thinning_; }
+  std::int64_t last_fed_t_us() const noexcept { return last_fed_t_us_; }
+  const ActiveEventSetStats& stats() const noexcept { return stats_; }
+
+  static constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::min();
+
+ private:
+  std::size_t index(int x, int y) const noexcept {
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(sensor_.width) +
+           static_cast<std::size_t>(x);
+  }
+
+  SensorSize sensor_;
+  bool edge_thinning_;
+  std::int64_t last_fed_t_us_ = kNever;
+  ActiveEventSetStats stats_;
+  // Structure of arrays: sampling reads only expire_us_ for inactive pixels.
+  std::vector<std::int64_t> expire_us_;  // event time + lifetime; kNever when empty
+  std::vector<std::int64_t> t_us_;       // time of the stored event
+  std::vector<float> lifetime_us_;
+  std::vector<float> vx_px_s_;
+  std::vector<float> vy_px_s_;
+  std::vector<std::int8_t> polarity_;
+};
+
+}  // namespace evlife::render

@@ -1,0 +1,94 @@
+#include "evlife/render/active_event_set.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace evlife::render {
+
+namespace {
+// sin(22.5 deg): a unit velocity component above this points at that
+// neighbour, so the 8 neighbours each cover a 45 degree sector.
+constexpr float kSectorSin = 0.38268343f;
+}  // namespace
+
+ActiveEventSet::ActiveEventSet(SensorSize sensor, bool edge_thinning)
+    : sensor_(sensor), edge_thinning_(edge_thinning) {
+  if (sensor.width < 1 || sensor.height < 1 || sensor.width > 16384 || sensor.height > 16384) {
+    throw std::invalid_argument("ActiveEventSet: sensor size " + std::to_string(sensor.width) +
+                                "x" + std::to_string(sensor.height) +
+                                " out of range 1..16384 each way");
+  }
+  const auto n = static_cast<std::size_t>(sensor.pixel_count());
+  expire_us_.assign(n, kNever);
+  t_us_.assign(n, kNever);
+  lifetime_us_.assign(n, 0.0f);
+  vx_px_s_.assign(n, 0.0f);
+  vy_px_s_.assign(n, 0.0f);
+  polarity_.assign(n, 0);
+}
+
+void ActiveEventSet::reset() noexcept {
+  std::fill(expire_us_.begin(), expire_us_.end(), kNever);
+  std::fill(t_us_.begin(), t_us_.end(), kNever);
+  std::fill(lifetime_us_.begin(), lifetime_us_.end(), 0.0f);
+  std::fill(vx_px_s_.begin(), vx_px_s_.end(), 0.0f);
+  std::fill(vy_px_s_.begin(), vy_px_s_.end(), 0.0f);
+  std::fill(polarity_.begin(), polarity_.end(), std::int8_t{0});
+  last_fed_t_us_ = kNever;
+  stats_ = {};
+}
+
+void ActiveEventSet::feed(const AugmentedEvent& a) noexcept {
+  ++stats_.fed;
+  const Event& e = a.event;
+  if (!sensor_.contains(e.x, e.y)) {
+    ++stats_.out_of_sensor;
+    return;
+  }
+  last_fed_t_us_ = std::max(last_fed_t_us_, e.t_us);
+  // NaN compares false, so !(> 0) also rejects a NaN lifetime.
+  if (!(a.lifetime_us > 0.0f)) {
+    ++stats_.noise;
+    return;
+  }
+  const std::size_t i = index(e.x, e.y);
+  if (e.t_us < t_us_[i]) {
+    ++stats_.late;
+    return;
+  }
+  // Active while t - t_event < lifetime; with integer t that is t < t_event + ceil(lifetime).
+  const double lifetime = std::min(static_cast<double>(a.lifetime_us), 1.0e12);
+  expire_us_[i] = e.t_us + static_cast<std::int64_t>(std::ceil(lifetime));
+  t_us_[i] = e.t_us;
+  lifetime_us_[i] = a.lifetime_us;
+  vx_px_s_[i] = a.vx_px_s;
+  vy_px_s_[i] = a.vy_px_s;
+  polarity_[i] = e.p;
+  ++stats_.stored;
+
+  if (!edge_thinning_) return;
+  const float speed = std::hypot(a.vx_px_s, a.vy_px_s);
+  if (!(speed > 0.0f) || !std::isfinite(speed)) return;
+  const float ux = a.vx_px_s / speed;
+  const float uy = a.vy_px_s / speed;
+  const int dx = ux > kSectorSin ? 1 : (ux < -kSectorSin ? -1 : 0);
+  const int dy = uy > kSectorSin ? 1 : (uy < -kSectorSin ? -1 : 0);
+  const int nx = e.x - dx;  // the pixel the edge has just left
+  const int ny = e.y - dy;
+  if (!sensor_.contains(nx, ny)) return;
+  const std::size_t j = index(nx, ny);
+  if (polarity_[j] == e.p && t_us_[j] < e.t_us && expire_us_[j] > e.t_us) {
+    expire_us_[j] = e.t_us;
+    ++stats_.thinned;
+  }
+}
+
+std::size_t ActiveEventSet::count_active(std::int64_t t_us) const noexcept {
+  std::size_t n = 0;
+  for (const std::int64_t expire : expire_us_) n += t_us < expire ? 1u : 0u;
+  return n;
+}
+
+}  // namespace evlife::render

@@ -1,0 +1,82 @@
+#include "evlife/render/lifetime_colormap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace evlife::render {
+
+LifetimeColormap::LifetimeColormap(double min_us, double max_us) : min_us_(min_us), max_us_(max_us) {
+  if (!(min_us > 0.0) || !(max_us > min_us)) {
+    throw std::invalid_argument("lifetime colour range must satisfy 0 < min < max (got " +
+                                std::to_string(min_us) + " us .. " + std::to_string(max_us) +
+                                " us)");
+  }
+  log_min_ = std::log(min_us);
+  inv_log_span_ = 1.0 / (std::log(max_us) - log_min_);
+  // OpenCV's JET runs blue (0) -> red (255): exactly the paper's short -> long.
+  cv::Mat ramp(1, 256, CV_8UC1);
+  for (int i = 0; i < 256; ++i) ramp.at<std::uint8_t>(0, i) = static_cast<std::uint8_t>(i);
+  cv::Mat colored;
+  cv::applyColorMap(ramp, colored, cv::COLORMAP_JET);
+  for (int i = 0; i < 256; ++i) lut_[static_cast<std::size_t>(i)] = colored.at<cv::Vec3b>(0, i);
+}
+
+int LifetimeColormap::bin(float lifetime_us) const noexcept {
+  if (!(lifetime_us > min_us_)) return 0;
+  const double u = (std::log(static_cast<double>(lifetime_us)) - log_min_) * inv_log_span_;
+  return std::clamp(static_cast<int>(u * 255.0 + 0.5), 0, 255);
+}
+
+cv::Mat LifetimeColormap::legend(int height) const {
+  const int bar_w = 16;
+  const int width = 96;
+  const int top = 24;
+  const int bottom = 10;
+  height = std::max(height, 80);
+  cv::Mat img(height, width, CV_8UC3, cv::Scalar(0, 0, 0));
+  cv::putText(img, "lifetime", {4, 15}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1,
+              cv::LINE_AA);
+  const int bar_h = height - top - bottom;
+  // Long lifetimes on top (red), short at the bottom (blue).
+  for (int r = 0; r < bar_h; ++r) {
+    const int b = 255 - static_cast<int>(std::lround(255.0 * r / std::max(bar_h - 1, 1)));
+    cv::line(img, {6, top + r}, {6 + bar_w, top + r}, cv::Scalar(lut_[static_cast<std::size_t>(b)]));
+  }
+  cv::rectangle(img, {6, top}, {6 + bar_w, top + bar_h - 1}, {200, 200, 200}, 1);
+  // Ticks at 1-2-5 steps between min and max, labelled in ms.
+  std::vector<double> ticks;
+  for (double decade = std::pow(10.0, std::floor(std::log10(min_us_))); decade <= max_us_;
+       decade *= 10.0) {
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double v = m * decade;
+      if (v >= min_us_ * 0.999 && v <= max_us_ * 1.001) ticks.push_back(v);
+    }
+  }
+  if (ticks.size() > 7) {  // keep decades only when crowded
+    std::vector<double> thinned;
+    for (double v : ticks)
+      if (std::fabs(std::log10(v) - std::round(std::log10(v))) < 1e-6) thinned.push_back(v);
+    ticks = thinned;
+  }
+  for (double v : ticks) {
+    const double u = (std::log(v) - log_min_) * inv_log_span_;
+    const int y = top + static_cast<int>(std::lround((1.0 - u) * (bar_h - 1)));
+    cv::line(img, {6 + bar_w, y}, {10 + bar_w, y}, {255, 255, 255}, 1);
+    char label[32];
+    const double ms = v / 1000.0;
+    if (ms >= 1.0)
+      std::snprintf(label, sizeof label, "%g ms", ms);
+    else
+      std::snprintf(label, sizeof label, "%.1f ms", ms);
+    cv::putText(img, label, {13 + bar_w, y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1,
+                cv::LINE_AA);
+  }
+  return img;
+}
+
+}  // namespace evlife::render

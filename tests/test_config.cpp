@@ -1,0 +1,195 @@
+// evlife::config: the shipped YAML equals the struct defaults, unknown keys
+// and out-of-range values are errors naming the key, file and line, --set
+// overrides take effect.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "evlife/config/config.h"
+#include "evlife/config/config_key.h"
+
+namespace {
+
+using evlife::LifetimeOptions;
+using evlife::config::Config;
+using evlife::config::ConfigBuilder;
+using evlife::config::ConfigError;
+
+const std::string kShippedYaml = std::string(EVLIFE_SOURCE_DIR) + "/config/evlife.yaml";
+
+// Writes `text` to a fresh file in the test temp dir and returns its path.
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::path(testing::TempDir()) / "evlife_test_config";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// Returns the ConfigError message of `fn`, or fails.
+template <typename Fn>
+std::string error_of(Fn fn) {
+  try {
+    fn();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a ConfigError";
+  return {};
+}
+
+TEST(Config, ShippedYamlEqualsStructDefaults) {
+  ConfigBuilder b;
+  b.load_file(kShippedYaml);
+  const Config c = b.build();
+  const LifetimeOptions d;  // the compiled-in defaults
+  EXPECT_EQ(c.estimator.sensor, d.sensor);
+  EXPECT_EQ(c.estimator.window_size, d.window_size);
+  EXPECT_EQ(c.estimator.outlier_fraction, d.outlier_fraction);
+  EXPECT_EQ(c.estimator.ransac_confidence, d.ransac_confidence);
+  EXPECT_EQ(c.estimator.inlier_tolerance_us, d.inlier_tolerance_us);
+  EXPECT_EQ(c.estimator.regularization, d.regularization);
+  EXPECT_EQ(c.estimator.lambda_offset, d.lambda_offset);
+  EXPECT_EQ(c.estimator.lambda_gain, d.lambda_gain);
+  EXPECT_EQ(c.estimator.lambda_decay_per_us, d.lambda_decay_per_us);
+  EXPECT_EQ(c.estimator.max_lifetime_us, d.max_lifetime_us);
+  EXPECT_EQ(c.estimator.seed, d.seed);
+}
+
+TEST(Config, ShippedYamlListsEveryKeyWithItsDefault) {
+  // Covers sections added later too: every key of the schema must appear in
+  // the documented file with the struct's default value.
+  ConfigBuilder b;
+  b.load_file(kShippedYaml);
+  const Config from_file = b.build();
+  const Config defaults;
+  for (const auto& key : evlife::config::config_keys()) {
+    EXPECT_NE(b.origin(key.name), nullptr) << key.name << " is missing from " << kShippedYaml;
+    EXPECT_EQ(key.format(from_file), key.format(defaults)) << key.name;
+  }
+}
+
+TEST(Config, EveryEstimatorFieldHasAKey) {
+  // LifetimeOptions has 12 scalar fields (sensor counts twice): a field added
+  // there without a key here shows up as a count mismatch.
+  int estimator_keys = 0;
+  for (const auto& key : evlife::config::config_keys()) {
+    if (key.name.rfind("estimator.", 0) == 0) ++estimator_keys;
+  }
+  EXPECT_EQ(estimator_keys, 12);
+}
+
+TEST(Config, DefaultsValidate) {
+  const Config c = ConfigBuilder().build();
+  EXPECT_EQ(c.estimator.window_size, LifetimeOptions{}.window_size);
+  EXPECT_EQ(evlife::validate_lifetime_options(c.estimator), "");
+}
+
+TEST(Config, UnknownKeyNamesKeyFileAndLine) {
+  const auto path = write_temp("unknown.yaml",
+                               "estimator:\n"
+                               "  window_size: 7\n"
+                               "  windw_size: 9\n");
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+  EXPECT_NE(msg.find("estimator.windw_size"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ":3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("did you mean 'estimator.window_size'"), std::string::npos) << msg;
+}
+
+TEST(Config, UnknownSectionIsAnError) {
+  const auto path = write_temp("section.yaml", "estimatr:\n  window_size: 7\n");
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+  EXPECT_NE(msg.find("estimatr"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ":1"), std::string::npos) << msg;
+}
+
+TEST(Config, UnknownKeyInSetIsAnError) {
+  const std::string msg = error_of([] { ConfigBuilder().set("estimator.nope=1"); });
+  EXPECT_NE(msg.find("estimator.nope"), std::string::npos) << msg;
+}
+
+TEST(Config, OutOfRangeNamesKeyOriginAndRange) {
+  const auto path = write_temp("range.yaml",
+                               "estimator:\n"
+                               "  outlier_fraction: 0.95\n");
+  ConfigBuilder b;
+  b.load_file(path);  // ranges are checked once, by build()
+  const std::string msg = error_of([&] { b.build(); });
+  EXPECT_NE(msg.find("estimator.outlier_fraction"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("0.95"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("(0, 0.9]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ":2"), std::string::npos) << msg;
+}
+
+TEST(Config, EvenWindowIsOutOfRange) {
+  ConfigBuilder b;
+  b.set("estimator.window_size=4");
+  const std::string msg = error_of([&] { b.build(); });
+  EXPECT_NE(msg.find("estimator.window_size"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("odd"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("--set"), std::string::npos) << msg;
+}
+
+TEST(Config, WrongTypeIsAnError) {
+  EXPECT_THROW(ConfigBuilder().set("estimator.window_size=5.5"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.window_size=five"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.regularization=maybe"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.inlier_tolerance_us=nan"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.seed=-3"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.window_size"), ConfigError);  // no '='
+  const auto path = write_temp("type.yaml", "estimator:\n  window_size: [5, 7]\n");
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+  EXPECT_NE(msg.find("estimator.window_size"), std::string::npos) << msg;
+}
+
+TEST(Config, SetOverridesFileAndDefaults) {
+  const auto path = write_temp("partial.yaml",
+                               "estimator:\n"
+                               "  window_size: 7\n"
+                               "  inlier_tolerance_us: 250\n");
+  ConfigBuilder b;
+  b.load_file(path);
+  b.set("estimator.window_size=9");
+  b.set("estimator.regularization = false");
+  b.set("estimator.seed=0x10");
+  b.set("estimator.sensor.width=346");
+  const Config c = b.build();
+  EXPECT_EQ(c.estimator.window_size, 9);              // --set beats the file
+  EXPECT_EQ(c.estimator.inlier_tolerance_us, 250.0);  // from the file
+  EXPECT_FALSE(c.estimator.regularization);
+  EXPECT_EQ(c.estimator.seed, 16u);
+  EXPECT_EQ(c.estimator.sensor.width, 346);
+  EXPECT_EQ(c.estimator.outlier_fraction, LifetimeOptions{}.outlier_fraction);  // untouched
+  ASSERT_NE(b.origin("estimator.window_size"), nullptr);
+  EXPECT_TRUE(b.origin("estimator.window_size")->by_user);
+  EXPECT_EQ(b.origin("estimator.max_lifetime_us"), nullptr);
+}
+
+TEST(Config, MissingFileNamesIt) {
+  const std::string msg = error_of([] { ConfigBuilder().load_file("/nonexistent/evlife.yaml"); });
+  EXPECT_NE(msg.find("/nonexistent/evlife.yaml"), std::string::npos) << msg;
+}
+
+TEST(Config, SyntaxErrorNamesFileAndLine) {
+  const auto path = write_temp("syntax.yaml", "estimator:\n  window_size: 5\n   bad: [\n");
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+  EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+}
+
+TEST(Config, DumpReadsBackIdentically) {
+  ConfigBuilder b;
+  b.set("estimator.window_size=11");
+  b.set("estimator.lambda_decay_per_us=0.0123456789");
+  const Config c = b.build();
+  const auto path = write_temp("dump.yaml", evlife::config::to_yaml(c));
+  ConfigBuilder b2;
+  b2.load_file(path);
+  const Config c2 = b2.build();
+  EXPECT_EQ(c2.estimator.window_size, 11);
+  EXPECT_EQ(c2.estimator.lambda_decay_per_us, 0.0123456789);
+}
+
+}  // namespace

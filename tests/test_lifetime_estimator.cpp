@@ -1,0 +1,228 @@
+// Unit tests of the estimator on exact scenes whose answer is known
+// analytically (a plane t = t0 + g.p sampled on the pixel grid).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include "evlife/algo/lifetime_estimator.h"
+
+namespace evlife {
+namespace {
+
+// Events of a straight edge moving along unit normal (cos a, sin a) at
+// `speed_px_s`: pixel p fires when the edge line passes its centre, i.e. at
+// t = t0 + (n . p) / speed. Sorted by time; exact (no jitter).
+std::vector<Event> straight_edge(SensorSize s, double angle_rad, double speed_px_s,
+                                 std::int8_t polarity = 1, std::int64_t t0_us = 1000) {
+  std::vector<Event> ev;
+  const double nx = std::cos(angle_rad), ny = std::sin(angle_rad);
+  double min_proj = 1e300;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) min_proj = std::min(min_proj, nx * x + ny * y);
+  for (int y = 0; y < s.height; ++y) {
+    for (int x = 0; x < s.width; ++x) {
+      const double t = t0_us + (nx * x + ny * y - min_proj) / speed_px_s * 1e6;
+      ev.push_back({static_cast<std::int64_t>(std::llround(t)), static_cast<std::uint16_t>(x),
+                    static_cast<std::uint16_t>(y), polarity});
+    }
+  }
+  std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+  return ev;
+}
+
+LifetimeOptions options_for(SensorSize s) {
+  LifetimeOptions o;
+  o.sensor = s;
+  return o;
+}
+
+bool interior(const Event& e, SensorSize s, int margin) {
+  return e.x >= margin && e.y >= margin && e.x < s.width - margin && e.y < s.height - margin;
+}
+
+TEST(LifetimeOptions, DefaultsAreValid) { EXPECT_EQ(validate_lifetime_options({}), ""); }
+
+TEST(LifetimeOptions, InvalidValuesNameTheField) {
+  struct Case {
+    void (*mutate)(LifetimeOptions&);
+    const char* field;
+  };
+  const Case cases[] = {
+      {[](LifetimeOptions& o) { o.window_size = 4; }, "window_size"},
+      {[](LifetimeOptions& o) { o.window_size = 99; }, "window_size"},
+      {[](LifetimeOptions& o) { o.sensor = {100000, 100000}; }, "sensor"},
+      {[](LifetimeOptions& o) { o.sensor = {0, 10}; }, "sensor"},
+      {[](LifetimeOptions& o) { o.outlier_fraction = 1.0; }, "outlier_fraction"},
+      {[](LifetimeOptions& o) { o.ransac_confidence = 1.0; }, "ransac_confidence"},
+      {[](LifetimeOptions& o) { o.inlier_tolerance_us = std::nan(""); }, "inlier_tolerance_us"},
+      {[](LifetimeOptions& o) { o.inlier_tolerance_us = 0.0; }, "inlier_tolerance_us"},
+      {[](LifetimeOptions& o) { o.lambda_gain = -1.0; }, "lambda"},
+      {[](LifetimeOptions& o) { o.max_lifetime_us = 0.0; }, "max_lifetime_us"},
+  };
+  for (const Case& c : cases) {
+    LifetimeOptions o;
+    c.mutate(o);
+    const std::string err = validate_lifetime_options(o);
+    EXPECT_NE(err.find(c.field), std::string::npos) << err;
+    try {
+      LifetimeEstimator est(o);
+      ADD_FAILURE() << "constructor accepted invalid " << c.field;
+    } catch (const std::invalid_argument& ex) {
+      EXPECT_NE(std::string(ex.what()).find(c.field), std::string::npos) << ex.what();
+    }
+  }
+}
+
+// Exact planes in several directions and speeds: interior events get the
+// analytic lifetime 1/speed and velocity along the normal.
+TEST(LifetimeEstimator, ExactPlaneGivesAnalyticLifetimeAndVelocity) {
+  const SensorSize s{48, 36};
+  for (double angle_deg : {0.0, 30.0, 90.0, 135.0, 200.0, 290.0}) {
+    for (double speed : {200.0, 2000.0, 20000.0}) {
+      for (bool reg : {false, true}) {
+        LifetimeOptions o = options_for(s);
+        o.regularization = reg;
+        LifetimeEstimator est(o);
+        const double a = angle_deg * std::numbers::pi / 180.0;
+        const auto events = straight_edge(s, a, speed);
+        int checked = 0, good = 0;
+        for (std::size_t i = 0; i < events.size(); ++i) {
+          const AugmentedEvent out = est.process(events[i]);
+          if (i < events.size() / 4 || !interior(events[i], s, 3)) continue;
+          ++checked;
+          const double tau_true = 1e6 / speed;
+          const double vx = out.vx_px_s, vy = out.vy_px_s;
+          const double v = std::hypot(vx, vy);
+          const bool lifetime_ok =
+              std::fabs(static_cast<double>(out.lifetime_us) - tau_true) <= 0.02 * tau_true + 1.0;
+          const bool direction_ok =
+              v > 0 && (vx * std::cos(a) + vy * std::sin(a)) / v > std::cos(0.05);
+          good += lifetime_ok && direction_ok;
+        }
+        ASSERT_GT(checked, 100);
+        EXPECT_GE(good, 0.98 * checked)
+            << "angle " << angle_deg << " speed " << speed << " reg " << reg;
+      }
+    }
+  }
+}
+
+TEST(LifetimeEstimator, IsolatedEventIsNoise) {
+  LifetimeEstimator est(options_for({64, 64}));
+  const AugmentedEvent out = est.process({5000, 30, 30, 1});
+  EXPECT_EQ(out.lifetime_us, 0.0f);
+  EXPECT_EQ(out.vx_px_s, 0.0f);
+  EXPECT_EQ(out.vy_px_s, 0.0f);
+  EXPECT_TRUE(out.is_noise());
+  EXPECT_FALSE(out.has_prediction());
+}
+
+// A noise event long after an edge passed: the window holds only stale
+// events of the old edge, which must not support a plane through the new one.
+TEST(LifetimeEstimator, EventLongAfterEdgePassedIsNoise) {
+  const SensorSize s{40, 40};
+  LifetimeEstimator est(options_for(s));
+  const auto edge = straight_edge(s, 0.0, 1000.0);
+  for (const Event& e : edge) est.process(e);
+  const std::int64_t t_last = edge.back().t_us;
+  int noise = 0, total = 0;
+  for (int k = 0; k < 50; ++k) {
+    const Event e{t_last + 20000 + 997 * k, static_cast<std::uint16_t>(5 + (k * 7) % 30),
+                  static_cast<std::uint16_t>(5 + (k * 13) % 30), 1};
+    noise += est.process(e).is_noise();
+    ++total;
+  }
+  EXPECT_EQ(noise, total);
+}
+
+TEST(LifetimeEstimator, PolaritiesHaveSeparateSurfaces) {
+  const SensorSize s{40, 40};
+  LifetimeEstimator est(options_for(s));
+  auto on_edge = straight_edge(s, 0.0, 1000.0, +1);
+  for (const Event& e : on_edge) est.process(e);
+  // An OFF event in the middle of the ON edge's trail has no OFF support.
+  Event off = on_edge[on_edge.size() / 2];
+  off.p = -1;
+  off.t_us = on_edge.back().t_us + 1;
+  EXPECT_TRUE(est.process(off).is_noise());
+}
+
+TEST(LifetimeEstimator, BorderEventsUseTheWindowPartInsideTheSensor) {
+  const SensorSize s{30, 20};
+  LifetimeEstimator est(options_for(s));
+  const auto events = straight_edge(s, 0.0, 1000.0);
+  int border = 0, border_good = 0;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const AugmentedEvent out = est.process(events[i]);
+    const Event& e = events[i];
+    if (e.x < 3) continue;  // the edge starts at x = 0: no history yet
+    if (e.y == 0 || e.y == s.height - 1) {
+      ++border;
+      border_good += std::fabs(out.lifetime_us - 1000.0f) < 20.0f;
+    }
+  }
+  ASSERT_GT(border, 40);
+  EXPECT_GE(border_good, 0.95 * border);
+}
+
+TEST(LifetimeEstimator, OutOfSensorAndBadPolarityAreCountedNotRead) {
+  LifetimeEstimator est(options_for({10, 8}));
+  EXPECT_TRUE(est.process({1, 10, 0, 1}).is_noise());
+  EXPECT_TRUE(est.process({2, 0, 8, 1}).is_noise());
+  EXPECT_TRUE(est.process({3, 65535, 65535, -1}).is_noise());
+  EXPECT_TRUE(est.process({4, 1, 1, 0}).is_noise());
+  EXPECT_EQ(est.stats().out_of_sensor, 3u);
+  EXPECT_EQ(est.stats().bad_polarity, 1u);
+  EXPECT_EQ(est.stats().events, 4u);
+}
+
+TEST(LifetimeEstimator, ConstantVelocityEdgeIsPredictedWell) {
+  const SensorSize s{48, 36};
+  LifetimeEstimator est(options_for(s));
+  const auto events = straight_edge(s, 0.4, 1500.0);
+  int with_prediction = 0, small_error = 0;
+  for (const Event& e : events) {
+    const AugmentedEvent out = est.process(e);
+    if (!out.has_prediction()) continue;
+    ++with_prediction;
+    small_error += std::fabs(static_cast<double>(out.prediction_error_us)) < 0.1 * 1e6 / 1500.0;
+  }
+  EXPECT_GT(with_prediction, static_cast<int>(events.size()) / 2);
+  EXPECT_GE(small_error, 0.95 * with_prediction);
+  EXPECT_EQ(est.stats().predictions, static_cast<std::uint64_t>(with_prediction));
+}
+
+TEST(LifetimeEstimator, DeterministicAndBatchEqualsPerEvent) {
+  const SensorSize s{48, 36};
+  auto events = straight_edge(s, 1.0, 3000.0);
+  // Some pseudo-random noise so RANSAC has outliers to reject.
+  std::uint32_t r = 12345;
+  for (int k = 0; k < 500; ++k) {
+    r = r * 1664525u + 1013904223u;
+    events.push_back({static_cast<std::int64_t>(r % 20000), static_cast<std::uint16_t>(r % 48),
+                      static_cast<std::uint16_t>((r >> 8) % 36), (r >> 20) & 1 ? std::int8_t{1} : std::int8_t{-1}});
+  }
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+  LifetimeEstimator a(options_for(s)), b(options_for(s));
+  std::vector<AugmentedEvent> out_a(events.size()), out_b(events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) out_a[i] = a.process(events[i]);
+  ASSERT_EQ(b.process(events, out_b), events.size());
+  EXPECT_EQ(std::memcmp(out_a.data(), out_b.data(), out_a.size() * sizeof(AugmentedEvent)), 0);
+  a.reset();
+  for (std::size_t i = 0; i < events.size(); ++i) out_b[i] = a.process(events[i]);
+  EXPECT_EQ(std::memcmp(out_a.data(), out_b.data(), out_a.size() * sizeof(AugmentedEvent)), 0);
+}
+
+TEST(LifetimeEstimator, ProcessIsNoexcept) {
+  LifetimeEstimator est(options_for({8, 8}));
+  static_assert(noexcept(est.process(Event{})));
+  static_assert(noexcept(est.process(std::span<const Event>{}, std::span<AugmentedEvent>{})));
+  SUCCEED();
+}
+
+}  // namespace
+}  // namespace evlife
