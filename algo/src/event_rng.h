@@ -23,11 +23,12 @@ class EventRng {
                                             (static_cast<std::uint64_t>(e.y) << 20) ^
                                             (e.p > 0 ? 1ULL << 62 : 0ULL)))) {}
 
-  /// Uniform integer in [0, n), n > 0 (multiply-shift, no modulo bias worth
-  /// caring about for n <= 224).
+  /// Uniform integer in [0, n), n > 0 (multiply-shift: no modulo).
+  /// One step of a 64-bit LCG; its high 32 bits are well mixed, which is
+  /// all that picking one of <= 224 samples needs.
   std::uint32_t below(std::uint32_t n) noexcept {
-    state_ += 0x9e3779b97f4a7c15ULL;
-    const std::uint64_t r = splitmix64(state_) >> 32;
+    state_ = state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+    const std::uint64_t r = state_ >> 32;
     return static_cast<std::uint32_t>((r * n) >> 32);
   }
 

@@ -8,21 +8,12 @@
 #include <stdexcept>
 
 #include "event_rng.h"
+#include "window_samples.h"
 
 namespace evlife {
 namespace {
 
 constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min();
-constexpr int kMaxWindowSide = 15;
-constexpr int kMaxNeighbours = kMaxWindowSide * kMaxWindowSide - 1;
-
-// A past event in the window, relative to the new event: (dx, dy) px, dt us (<= 0).
-struct Neighbour {
-  float dx;
-  float dy;
-  float dt_us;
-};
-
 int ransac_iterations_for(double outlier_fraction, double confidence) {
   const double inlier_pair = (1.0 - outlier_fraction) * (1.0 - outlier_fraction);
   const double k = std::log(1.0 - confidence) / std::log(1.0 - inlier_pair);
@@ -30,6 +21,12 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
 }
 
 }  // namespace
+
+// RANSAC iterations that draw an all-inlier pair with ransac_confidence when
+// `inliers` of `count` past events are inliers (precomputed in the constructor).
+int LifetimeEstimator::iterations_needed(int inliers, int count) const noexcept {
+  return iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1) + inliers];
+}
 
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
   if (const std::string err = validate_lifetime_options(options); !err.empty()) {
@@ -39,6 +36,20 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
   states_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
+  iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
+  for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
+    for (int inliers = 0; inliers <= count; ++inliers) {
+      const double w = static_cast<double>(inliers) / count;
+      int k = ransac_iterations_;
+      if (inliers >= count) {
+        k = 1;
+      } else if (inliers >= 2) {
+        k = std::min(k, static_cast<int>(std::ceil(std::log(1.0 - options_.ransac_confidence) /
+                                                   std::log(1.0 - w * w))));
+      }
+      iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1) + inliers] = k;
+    }
+  }
   reset();
 }
 
@@ -87,8 +98,9 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       use_prior = true;
       prior_gx = self.predicted_gx_us_px;
       prior_gy = self.predicted_gy_us_px;
-      lambda = options_.lambda_offset +
-               options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * std::fabs(err_us));
+      lambda = options_.lambda_unit_px2 *
+               (options_.lambda_offset +
+                options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * std::fabs(err_us)));
     }
     self.has_prediction = false;
   }
@@ -97,27 +109,22 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
-  Neighbour nb[kMaxNeighbours];
-  int count = 0;
+  detail::WindowSamples nb;
   for (int yy = y0; yy <= y1; ++yy) {
     const PixelState* row = &state(pol, 0, yy);
     for (int xx = x0; xx <= x1; ++xx) {
       const std::int64_t t = row[xx].last_t_us;
       if (t == kNeverFired || t > e.t_us || (xx == x && yy == y)) continue;
-      nb[count++] = {static_cast<float>(xx - x), static_cast<float>(yy - y),
-                     static_cast<float>(t - e.t_us)};
+      nb.add(static_cast<float>(xx - x), static_cast<float>(yy - y), static_cast<float>(t - e.t_us));
     }
   }
   self.last_t_us = e.t_us;
 
   // Only the newer half of the window (paper Fig. 6): older events belong to
   // an earlier edge, newer ones do not exist yet.
-  const int half = (window_pixels - 1) / 2;
-  if (count > half) {
-    std::nth_element(nb, nb + half, nb + count,
-                     [](const Neighbour& a, const Neighbour& b) { return a.dt_us > b.dt_us; });
-    count = half;
-  }
+  nb.keep_newest((window_pixels - 1) / 2);
+  nb.pad();
+  const int count = nb.count;
   // Minimum support m = (1 - eps) * N^2 / 2 (eq. 8), counting the new event,
   // scaled to the part of the window inside the sensor.
   const int min_support =
@@ -129,28 +136,32 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
 
   // RANSAC: candidate planes dt = gx*dx + gy*dy through the new event and two
   // sampled past events; support = past events within the time tolerance.
-  const float tol = static_cast<float>(options_.inlier_tolerance_us);
+  // Tolerance = max(floor, fraction of the candidate's lifetime): timing noise
+  // of real sensors grows with the lifetime, a fixed floor covers jitter.
+  const float tol_floor_us = static_cast<float>(options_.inlier_tolerance_us);
+  const float tol_fraction = static_cast<float>(options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
   int best_support = 0;
-  float best_gx = 0.0f, best_gy = 0.0f;
-  for (int it = 0; it < ransac_iterations_; ++it) {
+  float best_gx = 0.0f, best_gy = 0.0f, best_tol = 0.0f;
+  // Adaptive RANSAC: the iteration budget starts at the count for the
+  // expected outlier fraction and shrinks as better support is found.
+  int iterations = ransac_iterations_;
+  for (int it = 0; it < iterations; ++it) {
     const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
     std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
     if (j >= i) ++j;
-    const Neighbour& a = nb[i];
-    const Neighbour& b = nb[j];
-    const float det = a.dx * b.dy - b.dx * a.dy;
+    const float det = nb.dx[i] * nb.dy[j] - nb.dx[j] * nb.dy[i];
     if (std::fabs(det) < 0.5f) continue;  // collinear with the new event
-    const float gx = (a.dt_us * b.dy - b.dt_us * a.dy) / det;
-    const float gy = (a.dx * b.dt_us - b.dx * a.dt_us) / det;
-    int support = 1;  // the new event
-    for (int k = 0; k < count; ++k) {
-      support += std::fabs(nb[k].dt_us - gx * nb[k].dx - gy * nb[k].dy) <= tol;
-    }
+    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) / det;
+    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) / det;
+    const float tol = std::max(tol_floor_us, tol_fraction * std::sqrt(gx * gx + gy * gy));
+    const int support = 1 + nb.support(gx, gy, tol);  // + the new event
     if (support > best_support) {
       best_support = support;
       best_gx = gx;
       best_gy = gy;
+      best_tol = tol;
+      iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
   if (best_support < min_support) {
@@ -164,11 +175,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   normal(0, 0) = 1.0;  // the new event at (0, 0, 0)
   for (int k = 0; k < count; ++k) {
-    const Neighbour& n = nb[k];
-    if (std::fabs(n.dt_us - best_gx * n.dx - best_gy * n.dy) > tol) continue;
-    const Eigen::Vector3d row(1.0, n.dx, n.dy);
+    if (std::fabs(nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k]) > best_tol) continue;
+    const Eigen::Vector3d row(1.0, nb.dx[k], nb.dy[k]);
     normal.noalias() += row * row.transpose();
-    rhs.noalias() += row * static_cast<double>(n.dt_us);
+    rhs.noalias() += row * static_cast<double>(nb.dt_us[k]);
   }
   if (use_prior) {
     normal(1, 1) += lambda;

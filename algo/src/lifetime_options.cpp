@@ -25,9 +25,15 @@ std::string validate_lifetime_options(const LifetimeOptions& o) {
     err << "ransac_confidence: " << o.ransac_confidence << " must be in (0, 1)";
   } else if (!(o.inlier_tolerance_us > 0.0 && o.inlier_tolerance_us <= 1e6)) {
     err << "inlier_tolerance_us: " << o.inlier_tolerance_us << " must be in (0, 1e6]";
+  } else if (!(o.inlier_tolerance_lifetime_fraction > 0.0 &&
+               o.inlier_tolerance_lifetime_fraction <= 0.5)) {
+    err << "inlier_tolerance_lifetime_fraction: " << o.inlier_tolerance_lifetime_fraction
+        << " must be in (0, 0.5]";
   } else if (!in_range(o.lambda_offset, 0.0, 1e9) || !in_range(o.lambda_gain, 0.0, 1e9)) {
     err << "lambda_offset/lambda_gain: " << o.lambda_offset << "/" << o.lambda_gain
         << " must be in [0, 1e9]";
+  } else if (!in_range(o.lambda_unit_px2, 0.0, 1e6)) {
+    err << "lambda_unit_px2: " << o.lambda_unit_px2 << " must be in [0, 1e6]";
   } else if (!in_range(o.lambda_decay_per_us, 0.0, 1e3)) {
     err << "lambda_decay_per_us: " << o.lambda_decay_per_us << " must be in [0, 1000]";
   } else if (!(o.max_lifetime_us > 0.0 && o.max_lifetime_us <= 1e9)) {

@@ -62,12 +62,15 @@ class LifetimeEstimator {
                        options_.sensor.width + x];
   }
 
+  int iterations_needed(int inliers, int count) const noexcept;
+
   LifetimeOptions options_;
   LifetimeStats stats_;
   int half_window_ = 2;
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
   std::vector<PixelState> states_;  // [polarity][y][x]
+  std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
 }  // namespace evlife
