@@ -14,6 +14,7 @@ namespace evlife {
 namespace {
 
 constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min();
+constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
 int ransac_iterations_for(double outlier_fraction, double confidence) {
   const double inlier_pair = (1.0 - outlier_fraction) * (1.0 - outlier_fraction);
   const double k = std::log(1.0 - confidence) / std::log(1.0 - inlier_pair);
@@ -35,7 +36,8 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   half_window_ = options_.window_size / 2;
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
-  states_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
+  sae_t_us_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
+  predictions_.resize(sae_t_us_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -54,7 +56,8 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 }
 
 void LifetimeEstimator::reset() noexcept {
-  std::fill(states_.begin(), states_.end(), PixelState{kNeverFired, 0, 0.0f, 0.0f, false});
+  std::fill(sae_t_us_.begin(), sae_t_us_.end(), kNeverFired);
+  std::fill(predictions_.begin(), predictions_.end(), Prediction{kNoPrediction, 0.0f, 0.0f});
   stats_ = LifetimeStats{};
 }
 
@@ -84,25 +87,25 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int pol = e.p > 0 ? 1 : 0;
   const int x = e.x;
   const int y = e.y;
-  PixelState& self = state(pol, x, y);
+  const std::size_t self = pixel_index(pol, x, y);
 
   // Prediction for this pixel made by an earlier event (paper III-B.2).
   bool use_prior = false;
   float prior_gx = 0.0f, prior_gy = 0.0f;
   double lambda = 0.0;
-  if (self.has_prediction) {
-    const double err_us = static_cast<double>(e.t_us - self.predicted_t_us);
+  if (Prediction& pred = predictions_[self]; pred.t_us != kNoPrediction) {
+    const double err_us = static_cast<double>(e.t_us - pred.t_us);
     out.prediction_error_us = static_cast<float>(err_us);
     ++stats_.predictions;
     if (options_.regularization) {
       use_prior = true;
-      prior_gx = self.predicted_gx_us_px;
-      prior_gy = self.predicted_gy_us_px;
+      prior_gx = pred.gx_us_px;
+      prior_gy = pred.gy_us_px;
       lambda = options_.lambda_unit_px2 *
                (options_.lambda_offset +
                 options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * std::fabs(err_us)));
     }
-    self.has_prediction = false;
+    pred.t_us = kNoPrediction;  // a prediction is for the next event only
   }
 
   // Gather the window's past events (the part of the window inside the sensor).
@@ -111,14 +114,14 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
   detail::WindowSamples nb;
   for (int yy = y0; yy <= y1; ++yy) {
-    const PixelState* row = &state(pol, 0, yy);
+    const std::int64_t* row = &sae_t_us_[pixel_index(pol, 0, yy)];
     for (int xx = x0; xx <= x1; ++xx) {
-      const std::int64_t t = row[xx].last_t_us;
+      const std::int64_t t = row[xx];
       if (t == kNeverFired || t > e.t_us || (xx == x && yy == y)) continue;
       nb.add(static_cast<float>(xx - x), static_cast<float>(yy - y), static_cast<float>(t - e.t_us));
     }
   }
-  self.last_t_us = e.t_us;
+  sae_t_us_[self] = e.t_us;
 
   // Only the newer half of the window (paper Fig. 6): older events belong to
   // an earlier edge, newer ones do not exist yet.
@@ -206,11 +209,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int qx = x + static_cast<int>(std::lround(gx / lifetime_us));
   const int qy = y + static_cast<int>(std::lround(gy / lifetime_us));
   if (qx >= 0 && qy >= 0 && qx < W && qy < H && (qx != x || qy != y)) {
-    PixelState& q = state(pol, qx, qy);
-    q.predicted_t_us = e.t_us + std::llround(gx * (qx - x) + gy * (qy - y));
-    q.predicted_gx_us_px = static_cast<float>(gx);
-    q.predicted_gy_us_px = static_cast<float>(gy);
-    q.has_prediction = true;
+    predictions_[pixel_index(pol, qx, qy)] = {e.t_us + std::llround(gx * (qx - x) + gy * (qy - y)),
+                                              static_cast<float>(gx), static_cast<float>(gy)};
   }
   return out;
 }

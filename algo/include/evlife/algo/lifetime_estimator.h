@@ -48,18 +48,17 @@ class LifetimeEstimator {
   const LifetimeStats& stats() const noexcept { return stats_; }
 
  private:
-  // Per pixel and polarity: the SAE value and the prediction made for this
-  // pixel by a neighbour's event (time and gradient of the predicted plane).
-  struct PixelState {
-    std::int64_t last_t_us;       // INT64_MIN: never fired
-    std::int64_t predicted_t_us;  // valid when has_prediction
-    float predicted_gx_us_px;
-    float predicted_gy_us_px;
-    bool has_prediction;
+  // The prediction made for a pixel by a neighbour's event: time and
+  // gradient of the predicted plane (t_us == kNoPrediction: none).
+  struct Prediction {
+    std::int64_t t_us;
+    float gx_us_px;
+    float gy_us_px;
   };
-  PixelState& state(int polarity_index, int x, int y) noexcept {
-    return states_[(static_cast<std::size_t>(polarity_index) * options_.sensor.height + y) *
-                       options_.sensor.width + x];
+  std::size_t pixel_index(int polarity_index, int x, int y) const noexcept {
+    return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(options_.sensor.height) +
+            static_cast<std::size_t>(y)) * static_cast<std::size_t>(options_.sensor.width) +
+           static_cast<std::size_t>(x);
   }
 
   int iterations_needed(int inliers, int count) const noexcept;
@@ -69,7 +68,10 @@ class LifetimeEstimator {
   int half_window_ = 2;
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
-  std::vector<PixelState> states_;  // [polarity][y][x]
+  // [polarity][y][x]. The SAE is kept apart from the predictions so that a
+  // window row is one or two cache lines.
+  std::vector<std::int64_t> sae_t_us_;  // last timestamp; kNeverFired if none
+  std::vector<Prediction> predictions_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
