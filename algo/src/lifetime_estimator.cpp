@@ -1,19 +1,20 @@
 #include "evlife/algo/lifetime_estimator.h"
 
-#include <Eigen/Core>
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "event_rng.h"
+#include "plane_fit.h"
 #include "window_samples.h"
 
 namespace evlife {
 namespace {
 
-constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min();
+// Far enough in the past to never fit a plane, near enough that t - t_new
+// cannot overflow for any |t_new| < 2^62.
+constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min() / 4;
 constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
 int ransac_iterations_for(double outlier_fraction, double confidence) {
   const double inlier_pair = (1.0 - outlier_fraction) * (1.0 - outlier_fraction);
@@ -90,15 +91,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const std::size_t self = pixel_index(pol, x, y);
 
   // Prediction for this pixel made by an earlier event (paper III-B.2).
-  bool use_prior = false;
   float prior_gx = 0.0f, prior_gy = 0.0f;
-  double lambda = 0.0;
+  double lambda = 0.0;  // 0: no prior
   if (Prediction& pred = predictions_[self]; pred.t_us != kNoPrediction) {
     const double err_us = static_cast<double>(e.t_us - pred.t_us);
     out.prediction_error_us = static_cast<float>(err_us);
     ++stats_.predictions;
     if (options_.regularization) {
-      use_prior = true;
       prior_gx = pred.gx_us_px;
       prior_gy = pred.gy_us_px;
       lambda = options_.lambda_unit_px2 *
@@ -113,12 +112,16 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
   detail::WindowSamples nb;
+  sae_t_us_[self] = kNeverFired;  // the new event's own pixel is not a sample
   for (int yy = y0; yy <= y1; ++yy) {
     const std::int64_t* row = &sae_t_us_[pixel_index(pol, 0, yy)];
     for (int xx = x0; xx <= x1; ++xx) {
       const std::int64_t t = row[xx];
-      if (t == kNeverFired || t > e.t_us || (xx == x && yy == y)) continue;
-      nb.add(static_cast<float>(xx - x), static_cast<float>(yy - y), static_cast<float>(t - e.t_us));
+      // Branch-free append: write always, keep only past events that exist.
+      nb.dx[nb.count] = static_cast<float>(xx - x);
+      nb.dy[nb.count] = static_cast<float>(yy - y);
+      nb.dt_us[nb.count] = static_cast<float>(t - e.t_us);
+      nb.count += (t != kNeverFired) & (t <= e.t_us);
     }
   }
   sae_t_us_[self] = e.t_us;
@@ -174,27 +177,18 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
 
   // Least-squares refit on the inliers and the new event: dt = c + g . dp,
   // regularized towards the predicted gradient (eq. 12).
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  normal(0, 0) = 1.0;  // the new event at (0, 0, 0)
+  detail::PlaneFit fit;
+  fit.add(0.0, 0.0, 0.0);  // the new event
   for (int k = 0; k < count; ++k) {
     if (std::fabs(nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k]) > best_tol) continue;
-    const Eigen::Vector3d row(1.0, nb.dx[k], nb.dy[k]);
-    normal.noalias() += row * row.transpose();
-    rhs.noalias() += row * static_cast<double>(nb.dt_us[k]);
+    fit.add(nb.dx[k], nb.dy[k], nb.dt_us[k]);
   }
-  if (use_prior) {
-    normal(1, 1) += lambda;
-    normal(2, 2) += lambda;
-    rhs(1) += lambda * static_cast<double>(prior_gx);
-    rhs(2) += lambda * static_cast<double>(prior_gy);
-  }
-  const Eigen::LDLT<Eigen::Matrix3d> ldlt(normal);
-  const Eigen::Vector3d sol = ldlt.solve(rhs);
-  const double gx = sol(1), gy = sol(2);
+  Eigen::Vector2d g;
+  const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
+  const double gx = g.x(), gy = g.y();
   const double g2 = gx * gx + gy * gy;
   const double lifetime_us = std::sqrt(g2);
-  if (ldlt.info() != Eigen::Success || !std::isfinite(lifetime_us) || lifetime_us <= 0.0 ||
+  if (!solved || !std::isfinite(lifetime_us) || lifetime_us <= 0.0 ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
     return out;

@@ -10,27 +10,23 @@
 namespace evlife::detail {
 
 constexpr int kMaxWindowSide = 15;
-constexpr int kMaxNeighbours = kMaxWindowSide * kMaxWindowSide - 1;  // 224, a multiple of 8
+constexpr int kMaxNeighbours = kMaxWindowSide * kMaxWindowSide - 1;  // 224
+// Room for every pixel of the largest window (the gather writes before it
+// decides to keep), rounded up to whole SIMD lanes.
+constexpr int kSampleCapacity = (kMaxWindowSide * kMaxWindowSide + 3) / 4 * 4;  // 228
 
 struct WindowSamples {
-  float dx[kMaxNeighbours];     // px
-  float dy[kMaxNeighbours];     // px
-  float dt_us[kMaxNeighbours];  // <= 0: past events only
+  float dx[kSampleCapacity];     // px
+  float dy[kSampleCapacity];     // px
+  float dt_us[kSampleCapacity];  // <= 0: past events only
   int count = 0;
-
-  void add(float x, float y, float t) noexcept {
-    dx[count] = x;
-    dy[count] = y;
-    dt_us[count] = t;
-    ++count;
-  }
 
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
   /// preserving gather order among them so results do not depend on the
   /// selection algorithm.
   void keep_newest(int keep) noexcept {
     if (count <= keep) return;
-    float sorted[kMaxNeighbours];
+    float sorted[kSampleCapacity];
     std::copy(dt_us, dt_us + count, sorted);
     std::nth_element(sorted, sorted + (keep - 1), sorted + count, [](float a, float b) { return a > b; });
     const float threshold = sorted[keep - 1];
@@ -63,20 +59,18 @@ struct WindowSamples {
   /// Number of samples within `tol_us` of the plane dt = gx*dx + gy*dy
   /// (call pad() first).
   int support(float gx, float gy, float tol_us) const noexcept {
-    float n[kLanes] = {};
+    std::int32_t n[kLanes] = {};
     const int end = padded_count();
     for (int k = 0; k < end; k += kLanes) {
       for (int l = 0; l < kLanes; ++l) {
         const float r = dt_us[k + l] - gx * dx[k + l] - gy * dy[k + l];
-        n[l] += std::fabs(r) <= tol_us ? 1.0f : 0.0f;
+        n[l] -= -static_cast<std::int32_t>(std::fabs(r) <= tol_us);
       }
     }
-    float total = 0.0f;
-    for (int l = 0; l < kLanes; ++l) total += n[l];
-    return static_cast<int>(total);
+    return n[0] + n[1] + n[2] + n[3];
   }
 
-  static constexpr int kLanes = 8;
+  static constexpr int kLanes = 4;  // one SSE register of floats
 };
 
 }  // namespace evlife::detail

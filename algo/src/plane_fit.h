@@ -1,0 +1,45 @@
+// Least-squares fit of a time plane dt = c + g . dp to window samples, with
+// an optional prior on the gradient g (paper eq. 12). The offset c is
+// eliminated by centring, leaving a 2 x 2 system in g.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+namespace evlife::detail {
+
+class PlaneFit {
+ public:
+  void add(double dx, double dy, double dt_us) noexcept {
+    n_ += 1.0;
+    sx_ += dx;
+    sy_ += dy;
+    st_ += dt_us;
+    sxx_ += dx * dx;
+    sxy_ += dx * dy;
+    syy_ += dy * dy;
+    sxt_ += dx * dt_us;
+    syt_ += dy * dt_us;
+  }
+
+  /// Minimizes sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over (c, g).
+  /// Returns false when the samples do not determine g (collinear, no prior).
+  bool solve(double lambda, const Eigen::Vector2d& prior, Eigen::Vector2d& g) const noexcept {
+    if (n_ < 1.0) return false;
+    Eigen::Matrix2d a;
+    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
+        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    const Eigen::Vector2d b(sxt_ - sx_ * st_ / n_ + lambda * prior.x(),
+                            syt_ - sy_ * st_ / n_ + lambda * prior.y());
+    const double det = a.determinant();
+    // Relative to the trace: below this the spatial spread is a line.
+    if (!(det > 1e-9 * a.trace() * a.trace())) return false;
+    g = a.inverse() * b;
+    return true;
+  }
+
+ private:
+  double n_ = 0, sx_ = 0, sy_ = 0, st_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0, sxt_ = 0, syt_ = 0;
+};
+
+}  // namespace evlife::detail
