@@ -117,11 +117,11 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     const std::int64_t* row = &sae_t_us_[pixel_index(pol, 0, yy)];
     for (int xx = x0; xx <= x1; ++xx) {
       const std::int64_t t = row[xx];
-      // Branch-free append: write always, keep only past events that exist.
+      if (t == kNeverFired || t > e.t_us) continue;
       nb.dx[nb.count] = static_cast<float>(xx - x);
       nb.dy[nb.count] = static_cast<float>(yy - y);
       nb.dt_us[nb.count] = static_cast<float>(t - e.t_us);
-      nb.count += (t != kNeverFired) & (t <= e.t_us);
+      ++nb.count;
     }
   }
   sae_t_us_[self] = e.t_us;
