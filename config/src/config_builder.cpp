@@ -51,8 +51,18 @@ std::string unknown_key_message(const std::string& where, std::string_view key) 
     }
   }
   if (best) msg << " (did you mean '" << best->name << "'?)";
-  msg << "; known keys:";
-  for (const auto& k : config_keys()) msg << ' ' << k.name;
+  // List the keys of the same top-level section, else the sections.
+  const std::string section(key.substr(0, key.find('.')));
+  const bool known_section = is_section(section);
+  std::vector<std::string> names;
+  for (const auto& k : config_keys()) {
+    const std::string top = k.name.substr(0, k.name.find('.'));
+    if (known_section && top != section) continue;
+    std::string name = known_section ? k.name.substr(top.size() + 1) : top;
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  msg << (known_section ? "; keys of '" + section + "':" : std::string("; sections:"));
+  for (std::size_t i = 0; i < names.size(); ++i) msg << (i == 0 ? " " : ", ") << names[i];
   return msg.str();
 }
 

@@ -16,6 +16,7 @@ const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = [] {
     std::vector<ConfigKey> k;
     detail::add_estimator_keys(k);
+    detail::add_engine_keys(k);
     // New sections: detail::add_<section>_keys(k);
     return k;
   }();

@@ -24,6 +24,10 @@ void add_estimator_keys(std::vector<ConfigKey>& keys) {
   keys.push_back(number_key<double>(
       "estimator.inlier_tolerance_us",
       [](auto& c) -> auto& { return c.estimator.inlier_tolerance_us; }, D{0.0, 1e6, true, false}));
+  keys.push_back(number_key<double>(
+      "estimator.inlier_tolerance_lifetime_fraction",
+      [](auto& c) -> auto& { return c.estimator.inlier_tolerance_lifetime_fraction; },
+      D{0.0, 0.5, true, false}));
   keys.push_back(bool_key("estimator.regularization",
                           [](auto& c) -> auto& { return c.estimator.regularization; }));
   keys.push_back(number_key<double>(
@@ -35,6 +39,9 @@ void add_estimator_keys(std::vector<ConfigKey>& keys) {
   keys.push_back(number_key<double>(
       "estimator.lambda_decay_per_us",
       [](auto& c) -> auto& { return c.estimator.lambda_decay_per_us; }, D{0.0, 1e3}));
+  keys.push_back(number_key<double>(
+      "estimator.lambda_unit_px2", [](auto& c) -> auto& { return c.estimator.lambda_unit_px2; },
+      D{0.0, 1e6}));
   keys.push_back(number_key<double>(
       "estimator.max_lifetime_us", [](auto& c) -> auto& { return c.estimator.max_lifetime_us; },
       D{0.0, 1e9, true, false}));

@@ -45,8 +45,11 @@ struct Range {
       if constexpr (std::is_floating_point_v<T>) return format_double(v);
       else return std::to_string(v);
     };
-    std::string s = std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
-    return odd ? "odd, " + s : s;
+    // append(), not operator+: GCC 12 warns falsely (-Wrestrict) on the latter.
+    std::string s = odd ? "odd, " : "";
+    s.append(lo_open ? "(" : "[").append(num(lo)).append(", ").append(num(hi));
+    s.append(hi_open ? ")" : "]");
+    return s;
   }
 };
 
@@ -137,5 +140,6 @@ ConfigKey string_key(std::string name, Field field, std::vector<std::string> cho
 
 // One function per section appends its keys (listed in config_key.cpp).
 void add_estimator_keys(std::vector<ConfigKey>& keys);
+void add_engine_keys(std::vector<ConfigKey>& keys);
 
 }  // namespace evlife::config::detail

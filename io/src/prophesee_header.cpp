@@ -78,6 +78,12 @@ std::string PropheseeHeader::evt_version() const {
     if (iequals(name, "EVT21")) return "2.1";
     if (iequals(name, "EVT3")) return "3.0";
   }
+  // Older RAW files name only the camera plugin; its sensor fixes the format.
+  if (auto plugin = find("plugin_name")) {
+    const std::string p(*plugin);
+    if (p.find("gen3") != std::string::npos) return "2.0";  // gen3, gen31
+    if (p.find("gen4") != std::string::npos || p.find("imx636") != std::string::npos) return "3.0";
+  }
   return {};
 }
 

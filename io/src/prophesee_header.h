@@ -24,7 +24,8 @@ struct PropheseeHeader {
   /// Value of the first line with this key (ASCII case-insensitive).
   std::optional<std::string_view> find(std::string_view key) const;
 
-  /// "2.0", "3.0", "2.1" from `% evt 3.0` or `% format EVT3;...`; empty if none.
+  /// "2.0", "3.0", "2.1" from `% evt 3.0` or `% format EVT3;...`, else from
+  /// the camera plugin (Gen3 → 2.0, Gen4 / IMX636 → 3.0); empty if none.
   std::string evt_version() const;
 
   /// From `% geometry WxH`, `% format ...;width=W;height=H`, `% Width W` +

@@ -21,7 +21,7 @@ ActiveEventSet::ActiveEventSet(SensorSize sensor, bool edge_thinning)
                                 " out of range 1..16384 each way");
   }
   const auto n = static_cast<std::size_t>(sensor.pixel_count());
-  expire_us_.assign(n, kNever);
+  expire_rel_.assign(n, kNeverRel);
   t_us_.assign(n, kNever);
   lifetime_us_.assign(n, 0.0f);
   vx_px_s_.assign(n, 0.0f);
@@ -30,7 +30,9 @@ ActiveEventSet::ActiveEventSet(SensorSize sensor, bool edge_thinning)
 }
 
 void ActiveEventSet::reset() noexcept {
-  std::fill(expire_us_.begin(), expire_us_.end(), kNever);
+  std::fill(expire_rel_.begin(), expire_rel_.end(), kNeverRel);
+  epoch_us_ = 0;
+  has_epoch_ = false;
   std::fill(t_us_.begin(), t_us_.end(), kNever);
   std::fill(lifetime_us_.begin(), lifetime_us_.end(), 0.0f);
   std::fill(vx_px_s_.begin(), vx_px_s_.end(), 0.0f);
@@ -58,9 +60,10 @@ void ActiveEventSet::feed(const AugmentedEvent& a) noexcept {
     ++stats_.late;
     return;
   }
+  if (!has_epoch_ || e.t_us - epoch_us_ > kMaxRel - kMaxLifetimeUs) rebase(e.t_us);
   // Active while t - t_event < lifetime; with integer t that is t < t_event + ceil(lifetime).
-  const double lifetime = std::min(static_cast<double>(a.lifetime_us), 1.0e12);
-  expire_us_[i] = e.t_us + static_cast<std::int64_t>(std::ceil(lifetime));
+  const double lifetime = std::min(static_cast<double>(a.lifetime_us), static_cast<double>(kMaxLifetimeUs));
+  expire_rel_[i] = static_cast<std::int32_t>(e.t_us - epoch_us_ + static_cast<std::int64_t>(std::ceil(lifetime)));
   t_us_[i] = e.t_us;
   lifetime_us_[i] = a.lifetime_us;
   vx_px_s_[i] = a.vx_px_s;
@@ -79,16 +82,34 @@ void ActiveEventSet::feed(const AugmentedEvent& a) noexcept {
   const int ny = e.y - dy;
   if (!sensor_.contains(nx, ny)) return;
   const std::size_t j = index(nx, ny);
-  if (polarity_[j] == e.p && t_us_[j] < e.t_us && expire_us_[j] > e.t_us) {
-    expire_us_[j] = e.t_us;
+  const std::int32_t now_rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
+  if (polarity_[j] == e.p && t_us_[j] < e.t_us && expire_rel_[j] > now_rel) {
+    expire_rel_[j] = now_rel;
     ++stats_.thinned;
   }
 }
 
 std::size_t ActiveEventSet::count_active(std::int64_t t_us) const noexcept {
+  const std::int64_t rel = relative_time(t_us);
   std::size_t n = 0;
-  for (const std::int64_t expire : expire_us_) n += t_us < expire ? 1u : 0u;
+  for (const std::int32_t expire : expire_rel_) n += rel < expire ? 1u : 0u;
   return n;
+}
+
+// Moves the epoch so that t_us sits near the start of the int32 range:
+// O(sensor), once per ~9 minutes of recording (never on a typical frame).
+void ActiveEventSet::rebase(std::int64_t t_us) noexcept {
+  const std::int64_t new_epoch = t_us - kMaxLifetimeUs;
+  if (has_epoch_) {
+    const std::int64_t shift = new_epoch - epoch_us_;
+    for (std::int32_t& e : expire_rel_) {
+      if (e == kNeverRel) continue;
+      const std::int64_t moved = static_cast<std::int64_t>(e) - shift;
+      e = moved <= kNeverRel ? kNeverRel : static_cast<std::int32_t>(moved);
+    }
+  }
+  epoch_us_ = new_epoch;
+  has_epoch_ = true;
 }
 
 }  // namespace evlife::render

@@ -26,25 +26,39 @@ namespace {
 cv::Vec3b polarity_color(std::int8_t p) { return p > 0 ? kOn : kOff; }
 }  // namespace
 
-void paint_active(const ActiveEventSet& set, std::int64_t t_us, ColorMode mode,
-                  const LifetimeColormap& colormap, cv::Mat& out) {
+namespace {
+template <ColorMode kMode>
+void paint_active_rows(const ActiveEventSet& set, std::int64_t t_us, const LifetimeColormap& colormap,
+                       cv::Mat& out) {
   const SensorSize s = set.sensor();
-  out.create(s.height, s.width, CV_8UC3);
-  const auto expire = set.expire_map_us();
+  const std::int32_t* expire = set.expire_map().data();
+  const std::int64_t rel = set.relative_time(t_us);
   std::size_t i = 0;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<cv::Vec3b>(y);
     for (int x = 0; x < s.width; ++x, ++i) {
-      if (t_us >= expire[i]) {
+      if (rel >= expire[i]) {
         row[x] = kBackground;
-        continue;
-      }
-      switch (mode) {
-        case ColorMode::lifetime: row[x] = colormap.color(set.lifetime_us(i)); break;
-        case ColorMode::polarity: row[x] = polarity_color(set.polarity(i)); break;
-        case ColorMode::plain: row[x] = kPlain; break;
+      } else if constexpr (kMode == ColorMode::lifetime) {
+        row[x] = colormap.color(set.lifetime_us(i));
+      } else if constexpr (kMode == ColorMode::polarity) {
+        row[x] = polarity_color(set.polarity(i));
+      } else {
+        row[x] = kPlain;
       }
     }
+  }
+}
+}  // namespace
+
+void paint_active(const ActiveEventSet& set, std::int64_t t_us, ColorMode mode,
+                  const LifetimeColormap& colormap, cv::Mat& out) {
+  const SensorSize s = set.sensor();
+  out.create(s.height, s.width, CV_8UC3);
+  switch (mode) {
+    case ColorMode::lifetime: paint_active_rows<ColorMode::lifetime>(set, t_us, colormap, out); break;
+    case ColorMode::polarity: paint_active_rows<ColorMode::polarity>(set, t_us, colormap, out); break;
+    case ColorMode::plain: paint_active_rows<ColorMode::plain>(set, t_us, colormap, out); break;
   }
 }
 
@@ -52,11 +66,12 @@ void paint_window(const FixedWindowMap& map, std::int64_t t_us, std::int64_t win
                   ColorMode mode, cv::Mat& out) {
   const SensorSize s = map.sensor();
   out.create(s.height, s.width, CV_8UC3);
+  const auto w = map.relative_window(t_us, window_us);
   std::size_t i = 0;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<cv::Vec3b>(y);
     for (int x = 0; x < s.width; ++x, ++i) {
-      if (!map.is_active(i, t_us, window_us))
+      if (!map.is_active_rel(i, w))
         row[x] = kBackground;
       else
         row[x] = mode == ColorMode::polarity ? polarity_color(map.polarity(i)) : kPlain;
@@ -67,11 +82,12 @@ void paint_window(const FixedWindowMap& map, std::int64_t t_us, std::int64_t win
 void active_mask(const ActiveEventSet& set, std::int64_t t_us, cv::Mat& out) {
   const SensorSize s = set.sensor();
   out.create(s.height, s.width, CV_8UC1);
-  const auto expire = set.expire_map_us();
+  const std::int32_t* expire = set.expire_map().data();
+  const std::int64_t rel = set.relative_time(t_us);
   std::size_t i = 0;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<std::uint8_t>(y);
-    for (int x = 0; x < s.width; ++x, ++i) row[x] = t_us < expire[i] ? 255 : 0;
+    for (int x = 0; x < s.width; ++x, ++i) row[x] = rel < expire[i] ? 255 : 0;
   }
 }
 
@@ -79,10 +95,11 @@ void window_mask(const FixedWindowMap& map, std::int64_t t_us, std::int64_t wind
                  cv::Mat& out) {
   const SensorSize s = map.sensor();
   out.create(s.height, s.width, CV_8UC1);
+  const auto w = map.relative_window(t_us, window_us);
   std::size_t i = 0;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<std::uint8_t>(y);
-    for (int x = 0; x < s.width; ++x, ++i) row[x] = map.is_active(i, t_us, window_us) ? 255 : 0;
+    for (int x = 0; x < s.width; ++x, ++i) row[x] = map.is_active_rel(i, w) ? 255 : 0;
   }
 }
 

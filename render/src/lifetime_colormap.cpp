@@ -24,10 +24,24 @@ LifetimeColormap::LifetimeColormap(double min_us, double max_us) : min_us_(min_u
   cv::Mat colored;
   cv::applyColorMap(ramp, colored, cv::COLORMAP_JET);
   for (int i = 0; i < 256; ++i) lut_[static_cast<std::size_t>(i)] = colored.at<cv::Vec3b>(0, i);
+  // Positive floats order like their bit patterns: key = exponent and top 8
+  // mantissa bits; each key covers 1/256 of an octave.
+  min_f_ = static_cast<float>(min_us);
+  max_f_ = static_cast<float>(max_us);
+  base_key_ = std::bit_cast<std::uint32_t>(min_f_) >> 15;
+  const std::uint32_t top_key = std::bit_cast<std::uint32_t>(max_f_) >> 15;
+  fast_table_.resize(top_key - base_key_ + 1);
+  for (std::uint32_t key = base_key_; key <= top_key; ++key) {
+    // Centre of the key's interval.
+    const float lo = std::bit_cast<float>(key << 15);
+    const float hi = std::bit_cast<float>((key + 1) << 15);
+    const float mid = std::sqrt(lo * hi);
+    fast_table_[key - base_key_] = static_cast<std::uint8_t>(bin(mid));
+  }
 }
 
 int LifetimeColormap::bin(float lifetime_us) const noexcept {
-  if (!(lifetime_us > min_us_)) return 0;
+  if (!(static_cast<double>(lifetime_us) > min_us_)) return 0;
   const double u = (std::log(static_cast<double>(lifetime_us)) - log_min_) * inv_log_span_;
   return std::clamp(static_cast<int>(u * 255.0 + 0.5), 0, 255);
 }

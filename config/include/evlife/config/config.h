@@ -6,10 +6,13 @@
 //   b.set("estimator.window_size=7");      // --set overrides, dotted keys
 //   Config c = b.build();                  // validates every key once
 //
-// Adding a section: add a member to Config, describe its keys in
-// src/<section>_keys.cpp (see estimator_keys.cpp) and list that function in
-// src/config_key.cpp; document the keys in config/evlife.yaml (a test checks
-// that the file lists every key with the struct's default value).
+// Adding a section (e.g. `render:`): add a member to Config (a plain struct
+// with defaults — its header must not pull in the owning library's
+// dependencies; config/ links only evlife::algo), describe its keys in
+// src/<section>_keys.cpp (see estimator_keys.cpp: one line per key with its
+// range), call that function in src/config_key.cpp, and document the keys in
+// config/evlife.yaml (test_config fails until the file lists every key with
+// the struct's default value).
 #pragma once
 
 #include <map>
@@ -22,8 +25,24 @@
 
 namespace evlife::config {
 
+/// YAML section `engine:` (`evlife run`): thread roles, tiling, queue sizes,
+/// overload policy. Plain values, mapped onto evlife::engine::EngineOptions
+/// by the CLI (config does not depend on the engine); defaults equal
+/// EngineOptions' (test_engine checks).
+struct EngineSection {
+  int workers = 2;                ///< worker threads, 1..32
+  int tiles_x = 1;                ///< tiles per polarity, columns, 1..256
+  int tiles_y = 1;                ///< tiles per polarity, rows, 1..256
+  int margin_px = -1;             ///< -1 = auto (4 x window size), 0..1024
+  int batch_events = 1024;        ///< events per batch through the queues, 16..65536
+  int batches_per_worker = 64;    ///< batches in flight per worker, 2..1024
+  std::string policy = "auto";    ///< auto | block | drop
+  double stats_period_s = 1.0;    ///< progress line period, 0 = none
+};
+
 struct Config {
   LifetimeOptions estimator;  ///< YAML section `estimator:`, 1:1 with LifetimeOptions
+  EngineSection engine;       ///< YAML section `engine:`
 };
 
 /// Any configuration problem: the message names the key, where it was set

@@ -15,11 +15,11 @@ namespace evlife::engine {
 /// needs it as context (margin: its output is discarded). The worker writes
 /// the outputs of owned events, in order, into `out`.
 struct WorkBatch {
-  explicit WorkBatch(std::size_t capacity)
-      : events(std::make_unique<Event[]>(capacity)),
-        owned(std::make_unique<std::uint8_t[]>(capacity)),
-        out(std::make_unique<AugmentedEvent[]>(capacity)),
-        capacity(capacity) {}
+  explicit WorkBatch(std::size_t capacity_events)
+      : events(std::make_unique<Event[]>(capacity_events)),
+        owned(std::make_unique<std::uint8_t[]>(capacity_events)),
+        out(std::make_unique<AugmentedEvent[]>(capacity_events)),
+        capacity(capacity_events) {}
 
   std::unique_ptr<Event[]> events;
   std::unique_ptr<std::uint8_t[]> owned;
@@ -36,8 +36,8 @@ struct WorkBatch {
 struct OrderBatch {
   static constexpr std::uint8_t kDropped = 0xFE;
 
-  explicit OrderBatch(std::size_t capacity)
-      : owner(std::make_unique<std::uint8_t[]>(capacity)), capacity(capacity) {}
+  explicit OrderBatch(std::size_t capacity_events)
+      : owner(std::make_unique<std::uint8_t[]>(capacity_events)), capacity(capacity_events) {}
 
   std::unique_ptr<std::uint8_t[]> owner;
   std::size_t capacity;

@@ -47,6 +47,10 @@ struct EngineOptions {
   bool auto_policy = true;
   OverloadPolicy policy = OverloadPolicy::block;
 
+  /// Batches of the merged stream buffered for the render thread; 0 = no
+  /// render branch. Full: the merger waits (block) or skips them, counted (drop).
+  std::size_t render_batches = 0;
+
   /// Period of the progress line (spdlog info); 0 = only the final summary.
   double stats_period_s = 1.0;
 };

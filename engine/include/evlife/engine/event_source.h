@@ -78,6 +78,12 @@ class EventSource {
   /// transfers, events outside the sensor it refused). 0 for files.
   virtual std::uint64_t lost_events() const noexcept { return 0; }
 
+  /// When the events of the last pull() arrived, steady-clock ns (the
+  /// engine's latency starts there); 0 = "now" (the engine stamps the chunk
+  /// when pull() returns). A paced replay returns the time its first event
+  /// was due, so a lagging engine shows as latency, not as a slower clock.
+  virtual std::int64_t last_arrival_ns() const noexcept { return 0; }
+
   /// Asks a pull() in progress (or the next one) to return promptly and the
   /// source to finish with end_of_stream. Thread-safe; idempotent.
   virtual void request_stop() noexcept = 0;

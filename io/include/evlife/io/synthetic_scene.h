@@ -18,7 +18,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <span>
@@ -83,9 +82,11 @@ struct SceneSpec {
 /// Ground truth of one event (same index as the event).
 struct EventTruth {
   double t_true_us = 0.0;     ///< crossing time before jitter and rounding
-  float lifetime_us = 0.0f;   ///< 1 / normal speed; 0 for noise
-  float nx = 0.0f;            ///< unit normal, direction of motion; 0 for noise
-  float ny = 0.0f;
+  double lifetime_us = 0.0;   ///< 1 / normal speed; 0 for noise
+  double nx = 0.0;            ///< unit normal, direction of motion; 0 for noise
+  double ny = 0.0;
+  double travel_px = 0.0;     ///< how far the edge has moved since its motion began:
+                              ///< a window needs ~N/2 px of travel before it holds support
   std::int16_t feature = -1;  ///< index into SyntheticScene::feature_names; -1 = noise
   std::uint16_t margin_px = 0;  ///< Chebyshev distance to the edge of the feature's region
                                 ///< (noise: of the sensor): an N x N window fits when >= N/2
@@ -112,17 +113,19 @@ SyntheticScene generate_scene(const SceneSpec& spec);
 
 // ---- Presets (the scene families of the accuracy test and `evlife synth`) ----
 
-/// Tiles of gratings (~60 px), each with its own direction (never axis-aligned
-/// by construction: golden-angle steps from 23 deg) and lifetime (300 us .. 20 ms,
-/// log-spaced); each tile runs at most `max_passes` bar periods so fast tiles
-/// do not dominate the event count. Pixels see repeated passes (stale events).
+/// Tiles of gratings (~60 px), each with its own direction (golden-angle steps
+/// from 23 deg: spread over 0..360, mostly off the axes) and lifetime (300 us .. 20 ms,
+/// log-spaced); each tile moves during the last `max_passes` bar periods of the
+/// scene (or all of it) so fast tiles do not dominate the event count. Pixels
+/// see repeated passes, so windows hold stale events of earlier bars.
 SceneSpec edges_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed,
                       int max_passes = 6);
 
 /// One bar rotating about the sensor centre, 150 -> 1200 deg/s over the duration.
 SceneSpec rotating_bar_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed);
 
-/// Left half: two gratings (top, bottom); right half: a rotating bar that speeds up.
+/// Left half: a slow grating (top) and a fast one (bottom), each moving for
+/// three bar periods; right half: a bar rotating 150 -> 1200 deg/s.
 SceneSpec mixed_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed);
 
 /// Many edges for throughput benches: 80 px tiles of gratings over the whole
@@ -139,7 +142,6 @@ class SyntheticSceneReader : public EventReader {
  public:
   /// Throws std::invalid_argument on a bad spec.
   explicit SyntheticSceneReader(SceneSpec spec);
-  ~SyntheticSceneReader() override;
 
   std::size_t read(std::span<Event> out) override;
 
@@ -152,7 +154,11 @@ class SyntheticSceneReader : public EventReader {
   const SceneSpec& spec() const noexcept { return spec_; }
 
  private:
-  struct Pending;
+  struct Pending {
+    Event event;
+    EventTruth truth;
+    std::uint64_t sequence;  // generation order: the tie-break of equal timestamps
+  };
   void generate_next_slice();
 
   SceneSpec spec_;
@@ -160,9 +166,10 @@ class SyntheticSceneReader : public EventReader {
   std::int64_t next_slice_ = 0;
   std::int64_t slice_count_ = 0;
   std::uint64_t sequence_ = 0;
-  std::vector<Pending>* pending_ = nullptr;   // sorted, not yet safe to emit
-  std::size_t ready_ = 0;                     // pending_[0, ready_) may be emitted
-  std::size_t emitted_ = 0;                   // pending_[0, emitted_) were emitted
+  std::vector<Pending> pending_;  // sorted by (t, sequence)
+  std::vector<Pending> slice_;    // scratch: the slice being generated
+  std::size_t ready_ = 0;         // pending_[0, ready_) can no longer be preceded
+  std::size_t emitted_ = 0;       // pending_[0, emitted_) were handed out
 };
 
 }  // namespace evlife::io

@@ -50,10 +50,12 @@ class ActiveEventSet {
   /// True when pixel (x, y) holds an event active at t_us. Valid for
   /// t_us >= last_fed_t_us() (later events would not have been fed yet).
   bool is_active(int x, int y, std::int64_t t_us) const noexcept {
-    return t_us < expire_us_[index(x, y)];
+    return is_active(index(x, y), t_us);
   }
   /// Same, by linear pixel index y * width + x.
-  bool is_active(std::size_t i, std::int64_t t_us) const noexcept { return t_us < expire_us_[i]; }
+  bool is_active(std::size_t i, std::int64_t t_us) const noexcept {
+    return relative_time(t_us) < static_cast<std::int64_t>(expire_rel_[i]);
+  }
 
   /// Lifetime, polarity and velocity of the latest event stored at a pixel.
   float lifetime_us(std::size_t i) const noexcept { return lifetime_us_[i]; }
@@ -64,8 +66,17 @@ class ActiveEventSet {
   /// Number of pixels active at t_us; O(sensor pixels).
   std::size_t count_active(std::int64_t t_us) const noexcept;
 
-  /// Raw expiry map (y * width + x), microseconds; INT64_MIN = nothing stored.
-  std::span<const std::int64_t> expire_map_us() const noexcept { return expire_us_; }
+  /// Raw expiry map (y * width + x): expiry time in microseconds relative
+  /// to epoch_us(); kNeverRel = nothing stored. A pixel is active at t when
+  /// relative_time(t) < its entry. 32-bit so that sampling a frame reads
+  /// half the memory; the epoch moves forward every ~9 minutes of recording.
+  std::span<const std::int32_t> expire_map() const noexcept { return expire_rel_; }
+  std::int64_t epoch_us() const noexcept { return epoch_us_; }
+  /// t - epoch, saturated into the int32 range (so comparisons stay exact).
+  std::int64_t relative_time(std::int64_t t_us) const noexcept {
+    const std::int64_t r = t_us - epoch_us_;
+    return r < kNeverRel ? kNeverRel : (r > kMaxRel ? kMaxRel : r);
+  }
 
   SensorSize sensor() const noexcept { return sensor_; }
   bool edge_thinning() const noexcept { return edge_thinning_; }
@@ -73,6 +84,10 @@ class ActiveEventSet {
   const ActiveEventSetStats& stats() const noexcept { return stats_; }
 
   static constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::min();
+  static constexpr std::int32_t kNeverRel = std::numeric_limits<std::int32_t>::min();
+  static constexpr std::int32_t kMaxRel = std::numeric_limits<std::int32_t>::max();
+  /// Longest lifetime kept exactly (~9 min); longer ones are cut to this.
+  static constexpr std::int64_t kMaxLifetimeUs = std::int64_t{1} << 29;
 
  private:
   std::size_t index(int x, int y) const noexcept {
@@ -84,8 +99,12 @@ class ActiveEventSet {
   bool edge_thinning_;
   std::int64_t last_fed_t_us_ = kNever;
   ActiveEventSetStats stats_;
-  // Structure of arrays: sampling reads only expire_us_ for inactive pixels.
-  std::vector<std::int64_t> expire_us_;  // event time + lifetime; kNever when empty
+  void rebase(std::int64_t t_us) noexcept;
+
+  // Structure of arrays: sampling reads only expire_rel_ for inactive pixels.
+  std::int64_t epoch_us_ = 0;
+  bool has_epoch_ = false;
+  std::vector<std::int32_t> expire_rel_;  // event time + lifetime - epoch; kNeverRel when empty
   std::vector<std::int64_t> t_us_;       // time of the stored event
   std::vector<float> lifetime_us_;
   std::vector<float> vx_px_s_;

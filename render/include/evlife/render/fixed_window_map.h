@@ -25,9 +25,11 @@ class FixedWindowMap {
       ++out_of_sensor_;
       return;
     }
+    if (!has_epoch_ || e.t_us - epoch_us_ > kRebaseAfterUs) rebase(e.t_us);
     const std::size_t i = static_cast<std::size_t>(e.y) * static_cast<std::size_t>(sensor_.width) + e.x;
-    if (e.t_us >= last_t_us_[i]) {
-      last_t_us_[i] = e.t_us;
+    const auto rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
+    if (rel >= last_rel_[i]) {
+      last_rel_[i] = rel;
       polarity_[i] = e.p;
     }
   }
@@ -38,10 +40,25 @@ class FixedWindowMap {
 
   void reset() noexcept;
 
-  /// True when pixel i (y * width + x) had an event in [t_us - window_us, t_us].
+  /// Window bounds relative to the epoch, for is_active_rel() in per-pixel loops.
+  struct RelWindow {
+    std::int64_t lo;
+    std::int64_t hi;
+  };
+  RelWindow relative_window(std::int64_t t_us, std::int64_t window_us) const noexcept {
+    auto sat = [](std::int64_t r) {
+      return r <= kNeverRel ? std::int64_t{kNeverRel} + 1 : (r > kMaxRel ? std::int64_t{kMaxRel} : r);
+    };
+    return {sat(t_us - window_us - epoch_us_), sat(t_us - epoch_us_)};
+  }
+  bool is_active_rel(std::size_t i, RelWindow w) const noexcept {
+    const std::int64_t last = last_rel_[i];
+    return last >= w.lo && last <= w.hi;
+  }
+  /// True when pixel i (y * width + x) had an event in [t_us - window_us, t_us]
+  /// (windows up to ~9 minutes).
   bool is_active(std::size_t i, std::int64_t t_us, std::int64_t window_us) const noexcept {
-    const std::int64_t last = last_t_us_[i];
-    return last <= t_us && last >= t_us - window_us;
+    return is_active_rel(i, relative_window(t_us, window_us));
   }
   std::int8_t polarity(std::size_t i) const noexcept { return polarity_[i]; }
   std::size_t count_active(std::int64_t t_us, std::int64_t window_us) const noexcept;
@@ -49,12 +66,21 @@ class FixedWindowMap {
   SensorSize sensor() const noexcept { return sensor_; }
   std::uint64_t out_of_sensor() const noexcept { return out_of_sensor_; }
 
-  static constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::min() / 2;
+  static constexpr std::int32_t kNeverRel = std::numeric_limits<std::int32_t>::min();
+  static constexpr std::int32_t kMaxRel = std::numeric_limits<std::int32_t>::max();
 
  private:
+  static constexpr std::int64_t kKeepUs = std::int64_t{1} << 29;  // longest exact window
+  static constexpr std::int64_t kRebaseAfterUs = kMaxRel - kKeepUs;
+  void rebase(std::int64_t t_us) noexcept;
+
   SensorSize sensor_;
   std::uint64_t out_of_sensor_ = 0;
-  std::vector<std::int64_t> last_t_us_;  // kNever: never fired
+  // Latest timestamp per pixel relative to epoch_us_ (32-bit: half the
+  // memory read per frame); kNeverRel: never fired.
+  std::int64_t epoch_us_ = 0;
+  bool has_epoch_ = false;
+  std::vector<std::int32_t> last_rel_;
   std::vector<std::int8_t> polarity_;
 };
 

@@ -1,0 +1,85 @@
+#include "arg_parser.h"
+
+#include <charconv>
+
+namespace evlife::cli {
+
+std::optional<std::string> ParsedArgs::value(std::string_view name) const {
+  const auto it = values_.find(name);
+  if (it == values_.end() || it->second.empty()) return std::nullopt;
+  return it->second.back();
+}
+
+std::vector<std::string> ParsedArgs::values(std::string_view name) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? std::vector<std::string>{} : it->second;
+}
+
+ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options) {
+  ParsedArgs out;
+  bool options_done = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (options_done || arg.size() < 2 || arg[0] != '-') {
+      out.positional.emplace_back(arg);
+      continue;
+    }
+    if (arg == "--") {
+      options_done = true;
+      continue;
+    }
+    const OptionSpec* spec = nullptr;
+    std::optional<std::string> inline_value;
+    if (arg[1] == '-') {
+      std::string_view name = arg.substr(2);
+      if (const auto eq = name.find('='); eq != std::string_view::npos) {
+        inline_value = std::string(name.substr(eq + 1));
+        name = name.substr(0, eq);
+      }
+      for (const auto& o : options) {
+        if (o.name == name) spec = &o;
+      }
+    } else if (arg.size() == 2) {
+      for (const auto& o : options) {
+        if (o.alias != 0 && o.alias == arg[1]) spec = &o;
+      }
+    }
+    if (!spec) throw UsageError("unknown option '" + std::string(arg) + "'");
+    const std::string name(spec->name);
+    std::string value;
+    if (spec->takes_value) {
+      if (inline_value) {
+        value = *inline_value;
+      } else if (i + 1 < argc) {
+        value = argv[++i];
+      } else {
+        throw UsageError("option '" + std::string(arg) + "' needs a value");
+      }
+    } else if (inline_value) {
+      throw UsageError("option '--" + name + "' takes no value");
+    }
+    auto& slot = out.values_[name];
+    if (!slot.empty() && !spec->repeatable) {
+      throw UsageError("option '--" + name + "' given more than once");
+    }
+    slot.push_back(std::move(value));
+  }
+  return out;
+}
+
+SensorSize parse_sensor_size(std::string_view text) {
+  const auto x = text.find_first_of("xX");
+  auto number = [&](std::string_view s, int& v) {
+    const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    return !s.empty() && ec == std::errc() && ptr == s.data() + s.size() && v >= 1 && v <= 4096;
+  };
+  SensorSize size;
+  if (x == std::string_view::npos || !number(text.substr(0, x), size.width) ||
+      !number(text.substr(x + 1), size.height)) {
+    throw UsageError("--sensor '" + std::string(text) +
+                     "': expected WIDTHxHEIGHT with each side in 1..4096, e.g. 240x180");
+  }
+  return size;
+}
+
+}  // namespace evlife::cli

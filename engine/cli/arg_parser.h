@@ -1,0 +1,52 @@
+// Minimal command-line parsing shared by the subcommands: long options with
+// or without a value (`--opt v`, `--opt=v`), one-letter aliases (`-o v`),
+// repeatable options, positionals, `--` to end options. Errors throw
+// UsageError with a message naming the argument.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::cli {
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct OptionSpec {
+  std::string_view name;     ///< long name without dashes, e.g. "output"
+  char alias = 0;            ///< e.g. 'o' for -o; 0 = none
+  bool takes_value = true;   ///< false: a flag
+  bool repeatable = false;   ///< e.g. --set
+};
+
+class ParsedArgs {
+ public:
+  std::vector<std::string> positional;
+
+  bool has(std::string_view name) const { return values_.find(name) != values_.end(); }
+  /// The value of a single-valued option, if given.
+  std::optional<std::string> value(std::string_view name) const;
+  /// Every value of a repeatable option, in command-line order.
+  std::vector<std::string> values(std::string_view name) const;
+
+ private:
+  friend ParsedArgs parse_args(int, char**, std::span<const OptionSpec>);
+  std::map<std::string, std::vector<std::string>, std::less<>> values_;
+};
+
+/// Parses argv[1..argc) (argv[0] is the subcommand name). Throws UsageError.
+ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options);
+
+/// "WIDTHxHEIGHT", e.g. "240x180", each 1..4096. Throws UsageError.
+SensorSize parse_sensor_size(std::string_view text);
+
+}  // namespace evlife::cli

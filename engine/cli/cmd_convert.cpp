@@ -1,0 +1,283 @@
+// `evlife convert IN OUT`: rewrites a recording in another format, e.g. to
+// check a decode against one's own tools or to hand events to h5py users.
+// Streams batch by batch (constant memory); on bad input writes and flushes
+// everything before the fault, then exits non-zero.
+#include <cctype>
+#include <cstdio>
+#include <initializer_list>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "arg_parser.h"
+#include "command.h"
+#include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/event_writer.h"
+#include "evlife/io/hdf5_writer.h"
+#include "exit_code.h"
+
+namespace evlife::cli {
+namespace {
+
+constexpr std::size_t kBatchEvents = 1 << 16;
+
+constexpr OptionSpec kOptions[] = {
+    {"sensor", 0, true, false},
+    {"unchecked", 0, false, false},
+    {"quiet", 'q', false, false},
+    {"help", 'h', false, false},
+};
+
+void print_help(std::FILE* out) {
+  std::fprintf(out,
+      "evlife convert — rewrite an event recording in another format\n"
+      "\n"
+      "Usage: evlife convert INPUT OUTPUT [--sensor WxH] [--unchecked] [--quiet]\n"
+      "\n"
+      "INPUT: any event recording evlife reads (sniffed from the content, else the\n"
+      "extension):\n");
+  for (const auto& f : io::known_event_formats()) {
+    std::fprintf(out, "  %-14.*s %.*s\n", static_cast<int>(f.name.size()), f.name.data(),
+                 static_cast<int>(f.description.size()), f.description.data());
+  }
+  std::fprintf(out,
+      "or an augmented file written by `evlife process` (.csv or .bin).\n"
+      "\n"
+      "OUTPUT, chosen by its extension:\n"
+      "  .txt         RPG text, one event per line 't x y p' (t in seconds, 6 decimals,\n"
+      "               p 1/0); augmented input loses its lifetime/velocity columns.\n"
+      "  .h5 .hdf5    HDF5, one dataset per field: x, y (uint16, px), t (int64, µs),\n"
+      "               p (int8, +1/-1), and for augmented input lifetime (µs), vx, vy\n"
+      "               (px/s), prediction_error (µs, NaN = none); units in attributes,\n"
+      "               sensor size in the root attributes width/height. In Python:\n"
+      "                 import h5py; f = h5py.File('OUT.h5'); t = f['t'][:]\n"
+      "  .csv .bin    augmented events (only from augmented input; for a recording\n"
+      "               use `evlife process INPUT -o OUT.bin`).\n"
+      "\n"
+      "Options:\n"
+      "  --sensor WxH   sensor size to check coordinates against (and to store in\n"
+      "                 HDF5) when the format does not state one.\n"
+      "  --unchecked    write events exactly as decoded: no check of coordinates\n"
+      "                 against the sensor or of time order.\n"
+      "  -q, --quiet    no summary.\n"
+      "  -h, --help     this text.\n"
+      "\n"
+      "Bad input (missing file, unknown format, truncated or corrupt data, and unless\n"
+      "--unchecked coordinates outside the sensor or time going backwards) stops with\n"
+      "a message naming the file and the event index / byte offset; the events before\n"
+      "the fault are written and flushed.\n"
+      "\n"
+      "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"
+      "\n"
+      "Examples:\n"
+      "  evlife convert recording.aedat4 recording.h5\n"
+      "  evlife convert evt3_sample.raw events.txt\n"
+      "  evlife convert lifetimes.bin lifetimes.h5     # output of evlife process\n");
+}
+
+bool has_ext(const std::string& path, std::initializer_list<const char*> exts) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* e : exts) {
+    if (ext == e) return true;
+  }
+  return false;
+}
+
+struct Outcome {
+  unsigned long long written = 0;
+  std::optional<std::string> input_fault;
+  std::optional<std::string> output_fault;
+};
+
+// Copies batches from `read` to `write` until the end or a fault; closes the writer.
+template <typename Record, typename Reader, typename Writer>
+Outcome copy_all(Reader& reader, Writer& writer) {
+  Outcome o;
+  std::vector<Record> batch(kBatchEvents);
+  while (true) {
+    std::size_t n = 0;
+    try {
+      n = reader.read(batch);
+    } catch (const io::ReadError& e) {
+      o.input_fault = e.what();
+      break;
+    }
+    if (n == 0) break;
+    try {
+      writer.write(std::span<const Record>(batch.data(), n));
+    } catch (const io::WriteError& e) {
+      o.output_fault = e.what();
+      break;
+    }
+    o.written += n;
+  }
+  try {
+    writer.close();  // flushes: everything before a fault reaches the disk
+  } catch (const io::WriteError& e) {
+    if (!o.output_fault) o.output_fault = e.what();
+  }
+  return o;
+}
+
+// Augmented records as plain events (for .txt output of augmented input).
+class EventsOfAugmented {
+ public:
+  explicit EventsOfAugmented(io::AugmentedEventReader& reader) : reader_(reader) {}
+  std::size_t read(std::span<Event> out) {
+    buffer_.resize(out.size());
+    const std::size_t n = reader_.read(buffer_);
+    for (std::size_t i = 0; i < n; ++i) out[i] = buffer_[i].event;
+    return n;
+  }
+
+ private:
+  io::AugmentedEventReader& reader_;
+  std::vector<AugmentedEvent> buffer_;
+};
+
+int report(const Outcome& o, const std::string& input, const std::string& output,
+           const std::string& what, bool quiet) {
+  if (!quiet) {
+    std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", input.c_str(),
+                 output.c_str(), o.written, what.c_str());
+  }
+  if (o.output_fault) {
+    std::fprintf(stderr, "evlife convert: output error: %s (%llu written before it)\n",
+                 o.output_fault->c_str(), o.written);
+    return kExitOutput;
+  }
+  if (o.input_fault) {
+    std::fprintf(stderr,
+                 "evlife convert: input error: %s\n"
+                 "evlife convert: the %llu events before the fault were written to %s\n",
+                 o.input_fault->c_str(), o.written, output.c_str());
+    return kExitInput;
+  }
+  return kExitOk;
+}
+
+int convert_augmented(const std::string& input, const std::string& output, bool quiet) {
+  std::unique_ptr<io::AugmentedEventReader> reader;
+  try {
+    reader = io::open_augmented_reader(input);
+  } catch (const io::ReadError& e) {
+    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
+    return kExitInput;
+  }
+  try {
+    if (has_ext(output, {".txt"})) {
+      auto writer = io::open_event_writer(output);
+      EventsOfAugmented events(*reader);
+      return report(copy_all<Event>(events, *writer), input, output,
+                    "events (lifetime/velocity columns dropped)", quiet);
+    }
+    const SensorSize sensor = reader->sensor_size().value_or(SensorSize{});
+    auto writer = io::open_augmented_writer(output, sensor);
+    return report(copy_all<AugmentedEvent>(*reader, *writer), input, output, "augmented events",
+                  quiet);
+  } catch (const io::WriteError& e) {
+    std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
+    return kExitOutput;
+  }
+}
+
+int convert_events(const std::string& input, const std::string& output,
+                   std::optional<SensorSize> sensor_arg, bool unchecked, bool quiet) {
+  if (has_ext(output, {".csv", ".bin"})) {
+    std::fprintf(stderr,
+                 "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
+                 "  run `evlife process %s -o %s` for those;\n"
+                 "  convert writes a recording's plain events to .txt or .h5 (see --help)\n",
+                 output.c_str(), input.c_str(), output.c_str());
+    return kExitUsage;
+  }
+  std::unique_ptr<io::EventReader> reader;
+  std::optional<SensorSize> sensor;
+  try {
+    if (unchecked) {
+      reader = io::open_unchecked_event_reader(input);
+      sensor = reader->sensor_size() ? reader->sensor_size() : sensor_arg;
+    } else {
+      const auto probe = io::open_unchecked_event_reader(input);
+      sensor = probe->sensor_size() ? probe->sensor_size() : sensor_arg;
+      reader = io::open_event_reader(input, io::ReaderOptions{sensor, true});
+    }
+  } catch (const io::ReadError& e) {
+    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
+    return kExitInput;
+  }
+  std::unique_ptr<io::EventWriter> writer;
+  try {
+    writer = has_ext(output, {".h5", ".hdf5"}) ? io::open_hdf5_event_writer(output, sensor)
+                                               : io::open_event_writer(output);
+  } catch (const io::WriteError& e) {
+    std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
+    return kExitOutput;
+  }
+  const Outcome o = copy_all<Event>(*reader, *writer);
+  const std::string format(reader->format_name());
+  std::string what = "events (" + format;
+  if (sensor) what += ", sensor " + std::to_string(sensor->width) + "x" + std::to_string(sensor->height);
+  what += ")";
+  const int code = report(o, input, output, what, quiet);
+  if (!quiet && reader->skipped_record_count() > 0) {
+    std::fprintf(stdout, "  skipped records: %llu (non-event records of the format)\n",
+                 static_cast<unsigned long long>(reader->skipped_record_count()));
+  }
+  return code;
+}
+
+int convert(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
+      print_help(stdout);
+      return kExitOk;
+    }
+  }
+  std::string input;
+  std::string output;
+  std::optional<SensorSize> sensor;
+  bool unchecked = false;
+  bool quiet = false;
+  try {
+    const ParsedArgs a = parse_args(argc, argv, kOptions);
+    if (a.positional.size() != 2) throw UsageError("expected INPUT and OUTPUT");
+    input = a.positional[0];
+    output = a.positional[1];
+    if (const auto s = a.value("sensor")) sensor = parse_sensor_size(*s);
+    unchecked = a.has("unchecked");
+    quiet = a.has("quiet");
+    std::error_code ec;
+    if (std::filesystem::equivalent(input, output, ec)) {
+      throw UsageError(output + " is the input file; refusing to overwrite it");
+    }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "evlife convert: %s\n(see evlife convert --help)\n", e.what());
+    return kExitUsage;
+  }
+  // Output of `evlife process` (.csv / .bin) converts as augmented events.
+  if (has_ext(input, {".csv", ".bin"})) return convert_augmented(input, output, quiet);
+  return convert_events(input, output, sensor, unchecked, quiet);
+}
+
+int run_convert(int argc, char** argv) {
+  try {
+    return convert(argc, argv);
+  } catch (const std::exception& e) {  // a bug or out of memory: still a message, never a crash
+    std::fprintf(stderr, "evlife convert: unexpected error: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace
+
+EVLIFE_REGISTER_COMMAND("convert", "rewrite a recording in another format (.txt, .h5)",
+                        run_convert);
+
+}  // namespace evlife::cli

@@ -1,0 +1,56 @@
+// `evlife devices`: lists the attached event cameras (DVS128 over USB) and,
+// when there is none, what libusb sees and what to check.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include "command.h"
+#include "evlife/io/dvs128_device.h"
+#include "exit_code.h"
+
+namespace evlife::cli {
+namespace {
+
+int run_devices(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::printf(
+          "Usage: evlife devices\n\n"
+          "Lists the attached event cameras (iniVation DVS128, USB 152a:8400), one per line,\n"
+          "starting with the --source spec that selects it for `evlife run`:\n"
+          "  dvs128:SERIAL   DVS128 serial SERIAL (bus B device D, firmware F)\n\n"
+          "Exit status: 0 at least one camera listed, 3 none found (the USB devices seen\n"
+          "and what to check are printed), 1 libusb cannot start.\n");
+      return kExitOk;
+    }
+    std::fprintf(stderr, "evlife devices: unexpected argument '%s' (see --help)\n", argv[i]);
+    return kExitUsage;
+  }
+  try {
+    const auto cameras = io::list_dvs128_devices();
+    for (const auto& cam : cameras) {
+      const std::string spec = cam.serial.empty() ? "dvs128" : "dvs128:" + cam.serial;
+      std::printf("%-20s %s%s%s\n", spec.c_str(), cam.describe().c_str(),
+                  cam.problem.empty() ? "" : "  -- ", cam.problem.c_str());
+    }
+    if (!cameras.empty()) return kExitOk;
+    const auto usb = io::list_usb_devices();
+    std::fprintf(stderr, "evlife devices: no event camera found (DVS128 = USB 152a:8400).\n");
+    std::fprintf(stderr, "USB devices seen: %zu\n", usb.size());
+    for (const auto& d : usb) {
+      std::fprintf(stderr, "  %04x:%04x  bus %d device %d\n", d.vendor_id, d.product_id, d.bus,
+                   d.address);
+    }
+    std::fprintf(stderr, "%s\n", io::dvs128_troubleshooting().c_str());
+    return kExitInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "evlife devices: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace
+
+EVLIFE_REGISTER_COMMAND("devices", "list attached event cameras (DVS128 over USB)", run_devices);
+
+}  // namespace evlife::cli

@@ -1,0 +1,454 @@
+// `evlife render INPUT -o DIR|VIDEO`: images of the events active at chosen
+// instants (paper Figs. 1, 8, 13, 14), optionally beside fixed-window images.
+// One forward pass over the recording: frames are drawn at increasing times
+// from the incrementally fed active-event set, never by re-reading history.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "arg_parser.h"
+#include "command.h"
+#include "evlife/config/config.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/render/active_event_set.h"
+#include "evlife/render/augmented_source.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_composer.h"
+#include "evlife/render/render_cursor.h"
+#include "exit_code.h"
+
+namespace evlife::cli {
+namespace {
+
+volatile std::sig_atomic_t g_render_stop = 0;
+extern "C" void on_render_stop(int signal) { g_render_stop = signal; }
+
+constexpr OptionSpec kRenderOptions[] = {
+    {"output", 'o', true, false},  {"at", 0, true, false},          {"fps", 0, true, false},
+    {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false},
+    {"color", 0, true, false},     {"scale", 0, true, false},       {"no-caption", 0, false, false},
+    {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
+    {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
+    {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
+};
+
+void print_render_help(std::FILE* out) {
+  std::fprintf(out,
+      "evlife render — draw the events active at any instant (sharp edges, paper Figs. 1, 8)\n"
+      "\n"
+      "Usage: evlife render INPUT -o DIR|OUT.mp4|OUT.avi\n"
+      "                     [--at T1,T2,...] | [--fps F [--from T0] [--to T1]]\n"
+      "                     [--mode lifetime|window:DUR|compare] [--color lifetime|polarity|plain]\n"
+      "                     [--scale K] [--no-caption] [--no-legend] [--no-thinning]\n"
+      "                     [--lifetime-range MIN:MAX] [--video-fps F] [--sensor WxH]\n"
+      "                     [--config FILE] [--set KEY=VALUE]... [--quiet]\n"
+      "\n"
+      "An event is drawn from its timestamp until timestamp + lifetime; per pixel the\n"
+      "newest event wins; noise (lifetime 0) is never drawn; edge thinning (paper\n"
+      "III-B.3) expires the pixel an edge has just left, so accelerating edges stay thin.\n"
+      "\n"
+      "INPUT  an augmented file from `evlife process` (.bin/.csv: lifetimes used as they\n"
+      "       are) or any raw recording `evlife process` reads (processed on the fly by the\n"
+      "       estimator; --config/--set as for `evlife process`).\n"
+      "\n"
+      "Options:\n"
+      "  -o, --output PATH   required. A directory (created) for PNG frames named\n"
+      "                      frame_NNNNNN_tSECONDS.png, or a video: .mp4 (codec mp4v) or\n"
+      "                      .avi (codec MJPG), written with OpenCV.\n"
+      "  --at T1,T2,...      instants to draw, seconds from the first event (any value,\n"
+      "                      not only frame multiples; e.g. 0.25,0.5,1.0 or 250ms,1s).\n"
+      "                      Drawn in increasing order in one pass.\n"
+      "  --fps F             draw F frames per second of recording time (default 30 when\n"
+      "                      --at is not given), from --from (default 0) to --to (default:\n"
+      "                      the last event).\n"
+      "  -m, --mode M        lifetime (default): the active events.\n"
+      "                      window:DUR: every event of the fixed window [t-DUR, t], e.g.\n"
+      "                      window:30ms (the naive method).\n"
+      "                      compare: 1 ms window | 30 ms window | lifetime, side by side,\n"
+      "                      labelled as in the paper.\n"
+      "  --color C           lifetime (default; blue = short, red = long, log scale, with\n"
+      "                      a legend), polarity (ON green, OFF magenta) or plain (white).\n"
+      "                      Fixed windows have no lifetime: drawn plain (or by polarity).\n"
+      "  --scale K           integer upscaling 1..32 (default: 512 / larger sensor side,\n"
+      "                      at least 1: x4 for a 128x128 DVS).\n"
+      "  --lifetime-range MIN:MAX  colour scale in ms (default 0.3:30).\n"
+      "  --no-caption        no 'time / mode' line under the frame.\n"
+      "  --no-legend         no lifetime colour bar.\n"
+      "  --no-thinning       disable edge thinning (to see what it does).\n"
+      "  --video-fps F       frame rate written into a video (default: --fps, i.e. real\n"
+      "                      time; at most 60).\n"
+      "  --sensor WxH        sensor size when the input does not state it.\n"
+      "  --config FILE, --set KEY=VALUE  estimator configuration (raw input only).\n"
+      "  -q, --quiet         no progress and no summary.\n"
+      "\n"
+      "Progress (frames, recording time) goes to stderr; the summary to stdout.\n"
+      "Exit status: 0 done; 2 bad command line; 3 input error (frames drawn before the\n"
+      "fault are kept, a video is closed properly); 4 output error; 130 interrupted.\n"
+      "\n"
+      "Examples:\n"
+      "  evlife render stripes.mat -o frames/ --at 0.25,0.5,1.0 --mode compare\n"
+      "  evlife render stripes.mat -o stripes.mp4 --fps 100 --video-fps 25 --mode compare\n"
+      "  evlife render augmented.bin -o frames/ --fps 60 --from 0.2 --to 0.4\n");
+}
+
+struct RenderArgs {
+  std::string input;
+  std::string output;
+  bool video = false;
+  std::vector<std::int64_t> at_us;  // relative to the first event, sorted
+  double fps = 30.0;
+  std::int64_t from_us = 0;
+  std::optional<std::int64_t> to_us;
+  std::string mode = "lifetime";
+  render::ColorMode color = render::ColorMode::lifetime;
+  std::optional<int> scale;
+  bool caption = true;
+  bool legend = true;
+  bool thinning = true;
+  double lifetime_min_us = 300.0;
+  double lifetime_max_us = 30000.0;
+  std::optional<double> video_fps;
+  std::optional<SensorSize> sensor;
+  LifetimeOptions estimator;
+  bool quiet = false;
+};
+
+double parse_positive(const std::string& option, const std::string& text) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(v > 0.0) || !std::isfinite(v)) {
+    throw UsageError("--" + option + " " + text + ": expected a positive number");
+  }
+  return v;
+}
+
+std::int64_t parse_time_us(const std::string& option, const std::string& text) {
+  try {
+    return render::parse_duration_us(text);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError("--" + option + ": " + e.what());
+  }
+}
+
+RenderArgs parse_render_args(int argc, char** argv) {
+  const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
+  RenderArgs r;
+  if (a.positional.empty()) throw UsageError("missing INPUT");
+  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
+  r.input = a.positional.front();
+  const auto out = a.value("output");
+  if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
+  r.output = *out;
+  std::string ext = std::filesystem::path(r.output).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  r.video = ext == ".mp4" || ext == ".avi";
+  for (const char* other : {".png", ".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
+    if (ext == other) throw UsageError("-o " + r.output + ": use a directory (PNG frames), .mp4 or .avi");
+  }
+  if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
+    throw UsageError("--at cannot be combined with --fps/--from/--to");
+  }
+  if (const auto at = a.value("at")) {
+    std::stringstream ss(*at);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      if (item.empty()) continue;
+      r.at_us.push_back(parse_time_us("at", item));
+    }
+    if (r.at_us.empty()) throw UsageError("--at: no time given");
+    std::sort(r.at_us.begin(), r.at_us.end());
+    r.at_us.erase(std::unique(r.at_us.begin(), r.at_us.end()), r.at_us.end());
+  }
+  if (const auto f = a.value("fps")) r.fps = parse_positive("fps", *f);
+  if (r.fps > 1e6) throw UsageError("--fps " + std::to_string(r.fps) + ": at most 1e6");
+  if (const auto f = a.value("from")) r.from_us = parse_time_us("from", *f);
+  if (const auto f = a.value("to")) {
+    r.to_us = parse_time_us("to", *f);
+    if (*r.to_us < r.from_us) throw UsageError("--to is before --from");
+  }
+  if (const auto m = a.value("mode")) r.mode = *m;
+  try {
+    (void)render::parse_view_mode(r.mode);
+    if (const auto c = a.value("color")) r.color = render::parse_color_mode(*c);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (const auto s = a.value("scale")) {
+    const double v = parse_positive("scale", *s);
+    if (v != std::floor(v) || v > 32) throw UsageError("--scale " + *s + ": an integer 1..32");
+    r.scale = static_cast<int>(v);
+  }
+  r.caption = !a.has("no-caption");
+  r.legend = !a.has("no-legend");
+  r.thinning = !a.has("no-thinning");
+  if (const auto lr = a.value("lifetime-range")) {
+    const auto colon = lr->find(':');
+    if (colon == std::string::npos) throw UsageError("--lifetime-range " + *lr + ": expected MIN:MAX in ms, e.g. 0.3:30");
+    r.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon));
+    r.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
+    if (r.lifetime_max_us <= r.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
+  }
+  if (const auto v = a.value("video-fps")) r.video_fps = parse_positive("video-fps", *v);
+  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  r.quiet = a.has("quiet");
+
+  config::ConfigBuilder builder;
+  if (const auto c = a.value("config"))
+    builder.load_file(*c);
+  else
+    builder.load_default_file_if_present();
+  for (const auto& s : a.values("set")) builder.set(s);
+  r.estimator = builder.build().estimator;
+  return r;
+}
+
+// Frames per second of recording time -> one progress line now and then.
+class FrameProgress {
+ public:
+  explicit FrameProgress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO) == 1) {}
+  void update(std::size_t frames, std::size_t total, double t_s) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_) return;
+    next_ = now + (tty_ ? std::chrono::milliseconds(250) : std::chrono::seconds(5));
+    char line[160];
+    if (total > 0)
+      std::snprintf(line, sizeof line, "evlife render: frame %zu/%zu (%.0f %%), t = %.3f s", frames,
+                    total, 100.0 * static_cast<double>(frames) / static_cast<double>(total), t_s);
+    else
+      std::snprintf(line, sizeof line, "evlife render: frame %zu, t = %.3f s", frames, t_s);
+    std::fprintf(stderr, tty_ ? "\r\033[K%s" : "%s\n", line);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish() {
+    if (tty_ && drawn_) std::fprintf(stderr, "\r\033[K");
+    drawn_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool tty_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point next_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+};
+
+std::string frame_name(std::size_t index, std::int64_t rel_us) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "frame_%06zu_t%.6fs.png", index, static_cast<double>(rel_us) * 1e-6);
+  return buf;
+}
+
+int render_recording(int argc, char** argv) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  RenderArgs args;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string_view s = argv[i];
+      if (s == "--help" || s == "-h") {
+        print_render_help(stdout);
+        return kExitOk;
+      }
+    }
+    args = parse_render_args(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "evlife render: %s\n(see evlife render --help)\n", e.what());
+    return kExitUsage;
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "evlife render: configuration error: %s\n", e.what());
+    return kExitUsage;
+  }
+
+  std::unique_ptr<render::AugmentedSource> source;
+  try {
+    source = render::open_augmented_source(args.input, args.estimator, args.sensor);
+  } catch (const io::ReadError& e) {
+    std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
+    return kExitInput;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
+    return kExitInput;
+  }
+  const SensorSize sensor = source->sensor();
+  render::ActiveEventSet set(sensor, args.thinning);
+  render::FixedWindowMap window(sensor);
+  render::RenderCursor cursor(*source, set, &window);
+
+  render::FrameStyle style;
+  style.color = args.color;
+  style.scale = args.scale.value_or(std::max(1, 512 / std::max(sensor.width, sensor.height)));
+  style.caption = args.caption;
+  style.legend = args.legend;
+  style.colormap = render::LifetimeColormap(args.lifetime_min_us, args.lifetime_max_us);
+  render::FrameComposer composer(render::parse_view_mode(args.mode), style, args.mode);
+  const cv::Size frame_size = composer.frame_size(sensor);
+
+  std::optional<std::int64_t> first_t;
+  try {
+    first_t = cursor.first_t_us();
+  } catch (const io::ReadError& e) {
+    std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
+    return kExitInput;
+  }
+  if (!first_t) {
+    std::fprintf(stderr, "evlife render: %s holds no event: nothing to draw\n", args.input.c_str());
+    return kExitInput;
+  }
+
+  // Output.
+  cv::VideoWriter video;
+  if (args.video) {
+    const bool mp4 = std::filesystem::path(args.output).extension() == ".mp4";
+    const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v') : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
+    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(parent, ec);
+    }
+    video.open(args.output, fourcc, video_fps, frame_size, true);
+    if (!video.isOpened()) {
+      std::fprintf(stderr,
+                   "evlife render: output error: OpenCV cannot write %s with codec %s (missing encoder "
+                   "or unwritable path); try .avi (MJPG) or a directory of PNG frames\n",
+                   args.output.c_str(), mp4 ? "mp4v" : "MJPG");
+      return kExitOutput;
+    }
+  } else {
+    std::error_code ec;
+    std::filesystem::create_directories(args.output, ec);
+    if (ec || !std::filesystem::is_directory(args.output)) {
+      std::fprintf(stderr, "evlife render: output error: cannot create directory %s: %s\n",
+                   args.output.c_str(), ec ? ec.message().c_str() : "not a directory");
+      return kExitOutput;
+    }
+  }
+
+  // Frame instants (relative to the first event).
+  std::size_t total = args.at_us.size();
+  if (args.at_us.empty() && args.to_us) {
+    total = static_cast<std::size_t>(std::floor(static_cast<double>(*args.to_us - args.from_us) * 1e-6 * args.fps)) + 1;
+  }
+  auto frame_time = [&](std::size_t k) -> std::int64_t {
+    if (!args.at_us.empty()) return args.at_us[k];
+    return args.from_us + std::llround(static_cast<double>(k) * 1e6 / args.fps);
+  };
+
+  FrameProgress progress(!args.quiet);
+  std::size_t frames = 0;
+  std::size_t after_end = 0;
+  std::optional<std::string> input_fault, output_fault;
+  double draw_s = 0.0;
+  g_render_stop = 0;
+  const auto old_int = std::signal(SIGINT, on_render_stop);
+  const auto old_term = std::signal(SIGTERM, on_render_stop);
+  for (std::size_t k = 0; g_render_stop == 0; ++k) {
+    if (total > 0 && k >= total) break;
+    const std::int64_t rel = frame_time(k);
+    const std::int64_t t = *first_t + rel;
+    try {
+      cursor.advance_to(t);
+    } catch (const io::ReadError& e) {
+      input_fault = e.what();
+      break;
+    }
+    // --fps without --to: stop after the last event.
+    if (args.at_us.empty() && !args.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
+    if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
+    const auto d0 = std::chrono::steady_clock::now();
+    const cv::Mat& frame = composer.compose(set, window, t);
+    draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
+    if (args.video) {
+      video.write(frame);
+    } else {
+      const std::string path = (std::filesystem::path(args.output) / frame_name(k, rel)).string();
+      bool ok = false;
+      try {
+        ok = cv::imwrite(path, frame);
+      } catch (const cv::Exception&) {
+        ok = false;
+      }
+      if (!ok) {
+        output_fault = "cannot write " + path;
+        break;
+      }
+    }
+    ++frames;
+    progress.update(frames, total, static_cast<double>(rel) * 1e-6);
+  }
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  if (video.isOpened()) video.release();
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+  if (!args.quiet) {
+    const auto& st = set.stats();
+    std::fprintf(stdout, "evlife render: %s -> %s\n", source->description().c_str(), args.output.c_str());
+    std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
+                 frames, frame_size.width, frame_size.height, sensor.width, sensor.height, style.scale,
+                 args.mode.c_str(), std::string(render::to_string(args.color)).c_str());
+    std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
+                 static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
+                 static_cast<unsigned long long>(st.thinned), args.thinning ? "" : " (thinning off)");
+    if (st.out_of_sensor + st.late > 0) {
+      std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
+                   static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
+    }
+    if (after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", after_end);
+    std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
+                 frames ? 1e3 * draw_s / static_cast<double>(frames) : 0.0);
+  }
+  if (output_fault) {
+    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", output_fault->c_str(), frames);
+    return kExitOutput;
+  }
+  if (input_fault) {
+    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
+                 input_fault->c_str(), frames, args.output.c_str());
+    return kExitInput;
+  }
+  if (g_render_stop != 0) {
+    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", frames, args.output.c_str());
+    return kExitInterrupted;
+  }
+  if (frames == 0) {
+    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
+    return kExitInput;
+  }
+  return kExitOk;
+}
+
+int run_render(int argc, char** argv) {
+  try {
+    return render_recording(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "evlife render: unexpected error: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace
+
+EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", run_render);
+
+}  // namespace evlife::cli

@@ -1,0 +1,385 @@
+// `evlife run --source SPEC [...]`: the real-time engine. A source thread
+// feeds a recording (as fast as possible or paced by its event clock) or the
+// DVS128 camera through lock-free queues to worker threads that own tiles of
+// each polarity; a merger thread writes the augmented stream in input order.
+// SIGINT/SIGTERM end the run cleanly: everything accepted is processed and
+// written, the summary printed.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "arg_parser.h"
+#include "command.h"
+#include "evlife/config/config.h"
+#include "evlife/engine/dvs128_source.h"
+#include "evlife/engine/engine.h"
+#include "evlife/engine/render_stage.h"
+#include "evlife/engine/replay_source.h"
+#include "evlife/engine/writer_sink.h"
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/synthetic_scene.h"
+#include "exit_code.h"
+
+namespace evlife::cli {
+namespace {
+
+std::atomic<engine::Engine*> g_engine{nullptr};
+static_assert(std::atomic<engine::Engine*>::is_always_lock_free);
+extern "C" void on_run_signal(int) {
+  // Async-signal-safe: two atomic operations, no allocation, no lock.
+  if (engine::Engine* e = g_engine.load()) e->request_stop();
+}
+
+constexpr OptionSpec kOptions[] = {
+    {"source", 0, true, false},       {"sensor", 0, true, false},
+    {"realtime", 0, true, false},     {"workers", 'j', true, false},
+    {"tiles", 0, true, false},        {"margin", 0, true, false},
+    {"policy", 0, true, false},       {"batch-events", 0, true, false},
+    {"queue-batches", 0, true, false}, {"stats-period", 0, true, false},
+    {"render-fps", 0, true, false},   {"frames", 0, true, false},
+    {"video", 0, true, false},        {"render-mode", 0, true, false},
+    {"output", 'o', true, false},
+    {"biases", 0, true, false},       {"duration", 0, true, false},
+    {"config", 0, true, false},       {"set", 0, true, true},
+    {"quiet", 'q', false, false},     {"help", 'h', false, false},
+};
+
+void print_help(std::FILE* out) {
+  std::fprintf(out,
+      "evlife run — the real-time engine: lifetimes and velocities of a live or\n"
+      "replayed event stream, on several threads, with bounded latency and memory\n"
+      "\n"
+      "Usage: evlife run --source SPEC [--sensor WxH] [--realtime[=K]] [--workers N]\n"
+      "                  [--tiles CxR] [--margin PX] [--policy block|drop] [-o OUT]\n"
+      "                  [--render-fps F] [--frames DIR | --video FILE]\n"
+      "                  [--config FILE] [--set KEY=VALUE]... [--quiet]\n"
+      "\n"
+      "Threads: one source thread (reads and routes), N worker threads (each runs\n"
+      "its own estimator on the tiles it owns), one output thread (merges the\n"
+      "workers' results back into input order and writes them), a render thread\n"
+      "with --frames/--video, and this thread (progress, signals). Bounded queues\n"
+      "between them, fixed at start.\n"
+      "\n"
+      "Sources (--source):\n"
+      "  file:PATH | PATH     a recording, any format `evlife process` reads; replayed\n"
+      "                       as fast as the workers go, or paced with --realtime.\n"
+      "  dvs128[:SERIAL]      the DVS128 camera over USB (--biases FILE); a live\n"
+      "                       source: runs until SIGINT; a vanished camera ends the\n"
+      "                       run with exit status 3 after writing what arrived.\n"
+      "  synth:PRESET         a synthetic scene (edges, bar, mixed, large) of\n"
+      "                       --duration S seconds (default 1) on --sensor (default\n"
+      "                       1280x720); live-like: paced with --realtime.\n"
+      "\n"
+      "Options:\n"
+      "  --sensor WxH         sensor size when the format does not state one (else\n"
+      "                       scanned from the data).\n"
+      "  --realtime[=K]       pace a replay by its event clock at K x real time\n"
+      "                       (default 1). Without it: as fast as possible.\n"
+      "  -j, --workers N      worker threads, 1..32 (default: engine.workers).\n"
+      "  --tiles CxR          tiles per polarity (default 1x1: one worker per\n"
+      "                       polarity, output identical to `evlife process`). The\n"
+      "                       2*C*R tiles are dealt to the workers round robin.\n"
+      "  --margin PX          pixels around its tiles a worker also processes so that\n"
+      "                       windows across tile borders see their past (-1 = auto,\n"
+      "                       4 x window size). Tiled output differs from the single-\n"
+      "                       threaded one on a small share of events near borders\n"
+      "                       (see README); it is identical from run to run.\n"
+      "  --policy block|drop  when workers fall behind: block the source (default for\n"
+      "                       files) or drop and count (default for cameras).\n"
+      "  --batch-events N     events per batch through the queues (default 1024).\n"
+      "  --queue-batches N    batches in flight per worker (default 64).\n"
+      "  --stats-period S     progress line every S seconds on stderr (0: none).\n"
+      "  -o, --output FILE    write the augmented stream, in input order: FILE.csv or\n"
+      "                       FILE.bin (as `evlife process`). Without -o: discarded\n"
+      "                       (counted), e.g. to measure throughput.\n"
+      "  --frames DIR         a render thread draws the active events (each event\n"
+      "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
+      "                       DIR/frame_NNNNNN_t<us>.png ...\n"
+      "  --video FILE         ... or to a video (.mp4 or .avi) playing at --render-fps.\n"
+      "  --render-fps F       frames per second of the EVENT clock (default 30): the\n"
+      "                       same frames at any replay speed.\n"
+      "  --render-mode M      lifetime | window:30ms | compare (as `evlife render`).\n"
+      "                       With policy drop the render branch skips what it cannot\n"
+      "                       keep up with (counted); with block it slows the run.\n"
+      "  --config FILE        YAML configuration (estimator: and engine: sections).\n"
+      "  --set KEY=VALUE      override one key, e.g. --set estimator.window_size=7.\n"
+      "  -q, --quiet          no progress and no summary.\n"
+      "\n"
+      "At the end (and on SIGINT/SIGTERM, after finishing the queued work) a summary\n"
+      "per stage goes to stdout: events in/out/dropped (in = out + dropped), queue\n"
+      "high-water marks, worker load, latency from arrival to output p50/p99/max.\n"
+      "\n"
+      "Exit status: 0 done; 2 bad command line or configuration; 3 input/device\n"
+      "             error; 4 output error; 130 interrupted (all accepted work written).\n"
+      "\n"
+      "Examples:\n"
+      "  evlife run --source file:stripes.mat --workers 2 -o stripes.bin\n"
+      "  evlife run --source stripes.mat --realtime=0.5 --tiles 2x2 --workers 2\n"
+      "  evlife run --source dvs128 -o live.bin\n");
+}
+
+template <typename T>
+T parse_number(std::string_view name, const std::string& text, T lo, T hi) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used != text.size() || !(v >= static_cast<double>(lo)) || !(v <= static_cast<double>(hi)))
+      throw UsageError("");
+    if constexpr (std::is_integral_v<T>) {
+      if (static_cast<double>(static_cast<T>(v)) != v) throw UsageError("");
+    }
+    return static_cast<T>(v);
+  } catch (const std::exception&) {
+    throw UsageError("--" + std::string(name) + " " + text + ": expected a number in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+}
+
+struct RunArgs {
+  std::string source;
+  std::optional<SensorSize> sensor;
+  double speed = 0.0;
+  std::string output;
+  std::string biases;
+  std::string frames_dir;
+  std::string video;
+  engine::RenderOptions render;
+  double duration_s = 1.0;
+  bool quiet = false;
+  config::ConfigBuilder config;
+  engine::EngineOptions engine;
+};
+
+RunArgs parse_run_args(int argc, char** argv) {
+  // `--realtime` alone means 1x: give it its value before generic parsing.
+  std::vector<std::string> storage(argv, argv + argc);
+  for (auto& a : storage)
+    if (a == "--realtime") a = "--realtime=1";
+  std::vector<char*> args;
+  for (auto& a : storage) args.push_back(a.data());
+  const ParsedArgs a = parse_args(static_cast<int>(args.size()), args.data(), kOptions);
+
+  RunArgs r;
+  r.quiet = a.has("quiet");
+  if (const auto c = a.value("config")) r.config.load_file(*c);
+  else r.config.load_default_file_if_present();
+  for (const auto& s : a.values("set")) r.config.set(s);
+  if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional.front() + "'");
+  const auto src = a.value("source");
+  if (!src) throw UsageError("missing --source (file:PATH, dvs128[:SERIAL] or synth:PRESET)");
+  r.source = *src;
+  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
+  if (const auto s = a.value("output")) r.output = *s;
+  if (const auto s = a.value("biases")) r.biases = *s;
+  if (const auto s = a.value("duration")) r.duration_s = parse_number<double>("duration", *s, 1e-3, 3600);
+  if (const auto s = a.value("frames")) r.frames_dir = *s;
+  if (const auto s = a.value("video")) r.video = *s;
+  if (const auto s = a.value("render-mode")) r.render.mode = *s;
+  if (const auto s = a.value("render-fps")) r.render.fps = parse_number<double>("render-fps", *s, 0.001, 100000);
+  if (!r.frames_dir.empty() && !r.video.empty())
+    throw UsageError("--frames and --video: choose one");
+  if ((a.has("render-fps") || a.has("render-mode")) && r.frames_dir.empty() && r.video.empty())
+    throw UsageError("--render-fps/--render-mode need --frames DIR or --video FILE");
+
+  // The configuration file first, then the flags override it.
+  const config::Config cfg = r.config.build();
+  engine::EngineOptions& e = r.engine;
+  e.lifetime = cfg.estimator;
+  e.workers = cfg.engine.workers;
+  e.tiles_x = cfg.engine.tiles_x;
+  e.tiles_y = cfg.engine.tiles_y;
+  e.margin_px = cfg.engine.margin_px;
+  e.batch_events = static_cast<std::size_t>(cfg.engine.batch_events);
+  e.batches_per_worker = static_cast<std::size_t>(cfg.engine.batches_per_worker);
+  e.auto_policy = cfg.engine.policy == "auto";
+  e.policy = cfg.engine.policy == "drop" ? engine::OverloadPolicy::drop : engine::OverloadPolicy::block;
+  e.stats_period_s = cfg.engine.stats_period_s;
+  if (const auto s = a.value("workers")) e.workers = parse_number<int>("workers", *s, 1, 32);
+  if (const auto s = a.value("tiles")) {
+    const auto x = s->find('x');
+    if (x == std::string::npos) throw UsageError("--tiles " + *s + ": expected CxR, e.g. 2x2");
+    e.tiles_x = parse_number<int>("tiles", s->substr(0, x), 1, 256);
+    e.tiles_y = parse_number<int>("tiles", s->substr(x + 1), 1, 256);
+  }
+  if (const auto s = a.value("margin")) e.margin_px = parse_number<int>("margin", *s, -1, 1024);
+  if (const auto s = a.value("policy")) {
+    e.auto_policy = false;
+    if (*s == "block") e.policy = engine::OverloadPolicy::block;
+    else if (*s == "drop") e.policy = engine::OverloadPolicy::drop;
+    else throw UsageError("--policy " + *s + ": expected block or drop");
+  }
+  if (const auto s = a.value("batch-events"))
+    e.batch_events = parse_number<std::size_t>("batch-events", *s, 16, 65536);
+  if (const auto s = a.value("queue-batches"))
+    e.batches_per_worker = parse_number<std::size_t>("queue-batches", *s, 2, 1024);
+  if (const auto s = a.value("stats-period"))
+    e.stats_period_s = parse_number<double>("stats-period", *s, 0.0, 3600.0);
+  if (!r.output.empty()) {
+    const std::string ext = std::filesystem::path(r.output).extension().string();
+    if (ext != ".csv" && ext != ".bin")
+      throw UsageError("-o " + r.output + ": the output must end in .csv or .bin");
+  }
+  return r;
+}
+
+std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
+  std::string_view spec = r.source;
+  if (engine::is_dvs128_spec(spec)) return engine::make_dvs128_source(spec, r.biases);
+  if (spec.starts_with("synth:")) {
+    const SensorSize sensor = r.sensor.value_or(SensorSize{1280, 720});
+    const auto preset = io::scene_preset(spec.substr(6), sensor,
+                                         static_cast<std::int64_t>(r.duration_s * 1e6), 1);
+    if (!preset) throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large)");
+    return engine::ReplaySource::from_reader(std::make_unique<io::SyntheticSceneReader>(*preset),
+                                             sensor, r.speed,
+                                             r.speed > 0 ? engine::SourceKind::live
+                                                         : engine::SourceKind::offline);
+  }
+  if (spec.starts_with("file:")) spec.remove_prefix(5);
+  return engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed);
+}
+
+int run_engine(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
+      print_help(stdout);
+      return kExitOk;
+    }
+  }
+  RunArgs args;
+  try {
+    args = parse_run_args(argc, argv);
+    const std::string problem = engine::validate_engine_options(args.engine);
+    if (!problem.empty()) throw UsageError(problem);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "evlife run: %s\n(see evlife run --help)\n", e.what());
+    return kExitUsage;
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "evlife run: configuration error: %s\n", e.what());
+    return kExitUsage;
+  }
+  auto logger = spdlog::stderr_color_mt("evlife-run");
+  spdlog::set_default_logger(logger);
+  spdlog::set_pattern("[%H:%M:%S.%e] %v");
+  if (args.quiet) spdlog::set_level(spdlog::level::warn);
+  if (args.quiet) args.engine.stats_period_s = 0.0;
+
+  std::unique_ptr<engine::EventSource> source;
+  try {
+    source = make_source(args);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "evlife run: %s\n", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
+    return kExitInput;
+  }
+  std::unique_ptr<engine::WriterSink> sink;
+  if (!args.output.empty()) {
+    try {
+      sink = std::make_unique<engine::WriterSink>(
+          io::open_augmented_writer(args.output, source->sensor_size()));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "evlife run: output error: %s\n", e.what());
+      return kExitOutput;
+    }
+  }
+
+  const bool rendering = !args.frames_dir.empty() || !args.video.empty();
+  if (rendering) args.engine.render_batches = 16;
+  std::optional<engine::Engine> eng;
+  std::unique_ptr<engine::FrameSink> frame_sink;
+  std::unique_ptr<engine::RenderStage> render_stage;
+  try {
+    eng.emplace(*source, sink.get(), args.engine);
+    if (rendering) {
+      if (!args.frames_dir.empty())
+        frame_sink = std::make_unique<engine::PngFolderFrameSink>(args.frames_dir);
+      else
+        frame_sink = std::make_unique<engine::VideoFrameSink>(args.video, args.render.fps);
+      render_stage = std::make_unique<engine::RenderStage>(*eng->pipeline().state().render_tap,
+                                                           source->sensor_size(), args.render,
+                                                           *frame_sink);
+      eng->pipeline().attach(*render_stage);
+    }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "evlife run: %s: %s\n", source->describe().c_str(), e.what());
+    return kExitUsage;
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "evlife run: output error: %s\n", e.what());
+    return kExitOutput;
+  }
+  const auto wall_start = std::chrono::steady_clock::now();
+  g_engine.store(&*eng);
+  const auto old_int = std::signal(SIGINT, on_run_signal);
+  const auto old_term = std::signal(SIGTERM, on_run_signal);
+  const engine::RunResult result = eng->run();
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  g_engine.store(nullptr);
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+  if (!args.quiet) {
+    std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", source->describe().c_str(),
+                 args.output.empty() ? "(discarded)" : args.output.c_str(),
+                 result.stats.summary().c_str());
+    if (render_stage)
+      std::fprintf(stdout, "frames : %llu written to %s\n",
+                   static_cast<unsigned long long>(render_stage->frames_written()),
+                   args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
+    std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
+                 wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
+    std::fflush(stdout);
+  }
+  if (render_stage && !render_stage->error().empty() &&
+      result.status == engine::RunStatus::completed) {
+    std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
+    return kExitOutput;
+  }
+  switch (result.status) {
+    case engine::RunStatus::completed: return kExitOk;
+    case engine::RunStatus::interrupted:
+      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
+                   static_cast<unsigned long long>(result.stats.events_out));
+      return kExitInterrupted;
+    case engine::RunStatus::source_error:
+      std::fprintf(stderr, "evlife run: input error: %s\n"
+                   "evlife run: the %llu events before it were processed and written\n",
+                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
+      return kExitInput;
+    case engine::RunStatus::sink_error:
+      std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
+      return kExitOutput;
+  }
+  return kExitFailure;
+}
+
+int run_command(int argc, char** argv) {
+  try {
+    return run_engine(argc, argv);
+  } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
+    std::fprintf(stderr, "evlife run: unexpected error: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace
+
+EVLIFE_REGISTER_COMMAND("run", "real-time multithreaded engine: live camera or paced replay",
+                        run_command);
+
+}  // namespace evlife::cli

@@ -1,0 +1,45 @@
+// What a run produced, accumulated batch by batch in constant memory and
+// printed at the end: events, share labelled noise, lifetime percentiles,
+// prediction coverage and error, speed. Shared by commands that estimate.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <span>
+#include <string>
+
+#include "evlife/algo/event.h"
+#include "log_histogram.h"
+
+namespace evlife::cli {
+
+class LifetimeSummary {
+ public:
+  LifetimeSummary();
+
+  void add(std::span<const AugmentedEvent> events) noexcept;
+
+  std::uint64_t events() const noexcept { return events_; }
+  std::uint64_t noise() const noexcept { return noise_; }
+  std::uint64_t predictions() const noexcept { return predictions_; }
+  const LogHistogram& lifetime_us() const noexcept { return lifetime_us_; }
+  const LogHistogram& abs_prediction_error_us() const noexcept { return abs_error_us_; }
+
+  /// Multi-line report; `wall_s` is the run's wall time, `estimator_s` the
+  /// time spent inside the estimator (both in seconds).
+  void print(std::FILE* out, double wall_s, double estimator_s) const;
+
+ private:
+  std::uint64_t events_ = 0;
+  std::uint64_t noise_ = 0;
+  std::uint64_t predictions_ = 0;
+  LogHistogram lifetime_us_;
+  LogHistogram abs_error_us_;
+};
+
+/// "850 µs", "12.3 ms", "1.52 s": a duration given in microseconds.
+std::string format_duration_us(double us);
+/// "1.23 M", "456 k": a count or rate with an SI prefix.
+std::string format_si(double value);
+
+}  // namespace evlife::cli

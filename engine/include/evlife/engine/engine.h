@@ -1,0 +1,61 @@
+// The real-time engine: the Pipeline's stages on their own threads — one
+// source/router thread, `workers` estimator threads, one merger/output
+// thread — and the calling thread as monitor (progress line, stop requests).
+// run() returns when the stream has ended or a stop was requested, after
+// everything accepted has been processed and handed to the sink and every
+// thread has been joined.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include "evlife/engine/augmented_sink.h"
+#include "evlife/engine/engine_options.h"
+#include "evlife/engine/engine_stats.h"
+#include "evlife/engine/event_source.h"
+#include "evlife/engine/pipeline.h"
+
+namespace evlife::engine {
+
+enum class RunStatus {
+  completed,     ///< the source reached its end
+  interrupted,   ///< request_stop() (SIGINT/SIGTERM); all accepted work done
+  source_error,  ///< the source failed (corrupt file, vanished device)
+  sink_error,    ///< the output failed (disk full...)
+};
+
+struct RunResult {
+  RunStatus status = RunStatus::completed;
+  std::string message;  ///< the source's or sink's error, naming file/device
+  EngineStats stats;
+  /// 0 completed, 1 source/sink error, 130 interrupted (128 + SIGINT).
+  int exit_code() const noexcept;
+};
+
+class Engine {
+ public:
+  /// `sink` may be null (output discarded, counted). Throws
+  /// std::invalid_argument on bad options (naming the field).
+  Engine(EventSource& source, AugmentedSink* sink, const EngineOptions& options);
+
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  /// Runs to the end of the stream (or a stop request). Call once.
+  RunResult run();
+
+  /// Asks the run to end: the source stops, everything it already handed
+  /// over is processed and written. Async-signal-safe (one atomic store).
+  void request_stop() noexcept { stop_.store(true, std::memory_order_relaxed); }
+
+  EngineStats stats() const { return pipeline_.stats(); }
+  Pipeline& pipeline() noexcept { return pipeline_; }
+
+ private:
+  Pipeline pipeline_;
+  EngineOptions options_;
+  std::atomic<bool> stop_{false};
+  static_assert(std::atomic<bool>::is_always_lock_free);
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,46 @@
+// A snapshot of the engine's counters, for the periodic progress line, the
+// final summary and tests. Invariant once a run has ended:
+//   events_in == events_out + events_dropped.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace evlife::engine {
+
+struct WorkerStats {
+  std::uint64_t batches = 0;
+  std::uint64_t events_fed = 0;    ///< owned + margin
+  std::uint64_t events_owned = 0;
+  std::uint64_t dropped = 0;       ///< owned events the router dropped for it
+  std::uint64_t in_flight_hwm = 0; ///< batches queued or held, high-water mark
+  std::uint64_t pool_batches = 0;  ///< its pool size (the bound of the above)
+  double busy_s = 0.0;
+};
+
+struct EngineStats {
+  std::uint64_t source_lost = 0;   ///< lost inside the source (device overflow)
+  std::uint64_t events_in = 0;     ///< accepted from the source
+  std::uint64_t events_out = 0;    ///< handed to the sink
+  std::uint64_t events_dropped = 0;
+  std::uint64_t dropped_no_order = 0;
+  std::uint64_t sink_failed = 0;
+  std::uint64_t chunks = 0;
+  std::uint64_t render_offered = 0;  ///< merged events offered to the render branch
+  std::uint64_t render_dropped = 0;  ///< of which skipped: render behind (policy drop)
+  std::uint64_t order_in_flight_hwm = 0;
+  double source_blocked_s = 0.0;
+  std::uint64_t latency_count = 0;
+  double latency_p50_us = 0.0;
+  double latency_p99_us = 0.0;
+  double latency_max_us = 0.0;
+  std::vector<WorkerStats> workers;
+
+  /// One line: in/out/dropped, queue high-water marks, latency percentiles.
+  std::string progress_line() const;
+  /// Multi-line summary, one line per stage.
+  std::string summary() const;
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,41 @@
+// Paces a replay by the event clock: an event of time t is released once
+// (t - t_first) / speed has elapsed on the wall clock since the first one.
+// speed 0 = as fast as possible (everything is due at once).
+#pragma once
+
+#include <cstdint>
+
+namespace evlife::engine {
+
+class EventClockPacer {
+ public:
+  explicit EventClockPacer(double speed = 0.0) : speed_(speed) {}
+
+  bool paced() const noexcept { return speed_ > 0.0; }
+
+  /// Latest event time (us) due at wall time now_ns; the first call anchors
+  /// the event clock at `first_event_t_us`.
+  std::int64_t due_until_us(std::int64_t first_event_t_us, std::int64_t now_ns) noexcept {
+    if (!anchored_) {
+      anchored_ = true;
+      t0_us_ = first_event_t_us;
+      wall0_ns_ = now_ns;
+    }
+    if (!paced()) return INT64_MAX;
+    const double elapsed_us = static_cast<double>(now_ns - wall0_ns_) * 1e-3 * speed_;
+    return t0_us_ + static_cast<std::int64_t>(elapsed_us);
+  }
+
+  /// Wall time (ns) at which an event of time t_us becomes due (anchored only).
+  std::int64_t due_at_ns(std::int64_t t_us) const noexcept {
+    return wall0_ns_ + static_cast<std::int64_t>(static_cast<double>(t_us - t0_us_) * 1e3 / speed_);
+  }
+
+ private:
+  double speed_;
+  bool anchored_ = false;
+  std::int64_t t0_us_ = 0;
+  std::int64_t wall0_ns_ = 0;
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,59 @@
+// The engine's stages wired together, without threads: Router, one
+// TileWorker per worker, Merger, over one PipelineState. Tests drive it with
+// step_all(); Engine runs each stage's step() on its own thread.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "evlife/engine/augmented_sink.h"
+#include "evlife/engine/aux_stage.h"
+#include "evlife/engine/engine_stats.h"
+#include "evlife/engine/event_source.h"
+#include "evlife/engine/merger.h"
+#include "evlife/engine/pipeline_state.h"
+#include "evlife/engine/router.h"
+#include "evlife/engine/tile_worker.h"
+
+namespace evlife::engine {
+
+class Pipeline {
+ public:
+  /// Sizes every pool and estimator for the source's sensor. `sink` may be
+  /// null. Throws std::invalid_argument (naming the field) on bad options.
+  Pipeline(EventSource& source, AugmentedSink* sink, const EngineOptions& options);
+
+  /// Adds a stage off the data path (the render stage, fed by
+  /// state().render_tap). Before running; it must outlive the pipeline's run.
+  void attach(AuxStage& stage) { aux_.push_back(&stage); }
+  const std::vector<AuxStage*>& aux_stages() const noexcept { return aux_; }
+
+  /// One step of every stage, in pipeline order; true once all finished.
+  bool step_all() noexcept;
+
+  /// Runs step_all() until the end of the stream (single thread).
+  void run_inline() noexcept {
+    while (!step_all()) {
+    }
+  }
+
+  Router& router() noexcept { return *router_; }
+  TileWorker& worker(int w) noexcept { return *workers_[static_cast<std::size_t>(w)]; }
+  int worker_count() const noexcept { return static_cast<int>(workers_.size()); }
+  Merger& merger() noexcept { return *merger_; }
+  PipelineState& state() noexcept { return *state_; }
+  EventSource& source() noexcept { return source_; }
+
+  /// Snapshot of the counters (any thread, any time).
+  EngineStats stats() const;
+
+ private:
+  EventSource& source_;
+  std::unique_ptr<PipelineState> state_;
+  std::unique_ptr<Router> router_;
+  std::vector<std::unique_ptr<TileWorker>> workers_;
+  std::unique_ptr<Merger> merger_;
+  std::vector<AuxStage*> aux_;
+};
+
+}  // namespace evlife::engine

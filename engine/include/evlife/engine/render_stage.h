@@ -1,0 +1,67 @@
+// The render thread's stage: takes the merged stream from the RenderTap,
+// keeps the active-event set (evlife::render) up to date and draws a frame
+// every 1/fps of the EVENT clock (so a replay at any speed gives the same
+// frames), plus one frame at any requested timestamp. Frames go to a
+// FrameSink. Off the data path: a slow disk here slows only the render branch
+// (policy drop) or the output (policy block), never silently.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "evlife/engine/aux_stage.h"
+#include "evlife/engine/frame_sink.h"
+#include "evlife/engine/render_tap.h"
+#include "evlife/render/active_event_set.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_composer.h"
+
+namespace evlife::engine {
+
+struct RenderOptions {
+  double fps = 30.0;             ///< frames per second of event time; 0 = only on request
+  std::string mode = "lifetime"; ///< render::parse_view_mode: lifetime | window:30ms | compare
+  render::FrameStyle style;
+};
+
+class RenderStage final : public AuxStage {
+ public:
+  /// Throws std::invalid_argument on a bad mode or style.
+  RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options, FrameSink& sink);
+
+  StepResult step() noexcept override;
+  moodycamel::LightweightSemaphore& wake() noexcept override { return tap_.wake_render(); }
+
+  /// Asks for one frame at t_us (any thread): drawn once the stream has
+  /// passed t_us, or at its end. A later request replaces a pending one.
+  void request_frame(std::int64_t t_us) noexcept {
+    requested_t_us_.store(t_us, std::memory_order_relaxed);
+  }
+
+  std::uint64_t frames_written() const noexcept { return frames_.load(std::memory_order_relaxed); }
+  /// The frame sink's error (render thread only, or after the run).
+  const std::string& error() const noexcept { return error_; }
+
+ private:
+  void emit(std::int64_t t_us) noexcept;
+  void feed(const AugmentedEvent& a) noexcept;
+
+  static constexpr std::int64_t kNoRequest = INT64_MIN;
+
+  RenderTap& tap_;
+  render::ActiveEventSet set_;
+  render::FixedWindowMap window_;
+  render::FrameComposer composer_;
+  FrameSink& sink_;
+  std::int64_t period_us_;
+  std::int64_t next_frame_t_us_ = INT64_MIN;
+  std::int64_t last_t_us_ = INT64_MIN;
+  std::atomic<std::int64_t> requested_t_us_{kNoRequest};
+  std::atomic<std::uint64_t> frames_{0};
+  std::string error_;
+  bool finished_ = false;
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,64 @@
+// The merged stream's branch to the render thread: a fixed pool of batches
+// and two lock-free queues. The merger offers each merged span (copied into
+// one free batch); the render thread takes, uses and gives back. When no
+// batch is free the merger either waits (policy block: every frame is
+// exact) or drops the span and counts it (policy drop: rendering never slows
+// the output).
+#pragma once
+
+#include <atomic>
+#include <cstring>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <concurrentqueue.h>
+#include <lightweightsemaphore.h>
+
+#include "evlife/algo/event.h"
+#include "evlife/engine/stage_counters.h"
+
+namespace evlife::engine {
+
+struct RenderBatch {
+  explicit RenderBatch(std::size_t capacity_events)
+      : events(std::make_unique<AugmentedEvent[]>(capacity_events)), capacity(capacity_events) {}
+  std::unique_ptr<AugmentedEvent[]> events;
+  std::size_t capacity;
+  std::size_t count = 0;
+};
+
+class RenderTap {
+ public:
+  /// `wake_merger` is signalled when a batch comes back (a blocked merger waits on it).
+  RenderTap(std::size_t batches, std::size_t batch_events,
+            moodycamel::LightweightSemaphore& wake_merger);
+
+  /// Merger side: copies `events` (at most batch_events) into a free batch
+  /// and queues it; false when no batch is free. Never allocates or waits.
+  bool try_offer(std::span<const AugmentedEvent> events) noexcept;
+  /// Merger side: no more offers (the stream ended).
+  void close() noexcept;
+
+  /// Render side: the next batch, or null. Give it back when done.
+  RenderBatch* try_take() noexcept;
+  void give_back(RenderBatch* batch) noexcept;
+  bool closed() const noexcept { return closed_.load(std::memory_order_acquire); }
+
+  moodycamel::LightweightSemaphore& wake_render() noexcept { return wake_render_; }
+
+  Counter offered_events;  ///< events the merger offered (merger writes)
+  Counter dropped_events;  ///< of which dropped, no free batch (merger writes)
+
+ private:
+  std::vector<std::unique_ptr<RenderBatch>> pool_;
+  moodycamel::ConcurrentQueue<RenderBatch*> free_;
+  moodycamel::ConcurrentQueue<RenderBatch*> full_;
+  moodycamel::LightweightSemaphore wake_render_{0, 200};
+  moodycamel::LightweightSemaphore& wake_merger_;
+  std::unique_ptr<moodycamel::ProducerToken> full_token_;  // merger's
+  std::unique_ptr<moodycamel::ProducerToken> free_token_;  // render's
+  std::atomic<bool> closed_{false};
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,69 @@
+// A recording replayed through the EventSource interface: from a file (via
+// io's streaming reader, constant memory) or from events already in memory
+// (tests, benches, embedding). As fast as possible, or paced by the event
+// clock at `speed` x real time (--realtime[=K]).
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "evlife/engine/event_clock_pacer.h"
+#include "evlife/engine/event_source.h"
+#include "evlife/io/event_reader.h"
+
+namespace evlife::engine {
+
+class ReplaySource final : public EventSource {
+ public:
+  /// Opens `path` (format sniffed by io) with bounds and time-order checks.
+  /// Sensor: the format's where it states one, else `sensor`, else a scan of
+  /// the data. Throws io::ReadError if the file cannot be opened.
+  static std::unique_ptr<ReplaySource> open_file(const std::string& path,
+                                                 std::optional<SensorSize> sensor,
+                                                 double speed = 0.0);
+
+  /// Replays any io reader (e.g. io::SyntheticSceneReader: a camera-free
+  /// live source when kind == live). Throws std::invalid_argument without a
+  /// sensor size.
+  static std::unique_ptr<ReplaySource> from_reader(std::unique_ptr<io::EventReader> reader,
+                                                   std::optional<SensorSize> sensor,
+                                                   double speed = 0.0,
+                                                   SourceKind kind = SourceKind::offline);
+
+  /// Replays `events` in memory (viewed, not copied: they must outlive the source).
+  ReplaySource(std::span<const Event> events, SensorSize sensor, double speed = 0.0,
+               SourceKind kind = SourceKind::offline);
+
+  std::size_t pull(std::span<Event> out) noexcept override;
+  SourceStatus status() const noexcept override { return status_; }
+  std::string error_message() const override { return error_; }
+  SensorSize sensor_size() const noexcept override { return sensor_; }
+  SourceKind kind() const noexcept override { return kind_; }
+  std::string describe() const override { return description_; }
+  void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
+  std::int64_t last_arrival_ns() const noexcept override { return last_arrival_ns_; }
+
+ private:
+  ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize sensor, double speed,
+               SourceKind kind);
+  bool refill() noexcept;  // false: nothing more (status set)
+
+  std::unique_ptr<io::EventReader> reader_;  // null: memory replay
+  std::span<const Event> memory_;
+  std::vector<Event> buffer_;  // file read-ahead
+  std::span<const Event> pending_;  // read, not yet handed out
+  SensorSize sensor_;
+  SourceKind kind_ = SourceKind::offline;
+  EventClockPacer pacer_;
+  std::string description_;
+  SourceStatus status_ = SourceStatus::ok;
+  std::string error_;
+  std::int64_t last_arrival_ns_ = 0;
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,53 @@
+// Per-stage counters. Each counter has ONE writing thread (the stage that
+// owns it) and is read by the monitor while the run goes on: relaxed atomics
+// written with load+store (no read-modify-write on the hot path).
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include "evlife/engine/latency_histogram.h"
+#include "evlife/engine/tile_layout.h"
+
+namespace evlife::engine {
+
+class Counter {
+ public:
+  void add(std::uint64_t n = 1) noexcept {
+    v_.store(v_.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
+  }
+  void raise_to(std::uint64_t n) noexcept {  // high-water mark
+    if (n > v_.load(std::memory_order_relaxed)) v_.store(n, std::memory_order_relaxed);
+  }
+  std::uint64_t get() const noexcept { return v_.load(std::memory_order_relaxed); }
+
+ private:
+  std::atomic<std::uint64_t> v_{0};
+};
+
+struct RouterCounters {
+  Counter events_in;        ///< events accepted from the source
+  Counter chunks;           ///< source chunks routed
+  Counter dropped;          ///< events dropped in total (policy drop)
+  Counter dropped_no_order; ///< of which: whole chunks, merge-order pool empty
+  Counter blocked_ns;       ///< time the source waited for room (policy block)
+  Counter order_in_flight_hwm;  ///< merge-order batches in flight, high-water mark
+  std::array<Counter, TileLayout::kMaxWorkers> dropped_for_worker;
+  std::array<Counter, TileLayout::kMaxWorkers> in_flight_hwm;  ///< batches queued or held, per worker
+};
+
+struct WorkerCounters {
+  Counter batches;
+  Counter events_fed;    ///< owned + margin events run through the estimator
+  Counter events_owned;  ///< events whose output was kept
+  Counter busy_ns;       ///< time spent processing
+};
+
+struct MergerCounters {
+  Counter events_out;          ///< events handed to the sink (or discarded without one)
+  Counter sink_failed_events;  ///< of which the sink threw on
+  LatencyHistogram latency_ns; ///< source arrival -> handed to the sink
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,120 @@
+#include "evlife/engine/engine.h"
+
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "evlife/engine/monotonic_clock.h"
+
+namespace evlife::engine {
+
+int RunResult::exit_code() const noexcept {
+  switch (status) {
+    case RunStatus::completed: return 0;
+    case RunStatus::interrupted: return 130;
+    case RunStatus::source_error:
+    case RunStatus::sink_error: return 1;
+  }
+  return 1;
+}
+
+Engine::Engine(EventSource& source, AugmentedSink* sink, const EngineOptions& options)
+    : pipeline_(source, sink, options), options_(options) {}
+
+namespace {
+constexpr std::int64_t kIdleWaitUs = 1000;  // re-check stop/done flags at least this often
+}  // namespace
+
+RunResult Engine::run() {
+  PipelineState& state = pipeline_.state();
+  EventSource& source = pipeline_.source();
+  std::atomic<bool> merger_done{false};
+  Semaphore monitor_wake;
+
+  spdlog::info("engine: {} -> {} workers, tiles {}x{} per polarity, margin {} px, policy {}, "
+               "{} batches x {} events per worker",
+               source.describe(), options_.workers, options_.tiles_x, options_.tiles_y,
+               state.layout.margin_px(),
+               state.policy == OverloadPolicy::block ? "block" : "drop",
+               options_.batches_per_worker, options_.batch_events);
+
+  std::vector<std::thread> threads;
+  threads.emplace_back([&] {
+    Router& router = pipeline_.router();
+    for (;;) {
+      const StepResult r = router.step();
+      if (r == StepResult::finished) break;
+      if (r == StepResult::blocked) state.wake_router.wait(kIdleWaitUs);
+      else if (r == StepResult::idle) std::this_thread::yield();  // pull() paces itself
+    }
+  });
+  for (int w = 0; w < pipeline_.worker_count(); ++w) {
+    threads.emplace_back([&, w] {
+      TileWorker& worker = pipeline_.worker(w);
+      Semaphore& wake_me = state.workers[static_cast<std::size_t>(w)]->wake_worker;
+      for (;;) {
+        const StepResult r = worker.step();
+        if (r == StepResult::finished) break;
+        if (r != StepResult::progressed) wake_me.wait(kIdleWaitUs);
+      }
+    });
+  }
+  threads.emplace_back([&] {
+    Merger& merger = pipeline_.merger();
+    for (;;) {
+      const StepResult r = merger.step();
+      if (r == StepResult::finished) break;
+      if (r != StepResult::progressed) state.wake_merger.wait(kIdleWaitUs);
+    }
+    merger_done.store(true, std::memory_order_release);
+    monitor_wake.signal();
+  });
+  std::atomic<int> aux_running{static_cast<int>(pipeline_.aux_stages().size())};
+  for (AuxStage* aux : pipeline_.aux_stages()) {
+    threads.emplace_back([&, aux] {
+      for (;;) {
+        const StepResult r = aux->step();
+        if (r == StepResult::finished) break;
+        if (r != StepResult::progressed) aux->wake().wait(kIdleWaitUs);
+      }
+      aux_running.fetch_sub(1, std::memory_order_release);
+      monitor_wake.signal();
+    });
+  }
+
+  // Monitor: stop requests, progress lines; never on the data path.
+  bool stop_forwarded = false;
+  const auto period_ns = static_cast<std::int64_t>(options_.stats_period_s * 1e9);
+  std::int64_t next_report_ns = monotonic_ns() + period_ns;
+  while (!merger_done.load(std::memory_order_acquire) ||
+         aux_running.load(std::memory_order_acquire) > 0) {
+    monitor_wake.wait(10'000);
+    if (!stop_forwarded && stop_.load(std::memory_order_relaxed)) {
+      spdlog::info("engine: stop requested, finishing the queued work");
+      source.request_stop();
+      stop_forwarded = true;
+    }
+    if (period_ns > 0 && monotonic_ns() >= next_report_ns) {
+      spdlog::info("engine: {}", pipeline_.stats().progress_line());
+      next_report_ns += period_ns;
+    }
+  }
+  for (auto& t : threads) t.join();
+
+  RunResult result;
+  result.stats = pipeline_.stats();
+  if (pipeline_.router().source_failed()) {
+    result.status = RunStatus::source_error;
+    result.message = source.error_message();
+  } else if (pipeline_.merger().sink_failed()) {
+    result.status = RunStatus::sink_error;
+    result.message = pipeline_.merger().sink_error();
+  } else if (stop_.load(std::memory_order_relaxed)) {
+    result.status = RunStatus::interrupted;
+  }
+  return result;
+}
+
+}  // namespace evlife::engine

@@ -1,0 +1,44 @@
+#include "evlife/engine/engine_stats.h"
+
+#include <fmt/format.h>
+
+namespace evlife::engine {
+
+std::string EngineStats::progress_line() const {
+  std::string hwm;
+  for (const auto& w : workers)
+    hwm += fmt::format("{}{}/{}", hwm.empty() ? "" : " ", w.in_flight_hwm, w.pool_batches);
+  return fmt::format(
+      "in {} out {} dropped {} | queues hwm [{}] | latency p50 {:.0f} us p99 {:.0f} us max {:.0f} us",
+      events_in, events_out, events_dropped, hwm, latency_p50_us, latency_p99_us,
+      latency_max_us);
+}
+
+std::string EngineStats::summary() const {
+  std::string s;
+  s += fmt::format("source : accepted {} events in {} chunks, lost in source {}, "
+                   "waited for room {:.3f} s\n",
+                   events_in, chunks, source_lost, source_blocked_s);
+  s += fmt::format("router : dropped {} (of which whole chunks, no merge slot: {}), "
+                   "merge-order hwm {}\n",
+                   events_dropped, dropped_no_order, order_in_flight_hwm);
+  for (std::size_t w = 0; w < workers.size(); ++w) {
+    const WorkerStats& ws = workers[w];
+    s += fmt::format("worker {}: fed {} (owned {}, margin {}), {} batches, busy {:.3f} s, "
+                     "dropped {}, queue hwm {}/{}\n",
+                     w, ws.events_fed, ws.events_owned, ws.events_fed - ws.events_owned,
+                     ws.batches, ws.busy_s, ws.dropped, ws.in_flight_hwm, ws.pool_batches);
+  }
+  s += fmt::format("merger : out {} (sink failed on {}), latency arrival->output "
+                   "p50 {:.1f} us p99 {:.1f} us max {:.1f} us over {} events\n",
+                   events_out, sink_failed, latency_p50_us, latency_p99_us, latency_max_us,
+                   latency_count);
+  if (render_offered > 0)
+    s += fmt::format("render : offered {} events, skipped {} (render thread behind)\n",
+                     render_offered, render_dropped);
+  s += fmt::format("balance: in {} = out {} + dropped {} : {}", events_in, events_out,
+                   events_dropped, events_in == events_out + events_dropped ? "ok" : "MISMATCH");
+  return s;
+}
+
+}  // namespace evlife::engine

@@ -1,0 +1,66 @@
+#include "evlife/engine/pipeline.h"
+
+namespace evlife::engine {
+
+namespace {
+OverloadPolicy policy_for(const EngineOptions& options, const EventSource& source) {
+  if (!options.auto_policy) return options.policy;
+  return source.kind() == SourceKind::live ? OverloadPolicy::drop : OverloadPolicy::block;
+}
+}  // namespace
+
+Pipeline::Pipeline(EventSource& source, AugmentedSink* sink, const EngineOptions& options)
+    : source_(source),
+      state_(std::make_unique<PipelineState>(options, source.sensor_size(),
+                                             policy_for(options, source))) {
+  router_ = std::make_unique<Router>(*state_, source);
+  for (int w = 0; w < options.workers; ++w)
+    workers_.push_back(std::make_unique<TileWorker>(*state_, w));
+  merger_ = std::make_unique<Merger>(*state_, sink);
+}
+
+bool Pipeline::step_all() noexcept {
+  router_->step();
+  for (auto& w : workers_) w->step();
+  bool done = merger_->step() == StepResult::finished;
+  for (AuxStage* a : aux_) done = (a->step() == StepResult::finished) && done;
+  return done;
+}
+
+EngineStats Pipeline::stats() const {
+  const PipelineState& s = *state_;
+  EngineStats st;
+  st.source_lost = source_.lost_events();
+  st.events_in = s.router_counters.events_in.get();
+  st.events_dropped = s.router_counters.dropped.get();
+  st.dropped_no_order = s.router_counters.dropped_no_order.get();
+  st.chunks = s.router_counters.chunks.get();
+  st.order_in_flight_hwm = s.router_counters.order_in_flight_hwm.get();
+  st.source_blocked_s = static_cast<double>(s.router_counters.blocked_ns.get()) * 1e-9;
+  st.events_out = s.merger_counters.events_out.get();
+  if (s.render_tap) {
+    st.render_offered = s.render_tap->offered_events.get();
+    st.render_dropped = s.render_tap->dropped_events.get();
+  }
+  st.sink_failed = s.merger_counters.sink_failed_events.get();
+  const LatencyHistogram& h = s.merger_counters.latency_ns;
+  st.latency_count = h.count();
+  st.latency_p50_us = static_cast<double>(h.percentile_ns(0.50)) * 1e-3;
+  st.latency_p99_us = static_cast<double>(h.percentile_ns(0.99)) * 1e-3;
+  st.latency_max_us = static_cast<double>(h.max_ns()) * 1e-3;
+  for (std::size_t w = 0; w < s.workers.size(); ++w) {
+    const WorkerChannel& ch = *s.workers[w];
+    WorkerStats ws;
+    ws.batches = ch.counters.batches.get();
+    ws.events_fed = ch.counters.events_fed.get();
+    ws.events_owned = ch.counters.events_owned.get();
+    ws.busy_s = static_cast<double>(ch.counters.busy_ns.get()) * 1e-9;
+    ws.dropped = s.router_counters.dropped_for_worker[w].get();
+    ws.in_flight_hwm = s.router_counters.in_flight_hwm[w].get();
+    ws.pool_batches = ch.pool.size();
+    st.workers.push_back(ws);
+  }
+  return st;
+}
+
+}  // namespace evlife::engine

@@ -1,0 +1,107 @@
+// Compiled only when evlife::render (OpenCV) is part of the build.
+#if __has_include("evlife/render/frame_composer.h")
+#include "evlife/engine/render_stage.h"
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+
+namespace evlife::engine {
+
+PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error(dir_ + ": cannot create the frame folder: " + ec.message());
+}
+
+void PngFolderFrameSink::write(const cv::Mat& frame, std::int64_t t_us) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/frame_%06lld_t%lld.png", index_++, static_cast<long long>(t_us));
+  const std::string path = dir_ + name;
+  if (!cv::imwrite(path, frame)) throw std::runtime_error(path + ": cannot write the frame");
+}
+
+VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
+    : path_(std::move(path)), playback_fps_(playback_fps) {}
+
+void VideoFrameSink::write(const cv::Mat& frame, std::int64_t) {
+  if (!writer_.isOpened()) {
+    const bool mp4 = std::filesystem::path(path_).extension() == ".mp4";
+    const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v')
+                           : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    if (!writer_.open(path_, fourcc, playback_fps_, frame.size(), true))
+      throw std::runtime_error(path_ + ": cannot open the video for writing");
+  }
+  writer_.write(frame);
+}
+
+RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options,
+                         FrameSink& sink)
+    : tap_(tap), set_(sensor), window_(sensor),
+      composer_(render::parse_view_mode(options.mode), options.style, options.mode),
+      sink_(sink),
+      period_us_(options.fps > 0 ? static_cast<std::int64_t>(1e6 / options.fps) : 0) {
+  if (options.fps < 0 || (options.fps > 0 && period_us_ < 1))
+    throw std::invalid_argument("render fps: must be 0 (on request only) or 0 < fps <= 1e6");
+}
+
+void RenderStage::emit(std::int64_t t_us) noexcept {
+  if (!error_.empty()) return;
+  try {
+    sink_.write(composer_.compose(set_, window_, t_us), t_us);
+    frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  } catch (const std::exception& e) {
+    error_ = e.what();
+  } catch (...) {
+    error_ = "unknown error while writing a frame";
+  }
+}
+
+void RenderStage::feed(const AugmentedEvent& a) noexcept {
+  const std::int64_t t = a.event.t_us;
+  if (period_us_ > 0) {
+    if (next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
+    while (t > next_frame_t_us_) {  // every event up to the frame time is in
+      emit(next_frame_t_us_);
+      next_frame_t_us_ += period_us_;
+    }
+  }
+  const std::int64_t req = requested_t_us_.load(std::memory_order_relaxed);
+  if (req != kNoRequest && t > req) {
+    if (req >= last_t_us_) emit(req);  // an instant already passed cannot be drawn
+    std::int64_t expected = req;  // keep a newer request made meanwhile
+    requested_t_us_.compare_exchange_strong(expected, kNoRequest);
+  }
+  set_.feed(a);
+  window_.feed(a);
+  last_t_us_ = t;
+}
+
+StepResult RenderStage::step() noexcept {
+  if (finished_) return StepResult::finished;
+  RenderBatch* b = tap_.try_take();
+  if (b == nullptr) {
+    if (!tap_.closed()) return StepResult::idle;
+    b = tap_.try_take();  // an offer made before close() is visible now
+    if (b == nullptr) {
+      const std::int64_t req = requested_t_us_.exchange(kNoRequest);
+      if (req != kNoRequest && req >= last_t_us_) emit(req);
+      try {
+        if (error_.empty()) sink_.finish();
+      } catch (const std::exception& e) {
+        error_ = e.what();
+      }
+      finished_ = true;
+      return StepResult::finished;
+    }
+  }
+  for (std::size_t i = 0; i < b->count; ++i) feed(b->events[i]);
+  tap_.give_back(b);
+  return StepResult::progressed;
+}
+
+}  // namespace evlife::engine
+#endif

@@ -1,0 +1,163 @@
+#include "evlife/engine/router.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "evlife/engine/monotonic_clock.h"
+
+namespace evlife::engine {
+
+Router::Router(PipelineState& state, EventSource& source)
+    : state_(state), source_(source), chunk_(state.options.batch_events),
+      chunk_owner_(state.options.batch_events) {
+  const auto workers = state.workers.size();
+  stage_events_.resize(workers);
+  stage_owned_.resize(workers);
+  stage_count_.assign(workers, 0);
+  stage_owned_count_.assign(workers, 0);
+  for (std::size_t w = 0; w < workers; ++w) {
+    stage_events_[w].resize(state.options.batch_events);
+    stage_owned_[w].resize(state.options.batch_events);
+    in_tokens_.push_back(std::make_unique<moodycamel::ProducerToken>(state.workers[w]->in));
+  }
+  order_token_ = std::make_unique<moodycamel::ProducerToken>(state.order);
+}
+
+StepResult Router::step() noexcept {
+  if (finished_) return StepResult::finished;
+  if (have_chunk_) return dispatch_pending() ? StepResult::progressed : StepResult::blocked;
+
+  const std::size_t n = source_.pull(std::span<Event>(chunk_.data(), chunk_.size()));
+  if (n == 0) {
+    const SourceStatus status = source_.status();
+    if (status == SourceStatus::ok) return StepResult::idle;
+    source_failed_ = status == SourceStatus::error;
+    finish();
+    return StepResult::finished;
+  }
+  const std::int64_t stated_ns = source_.last_arrival_ns();
+  arrival_ns_ = stated_ns != 0 ? stated_ns : monotonic_ns();
+  state_.router_counters.events_in.add(n);
+  state_.router_counters.chunks.add();
+  stage_chunk(n);
+  return dispatch_pending() ? StepResult::progressed : StepResult::blocked;
+}
+
+void Router::stage_chunk(std::size_t n) noexcept {
+  const TileLayout& layout = state_.layout;
+  std::fill(stage_count_.begin(), stage_count_.end(), 0);
+  std::fill(stage_owned_count_.begin(), stage_owned_count_.end(), 0);
+  pending_ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Event& e = chunk_[i];
+    std::uint8_t owner = layout.owner(e);
+    std::uint32_t mask = layout.feed_mask(e);
+    if (owner == TileLayout::kNoOwner) {  // off-sensor / bad polarity: worker 0 counts it
+      owner = 0;
+      mask = 1;
+    }
+    chunk_owner_[i] = owner;
+    while (mask != 0) {
+      const int w = std::countr_zero(mask);
+      mask &= mask - 1;
+      const std::size_t k = stage_count_[static_cast<std::size_t>(w)]++;
+      stage_events_[static_cast<std::size_t>(w)][k] = e;
+      const bool owned = w == owner;
+      stage_owned_[static_cast<std::size_t>(w)][k] = owned ? 1 : 0;
+      stage_owned_count_[static_cast<std::size_t>(w)] += owned ? 1 : 0;
+      pending_ |= 1u << w;
+    }
+  }
+  chunk_count_ = n;
+  ++chunk_seq_;
+  order_ = nullptr;
+  have_chunk_ = true;
+  waiting_since_ns_ = 0;
+}
+
+void Router::drop_for_worker(int w) noexcept {
+  const std::size_t owned = stage_owned_count_[static_cast<std::size_t>(w)];
+  if (owned != 0) {
+    for (std::size_t i = 0; i < chunk_count_; ++i)
+      if (chunk_owner_[i] == w) chunk_owner_[i] = OrderBatch::kDropped;
+    state_.router_counters.dropped.add(owned);
+    state_.router_counters.dropped_for_worker[static_cast<std::size_t>(w)].add(owned);
+  }
+}
+
+bool Router::dispatch_pending() noexcept {
+  RouterCounters& counters = state_.router_counters;
+  const bool drop = state_.policy == OverloadPolicy::drop;
+  bool waited = false;
+
+  if (order_ == nullptr && !state_.order_free.try_dequeue(order_)) {
+    order_ = nullptr;
+    if (drop) {  // nothing dispatched yet: the whole chunk goes
+      counters.dropped.add(chunk_count_);
+      counters.dropped_no_order.add(chunk_count_);
+      have_chunk_ = false;
+      return true;
+    }
+    waited = true;
+  }
+  if (order_ != nullptr) {
+    const std::size_t in_flight = state_.order_pool.size() - state_.order_free.size_approx();
+    counters.order_in_flight_hwm.raise_to(in_flight);
+    std::uint32_t todo = pending_;
+    while (todo != 0) {
+      const int w = std::countr_zero(todo);
+      todo &= todo - 1;
+      const auto wi = static_cast<std::size_t>(w);
+      WorkerChannel& ch = *state_.workers[wi];
+      WorkBatch* batch = nullptr;
+      if (!ch.free.try_dequeue(batch)) {
+        if (drop) {
+          drop_for_worker(w);
+          pending_ &= ~(1u << w);
+        } else {
+          waited = true;
+        }
+        continue;
+      }
+      const std::size_t n = stage_count_[wi];
+      std::memcpy(batch->events.get(), stage_events_[wi].data(), n * sizeof(Event));
+      std::memcpy(batch->owned.get(), stage_owned_[wi].data(), n);
+      batch->count = n;
+      batch->owned_count = stage_owned_count_[wi];
+      batch->chunk_seq = chunk_seq_;
+      if (!ch.in.try_enqueue(*in_tokens_[wi], batch)) ch.in.enqueue(*in_tokens_[wi], batch);
+      counters.in_flight_hwm[wi].raise_to(ch.pool.size() - ch.free.size_approx());
+      wake(ch.wake_worker);
+      pending_ &= ~(1u << w);
+    }
+  }
+  if (waited || pending_ != 0 || order_ == nullptr) {
+    const std::int64_t now = monotonic_ns();
+    if (waiting_since_ns_ != 0) counters.blocked_ns.add(static_cast<std::uint64_t>(now - waiting_since_ns_));
+    waiting_since_ns_ = now;
+    return false;
+  }
+  if (waiting_since_ns_ != 0) {
+    counters.blocked_ns.add(static_cast<std::uint64_t>(monotonic_ns() - waiting_since_ns_));
+    waiting_since_ns_ = 0;
+  }
+  std::memcpy(order_->owner.get(), chunk_owner_.data(), chunk_count_);
+  order_->count = chunk_count_;
+  order_->chunk_seq = chunk_seq_;
+  order_->arrival_ns = arrival_ns_;
+  if (!state_.order.try_enqueue(*order_token_, order_)) state_.order.enqueue(*order_token_, order_);
+  order_ = nullptr;
+  have_chunk_ = false;
+  wake(state_.wake_merger);
+  return true;
+}
+
+void Router::finish() noexcept {
+  finished_ = true;
+  state_.input_done.store(true, std::memory_order_release);
+  for (auto& ch : state_.workers) ch->wake_worker.signal();
+  state_.wake_merger.signal();
+}
+
+}  // namespace evlife::engine

@@ -1,0 +1,295 @@
+#include "aedat4_reader.h"
+
+#include <lz4frame.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+#include <memory>
+
+#include "aedat4_generated.h"
+#include "reader_registry.h"
+
+namespace evlife::io {
+namespace {
+
+constexpr std::string_view kMagic = "#!AER-DAT4.0\r\n";
+constexpr std::size_t kEventBytes = 16;       // i64 t, i16 x, i16 y, u8 polarity, 3 pad
+constexpr std::size_t kMaxPacketBytes = std::size_t{256} << 20;  // sanity bound (corrupt sizes)
+constexpr std::int32_t kMaxHeaderBytes = 16 << 20;
+
+struct StreamInfo {
+  std::int32_t id = -1;
+  std::optional<SensorSize> sensor;
+};
+
+// Integer value of `<attr key="KEY" type="int">N</attr>` in `xml`, if any.
+std::optional<int> xml_int_attr(std::string_view xml, std::string_view key) {
+  const std::string needle = "key=\"" + std::string(key) + "\"";
+  const std::size_t at = xml.find(needle);
+  if (at == std::string_view::npos) return std::nullopt;
+  const std::size_t gt = xml.find('>', at);
+  if (gt == std::string_view::npos) return std::nullopt;
+  int value = 0;
+  const auto [end, ec] = std::from_chars(xml.data() + gt + 1, xml.data() + xml.size(), value);
+  if (ec != std::errc() || end == xml.data() + gt + 1) return std::nullopt;
+  return value;
+}
+
+// The first stream of type EVTS in the header's XML: streams are the nodes
+// named by a number under outInfo, e.g. <node name="0" path=".../outInfo/0/">.
+StreamInfo find_event_stream(std::string_view xml) {
+  std::vector<std::pair<std::int32_t, std::size_t>> streams;  // id, start of its node
+  for (std::size_t at = xml.find("<node name=\""); at != std::string_view::npos;
+       at = xml.find("<node name=\"", at + 1)) {
+    const char* digits = xml.data() + at + 12;
+    std::int32_t id = 0;
+    const auto [end, ec] = std::from_chars(digits, xml.data() + xml.size(), id);
+    if (ec == std::errc() && end != digits && *end == '"') streams.emplace_back(id, at);
+  }
+  for (std::size_t i = 0; i < streams.size(); ++i) {
+    const std::size_t begin = streams[i].second;
+    const std::size_t end = i + 1 < streams.size() ? streams[i + 1].second : xml.size();
+    const std::string_view node = xml.substr(begin, end - begin);
+    if (node.find("key=\"typeIdentifier\" type=\"string\">EVTS<") == std::string_view::npos) continue;
+    StreamInfo info;
+    info.id = streams[i].first;
+    const auto w = xml_int_attr(node, "sizeX");
+    const auto h = xml_int_attr(node, "sizeY");
+    if (w && h && *w > 0 && *h > 0) info.sensor = SensorSize{*w, *h};
+    return info;
+  }
+  return {};
+}
+
+}  // namespace
+
+Aedat4Reader::Aedat4Reader(const std::string& path) : file_(path) {
+  const std::size_t prefix = kMagic.size() + 4;
+  if (file_.fill(prefix) < prefix ||
+      std::memcmp(file_.data(), kMagic.data(), kMagic.size()) != 0) {
+    throw ReadError(path, 0, -1, "not an AEDAT 4.0 file (no '#!AER-DAT4.0' line)");
+  }
+  file_.consume(kMagic.size());
+  // The i32 header size is the size prefix of the IOHeader FlatBuffer (its
+  // alignment counts from there), so the buffer verified starts with it.
+  std::int32_t header_bytes;
+  std::memcpy(&header_bytes, file_.data(), 4);
+  const std::int64_t header_offset = file_.offset();
+  if (header_bytes <= 0 || header_bytes > kMaxHeaderBytes ||
+      header_offset + 4 + header_bytes > file_.size_bytes()) {
+    throw ReadError(path, header_offset, -1,
+                    "AEDAT 4.0 header size " + std::to_string(header_bytes) +
+                        " is invalid or beyond the end of the file");
+  }
+  std::vector<std::uint8_t> header(4 + static_cast<std::size_t>(header_bytes));
+  file_.read(header.data(), header.size());
+  flatbuffers::Verifier verifier(header.data(), header.size());
+  if (!verifier.VerifySizePrefixedBuffer<aedat4::IOHeader>("IOHE")) {
+    throw ReadError(path, header_offset, -1, "AEDAT 4.0 header (FlatBuffer IOHeader) is corrupt");
+  }
+  const auto* io_header = flatbuffers::GetSizePrefixedRoot<aedat4::IOHeader>(header.data());
+  switch (io_header->compression()) {
+    case aedat4::CompressionType::NONE: compression_ = Compression::none; break;
+    case aedat4::CompressionType::LZ4:
+    case aedat4::CompressionType::LZ4_HIGH: compression_ = Compression::lz4; break;
+    case aedat4::CompressionType::ZSTD:
+    case aedat4::CompressionType::ZSTD_HIGH: compression_ = Compression::zstd; break;
+    default:
+      throw ReadError(path, header_offset, -1,
+                      "unknown AEDAT 4.0 compression type " +
+                          std::to_string(static_cast<int>(io_header->compression())));
+  }
+  const std::string_view xml =
+      io_header->info_node() != nullptr ? io_header->info_node()->string_view() : std::string_view{};
+  const StreamInfo stream = find_event_stream(xml);
+  if (stream.id < 0) {
+    throw ReadError(path, header_offset, -1,
+                    "AEDAT 4.0 file has no polarity event stream (typeIdentifier EVTS)");
+  }
+  event_stream_id_ = stream.id;
+  sensor_ = stream.sensor;
+  const std::int64_t table = io_header->data_table_position();
+  data_end_ = table > file_.offset() ? table : file_.size_bytes();
+
+  if (compression_ == Compression::lz4 &&
+      LZ4F_isError(LZ4F_createDecompressionContext(&lz4_, LZ4F_VERSION))) {
+    throw ReadError(path, -1, -1, "cannot create an LZ4 decompression context");
+  }
+  if (compression_ == Compression::zstd && (zstd_ = ZSTD_createDCtx()) == nullptr) {
+    throw ReadError(path, -1, -1, "cannot create a Zstd decompression context");
+  }
+}
+
+Aedat4Reader::~Aedat4Reader() {
+  if (lz4_ != nullptr) LZ4F_freeDecompressionContext(lz4_);
+  if (zstd_ != nullptr) ZSTD_freeDCtx(zstd_);
+}
+
+void Aedat4Reader::fail(std::int64_t byte_offset, const std::string& what) {
+  error_.emplace(path(), byte_offset, event_count_, what);
+}
+
+bool Aedat4Reader::decompress(std::int64_t packet_offset) {
+  if (packet_.size() < 4 * compressed_.size()) packet_.resize(4 * compressed_.size());
+  std::size_t in_pos = 0;
+  std::size_t out_pos = 0;
+  while (true) {
+    if (out_pos == packet_.size()) {
+      if (packet_.size() >= kMaxPacketBytes) {
+        fail(packet_offset, "AEDAT 4.0 packet decompresses to more than 256 MiB (corrupt?)");
+        return false;
+      }
+      packet_.resize(std::min(2 * packet_.size(), kMaxPacketBytes));
+    }
+    std::size_t in_bytes = compressed_.size() - in_pos;
+    std::size_t out_bytes = packet_.size() - out_pos;
+    std::size_t hint;
+    if (compression_ == Compression::lz4) {
+      hint = LZ4F_decompress(lz4_, packet_.data() + out_pos, &out_bytes,
+                             compressed_.data() + in_pos, &in_bytes, nullptr);
+      if (LZ4F_isError(hint)) {
+        LZ4F_resetDecompressionContext(lz4_);
+        fail(packet_offset, std::string("AEDAT 4.0 packet: corrupt LZ4 data (") +
+                                LZ4F_getErrorName(hint) + ")");
+        return false;
+      }
+    } else {
+      ZSTD_inBuffer in{compressed_.data() + in_pos, in_bytes, 0};
+      ZSTD_outBuffer out{packet_.data() + out_pos, out_bytes, 0};
+      hint = ZSTD_decompressStream(zstd_, &out, &in);
+      if (ZSTD_isError(hint)) {
+        ZSTD_DCtx_reset(zstd_, ZSTD_reset_session_only);
+        fail(packet_offset, std::string("AEDAT 4.0 packet: corrupt Zstd data (") +
+                                ZSTD_getErrorName(hint) + ")");
+        return false;
+      }
+      in_bytes = in.pos;
+      out_bytes = out.pos;
+    }
+    in_pos += in_bytes;
+    out_pos += out_bytes;
+    if (hint == 0) break;  // frame complete
+    if (in_pos == compressed_.size() && out_pos < packet_.size()) {
+      fail(packet_offset, "AEDAT 4.0 packet: compressed frame is incomplete");
+      return false;
+    }
+  }
+  packet_.resize(out_pos);
+  return true;
+}
+
+bool Aedat4Reader::next_packet() {
+  while (true) {
+    if (file_.offset() >= data_end_) return false;
+    const std::int64_t offset = file_.offset();
+    if (file_.fill(8) < 8) {
+      fail(offset, "truncated AEDAT 4.0 packet header");
+      return false;
+    }
+    std::int32_t stream_id;
+    std::int32_t size;
+    std::memcpy(&stream_id, file_.data(), 4);
+    std::memcpy(&size, file_.data() + 4, 4);
+    file_.consume(8);
+    if (size <= 0 || static_cast<std::size_t>(size) > kMaxPacketBytes ||
+        offset + 8 + size > std::min(data_end_, file_.size_bytes())) {
+      fail(offset, "AEDAT 4.0 packet of " + std::to_string(size) + " bytes (stream " +
+                       std::to_string(stream_id) +
+                       ") is invalid or runs past the end of the data (truncated file?)");
+      return false;
+    }
+    if (stream_id != event_stream_id_) {  // frames, IMU, triggers
+      ++skipped_packets_;
+      if (file_.available() >= static_cast<std::size_t>(size)) {
+        file_.consume(static_cast<std::size_t>(size));
+      } else {
+        file_.seek(offset + 8 + size);
+      }
+      continue;
+    }
+    packet_offset_ = offset;
+    std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
+    raw.resize(static_cast<std::size_t>(size));
+    if (file_.read(raw.data(), raw.size()) != raw.size()) {
+      fail(offset, "truncated AEDAT 4.0 packet");
+      return false;
+    }
+    if (compression_ != Compression::none && !decompress(offset)) return false;
+
+    flatbuffers::Verifier verifier(packet_.data(), packet_.size());
+    if (!aedat4::VerifySizePrefixedEventPacketBuffer(verifier)) {
+      fail(offset, "AEDAT 4.0 event packet does not verify (corrupt FlatBuffer)");
+      return false;
+    }
+    const auto* packet = flatbuffers::GetSizePrefixedRoot<aedat4::EventPacket>(packet_.data());
+    events_pos_ = 0;
+    events_size_ = 0;
+    if (packet->elements() != nullptr) {
+      events_ = reinterpret_cast<const std::uint8_t*>(packet->elements()->Data());
+      events_size_ = packet->elements()->size();
+    }
+    if (events_size_ > 0) return true;
+  }
+}
+
+std::size_t Aedat4Reader::read(std::span<Event> out) {
+  if (error_) throw *error_;
+  const int width = sensor_ ? sensor_->width : 32768;
+  const int height = sensor_ ? sensor_->height : 32768;
+  std::size_t n = 0;
+  while (n < out.size()) {
+    if (events_pos_ == events_size_) {
+      if (!next_packet()) break;
+    }
+    const std::size_t count = std::min(events_size_ - events_pos_, out.size() - n);
+    const std::uint8_t* record = events_ + events_pos_ * kEventBytes;
+    for (std::size_t i = 0; i < count; ++i, record += kEventBytes) {
+      std::int16_t x;
+      std::int16_t y;
+      Event& e = out[n];
+      std::memcpy(&e.t_us, record, 8);
+      std::memcpy(&x, record + 8, 2);
+      std::memcpy(&y, record + 10, 2);
+      if (x < 0 || y < 0 || x >= width || y >= height) {
+        events_pos_ += i;
+        fail(packet_offset_, "AEDAT 4.0 event " + std::to_string(events_pos_) + " of its packet at x=" +
+                                 std::to_string(x) + " y=" + std::to_string(y) + " outside the sensor");
+        events_size_ = events_pos_;
+        if (n == 0) throw *error_;
+        return n;
+      }
+      e.x = static_cast<std::uint16_t>(x);
+      e.y = static_cast<std::uint16_t>(y);
+      e.p = record[12] != 0 ? std::int8_t{1} : std::int8_t{-1};
+      ++n;
+      ++event_count_;
+    }
+    events_pos_ += count;
+  }
+  if (error_ && n == 0) throw *error_;
+  return n;
+}
+
+namespace detail {
+namespace {
+
+SniffResult sniff_aedat4(std::span<const std::byte> head, std::string_view /*path*/) {
+  return head.size() >= kMagic.size() &&
+                 std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0
+             ? SniffResult::by_content
+             : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_aedat4(const std::string& path) {
+  return std::make_unique<Aedat4Reader>(path);
+}
+
+}  // namespace
+
+const ReaderFormat aedat4_format{"aedat4", "iniVation AEDAT 4.0 (DV; '#!AER-DAT4.0' header)",
+                                 &sniff_aedat4, &open_aedat4};
+
+}  // namespace detail
+}  // namespace evlife::io

@@ -1,0 +1,105 @@
+// Reads the binary augmented format back (see augmented_bin_format.h).
+#include <cmath>
+#include <vector>
+
+#include "augmented_bin_format.h"
+#include "augmented_formats.h"
+#include "input_file.h"
+
+namespace evlife::io::detail {
+namespace {
+
+class AugmentedBinReader final : public AugmentedEventReader {
+ public:
+  explicit AugmentedBinReader(const std::string& path) : file_(path) {
+    using namespace augmented_bin;
+    unsigned char header[kHeaderBytes];
+    if (file_.read_at(0, std::as_writable_bytes(std::span(header))) != kHeaderBytes ||
+        std::memcmp(header, kMagic.data(), kMagic.size()) != 0)
+      throw ReadError(path, 0, -1, "not an evlife augmented .bin file (bad magic)");
+    const auto version = get<std::uint16_t>(header, 8);
+    header_bytes_ = get<std::uint16_t>(header, 10);
+    record_bytes_ = get<std::uint16_t>(header, 12);
+    if (version < 1 || header_bytes_ < kHeaderBytes || record_bytes_ < kRecordBytes)
+      throw ReadError(path, 8, -1,
+                      "unsupported augmented .bin header (version " + std::to_string(version) +
+                          ", header " + std::to_string(header_bytes_) + " B, record " +
+                          std::to_string(record_bytes_) + " B)");
+    const auto width = get<std::uint32_t>(header, 16);
+    const auto height = get<std::uint32_t>(header, 20);
+    if (width > 65536 || height > 65536)
+      throw ReadError(path, 16, -1, "implausible sensor size in header");
+    sensor_ = SensorSize{static_cast<int>(width), static_cast<int>(height)};
+    offset_ = header_bytes_;
+    buffer_.resize(record_bytes_ * 8192);
+  }
+
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    if (pending_) throw *pending_;
+    std::size_t n = 0;
+    while (n < out.size()) {
+      const std::size_t want = std::min(out.size() - n, buffer_.size() / record_bytes_);
+      const std::size_t got = file_.read_at(offset_, std::span(buffer_).first(want * record_bytes_));
+      const std::size_t records = got / record_bytes_;
+      const auto* bytes = reinterpret_cast<const unsigned char*>(buffer_.data());
+      std::size_t i = 0;
+      for (; i < records; ++i) {
+        const AugmentedEvent a = augmented_bin::decode(bytes + i * record_bytes_);
+        if (a.event.p != 1 && a.event.p != -1) {
+          fault("corrupt record: polarity " + std::to_string(a.event.p));
+          break;
+        }
+        if (sensor_.width > 0 && !sensor_.contains(a.event.x, a.event.y)) {
+          fault("event at (x " + std::to_string(a.event.x) + ", y " + std::to_string(a.event.y) +
+                ") is outside the " + std::to_string(sensor_.width) + "x" +
+                std::to_string(sensor_.height) + " sensor");
+          break;
+        }
+        if (a.event.t_us < last_t_us_) {
+          fault("timestamp goes backwards: " + std::to_string(a.event.t_us) + " us after " +
+                std::to_string(last_t_us_) + " us");
+          break;
+        }
+        last_t_us_ = a.event.t_us;
+        out[n++] = a;
+        offset_ += record_bytes_;
+        ++index_;
+      }
+      if (pending_) break;
+      if (records < want) {
+        if (got % record_bytes_ != 0)
+          fault("truncated: " + std::to_string(got % record_bytes_) + " trailing bytes, a record is " +
+                std::to_string(record_bytes_));
+        break;
+      }
+    }
+    if (n == 0 && pending_) throw *pending_;
+    return n;
+  }
+
+  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  std::string_view format_name() const override { return "augmented-bin"; }
+  const std::string& path() const override { return file_.path(); }
+
+ private:
+  void fault(const std::string& what) {
+    pending_.emplace(file_.path(), static_cast<std::int64_t>(offset_),
+                     static_cast<std::int64_t>(index_), what);
+  }
+
+  InputFile file_;
+  std::size_t header_bytes_ = 0, record_bytes_ = 0;
+  SensorSize sensor_;
+  std::uint64_t offset_ = 0, index_ = 0;
+  std::int64_t last_t_us_ = INT64_MIN;
+  std::vector<std::byte> buffer_;
+  std::optional<ReadError> pending_;
+};
+
+}  // namespace
+
+std::unique_ptr<AugmentedEventReader> open_augmented_bin_reader(const std::string& path) {
+  return std::make_unique<AugmentedBinReader>(path);
+}
+
+}  // namespace evlife::io::detail

@@ -1,0 +1,144 @@
+// Reads the augmented CSV back: exact header, then
+// `x,y,t,p,lifetime,vx,vy,prediction_error` rows (empty prediction_error = NaN).
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "augmented_formats.h"
+#include "input_file.h"
+
+namespace evlife::io::detail {
+namespace {
+
+constexpr std::size_t kBufferBytes = 1 << 20;
+
+class AugmentedCsvReader final : public AugmentedEventReader {
+ public:
+  explicit AugmentedCsvReader(const std::string& path) : file_(path), buffer_(kBufferBytes) {
+    std::string_view line;
+    if (!next_line(line) || strip_cr(line) != kAugmentedCsvHeader)
+      throw ReadError(path, 0, -1,
+                      "not an augmented CSV: the first line must be '" +
+                          std::string(kAugmentedCsvHeader) + "'");
+  }
+
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    if (pending_) throw *pending_;
+    std::size_t n = 0;
+    std::string_view line;
+    while (n < out.size()) {
+      const std::uint64_t line_offset = offset_;
+      if (!next_line(line)) break;
+      line = strip_cr(line);
+      if (line.empty()) continue;
+      AugmentedEvent a;
+      const char* error = parse(line, a);
+      if (error == nullptr && a.event.t_us < last_t_us_) error = "timestamp goes backwards";
+      if (error != nullptr) {
+        pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset),
+                         static_cast<std::int64_t>(index_),
+                         "line " + std::to_string(line_number_) + ": " + error + ": '" +
+                             std::string(line.substr(0, 100)) + "'");
+        break;
+      }
+      last_t_us_ = a.event.t_us;
+      out[n++] = a;
+      ++index_;
+    }
+    if (n == 0 && pending_) throw *pending_;
+    return n;
+  }
+
+  std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
+  std::string_view format_name() const override { return "augmented-csv"; }
+  const std::string& path() const override { return file_.path(); }
+
+ private:
+  static std::string_view strip_cr(std::string_view s) {
+    return !s.empty() && s.back() == '\r' ? s.substr(0, s.size() - 1) : s;
+  }
+
+  template <class T>
+  static bool field(const char*& p, const char* end, T& value, bool last) {
+    const auto [ptr, ec] = std::from_chars(p, end, value);
+    if (ec != std::errc() || ptr == p) return false;
+    p = ptr;
+    if (last) return p == end;
+    if (p == end || *p != ',') return false;
+    ++p;
+    return true;
+  }
+
+  static const char* parse(std::string_view line, AugmentedEvent& a) {
+    const char* p = line.data();
+    const char* end = p + line.size();
+    int polarity = 0;
+    if (!field(p, end, a.event.x, false) || !field(p, end, a.event.y, false))
+      return "bad x or y (integers 0-65535)";
+    if (!field(p, end, a.event.t_us, false)) return "bad t (integer us)";
+    if (!field(p, end, polarity, false) || (polarity != 1 && polarity != -1))
+      return "bad p (1 or -1)";
+    a.event.p = static_cast<std::int8_t>(polarity);
+    if (!field(p, end, a.lifetime_us, false) || !field(p, end, a.vx_px_s, false) ||
+        !field(p, end, a.vy_px_s, false))
+      return "bad lifetime, vx or vy";
+    if (p == end) {
+      a.prediction_error_us = std::numeric_limits<float>::quiet_NaN();
+    } else if (!field(p, end, a.prediction_error_us, true)) {
+      return "bad prediction_error";
+    }
+    return nullptr;
+  }
+
+  // Next line without its '\n' (valid until the next call); false at end.
+  bool next_line(std::string_view& line) {
+    for (;;) {
+      const char* begin = buffer_.data() + pos_;
+      if (const void* nl = std::memchr(begin, '\n', end_ - pos_)) {
+        const auto len = static_cast<std::size_t>(static_cast<const char*>(nl) - begin);
+        line = std::string_view(begin, len);
+        pos_ += len + 1;
+        offset_ += len + 1;
+        ++line_number_;
+        return true;
+      }
+      const std::size_t leftover = end_ - pos_;
+      if (leftover == buffer_.size()) {
+        throw ReadError(file_.path(), static_cast<std::int64_t>(offset_),
+                        static_cast<std::int64_t>(index_), "line too long");
+      }
+      std::memmove(buffer_.data(), begin, leftover);
+      pos_ = 0;
+      end_ = leftover;
+      const std::size_t got =
+          file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
+      file_pos_ += got;
+      end_ += got;
+      if (got == 0) {
+        if (leftover == 0) return false;
+        line = std::string_view(buffer_.data(), leftover);  // last line without '\n'
+        pos_ = end_;
+        offset_ += leftover;
+        ++line_number_;
+        return true;
+      }
+    }
+  }
+
+  InputFile file_;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, end_ = 0;
+  std::uint64_t file_pos_ = 0, offset_ = 0, line_number_ = 0, index_ = 0;
+  std::int64_t last_t_us_ = INT64_MIN;
+  std::optional<ReadError> pending_;
+};
+
+}  // namespace
+
+std::unique_ptr<AugmentedEventReader> open_augmented_csv_reader(const std::string& path) {
+  return std::make_unique<AugmentedCsvReader>(path);
+}
+
+}  // namespace evlife::io::detail

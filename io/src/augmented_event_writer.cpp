@@ -1,0 +1,21 @@
+#include "evlife/io/augmented_event_writer.h"
+
+#include "augmented_formats.h"
+#include "evlife/io/hdf5_writer.h"  // helper "formats"
+#include "reader_registry.h"  // has_extension
+
+namespace evlife::io {
+
+std::unique_ptr<AugmentedEventWriter> open_augmented_writer(const std::string& path,
+                                                            SensorSize sensor) {
+  if (detail::has_extension(path, ".csv")) return detail::open_augmented_csv_writer(path);
+  if (detail::has_extension(path, ".bin")) return detail::open_augmented_bin_writer(path, sensor);
+  // helper "formats": HDF5 (h5py-readable columns).
+  if (detail::has_extension(path, ".h5") || detail::has_extension(path, ".hdf5")) {
+    return open_hdf5_augmented_writer(
+        path, sensor.width > 0 ? std::optional<SensorSize>(sensor) : std::nullopt);
+  }
+  throw WriteError(path, "unknown output format: use a .csv, .bin or .h5 file name");
+}
+
+}  // namespace evlife::io

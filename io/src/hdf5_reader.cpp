@@ -1,0 +1,257 @@
+#include "hdf5_reader.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <type_traits>
+
+#include "hdf5_error_silencer.h"
+#include "reader_registry.h"
+
+namespace evlife::io {
+namespace {
+
+static_assert(std::is_same_v<hid_t, std::int64_t>, "Hdf5Reader::Hid must be hid_t");
+
+constexpr unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1A, '\n'};
+
+// True if every component of `path` ("a/b/c") exists as a link in `file`.
+bool exists(hid_t file, const std::string& path) {
+  for (std::size_t slash = path.find('/'); ; slash = path.find('/', slash + 1)) {
+    const std::string prefix = path.substr(0, slash);
+    if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (slash == std::string::npos) return true;
+  }
+}
+
+// Length of the 1-D dataset `dataset`; -1 if it is not 1-D.
+std::int64_t length_1d(hid_t dataset) {
+  const hid_t space = H5Dget_space(dataset);
+  if (space < 0) return -1;
+  std::int64_t length = -1;
+  hsize_t dims[1] = {0};
+  if (H5Sget_simple_extent_ndims(space) == 1 && H5Sget_simple_extent_dims(space, dims, nullptr) == 1) {
+    length = static_cast<std::int64_t>(dims[0]);
+  }
+  H5Sclose(space);
+  return length;
+}
+
+std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) return std::nullopt;
+  const hid_t attribute = H5Aopen(object, name, H5P_DEFAULT);
+  if (attribute < 0) return std::nullopt;
+  std::int64_t value = 0;
+  const herr_t status = H5Aread(attribute, H5T_NATIVE_INT64, &value);
+  H5Aclose(attribute);
+  if (status < 0) return std::nullopt;
+  return value;
+}
+
+// Reads `count` elements from `first` of 1-D `dataset` as `memory_type` into `out`.
+bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out) {
+  const hid_t file_space = H5Dget_space(dataset);
+  if (file_space < 0) return false;
+  const hsize_t start[1] = {static_cast<hsize_t>(first)};
+  const hsize_t size[1] = {count};
+  const hid_t memory_space = H5Screate_simple(1, size, nullptr);
+  const bool ok = memory_space >= 0 &&
+                  H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
+                  H5Dread(dataset, memory_type, memory_space, file_space, H5P_DEFAULT, out) >= 0;
+  if (memory_space >= 0) H5Sclose(memory_space);
+  H5Sclose(file_space);
+  return ok;
+}
+
+}  // namespace
+
+Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
+  const Hdf5ErrorSilencer silence;
+  if (H5Fis_hdf5(path.c_str()) <= 0) {
+    throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
+  }
+  file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file_ < 0) throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
+
+  const auto open = [&](const std::string& name) {
+    const hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    if (dataset < 0) {
+      close_handles();
+      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
+    }
+    return dataset;
+  };
+  std::string prefix;
+  if (exists(file_, "events/x")) {
+    layout_ = "dsec";
+    prefix = "events/";
+  } else if (exists(file_, "CD/events")) {
+    layout_ = "prophesee";
+  } else if (exists(file_, "x")) {
+    layout_ = "evlife";
+  } else {
+    close_handles();
+    throw ReadError(path, -1, -1,
+                    "HDF5 file holds no known event layout: found no dataset 'events/x' (DSEC: "
+                    "events/{x,y,t,p}), 'CD/events' (Prophesee compound) or 'x' (evlife: x,y,t,p)");
+  }
+
+  if (layout_ == "prophesee") {
+    t_ = open("CD/events");
+    total_ = length_1d(t_);
+    const hid_t type = H5Dget_type(t_);
+    const bool compound = type >= 0 && H5Tget_class(type) == H5T_COMPOUND;
+    if (type >= 0) H5Tclose(type);
+    if (!compound) {
+      close_handles();
+      throw ReadError(path, -1, -1, "HDF5 dataset 'CD/events' is not a compound of x, y, p, t");
+    }
+  } else {
+    for (const char* column : {"x", "y", "t", "p"}) {
+      if (!exists(file_, prefix + column)) {
+        close_handles();
+        throw ReadError(path, -1, -1,
+                        "HDF5 " + std::string(layout_) + " layout: dataset '" + prefix + column +
+                            "' is missing");
+      }
+    }
+    x_ = open(prefix + "x");
+    y_ = open(prefix + "y");
+    t_ = open(prefix + "t");
+    p_ = open(prefix + "p");
+    total_ = length_1d(x_);
+    for (const auto& [dataset, name] : {std::pair{y_, "y"}, {t_, "t"}, {p_, "p"}}) {
+      if (length_1d(dataset) != total_) {
+        close_handles();
+        throw ReadError(path, -1, -1,
+                        "HDF5 dataset '" + prefix + name + "' does not have the length of '" +
+                            prefix + "x' (" + std::to_string(total_) + ")");
+      }
+    }
+    if (layout_ == "dsec" && exists(file_, "t_offset")) {
+      const hid_t offset = open("t_offset");
+      const bool ok = H5Dread(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset_us_) >= 0;
+      H5Dclose(offset);
+      if (!ok) {
+        close_handles();
+        throw ReadError(path, -1, -1, "HDF5 dataset 't_offset' is not a scalar integer");
+      }
+    }
+  }
+  if (total_ < 0) {
+    close_handles();
+    throw ReadError(path, -1, -1, "HDF5 event datasets are not one-dimensional");
+  }
+  const auto width = read_int_attribute(file_, "width");
+  const auto height = read_int_attribute(file_, "height");
+  if (width && height && *width > 0 && *height > 0 && *width <= 65536 && *height <= 65536) {
+    sensor_ = SensorSize{static_cast<int>(*width), static_cast<int>(*height)};
+  }
+  if (layout_ == "prophesee") {
+    records_.resize(kChunkEvents);
+  } else {
+    xs_.resize(kChunkEvents);
+    ys_.resize(kChunkEvents);
+    ts_.resize(kChunkEvents);
+    ps_.resize(kChunkEvents);
+  }
+}
+
+Hdf5Reader::~Hdf5Reader() { close_handles(); }
+
+void Hdf5Reader::close_handles() noexcept {
+  for (Hid* handle : {&x_, &y_, &t_, &p_}) {
+    if (*handle >= 0) H5Dclose(*handle);
+    *handle = -1;
+  }
+  if (file_ >= 0) H5Fclose(file_);
+  file_ = -1;
+}
+
+void Hdf5Reader::load_chunk() {
+  const Hdf5ErrorSilencer silence;
+  const std::size_t count =
+      static_cast<std::size_t>(std::min<std::int64_t>(total_ - next_, kChunkEvents));
+  chunk_pos_ = 0;
+  chunk_size_ = 0;
+  bool ok;
+  const char* what = "CD/events";
+  if (layout_ == "prophesee") {
+    const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(CdRecord));
+    H5Tinsert(type, "x", offsetof(CdRecord, x), H5T_NATIVE_UINT16);
+    H5Tinsert(type, "y", offsetof(CdRecord, y), H5T_NATIVE_UINT16);
+    H5Tinsert(type, "p", offsetof(CdRecord, p), H5T_NATIVE_INT16);
+    H5Tinsert(type, "t", offsetof(CdRecord, t), H5T_NATIVE_INT64);
+    ok = read_slab(t_, type, next_, count, records_.data());
+    H5Tclose(type);
+  } else {
+    ok = (what = "x", read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
+         (what = "y", read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
+         (what = "t", read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
+         (what = "p", read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
+  }
+  if (!ok) {
+    error_.emplace(path_, -1, next_,
+                   "HDF5 dataset '" + std::string(what) + "' cannot be read from event " +
+                       std::to_string(next_) +
+                       " (corrupt data, wrong type or a compression filter this HDF5 lacks)");
+    return;
+  }
+  chunk_size_ = count;
+}
+
+std::size_t Hdf5Reader::read(std::span<Event> out) {
+  if (error_) throw *error_;
+  std::size_t n = 0;
+  while (n < out.size()) {
+    if (chunk_pos_ == chunk_size_) {
+      if (next_ >= total_) break;
+      load_chunk();
+      if (error_) break;
+      next_ += static_cast<std::int64_t>(chunk_size_);
+    }
+    const std::size_t count = std::min(chunk_size_ - chunk_pos_, out.size() - n);
+    if (layout_ == "prophesee") {
+      for (std::size_t i = 0; i < count; ++i) {
+        const CdRecord& r = records_[chunk_pos_ + i];
+        out[n + i] = Event{r.t, r.x, r.y, r.p > 0 ? std::int8_t{1} : std::int8_t{-1}};
+      }
+    } else {
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t k = chunk_pos_ + i;
+        out[n + i] = Event{ts_[k] + t_offset_us_, xs_[k], ys_[k],
+                           ps_[k] > 0 ? std::int8_t{1} : std::int8_t{-1}};
+      }
+    }
+    chunk_pos_ += count;
+    n += count;
+  }
+  if (error_ && n == 0) throw *error_;
+  return n;
+}
+
+namespace detail {
+namespace {
+
+SniffResult sniff_hdf5(std::span<const std::byte> head, std::string_view path) {
+  if (head.size() >= sizeof(kSignature) && std::memcmp(head.data(), kSignature, sizeof(kSignature)) == 0) {
+    return SniffResult::by_content;
+  }
+  return has_extension(path, ".h5") || has_extension(path, ".hdf5") ? SniffResult::by_extension
+                                                                     : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_hdf5(const std::string& path) {
+  return std::make_unique<Hdf5Reader>(path);
+}
+
+}  // namespace
+
+const ReaderFormat hdf5_format{"hdf5",
+                               "HDF5 events: DSEC events/{x,y,t,p}, Prophesee CD/events, or evlife x,y,t,p",
+                               &sniff_hdf5, &open_hdf5};
+
+}  // namespace detail
+}  // namespace evlife::io

@@ -1,0 +1,72 @@
+// Events stored in HDF5, in the layouts the public datasets use:
+//  - DSEC: datasets events/x, events/y, events/t (µs), events/p (0/1) and an
+//    optional scalar t_offset (µs) added to t;
+//  - Prophesee: one compound dataset CD/events with fields x, y, p, t (µs);
+//  - evlife (what Hdf5Writer writes): root datasets x, y, t, p (+ augmented
+//    columns, ignored here), sensor size in root attributes width / height.
+// Read in chunks of kChunkEvents with the HDF5 library: constant memory.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+
+namespace evlife::io {
+
+class Hdf5Reader final : public EventReader {
+ public:
+  static constexpr std::size_t kChunkEvents = 1 << 16;
+
+  /// Throws ReadError if the file is not HDF5 or holds none of the layouts
+  /// above (the message names the datasets looked for).
+  explicit Hdf5Reader(const std::string& path);
+  ~Hdf5Reader() override;
+  Hdf5Reader(const Hdf5Reader&) = delete;
+  Hdf5Reader& operator=(const Hdf5Reader&) = delete;
+
+  std::size_t read(std::span<Event> out) override;
+  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  std::string_view format_name() const override { return "hdf5"; }
+  const std::string& path() const override { return path_; }
+
+  /// "dsec", "prophesee" or "evlife".
+  std::string_view layout() const noexcept { return layout_; }
+  std::int64_t event_count() const noexcept { return total_; }
+
+ private:
+  using Hid = std::int64_t;  // = hid_t (checked in the .cpp)
+
+  // Layout of one record of the Prophesee compound, as read into memory.
+  struct CdRecord {
+    std::uint16_t x;
+    std::uint16_t y;
+    std::int16_t p;
+    std::int64_t t;
+  };
+
+  void load_chunk();  // next chunk into the column buffers; sets error_ on failure
+  void close_handles() noexcept;
+
+  std::string path_;
+  std::string_view layout_;
+  Hid file_ = -1;
+  Hid x_ = -1, y_ = -1, t_ = -1, p_ = -1;  // column datasets, or t_ = the compound
+  std::int64_t total_ = 0;
+  std::int64_t t_offset_us_ = 0;
+  std::optional<SensorSize> sensor_;
+  std::int64_t next_ = 0;  // index of the first event not yet loaded
+  std::vector<std::uint16_t> xs_, ys_;
+  std::vector<std::int64_t> ts_;
+  std::vector<std::int8_t> ps_;
+  std::vector<CdRecord> records_;
+  std::size_t chunk_size_ = 0;
+  std::size_t chunk_pos_ = 0;
+  std::optional<ReadError> error_;
+};
+
+}  // namespace evlife::io

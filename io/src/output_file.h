@@ -1,0 +1,44 @@
+// Private: a buffered output file whose failures (open, write, close; e.g.
+// ENOSPC on /dev/full) become WriteError naming the file.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace evlife::io::detail {
+
+class OutputFile {
+ public:
+  static constexpr std::size_t kBufferBytes = 1 << 20;
+
+  /// Creates/truncates `path`; throws WriteError.
+  explicit OutputFile(const std::string& path);
+  /// Closes without reporting errors (use close() to learn about them).
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  /// Space to format into: at least `bytes` (≤ kBufferBytes) writable chars
+  /// at the returned pointer; commit(n) makes n of them part of the file.
+  char* reserve(std::size_t bytes) {
+    if (kBufferBytes - used_ < bytes) flush();
+    return buffer_.data() + used_;
+  }
+  void commit(std::size_t bytes) noexcept { used_ += bytes; }
+  void append(const void* data, std::size_t bytes);
+
+  void flush();  ///< throws WriteError
+  void close();  ///< flush + close; throws WriteError; idempotent
+  bool is_open() const noexcept { return fd_ >= 0; }
+  const std::string& path() const noexcept { return path_; }
+
+ private:
+  void write_all(const char* data, std::size_t bytes);
+  std::string path_;
+  int fd_ = -1;
+  std::vector<char> buffer_;
+  std::size_t used_ = 0;
+};
+
+}  // namespace evlife::io::detail

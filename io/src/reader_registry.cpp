@@ -1,0 +1,76 @@
+#include "reader_registry.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <vector>
+
+#include "checked_event_reader.h"
+#include "input_file.h"
+
+namespace evlife::io {
+namespace detail {
+
+std::span<const ReaderFormat* const> reader_formats() {
+#define EVLIFE_READER_FORMAT(id) &id##_format,
+  static const ReaderFormat* const table[] = {
+#include "reader_formats.def"
+  };
+#undef EVLIFE_READER_FORMAT
+  return table;
+}
+
+bool has_extension(std::string_view path, std::string_view ext) {
+  if (path.size() < ext.size()) return false;
+  const std::string_view tail = path.substr(path.size() - ext.size());
+  return std::equal(tail.begin(), tail.end(), ext.begin(), [](char a, char b) {
+    return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+  });
+}
+
+}  // namespace detail
+
+std::vector<EventFormatInfo> known_event_formats() {
+  std::vector<EventFormatInfo> formats;
+  for (const detail::ReaderFormat* f : detail::reader_formats())
+    formats.push_back({f->name, f->description});
+  return formats;
+}
+
+std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path) {
+  std::array<std::byte, detail::kSniffBytes> head{};
+  std::size_t head_size = 0;
+  {
+    const detail::InputFile file(path);  // throws "cannot open" for a missing file
+    head_size = file.read_at(0, head);
+  }
+  const std::span<const std::byte> head_view(head.data(), head_size);
+  const detail::ReaderFormat* by_extension = nullptr;
+  for (const detail::ReaderFormat* f : detail::reader_formats()) {
+    const detail::SniffResult r = f->sniff(head_view, path);
+    if (r == detail::SniffResult::by_content) return f->open(path);
+    if (r == detail::SniffResult::by_extension && by_extension == nullptr) by_extension = f;
+  }
+  if (by_extension != nullptr) return by_extension->open(path);
+  std::string known;
+  for (const detail::ReaderFormat* f : detail::reader_formats())
+    known += "\n  " + std::string(f->name) + ": " + std::string(f->description);
+  throw ReadError(path, -1, -1,
+                  head_size == 0 ? "empty file, not a known event format; known formats:" + known
+                                 : "unknown event file format; known formats:" + known);
+}
+
+std::unique_ptr<EventReader> open_event_reader(const std::string& path,
+                                               const ReaderOptions& options) {
+  std::unique_ptr<EventReader> raw = open_unchecked_event_reader(path);
+  const std::optional<SensorSize> sensor = options.sensor ? options.sensor : raw->sensor_size();
+  return std::make_unique<detail::CheckedEventReader>(std::move(raw), sensor,
+                                                      options.require_time_order);
+}
+
+std::unique_ptr<EventReader> open_checked_event_reader(const std::string& path,
+                                                       std::optional<SensorSize> sensor) {
+  return open_event_reader(path, ReaderOptions{sensor, true});
+}
+
+}  // namespace evlife::io

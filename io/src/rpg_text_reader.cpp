@@ -1,0 +1,280 @@
+// RPG event-camera text format: one event per line `t x y p`, t in seconds
+// (decimal), x y pixel coordinates (0-based, top-left), p 0 (OFF) or 1 (ON).
+// Blank lines and lines starting with '#' are skipped. A first data line with
+// exactly two integers `width height` (as written by rpg_e2vid tools) states
+// the sensor size. Timestamps are parsed as decimals straight to integer µs
+// (rounded half away from zero at the 7th decimal): no floating point, so no
+// drift over long recordings.
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "input_file.h"
+#include "reader_registry.h"
+
+namespace evlife::io::detail {
+namespace {
+
+constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
+
+bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r'; }
+bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+
+void skip_spaces(const char*& p, const char* end) noexcept {
+  while (p < end && is_space(*p)) ++p;
+}
+
+// Unsigned decimal integer ≤ max; false on no digits or overflow.
+bool parse_uint(const char*& p, const char* end, std::uint64_t max, std::uint64_t& value) noexcept {
+  const char* start = p;
+  std::uint64_t v = 0;
+  while (p < end && is_digit(*p)) {
+    v = v * 10 + static_cast<std::uint64_t>(*p - '0');
+    if (v > max) return false;
+    ++p;
+  }
+  value = v;
+  return p != start;
+}
+
+// [-+]digits[.digits] seconds → µs.
+bool parse_seconds(const char*& p, const char* end, std::int64_t& t_us) noexcept {
+  bool negative = false;
+  if (p < end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+  std::uint64_t seconds = 0;
+  const char* int_start = p;
+  if (!parse_uint(p, end, 9'000'000'000'000ULL, seconds)) {
+    if (p == int_start && p < end && *p == '.') {
+      seconds = 0;  // ".5"
+    } else {
+      return false;
+    }
+  }
+  std::uint64_t micro = 0;
+  int digits = 0;
+  bool round_up = false;
+  if (p < end && *p == '.') {
+    ++p;
+    const char* frac_start = p;
+    while (p < end && is_digit(*p)) {
+      if (digits < 6) {
+        micro = micro * 10 + static_cast<std::uint64_t>(*p - '0');
+      } else if (digits == 6) {
+        round_up = *p >= '5';
+      }
+      ++digits;
+      ++p;
+    }
+    if (p == frac_start && p - 1 == int_start) return false;  // "." alone
+  }
+  for (int d = std::min(digits, 6); d < 6; ++d) micro *= 10;
+  const auto magnitude = static_cast<std::int64_t>(seconds * 1'000'000 + micro + (round_up ? 1 : 0));
+  t_us = negative ? -magnitude : magnitude;
+  return true;
+}
+
+class RpgTextReader final : public EventReader {
+ public:
+  explicit RpgTextReader(const std::string& path) : file_(path), buffer_(kBufferBytes) {
+    read_sensor_line();
+  }
+
+  std::size_t read(std::span<Event> out) override {
+    if (pending_) throw *pending_;
+    batch_first_index_ = next_index_;
+    line_offsets_.resize(out.size());  // no-op after the first batch of this size
+    std::size_t n = 0;
+    while (n < out.size()) {
+      const char* begin = buffer_.data() + pos_;
+      const char* newline = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
+      if (newline == nullptr) {
+        if (!refill()) {
+          if (pending_ || pos_ == end_) break;  // line too long, or clean end of file
+          newline = buffer_.data() + end_;  // last line without '\n'
+          begin = buffer_.data() + pos_;
+        } else {
+          continue;
+        }
+      }
+      const std::uint64_t line_offset = offset_;
+      const std::size_t line_bytes = static_cast<std::size_t>(newline - begin);
+      const std::size_t consumed = std::min(line_bytes + 1, end_ - pos_);
+      Event e;
+      const LineKind kind = parse_line(begin, newline, e);
+      if (kind == LineKind::bad) {
+        fail(line_offset, std::string(begin, std::min<std::size_t>(line_bytes, 80)));
+        break;
+      }
+      pos_ += consumed;
+      offset_ += consumed;
+      ++line_number_;
+      if (kind == LineKind::event) {
+        line_offsets_[n] = line_offset;
+        out[n++] = e;
+        ++next_index_;
+      }
+    }
+    if (n == 0 && pending_) throw *pending_;
+    return n;
+  }
+
+  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  std::string_view format_name() const override { return "rpg-text"; }
+  const std::string& path() const override { return file_.path(); }
+  std::uint64_t bytes_consumed() const override { return offset_; }
+  std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
+    const std::int64_t i = event_index - static_cast<std::int64_t>(batch_first_index_);
+    if (i >= 0 && i < static_cast<std::int64_t>(next_index_ - batch_first_index_))
+      return static_cast<std::int64_t>(line_offsets_[static_cast<std::size_t>(i)]);
+    if (event_index == static_cast<std::int64_t>(next_index_) && pending_)
+      return pending_->byte_offset();
+    return -1;
+  }
+
+ private:
+  enum class LineKind { event, skip, bad };
+
+  LineKind parse_line(const char* p, const char* end, Event& e) const noexcept {
+    skip_spaces(p, end);
+    if (p == end || *p == '#') return LineKind::skip;
+    std::int64_t t_us = 0;
+    std::uint64_t x = 0, y = 0, pol = 0;
+    if (!parse_seconds(p, end, t_us)) return LineKind::bad;
+    if (p == end || !is_space(*p)) return LineKind::bad;
+    skip_spaces(p, end);
+    if (!parse_uint(p, end, 65535, x) || p == end || !is_space(*p)) return LineKind::bad;
+    skip_spaces(p, end);
+    if (!parse_uint(p, end, 65535, y) || p == end || !is_space(*p)) return LineKind::bad;
+    skip_spaces(p, end);
+    bool minus = false;
+    if (p < end && *p == '-') minus = (++p, true);  // tolerate -1 for OFF
+    if (!parse_uint(p, end, 1, pol)) return LineKind::bad;
+    skip_spaces(p, end);
+    if (p != end) return LineKind::bad;
+    e.t_us = t_us;
+    e.x = static_cast<std::uint16_t>(x);
+    e.y = static_cast<std::uint16_t>(y);
+    if (minus && pol != 1) return LineKind::bad;
+    e.p = (pol == 1 && !minus) ? std::int8_t{1} : std::int8_t{-1};
+    return LineKind::event;
+  }
+
+  void fail(std::uint64_t line_offset, const std::string& text) {
+    pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset),
+                     static_cast<std::int64_t>(next_index_),
+                     "line " + std::to_string(line_number_ + 1) +
+                         ": expected 't x y p' (t seconds, x y integers, p 0 or 1), got '" + text +
+                         "'");
+  }
+
+  // Keeps the unparsed tail, reads more; false at end of file or when a
+  // line does not fit in the buffer (then a pending error is set).
+  bool refill() {
+    const std::size_t leftover = end_ - pos_;
+    if (leftover == buffer_.size()) {
+      fail(offset_, "(line longer than " + std::to_string(kBufferBytes) + " bytes)");
+      return false;
+    }
+    std::memmove(buffer_.data(), buffer_.data() + pos_, leftover);
+    pos_ = 0;
+    end_ = leftover;
+    const std::size_t got = file_.read_at(
+        file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
+    file_pos_ += got;
+    end_ += got;
+    return got > 0;
+  }
+
+  // Optional "width height" first data line.
+  void read_sensor_line() {
+    while (true) {
+      const char* begin = buffer_.data() + pos_;
+      const char* nl = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
+      if (nl == nullptr) {
+        if (refill()) continue;
+        if (pending_ || pos_ == end_) return;
+        nl = buffer_.data() + end_;
+        begin = buffer_.data() + pos_;
+      }
+      const char* p = begin;
+      skip_spaces(p, nl);
+      if (p == nl || *p == '#') {  // comment or blank: consume it
+        const std::size_t consumed = std::min<std::size_t>(nl - begin + 1, end_ - pos_);
+        pos_ += consumed;
+        offset_ += consumed;
+        ++line_number_;
+        continue;
+      }
+      std::uint64_t w = 0, h = 0;
+      if (parse_uint(p, nl, 65536, w) && p < nl && is_space(*p)) {
+        skip_spaces(p, nl);
+        if (parse_uint(p, nl, 65536, h)) {
+          skip_spaces(p, nl);
+          if (p == nl && w > 0 && h > 0) {
+            sensor_ = SensorSize{static_cast<int>(w), static_cast<int>(h)};
+            const std::size_t consumed = std::min<std::size_t>(nl - begin + 1, end_ - pos_);
+            pos_ += consumed;
+            offset_ += consumed;
+            ++line_number_;
+          }
+        }
+      }
+      return;
+    }
+  }
+
+  InputFile file_;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, end_ = 0;  // unparsed bytes: buffer_[pos_, end_)
+  std::uint64_t file_pos_ = 0;     // file offset of buffer_[end_]
+  std::uint64_t offset_ = 0;       // file offset of buffer_[pos_]
+  std::uint64_t line_number_ = 0;  // lines consumed
+  std::uint64_t next_index_ = 0;
+  std::uint64_t batch_first_index_ = 0;
+  std::vector<std::uint64_t> line_offsets_;  // per event of the last batch
+  std::optional<SensorSize> sensor_;
+  std::optional<ReadError> pending_;
+};
+
+// Text with a first data line that parses as an event (or "width height").
+SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view path) {
+  const bool txt = has_extension(path, ".txt");
+  const char* p = reinterpret_cast<const char*>(head.data());
+  const char* end = p + head.size();
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (nl == nullptr) break;  // need a whole line
+    const char* q = p;
+    skip_spaces(q, nl);
+    if (q != nl && *q != '#') {
+      std::int64_t t = 0;
+      std::uint64_t a = 0, b = 0, c = 0;
+      bool ok = parse_seconds(q, nl, t) && q < nl && is_space(*q);
+      if (ok) skip_spaces(q, nl);
+      ok = ok && parse_uint(q, nl, 65536, a);
+      if (ok) skip_spaces(q, nl);
+      ok = ok && parse_uint(q, nl, 65536, b);
+      if (ok) skip_spaces(q, nl);
+      if (ok && q == nl) return SniffResult::by_content;  // "width height"
+      ok = ok && parse_uint(q, nl, 1, c);
+      if (ok) skip_spaces(q, nl);
+      if (ok && q == nl) return SniffResult::by_content;
+      break;
+    }
+    p = nl + 1;
+  }
+  return txt ? SniffResult::by_extension : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_rpg_text(const std::string& path) {
+  return std::make_unique<RpgTextReader>(path);
+}
+
+}  // namespace
+
+const ReaderFormat rpg_text_format{"rpg-text",
+                                   "RPG event-camera text, one event per line 't x y p' "
+                                   "(t seconds, p 0/1; '#' comments)",
+                                   &sniff_rpg_text, &open_rpg_text};
+
+}  // namespace evlife::io::detail

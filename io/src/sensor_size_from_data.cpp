@@ -1,0 +1,45 @@
+#include "evlife/io/sensor_size_from_data.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+
+namespace evlife::io {
+
+SensorSize sensor_size_from_data(const std::string& path) {
+  // Time order is not checked here: this pass only looks at coordinates;
+  // the processing pass reports ordering faults with their index.
+  ReaderOptions options;
+  options.require_time_order = false;
+  options.sensor = SensorSize{65536, 65536};  // the Event coordinate range: never fails
+  const std::unique_ptr<EventReader> reader = open_event_reader(path, options);
+  std::vector<Event> buffer(1 << 16);
+  int max_x = -1, max_y = -1;
+  while (const std::size_t n = reader->read(buffer)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      max_x = std::max<int>(max_x, buffer[i].x);
+      max_y = std::max<int>(max_y, buffer[i].y);
+    }
+  }
+  if (max_x < 0) throw ReadError(path, -1, -1, "no events: cannot infer the sensor size");
+  return SensorSize{max_x + 1, max_y + 1};
+}
+
+std::string_view to_string(SensorSizeSource source) {
+  switch (source) {
+    case SensorSizeSource::format: return "stated by the file format";
+    case SensorSizeSource::user: return "given by the user";
+    case SensorSizeSource::data: return "inferred from the data (max x + 1, max y + 1)";
+  }
+  return "?";
+}
+
+ResolvedSensorSize resolve_sensor_size(const std::string& path, std::optional<SensorSize> user) {
+  if (const std::optional<SensorSize> stated = open_unchecked_event_reader(path)->sensor_size())
+    return {*stated, SensorSizeSource::format};
+  if (user) return {*user, SensorSizeSource::user};
+  return {sensor_size_from_data(path), SensorSizeSource::data};
+}
+
+}  // namespace evlife::io

@@ -1,0 +1,71 @@
+// Lays out a displayable frame: one or more views (active events by lifetime,
+// fixed windows) upscaled by an integer factor, labelled like the paper's
+// figures, with an optional lifetime legend and a caption (time and mode).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "evlife/render/active_event_set.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_painter.h"
+#include "evlife/render/lifetime_colormap.h"
+
+namespace evlife::render {
+
+/// One panel of a frame.
+struct View {
+  bool lifetime = true;         ///< true: active events; false: fixed window
+  std::int64_t window_us = 0;   ///< for fixed windows
+  std::string label;            ///< drawn above the panel ("" = none)
+};
+
+/// "lifetime" | "window:<duration>" | "compare" (1 ms and 30 ms windows beside
+/// the lifetime image, as paper Figs. 8, 13, 14). Throws std::invalid_argument.
+std::vector<View> parse_view_mode(std::string_view mode);
+
+/// "30ms", "500us", "0.25s", "2.5" (bare number = seconds) -> microseconds.
+/// Throws std::invalid_argument naming the text.
+std::int64_t parse_duration_us(std::string_view text);
+
+struct FrameStyle {
+  ColorMode color = ColorMode::lifetime;
+  int scale = 4;          ///< integer upscaling, 1..32 (nearest neighbour: pixels stay crisp)
+  bool caption = true;    ///< time and mode under the image
+  bool legend = true;     ///< lifetime colour bar (only drawn when colouring by lifetime)
+  LifetimeColormap colormap;
+};
+
+class FrameComposer {
+ public:
+  /// Throws std::invalid_argument for an empty view list or a bad scale.
+  FrameComposer(std::vector<View> views, FrameStyle style, std::string mode_name);
+
+  /// The frame at t_us. The returned image stays valid until the next call.
+  const cv::Mat& compose(const ActiveEventSet& set, const FixedWindowMap& window,
+                         std::int64_t t_us);
+
+  /// Size of every frame (fixed for a given sensor): what a video writer needs.
+  cv::Size frame_size(SensorSize sensor) const;
+
+  const std::vector<View>& views() const noexcept { return views_; }
+  const FrameStyle& style() const noexcept { return style_; }
+
+ private:
+  bool has_legend() const noexcept;
+  int label_height() const noexcept;
+
+  std::vector<View> views_;
+  FrameStyle style_;
+  std::string mode_name_;
+  cv::Mat sensor_img_;
+  cv::Mat scaled_;
+  cv::Mat frame_;
+  cv::Mat legend_;
+};
+
+}  // namespace evlife::render

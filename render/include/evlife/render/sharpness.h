@@ -1,0 +1,36 @@
+// A sharpness figure for event images, measured the same way for every
+// method (lifetime or fixed window): how much of what is drawn lies on thin
+// edges. Per active pixel, the run of active pixels through it is measured in
+// 4 directions (horizontal, vertical, both diagonals): the shortest run is
+// the local thickness, the longest its extent. A pixel lies on an edge when
+// its extent is >= 3 px (isolated dots are not edges), on a thin edge when in
+// addition its thickness is <= 2 px (motion blur makes edges thick).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+namespace evlife::render {
+
+struct Sharpness {
+  std::size_t active_pixels = 0;
+  std::size_t edge_pixels = 0;       ///< extent >= 3
+  std::size_t thin_edge_pixels = 0;  ///< extent >= 3 and thickness <= 2
+  double mean_edge_thickness_px = 0; ///< mean thickness over edge pixels
+
+  /// Share of active pixels on a thin edge, 0..1 (0 for an empty image).
+  double thin_edge_share() const noexcept {
+    return active_pixels == 0 ? 0.0 : static_cast<double>(thin_edge_pixels) / static_cast<double>(active_pixels);
+  }
+  Sharpness& operator+=(const Sharpness& o) noexcept;
+};
+
+/// `mask`: CV_8UC1, non-zero = active. Throws std::invalid_argument otherwise.
+Sharpness measure_sharpness(const cv::Mat& mask);
+
+/// Thickness (shorter of the horizontal and vertical run) of each active pixel, 0 elsewhere (CV_32SC1).
+cv::Mat thickness_map(const cv::Mat& mask);
+
+}  // namespace evlife::render

@@ -1,0 +1,114 @@
+#include "evlife/render/augmented_source.h"
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/sensor_size_from_data.h"
+
+namespace evlife::render {
+
+namespace {
+
+std::string file_name(const std::string& path) {
+  return std::filesystem::path(path).filename().string();
+}
+
+class AugmentedFileSource final : public AugmentedSource {
+ public:
+  AugmentedFileSource(std::unique_ptr<io::AugmentedEventReader> reader, SensorSize sensor)
+      : reader_(std::move(reader)), sensor_(sensor) {}
+  std::size_t read(std::span<AugmentedEvent> out) override { return reader_->read(out); }
+  SensorSize sensor() const override { return sensor_; }
+  std::string description() const override {
+    return file_name(reader_->path()) + " (" + std::string(reader_->format_name()) +
+           ", lifetimes from the file)";
+  }
+  const LifetimeStats* estimator_stats() const override { return nullptr; }
+
+ private:
+  std::unique_ptr<io::AugmentedEventReader> reader_;
+  SensorSize sensor_;
+};
+
+class EstimatingSource final : public AugmentedSource {
+ public:
+  EstimatingSource(std::unique_ptr<io::EventReader> reader, const LifetimeOptions& options)
+      : reader_(std::move(reader)), estimator_(options), raw_(4096) {}
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    const std::size_t want = std::min(out.size(), raw_.size());
+    const std::size_t n = reader_->read(std::span<Event>(raw_.data(), want));
+    return estimator_.process(std::span<const Event>(raw_.data(), n), out.first(n));
+  }
+  SensorSize sensor() const override { return estimator_.options().sensor; }
+  std::string description() const override {
+    const auto& o = estimator_.options();
+    return file_name(reader_->path()) + " (" + std::string(reader_->format_name()) +
+           ", estimated on the fly, N=" + std::to_string(o.window_size) +
+           (o.regularization ? ", regularized" : ", not regularized") + ")";
+  }
+  const LifetimeStats* estimator_stats() const override { return &estimator_.stats(); }
+  std::uint64_t bytes_consumed() const override { return reader_->bytes_consumed(); }
+
+ private:
+  std::unique_ptr<io::EventReader> reader_;
+  LifetimeEstimator estimator_;
+  std::vector<Event> raw_;
+};
+
+// Augmented CSV states no sensor: one pass for the largest coordinates.
+SensorSize sensor_from_augmented(const std::string& path) {
+  auto reader = io::open_augmented_reader(path);
+  std::vector<AugmentedEvent> buf(4096);
+  SensorSize s{0, 0};
+  while (const std::size_t n = reader->read(buf)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      s.width = std::max(s.width, buf[i].event.x + 1);
+      s.height = std::max(s.height, buf[i].event.y + 1);
+    }
+  }
+  if (s.width == 0) throw io::ReadError(path, -1, -1, "holds no event: cannot tell the sensor size (give --sensor WxH)");
+  return s;
+}
+
+}  // namespace
+
+std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
+                                                       const LifetimeOptions& estimator,
+                                                       std::optional<SensorSize> sensor) {
+  std::unique_ptr<io::AugmentedEventReader> augmented;
+  std::string augmented_error;
+  try {
+    augmented = io::open_augmented_reader(path);
+  } catch (const io::ReadError& e) {
+    augmented_error = e.what();
+  }
+  if (augmented) {
+    SensorSize s = sensor ? *sensor : augmented->sensor_size().value_or(SensorSize{0, 0});
+    if (s.width == 0) s = sensor_from_augmented(path);
+    return std::make_unique<AugmentedFileSource>(std::move(augmented), s);
+  }
+  std::unique_ptr<io::EventReader> raw;
+  try {
+    raw = io::open_event_reader(path);
+  } catch (const io::ReadError& e) {
+    throw io::ReadError(path, e.byte_offset(), e.event_index(),
+                        std::string(e.what()) + " (and not an augmented file: " + augmented_error + ")");
+  }
+  LifetimeOptions options = estimator;
+  options.sensor = io::resolve_sensor_size(path, sensor).size;
+  // The checked reader: coordinates outside the sensor and time going
+  // backwards are reported (file, event index, offset), never silently used.
+  raw = io::open_event_reader(path, io::ReaderOptions{options.sensor, true});
+  return std::make_unique<EstimatingSource>(std::move(raw), options);
+}
+
+std::unique_ptr<AugmentedSource> make_estimating_source(std::unique_ptr<io::EventReader> reader,
+                                                        const LifetimeOptions& options) {
+  return std::make_unique<EstimatingSource>(std::move(reader), options);
+}
+
+}  // namespace evlife::render

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of tests/fuzz/corpus/<what>/ (small files, a few KB):
+cuts of the real recordings of ../shared/data at record boundaries plus small
+synthetic files. Run from anywhere; deterministic. The checked-in files are
+its output: rerun it only to change the seeds.
+
+  tests/fuzz/make_corpus.py [SHARED_DATA_DIR]
+"""
+import os
+import random
+import struct
+import sys
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, '..', '..', '..', 'shared', 'data')
+CORPUS = os.path.join(HERE, 'corpus')
+rng = random.Random(1234)
+
+
+def put(what, name, data):
+    d = os.path.join(CORPUS, what)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), 'wb') as f:
+        f.write(data)
+
+
+def read(rel):
+    with open(os.path.join(DATA, rel), 'rb') as f:
+        return f.read()
+
+
+def text_header_end(data, marker):
+    """Offset of the first byte after the header lines starting with `marker`."""
+    pos = 0
+    while data.startswith(marker, pos):
+        pos = data.index(b'\n', pos) + 1
+    return pos
+
+
+# ---- AEDAT 2.0: the jAER header kept short, then whole 8-byte records.
+d = read('aedat2/alex_walking_again.aedat')
+h = text_header_end(d, b'#')
+short_header = b'#!AER-DAT2.0\r\n# AEChip: ch.unizh.ini.jaer.chip.retina.DVS128\r\n'
+put('aedat2', 'real_head_400ev.aedat', short_header + d[h:h + 400 * 8])
+put('aedat2', 'real_tail_100ev.aedat', short_header + d[len(d) - 100 * 8:])
+put('aedat2', 'header_only.aedat', short_header)
+# special events (bit 15) and a timestamp wrap of the 32-bit clock
+recs = b''.join(struct.pack('>II', (rng.randrange(128) << 8) | (rng.randrange(128) << 1) | rng.randrange(2),
+                            (0xFFFFFF00 + 16 * i) & 0xFFFFFFFF) for i in range(40))
+recs += struct.pack('>II', 0x8000, 0xFFFFFFF0)
+put('aedat2', 'synthetic_wrap_special.aedat', short_header + recs)
+
+# ---- AEDAT 4.0: header + the first event and the first imu packet (no data table).
+d = read('aedat4/sample.aedat4')
+hs = struct.unpack('<i', d[14:18])[0]
+pos = 18 + hs
+for _ in range(2):
+    _, size = struct.unpack('<ii', d[pos:pos + 8])
+    pos += 8 + size
+put('aedat4', 'real_first_packets.aedat4', d[:pos])
+put('aedat4', 'header_only.aedat4', d[:18 + hs])
+
+# ---- Prophesee RAW EVT 2.0 / 3.0: '%' header, then 32-bit / 16-bit words.
+for what, rel, word in (('evt2', 'evt2/evt2_sample.raw', 4), ('evt3', 'evt3/evt3_sample.raw', 2)):
+    d = read(rel)
+    h = text_header_end(d, b'%')
+    put(what, 'real_head.raw', d[:h + 3000 // word * word])
+    put(what, 'real_middle.raw', d[:h] + d[len(d) // 2 // word * word:len(d) // 2 // word * word + 2000])
+    put(what, 'header_only.raw', d[:h])
+
+# ---- Prophesee .dat: '%' header, event type and size bytes, 8-byte records.
+d = read('prophesee_dat/NCARS_obj_004397_td.dat')
+h = text_header_end(d, b'%') + 2
+put('prophesee_dat', 'real_head_400ev.dat', d[:h + 400 * 8])
+put('prophesee_dat', 'header_only.dat', d[:h])
+
+# ---- RPG text: `t x y p` per line (t in seconds).
+d = read('rpg_txt/slider_depth_events_chunk.txt')
+lines = d.split(b'\n')
+put('rpg_text', 'real_head_150ev.txt', b'\n'.join(lines[:150]) + b'\n')
+put('rpg_text', 'synthetic_odd.txt', b'# comment\n0.000001 1 2 1\r\n0.000002 3 4 0\n\n1e-3 5 6 1\n0.002 7 8 0')
+
+# ---- MATLAB v5 .mat: variable `events`, rows [x y p t] (1-based x, y; t in us).
+def mat_matrix(name, rows):
+    n = len(rows)
+    body = b''
+    body += struct.pack('<II', 6, 8) + struct.pack('<II', 6, 0)          # miUINT32 flags: mxDOUBLE_CLASS
+    body += struct.pack('<II', 5, 8) + struct.pack('<ii', n, 4)          # miINT32 dims
+    nm = name.encode()
+    body += struct.pack('<II', 1, len(nm)) + nm + b'\0' * (-len(nm) % 8)  # miINT8 name
+    vals = [r[c] for c in range(4) for r in rows]                        # column major
+    data = struct.pack('<%dd' % len(vals), *vals)
+    body += struct.pack('<II', 9, len(data)) + data                      # miDOUBLE
+    return struct.pack('<II', 14, len(body)) + body                      # miMATRIX
+
+
+def mat_file(elements):
+    text = b'MATLAB 5.0 MAT-file, evlife fuzz seed'.ljust(116, b' ')
+    return text + b'\0' * 8 + struct.pack('<H', 0x0100) + b'IM' + elements
+
+
+rows, t = [], 1000.0
+for i in range(100):
+    t += rng.randrange(1, 50)
+    rows.append((rng.randrange(1, 129), rng.randrange(1, 129), rng.choice((-1.0, 1.0)), t))
+m = mat_matrix('events', rows)
+put('mat', 'synthetic_100ev.mat', mat_file(m))
+z = zlib.compress(m)
+put('mat', 'synthetic_100ev_compressed.mat', mat_file(struct.pack('<II', 15, len(z)) + z))
+put('mat', 'synthetic_other_variable_first.mat', mat_file(mat_matrix('junk', rows[:3]) + m))
+put('mat', 'real_stripes_head.mat', read('reference/stripes.mat')[:3000])
+
+# ---- DVS128 USB words: little-endian address (bit 15 of byte 1: sync), timestamp
+# (bit 15: wrap, bit 14: reset), mixed as a camera sends them.
+words = b''
+for i in range(300):
+    kind = rng.random()
+    if kind < 0.03:
+        words += struct.pack('<HH', 0, 0x8000)          # wrap
+    elif kind < 0.04:
+        words += struct.pack('<HH', 0, 0x4000)          # reset
+    elif kind < 0.06:
+        words += struct.pack('<HH', 0x8000, i * 13 & 0x3FFF)   # sync / external
+    else:
+        words += struct.pack('<HH', (rng.randrange(128) << 8) | (rng.randrange(128) << 1) | rng.randrange(2),
+                             i * 13 & 0x3FFF)
+put('dvs128_decoder', 'synthetic_words.bin', bytes([0x35]) + words)
+put('dvs128_decoder', 'synthetic_words_unaligned.bin', bytes([0x02]) + words[:-1])
+
+# ---- configuration: the shipped file and small variants.
+with open(os.path.join(HERE, '..', '..', 'config', 'evlife.yaml'), 'rb') as f:
+    put('config', 'evlife.yaml', f.read())
+put('config', 'overrides.txt', b'estimator.window_size=7\nestimator.regularization=false\n'
+    b'estimator.sensor.width=240\nestimator.outlier_fraction=0.3\n')
+put('config', 'small.yaml', b'estimator:\n  window_size: 5\n  sensor: {width: 346, height: 260}\n'
+    b'  seed: 18446744073709551615\n  lambda_decay_per_us: 5e-3\n')
+
+# ---- augmented output (.csv written by `evlife process`; .bin: see the README).
+csv = b'x,y,t,p,lifetime,vx,vy,prediction_error\n'
+for i in range(50):
+    csv += b'%d,%d,%d,%d,%.3f,%.3f,%.3f,%s\n' % (rng.randrange(128), rng.randrange(128), 1000 + 10 * i,
+                                              rng.choice((1, -1)), rng.random() * 1e4, rng.random() * 100,
+                                              -rng.random() * 100, b'' if i % 3 else b'%.2f' % rng.random())
+put('augmented', 'synthetic_50.csv', csv)

@@ -1,0 +1,338 @@
+// `evlife process` run as a user would (the built binary, EVLIFE_CLI_PATH):
+// help, exit codes, messages naming the file, the events before a fault
+// flushed to the output, one output row per input event, --set in effect.
+// Expected counts come from decoding the inputs here, independently.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kCli = EVLIFE_CLI_PATH;
+const std::string kData = EVLIFE_SHARED_DATA_DIR;
+const std::string kRpgText = kData + "/rpg_txt/slider_depth_events_chunk.txt";
+const std::string kAedat2 = kData + "/aedat2/alex_walking_again.aedat";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+std::string read_file(const fs::path& path) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) return {};
+  std::string text(size, '\0');
+  std::ifstream(path, std::ios::binary).read(text.data(), static_cast<std::streamsize>(size));
+  return text;
+}
+
+class CliTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(testing::TempDir()) / "evlife_test_cli" / info->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+
+  // Runs `evlife <args>` through the shell, capturing both streams.
+  RunResult run(const std::string& args) const {
+    const fs::path log = dir_ / "cli.log";
+    const std::string cmd = "'" + kCli + "' " + args + " >'" + log.string() + "' 2>&1 </dev/null";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.output = read_file(log);
+    return r;
+  }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  fs::path dir_;
+};
+
+// Data rows of a CSV written by evlife (all lines but the header).
+std::vector<std::string> csv_rows(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> rows;
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (header) {
+      EXPECT_EQ(line, "x,y,t,p,lifetime,vx,vy,prediction_error");
+      header = false;
+      continue;
+    }
+    rows.push_back(line);
+  }
+  return rows;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t end; (end = s.find(sep, start)) != std::string::npos; start = end + 1) {
+    parts.push_back(s.substr(start, end - start));
+  }
+  parts.push_back(s.substr(start));
+  return parts;
+}
+
+// The first `n` lines of the RPG text sample (each one event), newline-terminated.
+std::string rpg_lines(std::size_t n) {
+  std::ifstream in(kRpgText);
+  std::string out;
+  std::string line;
+  for (std::size_t i = 0; i < n && std::getline(in, line); ++i) out += line + "\n";
+  return out;
+}
+
+TEST_F(CliTest, HelpTeachesAndExitsZero) {
+  const RunResult r = run("process --help");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* needle : {"Usage: evlife process", "--sensor", "--config", "--set",
+                             "Example", "lifetime", "Exit status", ".yaml"}) {
+    EXPECT_NE(r.output.find(needle), std::string::npos) << "help lacks '" << needle << "'";
+  }
+}
+
+TEST_F(CliTest, MissingInputNamesTheFile) {
+  const std::string missing = path("no_such_recording.aedat").string();
+  const RunResult r = run("process '" + missing + "' -o '" + path("out.csv").string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+}
+
+TEST_F(CliTest, UsageErrorsExitTwo) {
+  EXPECT_EQ(run("process").exit_code, 2);
+  EXPECT_EQ(run("process '" + kRpgText + "'").exit_code, 2);  // no -o
+  EXPECT_EQ(run("process '" + kRpgText + "' -o out.txt").exit_code, 2);  // bad extension
+  const RunResult unknown = run("process '" + kRpgText + "' -o x.csv --frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("--frobnicate"), std::string::npos) << unknown.output;
+  const RunResult bad_sensor = run("process '" + kRpgText + "' -o x.csv --sensor 240by180");
+  EXPECT_EQ(bad_sensor.exit_code, 2);
+  EXPECT_NE(bad_sensor.output.find("240by180"), std::string::npos) << bad_sensor.output;
+}
+
+TEST_F(CliTest, BadConfigNamesKeyAndRange) {
+  const RunResult out_of_range = run("process '" + kRpgText + "' -o '" + path("o.csv").string() +
+                                     "' --set estimator.window_size=4");
+  EXPECT_EQ(out_of_range.exit_code, 2);
+  EXPECT_NE(out_of_range.output.find("estimator.window_size"), std::string::npos);
+  EXPECT_NE(out_of_range.output.find("[3, 15]"), std::string::npos) << out_of_range.output;
+
+  std::ofstream(path("bad.yaml")) << "estimator:\n  window_size: 5\n  colour: red\n";
+  const RunResult unknown = run("process '" + kRpgText + "' -o '" + path("o.csv").string() +
+                                "' --config '" + path("bad.yaml").string() + "'");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("estimator.colour"), std::string::npos) << unknown.output;
+  EXPECT_NE(unknown.output.find(path("bad.yaml").string() + ":3"), std::string::npos)
+      << unknown.output;
+}
+
+TEST_F(CliTest, OneRowPerInputEventInInputOrder) {
+  // 50,000 lines, one event each (PROVENANCE.md); count them here.
+  std::size_t lines = 0;
+  std::vector<std::string> first;
+  {
+    std::ifstream in(kRpgText);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (lines < 3) first.push_back(line);
+      ++lines;
+    }
+  }
+  ASSERT_EQ(lines, 50000u);
+  const fs::path out = path("slider.csv");
+  const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto rows = csv_rows(out);
+  EXPECT_EQ(rows.size(), lines);
+  // Input fields unchanged: "t x y p" with t in s, p 0/1 -> "x,y,t_us,p(+1/-1)".
+  for (std::size_t i = 0; i < first.size() && i < rows.size(); ++i) {
+    const auto in = split(first[i], ' ');
+    const auto row = split(rows[i], ',');
+    ASSERT_EQ(row.size(), 8u) << rows[i];
+    EXPECT_EQ(row[0], in[1]);
+    EXPECT_EQ(row[1], in[2]);
+    EXPECT_EQ(std::stoll(row[2]), std::llround(std::stod(in[0]) * 1e6));
+    EXPECT_EQ(row[3], in[3] == "1" ? "1" : "-1");
+  }
+  // The summary reports the count and the noise share.
+  EXPECT_NE(r.output.find("50000"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("labelled noise"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("p50"), std::string::npos) << r.output;
+}
+
+TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
+  const fs::path out = path("slider.bin");
+  const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "' --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "");  // --quiet: nothing on success
+  // 32-byte header + 32-byte records (README, "Binary augmented event format").
+  EXPECT_EQ(fs::file_size(out), 32u + 32u * 50000u);
+}
+
+TEST_F(CliTest, TruncatedRpgTextKeepsEventsBeforeTheFault) {
+  const std::size_t good = 1234;
+  const fs::path bad = path("truncated.txt");
+  std::ofstream(bad) << rpg_lines(good) << "0.009125000 17";  // cut mid-line
+  const fs::path out = path("truncated.csv");
+  const RunResult r = run("process '" + bad.string() + "' -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find(bad.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("event index " + std::to_string(good)), std::string::npos)
+      << r.output;
+  EXPECT_EQ(csv_rows(out).size(), good);
+}
+
+TEST_F(CliTest, CorruptLineInTheMiddleStopsThere) {
+  const std::size_t good = 777;
+  const fs::path bad = path("corrupt.txt");
+  std::ofstream(bad) << rpg_lines(good) << "this is not an event\n" << rpg_lines(100);
+  const fs::path out = path("corrupt.csv");
+  const RunResult r = run("process '" + bad.string() + "' -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find(bad.string()), std::string::npos) << r.output;
+  EXPECT_EQ(csv_rows(out).size(), good);
+}
+
+TEST_F(CliTest, TimestampGoingBackwardsIsAnError) {
+  const std::size_t good = 500;
+  const fs::path bad = path("backwards.txt");
+  // Line 501 repeats line 1, whose time is earlier than line 500's.
+  std::ofstream(bad) << rpg_lines(good) << rpg_lines(1);
+  const fs::path out = path("backwards.csv");
+  const RunResult r = run("process '" + bad.string() + "' -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("event index " + std::to_string(good)), std::string::npos)
+      << r.output;
+  EXPECT_EQ(csv_rows(out).size(), good);
+}
+
+TEST_F(CliTest, CoordinatesOutsideTheSensorAreAnError) {
+  // DAVIS240 data (x up to 239) declared as a 128x128 sensor: the first event
+  // with x or y >= 128 is the fault. Find it here.
+  std::ifstream in(kRpgText);
+  std::string line;
+  std::size_t first_outside = 0;
+  while (std::getline(in, line)) {
+    const auto f = split(line, ' ');
+    if (std::stoi(f[1]) >= 128 || std::stoi(f[2]) >= 128) break;
+    ++first_outside;
+  }
+  const fs::path out = path("outside.csv");
+  const RunResult r =
+      run("process '" + kRpgText + "' --sensor 128x128 -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("event index " + std::to_string(first_outside)), std::string::npos)
+      << r.output;
+  EXPECT_EQ(csv_rows(out).size(), first_outside);
+}
+
+TEST_F(CliTest, SensorSetInTheConfigIsUsedWhenTheFormatIsSilent) {
+  // Same fault as above, the 128x128 sensor coming from --set instead of --sensor.
+  const std::string input = path("head.txt").string();
+  std::ofstream(input) << rpg_lines(3000);
+  const RunResult r = run("process '" + input + "' -o '" + path("o.csv").string() +
+                          "' --set estimator.sensor.width=128 --set estimator.sensor.height=128");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("128x128"), std::string::npos) << r.output;
+  // Without it the sensor is scanned from the data (the DAVIS240 events fit).
+  const RunResult scanned = run("process '" + input + "' -o '" + path("o.csv").string() + "'");
+  EXPECT_EQ(scanned.exit_code, 0) << scanned.output;
+  EXPECT_NE(scanned.output.find("scanned from the data"), std::string::npos) << scanned.output;
+}
+
+// AEDAT 2.0: '#' header lines, then big-endian (u32 address, u32 timestamp)
+// records; address bit 15 marks a special (non-event) record.
+struct Aedat2Layout {
+  std::size_t header_bytes = 0;
+  std::string bytes;
+};
+
+Aedat2Layout read_aedat2(const std::string& file) {
+  Aedat2Layout a;
+  a.bytes = read_file(file);
+  std::size_t pos = 0;
+  while (pos < a.bytes.size() && a.bytes[pos] == '#') {
+    pos = a.bytes.find('\n', pos);
+    if (pos == std::string::npos) break;
+    ++pos;
+  }
+  a.header_bytes = pos;
+  return a;
+}
+
+TEST_F(CliTest, TruncatedAedat2KeepsEventsBeforeTheFault) {
+  const Aedat2Layout a = read_aedat2(kAedat2);
+  ASSERT_EQ(a.header_bytes, 4612u);  // PROVENANCE.md
+  const std::size_t records = 3000;
+  std::size_t events = 0;  // non-special records among the first `records`
+  for (std::size_t i = 0; i < records; ++i) {
+    const auto* r = reinterpret_cast<const unsigned char*>(a.bytes.data() + a.header_bytes + 8 * i);
+    const std::uint32_t address = (std::uint32_t{r[0]} << 24) | (std::uint32_t{r[1]} << 16) |
+                                  (std::uint32_t{r[2]} << 8) | r[3];
+    if ((address & 0x8000u) == 0) ++events;
+  }
+  ASSERT_GT(events, 0u);
+  const fs::path bad = path("truncated.aedat");
+  std::ofstream(bad, std::ios::binary) << a.bytes.substr(0, a.header_bytes + 8 * records + 5);
+  const fs::path out = path("truncated.csv");
+  const RunResult r = run("process '" + bad.string() + "' -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find(bad.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("byte offset"), std::string::npos) << r.output;
+  EXPECT_EQ(csv_rows(out).size(), events);
+}
+
+TEST_F(CliTest, UnwritableOutputExitsFour) {
+  const RunResult r = run("process '" + kRpgText + "' -o /nonexistent_dir/evlife/out.csv");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent_dir/evlife/out.csv"), std::string::npos) << r.output;
+}
+
+TEST_F(CliTest, SetOverridesTakeEffect) {
+  const RunResult printed = run("process --print-config --set estimator.window_size=7");
+  EXPECT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_NE(printed.output.find("window_size: 7"), std::string::npos) << printed.output;
+
+  // Every plausible lifetime exceeds 1 µs, so with this cap all are noise:
+  // every row has lifetime 0 and velocity 0 — while the defaults give some edges.
+  const fs::path capped = path("capped.csv");
+  const std::string input = path("head.txt").string();
+  std::ofstream(input) << rpg_lines(20000);
+  ASSERT_EQ(run("process '" + input + "' -o '" + capped.string() +
+                "' --set estimator.max_lifetime_us=1")
+                .exit_code,
+            0);
+  std::size_t edges = 0;
+  for (const auto& row : csv_rows(capped)) edges += split(row, ',').at(4) != "0";
+  EXPECT_EQ(edges, 0u);
+
+  const fs::path defaults = path("defaults.csv");
+  ASSERT_EQ(run("process '" + input + "' -o '" + defaults.string() + "'").exit_code, 0);
+  edges = 0;
+  for (const auto& row : csv_rows(defaults)) edges += split(row, ',').at(4) != "0";
+  EXPECT_GT(edges, 0u);
+}
+
+TEST_F(CliTest, SameInputSameOutput) {
+  const std::string input = path("head.txt").string();
+  std::ofstream(input) << rpg_lines(10000);
+  ASSERT_EQ(run("process '" + input + "' -o '" + path("a.bin").string() + "' -q").exit_code, 0);
+  ASSERT_EQ(run("process '" + input + "' -o '" + path("b.bin").string() + "' -q").exit_code, 0);
+  EXPECT_EQ(read_file(path("a.bin")), read_file(path("b.bin")));
+}
+
+}  // namespace

@@ -1,0 +1,487 @@
+// The engine: routing, determinism, equality with the single-threaded
+// estimator, overload accounting, shutdown, errors. Expected values come from
+// the bare LifetimeEstimator run by hand (not from the engine) or from
+// counting; stages are also driven without threads (Pipeline::step_all).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "evlife/algo/lifetime_estimator.h"
+#include "evlife/engine/engine.h"
+#include "evlife/engine/pipeline.h"
+#include "evlife/engine/replay_source.h"
+#include "evlife/engine/tile_layout.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/synthetic_scene.h"
+
+namespace ee = evlife::engine;
+using evlife::AugmentedEvent;
+using evlife::Event;
+using evlife::SensorSize;
+
+namespace {
+
+// Bit-exact comparison (NaN prediction errors compare equal as bits).
+bool same_bits(const std::vector<AugmentedEvent>& a, const std::vector<AugmentedEvent>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(AugmentedEvent)) == 0);
+}
+
+bool same_bits(const AugmentedEvent& a, const AugmentedEvent& b) {
+  return std::memcmp(&a, &b, sizeof(AugmentedEvent)) == 0;
+}
+
+std::vector<Event> read_all(const std::string& path, std::size_t max_events) {
+  auto reader = evlife::io::open_event_reader(path);
+  std::vector<Event> events(max_events);
+  std::size_t n = 0;
+  while (n < max_events) {
+    const std::size_t got = reader->read(std::span<Event>(events.data() + n, max_events - n));
+    if (got == 0) break;
+    n += got;
+  }
+  events.resize(n);
+  return events;
+}
+
+// A recording that exercises real motion: the first n events of stripes.mat.
+std::vector<Event> stripes(std::size_t n = 60'000) {
+  static const std::vector<Event> events =
+      read_all(std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat", 60'000);
+  return std::vector<Event>(events.begin(),
+                            events.begin() + static_cast<std::ptrdiff_t>(std::min(n, events.size())));
+}
+const SensorSize kDvs128{128, 128};
+
+evlife::LifetimeOptions lifetime_options(SensorSize sensor) {
+  evlife::LifetimeOptions o;
+  o.sensor = sensor;
+  return o;
+}
+
+std::vector<AugmentedEvent> bare_estimator(const std::vector<Event>& events, SensorSize sensor) {
+  evlife::LifetimeEstimator est(lifetime_options(sensor));
+  std::vector<AugmentedEvent> out(events.size());
+  est.process(events, out);
+  return out;
+}
+
+struct Collector {
+  std::vector<AugmentedEvent> events;
+  ee::CallbackSink sink{[this](std::span<const AugmentedEvent> s) {
+    events.insert(events.end(), s.begin(), s.end());
+  }};
+};
+
+ee::EngineOptions engine_options(int workers, int tiles_x, int tiles_y, SensorSize sensor) {
+  ee::EngineOptions o;
+  o.lifetime = lifetime_options(sensor);
+  o.workers = workers;
+  o.tiles_x = tiles_x;
+  o.tiles_y = tiles_y;
+  o.batch_events = 256;
+  o.batches_per_worker = 8;
+  o.stats_period_s = 0.0;
+  return o;
+}
+
+std::vector<AugmentedEvent> run_threaded(const std::vector<Event>& events, SensorSize sensor,
+                                         const ee::EngineOptions& options,
+                                         ee::RunResult* result_out = nullptr) {
+  ee::ReplaySource source(events, sensor);
+  Collector out;
+  ee::Engine engine(source, &out.sink, options);
+  const ee::RunResult result = engine.run();
+  EXPECT_EQ(result.status, ee::RunStatus::completed) << result.message;
+  EXPECT_EQ(result.stats.events_in, events.size());
+  EXPECT_EQ(result.stats.events_out, events.size());
+  if (result_out != nullptr) *result_out = result;
+  return out.events;
+}
+
+std::vector<AugmentedEvent> run_inline(const std::vector<Event>& events, SensorSize sensor,
+                                       const ee::EngineOptions& options) {
+  ee::ReplaySource source(events, sensor);
+  Collector out;
+  ee::Pipeline pipeline(source, &out.sink, options);
+  pipeline.run_inline();
+  return out.events;
+}
+
+// A source that hands out `good` events, then fails like a vanished device.
+class FailingSource final : public ee::EventSource {
+ public:
+  FailingSource(std::vector<Event> events, std::size_t chunk) : events_(std::move(events)), chunk_(chunk) {}
+  std::size_t pull(std::span<Event> out) noexcept override {
+    if (status_ != ee::SourceStatus::ok) return 0;
+    if (pos_ == events_.size()) {
+      status_ = ee::SourceStatus::error;
+      return 0;
+    }
+    const std::size_t n = std::min({out.size(), chunk_, events_.size() - pos_});
+    std::copy_n(events_.begin() + static_cast<std::ptrdiff_t>(pos_), n, out.begin());
+    pos_ += n;
+    return n;
+  }
+  ee::SourceStatus status() const noexcept override { return status_; }
+  std::string error_message() const override { return "usb:test device vanished (LIBUSB_ERROR_NO_DEVICE)"; }
+  SensorSize sensor_size() const noexcept override { return kDvs128; }
+  ee::SourceKind kind() const noexcept override { return ee::SourceKind::live; }
+  std::string describe() const override { return "failing test source"; }
+  void request_stop() noexcept override {}
+
+ private:
+  std::vector<Event> events_;
+  std::size_t chunk_;
+  std::size_t pos_ = 0;
+  ee::SourceStatus status_ = ee::SourceStatus::ok;
+};
+
+}  // namespace
+
+// ---- Routing ----------------------------------------------------------------
+
+TEST(TileLayout, WholePolaritiesGoToDifferentWorkers) {
+  const ee::TileLayout layout(kDvs128, 2, 1, 1, 0);
+  for (int y = 0; y < 128; y += 7) {
+    for (int x = 0; x < 128; x += 5) {
+      const Event on{0, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), 1};
+      const Event off{0, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), -1};
+      EXPECT_EQ(layout.owner(on), 0);
+      EXPECT_EQ(layout.owner(off), 1);
+      EXPECT_EQ(layout.feed_mask(on), 1u);
+      EXPECT_EQ(layout.feed_mask(off), 2u);
+    }
+  }
+  EXPECT_EQ(layout.owner(Event{0, 128, 0, 1}), ee::TileLayout::kNoOwner);
+  EXPECT_EQ(layout.owner(Event{0, 0, 0, 0}), ee::TileLayout::kNoOwner);
+}
+
+TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
+  // 3x2 tiles per polarity over 100x60, 4 workers, margin 6: checked against
+  // a direct computation of the Chebyshev distance to every tile.
+  const SensorSize sensor{100, 60};
+  const int margin = 6;
+  const ee::TileLayout layout(sensor, 4, 3, 2, margin);
+  for (int p : {1, -1}) {
+    const int pi = p > 0 ? 0 : 1;
+    for (int y = 0; y < sensor.height; ++y) {
+      for (int x = 0; x < sensor.width; ++x) {
+        std::uint32_t expect_mask = 0;
+        int expect_owner = -1;
+        for (int row = 0; row < 2; ++row) {
+          for (int col = 0; col < 3; ++col) {
+            const int x0 = col * 100 / 3, x1 = (col + 1) * 100 / 3;
+            const int y0 = row * 60 / 2, y1 = (row + 1) * 60 / 2;
+            const int w = ((pi * 2 + row) * 3 + col) % 4;
+            if (x >= x0 && x < x1 && y >= y0 && y < y1) expect_owner = w;
+            const int dx = x < x0 ? x0 - x : (x >= x1 ? x - x1 + 1 : 0);
+            const int dy = y < y0 ? y0 - y : (y >= y1 ? y - y1 + 1 : 0);
+            if (std::max(dx, dy) <= margin) expect_mask |= 1u << w;
+          }
+        }
+        const Event e{0, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                      static_cast<std::int8_t>(p)};
+        ASSERT_EQ(layout.owner(e), expect_owner) << x << "," << y;
+        ASSERT_EQ(layout.feed_mask(e), expect_mask) << x << "," << y;
+      }
+    }
+  }
+}
+
+// ---- Equality with the single-threaded estimator ---------------------------
+
+TEST(Pipeline, InlineOneTilePerPolarityEqualsBareEstimator) {
+  const auto& events = stripes();
+  ASSERT_GT(events.size(), 10'000u);
+  const auto expect = bare_estimator(events, kDvs128);
+  const auto got = run_inline(events, kDvs128, engine_options(2, 1, 1, kDvs128));
+  ASSERT_EQ(got.size(), expect.size());
+  for (std::size_t i = 0; i < got.size(); ++i)
+    ASSERT_TRUE(same_bits(got[i], expect[i])) << "event " << i;
+}
+
+TEST(Engine, ThreadedOneTilePerPolarityEqualsBareEstimator) {
+  const auto& events = stripes(20'000);
+  const auto expect = bare_estimator(events, kDvs128);
+  for (int workers : {1, 2}) {
+    const auto got = run_threaded(events, kDvs128, engine_options(workers, 1, 1, kDvs128));
+    ASSERT_EQ(got.size(), expect.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+      ASSERT_TRUE(same_bits(got[i], expect[i])) << workers << " workers, event " << i;
+  }
+}
+
+TEST(Engine, OutputKeepsInputOrderWithTiles) {
+  const auto& events = stripes(20'000);
+  auto options = engine_options(3, 2, 2, kDvs128);
+  options.margin_px = 4;
+  const auto got = run_threaded(events, kDvs128, options);
+  ASSERT_EQ(got.size(), events.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].event.t_us, events[i].t_us) << i;
+    ASSERT_EQ(got[i].event.x, events[i].x) << i;
+    ASSERT_EQ(got[i].event.y, events[i].y) << i;
+    ASSERT_EQ(got[i].event.p, events[i].p) << i;
+  }
+}
+
+// ---- Determinism -------------------------------------------------------------
+
+TEST(Engine, TiledRunsAreBitIdenticalAcrossRunsAndToInlineSteps) {
+  const auto& events = stripes(20'000);
+  auto options = engine_options(3, 2, 2, kDvs128);
+  options.margin_px = 3;  // small margin: tiles do differ from the bare estimator
+  const auto inline_out = run_inline(events, kDvs128, options);
+  for (int run = 0; run < 3; ++run) {
+    const auto got = run_threaded(events, kDvs128, options);
+    ASSERT_TRUE(same_bits(got, inline_out)) << "run " << run;
+  }
+}
+
+TEST(Engine, WideMarginTilesMatchBareEstimatorOnMostEvents) {
+  // Not a determinism test: documents that a wide margin approaches the
+  // single-threaded result (the README quotes the measured shares).
+  const auto& events = stripes();
+  const auto expect = bare_estimator(events, kDvs128);
+  auto options = engine_options(2, 2, 2, kDvs128);
+  options.margin_px = 20;
+  const auto got = run_inline(events, kDvs128, options);
+  ASSERT_EQ(got.size(), expect.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    differ += got[i].lifetime_us != expect[i].lifetime_us ? 1 : 0;
+  EXPECT_LT(static_cast<double>(differ), 0.05 * static_cast<double>(got.size()));
+}
+
+// ---- Steps without threads --------------------------------------------------
+
+TEST(Pipeline, RouterBlocksWhenAWorkersPoolIsFullThenResumes) {
+  std::vector<Event> events;
+  for (int i = 0; i < 64 * 10; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5, 1});  // all ON -> worker 0
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.batch_events = 64;
+  options.batches_per_worker = 2;
+  options.auto_policy = false;
+  options.policy = ee::OverloadPolicy::block;
+  Collector out;
+  ee::Pipeline pipeline(source, &out.sink, options);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::blocked);  // worker 0's 2 batches in use
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::blocked);
+  EXPECT_EQ(pipeline.worker(1).step(), ee::StepResult::idle);
+  EXPECT_EQ(pipeline.worker(0).step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::blocked);  // output not merged yet
+  EXPECT_EQ(pipeline.merger().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  pipeline.run_inline();
+  const auto st = pipeline.stats();
+  EXPECT_EQ(st.events_in, events.size());
+  EXPECT_EQ(st.events_out, events.size());
+  EXPECT_EQ(st.events_dropped, 0u);
+  EXPECT_EQ(out.events.size(), events.size());
+  EXPECT_EQ(st.workers[0].in_flight_hwm, 2u);
+  EXPECT_EQ(pipeline.merger().step(), ee::StepResult::finished);
+}
+
+TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
+  std::vector<Event> events;
+  for (int i = 0; i < 64 * 10; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5,
+                           static_cast<std::int8_t>(i % 3 == 0 ? -1 : 1)});
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.batch_events = 64;
+  options.batches_per_worker = 2;
+  options.auto_policy = false;
+  options.policy = ee::OverloadPolicy::drop;
+  Collector out;
+  ee::Pipeline pipeline(source, &out.sink, options);
+  for (int i = 0; i < 10; ++i) pipeline.router().step();  // workers never run: pools fill
+  pipeline.run_inline();
+  const auto st = pipeline.stats();
+  EXPECT_EQ(st.events_in, events.size());
+  EXPECT_GT(st.events_dropped, 0u);
+  EXPECT_EQ(st.events_in, st.events_out + st.events_dropped);
+  EXPECT_EQ(out.events.size(), st.events_out);
+  // The survivors are the first two chunks of each polarity (pool size 2), in order.
+  EXPECT_EQ(st.events_out, 2u * 64u);
+  for (std::size_t i = 0; i < out.events.size(); ++i)
+    ASSERT_EQ(out.events[i].event.t_us, events[i].t_us);
+}
+
+// ---- Overload with threads --------------------------------------------------
+
+TEST(Engine, SlowSinkWithDropPolicyBalancesInOutDropped) {
+  const auto& events = stripes(20'000);
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.batch_events = 64;
+  options.batches_per_worker = 2;
+  options.auto_policy = false;
+  options.policy = ee::OverloadPolicy::drop;
+  std::size_t received = 0;
+  std::int64_t last_t = -1;
+  bool ordered = true;
+  ee::CallbackSink slow([&](std::span<const AugmentedEvent> s) {
+    std::this_thread::sleep_for(std::chrono::microseconds(300));  // a disk that cannot keep up
+    for (const auto& a : s) {
+      ordered = ordered && a.event.t_us >= last_t;
+      last_t = a.event.t_us;
+    }
+    received += s.size();
+  });
+  ee::Engine engine(source, &slow, options);
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.status, ee::RunStatus::completed);
+  EXPECT_EQ(r.stats.events_in, events.size());
+  EXPECT_GT(r.stats.events_dropped, 0u) << "the sink was not slow enough to overload";
+  EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
+  EXPECT_EQ(received, r.stats.events_out);
+  std::uint64_t per_worker = r.stats.dropped_no_order;
+  for (const auto& w : r.stats.workers) per_worker += w.dropped;
+  EXPECT_EQ(per_worker, r.stats.events_dropped);
+  EXPECT_TRUE(ordered);
+}
+
+TEST(Engine, SlowSinkWithBlockPolicyLosesNothing) {
+  const auto& events = stripes(5'000);
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.batch_events = 64;
+  options.batches_per_worker = 2;
+  options.auto_policy = false;
+  options.policy = ee::OverloadPolicy::block;
+  Collector out;
+  ee::CallbackSink slow([&](std::span<const AugmentedEvent> s) {
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    out.events.insert(out.events.end(), s.begin(), s.end());
+  });
+  ee::Engine engine(source, &slow, options);
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.stats.events_dropped, 0u);
+  EXPECT_GT(r.stats.source_blocked_s, 0.0);
+  EXPECT_TRUE(same_bits(out.events, bare_estimator(events, kDvs128)));
+}
+
+// ---- Shutdown and errors ----------------------------------------------------
+
+TEST(Engine, StopMidStreamProcessesEverythingAccepted) {
+  const auto& events = stripes(60'000);  // 0.2 s of recording replayed at 0.5x: ~0.4 s
+  ee::ReplaySource source(events, kDvs128, 0.5);
+  Collector out;
+  ee::Engine engine(source, &out.sink, engine_options(2, 1, 1, kDvs128));
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    engine.request_stop();
+  });
+  const ee::RunResult r = engine.run();
+  stopper.join();
+  EXPECT_EQ(r.status, ee::RunStatus::interrupted);
+  EXPECT_EQ(r.exit_code(), 130);
+  EXPECT_GT(r.stats.events_in, 0u);
+  EXPECT_LT(r.stats.events_in, events.size()) << "stopped too late to test anything";
+  EXPECT_EQ(r.stats.events_dropped, 0u);
+  EXPECT_EQ(r.stats.events_out, r.stats.events_in);
+  // What was accepted is a prefix of the input, processed exactly as the bare estimator would.
+  const std::vector<Event> prefix(events.begin(), events.begin() + static_cast<std::ptrdiff_t>(r.stats.events_in));
+  EXPECT_TRUE(same_bits(out.events, bare_estimator(prefix, kDvs128)));
+}
+
+TEST(Engine, VanishedDeviceEndsRunWithErrorAfterFlushingItsEvents) {
+  const auto& events = stripes(3'000);
+  FailingSource source(events, 100);
+  Collector out;
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.auto_policy = false;  // a live source defaults to drop; here nothing may be lost
+  options.policy = ee::OverloadPolicy::block;
+  ee::Engine engine(source, &out.sink, options);
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.status, ee::RunStatus::source_error);
+  EXPECT_NE(r.exit_code(), 0);
+  EXPECT_NE(r.message.find("vanished"), std::string::npos);
+  EXPECT_EQ(out.events.size(), events.size());
+  EXPECT_EQ(r.stats.events_dropped, 0u);
+}
+
+TEST(Engine, FailingSinkEndsRunWithErrorAndKeepsAccounting) {
+  const auto& events = stripes(5'000);
+  ee::ReplaySource source(events, kDvs128);
+  std::size_t calls = 0;
+  ee::CallbackSink failing([&](std::span<const AugmentedEvent>) {
+    if (++calls == 3) throw std::runtime_error("out.bin: write failed: No space left on device");
+  });
+  ee::Engine engine(source, &failing, engine_options(2, 1, 1, kDvs128));
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.status, ee::RunStatus::sink_error);
+  EXPECT_NE(r.message.find("No space left"), std::string::npos);
+  EXPECT_EQ(calls, 3u);  // not called again after failing
+  EXPECT_GT(r.stats.sink_failed, 0u);
+  EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
+}
+
+TEST(Engine, FileSourceReportsMissingFileAndBadOptions) {
+  EXPECT_THROW(ee::ReplaySource::open_file("/nonexistent/x.mat", std::nullopt), std::exception);
+  const auto& events = stripes(100);
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(0, 1, 1, kDvs128);
+  try {
+    ee::Engine engine(source, nullptr, options);
+    FAIL() << "0 workers accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("workers"), std::string::npos);
+  }
+}
+
+TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
+  const auto& events = stripes(10'000);
+  ee::ReplaySource source(events, kDvs128);
+  ee::Engine engine(source, nullptr, engine_options(2, 1, 1, kDvs128));
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.stats.events_out, events.size());
+  EXPECT_EQ(r.stats.latency_count, events.size());
+  EXPECT_GT(r.stats.latency_max_us, 0.0);
+  EXPECT_LE(r.stats.latency_p50_us, r.stats.latency_p99_us);
+  EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
+}
+
+TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
+  ee::LatencyHistogram h;
+  for (std::int64_t v = 1; v <= 100'000; ++v) h.record(v * 10);  // 10 ns .. 1 ms uniform
+  EXPECT_EQ(h.count(), 100'000u);
+  EXPECT_EQ(h.max_ns(), 1'000'000u);
+  const double p50 = static_cast<double>(h.percentile_ns(0.5));
+  const double p99 = static_cast<double>(h.percentile_ns(0.99));
+  EXPECT_NEAR(p50, 500'000.0, 500'000.0 / 16);
+  EXPECT_NEAR(p99, 990'000.0, 990'000.0 / 16);
+  for (int i = 0; i < ee::LatencyHistogram::kBuckets - 1; ++i)
+    ASSERT_EQ(ee::LatencyHistogram::bucket_of(ee::LatencyHistogram::bucket_upper(i)), i);
+}
+
+// ---- Configuration -------------------------------------------------------------
+
+#include "evlife/config/config.h"
+
+TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
+  const evlife::config::EngineSection c;
+  const ee::EngineOptions o;
+  EXPECT_EQ(c.workers, o.workers);
+  EXPECT_EQ(c.tiles_x, o.tiles_x);
+  EXPECT_EQ(c.tiles_y, o.tiles_y);
+  EXPECT_EQ(c.margin_px, o.margin_px);
+  EXPECT_EQ(static_cast<std::size_t>(c.batch_events), o.batch_events);
+  EXPECT_EQ(static_cast<std::size_t>(c.batches_per_worker), o.batches_per_worker);
+  EXPECT_EQ(c.policy, "auto");
+  EXPECT_TRUE(o.auto_policy);
+  EXPECT_EQ(c.stats_period_s, o.stats_period_s);
+}

@@ -1,0 +1,395 @@
+// Fault injection through the `evlife` binary, as a user meets the faults:
+// a full disk (/dev/full), an unwritable output path, SIGINT / SIGTERM in the
+// middle of `evlife process` and `evlife run`, bad configuration, absurd
+// sizes. Expected behaviour (README, issue "Hardening"): a clear message
+// naming the file / key, a non-zero exit, never a crash, and everything
+// processed before the fault present in the output, whole rows only.
+//
+// Inputs are synthetic AEDAT 2.0 files written here with a known content, so
+// the output rows are checked against what was written, not against evlife.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "evlife/algo/lifetime_estimator.h"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+// ---- a scratch directory per test ----
+class ScratchDir {
+ public:
+  ScratchDir() {
+    std::string templ = (fs::temp_directory_path() / "evlife_faults_XXXXXX").string();
+    if (mkdtemp(templ.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    path_ = templ;
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// ---- running the CLI ----
+struct Child {
+  pid_t pid = -1;
+  fs::path out_log;
+  fs::path err_log;
+};
+
+Child spawn_cli(const std::vector<std::string>& args, const ScratchDir& dir, const std::string& tag) {
+  Child c;
+  c.out_log = dir / (tag + ".stdout");
+  c.err_log = dir / (tag + ".stderr");
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, c.out_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, c.err_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> all{EVLIFE_CLI_PATH};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const int rc = posix_spawn(&c.pid, EVLIFE_CLI_PATH, &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw std::runtime_error("posix_spawn failed");
+  return c;
+}
+
+struct Finished {
+  bool exited = false;   // false: killed by a signal (a crash)
+  int code = -1;         // exit status when exited, else the signal
+  std::string out;
+  std::string err;
+};
+
+Finished wait_cli(const Child& c) {
+  int status = 0;
+  while (waitpid(c.pid, &status, 0) < 0) {
+    if (errno != EINTR) throw std::runtime_error("waitpid failed");
+  }
+  Finished f;
+  f.exited = WIFEXITED(status);
+  f.code = f.exited ? WEXITSTATUS(status) : WTERMSIG(status);
+  f.out = slurp(c.out_log);
+  f.err = slurp(c.err_log);
+  return f;
+}
+
+Finished run_cli(const std::vector<std::string>& args, const ScratchDir& dir) {
+  return wait_cli(spawn_cli(args, dir, "cli"));
+}
+
+std::string describe(const Finished& f) {
+  return std::string(f.exited ? "exit " : "killed by signal ") + std::to_string(f.code) +
+         "\n--- stdout ---\n" + f.out + "\n--- stderr ---\n" + f.err;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// ---- synthetic input: a DVS128 AEDAT 2.0 file with a known content ----
+struct TestEvent {
+  std::int64_t t_us;
+  int x;
+  int y;
+  int p;
+};
+
+// A vertical ON edge sweeping right (500 us per column), then an OFF edge,
+// row by row: the estimator sees real structure. t starts at 1000 us.
+TestEvent synthetic_event(std::int64_t i) {
+  const std::int64_t step = i / 128;  // one column crossing per step
+  const int row = static_cast<int>(i % 128);
+  const int x = static_cast<int>(step % 128);
+  const int p = (step / 128) % 2 == 0 ? 1 : -1;
+  return {1000 + step * 500 + row * 3, x, row, p};
+}
+
+void put_be32(std::ofstream& out, std::uint32_t v) {
+  const char b[4] = {static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                     static_cast<char>(v >> 8), static_cast<char>(v)};
+  out.write(b, 4);
+}
+
+// jAER DVS128 layout (see io/src/aedat2_reader.cpp): bit 0 polarity (0 = ON),
+// bits 1-7 raw x, bits 8-14 raw y, with x = 127 - raw x, y = 127 - raw y.
+void write_aedat2(const fs::path& path, std::int64_t events) {
+  std::ofstream out(path, std::ios::binary);
+  out << "#!AER-DAT2.0\r\n# AEChip: ch.unizh.ini.jaer.chip.retina.DVS128\r\n";
+  for (std::int64_t i = 0; i < events; ++i) {
+    const TestEvent e = synthetic_event(i);
+    const auto raw_x = static_cast<std::uint32_t>(127 - e.x);
+    const auto raw_y = static_cast<std::uint32_t>(127 - e.y);
+    put_be32(out, (raw_y << 8) | (raw_x << 1) | (e.p > 0 ? 0u : 1u));
+    put_be32(out, static_cast<std::uint32_t>(e.t_us));
+  }
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+// Checks the CSV output: the documented header, then whole rows only, each
+// carrying the input event of the same index unchanged. Returns the row count.
+std::int64_t check_csv_prefix(const fs::path& path, std::int64_t max_rows) {
+  const std::string text = slurp(path);
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "x,y,t,p,lifetime,vx,vy,prediction_error");
+  EXPECT_TRUE(text.empty() || text.back() == '\n') << "the output ends in a partial row";
+  std::int64_t rows = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ls(line);
+    for (std::string field; std::getline(ls, field, ',');) f.push_back(field);
+    if (!line.empty() && line.back() == ',') f.emplace_back();  // empty prediction_error
+    if (f.size() != 8) {
+      ADD_FAILURE() << "row " << rows << " has " << f.size() << " fields: '" << line << "'";
+      return rows;
+    }
+    const TestEvent e = synthetic_event(rows);
+    if (std::stoi(f[0]) != e.x || std::stoi(f[1]) != e.y || std::stoll(f[2]) != e.t_us ||
+        std::stoi(f[3]) != e.p) {
+      ADD_FAILURE() << "row " << rows << " is not input event " << rows << ": '" << line << "'";
+      return rows;
+    }
+    ++rows;
+  }
+  EXPECT_LE(rows, max_rows);
+  return rows;
+}
+
+// Starts a long run, waits until the output holds some rows (the run is in
+// full swing), sends `sig`, and checks the stop: exit 130 (documented), a
+// summary, a message, and an output that is a valid prefix of the input.
+void interrupt_mid_run(const std::vector<std::string>& command, int sig, const std::string& tag) {
+  ScratchDir dir;
+  constexpr std::int64_t kEvents = 3'000'000;  // seconds of work, even in a Release build
+  const fs::path input = dir / "long.aedat";
+  const fs::path output = dir / "out.csv";
+  write_aedat2(input, kEvents);
+  std::vector<std::string> args = command;
+  for (auto& a : args) {
+    if (a == "INPUT") a = input.string();
+    if (a == "file:INPUT") a = "file:" + input.string();
+    if (a == "OUTPUT") a = output.string();
+  }
+  const Child c = spawn_cli(args, dir, tag);
+  const auto deadline = std::chrono::steady_clock::now() + 120s;
+  std::error_code ec;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(output, ec) && fs::file_size(output, ec) > 512 * 1024) break;
+    int status = 0;
+    if (waitpid(c.pid, &status, WNOHANG) == c.pid) {
+      FAIL() << tag << ": ended before it could be interrupted (status " << status << ")";
+    }
+    std::this_thread::sleep_for(2ms);
+  }
+  ASSERT_EQ(kill(c.pid, sig), 0);
+  const Finished f = wait_cli(c);
+  ASSERT_TRUE(f.exited) << tag << ": " << describe(f);
+  EXPECT_EQ(f.code, 130) << tag << ": " << describe(f);
+  EXPECT_TRUE(contains(f.out + f.err, "interrupted")) << tag << ": " << describe(f);
+  const std::int64_t rows = check_csv_prefix(output, kEvents);
+  EXPECT_GT(rows, 0) << tag;
+  EXPECT_LT(rows, kEvents) << tag << ": the signal arrived too late to test anything";
+  // The summary states how many events were written: the row count.
+  EXPECT_TRUE(contains(f.out + f.err, std::to_string(rows)))
+      << tag << ": summary does not state the " << rows << " rows written\n" << describe(f);
+}
+
+// ---- output faults ----
+
+TEST(Faults, ProcessToFullDiskFailsClearlyAndNonZero) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 200'000);  // several MB of CSV: more than any buffer
+  for (const std::string ext : {".csv", ".bin"}) {
+    const fs::path out = dir / ("full" + ext);
+    fs::create_symlink("/dev/full", out);
+    const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o", out.string()}, dir);
+    ASSERT_TRUE(f.exited) << describe(f);
+    EXPECT_NE(f.code, 0) << describe(f);
+    EXPECT_TRUE(contains(f.err, out.string())) << "error does not name the output\n" << describe(f);
+    EXPECT_TRUE(contains(f.err, "No space left on device")) << describe(f);
+  }
+}
+
+TEST(Faults, RunToFullDiskFailsClearlyAndNonZero) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 200'000);
+  const fs::path out = dir / "full.csv";
+  fs::create_symlink("/dev/full", out);
+  const Finished f = run_cli(
+      {"run", "--source", "file:" + (dir / "in.aedat").string(), "-o", out.string(), "-q"}, dir);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_NE(f.code, 0) << describe(f);
+  EXPECT_TRUE(contains(f.err, out.string())) << describe(f);
+  EXPECT_TRUE(contains(f.err, "No space left on device")) << describe(f);
+}
+
+TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 1000);
+  std::ofstream(dir / "a_file") << "x";  // a regular file used as a directory: ENOTDIR, even for root
+  const std::vector<std::string> outputs{(dir / "a_file" / "out.csv").string(),
+                                         (dir / "no_such_dir" / "out.csv").string()};
+  for (const auto& out : outputs) {
+    for (const std::string cmd : {"process", "run"}) {
+      const std::vector<std::string> args =
+          cmd == "process"
+              ? std::vector<std::string>{"process", (dir / "in.aedat").string(), "-o", out}
+              : std::vector<std::string>{"run", "--source", "file:" + (dir / "in.aedat").string(),
+                                         "-o", out, "-q"};
+      const Finished f = run_cli(args, dir);
+      ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
+      EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
+      EXPECT_TRUE(contains(f.err, out)) << cmd << ": error does not name " << out << "\n" << describe(f);
+    }
+  }
+}
+
+// ---- signals mid-run ----
+
+TEST(Faults, ProcessSigintLeavesValidPrefixAndSummary) {
+  interrupt_mid_run({"process", "INPUT", "-o", "OUTPUT"}, SIGINT, "process SIGINT");
+}
+
+TEST(Faults, ProcessSigtermLeavesValidPrefixAndSummary) {
+  interrupt_mid_run({"process", "INPUT", "-o", "OUTPUT"}, SIGTERM, "process SIGTERM");
+}
+
+TEST(Faults, RunSigintLeavesValidPrefixAndSummary) {
+  interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGINT, "run SIGINT");
+}
+
+TEST(Faults, RunSigtermLeavesValidPrefixAndSummary) {
+  interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGTERM, "run SIGTERM");
+}
+
+// ---- configuration ----
+
+TEST(Faults, ConfigUnknownKeyIsNamed) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 1000);
+  const fs::path cfg = dir / "bad.yaml";
+  std::ofstream(cfg) << "estimator:\n  window_size: 5\n  windw_size: 7\n";
+  const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o",
+                              (dir / "out.csv").string(), "--config", cfg.string()},
+                             dir);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_NE(f.code, 0) << describe(f);
+  EXPECT_TRUE(contains(f.err, "windw_size")) << describe(f);
+  EXPECT_TRUE(contains(f.err, cfg.string())) << "error does not name the file\n" << describe(f);
+}
+
+TEST(Faults, ConfigValueOutOfRangeNamesKeyAndRange) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 1000);
+  const fs::path cfg = dir / "bad.yaml";
+  std::ofstream(cfg) << "estimator:\n  outlier_fraction: 1.5\n";
+  const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o",
+                              (dir / "out.csv").string(), "--config", cfg.string()},
+                             dir);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_NE(f.code, 0) << describe(f);
+  EXPECT_TRUE(contains(f.err, "outlier_fraction")) << describe(f);
+  EXPECT_TRUE(contains(f.err, "0.9")) << "error does not state the allowed range\n" << describe(f);
+}
+
+// ---- absurd sizes: refused up front with a message, not an allocation failure ----
+
+TEST(Faults, WindowSize99IsRefusedWithItsRange) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 1000);
+  for (const std::string cmd : {"process", "run"}) {
+    const std::vector<std::string> args =
+        cmd == "process" ? std::vector<std::string>{"process", (dir / "in.aedat").string(), "-o",
+                                                    (dir / "out.csv").string(), "--set",
+                                                    "estimator.window_size=99"}
+                         : std::vector<std::string>{"run", "--source",
+                                                    "file:" + (dir / "in.aedat").string(), "--set",
+                                                    "estimator.window_size=99"};
+    const Finished f = run_cli(args, dir);
+    ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
+    EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, "window_size")) << cmd << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, "15")) << cmd << ": range not stated\n" << describe(f);
+    EXPECT_FALSE(fs::exists(dir / "out.csv")) << cmd << ": output created before validation";
+  }
+}
+
+TEST(Faults, HugeSensorIsRefusedWithItsRange) {
+  ScratchDir dir;
+  write_aedat2(dir / "in.aedat", 1000);
+  const fs::path txt = dir / "in.txt";  // a format that does not state its sensor
+  std::ofstream(txt) << "0.001 1 2 1\n0.002 3 4 0\n";
+  for (const std::string cmd : {"process", "run"}) {
+    const std::vector<std::string> args =
+        cmd == "process" ? std::vector<std::string>{"process", txt.string(), "-o",
+                                                    (dir / "out.csv").string(), "--sensor",
+                                                    "100000x100000"}
+                         : std::vector<std::string>{"run", "--source", "file:" + txt.string(),
+                                                    "--sensor", "100000x100000"};
+    const Finished f = run_cli(args, dir);
+    ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
+    EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, "4096")) << cmd << ": range not stated\n" << describe(f);
+    EXPECT_FALSE(contains(f.err, "bad_alloc")) << cmd << ": " << describe(f);
+  }
+}
+
+TEST(Faults, EstimatorRefusesAbsurdOptionsAtConstruction) {
+  evlife::LifetimeOptions o;
+  o.sensor = {100000, 100000};
+  try {
+    evlife::LifetimeEstimator est(o);
+    ADD_FAILURE() << "a 100000x100000 sensor was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "sensor")) << e.what();
+  }
+  o = evlife::LifetimeOptions{};
+  o.window_size = 99;
+  try {
+    evlife::LifetimeEstimator est(o);
+    ADD_FAILURE() << "window_size 99 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "window_size")) << e.what();
+  }
+}
+
+}  // namespace

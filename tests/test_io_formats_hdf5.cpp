@@ -1,0 +1,420 @@
+// HDF5 events: round trip through the evlife writer and reader, and files in
+// the DSEC and Prophesee layouts built here with the HDF5 library itself
+// (so the expected values do not come from the code under test).
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/event_writer.h"
+#include "evlife/io/hdf5_writer.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::AugmentedEvent;
+using evlife::Event;
+using evlife::SensorSize;
+using evlife::io::ReadError;
+
+class TempDir {
+ public:
+  TempDir()
+      : dir_(fs::temp_directory_path() / ("evlife_test_io_formats_hdf5_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+struct ReadResult {
+  std::vector<Event> events;
+  std::optional<ReadError> error;
+  std::optional<SensorSize> sensor;
+};
+
+ReadResult read_all(const std::string& path, bool checked = true) {
+  ReadResult r;
+  try {
+    auto reader = checked ? evlife::io::open_event_reader(path)
+                          : evlife::io::open_unchecked_event_reader(path);
+    EXPECT_EQ(reader->format_name(), "hdf5");
+    r.sensor = reader->sensor_size();
+    std::vector<Event> chunk(10'000);
+    while (const std::size_t n = reader->read(chunk)) {
+      r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+    }
+  } catch (const ReadError& e) {
+    r.error = e;
+  }
+  return r;
+}
+
+bool same(const Event& a, const Event& b) {
+  return a.t_us == b.t_us && a.x == b.x && a.y == b.y && a.p == b.p;
+}
+
+// Synthetic events with known values; more than one writer/reader chunk.
+std::vector<AugmentedEvent> make_events(std::size_t count, SensorSize sensor) {
+  std::mt19937 rng(7);
+  std::vector<AugmentedEvent> events(count);
+  std::int64_t t_us = 1'600'000'000'000'000;  // absolute µs, as AEDAT 4 files hold
+  for (std::size_t i = 0; i < count; ++i) {
+    AugmentedEvent& a = events[i];
+    t_us += rng() % 50;
+    a.event = Event{t_us, static_cast<std::uint16_t>(rng() % sensor.width),
+                    static_cast<std::uint16_t>(rng() % sensor.height), rng() % 2 ? std::int8_t{1} : std::int8_t{-1}};
+    a.lifetime_us = i % 5 == 0 ? 0.0f : static_cast<float>(rng() % 100'000) * 0.37f;
+    a.vx_px_s = static_cast<float>(static_cast<int>(rng() % 20'000) - 10'000) * 0.125f;
+    a.vy_px_s = static_cast<float>(static_cast<int>(rng() % 20'000) - 10'000) * 0.25f;
+    a.prediction_error_us = i % 3 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                       : static_cast<float>(static_cast<int>(rng() % 2000) - 1000);
+  }
+  return events;
+}
+
+template <typename T>
+std::vector<T> read_column(hid_t file, const char* name, hid_t memory_type) {
+  const hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
+  EXPECT_GE(dataset, 0) << name;
+  const hid_t space = H5Dget_space(dataset);
+  const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space));
+  std::vector<T> values(count);
+  EXPECT_GE(H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0) << name;
+  H5Sclose(space);
+  H5Dclose(dataset);
+  return values;
+}
+
+std::string string_attribute(hid_t file, const char* object, const char* name) {
+  const hid_t attribute = H5Aopen_by_name(file, object, name, H5P_DEFAULT, H5P_DEFAULT);
+  if (attribute < 0) return "<missing>";
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);  // as written (h5py then gives str)
+  char* text = nullptr;
+  std::string value = "<unreadable>";
+  if (H5Aread(attribute, type, &text) >= 0 && text != nullptr) {
+    value = text;
+    H5free_memory(text);
+  }
+  H5Tclose(type);
+  H5Aclose(attribute);
+  return value;
+}
+
+TEST(IoFormatsHdf5, AugmentedRoundTripThroughWriterAndReader) {
+  const TempDir dir;
+  const SensorSize sensor{346, 260};
+  const std::vector<AugmentedEvent> written = make_events(150'001, sensor);
+  const std::string path = dir.path("augmented.h5");
+  {
+    auto writer = evlife::io::open_augmented_writer(path, sensor);
+    // Uneven batches, as the engine hands them over.
+    for (std::size_t i = 0; i < written.size(); i += 9'999) {
+      writer->write(std::span(written).subspan(i, std::min<std::size_t>(9'999, written.size() - i)));
+    }
+    writer->close();
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_TRUE(r.sensor.has_value());
+  EXPECT_EQ(*r.sensor, sensor);
+  ASSERT_EQ(r.events.size(), written.size());
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    ASSERT_TRUE(same(r.events[i], written[i].event)) << "event " << i;
+  }
+
+  // The augmented columns, read with the HDF5 library as h5py would.
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const auto lifetime = read_column<float>(file, "lifetime", H5T_NATIVE_FLOAT);
+  const auto vx = read_column<float>(file, "vx", H5T_NATIVE_FLOAT);
+  const auto vy = read_column<float>(file, "vy", H5T_NATIVE_FLOAT);
+  const auto error = read_column<float>(file, "prediction_error", H5T_NATIVE_FLOAT);
+  ASSERT_EQ(lifetime.size(), written.size());
+  ASSERT_EQ(error.size(), written.size());
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    ASSERT_EQ(lifetime[i], written[i].lifetime_us) << i;
+    ASSERT_EQ(vx[i], written[i].vx_px_s) << i;
+    ASSERT_EQ(vy[i], written[i].vy_px_s) << i;
+    ASSERT_EQ(std::isnan(error[i]), std::isnan(written[i].prediction_error_us)) << i;
+    if (!std::isnan(error[i])) {
+      ASSERT_EQ(error[i], written[i].prediction_error_us) << i;
+    }
+  }
+  EXPECT_EQ(string_attribute(file, "t", "units"), "us");
+  EXPECT_EQ(string_attribute(file, "lifetime", "units"), "us");
+  EXPECT_EQ(string_attribute(file, "vx", "units"), "px/s");
+  EXPECT_EQ(string_attribute(file, "prediction_error", "units"), "us");
+  // Chunked and compressed.
+  const hid_t dataset = H5Dopen2(file, "t", H5P_DEFAULT);
+  const hid_t properties = H5Dget_create_plist(dataset);
+  EXPECT_EQ(H5Pget_layout(properties), H5D_CHUNKED);
+  EXPECT_GE(H5Pget_nfilters(properties), 2);  // shuffle + deflate
+  H5Pclose(properties);
+  H5Dclose(dataset);
+  H5Fclose(file);
+}
+
+TEST(IoFormatsHdf5, PlainEventWriterRoundTrip) {
+  const TempDir dir;
+  const std::string path = dir.path("events.hdf5");
+  const std::vector<AugmentedEvent> augmented = make_events(1'000, {128, 128});
+  std::vector<Event> written;
+  for (const auto& a : augmented) written.push_back(a.event);
+  {
+    auto writer = evlife::io::open_event_writer(path);
+    writer->write(written);
+    writer->close();
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_FALSE(r.sensor.has_value());  // open_event_writer knows no sensor
+  ASSERT_EQ(r.events.size(), written.size());
+  for (std::size_t i = 0; i < written.size(); ++i) ASSERT_TRUE(same(r.events[i], written[i])) << i;
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_EQ(H5Lexists(file, "lifetime", H5P_DEFAULT), 0);
+  H5Fclose(file);
+}
+
+// A chunked 1-D dataset of `values` as `file_type`.
+template <typename T>
+void write_dataset(hid_t where, const char* name, hid_t file_type, hid_t memory_type,
+                   const std::vector<T>& values) {
+  const hsize_t size[1] = {values.size()};
+  const hsize_t chunk[1] = {std::min<hsize_t>(4096, values.size())};
+  const hid_t space = H5Screate_simple(1, size, nullptr);
+  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(properties, 1, chunk);
+  H5Pset_deflate(properties, 1);
+  const hid_t dataset = H5Dcreate2(where, name, file_type, space, H5P_DEFAULT, properties, H5P_DEFAULT);
+  ASSERT_GE(dataset, 0);
+  ASSERT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  H5Dclose(dataset);
+  H5Pclose(properties);
+  H5Sclose(space);
+}
+
+TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
+  const TempDir dir;
+  const std::string path = dir.path("dsec_events.h5");
+  const std::size_t count = 100'003;  // > one reader chunk
+  std::vector<std::uint16_t> x(count), y(count);
+  std::vector<std::uint32_t> t(count);
+  std::vector<std::uint8_t> p(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    x[i] = static_cast<std::uint16_t>(i % 640);
+    y[i] = static_cast<std::uint16_t>((i / 7) % 480);
+    t[i] = static_cast<std::uint32_t>(i * 3);
+    p[i] = static_cast<std::uint8_t>(i % 3 == 0);
+  }
+  const std::int64_t t_offset = 47'000'000;
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
+    write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
+    write_dataset(group, "t", H5T_STD_U32LE, H5T_NATIVE_UINT32, t);
+    write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t offset = H5Dcreate2(file, "t_offset", H5T_STD_I64LE, scalar, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset);
+    H5Dclose(offset);
+    H5Sclose(scalar);
+    H5Gclose(group);
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Event expected{t_offset + t[i], x[i], y[i], p[i] ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+}
+
+TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
+  struct Record {  // Prophesee's field order: x, y, p, t
+    std::uint16_t x;
+    std::uint16_t y;
+    std::int16_t p;
+    std::int64_t t;
+  };
+  const TempDir dir;
+  const std::string path = dir.path("prophesee_cd.hdf5");
+  std::vector<Record> records(70'000);
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    records[i] = {static_cast<std::uint16_t>(i % 1280), static_cast<std::uint16_t>(i % 720),
+                  static_cast<std::int16_t>(i % 2), static_cast<std::int64_t>(i / 2)};
+  }
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "CD", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(Record));
+    H5Tinsert(type, "x", offsetof(Record, x), H5T_NATIVE_UINT16);
+    H5Tinsert(type, "y", offsetof(Record, y), H5T_NATIVE_UINT16);
+    H5Tinsert(type, "p", offsetof(Record, p), H5T_NATIVE_INT16);
+    H5Tinsert(type, "t", offsetof(Record, t), H5T_NATIVE_INT64);
+    write_dataset(group, "events", type, type, records);
+    H5Tclose(type);
+    H5Gclose(group);
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const Event expected{records[i].t, records[i].x, records[i].y, records[i].p ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+}
+
+TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {
+  const TempDir dir;
+  const std::string path = dir.path("other.h5");
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write_dataset(file, "images", H5T_STD_U8LE, H5T_NATIVE_UINT8, std::vector<std::uint8_t>(10));
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string message = r.error->what();
+  EXPECT_NE(message.find("events/x"), std::string::npos) << message;
+  EXPECT_NE(message.find("CD/events"), std::string::npos) << message;
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+}
+
+TEST(IoFormatsHdf5, MissingDsecDatasetIsNamed) {
+  const TempDir dir;
+  const std::string path = dir.path("dsec_no_p.h5");
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const std::vector<std::uint16_t> v(5, 1);
+    write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, v);
+    write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, v);
+    write_dataset(group, "t", H5T_STD_U16LE, H5T_NATIVE_UINT16, v);
+    H5Gclose(group);
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("'events/p' is missing"), std::string::npos)
+      << r.error->what();
+}
+
+TEST(IoFormatsHdf5, TruncatedFilesFailCleanly) {
+  const TempDir dir;
+  const std::string path = dir.path("full.h5");
+  {
+    auto writer = evlife::io::open_hdf5_augmented_writer(path, SensorSize{64, 64});
+    writer->write(make_events(200'000, {64, 64}));
+    writer->close();
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  for (const double fraction : {0.001, 0.1, 0.5, 0.9, 0.999}) {
+    const std::string cut = dir.path("cut.h5");
+    std::ofstream out(cut, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(static_cast<double>(bytes.size()) * fraction));
+    out.close();
+    ReadResult r;
+    ASSERT_NO_THROW(r = read_all(cut)) << fraction;
+    EXPECT_TRUE(r.error) << "cut at " << fraction;
+  }
+}
+
+TEST(IoFormatsHdf5, UnwritablePathIsAWriteError) {
+  EXPECT_THROW(evlife::io::open_hdf5_augmented_writer("/nonexistent-dir/x.h5", std::nullopt),
+               evlife::io::WriteError);
+}
+
+}  // namespace
+
+#ifdef EVLIFE_CLI_PATH
+namespace {
+
+int run_cli(const std::string& args) {
+  const int status = std::system((std::string(EVLIFE_CLI_PATH) + " " + args + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<Event> decode(const std::string& path) {
+  auto reader = evlife::io::open_unchecked_event_reader(path);
+  std::vector<Event> all, chunk(4096);
+  while (const std::size_t n = reader->read(chunk)) all.insert(all.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+  return all;
+}
+
+TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {
+  const TempDir dir;
+  const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/evt3/evt3_sample.raw";
+  const std::string output = dir.path("evt3.h5");
+  ASSERT_EQ(run_cli("convert " + input + " " + output), 0);
+  const std::vector<Event> expected = decode(input);
+  const hid_t file = H5Fopen(output.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const auto t = read_column<std::int64_t>(file, "t", H5T_NATIVE_INT64);
+  const auto x = read_column<std::uint16_t>(file, "x", H5T_NATIVE_UINT16);
+  const auto y = read_column<std::uint16_t>(file, "y", H5T_NATIVE_UINT16);
+  const auto p = read_column<std::int8_t>(file, "p", H5T_NATIVE_INT8);
+  H5Fclose(file);
+  ASSERT_EQ(t.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_TRUE(same(Event{t[i], x[i], y[i], p[i]}, expected[i])) << i;
+  }
+  // And back to RPG text, then read as events again.
+  const std::string text = dir.path("evt3.txt");
+  ASSERT_EQ(run_cli("convert " + output + " " + text), 0);
+  const std::vector<Event> from_text = decode(text);
+  ASSERT_EQ(from_text.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) ASSERT_TRUE(same(from_text[i], expected[i])) << i;
+}
+
+TEST(IoFormatsConvertCli, TruncatedInputWritesTheGoodEventsAndExits3) {
+  const TempDir dir;
+  const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/evt2/evt2_sample.raw";
+  std::ifstream in(input, std::ios::binary);
+  std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  bytes.resize(bytes.size() / 2 + 1);  // inside a word
+  const std::string cut = dir.path("cut.raw");
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const std::string output = dir.path("cut.h5");
+  EXPECT_EQ(run_cli("convert " + cut + " " + output), 3);
+  const ReadResult r = read_all(output);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_GT(r.events.size(), 200'000u);  // about half of 539,481
+  EXPECT_LT(r.events.size(), 539'481u);
+}
+
+TEST(IoFormatsConvertCli, HelpAndBadArguments) {
+  EXPECT_EQ(run_cli("convert --help"), 0);
+  EXPECT_EQ(run_cli("convert only-one-argument"), 2);
+  EXPECT_EQ(run_cli("convert /nonexistent.raw /tmp/x.h5"), 3);
+}
+
+}  // namespace
+#endif

@@ -1,0 +1,335 @@
+// Writers of augmented events (.csv, .bin) and of RPG text: exact bytes
+// where the format is specified, bit-exact round trips through the readers,
+// WriteError on a full disk, and the readers' error rules on malformed files.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/event_writer.h"
+
+namespace fs = std::filesystem;
+using evlife::AugmentedEvent;
+using evlife::Event;
+using evlife::SensorSize;
+using evlife::io::ReadError;
+using evlife::io::WriteError;
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+bool bit_equal(float a, float b) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+
+bool same(const AugmentedEvent& a, const AugmentedEvent& b) {
+  return a.event.t_us == b.event.t_us && a.event.x == b.event.x && a.event.y == b.event.y &&
+         a.event.p == b.event.p && bit_equal(a.lifetime_us, b.lifetime_us) &&
+         bit_equal(a.vx_px_s, b.vx_px_s) && bit_equal(a.vy_px_s, b.vy_px_s) &&
+         bit_equal(a.prediction_error_us, b.prediction_error_us);
+}
+
+AugmentedEvent aug(std::int64_t t, int x, int y, int p, float lifetime, float vx, float vy,
+                   float prediction_error) {
+  AugmentedEvent a;
+  a.event = Event{t, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                  static_cast<std::int8_t>(p)};
+  a.lifetime_us = lifetime;
+  a.vx_px_s = vx;
+  a.vy_px_s = vy;
+  a.prediction_error_us = prediction_error;
+  return a;
+}
+
+// Awkward floats on purpose: shortest-repr edge cases, subnormals, extremes.
+std::vector<AugmentedEvent> tricky_events(std::size_t n) {
+  std::vector<AugmentedEvent> out;
+  const float specials[] = {0.0f, -0.0f, 1.0f / 3.0f, 1e-45f, 3.4028235e38f, -123456.789f,
+                            0.1f, 16777217.0f, 1e10f, 2.5e-8f};
+  std::uint64_t state = 99;
+  std::int64_t t = -5;
+  for (std::size_t i = 0; i < n; ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    t += static_cast<std::int64_t>(state >> 58);
+    const auto bits = static_cast<std::uint32_t>(state >> 17);
+    float random = std::bit_cast<float>(bits & 0x7F7FFFFFu);  // finite
+    if (i % 3 == 0) random = static_cast<float>(static_cast<double>(state >> 40) * 1e-3);
+    out.push_back(aug(t, static_cast<int>((state >> 8) % 1280), static_cast<int>((state >> 20) % 720),
+                      (state >> 63) ? 1 : -1, i % 7 == 0 ? 0.0f : std::fabs(random),
+                      specials[i % 10], -random, i % 4 == 0 ? kNaN : specials[(i + 3) % 10]));
+  }
+  return out;
+}
+
+class Writers : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("evlife_test_io_writers_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  struct Readback {
+    std::vector<AugmentedEvent> events;
+    std::optional<ReadError> error;
+    std::optional<SensorSize> sensor;
+  };
+  static Readback read_back(const std::string& p, std::size_t batch = 1000) {
+    Readback r;
+    try {
+      auto reader = evlife::io::open_augmented_reader(p);
+      r.sensor = reader->sensor_size();
+      std::vector<AugmentedEvent> buffer(batch);
+      while (const std::size_t n = reader->read(buffer))
+        r.events.insert(r.events.end(), buffer.begin(), buffer.begin() + static_cast<long>(n));
+    } catch (const ReadError& e) {
+      r.error = e;
+    }
+    return r;
+  }
+  static void write_all(const std::string& p, const std::vector<AugmentedEvent>& events,
+                        SensorSize sensor = {1280, 720}) {
+    auto writer = evlife::io::open_augmented_writer(p, sensor);
+    for (std::size_t i = 0; i < events.size(); i += 333)  // several calls
+      writer->write(std::span(events).subspan(i, std::min<std::size_t>(333, events.size() - i)));
+    writer->close();
+  }
+  fs::path dir_;
+};
+
+TEST_F(Writers, CsvHasTheExactHeaderAndRows) {
+  const std::string p = path("a.csv");
+  write_all(p, {aug(1234567, 3, 4, -1, 1500.5f, -12.25f, 0.0f, kNaN),
+                aug(1234568, 127, 0, 1, 0.1f, 1e10f, -3.0f, -250.0f)});
+  EXPECT_EQ(file_text(p),
+            "x,y,t,p,lifetime,vx,vy,prediction_error\n"
+            "3,4,1234567,-1,1500.5,-12.25,0,\n"
+            "127,0,1234568,1,0.1,1e+10,-3,-250\n");
+}
+
+TEST_F(Writers, CsvAndBinRoundTripBitExactly) {
+  const std::vector<AugmentedEvent> events = tricky_events(100000);
+  for (const char* name : {"r.csv", "r.bin", "R.CSV"}) {
+    SCOPED_TRACE(name);
+    const std::string p = path(name);
+    write_all(p, events);
+    const Readback r = read_back(p, 4097);
+    ASSERT_FALSE(r.error) << r.error->what();
+    ASSERT_EQ(r.events.size(), events.size());
+    for (std::size_t i = 0; i < events.size(); ++i) ASSERT_TRUE(same(r.events[i], events[i])) << i;
+  }
+  EXPECT_EQ(read_back(path("r.bin")).sensor, (SensorSize{1280, 720}));
+  EXPECT_FALSE(read_back(path("r.csv")).sensor);
+}
+
+TEST_F(Writers, BinLayoutIsTheDocumentedOne) {
+  const std::string p = path("l.bin");
+  AugmentedEvent a = aug(-2, 0x0102, 0x0304, -1, 1.5f, -2.0f, 0.25f, kNaN);
+  std::memset(static_cast<void*>(&a.event), 0xAB, sizeof a.event);  // garbage in the padding must not reach the file
+  a.event.t_us = 0x1122334455667788LL;
+  a.event.x = 0x0102;
+  a.event.y = 0x0304;
+  a.event.p = -1;
+  write_all(p, {a}, SensorSize{346, 260});
+  const std::string bytes = file_text(p);
+  ASSERT_EQ(bytes.size(), 64u);
+  const auto u8 = [&](std::size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(bytes[i])); };
+  const auto le = [&](std::size_t at, int n) {
+    std::uint64_t v = 0;
+    for (int k = n - 1; k >= 0; --k) v = (v << 8) | u8(at + static_cast<std::size_t>(k));
+    return v;
+  };
+  EXPECT_EQ(bytes.substr(0, 8), "EVLIFEAE");
+  EXPECT_EQ(le(8, 2), 1u);    // version
+  EXPECT_EQ(le(10, 2), 32u);  // header bytes
+  EXPECT_EQ(le(12, 2), 32u);  // record bytes
+  EXPECT_EQ(le(14, 2), 0u);   // flags
+  EXPECT_EQ(le(16, 4), 346u);
+  EXPECT_EQ(le(20, 4), 260u);
+  EXPECT_EQ(le(24, 8), 0u);
+  EXPECT_EQ(le(32, 8), 0x1122334455667788ULL);
+  EXPECT_EQ(le(40, 2), 0x0102u);
+  EXPECT_EQ(le(42, 2), 0x0304u);
+  EXPECT_EQ(u8(44), 0xFFu);  // p = -1
+  EXPECT_EQ(le(45, 3), 0u);  // zero padding
+  EXPECT_EQ(le(48, 4), 0x3FC00000u);  // 1.5f
+  EXPECT_EQ(le(52, 4), 0xC0000000u);  // -2.0f
+  EXPECT_EQ(le(56, 4), 0x3E800000u);  // 0.25f
+  EXPECT_TRUE(std::isnan(std::bit_cast<float>(static_cast<std::uint32_t>(le(60, 4)))));
+}
+
+TEST_F(Writers, OutputIsDeterministic) {
+  const std::vector<AugmentedEvent> events = tricky_events(5000);
+  for (const char* ext : {".csv", ".bin"}) {
+    write_all(path(std::string("one") + ext), events);
+    write_all(path(std::string("two") + ext), events);
+    EXPECT_EQ(file_text(path(std::string("one") + ext)), file_text(path(std::string("two") + ext)));
+  }
+}
+
+TEST_F(Writers, FullDiskGivesWriteErrorNamingTheFileAndDestructorsDoNotThrow) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::vector<AugmentedEvent> events = tricky_events(100);
+  for (const char* name : {"full.csv", "full.bin"}) {
+    const std::string link = path(name);
+    fs::create_symlink("/dev/full", link);
+    auto writer = evlife::io::open_augmented_writer(link, {128, 128});
+    writer->write(events);
+    try {
+      writer->close();
+      ADD_FAILURE() << "close() on a full disk must throw";
+    } catch (const WriteError& e) {
+      EXPECT_EQ(e.path(), link);
+      EXPECT_NE(std::string(e.what()).find(link), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("No space"), std::string::npos) << e.what();
+    }
+    // Enough data to overflow the buffer: write() itself reports it.
+    auto big = evlife::io::open_augmented_writer(link, {128, 128});
+    const std::vector<AugmentedEvent> many = tricky_events(200000);
+    EXPECT_THROW(big->write(many), WriteError);
+    // `big` is destroyed unclosed: must not throw or crash.
+  }
+  const std::string txt = path("full.txt");
+  fs::create_symlink("/dev/full", txt);
+  auto writer = evlife::io::open_event_writer(txt);
+  writer->write(std::vector<Event>(10));
+  EXPECT_THROW(writer->close(), WriteError);
+  { auto unclosed = evlife::io::open_event_writer(txt); unclosed->write(std::vector<Event>(10)); }
+}
+
+TEST_F(Writers, BadPathsAndExtensionsGiveWriteError) {
+  EXPECT_THROW(evlife::io::open_augmented_writer(path("x.parquet"), {1, 1}), WriteError);
+  EXPECT_THROW(evlife::io::open_augmented_writer(path("no/such/dir/x.csv"), {1, 1}), WriteError);
+  EXPECT_THROW(evlife::io::open_event_writer(path("x.aedat")), WriteError);
+  try {
+    evlife::io::open_augmented_writer(path("no/such/dir/x.bin"), {1, 1});
+  } catch (const WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find("no/such/dir/x.bin"), std::string::npos);
+  }
+}
+
+TEST_F(Writers, RpgTextIsExactAndReadsBack) {
+  const std::string p = path("e.txt");
+  const std::vector<Event> events = {{0, 1, 2, 1},         {1, 3, 4, -1},          {999999, 5, 6, 1},
+                                     {1000000, 7, 8, -1},  {123456789012, 65535, 65535, 1}};
+  auto writer = evlife::io::open_event_writer(p);
+  writer->write(events);
+  writer->close();
+  EXPECT_EQ(file_text(p),
+            "0.000000 1 2 1\n0.000001 3 4 0\n0.999999 5 6 1\n1.000000 7 8 0\n"
+            "123456.789012 65535 65535 1\n");
+  auto reader = evlife::io::open_event_reader(p);
+  std::vector<Event> back(10);
+  ASSERT_EQ(reader->read(back), events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    EXPECT_EQ(back[i].t_us, events[i].t_us);
+    EXPECT_EQ(back[i].x, events[i].x);
+    EXPECT_EQ(back[i].y, events[i].y);
+    EXPECT_EQ(back[i].p, events[i].p);
+  }
+  const std::string neg = path("neg.txt");
+  auto w = evlife::io::open_rpg_text_writer(neg);
+  w->write(std::vector<Event>{{-1500001, 0, 0, 1}});
+  w->close();
+  EXPECT_EQ(file_text(neg), "-1.500001 0 0 1\n");
+}
+
+// ------------------------------------------ malformed augmented files ----
+
+TEST_F(Writers, TruncatedBinDeliversWholeRecordsThenIndexAndOffset) {
+  const std::vector<AugmentedEvent> events = tricky_events(50);
+  const std::string full = path("full.bin");
+  write_all(full, events);
+  const std::string bytes = file_text(full);
+  for (const std::size_t cut : {std::size_t{1}, std::size_t{13}, std::size_t{31}}) {
+    SCOPED_TRACE(cut);
+    const std::string p = path("cut.bin");
+    std::ofstream(p, std::ios::binary) << bytes.substr(0, 32 + 32 * 20 + cut);
+    const Readback r = read_back(p, 7);
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 20u);
+    EXPECT_EQ(r.error->event_index(), 20);
+    EXPECT_EQ(r.error->byte_offset(), 32 + 32 * 20);
+    EXPECT_EQ(r.error->path(), p);
+  }
+  const std::string head = path("head.bin");
+  std::ofstream(head, std::ios::binary) << bytes.substr(0, 20);
+  EXPECT_TRUE(read_back(head).error);
+}
+
+TEST_F(Writers, BinOutsideSensorOrBackwardsOrBadPolarity) {
+  std::vector<AugmentedEvent> events;
+  for (int i = 0; i < 10; ++i) events.push_back(aug(100 * i, i, i, 1, 1.0f, 0, 0, kNaN));
+  struct Case { int index; AugmentedEvent bad; const char* what; };
+  for (const Case& c : {Case{4, aug(400, 200, 1, 1, 1, 0, 0, kNaN), "outside"},
+                        Case{6, aug(1, 1, 1, 1, 1, 0, 0, kNaN), "backwards"}}) {
+    std::vector<AugmentedEvent> copy = events;
+    copy[static_cast<std::size_t>(c.index)] = c.bad;
+    const std::string p = path("bad.bin");
+    write_all(p, copy, SensorSize{100, 100});
+    const Readback r = read_back(p);
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), static_cast<std::size_t>(c.index));
+    EXPECT_EQ(r.error->event_index(), c.index);
+    EXPECT_EQ(r.error->byte_offset(), 32 + 32 * c.index);
+    EXPECT_NE(std::string(r.error->what()).find(c.what), std::string::npos) << r.error->what();
+  }
+  // Corrupt polarity byte of record 3.
+  const std::string p = path("pol.bin");
+  write_all(p, events, SensorSize{100, 100});
+  std::string bytes = file_text(p);
+  bytes[32 + 32 * 3 + 12] = 7;
+  std::ofstream(p, std::ios::binary) << bytes;
+  const Readback r = read_back(p);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 3u);
+  EXPECT_EQ(r.error->event_index(), 3);
+}
+
+TEST_F(Writers, CsvBadRowOrHeaderIsReportedWithLine) {
+  const std::string header = "x,y,t,p,lifetime,vx,vy,prediction_error\n";
+  const std::string good = "1,2,10,1,5,0,0,\n3,4,20,-1,0,1.5,-2,3\n";
+  for (const char* bad : {"5,6,30,2,0,0,0,\n", "5,6,30,1,zz,0,0,\n", "5,6,30,1,0,0\n",
+                          "5,6,30,1,0,0,0,1,9\n", "5,6,15,1,0,0,0,\n", "70000,6,30,1,0,0,0,\n"}) {
+    SCOPED_TRACE(bad);
+    const std::string p = path("bad.csv");
+    std::ofstream(p, std::ios::binary) << header << good << bad << "7,8,40,1,0,0,0,\n";
+    const Readback r = read_back(p);
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 2u);
+    EXPECT_EQ(r.error->event_index(), 2);
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(header.size() + good.size()));
+    EXPECT_NE(std::string(r.error->what()).find("line 4"), std::string::npos) << r.error->what();
+  }
+  const std::string p = path("hdr.csv");
+  std::ofstream(p, std::ios::binary) << "x,y,t,p\n1,2,3,1\n";
+  const Readback r = read_back(p);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find(p), std::string::npos);
+  EXPECT_TRUE(read_back(path("missing.csv")).error);
+}
+
+}  // namespace

@@ -1,0 +1,428 @@
+// Accuracy of the lifetime estimator on synthetic scenes with known ground
+// truth (issue 2, "What it must reach"), with the DEFAULT LifetimeOptions
+// (only the sensor set). The ground truth and the metric are tested first and
+// independently, so a generator or metric bug cannot make the floors pass.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <vector>
+
+#include "accuracy_metrics.h"
+#include "evlife/algo/lifetime_estimator.h"
+#include "evlife/io/synthetic_scene.h"
+
+namespace {
+
+using evlife::AugmentedEvent;
+using evlife::Event;
+using evlife::SensorSize;
+using evlife::io::EventTruth;
+using evlife::io::SceneSpec;
+using evlife::io::SyntheticScene;
+constexpr double kPi = std::numbers::pi;
+
+// ---------------------------------------------------------------------------
+// Ground truth: the generator's events are exactly the brightness transitions
+// of the scene, and its lifetime/direction agree with the event-time field.
+// ---------------------------------------------------------------------------
+
+// Brightness (inside a bar?) of pixel (x, y) at time t, straight from the
+// scene's definition, sampled by brute force below.
+bool grating_bright(const evlife::io::GratingSpec& g, int x, int y, double t_us) {
+  const double th = g.direction_deg * kPi / 180.0;
+  const double s = x * std::cos(th) + y * std::sin(th);
+  const double leading = g.phase_px + t_us / g.lifetime_us;  // a leading edge position
+  const double behind = std::fmod(std::fmod(leading - s, g.period_px) + g.period_px, g.period_px);
+  return behind <= g.bar_width_px;  // the bar spans [leading - width, leading]
+}
+
+// Caches the bar's axis for the current time: the brute-force loop asks for
+// every sampled pixel at the same t.
+class BarBrightness {
+ public:
+  explicit BarBrightness(const evlife::io::RotatingBarSpec& b) : b_(b) {}
+  bool operator()(int x, int y, double t_us) {
+    if (t_us != t_us_) {
+      const double w0 = b_.omega_start_deg_s * kPi / 180.0 * 1e-6;
+      const double w1 = b_.omega_end_deg_s * kPi / 180.0 * 1e-6;
+      const double tr = std::min(t_us, b_.ramp_us);
+      double phi = b_.start_angle_deg * kPi / 180.0 + w0 * tr + 0.5 * (w1 - w0) / b_.ramp_us * tr * tr;
+      phi += w1 * std::max(0.0, t_us - b_.ramp_us);
+      sin_ = std::sin(phi);
+      cos_ = std::cos(phi);
+      t_us_ = t_us;
+    }
+    const double dist = -sin_ * (x - b_.centre_x) + cos_ * (y - b_.centre_y);  // to the bar axis
+    return std::abs(dist) <= 0.5 * b_.bar_width_px;
+  }
+
+ private:
+  evlife::io::RotatingBarSpec b_;
+  double t_us_ = -1.0, sin_ = 0.0, cos_ = 1.0;
+};
+
+struct Transition {
+  double t_lo_us, t_hi_us;  // the transition happened in (t_lo, t_hi]
+  int polarity;
+};
+
+// Samples brightness every dt and checks that each pixel's events are exactly
+// its transitions (count, order, polarity, time within the sampling step).
+template <typename Bright>
+void expect_events_are_transitions(const SyntheticScene& scene, Bright bright, int pixel_stride,
+                                   std::size_t min_checked) {
+  ASSERT_EQ(scene.spec.jitter_sigma_us, 0.0);
+  ASSERT_EQ(scene.spec.noise_rate_hz_per_px, 0.0);
+  const SensorSize s = scene.spec.sensor;
+  std::map<std::pair<int, int>, std::vector<std::size_t>> events_at;
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    events_at[{scene.events[i].x, scene.events[i].y}].push_back(i);
+  }
+  std::vector<std::pair<int, int>> pixels;
+  for (int y = 1; y < s.height; y += pixel_stride) {
+    for (int x = 2; x < s.width; x += pixel_stride) pixels.emplace_back(x, y);
+  }
+  const double dt = 2.0;
+  std::vector<std::vector<Transition>> transitions(pixels.size());
+  std::vector<bool> state(pixels.size());
+  for (std::size_t k = 0; k < pixels.size(); ++k) state[k] = bright(pixels[k].first, pixels[k].second, 0.0);
+  const auto steps = static_cast<long>(static_cast<double>(scene.spec.duration_us) / dt);
+  for (long j = 1; j < steps; ++j) {
+    const double t = static_cast<double>(j) * dt;
+    for (std::size_t k = 0; k < pixels.size(); ++k) {
+      const bool now = bright(pixels[k].first, pixels[k].second, t);
+      if (now != state[k]) transitions[k].push_back({t - dt, t, now ? 1 : -1});
+      state[k] = now;
+    }
+  }
+  std::size_t checked = 0;
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto& idx = events_at[pixels[k]];
+    const auto& tr = transitions[k];
+    // Crossings in the last, unsampled step of the scene may be missing from `tr`.
+    ASSERT_GE(idx.size(), tr.size()) << "pixel " << pixels[k].first << "," << pixels[k].second;
+    ASSERT_LE(idx.size(), tr.size() + 1) << "pixel " << pixels[k].first << "," << pixels[k].second;
+    for (std::size_t m = 0; m < tr.size(); ++m) {
+      const Event& e = scene.events[idx[m]];
+      const double t_true = scene.truth[idx[m]].t_true_us;
+      EXPECT_EQ(e.p, tr[m].polarity) << "pixel " << e.x << "," << e.y << " transition " << m;
+      EXPECT_GT(t_true, tr[m].t_lo_us - 1e-6);
+      EXPECT_LE(t_true, tr[m].t_hi_us + 1e-6);
+      EXPECT_LE(std::abs(static_cast<double>(e.t_us) - t_true), 0.5 + 1e-9);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, min_checked);
+}
+
+// Central differences of the crossing times of the 4 neighbours (same pass,
+// same polarity) give the time gradient: |grad| must be the true lifetime and
+// grad/|grad| the true direction of motion.
+struct GradientCheck {
+  std::vector<double> rel_error, dir_error_deg;
+};
+GradientCheck gradient_check(const SyntheticScene& scene) {
+  const SensorSize s = scene.spec.sensor;
+  std::vector<std::vector<std::pair<double, double>>> times(2 * static_cast<std::size_t>(s.pixel_count()));
+  auto slot = [&](int x, int y, int p) {
+    return (static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x)) * 2 +
+           (p > 0 ? 1 : 0);
+  };
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    const Event& e = scene.events[i];
+    times[slot(e.x, e.y, e.p)].push_back({scene.truth[i].t_true_us, scene.truth[i].lifetime_us});
+  }
+  for (auto& v : times) std::sort(v.begin(), v.end());
+  GradientCheck out;
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    const Event& e = scene.events[i];
+    const EventTruth& truth = scene.truth[i];
+    if (truth.is_noise || !truth.scorable || truth.margin_px < 1) continue;
+    auto nearest = [&](int x, int y, double& t) {
+      const auto& v = times[slot(x, y, e.p)];
+      auto it = std::lower_bound(v.begin(), v.end(), std::pair{truth.t_true_us, 0.0});
+      double best = 1e300;
+      if (it != v.end()) best = it->first;
+      if (it != v.begin() && std::abs(std::prev(it)->first - truth.t_true_us) < std::abs(best - truth.t_true_us))
+        best = std::prev(it)->first;
+      t = best;
+      return std::abs(best - truth.t_true_us) < 2.0 * truth.lifetime_us;
+    };
+    double tl, tr, tu, td;
+    if (!nearest(e.x - 1, e.y, tl) || !nearest(e.x + 1, e.y, tr) || !nearest(e.x, e.y - 1, tu) ||
+        !nearest(e.x, e.y + 1, td)) {
+      continue;
+    }
+    const double gx = 0.5 * (tr - tl), gy = 0.5 * (td - tu);
+    const double g = std::hypot(gx, gy);
+    out.rel_error.push_back(std::abs(g - truth.lifetime_us) / truth.lifetime_us);
+    const double c = (gx * truth.nx + gy * truth.ny) / g;
+    out.dir_error_deg.push_back(std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi);
+  }
+  return out;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+SceneSpec clean(SceneSpec spec) {
+  spec.jitter_sigma_us = 0.0;
+  spec.noise_rate_hz_per_px = 0.0;
+  return spec;
+}
+
+TEST(SyntheticGroundTruth, GratingEventsAreTheBrightnessTransitions) {
+  SceneSpec spec;
+  spec.sensor = {64, 48};
+  spec.duration_us = 60'000;
+  evlife::io::GratingSpec g;
+  g.direction_deg = 217.0;
+  g.lifetime_us = 700.0;
+  g.period_px = 12.0;
+  g.bar_width_px = 5.0;
+  g.phase_px = 1.3;
+  spec.gratings = {g};
+  const SyntheticScene scene = evlife::io::generate_scene(clean(spec));
+  expect_events_are_transitions(
+      scene, [&](int x, int y, double t) { return grating_bright(g, x, y, t); }, 5, 1000);
+}
+
+TEST(SyntheticGroundTruth, RotatingBarEventsAreTheBrightnessTransitions) {
+  const SyntheticScene scene =
+      evlife::io::generate_scene(clean(evlife::io::rotating_bar_scene({60, 44}, 400'000, 3)));
+  expect_events_are_transitions(scene, BarBrightness(scene.spec.bars.at(0)), 3, 800);
+}
+
+TEST(SyntheticGroundTruth, LifetimeAndDirectionMatchTheEventTimeGradient) {
+  {  // straight edges: the time field is exactly planar
+    const auto check = gradient_check(evlife::io::generate_scene(clean(evlife::io::edges_scene({240, 180}, 300'000, 1))));
+    ASSERT_GT(check.rel_error.size(), 20000u);
+    EXPECT_LT(quantile(check.rel_error, 1.0), 1e-6);
+    EXPECT_LT(quantile(check.dir_error_deg, 1.0), 1e-3);
+  }
+  {  // rotating, accelerating bar: planar to first order away from the centre
+    const auto check = gradient_check(evlife::io::generate_scene(clean(evlife::io::rotating_bar_scene({240, 180}, 500'000, 1))));
+    ASSERT_GT(check.rel_error.size(), 20000u);
+    EXPECT_LT(quantile(check.rel_error, 0.5), 0.005);
+    EXPECT_LT(quantile(check.rel_error, 0.99), 0.03);
+    EXPECT_LT(quantile(check.dir_error_deg, 0.5), 0.5);
+    EXPECT_LT(quantile(check.dir_error_deg, 0.99), 2.0);
+  }
+}
+
+TEST(SyntheticGroundTruth, JitterNoiseOrderAndDeterminism) {
+  const SceneSpec spec = evlife::io::mixed_scene({128, 128}, 500'000, 42);
+  const SyntheticScene a = evlife::io::generate_scene(spec);
+  ASSERT_EQ(a.events.size(), a.truth.size());
+  ASSERT_GT(a.events.size(), 10000u);
+  // Time-ordered, inside the sensor, polarity +-1.
+  for (std::size_t i = 0; i < a.events.size(); ++i) {
+    if (i > 0) {
+      ASSERT_LE(a.events[i - 1].t_us, a.events[i].t_us) << i;
+    }
+    ASSERT_TRUE(spec.sensor.contains(a.events[i].x, a.events[i].y));
+    ASSERT_TRUE(a.events[i].p == 1 || a.events[i].p == -1);
+  }
+  // Jitter: Gaussian sigma 20 us, truncated at 4 sigma.
+  double sum2 = 0.0, max_abs = 0.0;
+  std::size_t edges = 0, noise = 0;
+  for (std::size_t i = 0; i < a.events.size(); ++i) {
+    if (a.truth[i].is_noise) {
+      ++noise;
+      continue;
+    }
+    const double d = static_cast<double>(a.events[i].t_us) - a.truth[i].t_true_us;
+    sum2 += d * d;
+    max_abs = std::max(max_abs, std::abs(d));
+    ++edges;
+  }
+  const double sigma = std::sqrt(sum2 / static_cast<double>(edges));
+  EXPECT_NEAR(sigma, 20.0, 1.0);
+  EXPECT_LE(max_abs, 80.5);
+  // Noise: 1 event per pixel per second.
+  const double expected_noise = 128.0 * 128.0 * 0.5;
+  EXPECT_NEAR(static_cast<double>(noise), expected_noise, 0.03 * expected_noise);
+  // Deterministic, seed-dependent, and streaming gives the same as in memory.
+  const SyntheticScene b = evlife::io::generate_scene(spec);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  EXPECT_EQ(0, std::memcmp(a.events.data(), b.events.data(), a.events.size() * sizeof(Event)));
+  SceneSpec other = spec;
+  other.seed = 43;
+  const SyntheticScene c = evlife::io::generate_scene(other);
+  EXPECT_TRUE(c.events.size() != a.events.size() ||
+              std::memcmp(a.events.data(), c.events.data(), a.events.size() * sizeof(Event)) != 0);
+  evlife::io::SyntheticSceneReader reader(spec);
+  std::vector<Event> streamed, buf(777);
+  while (const std::size_t n = reader.read(buf)) streamed.insert(streamed.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
+  ASSERT_EQ(streamed.size(), a.events.size());
+  EXPECT_EQ(0, std::memcmp(a.events.data(), streamed.data(), a.events.size() * sizeof(Event)));
+}
+
+// ---------------------------------------------------------------------------
+// The metric: an oracle scores perfectly, known perturbations score as such.
+// ---------------------------------------------------------------------------
+
+std::vector<AugmentedEvent> oracle(const SyntheticScene& scene, double lifetime_scale, double rotate_deg) {
+  std::vector<AugmentedEvent> out(scene.events.size());
+  const double c = std::cos(rotate_deg * kPi / 180.0), s = std::sin(rotate_deg * kPi / 180.0);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].event = scene.events[i];
+    const EventTruth& t = scene.truth[i];
+    if (t.is_noise) continue;
+    const double tau = t.lifetime_us * lifetime_scale;
+    const double nx = c * t.nx - s * t.ny, ny = s * t.nx + c * t.ny;
+    out[i].lifetime_us = static_cast<float>(tau);
+    out[i].vx_px_s = static_cast<float>(nx / tau * 1e6);
+    out[i].vy_px_s = static_cast<float>(ny / tau * 1e6);
+  }
+  return out;
+}
+
+TEST(AccuracyMetrics, OracleAndKnownPerturbations) {
+  const SyntheticScene scene = evlife::io::generate_scene(evlife::io::edges_scene({120, 90}, 300'000, 5));
+  {
+    const auto r = evlife::test::evaluate_accuracy(scene, oracle(scene, 1.0, 0.0));
+    EXPECT_GT(r.overall.edge_events, 10000u);
+    EXPECT_GT(r.overall.noise_events, 1000u);
+    EXPECT_EQ(r.overall.lifetime_share, 1.0);
+    EXPECT_LT(r.overall.p90_rel_error, 1e-6);
+    EXPECT_LT(r.overall.median_dir_error_deg, 0.05);
+    EXPECT_EQ(r.overall.noise_share, 1.0);
+  }
+  {
+    const auto r = evlife::test::evaluate_accuracy(scene, oracle(scene, 1.05, 10.0));
+    EXPECT_NEAR(r.overall.median_rel_error, 0.05, 1e-4);
+    EXPECT_NEAR(r.overall.median_signed_rel_error, 0.05, 1e-4);
+    EXPECT_NEAR(r.overall.median_dir_error_deg, 10.0, 0.05);
+  }
+  {  // everything labelled noise / everything given a lifetime
+    std::vector<AugmentedEvent> none = oracle(scene, 1.0, 0.0);
+    for (auto& a : none) a.lifetime_us = 0.0f;
+    EXPECT_EQ(evlife::test::evaluate_accuracy(scene, none).overall.lifetime_share, 0.0);
+    std::vector<AugmentedEvent> all = oracle(scene, 1.0, 0.0);
+    for (auto& a : all) a.lifetime_us = std::max(a.lifetime_us, 1000.0f);
+    EXPECT_EQ(evlife::test::evaluate_accuracy(scene, all).overall.noise_share, 0.0);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The estimator against the issue's floors, default options.
+// ---------------------------------------------------------------------------
+
+evlife::test::AccuracyReport run_estimator(const SyntheticScene& scene, evlife::LifetimeOptions options) {
+  options.sensor = scene.spec.sensor;
+  evlife::LifetimeEstimator estimator(options);
+  std::vector<AugmentedEvent> out(scene.events.size());
+  EXPECT_EQ(estimator.process(scene.events, out), out.size());
+  evlife::test::AccuracyOptions metric;
+  metric.window_size = options.window_size;
+  return evlife::test::evaluate_accuracy(scene, out, metric);
+}
+
+void expect_floors(const std::string& title, const SceneSpec& spec) {
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const auto report = run_estimator(scene, evlife::LifetimeOptions{});  // defaults but the sensor
+  std::cout << evlife::test::format_accuracy_table(
+      title + " (" + std::to_string(scene.events.size()) + " events)", report);
+
+  const auto& o = report.overall;
+  ASSERT_GT(o.edge_events, 20000u);
+  ASSERT_GT(o.noise_events, 1000u);
+  EXPECT_GE(o.lifetime_share, 0.95) << title;
+  EXPECT_LE(o.median_rel_error, 0.02) << title;
+  EXPECT_LE(o.p90_rel_error, 0.10) << title;
+  EXPECT_LE(o.median_dir_error_deg, 3.0) << title;
+  EXPECT_GE(o.noise_share, 0.97) << title;
+}
+
+TEST(LifetimeAccuracy, EdgesDavis240) {
+  expect_floors("edges 240x180, 0.8 s", evlife::io::edges_scene({240, 180}, 800'000, 1));
+}
+
+TEST(LifetimeAccuracy, EdgesDavis346) {
+  expect_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 2, 4));
+}
+
+TEST(LifetimeAccuracy, RotatingBarDavis240) {
+  expect_floors("rotating bar 240x180, 150->1200 deg/s in 1 s",
+                evlife::io::rotating_bar_scene({240, 180}, 1'000'000, 3));
+}
+
+TEST(LifetimeAccuracy, RotatingBarDavis346) {
+  expect_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
+                evlife::io::rotating_bar_scene({346, 260}, 600'000, 4));
+}
+
+TEST(LifetimeAccuracy, MixedDvs128) {
+  expect_floors("mixed 128x128, 2 s", evlife::io::mixed_scene({128, 128}, 2'000'000, 5));
+}
+
+// Beyond the floors: where does the estimator stop working? Not a pass/fail
+// test; run with --gtest_also_run_disabled_tests --gtest_filter=*Sweep* to
+// print one row per condition (faster edges, more noise, more jitter, dense
+// patterns).
+TEST(LifetimeAccuracy, DISABLED_StressSweep) {
+  auto grating = [](double dir, double tau, double period, double width) {
+    evlife::io::GratingSpec g;
+    g.direction_deg = dir;
+    g.lifetime_us = tau;
+    g.period_px = period;
+    g.bar_width_px = width;
+    return g;
+  };
+  struct Case {
+    std::string name;
+    SceneSpec spec;
+  };
+  std::vector<Case> cases;
+  for (double tau : {50.0, 100.0, 150.0, 200.0, 300.0, 30000.0, 50000.0}) {
+    SceneSpec s;
+    s.sensor = {120, 90};
+    s.gratings = {grating(37.0, tau, tau < 1000 ? 30.0 : 8.0, tau < 1000 ? 15.0 : 4.0)};
+    s.duration_us = std::max<std::int64_t>(200'000, static_cast<std::int64_t>(8 * s.gratings[0].period_px * tau));
+    cases.push_back({"grating 37 deg, lifetime " + std::to_string(static_cast<int>(tau)) + " us", s});
+  }
+  for (double rate : {3.0, 10.0, 30.0}) {
+    SceneSpec s = evlife::io::edges_scene({240, 180}, 600'000, 9);
+    s.noise_rate_hz_per_px = rate;
+    cases.push_back({"edges, noise " + std::to_string(static_cast<int>(rate)) + " Hz/px", s});
+  }
+  for (double jitter : {50.0, 100.0}) {
+    SceneSpec s = evlife::io::edges_scene({240, 180}, 600'000, 9);
+    s.jitter_sigma_us = jitter;
+    cases.push_back({"edges, jitter " + std::to_string(static_cast<int>(jitter)) + " us", s});
+  }
+  for (double period : {6.0, 8.0}) {
+    SceneSpec s;
+    s.sensor = {120, 90};
+    s.gratings = {grating(121.0, 2000.0, period, 2.0)};
+    s.duration_us = 400'000;
+    cases.push_back({"dense grating, period " + std::to_string(static_cast<int>(period)) + " px", s});
+  }
+  {
+    SceneSpec s = evlife::io::rotating_bar_scene({240, 180}, 300'000, 9);
+    s.bars[0].omega_start_deg_s = 1200.0;
+    s.bars[0].omega_end_deg_s = 3000.0;
+    cases.push_back({"bar 1200->3000 deg/s in 0.3 s", s});
+  }
+  std::printf("%-36s %8s %7s %8s %8s %8s %7s %8s\n", "condition", "edges", "w/ tau%", "med rel%",
+              "p90 rel%", "bias%", "med dir", "noise%");
+  for (const auto& c : cases) {
+    const SyntheticScene scene = evlife::io::generate_scene(c.spec);
+    const auto o = run_estimator(scene, evlife::LifetimeOptions{}).overall;
+    std::printf("%-36s %8zu %7.2f %8.2f %8.2f %+8.2f %7.2f %8.2f\n", c.name.c_str(), o.edge_events,
+                100.0 * o.lifetime_share, 100.0 * o.median_rel_error, 100.0 * o.p90_rel_error,
+                100.0 * o.median_signed_rel_error, o.median_dir_error_deg, 100.0 * o.noise_share);
+  }
+}
+
+}  // namespace

@@ -1,0 +1,414 @@
+// Rendering of active events, checked against synthetic augmented events whose
+// lifetimes are exact by construction (a straight edge at speed s needs 1/s to
+// move one pixel). No estimator involved: this tests render/ alone.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "evlife/render/active_event_set.h"
+#include "evlife/render/augmented_source.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_painter.h"
+#include "evlife/render/lifetime_colormap.h"
+#include "evlife/render/render_cursor.h"
+#include "evlife/render/sharpness.h"
+
+namespace {
+
+using evlife::AugmentedEvent;
+using evlife::Event;
+using evlife::SensorSize;
+using evlife::render::ActiveEventSet;
+using evlife::render::FixedWindowMap;
+
+constexpr SensorSize kSensor{128, 96};
+constexpr std::int64_t kT0 = 1'000'000;  // not zero: time origin must not matter
+
+// A vertical edge moving in +x; column x fires (every row) when the edge
+// reaches it. `lifetime_us(x)` gives what the "estimator" assigned.
+template <class Lifetime>
+std::vector<AugmentedEvent> moving_edge(const std::vector<std::int64_t>& column_t_us, Lifetime lifetime_us,
+                                        float vx_px_s) {
+  std::vector<AugmentedEvent> out;
+  for (int x = 0; x < static_cast<int>(column_t_us.size()); ++x)
+    for (int y = 0; y < kSensor.height; ++y) {
+      AugmentedEvent a;
+      a.event = Event{column_t_us[static_cast<std::size_t>(x)], static_cast<std::uint16_t>(x),
+                      static_cast<std::uint16_t>(y), 1};
+      a.lifetime_us = lifetime_us(x);
+      a.vx_px_s = vx_px_s;
+      a.vy_px_s = 0.0f;
+      out.push_back(a);
+    }
+  return out;
+}
+
+std::vector<std::int64_t> constant_speed_times(double speed_px_s) {
+  std::vector<std::int64_t> t(static_cast<std::size_t>(kSensor.width));
+  for (int x = 0; x < kSensor.width; ++x)
+    t[static_cast<std::size_t>(x)] = kT0 + std::llround(x * 1e6 / speed_px_s);
+  return t;
+}
+
+// Feeds events with t <= t_us (they are sorted) starting at `next`.
+template <class Sink>
+void feed_until(const std::vector<AugmentedEvent>& events, std::size_t& next, std::int64_t t_us, Sink& sink) {
+  while (next < events.size() && events[next].event.t_us <= t_us) sink.feed(events[next++]);
+}
+
+// Active columns of one row, as a list.
+std::vector<int> active_columns(const ActiveEventSet& set, int y, std::int64_t t_us) {
+  std::vector<int> cols;
+  for (int x = 0; x < kSensor.width; ++x)
+    if (set.is_active(x, y, t_us)) cols.push_back(x);
+  return cols;
+}
+
+TEST(ActiveEventSet, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {
+  for (const double speed : {40.0, 230.0, 1000.0, 4700.0, 25000.0}) {
+    for (const bool thinning : {true, false}) {
+      SCOPED_TRACE("speed " + std::to_string(speed) + " px/s, thinning " + std::to_string(thinning));
+      const auto times = constant_speed_times(speed);
+      const float lifetime = static_cast<float>(1e6 / speed);
+      const auto events = moving_edge(times, [&](int) { return lifetime; }, static_cast<float>(speed));
+      ActiveEventSet set(kSensor, thinning);
+      std::size_t next = 0;
+      // Instants that are no multiple of any frame period, across the whole sweep.
+      const double duration_us = (kSensor.width - 1) * 1e6 / speed;
+      for (const double frac : {0.013, 0.137, 0.2718, 0.5, 0.61803, 0.9})
+      {
+        const std::int64_t t = kT0 + std::llround(frac * duration_us) + 7;
+        feed_until(events, next, t, set);
+        const double edge_x = (static_cast<double>(t - kT0)) * speed / 1e6;  // true position
+        for (int y : {0, 17, kSensor.height - 1}) {
+          const auto cols = active_columns(set, y, t);
+          ASSERT_GE(cols.size(), 1u) << "t=" << t;
+          ASSERT_LE(cols.size(), 2u) << "t=" << t;
+          for (int c : cols) EXPECT_NEAR(c, edge_x, 1.0) << "t=" << t;
+        }
+      }
+    }
+  }
+}
+
+TEST(FixedWindowMap, EdgeIsSpeedTimesWindowThick) {
+  for (const double speed : {40.0, 230.0, 1000.0, 3000.0}) {
+    for (const std::int64_t window_us : {std::int64_t{1000}, std::int64_t{30000}}) {
+      const double expected = speed * static_cast<double>(window_us) / 1e6;  // pixels crossed
+      if (expected > kSensor.width / 2) continue;
+      SCOPED_TRACE("speed " + std::to_string(speed) + " window " + std::to_string(window_us));
+      const auto times = constant_speed_times(speed);
+      const auto events = moving_edge(times, [&](int) { return static_cast<float>(1e6 / speed); },
+                                      static_cast<float>(speed));
+      FixedWindowMap map(kSensor);
+      std::size_t next = 0;
+      const std::int64_t t = kT0 + std::llround((kSensor.width * 0.75) * 1e6 / speed) + 123;
+      feed_until(events, next, t, map);
+      int thickness = 0;
+      for (int x = 0; x < kSensor.width; ++x)
+        thickness += map.is_active(static_cast<std::size_t>(5 * kSensor.width + x), t, window_us) ? 1 : 0;
+      // Columns whose firing time lies in [t - window, t]: speed*window, +-1 for rounding.
+      EXPECT_NEAR(thickness, expected, 1.0);
+      if (expected > 3) {
+        EXPECT_GT(thickness, 2);
+      }
+    }
+  }
+}
+
+// The "estimator" keeps the lifetime of the initial speed while the edge
+// accelerates tenfold: lifetimes are overestimated, as in paper III-B.3.
+struct AcceleratingEdge {
+  std::vector<std::int64_t> times;
+  std::vector<AugmentedEvent> events;
+};
+AcceleratingEdge accelerating_edge() {
+  const double v0 = 200.0, a = 20000.0;  // px/s, px/s^2
+  AcceleratingEdge e;
+  for (int x = 0; x < kSensor.width; ++x) {
+    const double t_s = (-v0 + std::sqrt(v0 * v0 + 2 * a * x)) / a;  // x = v0 t + a t^2 / 2
+    e.times.push_back(kT0 + std::llround(t_s * 1e6));
+  }
+  e.events = moving_edge(e.times, [&](int) { return static_cast<float>(1e6 / v0); },
+                         static_cast<float>(v0));
+  return e;
+}
+
+TEST(ActiveEventSet, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
+  const auto edge = accelerating_edge();
+  const std::int64_t t = edge.times[100] + 10;  // speed there ~ 2000 px/s, 10x the estimate
+  auto thickness = [&](bool thinning) {
+    ActiveEventSet set(kSensor, thinning);
+    std::size_t next = 0;
+    feed_until(edge.events, next, t, set);
+    return active_columns(set, 40, t);
+  };
+  const auto thin = thickness(true);
+  const auto thick = thickness(false);
+  ASSERT_GE(thin.size(), 1u);
+  EXPECT_LE(thin.size(), 2u);
+  EXPECT_EQ(thin.back(), 100);  // the edge, not its trail
+  EXPECT_GE(thick.size(), 5u) << "without thinning the overestimated lifetimes must smear";
+}
+
+TEST(ActiveEventSet, EdgeThinningOnlyExpiresTheSamePolarityBehindTheEdge) {
+  ActiveEventSet set(kSensor, true);
+  auto ev = [](std::int64_t t, int x, int y, int p, float vx, float vy) {
+    AugmentedEvent a;
+    a.event = Event{t, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), static_cast<std::int8_t>(p)};
+    a.lifetime_us = 10000.0f;
+    a.vx_px_s = vx;
+    a.vy_px_s = vy;
+    return a;
+  };
+  set.feed(ev(100, 10, 10, 1, 0, 0));    // behind, same polarity
+  set.feed(ev(100, 20, 20, -1, 0, 0));   // behind, other polarity
+  set.feed(ev(100, 31, 30, 1, 0, 0));    // ahead: must stay
+  set.feed(ev(200, 11, 11, 1, 500, 500));   // moving down-right: behind = (10, 10)
+  set.feed(ev(200, 21, 20, 1, 500, 0));     // moving right: behind = (20, 20), other polarity
+  set.feed(ev(200, 30, 30, 1, 500, 0));     // moving right: behind = (29, 30), nothing there
+  EXPECT_FALSE(set.is_active(10, 10, 300));
+  EXPECT_TRUE(set.is_active(20, 20, 300));
+  EXPECT_TRUE(set.is_active(31, 30, 300));
+  EXPECT_TRUE(set.is_active(11, 11, 300));
+  EXPECT_EQ(set.stats().thinned, 1u);
+}
+
+TEST(ActiveEventSet, NoiseIsNeverDrawn) {
+  const auto times = constant_speed_times(500.0);
+  auto events = moving_edge(times, [](int) { return 2000.0f; }, 500.0f);
+  std::mt19937 rng(7);
+  std::vector<AugmentedEvent> noise;
+  for (int i = 0; i < 3000; ++i) {
+    AugmentedEvent a;
+    a.event = Event{kT0 + static_cast<std::int64_t>(rng() % 250000), static_cast<std::uint16_t>(rng() % 128),
+                    static_cast<std::uint16_t>(rng() % 96), static_cast<std::int8_t>(rng() % 2 ? 1 : -1)};
+    a.lifetime_us = 0.0f;  // the estimator's verdict: noise
+    noise.push_back(a);
+  }
+  // Noise alone: nothing is ever active, nothing painted.
+  ActiveEventSet set(kSensor);
+  std::sort(noise.begin(), noise.end(), [](auto& a, auto& b) { return a.event.t_us < b.event.t_us; });
+  std::size_t next = 0;
+  cv::Mat img;
+  const evlife::render::LifetimeColormap cmap;
+  for (std::int64_t t = kT0; t < kT0 + 260000; t += 9973) {
+    feed_until(noise, next, t, set);
+    EXPECT_EQ(set.count_active(t), 0u);
+    evlife::render::paint_active(set, t, evlife::render::ColorMode::plain, cmap, img);
+    EXPECT_EQ(cv::countNonZero(img.reshape(1)), 0);
+  }
+  EXPECT_EQ(set.stats().noise, noise.size());
+  // Mixed with an edge: every active pixel is on the edge's column.
+  events.insert(events.end(), noise.begin(), noise.end());
+  std::stable_sort(events.begin(), events.end(), [](auto& a, auto& b) { return a.event.t_us < b.event.t_us; });
+  ActiveEventSet mixed(kSensor);
+  next = 0;
+  for (std::int64_t t = kT0 + 1001; t < kT0 + 250000; t += 12347) {
+    feed_until(events, next, t, mixed);
+    const double edge_x = static_cast<double>(t - kT0) * 500.0 / 1e6;
+    for (int y = 0; y < kSensor.height; ++y)
+      for (int c : active_columns(mixed, y, t)) ASSERT_NEAR(c, edge_x, 1.0) << "t=" << t << " y=" << y;
+  }
+}
+
+TEST(ActiveEventSet, OutOfSensorEventsAreCountedNotStored) {
+  ActiveEventSet set(kSensor);
+  AugmentedEvent a;
+  a.event = Event{10, 500, 3, 1};
+  a.lifetime_us = 100.0f;
+  set.feed(a);
+  EXPECT_EQ(set.stats().out_of_sensor, 1u);
+  EXPECT_EQ(set.count_active(10), 0u);
+  EXPECT_THROW(ActiveEventSet(SensorSize{0, 10}), std::invalid_argument);
+}
+
+// Reference built independently from the event list: pixel active at t when
+// its latest event e (e.t <= t, not noise) has t < e.t + lifetime.
+TEST(ActiveEventSet, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReference) {
+  std::mt19937 rng(42);
+  std::vector<AugmentedEvent> events;
+  std::int64_t t = kT0;
+  for (int i = 0; i < 20000; ++i) {
+    t += rng() % 40;
+    AugmentedEvent a;
+    a.event = Event{t, static_cast<std::uint16_t>(rng() % 128), static_cast<std::uint16_t>(rng() % 96), 1};
+    a.lifetime_us = (rng() % 5 == 0) ? 0.0f : static_cast<float>(50 + rng() % 20000) + 0.25f;
+    events.push_back(a);
+  }
+  ActiveEventSet set(kSensor, /*edge_thinning=*/false);
+  std::size_t next = 0;
+  std::int64_t sample_t = kT0;
+  for (int k = 0; k < 40; ++k) {
+    sample_t += 1 + static_cast<std::int64_t>(rng() % 30000);  // irregular, not frame multiples
+    feed_until(events, next, sample_t, set);
+    std::vector<std::int64_t> latest_t(kSensor.pixel_count(), INT64_MIN);
+    std::vector<double> latest_l(kSensor.pixel_count(), 0.0);
+    for (const auto& a : events) {
+      if (a.event.t_us > sample_t || a.lifetime_us <= 0.0f) continue;
+      const std::size_t i = a.event.y * 128u + a.event.x;
+      latest_t[i] = a.event.t_us;
+      latest_l[i] = a.lifetime_us;
+    }
+    std::size_t expected_active = 0;
+    for (std::size_t i = 0; i < latest_t.size(); ++i) {
+      const bool active = latest_t[i] != INT64_MIN &&
+                          static_cast<double>(sample_t - latest_t[i]) < latest_l[i];
+      expected_active += active ? 1 : 0;
+      ASSERT_EQ(set.is_active(i, sample_t), active) << "pixel " << i << " t " << sample_t;
+    }
+    EXPECT_EQ(set.count_active(sample_t), expected_active);
+  }
+}
+
+// Time is kept relative to a moving epoch in 32 bits: hours of recording
+// must behave like seconds.
+TEST(ActiveEventSet, HoursLongRecordingsKeepExactTiming) {
+  ActiveEventSet set(kSensor);
+  FixedWindowMap map(kSensor);
+  const std::int64_t start = 5'000'000'000;  // 83 min after the sensor's zero
+  for (std::int64_t k = 0; k < 800; ++k) {   // one event every 10 s for 2.2 h
+    AugmentedEvent a;
+    a.event = Event{start + k * 10'000'000, 3, 4, 1};
+    a.lifetime_us = 5'000'000.0f;
+    set.feed(a);
+    map.feed(a);
+    const std::int64_t t = a.event.t_us;
+    ASSERT_TRUE(set.is_active(3, 4, t + 4'999'999)) << k;
+    ASSERT_FALSE(set.is_active(3, 4, t + 5'000'000)) << k;
+    ASSERT_TRUE(map.is_active(4 * 128 + 3, t + 30'000, 30'000)) << k;
+    ASSERT_FALSE(map.is_active(4 * 128 + 3, t + 30'001, 30'000)) << k;
+    ASSERT_EQ(set.count_active(t + 1), 1u);
+  }
+}
+
+// An in-memory source for the cursor.
+class VectorSource final : public evlife::render::AugmentedSource {
+ public:
+  explicit VectorSource(std::vector<AugmentedEvent> events) : events_(std::move(events)) {}
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    const std::size_t n = std::min(out.size(), events_.size() - next_);
+    std::copy_n(events_.begin() + static_cast<std::ptrdiff_t>(next_), n, out.begin());
+    next_ += n;
+    return n;
+  }
+  SensorSize sensor() const override { return kSensor; }
+  std::string description() const override { return "vector"; }
+  const evlife::LifetimeStats* estimator_stats() const override { return nullptr; }
+
+ private:
+  std::vector<AugmentedEvent> events_;
+  std::size_t next_ = 0;
+};
+
+TEST(RenderCursor, AdvancingFeedsExactlyTheEventsUpToEachTime) {
+  const auto events = moving_edge(constant_speed_times(300.0), [](int) { return 3333.3f; }, 300.0f);
+  VectorSource source(events);
+  ActiveEventSet set(kSensor);
+  FixedWindowMap window(kSensor);
+  evlife::render::RenderCursor cursor(source, set, &window, /*buffer_events=*/100);
+  ASSERT_EQ(cursor.first_t_us(), kT0);
+  std::int64_t t = kT0;
+  for (int k = 0; k < 30; ++k) {
+    t += 13001;
+    cursor.advance_to(t);
+    const auto fed = static_cast<std::size_t>(std::count_if(
+        events.begin(), events.end(), [&](const AugmentedEvent& a) { return a.event.t_us <= t; }));
+    ASSERT_EQ(cursor.events_fed(), fed);
+  }
+  EXPECT_THROW(cursor.advance_to(t - 1), std::invalid_argument);
+  cursor.advance_to(INT64_MAX);
+  EXPECT_TRUE(cursor.exhausted());
+  EXPECT_EQ(cursor.events_fed(), events.size());
+}
+
+TEST(Painter, LongLifetimesRedShortBlueAndUpscaledFrameSize) {
+  ActiveEventSet set(kSensor);
+  auto ev = [](int x, float lifetime) {
+    AugmentedEvent a;
+    a.event = Event{100, static_cast<std::uint16_t>(x), 5, 1};
+    a.lifetime_us = lifetime;
+    return a;
+  };
+  set.feed(ev(3, 400.0f));    // short
+  set.feed(ev(9, 25000.0f));  // long
+  const evlife::render::LifetimeColormap cmap(300.0, 30000.0);
+  cv::Mat img;
+  evlife::render::paint_active(set, 200, evlife::render::ColorMode::lifetime, cmap, img);
+  const cv::Vec3b shortc = img.at<cv::Vec3b>(5, 3), longc = img.at<cv::Vec3b>(5, 9);  // BGR
+  EXPECT_GT(shortc[0], shortc[2]);
+  EXPECT_GT(longc[2], longc[0]);
+  EXPECT_EQ(img.at<cv::Vec3b>(0, 0), evlife::render::kBackground);
+
+  evlife::render::FrameStyle style;
+  style.scale = 4;
+  evlife::render::FrameComposer composer(evlife::render::parse_view_mode("compare"), style, "compare");
+  FixedWindowMap window(kSensor);
+  const cv::Mat& frame = composer.compose(set, window, 200);
+  EXPECT_EQ(frame.size(), composer.frame_size(kSensor));
+  EXPECT_GE(frame.cols, 3 * 4 * kSensor.width);
+  EXPECT_GE(frame.rows, 4 * kSensor.height);
+  // The short event, upscaled x4, sits in the third panel.
+  const int x_panel = 2 * (4 * kSensor.width + 4);
+  int label_h = frame.rows - 4 * kSensor.height - 24;
+  const cv::Vec3b up = frame.at<cv::Vec3b>(label_h + 5 * 4 + 2, x_panel + 3 * 4 + 1);
+  EXPECT_EQ(up, shortc);
+}
+
+TEST(LifetimeColormap, FastBinAgreesWithTheExactLogScale) {
+  const evlife::render::LifetimeColormap cmap(250.0, 40000.0);
+  EXPECT_EQ(cmap.bin(250.0f), 0);
+  EXPECT_EQ(cmap.bin(40000.0f), 255);
+  EXPECT_EQ(cmap.bin(100.0f), 0);
+  EXPECT_EQ(cmap.bin(1e6f), 255);
+  EXPECT_EQ(cmap.fast_bin(0.0f), 0);
+  EXPECT_EQ(cmap.fast_bin(1e9f), 255);
+  // Geometric middle of the range: the middle of the scale.
+  EXPECT_NEAR(cmap.bin(static_cast<float>(std::sqrt(250.0 * 40000.0))), 128, 1);
+  for (float l = 1.0f; l < 1e6f; l *= 1.0137f) {
+    ASSERT_NEAR(cmap.fast_bin(l), cmap.bin(l), 1) << l;
+  }
+}
+
+TEST(Parsing, DurationsAndModes) {
+  using evlife::render::parse_duration_us;
+  EXPECT_EQ(parse_duration_us("30ms"), 30000);
+  EXPECT_EQ(parse_duration_us("250us"), 250);
+  EXPECT_EQ(parse_duration_us("0.25s"), 250000);
+  EXPECT_EQ(parse_duration_us("1.5"), 1500000);
+  EXPECT_THROW(parse_duration_us("3 ms"), std::invalid_argument);
+  EXPECT_THROW(parse_duration_us("-1ms"), std::invalid_argument);
+  EXPECT_THROW(parse_duration_us("ms"), std::invalid_argument);
+  const auto compare = evlife::render::parse_view_mode("compare");
+  ASSERT_EQ(compare.size(), 3u);
+  EXPECT_EQ(compare[0].window_us, 1000);
+  EXPECT_EQ(compare[1].window_us, 30000);
+  EXPECT_TRUE(compare[2].lifetime);
+  EXPECT_EQ(evlife::render::parse_view_mode("window:5ms").at(0).window_us, 5000);
+  EXPECT_THROW(evlife::render::parse_view_mode("window:"), std::invalid_argument);
+  EXPECT_THROW(evlife::render::parse_view_mode("blur"), std::invalid_argument);
+}
+
+TEST(Sharpness, ThinLinesCountThickBandsAndDotsDoNot) {
+  cv::Mat mask(64, 64, CV_8UC1, cv::Scalar(0));
+  mask.col(10).setTo(255);                             // 1 px line, 64 px long
+  mask(cv::Rect(30, 0, 12, 64)).setTo(255);            // 12 px band
+  mask.at<std::uint8_t>(5, 55) = 255;                  // isolated dot
+  const auto s = evlife::render::measure_sharpness(mask);
+  EXPECT_EQ(s.active_pixels, 64u + 12u * 64u + 1u);
+  EXPECT_EQ(s.thin_edge_pixels, 64u);
+  EXPECT_EQ(s.edge_pixels, 64u + 12u * 64u);
+  EXPECT_NEAR(s.thin_edge_share(), 64.0 / (64 + 768 + 1), 1e-9);
+  cv::Mat diag(32, 32, CV_8UC1, cv::Scalar(0));
+  for (int i = 0; i < 32; ++i) diag.at<std::uint8_t>(i, i) = 255;
+  EXPECT_DOUBLE_EQ(evlife::render::measure_sharpness(diag).thin_edge_share(), 1.0);
+}
+
+}  // namespace
