@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -172,6 +174,43 @@ TEST_F(CliTest, OneRowPerInputEventInInputOrder) {
   EXPECT_NE(r.output.find("50000"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("labelled noise"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("p50"), std::string::npos) << r.output;
+}
+
+// "p50 6.53 ms" in the summary -> microseconds.
+double summary_value_us(const std::string& output, const std::string& label) {
+  const auto at = output.find(label + " ");
+  if (at == std::string::npos) return -1;
+  std::size_t used = 0;
+  const std::string rest = output.substr(at + label.size() + 1);
+  const double v = std::stod(rest, &used);
+  const std::string unit = rest.substr(used + 1, 2);
+  if (unit == "ms") return v * 1e3;
+  return unit == "µ" ? v : v * 1e6;  // "µs" or "s"
+}
+
+TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
+  const fs::path out = path("slider.csv");
+  const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<double> lifetimes;
+  std::size_t noise = 0;
+  const auto rows = csv_rows(out);
+  for (const auto& row : rows) {
+    const double lifetime = std::stod(split(row, ',').at(4));
+    if (lifetime > 0) lifetimes.push_back(lifetime); else ++noise;
+  }
+  ASSERT_GT(lifetimes.size(), 100u);
+  std::sort(lifetimes.begin(), lifetimes.end());
+  for (const auto& [label, q] : {std::pair{"p10", 0.10}, {"p50", 0.50}, {"p90", 0.90}}) {
+    const double expected = lifetimes[static_cast<std::size_t>(std::ceil(q * lifetimes.size())) - 1];
+    const double reported = summary_value_us(r.output, label);
+    // One log bin (1/100 decade, 2.3 %) plus the 3 significant digits printed.
+    EXPECT_NEAR(reported, expected, 0.03 * expected) << label << "\n" << r.output;
+  }
+  char share[32];
+  std::snprintf(share, sizeof share, "%.1f %%", 100.0 * static_cast<double>(noise) / rows.size());
+  EXPECT_NE(r.output.find(std::string("labelled noise      ") + share), std::string::npos)
+      << share << "\n" << r.output;
 }
 
 TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {

@@ -4,7 +4,11 @@
 // counting; stages are also driven without threads (Pipeline::step_all).
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -485,3 +489,122 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   EXPECT_TRUE(o.auto_policy);
   EXPECT_EQ(c.stats_period_s, o.stats_period_s);
 }
+
+// ---- Render thread ---------------------------------------------------------------
+
+#include "evlife/engine/render_stage.h"
+
+namespace {
+// Records each frame's timestamp and a checksum of its pixels.
+class RecordingFrameSink final : public ee::FrameSink {
+ public:
+  void write(const cv::Mat& frame, std::int64_t t_us) override {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the pixels
+    for (int r = 0; r < frame.rows; ++r) {
+      const auto* p = frame.ptr<std::uint8_t>(r);
+      for (std::size_t i = 0; i < frame.cols * frame.elemSize(); ++i) h = (h ^ p[i]) * 1099511628211ull;
+    }
+    times.push_back(t_us);
+    hashes.push_back(h);
+  }
+  std::vector<std::int64_t> times;
+  std::vector<std::uint64_t> hashes;
+};
+
+struct RenderRun {
+  RecordingFrameSink frames;
+  ee::RunResult result;
+};
+
+void render_run(const std::vector<Event>& events, bool threaded, RenderRun& run,
+                std::int64_t request_t_us = INT64_MIN) {
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.render_batches = 4;
+  ee::RenderOptions ro;
+  ro.fps = 100;  // every 10 ms of event time
+  ro.style.scale = 1;
+  if (threaded) {
+    ee::Engine engine(source, nullptr, options);
+    ee::RenderStage stage(*engine.pipeline().state().render_tap, kDvs128, ro, run.frames);
+    if (request_t_us != INT64_MIN) stage.request_frame(request_t_us);
+    engine.pipeline().attach(stage);
+    run.result = engine.run();
+  } else {
+    ee::Pipeline pipeline(source, nullptr, options);
+    ee::RenderStage stage(*pipeline.state().render_tap, kDvs128, ro, run.frames);
+    if (request_t_us != INT64_MIN) stage.request_frame(request_t_us);
+    pipeline.attach(stage);
+    pipeline.run_inline();
+    run.result.stats = pipeline.stats();
+  }
+}
+}  // namespace
+
+TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
+  const auto events = stripes(20'000);
+  const std::int64_t t0 = events.front().t_us, t_last = events.back().t_us;
+  RenderRun inline_run, threaded_run;
+  render_run(events, false, inline_run);
+  render_run(events, true, threaded_run, t0 + 12'345);
+  // A frame every 10 ms of event time after the first event, while events follow.
+  std::vector<std::int64_t> expect;
+  for (std::int64_t t = t0 + 10'000; t < t_last; t += 10'000) expect.push_back(t);
+  ASSERT_FALSE(expect.empty());
+  EXPECT_EQ(inline_run.frames.times, expect);
+  // Threaded: the same frames (policy block: the render branch misses
+  // nothing), plus the requested one in its place.
+  std::vector<std::int64_t> with_request = expect;
+  with_request.insert(std::upper_bound(with_request.begin(), with_request.end(), t0 + 12'345), t0 + 12'345);
+  EXPECT_EQ(threaded_run.frames.times, with_request);
+  std::vector<std::uint64_t> hashes_without_request = threaded_run.frames.hashes;
+  hashes_without_request.erase(hashes_without_request.begin() + 1);  // the request came second
+  EXPECT_EQ(hashes_without_request, inline_run.frames.hashes);
+  EXPECT_EQ(threaded_run.result.stats.render_offered, events.size());
+  EXPECT_EQ(threaded_run.result.stats.render_dropped, 0u);
+  // Frames are not all alike (they show the motion).
+  EXPECT_NE(inline_run.frames.hashes.front(), inline_run.frames.hashes.back());
+}
+
+// ---- The command line --------------------------------------------------------
+
+#ifdef EVLIFE_CLI_PATH
+#include <cstdio>
+
+namespace {
+int run_cli(const std::string& args) {
+  const int rc = std::system((std::string(EVLIFE_CLI_PATH) + " " + args + " >/dev/null 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+std::string slurp(const std::string& path) {
+  std::string data;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    char buf[1 << 16];
+    while (const std::size_t n = std::fread(buf, 1, sizeof buf, f)) data.append(buf, n);
+    std::fclose(f);
+  }
+  return data;
+}
+}  // namespace
+
+TEST(RunCommand, WritesTheSameFileAsProcessWithOneTilePerPolarity) {
+  const auto dir = std::filesystem::temp_directory_path() / "evlife_test_engine_cli";
+  std::filesystem::create_directories(dir);
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
+  const std::string a = (dir / "run.bin").string(), b = (dir / "process.bin").string();
+  ASSERT_EQ(run_cli("run --source file:" + in + " --workers 2 -q -o " + a), 0);
+  ASSERT_EQ(run_cli("process " + in + " -q -o " + b), 0);
+  const std::string ra = slurp(a), rb = slurp(b);
+  EXPECT_GT(ra.size(), 202'235u * 32u);
+  EXPECT_TRUE(ra == rb) << "evlife run and evlife process outputs differ";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RunCommand, ExitStatusNamesTheFault) {
+  EXPECT_EQ(run_cli("run --source file:/nonexistent/x.mat -q"), 3);
+  EXPECT_EQ(run_cli("run -q"), 2);
+  EXPECT_EQ(run_cli("run --source x.mat --workers 0 -q"), 2);
+  EXPECT_EQ(run_cli("run --source x.mat --tiles 2 -q"), 2);
+  EXPECT_EQ(run_cli("run --help"), 0);
+}
+#endif

@@ -68,7 +68,10 @@ ReadAll read_all(const std::string& path, const evlife::io::ReaderOptions& optio
 
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  return {s.begin(), s.end()};
 }
 
 bool same(const Event& a, const Event& b) {

@@ -212,10 +212,12 @@ TEST(SyntheticGroundTruth, LifetimeAndDirectionMatchTheEventTimeGradient) {
   {  // rotating, accelerating bar: planar to first order away from the centre
     const auto check = gradient_check(evlife::io::generate_scene(clean(evlife::io::rotating_bar_scene({240, 180}, 500'000, 1))));
     ASSERT_GT(check.rel_error.size(), 20000u);
-    EXPECT_LT(quantile(check.rel_error, 0.5), 0.005);
-    EXPECT_LT(quantile(check.rel_error, 0.99), 0.03);
-    EXPECT_LT(quantile(check.dir_error_deg, 0.5), 0.5);
-    EXPECT_LT(quantile(check.dir_error_deg, 0.99), 2.0);
+    // (Observed: p99 0.1 % and 0.05 deg. Using r instead of the arm length
+    // sqrt(r^2 - (w/2)^2) would be off by > 0.5 % for r < 35 px: caught.)
+    EXPECT_LT(quantile(check.rel_error, 0.5), 0.0005);
+    EXPECT_LT(quantile(check.rel_error, 0.99), 0.005);
+    EXPECT_LT(quantile(check.dir_error_deg, 0.5), 0.05);
+    EXPECT_LT(quantile(check.dir_error_deg, 0.99), 0.5);
   }
 }
 
@@ -388,7 +390,7 @@ TEST(LifetimeAccuracy, DISABLED_StressSweep) {
     SceneSpec s;
     s.sensor = {120, 90};
     s.gratings = {grating(37.0, tau, tau < 1000 ? 30.0 : 8.0, tau < 1000 ? 15.0 : 4.0)};
-    s.duration_us = std::max<std::int64_t>(200'000, static_cast<std::int64_t>(8 * s.gratings[0].period_px * tau));
+    s.duration_us = std::max<std::int64_t>(60'000, static_cast<std::int64_t>(8 * s.gratings[0].period_px * tau));
     cases.push_back({"grating 37 deg, lifetime " + std::to_string(static_cast<int>(tau)) + " us", s});
   }
   for (double rate : {3.0, 10.0, 30.0}) {

@@ -185,6 +185,13 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   if (const auto* o = args.config.origin("estimator.sensor.height"); o && o->by_user) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
+  if (!args.quiet) {
+    std::error_code ec;
+    if (std::filesystem::file_size(args.input, ec) > (std::uintmax_t{64} << 20) && !ec) {
+      std::fprintf(stderr, "evlife process: %s states no sensor size: scanning the data for it "
+                   "(pass --sensor WxH to skip this pass)\n", args.input.c_str());
+    }
+  }
   return {scan_sensor_size(args.input), "scanned from the data"};
 }
 

@@ -336,15 +336,17 @@ void Dvs128Device::handle_completion(Slot& slot) noexcept {
       ++transfers_completed_;
       if (t.actual_length > 0) {
         bytes_received_ += static_cast<std::uint64_t>(t.actual_length);
-        slot.completed_ns = steady_now_ns();
-        const int tail = (ready_head_ + ready_count_) % static_cast<int>(ready_.size());
-        ready_[static_cast<std::size_t>(tail)] = static_cast<int>(&slot - slots_.data());
-        ++ready_count_;
+        push_ready(slot);
       } else if (state() == Dvs128State::streaming) {
         submit(slot);
       }
       return;
     case LIBUSB_TRANSFER_CANCELLED:
+      // Cancelled by stop(): keep whatever part of it had already arrived.
+      if (t.actual_length > 0) {
+        bytes_received_ += static_cast<std::uint64_t>(t.actual_length);
+        push_ready(slot);
+      }
       return;
     case LIBUSB_TRANSFER_NO_DEVICE:
       fail(Dvs128State::vanished, info_.describe() + " vanished (unplugged?) while streaming");
@@ -362,6 +364,13 @@ void Dvs128Device::handle_completion(Slot& slot) noexcept {
       }
       return;
   }
+}
+
+void Dvs128Device::push_ready(Slot& slot) noexcept {
+  slot.completed_ns = steady_now_ns();
+  const int tail = (ready_head_ + ready_count_) % static_cast<int>(ready_.size());
+  ready_[static_cast<std::size_t>(tail)] = static_cast<int>(&slot - slots_.data());
+  ++ready_count_;  // at most one entry per slot: never exceeds the ring's capacity
 }
 
 void Dvs128Device::handle_events(std::chrono::microseconds timeout) noexcept {

@@ -1,5 +1,7 @@
 #include "evlife/render/frame_painter.h"
 
+#include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -30,21 +32,33 @@ namespace {
 template <ColorMode kMode>
 void paint_active_rows(const ActiveEventSet& set, std::int64_t t_us, const LifetimeColormap& colormap,
                        cv::Mat& out) {
+  // Rows are cleared with memset: kBackground is black.
   const SensorSize s = set.sensor();
   const std::int32_t* expire = set.expire_map().data();
-  const std::int64_t rel = set.relative_time(t_us);
-  std::size_t i = 0;
+  // Saturated into int32, so the per-pixel test is a 32-bit compare that
+  // the compiler vectorizes: most pixels are inactive and cost one compare.
+  const auto rel = static_cast<std::int32_t>(set.relative_time(t_us));
+  constexpr int kChunk = 16;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < s.width; ++x, ++i) {
-      if (rel >= expire[i]) {
-        row[x] = kBackground;
-      } else if constexpr (kMode == ColorMode::lifetime) {
-        row[x] = colormap.color(set.lifetime_us(i));
-      } else if constexpr (kMode == ColorMode::polarity) {
-        row[x] = polarity_color(set.polarity(i));
-      } else {
-        row[x] = kPlain;
+    std::memset(static_cast<void*>(row), 0, static_cast<std::size_t>(s.width) * sizeof(cv::Vec3b));
+    const std::int32_t* e = expire + static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width);
+    for (int x0 = 0; x0 < s.width; x0 += kChunk) {
+      const int x1 = std::min(x0 + kChunk, s.width);
+      bool any = false;
+      for (int x = x0; x < x1; ++x) any |= rel < e[x];
+      if (!any) continue;
+      for (int x = x0; x < x1; ++x) {
+        if (rel >= e[x]) continue;
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) +
+                              static_cast<std::size_t>(x);
+        if constexpr (kMode == ColorMode::lifetime) {
+          row[x] = colormap.color(set.lifetime_us(i));
+        } else if constexpr (kMode == ColorMode::polarity) {
+          row[x] = polarity_color(set.polarity(i));
+        } else {
+          row[x] = kPlain;
+        }
       }
     }
   }

@@ -5,6 +5,11 @@ synthetic files. Run from anywhere; deterministic. The checked-in files are
 its output: rerun it only to change the seeds.
 
   tests/fuzz/make_corpus.py [SHARED_DATA_DIR]
+
+Two seeds come from evlife itself (no Python HDF5 on the CI image):
+  corpus/hdf5/from_aedat2_30ev.h5     evlife convert <first 30 events of
+                                      corpus/aedat2/real_head_400ev.aedat> X.h5
+  corpus/augmented/real_10ev.bin      evlife process <its first 10 events> -o X.bin
 """
 import os
 import random

@@ -130,6 +130,7 @@ class Dvs128Device {
   static void on_transfer(libusb_transfer* transfer);
   void handle_completion(Slot& slot) noexcept;
   bool submit(Slot& slot) noexcept;
+  void push_ready(Slot& slot) noexcept;
   void fail(Dvs128State state, std::string message) noexcept;
   void vendor_request(std::uint8_t request, std::span<const std::uint8_t> data,
                       const char* what);

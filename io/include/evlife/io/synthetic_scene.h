@@ -10,10 +10,11 @@
 // truncated at 4 sigma) and are then sorted, so the output is time-ordered.
 // Background noise: uniform over pixels and time, random polarity.
 //
-// Deterministic: the same spec gives the same events bit for bit, on any
-// platform (own RNG and own Gaussian, no std:: distributions). The scene is
-// produced in fixed time slices, so streaming it (SyntheticSceneReader) and
-// generating it at once (generate_scene) give identical output.
+// Deterministic: the same spec gives the same events bit for bit (own RNG and
+// own Gaussian: std:: distributions differ between standard libraries; only
+// libm's log/cos/atan2 could differ in the last bit across platforms). The
+// scene is produced in fixed time slices, so streaming it (SyntheticSceneReader)
+// and generating it at once (generate_scene) give identical output.
 #pragma once
 
 #include <cstddef>
@@ -136,8 +137,9 @@ SceneSpec large_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t
 std::optional<SceneSpec> scene_preset(std::string_view name, SensorSize sensor,
                                       std::int64_t duration_us, std::uint64_t seed);
 
-/// Streams a scene slice by slice with memory bounded by one slice (plus the
-/// jitter carry-over): a camera-free live source. Output equals generate_scene().
+/// Streams a scene slice by slice with memory bounded by one slice (slice_us of
+/// events, ~80 B each, plus the jitter carry-over): a camera-free source of
+/// any length. Output equals generate_scene().
 class SyntheticSceneReader : public EventReader {
  public:
   /// Throws std::invalid_argument on a bad spec.

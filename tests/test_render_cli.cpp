@@ -1,0 +1,193 @@
+// `evlife render` and `evlife eval` run as a user would (the built binary):
+// frames at chosen instants, videos, exit codes, and the evaluation's numbers
+// checked against `evlife process` output decoded here.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kCli = EVLIFE_CLI_PATH;
+const std::string kData = EVLIFE_SHARED_DATA_DIR;
+const std::string kStripes = kData + "/reference/stripes.mat";
+const std::string kGarfield = kData + "/reference/garfield.mat";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+class RenderCliTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(testing::TempDir()) / "evlife_test_render_cli" / info->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  RunResult run(const std::string& args) const {
+    const fs::path log = dir_ / "cli.log";
+    const std::string cmd = "'" + kCli + "' " + args + " >'" + log.string() + "' 2>&1 </dev/null";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.output = ss.str();
+    return r;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(RenderCliTest, HelpExplainsTheOptions) {
+  const auto r = run("render --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* word : {"--at", "--fps", "--from", "--to", "compare", "window:", ".mp4", ".avi", "--scale"})
+    EXPECT_NE(r.output.find(word), std::string::npos) << word;
+  const auto e = run("eval --help");
+  EXPECT_EQ(e.exit_code, 0);
+  EXPECT_NE(e.output.find("prediction_error_cdf"), std::string::npos);
+}
+
+TEST_F(RenderCliTest, CompareFramesAtChosenInstantsSameFromRawAndFromAugmented) {
+  auto r = run("render '" + kStripes + "' -o '" + path("raw") + "' --at 0.5,0.25 --mode compare -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Sorted, named by time; 3 panels of 128x4 px + gaps + legend; labels + caption.
+  const std::string f0 = path("raw") + "/frame_000000_t0.250000s.png";
+  const std::string f1 = path("raw") + "/frame_000001_t0.500000s.png";
+  const cv::Mat a = cv::imread(f0);
+  ASSERT_FALSE(a.empty()) << f0;
+  EXPECT_FALSE(cv::imread(f1).empty()) << f1;
+  EXPECT_EQ(a.cols, 3 * 512 + 2 * 4 + 4 + 96);
+  EXPECT_EQ(a.rows, 22 + 512 + 24);
+
+  // The same instants from the augmented file written by `evlife process`.
+  r = run("process '" + kStripes + "' -o '" + path("stripes.bin") + "' -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run("render '" + path("stripes.bin") + "' -o '" + path("aug") + "' --at 0.25,0.5 --mode compare -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const cv::Mat b = cv::imread(path("aug") + "/frame_000000_t0.250000s.png");
+  ASSERT_EQ(a.size(), b.size());
+  // The caption differs in nothing but both are drawn the same: images equal.
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+}
+
+TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
+  // 0 .. 0.3 s at 20 fps: instants 0, 0.05, ..., 0.30 = 7 frames.
+  for (const char* name : {"v.avi", "v.mp4"}) {
+    const auto r = run("render '" + kGarfield + "' -o '" + path(name) + "' --fps 20 --to 0.3 -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    cv::VideoCapture cap(path(name));
+    ASSERT_TRUE(cap.isOpened()) << name;
+    int frames = 0;
+    cv::Mat f;
+    while (cap.read(f)) {
+      EXPECT_EQ(f.cols, 512 + 4 + 96);
+      ++frames;
+    }
+    EXPECT_EQ(frames, 7) << name;
+  }
+}
+
+TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
+  auto r = run("render '" + path("missing.mat") + "' -o '" + path("out") + "' --at 0.1");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.output.find("missing.mat"), std::string::npos) << r.output;
+  r = run("render '" + kStripes + "' -o '" + path("out") + "' --mode blur");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("blur"), std::string::npos) << r.output;
+  r = run("render '" + kStripes + "' -o '" + path("out") + "' --at 0.1 --fps 3");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run("render '" + kStripes + "' -o '" + path("out.png") + "' --at 0.1");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run("render '" + kStripes + "' -o '" + path("out") + "' --at 0.1 --set estimator.window_size=4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run("eval '" + path("missing.mat") + "' -o '" + path("ev") + "'");
+  EXPECT_EQ(r.exit_code, 3);
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cell;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      out.push_back(cell);
+      cell.clear();
+    } else {
+      cell += c;
+    }
+  }
+  out.push_back(cell);
+  return out;
+}
+
+TEST_F(RenderCliTest, EvalLifetimeHistogramMatchesProcessOutput) {
+  auto r = run("eval '" + kGarfield + "' -o '" + path("eval") + "' -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"summary.html", "lifetime_histogram.png", "lifetime_histogram.csv", "prediction_error_cdf.png",
+                        "prediction_error_cdf.csv", "velocity_histogram.png", "sharpness.png", "sharpness_summary.csv",
+                        "runs.csv", "compare_frame.png"})
+    EXPECT_TRUE(fs::exists(path("eval") + "/" + f)) << f;
+
+  // Independent histogram: lifetimes from `evlife process` (default config = N 5, regularized).
+  r = run("process '" + kGarfield + "' -o '" + path("g.csv") + "' -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream csv(path("g.csv"));
+  std::string line;
+  std::getline(csv, line);
+  const auto header = split_csv(line);
+  std::size_t lifetime_col = 0;
+  while (lifetime_col < header.size() && header[lifetime_col] != "lifetime") ++lifetime_col;
+  ASSERT_LT(lifetime_col, header.size()) << line;
+  std::map<long, long> expected;  // 0.2 ms bin -> count
+  long non_noise = 0;
+  while (std::getline(csv, line)) {
+    const double l = std::stod(split_csv(line)[lifetime_col]);
+    if (l <= 0.0) continue;
+    ++non_noise;
+    ++expected[static_cast<long>(std::floor(l / 200.0))];
+  }
+  ASSERT_GT(non_noise, 1000);
+
+  std::ifstream hist(path("eval") + "/lifetime_histogram.csv");
+  std::getline(hist, line);
+  const auto cols = split_csv(line);
+  std::size_t col = 0;
+  while (col < cols.size() && cols[col] != "N=5, regularized") ++col;
+  ASSERT_LT(col, cols.size()) << line;
+  long total = 0;
+  long bin = 0;
+  while (std::getline(hist, line) && line[0] != '#') {
+    const auto cells = split_csv(line);
+    EXPECT_NEAR(std::stod(cells[1]) - std::stod(cells[0]), 0.2, 1e-9);  // 0.2 ms bins (paper Fig. 10)
+    const long n = std::stol(cells[col]);
+    EXPECT_EQ(n, expected.count(bin) ? expected[bin] : 0) << "bin " << bin;
+    total += n;
+    ++bin;
+  }
+  long beyond = 0;
+  for (const auto& [b, n] : expected)
+    if (b >= bin) beyond += n;
+  EXPECT_EQ(total + beyond, non_noise);
+}
+
+}  // namespace
