@@ -193,11 +193,14 @@ TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
   const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<double> lifetimes;
+  std::vector<double> abs_errors;
   std::size_t noise = 0;
   const auto rows = csv_rows(out);
   for (const auto& row : rows) {
-    const double lifetime = std::stod(split(row, ',').at(4));
+    const auto f = split(row, ',');
+    const double lifetime = std::stod(f.at(4));
     if (lifetime > 0) lifetimes.push_back(lifetime); else ++noise;
+    if (!f.at(7).empty()) abs_errors.push_back(std::fabs(std::stod(f[7])));
   }
   ASSERT_GT(lifetimes.size(), 100u);
   std::sort(lifetimes.begin(), lifetimes.end());
@@ -207,7 +210,16 @@ TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
     // One log bin (1/100 decade, 2.3 %) plus the 3 significant digits printed.
     EXPECT_NEAR(reported, expected, 0.03 * expected) << label << "\n" << r.output;
   }
+  // Median |prediction error| and the share below 10 ms (paper Fig. 9).
+  ASSERT_GT(abs_errors.size(), 100u);
+  std::sort(abs_errors.begin(), abs_errors.end());
+  const double median = abs_errors[(abs_errors.size() + 1) / 2 - 1];
+  EXPECT_NEAR(summary_value_us(r.output, "median"), median, 0.03 * median) << r.output;
+  const double below = static_cast<double>(
+      std::lower_bound(abs_errors.begin(), abs_errors.end(), 1e4) - abs_errors.begin());
   char share[32];
+  std::snprintf(share, sizeof share, "%.1f %% below 10 ms", 100.0 * below / abs_errors.size());
+  EXPECT_NE(r.output.find(share), std::string::npos) << share << "\n" << r.output;
   std::snprintf(share, sizeof share, "%.1f %%", 100.0 * static_cast<double>(noise) / rows.size());
   EXPECT_NE(r.output.find(std::string("labelled noise      ") + share), std::string::npos)
       << share << "\n" << r.output;
@@ -220,6 +232,10 @@ TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
   EXPECT_EQ(r.output, "");  // --quiet: nothing on success
   // 32-byte header + 32-byte records (README, "Binary augmented event format").
   EXPECT_EQ(fs::file_size(out), 32u + 32u * 50000u);
+  // HDF5 output: written, and starts with the HDF5 signature.
+  const fs::path h5 = path("slider.h5");
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + h5.string() + "' -q").exit_code, 0);
+  EXPECT_EQ(read_file(h5).substr(0, 8), "\x89HDF\r\n\x1a\n");
 }
 
 TEST_F(CliTest, TruncatedRpgTextKeepsEventsBeforeTheFault) {

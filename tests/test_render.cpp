@@ -255,7 +255,7 @@ TEST(ActiveEventSet, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReferen
       if (a.event.t_us > sample_t || a.lifetime_us <= 0.0f) continue;
       const std::size_t i = a.event.y * 128u + a.event.x;
       latest_t[i] = a.event.t_us;
-      latest_l[i] = a.lifetime_us;
+      latest_l[i] = static_cast<double>(a.lifetime_us);
     }
     std::size_t expected_active = 0;
     for (std::size_t i = 0; i < latest_t.size(); ++i) {

@@ -76,6 +76,10 @@ TEST_F(RenderCliTest, CompareFramesAtChosenInstantsSameFromRawAndFromAugmented) 
   EXPECT_FALSE(cv::imread(f1).empty()) << f1;
   EXPECT_EQ(a.cols, 3 * 512 + 2 * 4 + 4 + 96);
   EXPECT_EQ(a.rows, 22 + 512 + 24);
+  // One instant into one named PNG: the same image.
+  r = run("render '" + kStripes + "' -o '" + path("one.png") + "' --at 0.25 --mode compare -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(cv::norm(a, cv::imread(path("one.png")), cv::NORM_INF), 0.0);
 
   // The same instants from the augmented file written by `evlife process`.
   r = run("process '" + kStripes + "' -o '" + path("stripes.bin") + "' -q");
@@ -114,7 +118,9 @@ TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
   EXPECT_NE(r.output.find("blur"), std::string::npos) << r.output;
   r = run("render '" + kStripes + "' -o '" + path("out") + "' --at 0.1 --fps 3");
   EXPECT_EQ(r.exit_code, 2);
-  r = run("render '" + kStripes + "' -o '" + path("out.png") + "' --at 0.1");
+  r = run("render '" + kStripes + "' -o '" + path("out.png") + "' --at 0.1,0.2");
+  EXPECT_EQ(r.exit_code, 2) << "one PNG cannot hold two instants";
+  r = run("render '" + kStripes + "' -o '" + path("out.jpg") + "' --at 0.1");
   EXPECT_EQ(r.exit_code, 2);
   r = run("render '" + kStripes + "' -o '" + path("out") + "' --at 0.1 --set estimator.window_size=4");
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -181,7 +181,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add(0.0, 0.0, 0.0);  // the new event
   for (int k = 0; k < count; ++k) {
     if (std::fabs(nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k]) > best_tol) continue;
-    fit.add(nb.dx[k], nb.dy[k], nb.dt_us[k]);
+    fit.add(static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
+            static_cast<double>(nb.dt_us[k]));
   }
   Eigen::Vector2d g;
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);

@@ -225,7 +225,7 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
     sharp.window_30ms += s.window_30ms;
     sharp.samples.push_back(s);
     if (rel <= args.frame_at_us || sharp.compare_frame.empty()) {
-      composer.compose(set, window, t).copyTo(sharp.compare_frame);
+      composer.compose(set, window, t, rel).copyTo(sharp.compare_frame);
       sharp.compare_t_s = s.t_s;
     }
   }

@@ -1,4 +1,4 @@
-// `evlife process INPUT -o OUT.csv|OUT.bin`: every event of a recording gets
+// `evlife process INPUT -o OUT.csv|OUT.bin|OUT.h5`: every event of a recording gets
 // its lifetime and velocity. Streams batch by batch (constant memory); on bad
 // input writes and flushes everything before the fault, then exits non-zero.
 #include <algorithm>
@@ -42,7 +42,7 @@ void print_help(std::FILE* out) {
   std::fprintf(out,
       "evlife process — give every event of a recording its lifetime and velocity\n"
       "\n"
-      "Usage: evlife process INPUT -o OUTPUT.csv|OUTPUT.bin [--sensor WxH]\n"
+      "Usage: evlife process INPUT -o OUTPUT.csv|.bin|.h5 [--sensor WxH]\n"
       "                      [--config FILE] [--set KEY=VALUE]... [--quiet]\n"
       "\n"
       "For each event, fits a plane to the recent events around it (RANSAC, then a\n"
@@ -63,7 +63,9 @@ void print_help(std::FILE* out) {
       "  -o, --output FILE  required. FILE.csv: header x,y,t,p,lifetime,vx,vy,prediction_error\n"
       "                     (t, lifetime, prediction_error in µs; vx, vy in px/s; p 1/-1;\n"
       "                     prediction_error empty when there was none). FILE.bin: compact\n"
-      "                     binary, 32 bytes per event (see README).\n"
+      "                     binary, 32 bytes per event (see README). FILE.h5: HDF5, one\n"
+      "                     dataset per column (x, y, t, p, lifetime, vx, vy,\n"
+      "                     prediction_error), for Python (h5py).\n"
       "  --sensor WxH       sensor size in pixels, e.g. 240x180. Used when the format does\n"
       "                     not state one (the format wins). Without it: estimator.sensor.*\n"
       "                     if you set it, else the smallest sensor holding every event\n"
@@ -130,11 +132,11 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
   p.input = a.positional.front();
   const auto out = a.value("output");
-  if (!out) throw UsageError("missing -o OUTPUT (a .csv or .bin file)");
+  if (!out) throw UsageError("missing -o OUTPUT (a .csv, .bin or .h5 file)");
   p.output = *out;
   const std::string ext = std::filesystem::path(p.output).extension().string();
-  if (ext != ".csv" && ext != ".bin") {
-    throw UsageError("-o " + p.output + ": the output must end in .csv or .bin");
+  if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5") {
+    throw UsageError("-o " + p.output + ": the output must end in .csv, .bin or .h5");
   }
   std::error_code ec;
   if (std::filesystem::equivalent(p.input, p.output, ec)) {

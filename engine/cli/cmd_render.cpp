@@ -51,7 +51,7 @@ void print_render_help(std::FILE* out) {
   std::fprintf(out,
       "evlife render — draw the events active at any instant (sharp edges, paper Figs. 1, 8)\n"
       "\n"
-      "Usage: evlife render INPUT -o DIR|OUT.mp4|OUT.avi\n"
+      "Usage: evlife render INPUT -o DIR|FRAME.png|OUT.mp4|OUT.avi\n"
       "                     [--at T1,T2,...] | [--fps F [--from T0] [--to T1]]\n"
       "                     [--mode lifetime|window:DUR|compare] [--color lifetime|polarity|plain]\n"
       "                     [--scale K] [--no-caption] [--no-legend] [--no-thinning]\n"
@@ -68,8 +68,8 @@ void print_render_help(std::FILE* out) {
       "\n"
       "Options:\n"
       "  -o, --output PATH   required. A directory (created) for PNG frames named\n"
-      "                      frame_NNNNNN_tSECONDS.png, or a video: .mp4 (codec mp4v) or\n"
-      "                      .avi (codec MJPG), written with OpenCV.\n"
+      "                      frame_NNNNNN_tSECONDS.png; FILE.png for one --at instant; or a\n"
+      "                      video: .mp4 (codec mp4v) or .avi (codec MJPG), via OpenCV.\n"
       "  --at T1,T2,...      instants to draw, seconds from the first event (any value,\n"
       "                      not only frame multiples; e.g. 0.25,0.5,1.0 or 250ms,1s).\n"
       "                      Drawn in increasing order in one pass.\n"
@@ -102,6 +102,7 @@ void print_render_help(std::FILE* out) {
       "\n"
       "Examples:\n"
       "  evlife render stripes.mat -o frames/ --at 0.25,0.5,1.0 --mode compare\n"
+      "  evlife render stripes.mat -o compare.png --at 0.5 --mode compare\n"
       "  evlife render stripes.mat -o stripes.mp4 --fps 100 --video-fps 25 --mode compare\n"
       "  evlife render augmented.bin -o frames/ --fps 60 --from 0.2 --to 0.4\n");
 }
@@ -110,6 +111,7 @@ struct RenderArgs {
   std::string input;
   std::string output;
   bool video = false;
+  bool single_png = false;  // -o FILE.png with one --at instant
   std::vector<std::int64_t> at_us;  // relative to the first event, sorted
   double fps = 30.0;
   std::int64_t from_us = 0;
@@ -162,8 +164,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
   std::string ext = std::filesystem::path(r.output).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   r.video = ext == ".mp4" || ext == ".avi";
-  for (const char* other : {".png", ".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
-    if (ext == other) throw UsageError("-o " + r.output + ": use a directory (PNG frames), .mp4 or .avi");
+  r.single_png = ext == ".png";
+  for (const char* other : {".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
+    if (ext == other) throw UsageError("-o " + r.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
   }
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
@@ -178,6 +181,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
     if (r.at_us.empty()) throw UsageError("--at: no time given");
     std::sort(r.at_us.begin(), r.at_us.end());
     r.at_us.erase(std::unique(r.at_us.begin(), r.at_us.end()), r.at_us.end());
+  }
+  if (r.single_png && r.at_us.size() != 1) {
+    throw UsageError("-o " + r.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }
   if (const auto f = a.value("fps")) r.fps = parse_positive("fps", *f);
   if (r.fps > 1e6) throw UsageError("--fps " + std::to_string(r.fps) + ": at most 1e6");
@@ -333,6 +339,11 @@ int render_recording(int argc, char** argv) {
                    args.output.c_str(), mp4 ? "mp4v" : "MJPG");
       return kExitOutput;
     }
+  } else if (args.single_png) {
+    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(parent, ec);
+    }
   } else {
     std::error_code ec;
     std::filesystem::create_directories(args.output, ec);
@@ -375,12 +386,13 @@ int render_recording(int argc, char** argv) {
     if (args.at_us.empty() && !args.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
     const auto d0 = std::chrono::steady_clock::now();
-    const cv::Mat& frame = composer.compose(set, window, t);
+    const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
     draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
     if (args.video) {
       video.write(frame);
     } else {
-      const std::string path = (std::filesystem::path(args.output) / frame_name(k, rel)).string();
+      const std::string path = args.single_png ? args.output
+                                               : (std::filesystem::path(args.output) / frame_name(k, rel)).string();
       bool ok = false;
       try {
         ok = cv::imwrite(path, frame);

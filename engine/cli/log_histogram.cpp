@@ -47,15 +47,17 @@ double LogHistogram::percentile(double q) const noexcept {
 
 double LogHistogram::share_below(double value) const noexcept {
   if (count_ == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (value >= max_value_) {
+    return static_cast<double>(count_ - bins_.back()) / static_cast<double>(count_);
+  }
   std::uint64_t below = 0;
-  if (value > min_value_) {
-    below = bins_[0];
+  if (value >= min_value_) {
+    below = bins_[0];  // everything under min_value
     const double edge_pos = std::log10(value / min_value_) * bins_per_decade_;
     for (std::size_t b = 1; b + 1 < bins_.size(); ++b) {
-      if (static_cast<double>(b) > edge_pos) break;  // bin b-1's upper edge is b
+      if (static_cast<double>(b) > edge_pos) break;  // regular bin b ends at edge b
       below += bins_[b];
     }
-    if (value >= max_value_) below = count_ - bins_.back();
   }
   return static_cast<double>(below) / static_cast<double>(count_);
 }

@@ -10,6 +10,24 @@ namespace {
 int tile_begin(int c, int n, int extent) {
   return static_cast<int>(static_cast<long long>(c) * extent / n);
 }
+
+// For each pixel coordinate: its tile, and the range of tiles whose extent
+// grown by `margin` contains it (contiguous: grown extents are ordered).
+template <typename SpanT>
+void fill_axis(int extent, int tiles, int margin, std::vector<std::uint16_t>& tile_of,
+               std::vector<SpanT>& feed) {
+  tile_of.assign(static_cast<std::size_t>(extent), 0);
+  feed.assign(static_cast<std::size_t>(extent), SpanT{0xFFFF, 0});
+  for (int t = 0; t < tiles; ++t) {
+    const int b = tile_begin(t, tiles, extent), e = tile_begin(t + 1, tiles, extent);
+    for (int i = b; i < e; ++i) tile_of[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(t);
+    for (int i = std::max(0, b - margin); i < std::min(extent, e + margin); ++i) {
+      SpanT& s = feed[static_cast<std::size_t>(i)];
+      s.first = std::min<std::uint16_t>(s.first, static_cast<std::uint16_t>(t));
+      s.last = std::max<std::uint16_t>(s.last, static_cast<std::uint16_t>(t));
+    }
+  }
+}
 }  // namespace
 
 TileLayout::TileLayout(SensorSize sensor, int workers, int tiles_x, int tiles_y, int margin_px)
@@ -19,42 +37,18 @@ TileLayout::TileLayout(SensorSize sensor, int workers, int tiles_x, int tiles_y,
     throw std::invalid_argument("sensor: size must be 1..65535 each way");
   if (workers < 1 || workers > kMaxWorkers)
     throw std::invalid_argument("workers: must be 1.." + std::to_string(kMaxWorkers));
-  if (tiles_x < 1 || tiles_x > sensor.width)
-    throw std::invalid_argument("tiles_x: must be 1..sensor width");
-  if (tiles_y < 1 || tiles_y > sensor.height)
-    throw std::invalid_argument("tiles_y: must be 1..sensor height");
+  if (tiles_x < 1 || tiles_x > sensor.width || tiles_x > 4096)
+    throw std::invalid_argument("tiles_x: must be 1..min(sensor width, 4096)");
+  if (tiles_y < 1 || tiles_y > sensor.height || tiles_y > 4096)
+    throw std::invalid_argument("tiles_y: must be 1..min(sensor height, 4096)");
   if (margin_px < 0) throw std::invalid_argument("margin_px: must be >= 0");
 
-  const std::size_t plane = static_cast<std::size_t>(sensor.pixel_count());
-  owner_.assign(2 * plane, 0);
-  feed_.assign(2 * plane, 0);
-  for (int pi = 0; pi < 2; ++pi) {
-    for (int row = 0; row < tiles_y; ++row) {
-      for (int col = 0; col < tiles_x; ++col) {
-        const int w = tile_owner(pi, col, row);
-        const int x0 = tile_begin(col, tiles_x, sensor.width);
-        const int x1 = tile_begin(col + 1, tiles_x, sensor.width);
-        const int y0 = tile_begin(row, tiles_y, sensor.height);
-        const int y1 = tile_begin(row + 1, tiles_y, sensor.height);
-        for (int y = y0; y < y1; ++y)
-          for (int x = x0; x < x1; ++x)
-            owner_[(static_cast<std::size_t>(pi) * sensor.height + y) * sensor.width + x] =
-                static_cast<std::uint8_t>(w);
-        // The tile grown by the margin, clipped to the sensor: fed to w.
-        const int fx0 = std::max(0, x0 - margin_px), fx1 = std::min(sensor.width, x1 + margin_px);
-        const int fy0 = std::max(0, y0 - margin_px), fy1 = std::min(sensor.height, y1 + margin_px);
-        for (int y = fy0; y < fy1; ++y)
-          for (int x = fx0; x < fx1; ++x)
-            feed_[(static_cast<std::size_t>(pi) * sensor.height + y) * sensor.width + x] |=
-                1u << w;
-      }
-    }
-  }
-}
-
-int TileLayout::tile_owner(int polarity_index, int tile_col, int tile_row) const noexcept {
-  const int tile = (polarity_index * tiles_y_ + tile_row) * tiles_x_ + tile_col;
-  return tile % workers_;
+  fill_axis(sensor.width, tiles_x, margin_px, col_of_x_, feed_cols_);
+  fill_axis(sensor.height, tiles_y, margin_px, row_of_y_, feed_rows_);
+  // Tiles dealt round robin, polarity-major.
+  tile_worker_.resize(static_cast<std::size_t>(2 * tiles_x * tiles_y));
+  for (std::size_t i = 0; i < tile_worker_.size(); ++i)
+    tile_worker_[i] = static_cast<std::uint8_t>(i % static_cast<std::size_t>(workers));
 }
 
 }  // namespace evlife::engine

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "hdf5_error_silencer.h"
+#include "hdf5_open_probe.h"
 #include "reader_registry.h"
 
 namespace evlife::io {
@@ -72,6 +73,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
   }
+  probe_hdf5_open_in_child(path);  // a libhdf5 crash on a corrupt file becomes a ReadError
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file_ < 0) throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
 

@@ -94,7 +94,7 @@ cv::Size FrameComposer::frame_size(SensorSize sensor) const {
 }
 
 const cv::Mat& FrameComposer::compose(const ActiveEventSet& set, const FixedWindowMap& window,
-                                      std::int64_t t_us) {
+                                      std::int64_t t_us, std::optional<std::int64_t> caption_t_us) {
   const SensorSize sensor = set.sensor();
   const cv::Size size = frame_size(sensor);
   frame_.create(size, CV_8UC3);
@@ -126,7 +126,7 @@ const cv::Mat& FrameComposer::compose(const ActiveEventSet& set, const FixedWind
   if (style_.caption) {
     char text[160];
     std::snprintf(text, sizeof text, "t = %.6f s   mode: %s   colour: %s",
-                  static_cast<double>(t_us) * 1e-6, mode_name_.c_str(),
+                  static_cast<double>(caption_t_us.value_or(t_us)) * 1e-6, mode_name_.c_str(),
                   std::string(to_string(style_.color)).c_str());
     cv::putText(frame_, text, {4, size.height - 7}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
                 {255, 255, 255}, 1, cv::LINE_AA);

@@ -43,7 +43,7 @@ LifetimeColormap::LifetimeColormap(double min_us, double max_us) : min_us_(min_u
 int LifetimeColormap::bin(float lifetime_us) const noexcept {
   if (!(static_cast<double>(lifetime_us) > min_us_)) return 0;
   const double u = (std::log(static_cast<double>(lifetime_us)) - log_min_) * inv_log_span_;
-  return std::clamp(static_cast<int>(u * 255.0 + 0.5), 0, 255);
+  return static_cast<int>(std::lround(std::clamp(u, 0.0, 1.0) * 255.0));
 }
 
 cv::Mat LifetimeColormap::legend(int height) const {
@@ -64,8 +64,10 @@ cv::Mat LifetimeColormap::legend(int height) const {
   cv::rectangle(img, {6, top}, {6 + bar_w, top + bar_h - 1}, {200, 200, 200}, 1);
   // Ticks at 1-2-5 steps between min and max, labelled in ms.
   std::vector<double> ticks;
-  for (double decade = std::pow(10.0, std::floor(std::log10(min_us_))); decade <= max_us_;
-       decade *= 10.0) {
+  const int first_exp = static_cast<int>(std::floor(std::log10(min_us_)));
+  const int last_exp = static_cast<int>(std::ceil(std::log10(max_us_)));
+  for (int e = first_exp; e <= last_exp; ++e) {
+    const double decade = std::pow(10.0, e);
     for (double m : {1.0, 2.0, 5.0}) {
       const double v = m * decade;
       if (v >= min_us_ * 0.999 && v <= max_us_ * 1.001) ticks.push_back(v);

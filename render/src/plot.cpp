@@ -84,7 +84,9 @@ cv::Mat draw_plot(const PlotOptions& o, const std::vector<PlotSeries>& series) {
 
   // Grid and ticks.
   const double xs = nice_step(x1 - x0, 8), ys = nice_step(y1 - y0, 6);
-  for (double v = std::ceil(x0 / xs) * xs; v <= x1 + xs * 1e-9; v += xs) {
+  const auto first_x = static_cast<long long>(std::ceil(x0 / xs));
+  for (long long k = first_x; static_cast<double>(k) * xs <= x1 + xs * 1e-9; ++k) {
+    const double v = static_cast<double>(k) * xs;
     const int x = px(v);
     cv::line(img, {x, area.y}, {x, area.y + area.height}, grid, 1);
     cv::line(img, {x, area.y + area.height}, {x, area.y + area.height + 5}, black, 1);
@@ -93,7 +95,9 @@ cv::Mat draw_plot(const PlotOptions& o, const std::vector<PlotSeries>& series) {
     const cv::Size sz = cv::getTextSize(t, font, 0.42, 1, &base);
     cv::putText(img, t, {x - sz.width / 2, area.y + area.height + 20}, font, 0.42, black, 1, cv::LINE_AA);
   }
-  for (double v = std::ceil(y0 / ys) * ys; v <= y1 + ys * 1e-9; v += ys) {
+  const auto first_y = static_cast<long long>(std::ceil(y0 / ys));
+  for (long long k = first_y; static_cast<double>(k) * ys <= y1 + ys * 1e-9; ++k) {
+    const double v = static_cast<double>(k) * ys;
     const int y = py(v);
     cv::line(img, {area.x, y}, {area.x + area.width, y}, grid, 1);
     cv::line(img, {area.x - 5, y}, {area.x, y}, black, 1);

@@ -1,8 +1,9 @@
 // Latency from a bulk transfer's completion (libusb callback on the source
 // thread) to the augmented event at the engine's output, under a paced
-// emulated stream of 1 M events/s: every 1 ms the emulated DVS128 gets one
-// 1000-event packet (1 us apart on the device clock). Also reported: from the
-// packet's arrival at the emulated device (includes umockdev's ioctl hop).
+// emulated stream of 1 M events/s: every K ms the emulated DVS128 gets one
+// packet of K*1000 events (1 us apart on the device clock), one packet per
+// bulk transfer. Also reported: from the packet's arrival at the emulated
+// device (includes umockdev's ioctl round trips, the emulation's cost).
 // Percentiles over every event. Must run under umockdev-wrapper:
 //   umockdev-wrapper ./tests/bench_dvs128_latency
 #include <benchmark/benchmark.h>
@@ -26,7 +27,6 @@ using namespace std::chrono_literals;
 using evlife::testing::dvs128_word;
 using evlife::testing::kWrapWord;
 
-constexpr int kEventsPerPacket = 1000;  // 1 packet per ms = 1 M events/s
 
 struct Probe {
   std::vector<std::int64_t> completed_ns;  // per transfer, in order (source thread)
@@ -47,26 +47,30 @@ double percentile(std::vector<std::int64_t>& v, double q) {
 }
 
 void BM_Dvs128TransferToOutputLatency(benchmark::State& state) {
-  const int packets = static_cast<int>(state.range(0));
+  const int packet_ms = static_cast<int>(state.range(0));
+  const int events_per_packet = 1000 * packet_ms;  // 1 M events/s
+  const int packets = 1000 / packet_ms;             // 1 s of stream
   for (auto _ : state) {
     evlife::testing::UsbTestbed bed;
     auto& cam = bed.add_dvs128();
     Probe probe;
     probe.completed_ns.assign(static_cast<std::size_t>(packets), 0);
+    const int transfer_bytes = (4 * events_per_packet / 4096 + 1) * 4096;
     std::vector<std::int64_t> pushed_ns(static_cast<std::size_t>(packets), 0);
     std::vector<std::int64_t> from_transfer, from_push;
-    from_transfer.reserve(static_cast<std::size_t>(packets) * kEventsPerPacket);
+    from_transfer.reserve(static_cast<std::size_t>(packets) * events_per_packet);
     from_push.reserve(from_transfer.capacity());
     std::atomic<std::size_t> seen{0};
 
     evlife::engine::Dvs128Source::Options so;
+    so.transfer_bytes = transfer_bytes;
     so.on_transfer = &Probe::on_transfer;
     so.on_transfer_user = &probe;
     evlife::engine::Dvs128Source source(so);
     evlife::engine::CallbackSink sink([&](std::span<const evlife::AugmentedEvent> events) {
       const std::int64_t now = evlife::engine::monotonic_ns();
       for (const auto& a : events) {
-        const auto p = static_cast<std::size_t>((a.event.t_us - 1) / kEventsPerPacket);
+        const auto p = static_cast<std::size_t>((a.event.t_us - 1) / events_per_packet);
         from_transfer.push_back(now - probe.completed_ns[p]);
         from_push.push_back(now - pushed_ns[p]);
       }
@@ -83,18 +87,18 @@ void BM_Dvs128TransferToOutputLatency(benchmark::State& state) {
     const auto start = std::chrono::steady_clock::now() + 20ms;
     for (int p = 0; p < packets; ++p) {
       std::vector<std::uint32_t> words;
-      for (int k = 0; k < kEventsPerPacket; ++k) {
+      for (int k = 0; k < events_per_packet; ++k) {
         ++t_us;
         if (t_us % 0x4000 == 0) words.push_back(kWrapWord);
         words.push_back(dvs128_word(k % 128, (k / 128) % 128, (k & 1) != 0,
                                     static_cast<int>(t_us % 0x4000)));
       }
       auto bytes = evlife::testing::words_to_bytes(words);
-      std::this_thread::sleep_until(start + std::chrono::milliseconds(p));
+      std::this_thread::sleep_until(start + std::chrono::milliseconds(p * packet_ms));
       pushed_ns[static_cast<std::size_t>(p)] = evlife::engine::monotonic_ns();
       cam.push_packet(std::move(bytes));
     }
-    const auto total = static_cast<std::size_t>(packets) * kEventsPerPacket;
+    const auto total = static_cast<std::size_t>(packets) * events_per_packet;
     const auto deadline = std::chrono::steady_clock::now() + 10s;
     while (std::chrono::steady_clock::now() < deadline &&
            seen.load(std::memory_order_acquire) + engine.stats().events_dropped < total) {
@@ -103,6 +107,7 @@ void BM_Dvs128TransferToOutputLatency(benchmark::State& state) {
     engine.request_stop();
     runner.join();
 
+    state.counters["transfer_B"] = transfer_bytes;
     state.counters["events"] = static_cast<double>(result.stats.events_out);
     state.counters["dropped"] = static_cast<double>(result.stats.events_dropped);
     state.counters["xfer_p50_us"] = percentile(from_transfer, 0.50);
@@ -115,8 +120,8 @@ void BM_Dvs128TransferToOutputLatency(benchmark::State& state) {
     state.SetItemsProcessed(static_cast<std::int64_t>(result.stats.events_out));
   }
 }
-// Arg: packets (= milliseconds of stream at 1 M events/s).
-BENCHMARK(BM_Dvs128TransferToOutputLatency)->Arg(1000)->Iterations(1)->UseRealTime()
+// Arg: milliseconds per packet (= per bulk transfer); 1 s of stream each.
+BENCHMARK(BM_Dvs128TransferToOutputLatency)->Arg(1)->Arg(4)->Iterations(1)->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

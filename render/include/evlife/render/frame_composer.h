@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,9 +46,10 @@ class FrameComposer {
   /// Throws std::invalid_argument for an empty view list or a bad scale.
   FrameComposer(std::vector<View> views, FrameStyle style, std::string mode_name);
 
-  /// The frame at t_us. The returned image stays valid until the next call.
+  /// The frame at t_us. The caption shows caption_t_us (e.g. the time from
+  /// the first event; default t_us). The image stays valid until the next call.
   const cv::Mat& compose(const ActiveEventSet& set, const FixedWindowMap& window,
-                         std::int64_t t_us);
+                         std::int64_t t_us, std::optional<std::int64_t> caption_t_us = {});
 
   /// Size of every frame (fixed for a given sensor): what a video writer needs.
   cv::Size frame_size(SensorSize sensor) const;

@@ -1,0 +1,19 @@
+// libhdf5 1.10 (Debian 12) can crash the process on some corrupt files while
+// merely opening a dataset (e.g. SIGFPE for a chunk dimension of 0, found by
+// fuzzing: tests/fuzz/known_crashes/hdf5/). The probe repeats the reader's
+// opening steps in a forked child first, so that such a crash becomes a
+// ReadError in the caller instead of killing it.
+#pragma once
+
+#include <string>
+
+namespace evlife::io {
+
+/// Opens `path` and the event datasets of every known layout in a child
+/// process. Throws ReadError if the child dies of a signal, exits non-zero
+/// (a sanitizer's report) or hangs (> 10 s);
+/// returns normally otherwise (errors the library reports are left to the
+/// reader, which names them).
+void probe_hdf5_open_in_child(const std::string& path);
+
+}  // namespace evlife::io
