@@ -83,6 +83,7 @@ Child spawn_cli(const std::vector<std::string>& args, const ScratchDir& dir, con
   std::vector<std::string> all{EVLIFE_CLI_PATH};
   all.insert(all.end(), args.begin(), args.end());
   std::vector<char*> argv;
+  argv.reserve(all.size() + 1);
   for (auto& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
   const int rc = posix_spawn(&c.pid, EVLIFE_CLI_PATH, &fa, nullptr, argv.data(), environ);

@@ -246,6 +246,103 @@ TEST(IoFormatsSamples, DatMatchesTheNumpyDecodeEventByEvent) {
   EXPECT_FALSE(read_all(kDat, 4096, /*checked=*/true).error);
 }
 
+// ---- time unwrapping and state handling on hand-made word streams ----
+
+template <typename Word>
+std::vector<std::uint8_t> with_words(const std::string& header, const std::vector<Word>& words) {
+  std::vector<std::uint8_t> bytes(header.begin(), header.end());
+  for (const Word w : words) {
+    for (std::size_t k = 0; k < sizeof(Word); ++k) bytes.push_back(static_cast<std::uint8_t>(w >> (8 * k)));
+  }
+  return bytes;
+}
+
+TEST(IoFormatsWordStreams, Evt2TimeHighWrapsTo64BitsAndTriggersAreCounted) {
+  const TempDir dir;
+  const auto cd = [](std::uint32_t type, std::uint32_t t_low, std::uint32_t x, std::uint32_t y) {
+    return (type << 28) | (t_low << 22) | (x << 11) | y;
+  };
+  const std::vector<std::uint32_t> words = {
+      0x80000000u | 0x0FFFFFFFu,  // TIME_HIGH = max: t = (2^28 - 1) << 6
+      cd(1, 5, 639, 479),
+      0xA0000000u,                // EXT_TRIGGER: skipped, counted
+      0x80000000u | 0x00000001u,  // TIME_HIGH wraps around
+      cd(0, 63, 0, 0),
+  };
+  const ReadResult r = read_all(dir.write("wrap.raw", with_words("% evt 2.0\n% geometry 640x480\n", words)));
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), 2u);
+  EXPECT_EQ(*r.sensor, (SensorSize{640, 480}));
+  EXPECT_EQ(r.events[0].t_us, ((std::int64_t{1} << 28) - 1) * 64 + 5);
+  EXPECT_EQ(r.events[1].t_us, (std::int64_t{1} << 34) + 64 + 63);
+  EXPECT_TRUE(r.events[0].x == 639 && r.events[0].y == 479 && r.events[0].p == 1);
+  EXPECT_TRUE(r.events[1].x == 0 && r.events[1].y == 0 && r.events[1].p == -1);
+  EXPECT_EQ(r.skipped, 1u);
+}
+
+TEST(IoFormatsWordStreams, Evt3TimeWrapsVectorsAndGeometryFromFormatLine) {
+  const TempDir dir;
+  const std::vector<std::uint16_t> words = {
+      0x8FFF,           // TIME_HIGH = 4095
+      0x6ABC,           // TIME_LOW: t = 4095 << 12 | 0xABC
+      0x0000 | 7,       // ADDR_Y = 7
+      0x3000 | 0x800 | 100,  // VECT_BASE_X = 100, ON
+      0x4000 | 0x805,   // VECT_12: bits 0, 2, 11 -> x = 100, 102, 111
+      0x5000 | 0x81,    // VECT_8: bits 0, 7 -> x = 112, 119 (base advanced by 12)
+      0xA000,           // EXT_TRIGGER
+      0x8000,           // TIME_HIGH = 0: wrap of the 24-bit time
+      0x6001,           // TIME_LOW = 1
+      0x2000 | 1279,    // ADDR_X: x = 1279, OFF
+  };
+  const ReadResult r = read_all(
+      dir.write("wrap3.raw", with_words("% format EVT3;height=720;width=1280\n", words)), 2);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(*r.sensor, (SensorSize{1280, 720}));
+  const std::int64_t t1 = (std::int64_t{4095} << 12) | 0xABC;
+  const std::int64_t t2 = (std::int64_t{1} << 24) + 1;
+  const std::vector<Event> expected = {{t1, 100, 7, 1}, {t1, 102, 7, 1}, {t1, 111, 7, 1},
+                                       {t1, 112, 7, 1}, {t1, 119, 7, 1}, {t2, 1279, 7, -1}};
+  ASSERT_EQ(r.events.size(), expected.size());
+  EXPECT_TRUE(is_prefix(r.events, expected));
+  EXPECT_EQ(r.skipped, 1u);
+}
+
+TEST(IoFormatsWordStreams, RawWithoutEvtLineIsKnownByItsCameraPlugin) {
+  // Older RAW headers name only the plugin: Gen3 cameras write EVT 2.0 at 640x480.
+  const TempDir dir;
+  const std::vector<std::uint32_t> words = {0x80000010u, (1u << 28) | (3u << 11) | 4u};
+  const ReadResult r = read_all(
+      dir.write("old.raw", with_words("% plugin_name hal_plugin_gen3_fx3\n% system_ID 21\n", words)));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.format, "evt2");
+  EXPECT_EQ(*r.sensor, (SensorSize{640, 480}));
+  ASSERT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.events[0].t_us, 16 * 64);
+}
+
+TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {
+  const TempDir dir;
+  std::vector<std::uint8_t> bytes;
+  const std::string header = "% Width 304\n% Height 240\n";
+  bytes.assign(header.begin(), header.end());
+  bytes.push_back(0x00);  // type Event2d
+  bytes.push_back(8);     // record size
+  const auto record = [&](std::uint32_t t, std::uint32_t x, std::uint32_t y, std::uint32_t p) {
+    const std::uint32_t w = x | (y << 14) | (p << 28);
+    for (int k = 0; k < 4; ++k) bytes.push_back(static_cast<std::uint8_t>(t >> (8 * k)));
+    for (int k = 0; k < 4; ++k) bytes.push_back(static_cast<std::uint8_t>(w >> (8 * k)));
+  };
+  record(0xFFFFFFF0u, 303, 239, 1);
+  record(5, 1, 2, 0);
+  const ReadResult r = read_all(dir.write("wrap.dat", bytes));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(*r.sensor, (SensorSize{304, 240}));
+  ASSERT_EQ(r.events.size(), 2u);
+  EXPECT_EQ(r.events[0].t_us, 0xFFFFFFF0LL);
+  EXPECT_EQ(r.events[1].t_us, (std::int64_t{1} << 32) + 5);
+  EXPECT_TRUE(r.events[1].x == 1 && r.events[1].y == 2 && r.events[1].p == -1);
+}
+
 // ---- AEDAT 4.0 written here byte by byte (FlatBuffers laid out by hand from
 // the format description, independent of the reader's generated code) ----
 
@@ -351,6 +448,19 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
     ASSERT_EQ(r.events.size(), expected.size());
     EXPECT_TRUE(is_prefix(r.events, expected));
   }
+}
+
+TEST(IoFormatsAedat4Synthetic, EventOutsideTheStatedSensorIsReported) {
+  const TempDir dir;
+  std::vector<Event> good(300, Event{10, 345, 259, 1});
+  std::vector<Event> second(200, Event{20, 3, 4, -1});
+  second[123].x = 346;  // sensor is 346 wide: x must be < 346
+  const ReadResult r = read_all(dir.write("outside.aedat4", aedat4_file(0, {good, second})), 64);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->event_index(), 300 + 123) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find("x=346"), std::string::npos) << r.error->what();
+  ASSERT_EQ(r.events.size(), 300u + 123u);
+  EXPECT_EQ(r.events.back().t_us, 20);
 }
 
 TEST(IoFormatsAedat4Synthetic, CorruptZstdPacketIsReported) {

@@ -669,3 +669,67 @@ TEST(SensorSize, FromFormatUserOrData) {
 }
 
 }  // namespace
+
+namespace {
+
+// The batch size must not change what is read (state carried across calls).
+TEST(Readers, ResultDoesNotDependOnBatchSize) {
+  for (const std::string& path : {kGarfield, kAedat2, kRpg}) {
+    SCOPED_TRACE(path);
+    const ReadAll big = read_all(path, {}, 65536);
+    const ReadAll small = read_all(path, {}, 7);
+    ASSERT_FALSE(big.error);
+    ASSERT_FALSE(small.error);
+    ASSERT_EQ(big.events.size(), small.events.size());
+    for (std::size_t i = 0; i < big.events.size(); ++i) ASSERT_TRUE(same(big.events[i], small.events[i])) << i;
+  }
+}
+
+TEST(Readers, ProgressReachesTheFileSize) {
+  for (const std::string& path : {kStripes, kAedat2, kRpg}) {
+    auto reader = evlife::io::open_event_reader(path);
+    std::vector<Event> buffer(4096);
+    EXPECT_LT(reader->bytes_consumed(), fs::file_size(path));
+    while (reader->read(buffer) != 0) {
+    }
+    EXPECT_EQ(reader->bytes_consumed(), fs::file_size(path)) << path;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+class RealFilesCut : public TempDir {};
+
+// Cutting a real recording anywhere gives an exact prefix of its events and,
+// unless the cut falls on a record boundary, an error at the next index.
+TEST_F(RealFilesCut, AnyCutGivesAnExactPrefix) {
+  for (const std::string& source : {kAedat2, kRpg}) {
+    const ReadAll whole = read_all(source);
+    ASSERT_FALSE(whole.error);
+    const std::vector<char> bytes = file_bytes(source);
+    for (const double fraction : {0.37, 0.5, 0.81, 0.999}) {
+      for (const std::size_t nudge : {std::size_t{0}, std::size_t{3}, std::size_t{5}}) {
+        const std::size_t size = static_cast<std::size_t>(static_cast<double>(bytes.size()) * fraction) + nudge;
+        SCOPED_TRACE(source + " cut at " + std::to_string(size));
+        const std::string path = write("cut", std::vector<char>(bytes.begin(), bytes.begin() + static_cast<long>(size)));
+        const ReadAll r = read_all(path, {}, 500);
+        ASSERT_LE(r.events.size(), whole.events.size());
+        ASSERT_GT(r.events.size(), 0u);
+        // (A text line cut inside t, x or y leaves fewer than 4 fields: an
+        // error, never a different event.)
+        for (std::size_t i = 0; i < r.events.size(); ++i) ASSERT_TRUE(same(r.events[i], whole.events[i])) << i;
+        if (r.error) {
+          EXPECT_EQ(r.error->event_index(), static_cast<std::int64_t>(r.events.size()));
+          EXPECT_EQ(r.error->path(), path);
+          EXPECT_GE(r.error->byte_offset(), 0);
+        } else if (source == kAedat2) {
+          ADD_FAILURE() << "a cut inside an 8-byte record went unnoticed";
+        }
+      }
+    }
+  }
+}
+
+}  // namespace

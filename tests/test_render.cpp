@@ -6,16 +6,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/frame_painter.h"
+#include "evlife/render/histogram.h"
+#include "evlife/render/plot.h"
 #include "evlife/render/lifetime_colormap.h"
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/sharpness.h"
@@ -102,7 +106,7 @@ TEST(FixedWindowMap, EdgeIsSpeedTimesWindowThick) {
   for (const double speed : {40.0, 230.0, 1000.0, 3000.0}) {
     for (const std::int64_t window_us : {std::int64_t{1000}, std::int64_t{30000}}) {
       const double expected = speed * static_cast<double>(window_us) / 1e6;  // pixels crossed
-      if (expected > kSensor.width / 2) continue;
+      if (expected > kSensor.width / 2.0) continue;
       SCOPED_TRACE("speed " + std::to_string(speed) + " window " + std::to_string(window_us));
       const auto times = constant_speed_times(speed);
       const auto events = moving_edge(times, [&](int) { return static_cast<float>(1e6 / speed); },
@@ -113,7 +117,7 @@ TEST(FixedWindowMap, EdgeIsSpeedTimesWindowThick) {
       feed_until(events, next, t, map);
       int thickness = 0;
       for (int x = 0; x < kSensor.width; ++x)
-        thickness += map.is_active(static_cast<std::size_t>(5 * kSensor.width + x), t, window_us) ? 1 : 0;
+        thickness += map.is_active(5u * static_cast<std::size_t>(kSensor.width) + static_cast<std::size_t>(x), t, window_us) ? 1 : 0;
       // Columns whose firing time lies in [t - window, t]: speed*window, +-1 for rounding.
       EXPECT_NEAR(thickness, expected, 1.0);
       if (expected > 3) {
@@ -372,9 +376,49 @@ TEST(LifetimeColormap, FastBinAgreesWithTheExactLogScale) {
   EXPECT_EQ(cmap.fast_bin(1e9f), 255);
   // Geometric middle of the range: the middle of the scale.
   EXPECT_NEAR(cmap.bin(static_cast<float>(std::sqrt(250.0 * 40000.0))), 128, 1);
-  for (float l = 1.0f; l < 1e6f; l *= 1.0137f) {
+  for (int k = 0; k < 1000; ++k) {  // 1 us .. 1e6 us, log-spaced
+    const auto l = static_cast<float>(std::pow(10.0, 6.0 * k / 1000.0));
     ASSERT_NEAR(cmap.fast_bin(l), cmap.bin(l), 1) << l;
   }
+}
+
+TEST(Histogram, BinsQuantilesAndCdf) {
+  evlife::render::Histogram h(0.0, 200.0, 10);  // 0.2 ms bins up to 2 ms
+  for (double v : {-1.0, 0.0, 199.9, 200.0, 450.0, 1999.0, 2000.0, 5000.0}) h.add(v);
+  h.add(std::numeric_limits<double>::quiet_NaN());  // ignored
+  EXPECT_EQ(h.total(), 8u);
+  EXPECT_EQ(h.below(), 1u);
+  EXPECT_EQ(h.above(), 2u);
+  EXPECT_EQ(h.count(0), 2u);
+  EXPECT_EQ(h.count(1), 1u);
+  EXPECT_EQ(h.count(2), 1u);
+  EXPECT_EQ(h.count(9), 1u);
+  EXPECT_DOUBLE_EQ(h.cdf_at_bin_end(0), 3.0 / 8.0);  // -1, 0, 199.9
+  EXPECT_DOUBLE_EQ(h.cdf_at_bin_end(9), 6.0 / 8.0);
+  EXPECT_DOUBLE_EQ(h.quantile(0.5), 400.0);  // 4th of 8 sorted values (200) lies in bin 1: upper edge
+  EXPECT_THROW(evlife::render::Histogram(0.0, 0.0, 3), std::invalid_argument);
+}
+
+TEST(Plot, DrawsTheRequestedSizeAndRejectsMismatchedSeries) {
+  evlife::render::PlotOptions o;
+  o.title = "t";
+  o.x_label = "x [ms]";
+  o.y_label = "y";
+  o.width = 400;
+  o.height = 300;
+  evlife::render::PlotSeries s;
+  s.label = "a";
+  s.x = {0, 1, 2};
+  s.y = {0, 1, 4};
+  const cv::Mat img = evlife::render::draw_plot(o, {s});
+  EXPECT_EQ(img.cols, 400);
+  EXPECT_EQ(img.rows, 300);
+  // The series colour appears (the curve is drawn).
+  cv::Mat hits;
+  cv::inRange(img, s.color - cv::Scalar(1, 1, 1), s.color + cv::Scalar(1, 1, 1), hits);
+  EXPECT_GT(cv::countNonZero(hits), 50);
+  s.y.pop_back();
+  EXPECT_THROW(evlife::render::draw_plot(o, {s}), std::invalid_argument);
 }
 
 TEST(Parsing, DurationsAndModes) {

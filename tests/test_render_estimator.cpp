@@ -108,7 +108,7 @@ TEST_P(EdgeThroughEstimator, RendersAThinLineAtTheTrueEdgeWhateverTheSpeed) {
     // The 30 ms window smears whenever the edge moves more than 3 px in 30 ms.
     if (30000.0 / lifetime_us > 6.0) {
       const auto w = measure(g, sensor, static_cast<double>(t), [&](int x, int y) {
-        return window.is_active(static_cast<std::size_t>(y * sensor.width + x), t, 30000);
+        return window.is_active(static_cast<std::size_t>(y) * static_cast<std::size_t>(sensor.width) + static_cast<std::size_t>(x), t, 30000);
       });
       EXPECT_GT(w.behind, w.on_edge / 2) << "the 30 ms window should smear this edge";
     }

@@ -15,11 +15,11 @@ void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
     if (a.is_noise()) {
       ++noise_;
     } else {
-      lifetime_us_.add(a.lifetime_us);
+      lifetime_us_.add(static_cast<double>(a.lifetime_us));
     }
     if (a.has_prediction()) {
       ++predictions_;
-      abs_error_us_.add(std::fabs(a.prediction_error_us));
+      abs_error_us_.add(static_cast<double>(std::fabs(a.prediction_error_us)));
     }
   }
 }

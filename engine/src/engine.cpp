@@ -96,6 +96,11 @@ RunResult Engine::run() {
       source.request_stop();
       stop_forwarded = true;
     }
+    if (!stop_forwarded && pipeline_.merger().sink_failed()) {
+      spdlog::error("engine: the output failed; stopping the source");
+      source.request_stop();
+      stop_forwarded = true;
+    }
     if (period_ns > 0 && monotonic_ns() >= next_report_ns) {
       spdlog::info("engine: {}", pipeline_.stats().progress_line());
       next_report_ns += period_ns;
@@ -118,3 +123,16 @@ RunResult Engine::run() {
 }
 
 }  // namespace evlife::engine
+
+#if defined(__SANITIZE_THREAD__)
+// ThreadSanitizer cannot see synchronization made by std::atomic_thread_fence
+// (GCC warns: -Wtsan), and moodycamel::ConcurrentQueue hands block slots
+// between producer and consumer with relaxed loads plus fences, so TSan
+// reports a false race when a slot is reused (its own header says "TSAN can
+// false report races in lock-free code" but only silences it under clang).
+// Suppress races whose stacks are inside the queue; races on the batches
+// themselves (our code: router memcpy vs worker reads) still report.
+extern "C" const char* __tsan_default_suppressions() {
+  return "race:moodycamel::ConcurrentQueue\n";
+}
+#endif

@@ -52,6 +52,7 @@ StepResult Merger::step() noexcept {
           } catch (...) {
             sink_error_ = "unknown error while finishing the output";
           }
+          if (!sink_error_.empty()) sink_failed_.store(true, std::memory_order_release);
         }
         return StepResult::finished;
       }
@@ -112,7 +113,10 @@ bool Merger::deliver(std::int64_t now_ns) noexcept {
       sink_error_ = "unknown error while writing the output";
     }
   }
-  if (!sink_error_.empty()) counters.sink_failed_events.add(merged_count_);
+  if (!sink_error_.empty()) {
+    counters.sink_failed_events.add(merged_count_);
+    sink_failed_.store(true, std::memory_order_release);
+  }
   counters.latency_ns.record(now_ns - order_->arrival_ns, merged_count_);
   counters.events_out.add(merged_count_);
   merged_count_ = 0;

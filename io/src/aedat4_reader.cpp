@@ -132,7 +132,8 @@ void Aedat4Reader::fail(std::int64_t byte_offset, const std::string& what) {
 }
 
 bool Aedat4Reader::decompress(std::int64_t packet_offset) {
-  if (packet_.size() < 4 * compressed_.size()) packet_.resize(4 * compressed_.size());
+  // Buffers only grow (no per-packet clearing); *_bytes_ say what is in use.
+  if (packet_.size() < 4 * compressed_bytes_) packet_.resize(4 * compressed_bytes_);
   std::size_t in_pos = 0;
   std::size_t out_pos = 0;
   while (true) {
@@ -143,7 +144,7 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
       }
       packet_.resize(std::min(2 * packet_.size(), kMaxPacketBytes));
     }
-    std::size_t in_bytes = compressed_.size() - in_pos;
+    std::size_t in_bytes = compressed_bytes_ - in_pos;
     std::size_t out_bytes = packet_.size() - out_pos;
     std::size_t hint;
     if (compression_ == Compression::lz4) {
@@ -171,12 +172,12 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
     in_pos += in_bytes;
     out_pos += out_bytes;
     if (hint == 0) break;  // frame complete
-    if (in_pos == compressed_.size() && out_pos < packet_.size()) {
+    if (in_pos == compressed_bytes_ && out_pos < packet_.size()) {
       fail(packet_offset, "AEDAT 4.0 packet: compressed frame is incomplete");
       return false;
     }
   }
-  packet_.resize(out_pos);
+  packet_bytes_ = out_pos;
   return true;
 }
 
@@ -211,14 +212,15 @@ bool Aedat4Reader::next_packet() {
     }
     packet_offset_ = offset;
     std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
-    raw.resize(static_cast<std::size_t>(size));
-    if (file_.read(raw.data(), raw.size()) != raw.size()) {
+    if (raw.size() < static_cast<std::size_t>(size)) raw.resize(static_cast<std::size_t>(size));
+    (compression_ == Compression::none ? packet_bytes_ : compressed_bytes_) = static_cast<std::size_t>(size);
+    if (file_.read(raw.data(), static_cast<std::size_t>(size)) != static_cast<std::size_t>(size)) {
       fail(offset, "truncated AEDAT 4.0 packet");
       return false;
     }
     if (compression_ != Compression::none && !decompress(offset)) return false;
 
-    flatbuffers::Verifier verifier(packet_.data(), packet_.size());
+    flatbuffers::Verifier verifier(packet_.data(), packet_bytes_);
     if (!aedat4::VerifySizePrefixedEventPacketBuffer(verifier)) {
       fail(offset, "AEDAT 4.0 event packet does not verify (corrupt FlatBuffer)");
       return false;
@@ -236,36 +238,55 @@ bool Aedat4Reader::next_packet() {
 
 std::size_t Aedat4Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
-  const int width = sensor_ ? sensor_->width : 32768;
-  const int height = sensor_ ? sensor_->height : 32768;
+  // Unsigned bounds: a negative int16 coordinate becomes huge and fails too.
+  const auto width = static_cast<std::uint32_t>(sensor_ ? sensor_->width : 32768);
+  const auto height = static_cast<std::uint32_t>(sensor_ ? sensor_->height : 32768);
   std::size_t n = 0;
   while (n < out.size()) {
     if (events_pos_ == events_size_) {
       if (!next_packet()) break;
     }
     const std::size_t count = std::min(events_size_ - events_pos_, out.size() - n);
-    const std::uint8_t* record = events_ + events_pos_ * kEventBytes;
-    for (std::size_t i = 0; i < count; ++i, record += kEventBytes) {
+    const std::uint8_t* records = events_ + events_pos_ * kEventBytes;
+    // Convert first, branch-free; find a bad coordinate only if there is one.
+    bool bad = false;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint8_t* record = records + i * kEventBytes;
       std::int16_t x;
       std::int16_t y;
-      Event& e = out[n];
+      Event& e = out[n + i];
       std::memcpy(&e.t_us, record, 8);
       std::memcpy(&x, record + 8, 2);
       std::memcpy(&y, record + 10, 2);
-      if (x < 0 || y < 0 || x >= width || y >= height) {
-        events_pos_ += i;
-        fail(packet_offset_, "AEDAT 4.0 event " + std::to_string(events_pos_) + " of its packet at x=" +
-                                 std::to_string(x) + " y=" + std::to_string(y) + " outside the sensor");
-        events_size_ = events_pos_;
-        if (n == 0) throw *error_;
-        return n;
-      }
+      bad |= (static_cast<std::uint32_t>(static_cast<std::int32_t>(x)) >= width) |
+             (static_cast<std::uint32_t>(static_cast<std::int32_t>(y)) >= height);
       e.x = static_cast<std::uint16_t>(x);
       e.y = static_cast<std::uint16_t>(y);
       e.p = record[12] != 0 ? std::int8_t{1} : std::int8_t{-1};
-      ++n;
-      ++event_count_;
     }
+    if (bad) {
+      std::size_t i = 0;
+      std::int16_t x = 0;
+      std::int16_t y = 0;
+      for (; i < count; ++i) {
+        std::memcpy(&x, records + i * kEventBytes + 8, 2);
+        std::memcpy(&y, records + i * kEventBytes + 10, 2);
+        if (x < 0 || y < 0 || static_cast<std::uint32_t>(x) >= width ||
+            static_cast<std::uint32_t>(y) >= height) {
+          break;
+        }
+      }
+      n += i;
+      event_count_ += static_cast<std::int64_t>(i);
+      events_pos_ += i;
+      fail(packet_offset_, "AEDAT 4.0 event " + std::to_string(events_pos_) + " of its packet at x=" +
+                               std::to_string(x) + " y=" + std::to_string(y) + " outside the sensor");
+      events_size_ = events_pos_;
+      if (n == 0) throw *error_;
+      return n;
+    }
+    n += count;
+    event_count_ += static_cast<std::int64_t>(count);
     events_pos_ += count;
   }
   if (error_ && n == 0) throw *error_;

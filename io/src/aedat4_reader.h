@@ -58,6 +58,8 @@ class Aedat4Reader final : public EventReader {
   ZSTD_DCtx_s* zstd_ = nullptr;
   std::vector<std::uint8_t> compressed_;  // one packet as stored; grows to the largest
   std::vector<std::uint8_t> packet_;      // one packet decompressed
+  std::size_t compressed_bytes_ = 0;      // bytes in use of compressed_ / packet_
+  std::size_t packet_bytes_ = 0;
   const std::uint8_t* events_ = nullptr;  // 16-byte event records inside packet_
   std::size_t events_size_ = 0;
   std::size_t events_pos_ = 0;

@@ -10,11 +10,11 @@ namespace evlife::io {
 
 std::array<std::uint8_t, 3 * Dvs128Biases::kCount> Dvs128Biases::to_bytes() const noexcept {
   std::array<std::uint8_t, 3 * kCount> bytes{};
-  for (int i = 0; i < kCount; ++i) {
-    const std::uint32_t v = values[static_cast<std::size_t>(i)] & kMax;
-    bytes[static_cast<std::size_t>(3 * i + 0)] = static_cast<std::uint8_t>(v >> 16);
-    bytes[static_cast<std::size_t>(3 * i + 1)] = static_cast<std::uint8_t>(v >> 8);
-    bytes[static_cast<std::size_t>(3 * i + 2)] = static_cast<std::uint8_t>(v);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::uint32_t v = values[i] & kMax;
+    bytes[3 * i + 0] = static_cast<std::uint8_t>(v >> 16);
+    bytes[3 * i + 1] = static_cast<std::uint8_t>(v >> 8);
+    bytes[3 * i + 2] = static_cast<std::uint8_t>(v);
   }
   return bytes;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <type_traits>
 
@@ -74,6 +75,9 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
   }
   probe_hdf5_open_in_child(path);  // a libhdf5 crash on a corrupt file becomes a ReadError
+  std::error_code size_error;
+  file_bytes_ = static_cast<std::int64_t>(std::filesystem::file_size(path, size_error));
+  if (size_error) file_bytes_ = 0;
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file_ < 0) throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
 

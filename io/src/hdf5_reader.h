@@ -33,6 +33,13 @@ class Hdf5Reader final : public EventReader {
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "hdf5"; }
   const std::string& path() const override { return path_; }
+  /// Approximate: the share of events loaded, times the file size.
+  std::uint64_t bytes_consumed() const override {
+    return total_ > 0 ? static_cast<std::uint64_t>(static_cast<double>(file_bytes_) *
+                                                   static_cast<double>(next_) /
+                                                   static_cast<double>(total_))
+                      : 0;
+  }
 
   /// "dsec", "prophesee" or "evlife".
   std::string_view layout() const noexcept { return layout_; }
@@ -57,6 +64,7 @@ class Hdf5Reader final : public EventReader {
   Hid file_ = -1;
   Hid x_ = -1, y_ = -1, t_ = -1, p_ = -1;  // column datasets, or t_ = the compound
   std::int64_t total_ = 0;
+  std::int64_t file_bytes_ = 0;
   std::int64_t t_offset_us_ = 0;
   std::optional<SensorSize> sensor_;
   std::int64_t next_ = 0;  // index of the first event not yet loaded

@@ -1,10 +1,10 @@
 // MATLAB v5 .mat files of the reference code: variable `events`, an N×4
 // numeric matrix with rows [x y p t] — t in µs, p ∈ {-1, 1} (0 also read as
-// OFF), x y as stored. The reference files hold 0-based coordinates (0..127:
-// the reference MATLAB code adds 1 when it indexes), so nothing is added or
-// subtracted. The format states no sensor size (sensor_size() = nullopt; the
-// CLI then takes --sensor or the data's extent, which is 128×128 for the
-// reference DVS128 recordings).
+// OFF), x y as stored. The reference files hold 0-based coordinates (both
+// axes span exactly 0..127, a DVS128's range; 1-based data would span
+// 1..128), so nothing is added or subtracted. The format states no sensor
+// size (sensor_size() = nullopt; the CLI then takes --sensor or the data's
+// extent, which is 128×128 for the reference DVS128 recordings).
 //
 // Streaming: MATLAB stores matrices column-major, so row i needs one value
 // from each of the 4 columns. Each column gets its own cursor over the same

@@ -81,14 +81,26 @@ void paint_window(const FixedWindowMap& map, std::int64_t t_us, std::int64_t win
   const SensorSize s = map.sensor();
   out.create(s.height, s.width, CV_8UC3);
   const auto w = map.relative_window(t_us, window_us);
-  std::size_t i = 0;
+  // Bounds within int32 (relative_window saturates), so the per-pixel test
+  // is two 32-bit compares that vectorize; rows are cleared with memset.
+  const auto lo = static_cast<std::int32_t>(w.lo);
+  const auto hi = static_cast<std::int32_t>(w.hi);
+  const std::int32_t* last = map.last_map().data();
+  constexpr int kChunk = 16;
   for (int y = 0; y < s.height; ++y) {
     auto* row = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < s.width; ++x, ++i) {
-      if (!map.is_active_rel(i, w))
-        row[x] = kBackground;
-      else
-        row[x] = mode == ColorMode::polarity ? polarity_color(map.polarity(i)) : kPlain;
+    std::memset(static_cast<void*>(row), 0, static_cast<std::size_t>(s.width) * sizeof(cv::Vec3b));
+    const std::size_t row0 = static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width);
+    const std::int32_t* l = last + row0;
+    for (int x0 = 0; x0 < s.width; x0 += kChunk) {
+      const int x1 = std::min(x0 + kChunk, s.width);
+      bool any = false;
+      for (int x = x0; x < x1; ++x) any |= (l[x] >= lo) & (l[x] <= hi);
+      if (!any) continue;
+      for (int x = x0; x < x1; ++x) {
+        if (l[x] < lo || l[x] > hi) continue;
+        row[x] = mode == ColorMode::polarity ? polarity_color(map.polarity(row0 + static_cast<std::size_t>(x))) : kPlain;
+      }
     }
   }
 }

@@ -51,6 +51,7 @@ void BM_Dvs128TransferToOutputLatency(benchmark::State& state) {
   const int events_per_packet = 1000 * packet_ms;  // 1 M events/s
   const int packets = 1000 / packet_ms;             // 1 s of stream
   for (auto _ : state) {
+    (void)_;  // clang-analyzer: the loop variable is only a counter
     evlife::testing::UsbTestbed bed;
     auto& cam = bed.add_dvs128();
     Probe probe;

@@ -5,6 +5,7 @@
 // event's latency from source arrival, and recycles the batches.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -25,7 +26,9 @@ class Merger {
   /// waits. Allocates only if the sink throws (to keep its message).
   StepResult step() noexcept;
 
-  bool sink_failed() const noexcept { return !sink_error_.empty(); }
+  /// Any thread: the sink has failed (the engine then stops the source).
+  bool sink_failed() const noexcept { return sink_failed_.load(std::memory_order_acquire); }
+  /// The sink's message; read it after the run (merger thread writes it).
   const std::string& sink_error() const noexcept { return sink_error_; }
 
  private:
@@ -44,6 +47,7 @@ class Merger {
   std::vector<std::unique_ptr<moodycamel::ProducerToken>> free_tokens_;
   std::unique_ptr<moodycamel::ProducerToken> order_free_token_;
   std::string sink_error_;
+  std::atomic<bool> sink_failed_{false};
   bool delivery_pending_ = false;
   bool finished_ = false;
 };

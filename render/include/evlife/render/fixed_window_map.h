@@ -61,6 +61,8 @@ class FixedWindowMap {
     return is_active_rel(i, relative_window(t_us, window_us));
   }
   std::int8_t polarity(std::size_t i) const noexcept { return polarity_[i]; }
+  /// Raw map: latest timestamp per pixel relative to the epoch (kNeverRel = none).
+  std::span<const std::int32_t> last_map() const noexcept { return last_rel_; }
   std::size_t count_active(std::int64_t t_us, std::int64_t window_us) const noexcept;
 
   SensorSize sensor() const noexcept { return sensor_; }
