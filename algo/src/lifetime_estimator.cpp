@@ -16,6 +16,14 @@ namespace {
 // cannot overflow for any |t_new| < 2^62.
 constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min() / 4;
 constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
+// std::lround of a value in [-1, 1], without the libm call.
+int round_unit(double u) noexcept { return static_cast<int>(u >= 0.5) - static_cast<int>(u <= -0.5); }
+
+// std::llround for |v| < 2^62, without the libm call.
+std::int64_t round_to_int64(double v) noexcept {
+  return static_cast<std::int64_t>(v + (v >= 0.0 ? 0.5 : -0.5));
+}
+
 int ransac_iterations_for(double outlier_fraction, double confidence) {
   const double inlier_pair = (1.0 - outlier_fraction) * (1.0 - outlier_fraction);
   const double k = std::log(1.0 - confidence) / std::log(1.0 - inlier_pair);
@@ -144,11 +152,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // sampled past events; support = past events within the time tolerance.
   // Tolerance = max(floor, fraction of the candidate's lifetime): timing noise
   // of real sensors grows with the lifetime, a fixed floor covers jitter.
-  const float tol_floor_us = static_cast<float>(options_.inlier_tolerance_us);
-  const float tol_fraction = static_cast<float>(options_.inlier_tolerance_lifetime_fraction);
+  // Compared squared: no square root per candidate.
+  const float tol_floor2 = static_cast<float>(options_.inlier_tolerance_us * options_.inlier_tolerance_us);
+  const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
+                                                 options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
   int best_support = 0;
-  float best_gx = 0.0f, best_gy = 0.0f, best_tol = 0.0f;
+  float best_gx = 0.0f, best_gy = 0.0f, best_tol2 = 0.0f;
   // Adaptive RANSAC: the iteration budget starts at the count for the
   // expected outlier fraction and shrinks as better support is found.
   int iterations = ransac_iterations_;
@@ -158,15 +168,16 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     if (j >= i) ++j;
     const float det = nb.dx[i] * nb.dy[j] - nb.dx[j] * nb.dy[i];
     if (std::fabs(det) < 0.5f) continue;  // collinear with the new event
-    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) / det;
-    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) / det;
-    const float tol = std::max(tol_floor_us, tol_fraction * std::sqrt(gx * gx + gy * gy));
-    const int support = 1 + nb.support(gx, gy, tol);  // + the new event
+    const float inv_det = 1.0f / det;
+    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) * inv_det;
+    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) * inv_det;
+    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
+    const int support = 1 + nb.support(gx, gy, tol2);  // + the new event
     if (support > best_support) {
       best_support = support;
       best_gx = gx;
       best_gy = gy;
-      best_tol = tol;
+      best_tol2 = tol2;
       iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
@@ -180,7 +191,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   detail::PlaneFit fit;
   fit.add(0.0, 0.0, 0.0);  // the new event
   for (int k = 0; k < count; ++k) {
-    if (std::fabs(nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k]) > best_tol) continue;
+    const float r = nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k];
+    if (!(r * r <= best_tol2)) continue;
     fit.add(static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
             static_cast<double>(nb.dt_us[k]));
   }
@@ -201,10 +213,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).
-  const int qx = x + static_cast<int>(std::lround(gx / lifetime_us));
-  const int qy = y + static_cast<int>(std::lround(gy / lifetime_us));
+  const int qx = x + round_unit(gx / lifetime_us);
+  const int qy = y + round_unit(gy / lifetime_us);
   if (qx >= 0 && qy >= 0 && qx < W && qy < H && (qx != x || qy != y)) {
-    predictions_[pixel_index(pol, qx, qy)] = {e.t_us + std::llround(gx * (qx - x) + gy * (qy - y)),
+    predictions_[pixel_index(pol, qx, qy)] = {e.t_us + round_to_int64(gx * (qx - x) + gy * (qy - y)),
                                               static_cast<float>(gx), static_cast<float>(gy)};
   }
   return out;

@@ -19,20 +19,51 @@ struct WindowSamples {
   float dx[kSampleCapacity];     // px
   float dy[kSampleCapacity];     // px
   float dt_us[kSampleCapacity];  // <= 0: past events only
+  int rank_[kSampleCapacity];    // scratch of keep_newest()
   int count = 0;
 
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
-  /// preserving gather order among them so results do not depend on the
-  /// selection algorithm.
+  /// in gather order; ties go to the earlier-gathered sample.
   void keep_newest(int keep) noexcept {
     if (count <= keep) return;
+    if (count <= kRankCountingMax) {
+      keep_newest_by_rank(keep);
+    } else {
+      keep_newest_by_selection(keep);
+    }
+  }
+
+  /// Rank counting, O(count^2) but branch-free: faster than a selection
+  /// algorithm for the windows of N <= 5.
+  static constexpr int kRankCountingMax = 32;
+  void keep_newest_by_rank(int keep) noexcept {
+    int out = 0;
+    for (int k = 0; k < count; ++k) {
+      const float t = dt_us[k];
+      int rank = 0;  // samples that come before sample k in "newest first" order
+      for (int j = 0; j < count; ++j) {
+        rank += static_cast<int>(dt_us[j] > t) | (static_cast<int>(dt_us[j] == t) & static_cast<int>(j < k));
+      }
+      rank_[k] = rank;
+    }
+    for (int k = 0; k < count; ++k) {
+      if (rank_[k] >= keep) continue;
+      dx[out] = dx[k];
+      dy[out] = dy[k];
+      dt_us[out] = dt_us[k];
+      ++out;
+    }
+    count = out;
+  }
+
+  /// The same selection in O(count) for large windows.
+  void keep_newest_by_selection(int keep) noexcept {
     float sorted[kSampleCapacity];
     std::copy(dt_us, dt_us + count, sorted);
     std::nth_element(sorted, sorted + (keep - 1), sorted + count, [](float a, float b) { return a > b; });
     const float threshold = sorted[keep - 1];
-    int strictly_newer = 0;
-    for (int k = 0; k < count; ++k) strictly_newer += dt_us[k] > threshold;
-    int ties_allowed = keep - strictly_newer;
+    int ties_allowed = keep;
+    for (int k = 0; k < count; ++k) ties_allowed -= dt_us[k] > threshold;
     int out = 0;
     for (int k = 0; k < count; ++k) {
       const bool take = dt_us[k] > threshold || (dt_us[k] == threshold && ties_allowed-- > 0);
@@ -56,15 +87,15 @@ struct WindowSamples {
   }
   int padded_count() const noexcept { return (count + kLanes - 1) / kLanes * kLanes; }
 
-  /// Number of samples within `tol_us` of the plane dt = gx*dx + gy*dy
+  /// Number of samples within sqrt(tol2_us2) of the plane dt = gx*dx + gy*dy
   /// (call pad() first).
-  int support(float gx, float gy, float tol_us) const noexcept {
+  int support(float gx, float gy, float tol2_us2) const noexcept {
     std::int32_t n[kLanes] = {};
     const int end = padded_count();
     for (int k = 0; k < end; k += kLanes) {
       for (int l = 0; l < kLanes; ++l) {
         const float r = dt_us[k + l] - gx * dx[k + l] - gy * dy[k + l];
-        n[l] -= -static_cast<std::int32_t>(std::fabs(r) <= tol_us);
+        n[l] -= -static_cast<std::int32_t>(r * r <= tol2_us2);
       }
     }
     return n[0] + n[1] + n[2] + n[3];
