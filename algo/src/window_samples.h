@@ -37,15 +37,22 @@ struct WindowSamples {
   /// algorithm for the windows of N <= 5.
   static constexpr int kRankCountingMax = 32;
   void keep_newest_by_rank(int keep) noexcept {
-    int out = 0;
+    const int end = (count + kLanes - 1) / kLanes * kLanes;
+    for (int k = count; k < end; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
     for (int k = 0; k < count; ++k) {
+      // Samples before sample k in "newest first" order (ties: gather order).
       const float t = dt_us[k];
-      int rank = 0;  // samples that come before sample k in "newest first" order
-      for (int j = 0; j < count; ++j) {
-        rank += static_cast<int>(dt_us[j] > t) | (static_cast<int>(dt_us[j] == t) & static_cast<int>(j < k));
+      Lanes4i rank = {0, 0, 0, 0};
+      Lanes4i index = {0, 1, 2, 3};
+      for (int j = 0; j < end; j += kLanes) {
+        Lanes4f v;
+        __builtin_memcpy(&v, dt_us + j, sizeof v);
+        rank -= (v > t) | ((v == t) & (index < k));
+        index += kLanes;
       }
-      rank_[k] = rank;
+      rank_[k] = rank[0] + rank[1] + rank[2] + rank[3];
     }
+    int out = 0;
     for (int k = 0; k < count; ++k) {
       if (rank_[k] >= keep) continue;
       dx[out] = dx[k];
@@ -88,20 +95,24 @@ struct WindowSamples {
   int padded_count() const noexcept { return (count + kLanes - 1) / kLanes * kLanes; }
 
   /// Number of samples within sqrt(tol2_us2) of the plane dt = gx*dx + gy*dy
-  /// (call pad() first).
+  /// (call pad() first). GCC/Clang vector extensions: SSE on x86, NEON on ARM.
   int support(float gx, float gy, float tol2_us2) const noexcept {
-    std::int32_t n[kLanes] = {};
     const int end = padded_count();
+    Lanes4i n = {0, 0, 0, 0};
     for (int k = 0; k < end; k += kLanes) {
-      for (int l = 0; l < kLanes; ++l) {
-        const float r = dt_us[k + l] - gx * dx[k + l] - gy * dy[k + l];
-        n[l] -= -static_cast<std::int32_t>(r * r <= tol2_us2);
-      }
+      Lanes4f vx, vy, vt;
+      __builtin_memcpy(&vx, dx + k, sizeof vx);
+      __builtin_memcpy(&vy, dy + k, sizeof vy);
+      __builtin_memcpy(&vt, dt_us + k, sizeof vt);
+      const Lanes4f r = vt - gx * vx - gy * vy;
+      n -= (r * r <= tol2_us2);  // a true lane compares as -1
     }
     return n[0] + n[1] + n[2] + n[3];
   }
 
-  static constexpr int kLanes = 4;  // one SSE register of floats
+  static constexpr int kLanes = 4;  // one SSE / NEON register of floats
+  using Lanes4f = float __attribute__((vector_size(16)));
+  using Lanes4i = std::int32_t __attribute__((vector_size(16)));
 };
 
 }  // namespace evlife::detail
