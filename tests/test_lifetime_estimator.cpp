@@ -139,6 +139,31 @@ TEST(LifetimeEstimator, EventLongAfterEdgePassedIsNoise) {
   EXPECT_EQ(noise, total);
 }
 
+// The same near the border, where only part of the window exists and a few
+// stale samples fit a random plane more easily.
+TEST(LifetimeEstimator, BorderEventLongAfterEdgePassedIsNoise) {
+  const SensorSize s{40, 30};
+  LifetimeEstimator est(options_for(s));
+  std::int64_t t_last = 0;
+  for (double angle : {0.3, 2.0, 4.0}) {  // three passes in different directions
+    for (Event e : straight_edge(s, angle, 800.0, 1, t_last + 10000)) {
+      est.process(e);
+      t_last = e.t_us;
+    }
+  }
+  int noise = 0, total = 0;
+  for (int k = 0; k < 120; ++k) {
+    const int side = k % 4;
+    const int along = (k * 7) % 30;
+    const int x = side == 0 ? 0 : side == 1 ? s.width - 1 : std::min(along, s.width - 1);
+    const int y = side == 2 ? 0 : side == 3 ? s.height - 1 : std::min(along, s.height - 1);
+    const Event e{t_last + 30000 + 1500 * k, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), 1};
+    noise += est.process(e).is_noise();
+    ++total;
+  }
+  EXPECT_GE(noise, 0.95 * total);
+}
+
 TEST(LifetimeEstimator, PolaritiesHaveSeparateSurfaces) {
   const SensorSize s{40, 40};
   LifetimeEstimator est(options_for(s));

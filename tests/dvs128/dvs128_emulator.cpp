@@ -13,25 +13,6 @@
 #include <stdexcept>
 #include <thread>
 
-// ThreadSanitizer: GLib/umockdev are not instrumented, so TSan cannot see
-// their internal synchronisation (GObject refcounts, main-context hand-offs)
-// and reports their own malloc/free/mutex calls at testbed set-up and
-// teardown. Ignore interceptors called FROM those libraries only: accesses
-// made by our code (emulator state, libusb users) are still checked.
-#if defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define EVLIFE_TSAN 1
-#endif
-#endif
-#if defined(__SANITIZE_THREAD__) || defined(EVLIFE_TSAN)
-extern "C" const char* __tsan_default_suppressions() {
-  return "called_from_lib:libglib-2.0.so.0\n"
-         "called_from_lib:libgobject-2.0.so.0\n"
-         "called_from_lib:libgio-2.0.so.0\n"
-         "called_from_lib:libumockdev.so.0\n";
-}
-#endif
-
 namespace evlife::testing {
 
 namespace {

@@ -2,8 +2,7 @@
 # in-process usbdevfs emulation. Included from tests/CMakeLists.txt.
 # Tests using the emulator must run under `umockdev-wrapper` (an LD_PRELOAD
 # shim, no root needed): they get it as their launcher, for test discovery and
-# for ctest. Debian: umockdev libumockdev-dev. ASan builds get
-# ASAN_OPTIONS=verify_asan_link_order=0 in the launcher.
+# for ctest. Debian: umockdev libumockdev-dev.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(UMOCKDEV IMPORTED_TARGET umockdev-1.0)
 find_program(EVLIFE_UMOCKDEV_WRAPPER umockdev-wrapper)
@@ -17,14 +16,9 @@ if(UMOCKDEV_FOUND AND EVLIFE_UMOCKDEV_WRAPPER)
   target_compile_definitions(evlife_dvs128_emulator PRIVATE
     EVLIFE_DVS128_FIXTURE="${CMAKE_CURRENT_LIST_DIR}/dvs128.umockdev")
 
-  # The launcher is picked up by gtest_discover_tests (discovery and ctest).
-  # Under ASan the runtime must tolerate umockdev's preload coming first.
-  if(EVLIFE_SANITIZE MATCHES "address")
-    set(CMAKE_CROSSCOMPILING_EMULATOR env ASAN_OPTIONS=verify_asan_link_order=0
-        ${EVLIFE_UMOCKDEV_WRAPPER})
-  else()
-    set(CMAKE_CROSSCOMPILING_EMULATOR ${EVLIFE_UMOCKDEV_WRAPPER})
-  endif()
+  # The launcher (umockdev_launcher.sh: umockdev-wrapper plus sanitizer
+  # settings) is picked up by gtest_discover_tests, for discovery and ctest.
+  set(CMAKE_CROSSCOMPILING_EMULATOR /bin/sh ${CMAKE_CURRENT_LIST_DIR}/umockdev_launcher.sh)
   evlife_add_test(test_dvs128_device LIBS evlife::io evlife_dvs128_emulator)
   if(TARGET evlife_engine)
     evlife_add_test(test_dvs128_source LIBS evlife::engine evlife::io evlife_dvs128_emulator)
