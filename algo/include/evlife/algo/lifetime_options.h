@@ -20,7 +20,9 @@ struct LifetimeOptions {
 
   /// epsilon: expected share of outliers among the window's newer half.
   /// Sets the RANSAC iteration count (for ransac_confidence) and the minimum
-  /// support m = (1 - epsilon) * N^2 / 2 (paper eq. 8). In (0, 0.9].
+  /// support m = (1 - epsilon) * N^2 / 2 (paper eq. 8; near the border, where
+  /// only part of the window exists, halfway between that and the clipped
+  /// window's value). In (0, 0.9].
   double outlier_fraction = 0.4;
 
   /// Probability that RANSAC draws at least one all-inlier sample. (0, 1).
