@@ -115,7 +115,7 @@ std::vector<Event> matio_events(const std::string& path) {
         case MAT_C_INT32: return static_cast<const std::int32_t*>(var->data)[k];
         case MAT_C_DOUBLE: return static_cast<const double*>(var->data)[k];
         case MAT_C_INT16: return static_cast<const std::int16_t*>(var->data)[k];
-        case MAT_C_SINGLE: return static_cast<const float*>(var->data)[k];
+        case MAT_C_SINGLE: return static_cast<double>(static_cast<const float*>(var->data)[k]);
         default: {
           ADD_FAILURE() << "class not handled by the test";
           return 0;

@@ -95,7 +95,7 @@ TEST(LifetimeEstimator, ExactPlaneGivesAnalyticLifetimeAndVelocity) {
           if (i < events.size() / 4 || !interior(events[i], s, 3)) continue;
           ++checked;
           const double tau_true = 1e6 / speed;
-          const double vx = out.vx_px_s, vy = out.vy_px_s;
+          const double vx = static_cast<double>(out.vx_px_s), vy = static_cast<double>(out.vy_px_s);
           const double v = std::hypot(vx, vy);
           const bool lifetime_ok =
               std::fabs(static_cast<double>(out.lifetime_us) - tau_true) <= 0.02 * tau_true + 1.0;

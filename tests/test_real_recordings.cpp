@@ -63,8 +63,8 @@ TEST(RealRecordings, StripesFarPatternLivesLongerThanNearPattern) {
     std::vector<double> far, near;
     for (const auto& a : out) {
       if (a.is_noise()) continue;
-      if (a.event.y >= 32 && a.event.y <= 67) far.push_back(a.lifetime_us);
-      if (a.event.y >= 72 && a.event.y <= 127) near.push_back(a.lifetime_us);
+      if (a.event.y >= 32 && a.event.y <= 67) far.push_back(static_cast<double>(a.lifetime_us));
+      if (a.event.y >= 72 && a.event.y <= 127) near.push_back(static_cast<double>(a.lifetime_us));
     }
     ASSERT_GT(far.size(), 1000u);
     ASSERT_GT(near.size(), 1000u);
@@ -86,7 +86,7 @@ TEST(RealRecordings, GarfieldMotionIsHorizontalAndCoherent) {
     if (a.is_noise()) continue;
     ++edges;
     horizontal += std::fabs(a.vx_px_s) > 2.0f * std::fabs(a.vy_px_s);
-    vx.push_back(a.vx_px_s);
+    vx.push_back(static_cast<double>(a.vx_px_s));
   }
   EXPECT_GT(edges, out.size() / 5);
   EXPECT_GT(static_cast<double>(horizontal) / static_cast<double>(edges), 0.6);

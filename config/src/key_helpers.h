@@ -114,7 +114,7 @@ ConfigKey bool_key(std::string name, Field field) {
 
 /// A string restricted to `choices` (empty = any string).
 template <typename Field>
-ConfigKey string_key(std::string name, Field field, std::vector<std::string> choices = {}) {
+ConfigKey string_key(std::string name, Field field, const std::vector<std::string>& choices = {}) {
   ConfigKey k;
   k.name = std::move(name);
   k.type = "string";

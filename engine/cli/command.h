@@ -24,4 +24,4 @@ inline bool register_command(const Command& command) {
 
 #define EVLIFE_REGISTER_COMMAND(name, summary, fn)                    \
   [[maybe_unused]] static const bool evlife_registered_##fn =         \
-      ::evlife::cli::register_command({name, summary, &fn})
+      ::evlife::cli::register_command({name, summary, &(fn)})

@@ -46,7 +46,7 @@ TileLayout::TileLayout(SensorSize sensor, int workers, int tiles_x, int tiles_y,
   fill_axis(sensor.width, tiles_x, margin_px, col_of_x_, feed_cols_);
   fill_axis(sensor.height, tiles_y, margin_px, row_of_y_, feed_rows_);
   // Tiles dealt round robin, polarity-major.
-  tile_worker_.resize(static_cast<std::size_t>(2 * tiles_x * tiles_y));
+  tile_worker_.resize(2 * static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
   for (std::size_t i = 0; i < tile_worker_.size(); ++i)
     tile_worker_[i] = static_cast<std::uint8_t>(i % static_cast<std::size_t>(workers));
 }

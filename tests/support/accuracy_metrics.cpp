@@ -36,7 +36,7 @@ struct Samples {
 
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return std::nan("");
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  const auto k = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k];
 }

@@ -58,7 +58,8 @@ class TileLayout {
     return e.x < sensor_.width && e.y < sensor_.height && (e.p == 1 || e.p == -1);
   }
   std::size_t tile_index(int pi, int col, int row) const noexcept {
-    return static_cast<std::size_t>((pi * tiles_y_ + row) * tiles_x_ + col);
+    return static_cast<std::size_t>(pi * tiles_y_ + row) * static_cast<std::size_t>(tiles_x_) +
+           static_cast<std::size_t>(col);
   }
 
   SensorSize sensor_;
