@@ -266,18 +266,9 @@ int convert(int argc, char** argv) {
   return convert_events(input, output, sensor, unchecked, quiet);
 }
 
-int run_convert(int argc, char** argv) {
-  try {
-    return convert(argc, argv);
-  } catch (const std::exception& e) {  // a bug or out of memory: still a message, never a crash
-    std::fprintf(stderr, "evlife convert: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
 EVLIFE_REGISTER_COMMAND("convert", "rewrite a recording in another format (.txt, .h5)",
-                        run_convert);
+                        convert);
 
 }  // namespace evlife::cli

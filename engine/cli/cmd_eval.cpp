@@ -614,17 +614,8 @@ int eval_recording(int argc, char** argv) {
   return kExitOk;
 }
 
-int run_eval(int argc, char** argv) {
-  try {
-    return eval_recording(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "evlife eval: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
-EVLIFE_REGISTER_COMMAND("eval", "the paper's evaluation plots (Figs. 9, 10), velocity and sharpness", run_eval);
+EVLIFE_REGISTER_COMMAND("eval", "the paper's evaluation plots (Figs. 9, 10), velocity and sharpness", eval_recording);
 
 }  // namespace evlife::cli

@@ -348,18 +348,9 @@ int process_recording(int argc, char** argv) {
   return kExitOk;
 }
 
-int run_process(int argc, char** argv) {
-  try {
-    return process_recording(argc, argv);
-  } catch (const std::exception& e) {  // a bug or out of memory: still a message, never a crash
-    std::fprintf(stderr, "evlife process: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
 EVLIFE_REGISTER_COMMAND("process", "give every event of a recording its lifetime and velocity",
-                        run_process);
+                        process_recording);
 
 }  // namespace evlife::cli

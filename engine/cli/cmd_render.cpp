@@ -450,17 +450,8 @@ int render_recording(int argc, char** argv) {
   return kExitOk;
 }
 
-int run_render(int argc, char** argv) {
-  try {
-    return render_recording(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "evlife render: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
-EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", run_render);
+EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", render_recording);
 
 }  // namespace evlife::cli

@@ -368,18 +368,9 @@ int run_engine(int argc, char** argv) {
   return kExitFailure;
 }
 
-int run_command(int argc, char** argv) {
-  try {
-    return run_engine(argc, argv);
-  } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
-    std::fprintf(stderr, "evlife run: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
 EVLIFE_REGISTER_COMMAND("run", "real-time multithreaded engine: live camera or paced replay",
-                        run_command);
+                        run_engine);
 
 }  // namespace evlife::cli

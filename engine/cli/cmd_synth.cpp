@@ -209,18 +209,9 @@ int synth(int argc, char** argv) {
   return kExitOk;
 }
 
-int run_synth(int argc, char** argv) {
-  try {
-    return synth(argc, argv);
-  } catch (const std::exception& e) {  // a bug or out of memory: still a message, never a crash
-    std::fprintf(stderr, "evlife synth: unexpected error: %s\n", e.what());
-    return kExitFailure;
-  }
-}
-
 }  // namespace
 
 EVLIFE_REGISTER_COMMAND("synth", "write a synthetic scene with known ground truth (a sample)",
-                        run_synth);
+                        synth);
 
 }  // namespace evlife::cli

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <string_view>
 
 #include "command.h"
@@ -26,6 +27,15 @@ void print_usage(std::FILE* out) {
     std::fprintf(out, "  %-10.*s %.*s\n", static_cast<int>(c.name.size()), c.name.data(),
                  static_cast<int>(c.summary.size()), c.summary.data());
   }
+  std::fprintf(out,
+               "\nExamples:\n"
+               "  evlife synth -o sample.txt                      # a synthetic recording with known truth\n"
+               "  evlife process sample.txt -o sample.csv         # lifetime + velocity for every event\n"
+               "  evlife render recording.mat -o f.png --at 0.5 --mode compare   # 1 ms | 30 ms | lifetime\n"
+               "  evlife run --source dvs128 -o live.bin          # live DVS128, real-time engine\n"
+               "\nEvery event is active from t to t + lifetime, so a sharp edge image exists at any instant.\n"
+               "Configuration: config/evlife.yaml (--config FILE, --set key=value); exit status 0 ok,\n"
+               "2 usage, 3 input error, 4 output error, 130 interrupted.\n");
 }
 }  // namespace
 
@@ -36,7 +46,13 @@ int main(int argc, char** argv) {
   }
   const std::string_view name = argv[1];
   for (const auto& c : evlife::cli::command_registry()) {
-    if (c.name == name) return c.run(argc - 1, argv + 1);
+    if (c.name != name) continue;
+    try {
+      return c.run(argc - 1, argv + 1);
+    } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
+      std::fprintf(stderr, "evlife %s: unexpected error: %s\n", argv[1], e.what());
+      return 1;  // kExitFailure
+    }
   }
   std::fprintf(stderr, "evlife: unknown command '%s'\n\n", argv[1]);
   print_usage(stderr);
