@@ -9,7 +9,7 @@
 
 namespace {
 
-void BM_SyntheticStream(benchmark::State& state, evlife::io::SceneSpec spec) {
+void BM_SyntheticStream(benchmark::State& state, const evlife::io::SceneSpec& spec) {
   std::vector<evlife::Event> buffer(1 << 16);
   std::int64_t events = 0;
   for (auto _ : state) {

@@ -1,7 +1,7 @@
 #include "evlife/io/augmented_event_writer.h"
 
 #include "augmented_formats.h"
-#include "evlife/io/hdf5_writer.h"  // helper "formats"
+#include "evlife/io/hdf5_writer.h"
 #include "reader_registry.h"  // has_extension
 
 namespace evlife::io {
@@ -10,7 +10,7 @@ std::unique_ptr<AugmentedEventWriter> open_augmented_writer(const std::string& p
                                                             SensorSize sensor) {
   if (detail::has_extension(path, ".csv")) return detail::open_augmented_csv_writer(path);
   if (detail::has_extension(path, ".bin")) return detail::open_augmented_bin_writer(path, sensor);
-  // helper "formats": HDF5 (h5py-readable columns).
+  // HDF5 (h5py-readable columns).
   if (detail::has_extension(path, ".h5") || detail::has_extension(path, ".hdf5")) {
     return open_hdf5_augmented_writer(
         path, sensor.width > 0 ? std::optional<SensorSize>(sensor) : std::nullopt);

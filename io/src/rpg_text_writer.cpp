@@ -3,7 +3,7 @@
 #include <charconv>
 
 #include "evlife/io/event_writer.h"
-#include "evlife/io/hdf5_writer.h"  // helper "formats"
+#include "evlife/io/hdf5_writer.h"
 #include "output_file.h"
 #include "reader_registry.h"  // has_extension
 
@@ -54,7 +54,7 @@ std::unique_ptr<EventWriter> open_rpg_text_writer(const std::string& path) {
 
 std::unique_ptr<EventWriter> open_event_writer(const std::string& path) {
   if (detail::has_extension(path, ".txt")) return open_rpg_text_writer(path);
-  // helper "formats": HDF5 x,y,t,p (sensor size unknown here).
+  // HDF5 x,y,t,p (sensor size unknown here).
   if (detail::has_extension(path, ".h5") || detail::has_extension(path, ".hdf5")) {
     return open_hdf5_event_writer(path, std::nullopt);
   }

@@ -1,4 +1,4 @@
-# DVS128 over USB (helper "usb"): the real libusb path against umockdev's
+# DVS128 over USB: the real libusb path against umockdev's
 # in-process usbdevfs emulation. Included from tests/CMakeLists.txt.
 # Tests using the emulator must run under `umockdev-wrapper` (an LD_PRELOAD
 # shim, no root needed): they get it as their launcher, for test discovery and
