@@ -384,6 +384,7 @@ TEST(LifetimeAccuracy, DISABLED_StressSweep) {
   struct Case {
     std::string name;
     SceneSpec spec;
+    evlife::LifetimeOptions options{};  // the defaults unless a case varies them
   };
   std::vector<Case> cases;
   for (double tau : {50.0, 100.0, 150.0, 200.0, 300.0, 30000.0, 50000.0}) {
@@ -416,11 +417,19 @@ TEST(LifetimeAccuracy, DISABLED_StressSweep) {
     s.bars[0].omega_end_deg_s = 3000.0;
     cases.push_back({"bar 1200->3000 deg/s in 0.3 s", s});
   }
+  // The regularization weight (README, estimator parameters): the default
+  // 0.1 against 1.0 (the prior then outweighs a 5 x 5 window's data) and off.
+  for (double unit : {0.0, 0.1, 1.0}) {
+    Case c{"bar 150->1200 deg/s, lambda_unit " + std::to_string(unit).substr(0, 3),
+           evlife::io::rotating_bar_scene({240, 180}, 1'000'000, 7)};
+    c.options.lambda_unit_px2 = unit;
+    cases.push_back(c);
+  }
   std::printf("%-36s %8s %7s %8s %8s %8s %7s %8s\n", "condition", "edges", "w/ tau%", "med rel%",
               "p90 rel%", "bias%", "med dir", "noise%");
   for (const auto& c : cases) {
     const SyntheticScene scene = evlife::io::generate_scene(c.spec);
-    const auto o = run_estimator(scene, evlife::LifetimeOptions{}).overall;
+    const auto o = run_estimator(scene, c.options).overall;
     std::printf("%-36s %8zu %7.2f %8.2f %8.2f %+8.2f %7.2f %8.2f\n", c.name.c_str(), o.edge_events,
                 100.0 * o.lifetime_share, 100.0 * o.median_rel_error, 100.0 * o.p90_rel_error,
                 100.0 * o.median_signed_rel_error, o.median_dir_error_deg, 100.0 * o.noise_share);
