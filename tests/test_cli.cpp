@@ -3,7 +3,6 @@
 // flushed to the output, one output row per input event, --set in effect.
 // Expected counts come from decoding the inputs here, independently.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "cli_runner.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -23,19 +24,9 @@ const std::string kData = EVLIFE_SHARED_DATA_DIR;
 const std::string kRpgText = kData + "/rpg_txt/slider_depth_events_chunk.txt";
 const std::string kAedat2 = kData + "/aedat2/alex_walking_again.aedat";
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using RunResult = evlife::test::CliRun;
 
-std::string read_file(const fs::path& path) {
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
-  if (ec) return {};
-  std::string text(size, '\0');
-  std::ifstream(path, std::ios::binary).read(text.data(), static_cast<std::streamsize>(size));
-  return text;
-}
+std::string read_file(const fs::path& path) { return evlife::test::read_text_file(path); }
 
 class CliTest : public testing::Test {
  protected:
@@ -47,15 +38,7 @@ class CliTest : public testing::Test {
   }
 
   // Runs `evlife <args>` through the shell, capturing both streams.
-  RunResult run(const std::string& args) const {
-    const fs::path log = dir_ / "cli.log";
-    const std::string cmd = "'" + kCli + "' " + args + " >'" + log.string() + "' 2>&1 </dev/null";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.output = read_file(log);
-    return r;
-  }
+  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_ / "cli.log"); }
 
   fs::path path(const std::string& name) const { return dir_ / name; }
 

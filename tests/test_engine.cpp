@@ -96,6 +96,17 @@ ee::EngineOptions engine_options(int workers, int tiles_x, int tiles_y, SensorSi
   return o;
 }
 
+// Two workers (one per polarity), pools of two 64-event batches and a fixed
+// policy: small enough that the stepped tests reach blocking and dropping.
+ee::EngineOptions tight_options(ee::OverloadPolicy policy) {
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.batch_events = 64;
+  options.batches_per_worker = 2;
+  options.auto_policy = false;
+  options.policy = policy;
+  return options;
+}
+
 std::vector<AugmentedEvent> run_threaded(const std::vector<Event>& events, SensorSize sensor,
                                          const ee::EngineOptions& options,
                                          ee::RunResult* result_out = nullptr) {
@@ -272,11 +283,7 @@ TEST(Pipeline, RouterBlocksWhenAWorkersPoolIsFullThenResumes) {
   for (int i = 0; i < 64 * 10; ++i)
     events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5, 1});  // all ON -> worker 0
   ee::ReplaySource source(events, kDvs128);
-  auto options = engine_options(2, 1, 1, kDvs128);
-  options.batch_events = 64;
-  options.batches_per_worker = 2;
-  options.auto_policy = false;
-  options.policy = ee::OverloadPolicy::block;
+  const auto options = tight_options(ee::OverloadPolicy::block);
   Collector out;
   ee::Pipeline pipeline(source, &out.sink, options);
   EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
@@ -304,11 +311,7 @@ TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
     events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5,
                            static_cast<std::int8_t>(i % 3 == 0 ? -1 : 1)});
   ee::ReplaySource source(events, kDvs128);
-  auto options = engine_options(2, 1, 1, kDvs128);
-  options.batch_events = 64;
-  options.batches_per_worker = 2;
-  options.auto_policy = false;
-  options.policy = ee::OverloadPolicy::drop;
+  const auto options = tight_options(ee::OverloadPolicy::drop);
   Collector out;
   ee::Pipeline pipeline(source, &out.sink, options);
   for (int i = 0; i < 10; ++i) pipeline.router().step();  // workers never run: pools fill
@@ -329,11 +332,7 @@ TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
 TEST(Engine, SlowSinkWithDropPolicyBalancesInOutDropped) {
   const auto& events = stripes(20'000);
   ee::ReplaySource source(events, kDvs128);
-  auto options = engine_options(2, 1, 1, kDvs128);
-  options.batch_events = 64;
-  options.batches_per_worker = 2;
-  options.auto_policy = false;
-  options.policy = ee::OverloadPolicy::drop;
+  const auto options = tight_options(ee::OverloadPolicy::drop);
   std::size_t received = 0;
   std::int64_t last_t = -1;
   bool ordered = true;
@@ -361,11 +360,7 @@ TEST(Engine, SlowSinkWithDropPolicyBalancesInOutDropped) {
 TEST(Engine, SlowSinkWithBlockPolicyLosesNothing) {
   const auto& events = stripes(5'000);
   ee::ReplaySource source(events, kDvs128);
-  auto options = engine_options(2, 1, 1, kDvs128);
-  options.batch_events = 64;
-  options.batches_per_worker = 2;
-  options.auto_policy = false;
-  options.policy = ee::OverloadPolicy::block;
+  const auto options = tight_options(ee::OverloadPolicy::block);
   Collector out;
   ee::CallbackSink slow([&](std::span<const AugmentedEvent> s) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));

@@ -2,7 +2,6 @@
 // frames at chosen instants, videos, exit codes, and the evaluation's numbers
 // checked against `evlife process` output decoded here.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -17,6 +16,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "cli_runner.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -26,10 +27,7 @@ const std::string kData = EVLIFE_SHARED_DATA_DIR;
 const std::string kStripes = kData + "/reference/stripes.mat";
 const std::string kGarfield = kData + "/reference/garfield.mat";
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
+using RunResult = evlife::test::CliRun;
 
 class RenderCliTest : public testing::Test {
  protected:
@@ -39,18 +37,7 @@ class RenderCliTest : public testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
-  RunResult run(const std::string& args) const {
-    const fs::path log = dir_ / "cli.log";
-    const std::string cmd = "'" + kCli + "' " + args + " >'" + log.string() + "' 2>&1 </dev/null";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(log);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    r.output = ss.str();
-    return r;
-  }
+  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_ / "cli.log"); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   fs::path dir_;
 };

@@ -20,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "arg_parser.h"
+#include "command_start.h"
 #include "command.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
@@ -513,21 +514,8 @@ void write_outputs(const EvalArgs& args, const std::string& description, SensorS
 
 int eval_recording(int argc, char** argv) {
   EvalArgs args;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string_view s = argv[i];
-      if (s == "--help" || s == "-h") {
-        print_eval_help(stdout);
-        return kExitOk;
-      }
-    }
-    args = parse_eval_args(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife eval: %s\n(see evlife eval --help)\n", e.what());
-    return kExitUsage;
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "evlife eval: configuration error: %s\n", e.what());
-    return kExitUsage;
+  if (const auto done = start_command("eval", argc, argv, print_eval_help, [&] { args = parse_eval_args(argc, argv); })) {
+    return *done;
   }
   std::error_code ec;
   fs::create_directories(args.output, ec);

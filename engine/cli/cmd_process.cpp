@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "arg_parser.h"
+#include "command_start.h"
 #include "command.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/config/config.h"
@@ -201,21 +202,11 @@ int process_recording(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   ProcessArgs args;
   config::Config cfg;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
-        print_help(stdout);
-        return kExitOk;
-      }
-    }
-    args = parse_process_args(argc, argv);
-    cfg = args.config.build();
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife process: %s\n(see evlife process --help)\n", e.what());
-    return kExitUsage;
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "evlife process: configuration error: %s\n", e.what());
-    return kExitUsage;
+  if (const auto done = start_command("process", argc, argv, print_help, [&] {
+        args = parse_process_args(argc, argv);
+        cfg = args.config.build();
+      })) {
+    return *done;
   }
   if (args.print_config) {
     std::fprintf(stdout, "# effective configuration (from %s and --set)\n%s",

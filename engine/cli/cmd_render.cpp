@@ -22,6 +22,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "arg_parser.h"
+#include "command_start.h"
 #include "command.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
@@ -268,21 +269,8 @@ std::string frame_name(std::size_t index, std::int64_t rel_us) {
 int render_recording(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   RenderArgs args;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string_view s = argv[i];
-      if (s == "--help" || s == "-h") {
-        print_render_help(stdout);
-        return kExitOk;
-      }
-    }
-    args = parse_render_args(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife render: %s\n(see evlife render --help)\n", e.what());
-    return kExitUsage;
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "evlife render: configuration error: %s\n", e.what());
-    return kExitUsage;
+  if (const auto done = start_command("render", argc, argv, print_render_help, [&] { args = parse_render_args(argc, argv); })) {
+    return *done;
   }
 
   std::unique_ptr<render::AugmentedSource> source;

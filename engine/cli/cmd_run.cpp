@@ -20,6 +20,7 @@
 #include <spdlog/spdlog.h>
 
 #include "arg_parser.h"
+#include "command_start.h"
 #include "command.h"
 #include "evlife/config/config.h"
 #include "evlife/engine/dvs128_source.h"
@@ -253,23 +254,13 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
 }
 
 int run_engine(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
-      print_help(stdout);
-      return kExitOk;
-    }
-  }
   RunArgs args;
-  try {
-    args = parse_run_args(argc, argv);
-    const std::string problem = engine::validate_engine_options(args.engine);
-    if (!problem.empty()) throw UsageError(problem);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife run: %s\n(see evlife run --help)\n", e.what());
-    return kExitUsage;
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "evlife run: configuration error: %s\n", e.what());
-    return kExitUsage;
+  if (const auto done = start_command("run", argc, argv, print_help, [&] {
+        args = parse_run_args(argc, argv);
+        const std::string problem = engine::validate_engine_options(args.engine);
+        if (!problem.empty()) throw UsageError(problem);
+      })) {
+    return *done;
   }
   auto logger = spdlog::stderr_color_mt("evlife-run");
   spdlog::set_default_logger(logger);

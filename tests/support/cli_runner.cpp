@@ -1,0 +1,28 @@
+#include "cli_runner.h"
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace evlife::test {
+
+CliRun run_cli(const std::string& cli, const std::string& args, const std::filesystem::path& log) {
+  const std::string cmd = "'" + cli + "' " + args + " >'" + log.string() + "' 2>&1 </dev/null";
+  const int status = std::system(cmd.c_str());
+  CliRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.output = read_text_file(log);
+  return r;
+}
+
+std::string read_text_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace evlife::test

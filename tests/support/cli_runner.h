@@ -1,0 +1,21 @@
+// Runs the `evlife` binary as a user would, for the CLI tests.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace evlife::test {
+
+struct CliRun {
+  int exit_code = -1;   ///< -1 when the process did not exit normally
+  std::string output;   ///< stdout and stderr together
+};
+
+/// Runs `'cli' args` through the shell with no stdin, capturing both streams
+/// in `log` (overwritten) and returning them.
+CliRun run_cli(const std::string& cli, const std::string& args, const std::filesystem::path& log);
+
+/// The whole file, or "" when it cannot be read.
+std::string read_text_file(const std::filesystem::path& path);
+
+}  // namespace evlife::test
