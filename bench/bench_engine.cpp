@@ -177,14 +177,18 @@ BENCHMARK(BM_Engine)
     ->UseRealTime();
 
 // Latency at 1 M (and 200 k) events/s: the replay is paced so that events
-// arrive at that rate on average (the recordings' own rhythm, sped up); policy drop as for a
-// camera. Arrival = when an event was due (so a lagging engine shows).
+// arrive at that rate on average (the recordings' own rhythm, sped up), in
+// packets of packet_us as a camera's USB transfers; policy drop as for a
+// camera. Latency starts when an event's packet was due (so a lagging engine
+// shows); age_p99 adds the event's wait for its packet.
 void BM_EngineLatency(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
   const int workers = static_cast<int>(state.range(1));
   const double target_rate = static_cast<double>(state.range(2)) * 1e3;
+  const std::int64_t packet_us = state.range(3);
   const Recording& rec = data(which);
   ee::EngineOptions o = options_for(rec, workers);
+  o.idle_spin_us = static_cast<int>(state.range(4));
   o.auto_policy = false;
   o.policy = ee::OverloadPolicy::drop;
   o.batch_events = 256;
@@ -193,6 +197,7 @@ void BM_EngineLatency(benchmark::State& state) {
   ee::EngineStats st;
   for (auto _ : state) {
     ee::ReplaySource source(rec.events, rec.sensor, speed, ee::SourceKind::live);
+    source.set_packet_us(packet_us);
     ee::Engine engine(source, nullptr, o);
     st = engine.run().stats;
   }
@@ -200,14 +205,33 @@ void BM_EngineLatency(benchmark::State& state) {
   state.counters["p50_us"] = st.latency_p50_us;
   state.counters["p99_us"] = st.latency_p99_us;
   state.counters["max_us"] = st.latency_max_us;
+  state.counters["age_p99_us"] = st.age_p99_us;
   state.counters["dropped_pct"] =
       100.0 * static_cast<double>(st.events_dropped) / static_cast<double>(st.events_in);
   state.counters["speedup"] = speed;
   set_labels(state, rec, which);
 }
 BENCHMARK(BM_EngineLatency)
-    ->ArgsProduct({{0, 1}, {1, 2}, {1000, 200}})
-    ->ArgNames({"data", "workers", "kev_per_s"})
+    ->ArgsProduct({{0, 1}, {1, 2}, {1000, 200}, {ee::ReplaySource::kDefaultPacketUs}, {0}})
+    ->ArgNames({"data", "workers", "kev_per_s", "packet_us", "idle_spin_us"})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// The packet period's trade-off at 1 M events/s: shorter packets wait less
+// but cost the engine more hand-offs per event.
+BENCHMARK(BM_EngineLatency)
+    ->Name("BM_EngineLatencyByPacket")
+    ->ArgsProduct({{0, 1}, {1, 2}, {1000}, {25, 50, 200, 500}, {0}})
+    ->ArgNames({"data", "workers", "kev_per_s", "packet_us", "idle_spin_us"})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// Idle workers polling instead of sleeping: saves a thread wake-up per
+// packet; pays off while workers + 1 <= cores (1 worker here).
+BENCHMARK(BM_EngineLatency)
+    ->Name("BM_EngineLatencySpin")
+    ->ArgsProduct({{0, 1}, {1, 2}, {1000}, {ee::ReplaySource::kDefaultPacketUs}, {100}})
+    ->ArgNames({"data", "workers", "kev_per_s", "packet_us", "idle_spin_us"})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

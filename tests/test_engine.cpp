@@ -483,6 +483,8 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   EXPECT_EQ(c.policy, "auto");
   EXPECT_TRUE(o.auto_policy);
   EXPECT_EQ(c.stats_period_s, o.stats_period_s);
+  EXPECT_EQ(c.idle_spin_us, o.idle_spin_us);
+  EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
 }
 
 // ---- Render thread ---------------------------------------------------------------

@@ -25,6 +25,12 @@ void add_engine_keys(std::vector<ConfigKey>& keys) {
   keys.push_back(number_key<double>(
       "engine.stats_period_s", [](auto& c) -> auto& { return c.engine.stats_period_s; },
       Range<double>{0.0, 3600.0}));
+  keys.push_back(number_key<int>(
+      "engine.idle_spin_us", [](auto& c) -> auto& { return c.engine.idle_spin_us; },
+      Range<int>{0, 100000}));
+  keys.push_back(number_key<int>(
+      "engine.replay_packet_us", [](auto& c) -> auto& { return c.engine.replay_packet_us; },
+      Range<int>{0, 1000000}));
 }
 
 }  // namespace evlife::config::detail

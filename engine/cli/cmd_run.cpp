@@ -1,13 +1,15 @@
 // `evlife run --source SPEC [...]`: the real-time engine. A source thread
 // feeds a recording (as fast as possible or paced by its event clock) or the
 // DVS128 camera through lock-free queues to worker threads that own tiles of
-// each polarity; a merger thread writes the augmented stream in input order.
+// each polarity; the merge back into input order runs on the worker that
+// completes a chunk (a backstop thread finishes the stream).
 // SIGINT/SIGTERM end the run cleanly: everything accepted is processed and
 // written, the summary printed.
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <memory>
@@ -32,6 +34,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
 #include "exit_code.h"
+#include "window_frame_sink.h"
 
 namespace evlife::cli {
 namespace {
@@ -51,9 +54,11 @@ constexpr OptionSpec kOptions[] = {
     {"queue-batches", 0, true, false}, {"stats-period", 0, true, false},
     {"render-fps", 0, true, false},   {"frames", 0, true, false},
     {"video", 0, true, false},        {"render-mode", 0, true, false},
+    {"window", 0, false, false},
     {"output", 'o', true, false},
     {"biases", 0, true, false},       {"duration", 0, true, false},
     {"config", 0, true, false},       {"set", 0, true, true},
+    {"idle-spin-us", 0, true, false}, {"packet-us", 0, true, false},
     {"quiet", 'q', false, false},     {"help", 'h', false, false},
 };
 
@@ -64,12 +69,13 @@ void print_help(std::FILE* out) {
       "\n"
       "Usage: evlife run --source SPEC [--sensor WxH] [--realtime[=K]] [--workers N]\n"
       "                  [--tiles CxR] [--margin PX] [--policy block|drop] [-o OUT]\n"
-      "                  [--render-fps F] [--frames DIR | --video FILE]\n"
+      "                  [--render-fps F] [--frames DIR | --video FILE | --window]\n"
       "                  [--config FILE] [--set KEY=VALUE]... [--quiet]\n"
       "\n"
       "Threads: one source thread (reads and routes), N worker threads (each runs\n"
-      "its own estimator on the tiles it owns), one output thread (merges the\n"
-      "workers' results back into input order and writes them), a render thread\n"
+      "its own estimator on the tiles it owns, then merges what it completed back\n"
+      "into input order and writes it, unless another worker is doing so), one\n"
+      "output thread as a backstop (end of stream, render room), a render thread\n"
       "with --frames/--video, and this thread (progress, signals). Bounded queues\n"
       "between them, fixed at start.\n"
       "\n"
@@ -102,6 +108,13 @@ void print_help(std::FILE* out) {
       "  --batch-events N     events per batch through the queues (default 1024).\n"
       "  --queue-batches N    batches in flight per worker (default 64).\n"
       "  --stats-period S     progress line every S seconds on stderr (0: none).\n"
+      "  --packet-us US       with --realtime: hand events over in packets of US\n"
+      "                       microseconds, as a camera's USB transfers (default 100;\n"
+      "                       0: whenever the source thread asks). Latency counts\n"
+      "                       from when an event's packet is due.\n"
+      "  --idle-spin-us US    an idle worker polls US microseconds before it sleeps\n"
+      "                       (default 0): lower latency for a busy core per worker;\n"
+      "                       for when workers + 1 <= cores.\n"
       "  -o, --output FILE    write the augmented stream, in input order: FILE.csv or\n"
       "                       FILE.bin (as `evlife process`). Without -o: discarded\n"
       "                       (counted), e.g. to measure throughput.\n"
@@ -109,6 +122,9 @@ void print_help(std::FILE* out) {
       "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
       "                       DIR/frame_NNNNNN_t<us>.png ...\n"
       "  --video FILE         ... or to a video (.mp4 or .avi) playing at --render-fps.\n"
+      "  --window             ... or to an on-screen window (needs a display; q, Esc\n"
+      "                       or closing the window stops the run as SIGINT does).\n"
+      "                       With --realtime it plays at the recording's pace.\n"
       "  --render-fps F       frames per second of the EVENT clock (default 30): the\n"
       "                       same frames at any replay speed.\n"
       "  --render-mode M      lifetime | window:30ms | compare (as `evlife render`).\n"
@@ -152,10 +168,12 @@ struct RunArgs {
   std::string source;
   std::optional<SensorSize> sensor;
   double speed = 0.0;
+  int packet_us = engine::ReplaySource::kDefaultPacketUs;
   std::string output;
   std::string biases;
   std::string frames_dir;
   std::string video;
+  bool window = false;
   engine::RenderOptions render;
   double duration_s = 1.0;
   bool quiet = false;
@@ -190,10 +208,12 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (const auto s = a.value("video")) r.video = *s;
   if (const auto s = a.value("render-mode")) r.render.mode = *s;
   if (const auto s = a.value("render-fps")) r.render.fps = parse_number<double>("render-fps", *s, 0.001, 100000);
-  if (!r.frames_dir.empty() && !r.video.empty())
-    throw UsageError("--frames and --video: choose one");
-  if ((a.has("render-fps") || a.has("render-mode")) && r.frames_dir.empty() && r.video.empty())
-    throw UsageError("--render-fps/--render-mode need --frames DIR or --video FILE");
+  r.window = a.has("window");
+  if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
+    throw UsageError("--frames, --video and --window: choose one");
+  if ((a.has("render-fps") || a.has("render-mode")) && r.frames_dir.empty() && r.video.empty() &&
+      !r.window)
+    throw UsageError("--render-fps/--render-mode need --frames DIR, --video FILE or --window");
 
   // The configuration file first, then the flags override it.
   const config::Config cfg = r.config.build();
@@ -208,6 +228,11 @@ RunArgs parse_run_args(int argc, char** argv) {
   e.auto_policy = cfg.engine.policy == "auto";
   e.policy = cfg.engine.policy == "drop" ? engine::OverloadPolicy::drop : engine::OverloadPolicy::block;
   e.stats_period_s = cfg.engine.stats_period_s;
+  e.idle_spin_us = cfg.engine.idle_spin_us;
+  r.packet_us = cfg.engine.replay_packet_us;
+  if (const auto s = a.value("idle-spin-us"))
+    e.idle_spin_us = parse_number<int>("idle-spin-us", *s, 0, 100000);
+  if (const auto s = a.value("packet-us")) r.packet_us = parse_number<int>("packet-us", *s, 0, 1000000);
   if (const auto s = a.value("workers")) e.workers = parse_number<int>("workers", *s, 1, 32);
   if (const auto s = a.value("tiles")) {
     const auto x = s->find('x');
@@ -244,13 +269,16 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
     const auto preset = io::scene_preset(spec.substr(6), sensor,
                                          static_cast<std::int64_t>(r.duration_s * 1e6), 1);
     if (!preset) throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large)");
-    return engine::ReplaySource::from_reader(std::make_unique<io::SyntheticSceneReader>(*preset),
-                                             sensor, r.speed,
-                                             r.speed > 0 ? engine::SourceKind::live
-                                                         : engine::SourceKind::offline);
+    auto source = engine::ReplaySource::from_reader(
+        std::make_unique<io::SyntheticSceneReader>(*preset), sensor, r.speed,
+        r.speed > 0 ? engine::SourceKind::live : engine::SourceKind::offline);
+    source->set_packet_us(r.packet_us);
+    return source;
   }
   if (spec.starts_with("file:")) spec.remove_prefix(5);
-  return engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed);
+  auto source = engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed);
+  source->set_packet_us(r.packet_us);
+  return source;
 }
 
 int run_engine(int argc, char** argv) {
@@ -261,6 +289,16 @@ int run_engine(int argc, char** argv) {
         if (!problem.empty()) throw UsageError(problem);
       })) {
     return *done;
+  }
+  if (args.window) {  // before any thread: the probe forks
+    const std::string problem = probe_window_display();
+    if (!problem.empty()) {
+      std::fprintf(stderr, "evlife run: %s\n", problem.c_str());
+      return kExitOutput;
+    }
+    // Qt complains at exit that the window's timers belong to the render
+    // thread; harmless, and noise in the summary. The user's rules win.
+    setenv("QT_LOGGING_RULES", "default.warning=false", 0);
   }
   auto logger = spdlog::stderr_color_mt("evlife-run");
   spdlog::set_default_logger(logger);
@@ -289,7 +327,7 @@ int run_engine(int argc, char** argv) {
     }
   }
 
-  const bool rendering = !args.frames_dir.empty() || !args.video.empty();
+  const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
   std::optional<engine::Engine> eng;
   std::unique_ptr<engine::FrameSink> frame_sink;
@@ -297,10 +335,15 @@ int run_engine(int argc, char** argv) {
   try {
     eng.emplace(*source, sink.get(), args.engine);
     if (rendering) {
-      if (!args.frames_dir.empty())
+      if (!args.frames_dir.empty()) {
         frame_sink = std::make_unique<engine::PngFolderFrameSink>(args.frames_dir);
-      else
+      } else if (!args.video.empty()) {
         frame_sink = std::make_unique<engine::VideoFrameSink>(args.video, args.render.fps);
+      } else {
+        engine::Engine* running = &*eng;
+        frame_sink = std::make_unique<WindowFrameSink>(
+            "evlife: " + source->describe(), [running] { running->request_stop(); });
+      }
       render_stage = std::make_unique<engine::RenderStage>(*eng->pipeline().state().render_tap,
                                                            source->sensor_size(), args.render,
                                                            *frame_sink);
@@ -329,8 +372,10 @@ int run_engine(int argc, char** argv) {
                  args.output.empty() ? "(discarded)" : args.output.c_str(),
                  result.stats.summary().c_str());
     if (render_stage)
-      std::fprintf(stdout, "frames : %llu written to %s\n",
+      std::fprintf(stdout, "frames : %llu %s %s\n",
                    static_cast<unsigned long long>(render_stage->frames_written()),
+                   args.window ? "shown in" : "written to",
+                   args.window ? "a window" :
                    args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
     std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
                  wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);

@@ -4,6 +4,10 @@
 #include <thread>
 #include <vector>
 
+#if defined(__linux__)
+#include <sys/prctl.h>
+#endif
+
 #include <spdlog/spdlog.h>
 
 #include "evlife/engine/monotonic_clock.h"
@@ -25,6 +29,24 @@ Engine::Engine(EventSource& source, AugmentedSink* sink, const EngineOptions& op
 
 namespace {
 constexpr std::int64_t kIdleWaitUs = 1000;  // re-check stop/done flags at least this often
+constexpr std::int64_t kBackstopWaitUs = 100'000;  // the merger backstop is signalled when needed
+
+inline void cpu_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+// Polls `wake` for up to spin_ns (work signalled) before sleeping on it.
+void park(Semaphore& wake, std::int64_t spin_ns) noexcept {
+  if (spin_ns > 0) {
+    const std::int64_t until = monotonic_ns() + spin_ns;
+    while (wake.availableApprox() <= 0 && monotonic_ns() < until) cpu_relax();
+  }
+  wake.wait(kIdleWaitUs);
+}
 }  // namespace
 
 RunResult Engine::run() {
@@ -34,14 +56,19 @@ RunResult Engine::run() {
   Semaphore monitor_wake;
 
   spdlog::info("engine: {} -> {} workers, tiles {}x{} per polarity, margin {} px, policy {}, "
-               "{} batches x {} events per worker",
+               "{} batches x {} events per worker, idle spin {} us",
                source.describe(), options_.workers, options_.tiles_x, options_.tiles_y,
                state.layout.margin_px(),
                state.policy == OverloadPolicy::block ? "block" : "drop",
-               options_.batches_per_worker, options_.batch_events);
+               options_.batches_per_worker, options_.batch_events, options_.idle_spin_us);
 
   std::vector<std::thread> threads;
   threads.emplace_back([&] {
+#if defined(__linux__)
+    // Paced sleeps (replay packets) must end on time: the default 50 us
+    // timer slack would add up to 50 us to every event's latency.
+    prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+#endif
     Router& router = pipeline_.router();
     for (;;) {
       const StepResult r = router.step();
@@ -54,19 +81,27 @@ RunResult Engine::run() {
     threads.emplace_back([&, w] {
       TileWorker& worker = pipeline_.worker(w);
       Semaphore& wake_me = state.workers[static_cast<std::size_t>(w)]->wake_worker;
+      const std::int64_t spin_ns = std::int64_t{options_.idle_spin_us} * 1000;
       for (;;) {
         const StepResult r = worker.step();
         if (r == StepResult::finished) break;
-        if (r != StepResult::progressed) wake_me.wait(kIdleWaitUs);
+        if (r == StepResult::progressed) {
+          pipeline_.drain_merger();  // merge what this batch completed, no hand-off
+        } else {
+          park(wake_me, spin_ns);
+        }
       }
     });
   }
   threads.emplace_back([&] {
-    Merger& merger = pipeline_.merger();
+    // Backstop: workers merge as they finish batches; this thread merges
+    // what is left when the render tap frees room, for chunks whose events
+    // were all dropped, and at the end (where it also finishes the sink).
+    // It sleeps until signalled (rarely): taking the role on a timer would
+    // let this thread be preempted while holding it, stalling the workers.
     for (;;) {
-      const StepResult r = merger.step();
-      if (r == StepResult::finished) break;
-      if (r != StepResult::progressed) state.wake_merger.wait(kIdleWaitUs);
+      if (pipeline_.drain_merger() == StepResult::finished) break;
+      state.wake_merger.wait(kBackstopWaitUs);
     }
     merger_done.store(true, std::memory_order_release);
     monitor_wake.signal();

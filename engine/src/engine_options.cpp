@@ -27,6 +27,8 @@ std::string validate_engine_options(const EngineOptions& o) {
            std::to_string(o.batches_per_worker) + ")";
   if (o.render_batches > 1024)
     return "engine.render_batches: must be 0..1024 (got " + std::to_string(o.render_batches) + ")";
+  if (o.idle_spin_us < 0 || o.idle_spin_us > 100000)
+    return "engine.idle_spin_us: must be 0..100000 (got " + std::to_string(o.idle_spin_us) + ")";
   if (!(o.stats_period_s >= 0.0))
     return "engine.stats_period_s: must be >= 0";
   return {};

@@ -33,6 +33,9 @@ std::string EngineStats::summary() const {
                    "p50 {:.1f} us p99 {:.1f} us max {:.1f} us over {} events\n",
                    events_out, sink_failed, latency_p50_us, latency_p99_us, latency_max_us,
                    latency_count);
+  s += fmt::format("         age of each chunk's oldest event at output (latency + wait for its "
+                   "packet) p50 {:.1f} us p99 {:.1f} us max {:.1f} us\n",
+                   age_p50_us, age_p99_us, age_max_us);
   if (render_offered > 0)
     s += fmt::format("render : offered {} events, skipped {} (render thread behind)\n",
                      render_offered, render_dropped);

@@ -118,6 +118,7 @@ bool Merger::deliver(std::int64_t now_ns) noexcept {
     sink_failed_.store(true, std::memory_order_release);
   }
   counters.latency_ns.record(now_ns - order_->arrival_ns, merged_count_);
+  counters.age_ns.record(now_ns - order_->oldest_ns, merged_count_);
   counters.events_out.add(merged_count_);
   merged_count_ = 0;
   return true;

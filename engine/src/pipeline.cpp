@@ -22,7 +22,7 @@ Pipeline::Pipeline(EventSource& source, AugmentedSink* sink, const EngineOptions
 bool Pipeline::step_all() noexcept {
   router_->step();
   for (auto& w : workers_) w->step();
-  bool done = merger_->step() == StepResult::finished;
+  bool done = drain_merger() == StepResult::finished;
   for (AuxStage* a : aux_) done = (a->step() == StepResult::finished) && done;
   return done;
 }
@@ -48,6 +48,10 @@ EngineStats Pipeline::stats() const {
   st.latency_p50_us = static_cast<double>(h.percentile_ns(0.50)) * 1e-3;
   st.latency_p99_us = static_cast<double>(h.percentile_ns(0.99)) * 1e-3;
   st.latency_max_us = static_cast<double>(h.max_ns()) * 1e-3;
+  const LatencyHistogram& age = s.merger_counters.age_ns;
+  st.age_p50_us = static_cast<double>(age.percentile_ns(0.50)) * 1e-3;
+  st.age_p99_us = static_cast<double>(age.percentile_ns(0.99)) * 1e-3;
+  st.age_max_us = static_cast<double>(age.max_ns()) * 1e-3;
   for (std::size_t w = 0; w < s.workers.size(); ++w) {
     const WorkerChannel& ch = *s.workers[w];
     WorkerStats ws;

@@ -6,12 +6,22 @@
 #include <thread>
 
 #include "evlife/engine/monotonic_clock.h"
+#include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
 
 namespace evlife::engine {
 namespace {
 constexpr std::size_t kReadAheadEvents = 16384;
+// Paced, the reader is read ahead on its own thread; copy from it in small
+// pieces so the source thread is never busy long while packets fall due.
+constexpr std::size_t kPacedReadAheadEvents = 1024;
 constexpr std::int64_t kMaxSleepNs = 1'000'000;  // stay responsive to request_stop()
+// A sleep ends late (on the README's VM 35 us median, 90 us p99, even with
+// 1 ns timer slack); a camera's packet does not. Sleep until this long
+// before a packet is due (at most half a packet period), then poll the clock
+// yielding the core, so that the replay delivers on time instead of charging
+// its own wake-up to the engine.
+constexpr std::int64_t kMaxPollNs = 60'000;
 }  // namespace
 
 std::unique_ptr<ReplaySource> ReplaySource::open_file(const std::string& path,
@@ -34,9 +44,18 @@ std::unique_ptr<ReplaySource> ReplaySource::from_reader(std::unique_ptr<io::Even
   return std::unique_ptr<ReplaySource>(new ReplaySource(std::move(reader), *size, speed, kind));
 }
 
+namespace {
+// Paced, decoding must not stall the source thread: read ahead on a thread.
+std::unique_ptr<io::EventReader> read_ahead_if_paced(std::unique_ptr<io::EventReader> reader,
+                                                     double speed) {
+  if (speed <= 0.0) return reader;
+  return std::make_unique<PrefetchReader>(std::move(reader));
+}
+}  // namespace
+
 ReplaySource::ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize sensor,
                            double speed, SourceKind kind)
-    : reader_(std::move(reader)), buffer_(kReadAheadEvents), sensor_(sensor), kind_(kind),
+    : reader_(read_ahead_if_paced(std::move(reader), speed)), buffer_(kReadAheadEvents), sensor_(sensor), kind_(kind),
       pacer_(speed),
       description_("file:" + reader_->path() + " (" + std::string(reader_->format_name()) + ")") {}
 
@@ -52,7 +71,8 @@ bool ReplaySource::refill() noexcept {
     return false;
   }
   try {
-    const std::size_t n = reader_->read(std::span<Event>(buffer_.data(), buffer_.size()));
+    const std::size_t want = pacer_.paced() ? kPacedReadAheadEvents : buffer_.size();
+    const std::size_t n = reader_->read(std::span<Event>(buffer_.data(), want));
     if (n == 0) {
       status_ = SourceStatus::end_of_stream;
       return false;
@@ -74,22 +94,39 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
     status_ = SourceStatus::end_of_stream;
     return 0;
   }
-  if (!refill()) return 0;
+  if (out.empty() || !refill()) return 0;
   std::size_t n = std::min(out.size(), pending_.size());
   const std::int64_t now_ns = monotonic_ns();
   const std::int64_t due_us = pacer_.due_until_us(pending_.front().t_us, now_ns);
   if (pacer_.paced()) {
-    if (pending_.front().t_us > due_us) {  // nothing due yet: sleep towards it
-      const std::int64_t wait_ns =
-          std::min(pacer_.due_at_ns(pending_.front().t_us) - now_ns, kMaxSleepNs);
-      if (wait_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait_ns));
-      return 0;
+    const std::int64_t first_due_ns = pacer_.due_at_ns(pending_.front().t_us);
+    // The packet holding the first pending event arrives at the end of its
+    // slot (slots of packet_ns_ from the anchor); without packets, when the
+    // event is due.
+    std::int64_t arrival_ns = first_due_ns;
+    if (packet_ns_ > 0) {
+      const std::int64_t since = first_due_ns - pacer_.anchor_ns();
+      arrival_ns = pacer_.anchor_ns() + (since + packet_ns_ - 1) / packet_ns_ * packet_ns_;
     }
-    // Events are time-ordered: release the prefix that is due.
-    const auto end = std::upper_bound(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n), due_us,
+    if (arrival_ns > now_ns) {  // not arrived yet: sleep towards it
+      const std::int64_t wait_ns = arrival_ns - now_ns;
+      const std::int64_t poll_ns = std::min(kMaxPollNs, packet_ns_ / 2);
+      if (wait_ns > poll_ns) {
+        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(wait_ns - poll_ns, kMaxSleepNs)));
+        return 0;
+      }
+      while (monotonic_ns() < arrival_ns) std::this_thread::yield();  // others may run
+    }
+    // Events are time-ordered: release the prefix that is due by the
+    // arrival (one packet at a time, so a late engine sees each packet's own
+    // arrival time), at least the first event (clock rounding).
+    const std::int64_t cutoff_us = packet_ns_ > 0 ? pacer_.due_until_us(0, arrival_ns) : due_us;
+    const auto first = pending_.begin();
+    const auto end = std::upper_bound(first + 1, first + static_cast<std::ptrdiff_t>(n), cutoff_us,
                                       [](std::int64_t t, const Event& e) { return t < e.t_us; });
-    n = static_cast<std::size_t>(end - pending_.begin());
-    last_arrival_ns_ = pacer_.due_at_ns(pending_.front().t_us);
+    n = static_cast<std::size_t>(end - first);
+    last_arrival_ns_ = arrival_ns;
+    last_oldest_ns_ = first_due_ns;
   }
   std::copy_n(pending_.begin(), n, out.begin());
   pending_ = pending_.subspan(n);

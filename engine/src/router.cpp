@@ -16,6 +16,7 @@ Router::Router(PipelineState& state, EventSource& source)
   stage_owned_.resize(workers);
   stage_count_.assign(workers, 0);
   stage_owned_count_.assign(workers, 0);
+  reserved_.assign(workers, nullptr);
   for (std::size_t w = 0; w < workers; ++w) {
     stage_events_[w].resize(state.options.batch_events);
     stage_owned_[w].resize(state.options.batch_events);
@@ -38,6 +39,8 @@ StepResult Router::step() noexcept {
   }
   const std::int64_t stated_ns = source_.last_arrival_ns();
   arrival_ns_ = stated_ns != 0 ? stated_ns : monotonic_ns();
+  const std::int64_t oldest_ns = source_.last_oldest_ns();
+  oldest_ns_ = oldest_ns != 0 ? std::min(oldest_ns, arrival_ns_) : arrival_ns_;
   state_.router_counters.events_in.add(n);
   state_.router_counters.chunks.add();
   stage_chunk(n);
@@ -102,37 +105,26 @@ bool Router::dispatch_pending() noexcept {
     waited = true;
   }
   if (order_ != nullptr) {
-    const std::size_t in_flight = state_.order_pool.size() - state_.order_free.size_approx();
-    counters.order_in_flight_hwm.raise_to(in_flight);
-    std::uint32_t todo = pending_;
+    // Reserve a batch for every worker of the chunk before handing anything
+    // on: the merge order must be queued before any output it describes, so
+    // that a worker finishing first can merge its own output at once.
+    std::uint32_t todo = pending_ & ~reserved_mask_;
     while (todo != 0) {
       const int w = std::countr_zero(todo);
       todo &= todo - 1;
-      const auto wi = static_cast<std::size_t>(w);
-      WorkerChannel& ch = *state_.workers[wi];
       WorkBatch* batch = nullptr;
-      if (!ch.free.try_dequeue(batch)) {
-        if (drop) {
-          drop_for_worker(w);
-          pending_ &= ~(1u << w);
-        } else {
-          waited = true;
-        }
-        continue;
+      if (state_.workers[static_cast<std::size_t>(w)]->free.try_dequeue(batch)) {
+        reserved_[static_cast<std::size_t>(w)] = batch;
+        reserved_mask_ |= 1u << w;
+      } else if (drop) {
+        drop_for_worker(w);
+        pending_ &= ~(1u << w);
+      } else {
+        waited = true;
       }
-      const std::size_t n = stage_count_[wi];
-      std::memcpy(batch->events.get(), stage_events_[wi].data(), n * sizeof(Event));
-      std::memcpy(batch->owned.get(), stage_owned_[wi].data(), n);
-      batch->count = n;
-      batch->owned_count = stage_owned_count_[wi];
-      batch->chunk_seq = chunk_seq_;
-      if (!ch.in.try_enqueue(*in_tokens_[wi], batch)) ch.in.enqueue(*in_tokens_[wi], batch);
-      counters.in_flight_hwm[wi].raise_to(ch.pool.size() - ch.free.size_approx());
-      wake(ch.wake_worker);
-      pending_ &= ~(1u << w);
     }
   }
-  if (waited || pending_ != 0 || order_ == nullptr) {
+  if (waited) {
     const std::int64_t now = monotonic_ns();
     if (waiting_since_ns_ != 0) counters.blocked_ns.add(static_cast<std::uint64_t>(now - waiting_since_ns_));
     waiting_since_ns_ = now;
@@ -142,14 +134,39 @@ bool Router::dispatch_pending() noexcept {
     counters.blocked_ns.add(static_cast<std::uint64_t>(monotonic_ns() - waiting_since_ns_));
     waiting_since_ns_ = 0;
   }
+  const std::size_t in_flight = state_.order_pool.size() - state_.order_free.size_approx();
+  counters.order_in_flight_hwm.raise_to(in_flight);
   std::memcpy(order_->owner.get(), chunk_owner_.data(), chunk_count_);
   order_->count = chunk_count_;
   order_->chunk_seq = chunk_seq_;
   order_->arrival_ns = arrival_ns_;
+  order_->oldest_ns = oldest_ns_;
   if (!state_.order.try_enqueue(*order_token_, order_)) state_.order.enqueue(*order_token_, order_);
   order_ = nullptr;
+
+  std::uint32_t todo = pending_;
+  while (todo != 0) {
+    const int w = std::countr_zero(todo);
+    todo &= todo - 1;
+    const auto wi = static_cast<std::size_t>(w);
+    WorkerChannel& ch = *state_.workers[wi];
+    WorkBatch* batch = reserved_[wi];
+    const std::size_t n = stage_count_[wi];
+    std::memcpy(batch->events.get(), stage_events_[wi].data(), n * sizeof(Event));
+    std::memcpy(batch->owned.get(), stage_owned_[wi].data(), n);
+    batch->count = n;
+    batch->owned_count = stage_owned_count_[wi];
+    batch->chunk_seq = chunk_seq_;
+    if (!ch.in.try_enqueue(*in_tokens_[wi], batch)) ch.in.enqueue(*in_tokens_[wi], batch);
+    counters.in_flight_hwm[wi].raise_to(ch.pool.size() - ch.free.size_approx());
+    wake(ch.wake_worker);
+  }
+  // Workers merge what they finish; an order no worker output belongs to
+  // (every event dropped) is left to the merger thread.
+  if (pending_ == 0) wake(state_.wake_merger);
+  pending_ = 0;
+  reserved_mask_ = 0;
   have_chunk_ = false;
-  wake(state_.wake_merger);
   return true;
 }
 

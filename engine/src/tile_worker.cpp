@@ -39,8 +39,8 @@ StepResult TileWorker::step() noexcept {
     if (!channel_.free.try_enqueue(*free_token_, batch)) channel_.free.enqueue(*free_token_, batch);
     wake(state_.wake_router);
   } else {
+    // No wake-up: the engine has this thread merge next (Engine::run).
     if (!channel_.out.try_enqueue(*out_token_, batch)) channel_.out.enqueue(*out_token_, batch);
-    wake(state_.wake_merger);
   }
   return StepResult::progressed;
 }

@@ -43,7 +43,8 @@ struct OrderBatch {
   std::size_t capacity;
   std::size_t count = 0;
   std::uint64_t chunk_seq = 0;
-  std::int64_t arrival_ns = 0;  // steady clock when the source returned the chunk
+  std::int64_t arrival_ns = 0;  // steady clock: when the chunk arrived at the source
+  std::int64_t oldest_ns = 0;   // when its oldest event happened (= arrival if unknown)
 };
 
 }  // namespace evlife::engine

@@ -35,6 +35,11 @@ struct EngineStats {
   double latency_p50_us = 0.0;
   double latency_p99_us = 0.0;
   double latency_max_us = 0.0;
+  /// Age at output of each chunk's oldest event (latency + its wait for the
+  /// packet); equals the latency when the source does not know event times.
+  double age_p50_us = 0.0;
+  double age_p99_us = 0.0;
+  double age_max_us = 0.0;
   std::vector<WorkerStats> workers;
 
   /// One line: in/out/dropped, queue high-water marks, latency percentiles.

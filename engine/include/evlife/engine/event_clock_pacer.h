@@ -26,6 +26,9 @@ class EventClockPacer {
     return t0_us_ + static_cast<std::int64_t>(elapsed_us);
   }
 
+  /// Wall time (ns) the event clock was anchored at (anchored only).
+  std::int64_t anchor_ns() const noexcept { return wall0_ns_; }
+
   /// Wall time (ns) at which an event of time t_us becomes due (anchored only).
   std::int64_t due_at_ns(std::int64_t t_us) const noexcept {
     return wall0_ns_ + static_cast<std::int64_t>(static_cast<double>(t_us - t0_us_) * 1e3 / speed_);

@@ -1,7 +1,9 @@
 // The interface every event source implements: file replay, the DVS128 USB
 // camera, a synthetic scene. The engine's source thread drives it by calling
 // pull() in a loop and pushes what it returns into the pipeline; the source
-// itself never creates a thread, never queues, never decides what to drop.
+// never decides what to drop, and queues only what its device or file hands
+// over ahead (a paced replay reads ahead on a thread of its own, as a camera's
+// USB transfers arrive while the engine works: see PrefetchReader).
 //
 // Contract (each point is what the engine relies on):
 //  - pull() is called from ONE thread (the engine's source thread, or a
@@ -80,9 +82,16 @@ class EventSource {
 
   /// When the events of the last pull() arrived, steady-clock ns (the
   /// engine's latency starts there); 0 = "now" (the engine stamps the chunk
-  /// when pull() returns). A paced replay returns the time its first event
-  /// was due, so a lagging engine shows as latency, not as a slower clock.
+  /// when pull() returns). A camera returns when the USB transfer holding
+  /// them completed; a paced replay, when the packet holding them was due,
+  /// so a lagging engine shows as latency, not as a slower clock.
   virtual std::int64_t last_arrival_ns() const noexcept { return 0; }
+
+  /// When the oldest event of the last pull() happened, steady-clock ns, if
+  /// the source knows (a paced replay: when it was due); 0 = unknown. The
+  /// engine reports its age at output beside the latency: the latency plus
+  /// the time the event waited for its packet.
+  virtual std::int64_t last_oldest_ns() const noexcept { return 0; }
 
   /// Asks a pull() in progress (or the next one) to return promptly and the
   /// source to finish with end_of_stream. Thread-safe; idempotent.

@@ -10,6 +10,7 @@
 #include "evlife/engine/aux_stage.h"
 #include "evlife/engine/engine_stats.h"
 #include "evlife/engine/event_source.h"
+#include "evlife/engine/merge_role.h"
 #include "evlife/engine/merger.h"
 #include "evlife/engine/pipeline_state.h"
 #include "evlife/engine/router.h"
@@ -41,6 +42,10 @@ class Pipeline {
   TileWorker& worker(int w) noexcept { return *workers_[static_cast<std::size_t>(w)]; }
   int worker_count() const noexcept { return static_cast<int>(workers_.size()); }
   Merger& merger() noexcept { return *merger_; }
+  /// Runs the merger on whichever thread has merge work (see merge_role.h).
+  StepResult drain_merger() noexcept {
+    return merge_role_.drain([this]() noexcept { return merger_->step(); });
+  }
   PipelineState& state() noexcept { return *state_; }
   EventSource& source() noexcept { return source_; }
 
@@ -53,6 +58,7 @@ class Pipeline {
   std::unique_ptr<Router> router_;
   std::vector<std::unique_ptr<TileWorker>> workers_;
   std::unique_ptr<Merger> merger_;
+  MergeRole merge_role_;
   std::vector<AuxStage*> aux_;
 };
 

@@ -60,7 +60,7 @@ struct PipelineState {
   OrderQueue order_free;  // merger -> router
   OrderQueue order;       // router -> merger
   Semaphore wake_router{0, kWakeSpins};  // room came back (policy block)
-  Semaphore wake_merger{0, kWakeSpins};  // a worker finished a batch / new order
+  Semaphore wake_merger{0, kWakeSpins};  // render room, all-dropped order, end
   std::atomic<bool> input_done{false};  // router pushed its last batch
   std::unique_ptr<RenderTap> render_tap;  // null unless options.render_batches > 0
   RouterCounters router_counters;

@@ -19,6 +19,11 @@ namespace evlife::engine {
 
 class ReplaySource final : public EventSource {
  public:
+  /// Packet period of paced replays unless set: a tenth of a millisecond,
+  /// short against the lifetimes (milliseconds) yet a few dozen events per
+  /// packet at camera rates, so the engine's per-packet costs stay small.
+  static constexpr std::int64_t kDefaultPacketUs = 100;
+
   /// Opens `path` (format sniffed by io) with bounds and time-order checks.
   /// Sensor: the format's where it states one, else `sensor`, else a scan of
   /// the data. Throws io::ReadError if the file cannot be opened.
@@ -46,6 +51,14 @@ class ReplaySource final : public EventSource {
   std::string describe() const override { return description_; }
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
   std::int64_t last_arrival_ns() const noexcept override { return last_arrival_ns_; }
+  std::int64_t last_oldest_ns() const noexcept override { return last_oldest_ns_; }
+
+  /// Paced replays hand events over in packets, as a camera's USB transfers
+  /// do: every `packet_us` of wall-clock time, the events due by then (an
+  /// event's arrival is the end of its packet). 0: whatever is due whenever
+  /// the engine asks (arrival = when the first of them was due). Set before
+  /// the first pull().
+  void set_packet_us(std::int64_t packet_us) noexcept { packet_ns_ = packet_us * 1000; }
 
  private:
   ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize sensor, double speed,
@@ -63,6 +76,8 @@ class ReplaySource final : public EventSource {
   SourceStatus status_ = SourceStatus::ok;
   std::string error_;
   std::int64_t last_arrival_ns_ = 0;
+  std::int64_t last_oldest_ns_ = 0;
+  std::int64_t packet_ns_ = kDefaultPacketUs * 1000;
   std::atomic<bool> stop_{false};
 };
 

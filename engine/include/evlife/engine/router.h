@@ -1,7 +1,8 @@
 // The source stage: pulls a chunk of events from the EventSource, stamps its
 // arrival time, and splits it into one WorkBatch per worker (owned + margin
-// events) plus an OrderBatch recording, per event, whose output to merge.
-// Overload (a worker's pool empty): policy block keeps the chunk pending and
+// events) plus an OrderBatch recording, per event, whose output to merge; the
+// order is queued before the batches. Overload (a worker's pool empty):
+// policy block keeps the chunk, and the batches reserved so far, pending and
 // retries on the next step; policy drop drops that worker's events of the
 // chunk and counts them. step() never waits and never allocates.
 #pragma once
@@ -38,8 +39,11 @@ class Router {
   std::size_t chunk_count_ = 0;
   std::uint64_t chunk_seq_ = 0;
   std::int64_t arrival_ns_ = 0;
+  std::int64_t oldest_ns_ = 0;
   OrderBatch* order_ = nullptr;
-  std::uint32_t pending_ = 0;  // workers whose batch of the chunk is not yet dispatched
+  std::uint32_t pending_ = 0;  // workers with events in the chunk, not dropped
+  std::uint32_t reserved_mask_ = 0;  // of which: a free batch is reserved
+  std::vector<WorkBatch*> reserved_;  // per worker, while the chunk waits
   bool have_chunk_ = false;
   std::int64_t waiting_since_ns_ = 0;
   bool finished_ = false;

@@ -48,6 +48,7 @@ struct MergerCounters {
   Counter events_out;          ///< events handed to the sink (or discarded without one)
   Counter sink_failed_events;  ///< of which the sink threw on
   LatencyHistogram latency_ns; ///< source arrival -> handed to the sink
+  LatencyHistogram age_ns;     ///< the chunk's oldest event happened -> handed to the sink
 };
 
 }  // namespace evlife::engine

@@ -1,0 +1,71 @@
+// Reads a recording ahead on a thread of its own, as a camera's USB thread
+// receives transfers while the engine works: a paced replay's source thread
+// then never stalls on decoding (a 20 ms slice of a synthetic scene, a zlib
+// block of a .mat file), which would otherwise show as latency and, past the
+// queues, as drops. Fixed memory: `blocks` blocks of `block_events` events.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <concurrentqueue.h>
+#include <lightweightsemaphore.h>
+
+#include "evlife/io/event_reader.h"
+
+namespace evlife::engine {
+
+class PrefetchReader final : public io::EventReader {
+ public:
+  /// Starts the read-ahead thread at once.
+  explicit PrefetchReader(std::unique_ptr<io::EventReader> inner, std::size_t block_events = 4096,
+                          std::size_t blocks = 8);
+  ~PrefetchReader() override;  // stops and joins the thread
+  PrefetchReader(const PrefetchReader&) = delete;
+  PrefetchReader& operator=(const PrefetchReader&) = delete;
+
+  /// As the inner reader's: the events in file order, then 0 at the end; a
+  /// read error is thrown after every event before it was returned. Waits
+  /// (without a lock) when the read-ahead is behind.
+  std::size_t read(std::span<Event> out) override;
+
+  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  std::string_view format_name() const override { return format_; }
+  const std::string& path() const override { return path_; }
+  /// As of the events returned so far.
+  std::uint64_t skipped_record_count() const override { return skipped_; }
+  std::uint64_t bytes_consumed() const override { return bytes_; }
+
+ private:
+  struct Block {
+    std::vector<Event> events;
+    std::size_t count = 0;
+    bool last = false;            // end of stream or error: nothing follows
+    std::exception_ptr error;     // the inner reader's, when it threw
+    std::uint64_t skipped = 0;    // inner counters after this block
+    std::uint64_t bytes = 0;
+  };
+  void run() noexcept;  // the read-ahead thread
+
+  std::unique_ptr<io::EventReader> inner_;
+  std::optional<SensorSize> sensor_;
+  std::string format_;
+  std::string path_;
+  std::vector<std::unique_ptr<Block>> pool_;
+  moodycamel::ConcurrentQueue<Block*> free_;  // consumer -> read-ahead thread
+  moodycamel::ConcurrentQueue<Block*> full_;  // read-ahead thread -> consumer
+  moodycamel::LightweightSemaphore free_ready_;
+  moodycamel::LightweightSemaphore full_ready_;
+  std::atomic<bool> stop_{false};
+  Block* current_ = nullptr;
+  std::size_t pos_ = 0;
+  std::uint64_t skipped_ = 0;
+  std::uint64_t bytes_ = 0;
+  std::thread thread_;  // last: starts after everything above exists
+};
+
+}  // namespace evlife::engine

@@ -1,0 +1,236 @@
+// The engine's hand-offs that carry latency: the merge role (workers merge
+// what they complete, never two at once, nothing left behind), the paced
+// replay's packets (an event's arrival is its packet's due time) and its
+// read-ahead thread (nothing lost, errors after the events before them).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <atomic>
+#include <barrier>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include "evlife/engine/engine.h"
+#include "evlife/engine/merge_role.h"
+#include "evlife/engine/monotonic_clock.h"
+#include "evlife/engine/prefetch_reader.h"
+#include "evlife/engine/replay_source.h"
+
+namespace ee = evlife::engine;
+using evlife::Event;
+using evlife::SensorSize;
+
+TEST(MergeRole, EveryRequestedItemIsMergedByOneThreadAtATime) {
+  // Each round, every thread produces one item and asks for a merge, as a
+  // worker does after each batch; then all meet. Nobody merges at the
+  // meeting: every item of the round must already have been taken by
+  // whichever thread held the role (a request missed while the holder was
+  // letting go would leave one behind).
+  constexpr int kThreads = 3;
+  constexpr int kRounds = 20'000;
+  ee::MergeRole role;
+  std::atomic<std::uint64_t> produced{0};
+  std::atomic<std::uint64_t> merged{0};
+  std::atomic<bool> inside{false};
+  std::atomic<bool> overlapped{false};
+  int rounds_left_behind = 0;
+  auto step = [&]() noexcept {
+    if (inside.exchange(true)) overlapped.store(true);
+    ee::StepResult r = ee::StepResult::idle;
+    const std::uint64_t m = merged.load(std::memory_order_relaxed);
+    if (m < produced.load()) {
+      merged.store(m + 1, std::memory_order_relaxed);  // only the role holder writes
+      r = ee::StepResult::progressed;
+    } else {
+      // Linger before reporting idle: widens the window in which another
+      // thread's request lands just before the holder lets go.
+      const std::int64_t until = ee::monotonic_ns() + 2000;
+      while (ee::monotonic_ns() < until) {
+      }
+    }
+    inside.store(false);
+    return r;
+  };
+  std::barrier meet(kThreads, [&]() noexcept {
+    if (merged.load() != produced.load()) {
+      ++rounds_left_behind;
+      merged.store(produced.load());  // start the next round even
+    }
+  });
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&] {
+      for (int i = 0; i < kRounds; ++i) {
+        produced.fetch_add(1);
+        role.drain(step);
+        meet.arrive_and_wait();
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_FALSE(overlapped.load()) << "two threads ran the merger at once";
+  EXPECT_EQ(rounds_left_behind, 0) << "rounds that ended with an item nobody merged";
+  EXPECT_EQ(merged.load(), produced.load());
+}
+
+namespace {
+// Events every `step_us` of event time, alternating polarity, on a 32x32 sensor.
+std::vector<Event> ramp(std::size_t n, std::int64_t step_us) {
+  std::vector<Event> events(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    events[i].x = static_cast<std::uint16_t>(i % 32);
+    events[i].y = static_cast<std::uint16_t>((i / 32) % 32);
+    events[i].t_us = static_cast<std::int64_t>(i) * step_us;
+    events[i].p = static_cast<std::int8_t>(i % 2 == 0 ? 1 : -1);
+  }
+  return events;
+}
+}  // namespace
+
+TEST(ReplayPackets, EachPullIsOnePacketArrivingAtTheEndOfItsSlot) {
+  // 4000 events, one per 10 us of event time, replayed at 4x: 10 ms of wall
+  // time in packets of 500 us of wall time (2 ms of event time, 200 events).
+  const std::vector<Event> events = ramp(4000, 10);
+  constexpr double kSpeed = 4.0;
+  constexpr std::int64_t kPacketUs = 500;
+  ee::ReplaySource source(events, SensorSize{32, 32}, kSpeed);
+  source.set_packet_us(kPacketUs);
+  std::vector<Event> out(1024);
+  std::int64_t anchor_ns = 0;
+  std::size_t taken = 0;
+  std::int64_t previous_arrival_ns = 0;
+  while (true) {
+    const std::size_t n = source.pull(out);
+    if (n == 0) {
+      if (source.status() != ee::SourceStatus::ok) break;
+      continue;
+    }
+    const std::int64_t arrival = source.last_arrival_ns();
+    const std::int64_t oldest = source.last_oldest_ns();
+    if (taken == 0) anchor_ns = oldest;  // the first event anchors the event clock
+    // Returned no earlier than the packet's arrival.
+    EXPECT_GE(ee::monotonic_ns(), arrival);
+    // Arrivals are slot ends: whole packets from the anchor, increasing.
+    EXPECT_EQ((arrival - anchor_ns) % (kPacketUs * 1000), 0) << "pull at event " << taken;
+    EXPECT_GT(arrival, previous_arrival_ns);
+    previous_arrival_ns = arrival;
+    // Every event of the pull was due within its packet's slot.
+    for (std::size_t i = 0; i < n; ++i) {
+      const double due_ns = static_cast<double>(anchor_ns) +
+                            static_cast<double>(out[i].t_us - events[0].t_us) * 1e3 / kSpeed;
+      EXPECT_LE(due_ns, static_cast<double>(arrival) + 1.0) << "event " << taken + i;
+      EXPECT_GT(due_ns, static_cast<double>(arrival - kPacketUs * 1000) - 1.0) << "event " << taken + i;
+    }
+    EXPECT_EQ(out[0].t_us, events[taken].t_us);
+    EXPECT_LE(oldest, arrival);
+    taken += n;
+  }
+  EXPECT_EQ(source.status(), ee::SourceStatus::end_of_stream);
+  EXPECT_EQ(taken, events.size());
+}
+
+TEST(ReplayPackets, LatencyCountsFromThePacketAndAgeFromTheOldestEvent) {
+  const std::vector<Event> events = ramp(20000, 5);  // 100 ms of event time
+  ee::ReplaySource source(events, SensorSize{32, 32}, 2.0, ee::SourceKind::live);
+  source.set_packet_us(1000);  // 1 ms packets of 400 events
+  ee::EngineOptions o;
+  o.workers = 2;
+  o.stats_period_s = 0.0;
+  ee::Engine engine(source, nullptr, o);
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.stats.events_in, events.size());
+  EXPECT_EQ(r.stats.events_out + r.stats.events_dropped, r.stats.events_in);
+  // An event waits in its packet for up to 1 ms before it arrives: the age
+  // of each chunk's oldest event exceeds its latency by nearly a packet.
+  EXPECT_GT(r.stats.age_p50_us, r.stats.latency_p50_us + 500.0)
+      << "latency p50 " << r.stats.latency_p50_us << " age p50 " << r.stats.age_p50_us;
+  EXPECT_LE(r.stats.latency_max_us, r.stats.age_max_us);
+}
+
+namespace {
+// A reader of `n` ramp events in odd-sized pieces that then fails (or ends).
+class FakeReader final : public evlife::io::EventReader {
+ public:
+  FakeReader(std::size_t n, bool fail_at_end) : events_(ramp(n, 3)), fail_(fail_at_end) {}
+  std::size_t read(std::span<Event> out) override {
+    if (pos_ == events_.size()) {
+      if (fail_) throw evlife::io::ReadError(path_, 1234, static_cast<std::int64_t>(pos_), "corrupt record");
+      return 0;
+    }
+    const std::size_t n = std::min({out.size(), events_.size() - pos_, std::size_t{777}});
+    std::copy_n(events_.begin() + static_cast<std::ptrdiff_t>(pos_), n, out.begin());
+    pos_ += n;
+    ++skipped_;
+    return n;
+  }
+  std::optional<SensorSize> sensor_size() const override { return SensorSize{32, 32}; }
+  std::string_view format_name() const override { return "fake"; }
+  const std::string& path() const override { return path_; }
+  std::uint64_t skipped_record_count() const override { return skipped_; }
+  const std::vector<Event>& events() const { return events_; }
+
+ private:
+  std::vector<Event> events_;
+  bool fail_;
+  std::size_t pos_ = 0;
+  std::uint64_t skipped_ = 0;
+  std::string path_ = "fake.bin";
+};
+
+bool same(const Event& a, const Event& b) {
+  return a.x == b.x && a.y == b.y && a.t_us == b.t_us && a.p == b.p;
+}
+}  // namespace
+
+TEST(PrefetchReader, ReturnsEveryEventInOrderThenTheErrorAfterThem) {
+  for (const bool fail : {false, true}) {
+    auto inner = std::make_unique<FakeReader>(100'003, fail);
+    const std::vector<Event> expected = inner->events();
+    ee::PrefetchReader reader(std::move(inner), 1000, 3);  // small pool: the thread waits often
+    EXPECT_EQ(reader.format_name(), "fake");
+    EXPECT_EQ(reader.path(), "fake.bin");
+    std::vector<Event> got;
+    std::vector<Event> buf(500);
+    bool threw = false;
+    try {
+      while (const std::size_t n = reader.read(buf)) got.insert(got.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
+    } catch (const evlife::io::ReadError& e) {
+      threw = true;
+      EXPECT_NE(std::string(e.what()).find("fake.bin"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(threw, fail);
+    ASSERT_EQ(got.size(), expected.size()) << "fail=" << fail;
+    for (std::size_t i = 0; i < got.size(); ++i)
+      ASSERT_TRUE(same(got[i], expected[i])) << "event " << i;
+    EXPECT_EQ(reader.skipped_record_count(), (expected.size() + 776) / 777);
+    // The end (or the error) stays: a later call does not invent events.
+    if (fail) EXPECT_THROW(reader.read(buf), evlife::io::ReadError);
+    else EXPECT_EQ(reader.read(buf), 0u);
+  }
+}
+
+TEST(PrefetchReader, StopsCleanlyWhenDroppedMidStream) {
+  auto reader = std::make_unique<ee::PrefetchReader>(std::make_unique<FakeReader>(1'000'000, false), 256, 2);
+  std::vector<Event> buf(100);
+  EXPECT_EQ(reader->read(buf), 100u);
+  reader.reset();  // joins the read-ahead thread while it waits for a free block
+  SUCCEED();
+}
+
+TEST(PrefetchReader, PacedFileReplayReportsTheReadErrorAfterItsEvents) {
+  // Through the engine: a paced replay reads ahead; the run still ends with
+  // the source's error and every event before it written.
+  auto inner = std::make_unique<FakeReader>(5'000, true);
+  auto source = ee::ReplaySource::from_reader(std::move(inner), SensorSize{32, 32}, 50.0);
+  ee::EngineOptions o;
+  o.workers = 2;
+  o.stats_period_s = 0.0;
+  ee::Engine engine(*source, nullptr, o);
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.status, ee::RunStatus::source_error);
+  EXPECT_NE(r.message.find("fake.bin"), std::string::npos) << r.message;
+  EXPECT_EQ(r.stats.events_in, 5'000u);
+  EXPECT_EQ(r.stats.events_out, 5'000u);
+}
