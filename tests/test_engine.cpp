@@ -597,6 +597,20 @@ TEST(RunCommand, WritesTheSameFileAsProcessWithOneTilePerPolarity) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(RunCommand, WritesHdf5AsProcessDoes) {
+  const auto dir = std::filesystem::temp_directory_path() / "evlife_test_engine_h5";
+  std::filesystem::create_directories(dir);
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
+  const std::string a = (dir / "run.h5").string(), b = (dir / "process.h5").string();
+  ASSERT_EQ(run_cli("run --source file:" + in + " --workers 2 -q -o " + a), 0);
+  ASSERT_EQ(run_cli("process " + in + " -q -o " + b), 0);
+  const std::string ra = slurp(a), rb = slurp(b);
+  ASSERT_GT(ra.size(), 202'235u * 8u);
+  EXPECT_EQ(ra.substr(0, 8), std::string("\x89HDF\r\n\x1a\n", 8));
+  EXPECT_EQ(ra.size(), rb.size());
+  std::filesystem::remove_all(dir);
+}
+
 TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(run_cli("run --source file:/nonexistent/x.mat -q"), 3);
   EXPECT_EQ(run_cli("run -q"), 2);

@@ -115,9 +115,9 @@ void print_help(std::FILE* out) {
       "  --idle-spin-us US    an idle worker polls US microseconds before it sleeps\n"
       "                       (default 0): lower latency for a busy core per worker;\n"
       "                       for when workers + 1 <= cores.\n"
-      "  -o, --output FILE    write the augmented stream, in input order: FILE.csv or\n"
-      "                       FILE.bin (as `evlife process`). Without -o: discarded\n"
-      "                       (counted), e.g. to measure throughput.\n"
+      "  -o, --output FILE    write the augmented stream, in input order: FILE.csv,\n"
+      "                       FILE.bin or FILE.h5 (as `evlife process`). Without\n"
+      "                       -o: discarded (counted), e.g. to measure throughput.\n"
       "  --frames DIR         a render thread draws the active events (each event\n"
       "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
       "                       DIR/frame_NNNNNN_t<us>.png ...\n"
@@ -255,8 +255,8 @@ RunArgs parse_run_args(int argc, char** argv) {
     e.stats_period_s = parse_number<double>("stats-period", *s, 0.0, 3600.0);
   if (!r.output.empty()) {
     const std::string ext = std::filesystem::path(r.output).extension().string();
-    if (ext != ".csv" && ext != ".bin")
-      throw UsageError("-o " + r.output + ": the output must end in .csv or .bin");
+    if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
+      throw UsageError("-o " + r.output + ": the output must end in .csv, .bin or .h5");
   }
   return r;
 }
