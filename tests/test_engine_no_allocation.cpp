@@ -75,3 +75,43 @@ TEST(EngineNoAllocation, DropPolicyRenderTapPerPolarity) {
   expect_no_allocation(ee::OverloadPolicy::drop, 1, true);
 }
 
+
+// The paced replay's read-ahead: handing blocks between its thread and the
+// source thread allocates nothing and locks nothing once built (the inner
+// reader here is a memory replay, which does not allocate either).
+#include "evlife/engine/prefetch_reader.h"
+
+namespace {
+class MemoryReader final : public evlife::io::EventReader {
+ public:
+  explicit MemoryReader(std::vector<evlife::Event> events) : events_(std::move(events)) {}
+  std::size_t read(std::span<evlife::Event> out) override {
+    const std::size_t n = std::min(out.size(), events_.size() - pos_);
+    std::copy_n(events_.begin() + static_cast<std::ptrdiff_t>(pos_), n, out.begin());
+    pos_ += n;
+    return n;
+  }
+  std::optional<evlife::SensorSize> sensor_size() const override { return evlife::SensorSize{128, 128}; }
+  std::string_view format_name() const override { return "memory"; }
+  const std::string& path() const override { return path_; }
+
+ private:
+  std::vector<evlife::Event> events_;
+  std::size_t pos_ = 0;
+  std::string path_ = "memory";
+};
+}  // namespace
+
+TEST(EngineNoAllocation, PrefetchReaderHandsBlocksOverWithoutAllocating) {
+  if (!evlife::test::allocation_probe_available()) GTEST_SKIP() << "sanitizers interpose the allocator";
+  const auto events = stripes();
+  ee::PrefetchReader reader(std::make_unique<MemoryReader>(events), 1000, 4);
+  std::vector<evlife::Event> buf(777);
+  std::size_t total = 0;
+  evlife::test::AllocationProbe probe;
+  while (const std::size_t n = reader.read(buf)) total += n;
+  probe.disarm();
+  EXPECT_EQ(total, events.size());
+  EXPECT_EQ(probe.allocations(), 0) << "allocations while blocks were handed over";
+  EXPECT_EQ(probe.locks(), 0) << "mutex locks while blocks were handed over";
+}

@@ -10,13 +10,13 @@ PrefetchReader::PrefetchReader(std::unique_ptr<io::EventReader> inner, std::size
       sensor_(inner_->sensor_size()),
       format_(inner_->format_name()),
       path_(inner_->path()),
-      free_(blocks),
-      full_(blocks) {
+      free_(blocks, 1, 0),
+      full_(blocks, 1, 0) {
   pool_.reserve(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
     pool_.push_back(std::make_unique<Block>());
     pool_.back()->events.resize(block_events);
-    free_.enqueue(pool_.back().get());
+    free_.enqueue(free_token_, pool_.back().get());
   }
   thread_ = std::thread([this] { run(); });
 }
@@ -44,7 +44,7 @@ void PrefetchReader::run() noexcept {
     b->skipped = inner_->skipped_record_count();
     b->bytes = inner_->bytes_consumed();
     const bool last = b->last;
-    full_.enqueue(b);
+    if (!full_.try_enqueue(full_token_, b)) full_.enqueue(full_token_, b);
     full_ready_.signal();
     if (last) return;
   }
@@ -74,7 +74,7 @@ std::size_t PrefetchReader::read(std::span<Event> out) {
     got += n;
     pos_ += n;
     if (pos_ == current_->count) {
-      free_.enqueue(current_);
+      if (!free_.try_enqueue(free_token_, current_)) free_.enqueue(free_token_, current_);
       free_ready_.signal();
       current_ = nullptr;
     }

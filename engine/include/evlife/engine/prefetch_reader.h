@@ -58,6 +58,9 @@ class PrefetchReader final : public io::EventReader {
   std::vector<std::unique_ptr<Block>> pool_;
   moodycamel::ConcurrentQueue<Block*> free_;  // consumer -> read-ahead thread
   moodycamel::ConcurrentQueue<Block*> full_;  // read-ahead thread -> consumer
+  // Explicit producers sized for every block: enqueueing never allocates.
+  moodycamel::ProducerToken free_token_{free_};  // constructor, then the consumer
+  moodycamel::ProducerToken full_token_{full_};  // the read-ahead thread
   moodycamel::LightweightSemaphore free_ready_;
   moodycamel::LightweightSemaphore full_ready_;
   std::atomic<bool> stop_{false};
