@@ -484,6 +484,12 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   EXPECT_TRUE(o.auto_policy);
   EXPECT_EQ(c.stats_period_s, o.stats_period_s);
   EXPECT_EQ(c.idle_spin_us, o.idle_spin_us);
+  EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/true), ee::kAutoIdleSpinUs);
+  EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/false), 0);
+  ee::EngineOptions fixed;
+  fixed.idle_spin_us = 7;
+  EXPECT_EQ(ee::effective_idle_spin_us(fixed, true), 7);
+  EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
   EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
 }
 

@@ -27,7 +27,7 @@ void add_engine_keys(std::vector<ConfigKey>& keys) {
       Range<double>{0.0, 3600.0}));
   keys.push_back(number_key<int>(
       "engine.idle_spin_us", [](auto& c) -> auto& { return c.engine.idle_spin_us; },
-      Range<int>{0, 100000}));
+      Range<int>{-1, 100000}));
   keys.push_back(number_key<int>(
       "engine.replay_packet_us", [](auto& c) -> auto& { return c.engine.replay_packet_us; },
       Range<int>{0, 1000000}));

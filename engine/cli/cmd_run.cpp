@@ -112,9 +112,10 @@ void print_help(std::FILE* out) {
       "                       microseconds, as a camera's USB transfers (default 100;\n"
       "                       0: whenever the source thread asks). Latency counts\n"
       "                       from when an event's packet is due.\n"
-      "  --idle-spin-us US    an idle worker polls US microseconds before it sleeps\n"
-      "                       (default 0): lower latency for a busy core per worker;\n"
-      "                       for when workers + 1 <= cores.\n"
+      "  --idle-spin-us US    an idle worker polls US microseconds (yielding the core)\n"
+      "                       before it sleeps: lower latency for busy cores. Default\n"
+      "                       -1: 100 for live sources (camera; synth:* paced with\n"
+      "                       --realtime), 0 otherwise.\n"
       "  -o, --output FILE    write the augmented stream, in input order: FILE.csv,\n"
       "                       FILE.bin or FILE.h5 (as `evlife process`). Without\n"
       "                       -o: discarded (counted), e.g. to measure throughput.\n"
@@ -231,7 +232,7 @@ RunArgs parse_run_args(int argc, char** argv) {
   e.idle_spin_us = cfg.engine.idle_spin_us;
   r.packet_us = cfg.engine.replay_packet_us;
   if (const auto s = a.value("idle-spin-us"))
-    e.idle_spin_us = parse_number<int>("idle-spin-us", *s, 0, 100000);
+    e.idle_spin_us = parse_number<int>("idle-spin-us", *s, -1, 100000);
   if (const auto s = a.value("packet-us")) r.packet_us = parse_number<int>("packet-us", *s, 0, 1000000);
   if (const auto s = a.value("workers")) e.workers = parse_number<int>("workers", *s, 1, 32);
   if (const auto s = a.value("tiles")) {

@@ -10,6 +10,11 @@ int effective_margin_px(const EngineOptions& options) {
   return 4 * options.lifetime.window_size;
 }
 
+int effective_idle_spin_us(const EngineOptions& options, bool live_source) {
+  if (options.idle_spin_us >= 0) return options.idle_spin_us;
+  return live_source ? kAutoIdleSpinUs : 0;
+}
+
 std::string validate_engine_options(const EngineOptions& o) {
   if (o.workers < 1 || o.workers > TileLayout::kMaxWorkers)
     return "engine.workers: must be 1..32 (got " + std::to_string(o.workers) + ")";
@@ -27,8 +32,9 @@ std::string validate_engine_options(const EngineOptions& o) {
            std::to_string(o.batches_per_worker) + ")";
   if (o.render_batches > 1024)
     return "engine.render_batches: must be 0..1024 (got " + std::to_string(o.render_batches) + ")";
-  if (o.idle_spin_us < 0 || o.idle_spin_us > 100000)
-    return "engine.idle_spin_us: must be 0..100000 (got " + std::to_string(o.idle_spin_us) + ")";
+  if (o.idle_spin_us < -1 || o.idle_spin_us > 100000)
+    return "engine.idle_spin_us: must be -1 (auto) or 0..100000 (got " +
+           std::to_string(o.idle_spin_us) + ")";
   if (!(o.stats_period_s >= 0.0))
     return "engine.stats_period_s: must be >= 0";
   return {};

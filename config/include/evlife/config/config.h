@@ -38,7 +38,7 @@ struct EngineSection {
   int batches_per_worker = 64;    ///< batches in flight per worker, 2..1024
   std::string policy = "auto";    ///< auto | block | drop
   double stats_period_s = 1.0;    ///< progress line period, 0 = none
-  int idle_spin_us = 0;           ///< idle worker polls this long before sleeping, 0..100000
+  int idle_spin_us = -1;          ///< idle worker polls this long before sleeping; -1 auto, 0..100000
   int replay_packet_us = 100;     ///< paced replays: packet period, 0..1000000 (0 = none)
 };
 

@@ -51,13 +51,14 @@ struct EngineOptions {
   /// render branch. Full: the merger waits (block) or skips them, counted (drop).
   std::size_t render_batches = 0;
 
-  /// How long an idle worker polls its queue before it sleeps in the kernel,
-  /// microseconds, 0..100000. 0: sleep at once (no core burnt while idle).
-  /// Waking a sleeping worker costs a thread wake-up (on the 2-vCPU VM of
-  /// the README: 25 us median, 110 us p99); polling avoids it for batches
-  /// that come within the window, at the price of a busy core. Worth it for
-  /// low latency when workers + 1 (the source thread) <= cores.
-  int idle_spin_us = 0;
+  /// How long an idle worker polls its queue (yielding the core between
+  /// looks) before it sleeps in the kernel, microseconds, 0..100000; -1:
+  /// automatic (kAutoIdleSpinUs for live sources, where latency counts; 0
+  /// for offline ones). 0: sleep at once, no CPU burnt while idle. Waking a
+  /// sleeping worker costs a thread wake-up (on the 2-vCPU VM of the README:
+  /// 25 us median, 110 us p99); polling avoids it for batches that come
+  /// within the window, at the price of cores kept busy (power).
+  int idle_spin_us = -1;
 
   /// Period of the progress line (spdlog info); 0 = only the final summary.
   double stats_period_s = 1.0;
@@ -65,6 +66,13 @@ struct EngineOptions {
 
 /// Margin actually used for `options` (resolves -1 and the 1x1 case).
 int effective_margin_px(const EngineOptions& options);
+
+/// Idle polling of the automatic setting for live sources: a packet period
+/// of a camera-like source (100 us), so a worker stays awake between packets.
+inline constexpr int kAutoIdleSpinUs = 100;
+
+/// Idle polling actually used (resolves -1 by whether the source is live).
+int effective_idle_spin_us(const EngineOptions& options, bool live_source);
 
 /// Empty when usable, else a message naming the field and its allowed range.
 std::string validate_engine_options(const EngineOptions& options);
