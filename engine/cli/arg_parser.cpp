@@ -1,6 +1,10 @@
 #include "arg_parser.h"
 
+#include <algorithm>
 #include <charconv>
+#include <stdexcept>
+
+#include "evlife/render/frame_composer.h"
 
 namespace evlife::cli {
 
@@ -80,6 +84,26 @@ SensorSize parse_sensor_size(std::string_view text) {
                      "': expected WIDTHxHEIGHT with each side in 1..4096, e.g. 240x180");
   }
   return size;
+}
+
+std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text) {
+  std::vector<std::int64_t> instants;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    start = comma + 1;
+    if (item.empty()) continue;
+    try {
+      instants.push_back(render::parse_duration_us(item));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError("--" + std::string(option) + ": " + e.what());
+    }
+  }
+  if (instants.empty()) throw UsageError("--" + std::string(option) + ": no time given");
+  std::sort(instants.begin(), instants.end());
+  instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
+  return instants;
 }
 
 }  // namespace evlife::cli

@@ -49,4 +49,8 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
 /// "WIDTHxHEIGHT", e.g. "240x180", each 1..4096. Throws UsageError.
 SensorSize parse_sensor_size(std::string_view text);
 
+/// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
+/// sorted, without repeats; `option` names the flag in errors. Throws UsageError.
+std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text);
+
 }  // namespace evlife::cli

@@ -172,17 +172,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
   }
-  if (const auto at = a.value("at")) {
-    std::stringstream ss(*at);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-      if (item.empty()) continue;
-      r.at_us.push_back(parse_time_us("at", item));
-    }
-    if (r.at_us.empty()) throw UsageError("--at: no time given");
-    std::sort(r.at_us.begin(), r.at_us.end());
-    r.at_us.erase(std::unique(r.at_us.begin(), r.at_us.end()), r.at_us.end());
-  }
+  if (const auto at = a.value("at")) r.at_us = parse_instants_us("at", *at);
   if (r.single_png && r.at_us.size() != 1) {
     throw UsageError("-o " + r.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }

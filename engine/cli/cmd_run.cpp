@@ -54,7 +54,7 @@ constexpr OptionSpec kOptions[] = {
     {"queue-batches", 0, true, false}, {"stats-period", 0, true, false},
     {"render-fps", 0, true, false},   {"frames", 0, true, false},
     {"video", 0, true, false},        {"render-mode", 0, true, false},
-    {"window", 0, false, false},
+    {"window", 0, false, false},     {"at", 0, true, false},
     {"output", 'o', true, false},
     {"biases", 0, true, false},       {"duration", 0, true, false},
     {"config", 0, true, false},       {"set", 0, true, true},
@@ -127,7 +127,9 @@ void print_help(std::FILE* out) {
       "                       or closing the window stops the run as SIGINT does).\n"
       "                       With --realtime it plays at the recording's pace.\n"
       "  --render-fps F       frames per second of the EVENT clock (default 30): the\n"
-      "                       same frames at any replay speed.\n"
+      "                       same frames at any replay speed; 0: only --at frames.\n"
+      "  --at T1,T2,...       also draw these instants, seconds from the first event\n"
+      "                       (or 250ms, 40us), e.g. --render-fps 0 --at 0.25,0.5.\n"
       "  --render-mode M      lifetime | window:30ms | compare (as `evlife render`).\n"
       "                       With policy drop the render branch skips what it cannot\n"
       "                       keep up with (counted); with block it slows the run.\n"
@@ -208,13 +210,16 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (const auto s = a.value("frames")) r.frames_dir = *s;
   if (const auto s = a.value("video")) r.video = *s;
   if (const auto s = a.value("render-mode")) r.render.mode = *s;
-  if (const auto s = a.value("render-fps")) r.render.fps = parse_number<double>("render-fps", *s, 0.001, 100000);
+  if (const auto s = a.value("render-fps")) r.render.fps = parse_number<double>("render-fps", *s, 0, 100000);
+  if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
+  if (!r.video.empty() && r.render.fps == 0)
+    throw UsageError("--video needs --render-fps > 0 (it plays at that rate)");
   r.window = a.has("window");
   if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
     throw UsageError("--frames, --video and --window: choose one");
-  if ((a.has("render-fps") || a.has("render-mode")) && r.frames_dir.empty() && r.video.empty() &&
-      !r.window)
-    throw UsageError("--render-fps/--render-mode need --frames DIR, --video FILE or --window");
+  if ((a.has("render-fps") || a.has("render-mode") || a.has("at")) && r.frames_dir.empty() &&
+      r.video.empty() && !r.window)
+    throw UsageError("--render-fps/--render-mode/--at need --frames DIR, --video FILE or --window");
 
   // The configuration file first, then the flags override it.
   const config::Config cfg = r.config.build();

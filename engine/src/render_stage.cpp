@@ -43,7 +43,8 @@ RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions&
     : tap_(tap), set_(sensor), window_(sensor),
       composer_(render::parse_view_mode(options.mode), options.style, options.mode),
       sink_(sink),
-      period_us_(options.fps > 0 ? static_cast<std::int64_t>(1e6 / options.fps) : 0) {
+      period_us_(options.fps > 0 ? static_cast<std::int64_t>(1e6 / options.fps) : 0),
+      at_us_(options.at_us) {
   if (options.fps < 0 || (options.fps > 0 && period_us_ < 1))
     throw std::invalid_argument("render fps: must be 0 (on request only) or 0 < fps <= 1e6");
 }
@@ -62,9 +63,21 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
-  if (period_us_ > 0) {
-    if (next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
-    while (t > next_frame_t_us_) {  // every event up to the frame time is in
+  if (!at_anchored_) {  // the instants count from the first event
+    for (auto& at : at_us_) at += t;
+    at_anchored_ = true;
+  }
+  if (period_us_ > 0 && next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
+  // Every event up to a frame's instant is in: draw the frames passed, the
+  // clock's and the asked-for ones, in time order.
+  for (;;) {
+    const bool clock_due = period_us_ > 0 && t > next_frame_t_us_;
+    const bool at_due = next_at_ < at_us_.size() && t > at_us_[next_at_];
+    if (!clock_due && !at_due) break;
+    if (at_due && (!clock_due || at_us_[next_at_] <= next_frame_t_us_)) {
+      if (clock_due && at_us_[next_at_] == next_frame_t_us_) next_frame_t_us_ += period_us_;  // once
+      emit(at_us_[next_at_++]);
+    } else {
       emit(next_frame_t_us_);
       next_frame_t_us_ += period_us_;
     }
@@ -89,6 +102,8 @@ StepResult RenderStage::step() noexcept {
     if (b == nullptr) {
       const std::int64_t req = requested_t_us_.exchange(kNoRequest);
       if (req != kNoRequest && req >= last_t_us_) emit(req);
+      if (at_anchored_)
+        while (next_at_ < at_us_.size()) emit(at_us_[next_at_++]);  // after the last event
       try {
         if (error_.empty()) sink_.finish();
       } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "evlife/engine/aux_stage.h"
 #include "evlife/engine/frame_sink.h"
@@ -22,6 +23,9 @@ namespace evlife::engine {
 
 struct RenderOptions {
   double fps = 30.0;             ///< frames per second of event time; 0 = only on request
+  /// Instants to draw besides (µs from the first event, sorted); those after
+  /// the stream's end are drawn at the end.
+  std::vector<std::int64_t> at_us;
   std::string mode = "lifetime"; ///< render::parse_view_mode: lifetime | window:30ms | compare
   render::FrameStyle style;
 };
@@ -57,6 +61,9 @@ class RenderStage final : public AuxStage {
   FrameSink& sink_;
   std::int64_t period_us_;
   std::int64_t next_frame_t_us_ = INT64_MIN;
+  std::vector<std::int64_t> at_us_;  // absolute once the first event is seen
+  std::size_t next_at_ = 0;
+  bool at_anchored_ = false;
   std::int64_t last_t_us_ = INT64_MIN;
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};
