@@ -358,6 +358,18 @@ TEST(IoFormatsHdf5, LibraryCrashOnCorruptFileBecomesReadError) {
   EXPECT_NE(std::string(r.error->what()).find("the HDF5 library"), std::string::npos) << r.error->what();
 }
 
+// A file whose chunk description claims ~4 GB chunks (found by fuzz_hdf5 as
+// libFuzzer's out-of-memory inside H5Dread): refused before libhdf5
+// allocates a chunk buffer.
+TEST(IoFormatsHdf5, HugeStorageChunksAreRefusedBeforeAllocation) {
+  const std::string path =
+      std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/regressions/hdf5/oom_h5dread_4gb_chunk.h5";
+  ASSERT_TRUE(fs::exists(path)) << path;
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("chunks of more than"), std::string::npos) << r.error->what();
+}
+
 TEST(IoFormatsHdf5, UnwritablePathIsAWriteError) {
   EXPECT_THROW(evlife::io::open_hdf5_augmented_writer("/nonexistent-dir/x.h5", std::nullopt),
                evlife::io::WriteError);

@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -53,6 +54,30 @@ std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
 }
 
 // Reads `count` elements from `first` of 1-D `dataset` as `memory_type` into `out`.
+// libhdf5 allocates a whole storage chunk to read any part of it; a corrupt
+// chunk size (fuzzing found 4 GB) must not reach that allocation.
+constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{256} << 20;
+
+// Bytes of one storage chunk of `dataset` (0 when it is not chunked).
+std::uint64_t chunk_bytes(hid_t dataset) {
+  const hid_t properties = H5Dget_create_plist(dataset);
+  if (properties < 0) return 0;
+  std::uint64_t bytes = 0;
+  if (H5Pget_layout(properties) == H5D_CHUNKED) {
+    hsize_t dims[H5S_MAX_RANK] = {};
+    const int rank = H5Pget_chunk(properties, H5S_MAX_RANK, dims);
+    const hid_t type = H5Dget_type(dataset);
+    bytes = type >= 0 ? H5Tget_size(type) : 0;
+    if (type >= 0) H5Tclose(type);
+    for (int i = 0; i < rank; ++i) {
+      bytes = dims[i] != 0 && bytes > kMaxChunkBytes / dims[i] ? kMaxChunkBytes + 1 : bytes * dims[i];
+    }
+    if (rank < 0) bytes = kMaxChunkBytes + 1;  // unreadable chunk description: corrupt
+  }
+  H5Pclose(properties);
+  return bytes;
+}
+
 bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out) {
   const hid_t file_space = H5Dget_space(dataset);
   if (file_space < 0) return false;
@@ -86,6 +111,14 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     if (dataset < 0) {
       close_handles();
       throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
+    }
+    const std::uint64_t bytes = chunk_bytes(dataset);
+    if (bytes > kMaxChunkBytes) {
+      H5Dclose(dataset);
+      close_handles();
+      throw ReadError(path, -1, -1,
+                      "HDF5 dataset '" + name + "' is stored in chunks of more than " +
+                          std::to_string(kMaxChunkBytes >> 20) + " MiB (corrupt?)");
     }
     return dataset;
   };
