@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <thread>
 
@@ -25,6 +26,16 @@ constexpr auto kTimeout = std::chrono::seconds(10);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file >= 0) {
+    for (const char* name : {"width", "height"}) {  // the reader's attribute lookups
+      if (H5Aexists(file, name) > 0) {
+        const hid_t attribute = H5Aopen(file, name, H5P_DEFAULT);
+        std::int64_t value = 0;
+        if (attribute >= 0) {
+          H5Aread(attribute, H5T_NATIVE_INT64, &value);
+          H5Aclose(attribute);
+        }
+      }
+    }
     for (const char* name : {"events/x", "events/y", "events/t", "events/p", "t_offset",
                              "CD/events", "x", "y", "t", "p"}) {
       const hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
