@@ -4,11 +4,8 @@
 // counting; stages are also driven without threads (Pipeline::step_all).
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <atomic>
-#include <cstdlib>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -572,49 +569,48 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
 // ---- The command line --------------------------------------------------------
 
 #ifdef EVLIFE_CLI_PATH
-#include <cstdio>
+#include "cli_runner.h"
 
 namespace {
+const std::filesystem::path kCliLog = std::filesystem::temp_directory_path() / "evlife_test_engine_cli.log";
+
 int run_cli(const std::string& args) {
-  const int rc = std::system((std::string(EVLIFE_CLI_PATH) + " " + args + " >/dev/null 2>&1").c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return evlife::test::run_cli(EVLIFE_CLI_PATH, args, kCliLog).exit_code;
 }
-std::string slurp(const std::string& path) {
-  std::string data;
-  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
-    char buf[1 << 16];
-    while (const std::size_t n = std::fread(buf, 1, sizeof buf, f)) data.append(buf, n);
-    std::fclose(f);
+
+struct RunAndProcess {
+  std::string run, process;  // the two output files' bytes
+};
+// garfield.mat through `evlife run` (2 workers, one tile per polarity) and
+// through `evlife process`, each to a FILE`extension`.
+RunAndProcess run_and_process(const std::string& extension) {
+  const auto dir = std::filesystem::temp_directory_path() / ("evlife_test_engine_cli" + extension);
+  std::filesystem::create_directories(dir);
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
+  const std::string a = (dir / ("run" + extension)).string();
+  const std::string b = (dir / ("process" + extension)).string();
+  RunAndProcess r;
+  if (run_cli("run --source file:" + in + " --workers 2 -q -o " + a) == 0 &&
+      run_cli("process " + in + " -q -o " + b) == 0) {
+    r.run = evlife::test::read_text_file(a);
+    r.process = evlife::test::read_text_file(b);
   }
-  return data;
+  std::filesystem::remove_all(dir);
+  return r;
 }
 }  // namespace
 
 TEST(RunCommand, WritesTheSameFileAsProcessWithOneTilePerPolarity) {
-  const auto dir = std::filesystem::temp_directory_path() / "evlife_test_engine_cli";
-  std::filesystem::create_directories(dir);
-  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
-  const std::string a = (dir / "run.bin").string(), b = (dir / "process.bin").string();
-  ASSERT_EQ(run_cli("run --source file:" + in + " --workers 2 -q -o " + a), 0);
-  ASSERT_EQ(run_cli("process " + in + " -q -o " + b), 0);
-  const std::string ra = slurp(a), rb = slurp(b);
-  EXPECT_GT(ra.size(), 202'235u * 32u);
-  EXPECT_TRUE(ra == rb) << "evlife run and evlife process outputs differ";
-  std::filesystem::remove_all(dir);
+  const RunAndProcess r = run_and_process(".bin");
+  EXPECT_GT(r.run.size(), 202'235u * 32u);
+  EXPECT_TRUE(r.run == r.process) << "evlife run and evlife process outputs differ";
 }
 
 TEST(RunCommand, WritesHdf5AsProcessDoes) {
-  const auto dir = std::filesystem::temp_directory_path() / "evlife_test_engine_h5";
-  std::filesystem::create_directories(dir);
-  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
-  const std::string a = (dir / "run.h5").string(), b = (dir / "process.h5").string();
-  ASSERT_EQ(run_cli("run --source file:" + in + " --workers 2 -q -o " + a), 0);
-  ASSERT_EQ(run_cli("process " + in + " -q -o " + b), 0);
-  const std::string ra = slurp(a), rb = slurp(b);
-  ASSERT_GT(ra.size(), 202'235u * 8u);
-  EXPECT_EQ(ra.substr(0, 8), std::string("\x89HDF\r\n\x1a\n", 8));
-  EXPECT_EQ(ra.size(), rb.size());
-  std::filesystem::remove_all(dir);
+  const RunAndProcess r = run_and_process(".h5");
+  ASSERT_GT(r.run.size(), 202'235u * 8u);
+  EXPECT_EQ(r.run.substr(0, 8), std::string("\x89HDF\r\n\x1a\n", 8));
+  EXPECT_EQ(r.run.size(), r.process.size());
 }
 
 TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {

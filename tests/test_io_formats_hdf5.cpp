@@ -3,7 +3,6 @@
 // (so the expected values do not come from the code under test).
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -347,27 +346,27 @@ TEST(IoFormatsHdf5, TruncatedFilesFailCleanly) {
   }
 }
 
+// Reading regression input `name` (tests/fuzz/regressions/hdf5/) ends with a
+// ReadError whose message contains `expected`.
+void expect_regression_read_error(const std::string& name, const std::string& expected) {
+  const std::string path = std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/regressions/hdf5/" + name;
+  ASSERT_TRUE(fs::exists(path)) << path;
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error) << name;
+  EXPECT_NE(std::string(r.error->what()).find(expected), std::string::npos) << r.error->what();
+}
+
 // A file on which libhdf5 1.10 itself dies of SIGFPE inside H5Dopen2 (found
 // by the fuzz targets): the reader's forked probe must turn it into a ReadError.
 TEST(IoFormatsHdf5, LibraryCrashOnCorruptFileBecomesReadError) {
-  const std::string path =
-      std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/regressions/hdf5/fpe_h5d_chunk_set_info.h5";
-  ASSERT_TRUE(fs::exists(path)) << path;
-  const ReadResult r = read_all(path);
-  ASSERT_TRUE(r.error);
-  EXPECT_NE(std::string(r.error->what()).find("the HDF5 library"), std::string::npos) << r.error->what();
+  expect_regression_read_error("fpe_h5d_chunk_set_info.h5", "the HDF5 library");
 }
 
 // A file whose chunk description claims ~4 GB chunks (found by fuzz_hdf5 as
 // libFuzzer's out-of-memory inside H5Dread): refused before libhdf5
 // allocates a chunk buffer.
 TEST(IoFormatsHdf5, HugeStorageChunksAreRefusedBeforeAllocation) {
-  const std::string path =
-      std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/regressions/hdf5/oom_h5dread_4gb_chunk.h5";
-  ASSERT_TRUE(fs::exists(path)) << path;
-  const ReadResult r = read_all(path);
-  ASSERT_TRUE(r.error);
-  EXPECT_NE(std::string(r.error->what()).find("chunks of more than"), std::string::npos) << r.error->what();
+  expect_regression_read_error("oom_h5dread_4gb_chunk.h5", "chunks of more than");
 }
 
 TEST(IoFormatsHdf5, UnwritablePathIsAWriteError) {
@@ -378,11 +377,13 @@ TEST(IoFormatsHdf5, UnwritablePathIsAWriteError) {
 }  // namespace
 
 #ifdef EVLIFE_CLI_PATH
+#include "cli_runner.h"
+
 namespace {
 
 int run_cli(const std::string& args) {
-  const int status = std::system((std::string(EVLIFE_CLI_PATH) + " " + args + " > /dev/null 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return evlife::test::run_cli(EVLIFE_CLI_PATH, args, fs::temp_directory_path() / "evlife_test_hdf5_cli.log")
+      .exit_code;
 }
 
 std::vector<Event> decode(const std::string& path) {

@@ -84,7 +84,7 @@ RunResult Engine::run() {
       // waiting leaves the merge to a less loaded one (the busiest worker sets
       // the pace; 2 workers: 1.57x -> 1.62x on the recordings), or to itself
       // once it runs dry. Live (drop), latency counts: merge at once, else a
-      // burst holds merged output and batches back (p99 x5, drops).
+      // burst holds merged output and batches back (p99 x5, drops: tried).
       const bool defer_merge_when_busy =
           state.policy == OverloadPolicy::block && pipeline_.worker_count() > 1;
       for (;;) {

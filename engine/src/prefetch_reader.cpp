@@ -40,10 +40,9 @@ void PrefetchReader::run() noexcept {
       b->count = 0;
       b->error = std::current_exception();
     }
-    b->last = b->count == 0;
     b->skipped = inner_->skipped_record_count();
     b->bytes = inner_->bytes_consumed();
-    const bool last = b->last;
+    const bool last = b->count == 0;
     if (!full_.try_enqueue(full_token_, b)) full_.enqueue(full_token_, b);
     full_ready_.signal();
     if (last) return;
@@ -64,7 +63,7 @@ std::size_t PrefetchReader::read(std::span<Event> out) {
       skipped_ = current_->skipped;
       bytes_ = current_->bytes;
     }
-    if (current_->last) {  // kept: every later call ends the same way
+    if (current_->count == 0) {  // the last block, kept: every later call ends the same way
       if (got > 0) return got;
       if (current_->error) std::rethrow_exception(current_->error);
       return 0;

@@ -63,10 +63,8 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
-  if (!at_anchored_) {  // the instants count from the first event
+  if (last_t_us_ == INT64_MIN)  // the first event: the instants count from it
     for (auto& at : at_us_) at += t;
-    at_anchored_ = true;
-  }
   if (period_us_ > 0 && next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.
@@ -102,7 +100,7 @@ StepResult RenderStage::step() noexcept {
     if (b == nullptr) {
       const std::int64_t req = requested_t_us_.exchange(kNoRequest);
       if (req != kNoRequest && req >= last_t_us_) emit(req);
-      if (at_anchored_)
+      if (last_t_us_ != INT64_MIN)
         while (next_at_ < at_us_.size()) emit(at_us_[next_at_++]);  // after the last event
       try {
         if (error_.empty()) sink_.finish();

@@ -16,7 +16,7 @@ constexpr std::size_t kReadAheadEvents = 16384;
 // pieces so the source thread is never busy long while packets fall due.
 constexpr std::size_t kPacedReadAheadEvents = 1024;
 constexpr std::int64_t kMaxSleepNs = 1'000'000;  // stay responsive to request_stop()
-// A sleep ends late (on the README's VM 35 us median, 90 us p99, even with
+// A sleep ends late (on the README's VM ~30 us median, 60-90 us p99, even with
 // 1 ns timer slack); a camera's packet does not. Sleep until this long
 // before a packet is due (at most half a packet period), then poll the clock
 // yielding the core, so that the replay delivers on time instead of charging

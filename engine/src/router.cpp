@@ -162,7 +162,7 @@ bool Router::dispatch_pending() noexcept {
     wake(ch.wake_worker);
   }
   // Workers merge what they finish; an order no worker output belongs to
-  // (every event dropped) is left to the merger thread.
+  // (every event dropped) is left to the merger backstop thread.
   if (pending_ == 0) wake(state_.wake_merger);
   pending_ = 0;
   reserved_mask_ = 0;

@@ -1,6 +1,8 @@
 // Where the merged, augmented stream goes: a file writer, a callback of an
-// embedding application, or nowhere. Called from the merger thread only, with
-// events in input order; may throw (a file boundary: disk full) — the engine
+// embedding application, or nowhere. Called by one thread at a time, never
+// concurrently — whichever holds the merge role (merge_role.h: usually the
+// worker that completed the chunk, else the merger backstop), so not always
+// the same thread — with events in input order; may throw (a file boundary: disk full) — the engine
 // then records the error, keeps draining so no thread blocks, and the run
 // ends with a non-zero status.
 #pragma once

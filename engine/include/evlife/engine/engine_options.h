@@ -56,8 +56,9 @@ struct EngineOptions {
   /// automatic (kAutoIdleSpinUs for live sources, where latency counts; 0
   /// for offline ones). 0: sleep at once, no CPU burnt while idle. Waking a
   /// sleeping worker costs a thread wake-up (on the 2-vCPU VM of the README:
-  /// 25 us median, 110 us p99); polling avoids it for batches that come
-  /// within the window, at the price of cores kept busy (power).
+  /// ~30 us median, 60-100 us p99, bench/bench_wakeup.cpp); polling avoids it
+  /// for batches that come within the window, at the price of cores kept
+  /// busy (power).
   int idle_spin_us = -1;
 
   /// Period of the progress line (spdlog info); 0 = only the final summary.

@@ -1,6 +1,6 @@
 // Constant-memory latency histogram: log-linear buckets (16 per power of two,
-// so a percentile is exact to within 1/16 = 6 %), exact max. One writer (the
-// merger thread) records; any thread may read percentiles while it runs.
+// so a percentile is exact to within 1/16 = 6 %), exact max. One writer at a
+// time (the merge role's holder) records; any thread may read percentiles.
 #pragma once
 
 #include <array>

@@ -28,7 +28,7 @@ class Merger {
 
   /// Any thread: the sink has failed (the engine then stops the source).
   bool sink_failed() const noexcept { return sink_failed_.load(std::memory_order_acquire); }
-  /// The sink's message; read it after the run (merger thread writes it).
+  /// The sink's message; read it after the run (the merge role's holder writes it).
   const std::string& sink_error() const noexcept { return sink_error_; }
 
  private:

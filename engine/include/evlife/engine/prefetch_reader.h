@@ -43,8 +43,7 @@ class PrefetchReader final : public io::EventReader {
  private:
   struct Block {
     std::vector<Event> events;
-    std::size_t count = 0;
-    bool last = false;            // end of stream or error: nothing follows
+    std::size_t count = 0;        // 0: end of stream or error, nothing follows
     std::exception_ptr error;     // the inner reader's, when it threw
     std::uint64_t skipped = 0;    // inner counters after this block
     std::uint64_t bytes = 0;

@@ -63,7 +63,6 @@ class RenderStage final : public AuxStage {
   std::int64_t next_frame_t_us_ = INT64_MIN;
   std::vector<std::int64_t> at_us_;  // absolute once the first event is seen
   std::size_t next_at_ = 0;
-  bool at_anchored_ = false;
   std::int64_t last_t_us_ = INT64_MIN;
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};

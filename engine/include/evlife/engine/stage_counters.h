@@ -1,6 +1,7 @@
-// Per-stage counters. Each counter has ONE writing thread (the stage that
-// owns it) and is read by the monitor while the run goes on: relaxed atomics
-// written with load+store (no read-modify-write on the hot path).
+// Per-stage counters. Each counter has ONE writer at a time (the stage that
+// owns it; the merger's, whoever holds the merge role, handed over with
+// acquire/release) and is read by the monitor while the run goes on: relaxed
+// atomics written with load+store (no read-modify-write on the hot path).
 #pragma once
 
 #include <array>
