@@ -47,6 +47,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
   sae_t_us_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
   predictions_.resize(sae_t_us_.size());
+  bursts_.resize(sae_t_us_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -67,6 +68,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 void LifetimeEstimator::reset() noexcept {
   std::fill(sae_t_us_.begin(), sae_t_us_.end(), kNeverFired);
   std::fill(predictions_.begin(), predictions_.end(), Prediction{kNoPrediction, 0.0f, 0.0f});
+  std::fill(bursts_.begin(), bursts_.end(), BurstEstimate{0.0f, 0.0f, 0.0f});
   stats_ = LifetimeStats{};
 }
 
@@ -75,6 +77,30 @@ std::size_t LifetimeEstimator::process(std::span<const Event> in,
   const std::size_t n = std::min(in.size(), out.size());
   for (std::size_t i = 0; i < n; ++i) out[i] = process(in[i]);
   return n;
+}
+
+// True when an edge estimated at a neighbour predicts this event: its plane
+// (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
+bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us) const noexcept {
+  const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
+  const int y0 = std::max(0, y - half_window_), y1 = std::min(options_.sensor.height - 1, y + half_window_);
+  for (int yy = y0; yy <= y1; ++yy) {
+    for (int xx = x0; xx <= x1; ++xx) {
+      if (xx == x && yy == y) continue;
+      const std::size_t q = pixel_index(pol, xx, yy);
+      const BurstEstimate& b = bursts_[q];
+      if (b.lifetime_us <= 0.0f) continue;
+      const double tau2_s = static_cast<double>(b.lifetime_us) * b.lifetime_us * 1e-6;
+      const double gx = b.vx_px_s * tau2_s, gy = b.vy_px_s * tau2_s;  // us/px
+      const double ahead_us = gx * (x - xx) + gy * (y - yy);
+      if (ahead_us <= 0.0) continue;  // the edge moves from the neighbour to this pixel
+      const double predicted = static_cast<double>(sae_t_us_[q]) + ahead_us;
+      const double tol = std::max(options_.inlier_tolerance_us,
+                                  options_.inlier_tolerance_lifetime_fraction * b.lifetime_us);
+      if (std::fabs(static_cast<double>(t_us) - predicted) <= tol) return true;
+    }
+  }
+  return false;
 }
 
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
@@ -97,6 +123,20 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int x = e.x;
   const int y = e.y;
   const std::size_t self = pixel_index(pol, x, y);
+
+  // A follower of the burst at this pixel inherits its estimate; the surface
+  // keeps the burst's arrival time.
+  BurstEstimate& burst = bursts_[self];
+  if (burst.lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
+      static_cast<double>(e.t_us - sae_t_us_[self]) <=
+          options_.burst_window_lifetimes * static_cast<double>(burst.lifetime_us)) {
+    ++stats_.followers;
+    out.lifetime_us = burst.lifetime_us;
+    out.vx_px_s = burst.vx_px_s;
+    out.vy_px_s = burst.vy_px_s;
+    return out;
+  }
+  burst.lifetime_us = 0.0f;
 
   // Prediction for this pixel made by an earlier event (paper III-B.2).
   float prior_gx = 0.0f, prior_gy = 0.0f;
@@ -147,7 +187,9 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int full_window = options_.window_size * options_.window_size;
   const int min_support = std::max(
       3, static_cast<int>(std::ceil(min_support_fraction_ * (window_pixels + full_window) * 0.25 - 1e-9)));
-  if (count + 1 < min_support) {
+  const int min_continuation_support =
+      options_.continuation_min_support > 0 ? std::min(min_support, options_.continuation_min_support + 1) : min_support;
+  if (count + 1 < min_continuation_support) {
     ++stats_.noise;
     return out;
   }
@@ -185,7 +227,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
-  if (best_support < min_support) {
+  if (best_support < min_support &&
+      (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us))) {
     ++stats_.noise;
     return out;
   }
@@ -214,6 +257,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.lifetime_us = static_cast<float>(lifetime_us);
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
+  burst = {out.lifetime_us, out.vx_px_s, out.vy_px_s};
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).

@@ -21,6 +21,10 @@ std::string validate_lifetime_options(const LifetimeOptions& o) {
     err << "window_size: " << o.window_size << " must be odd, in 3..15";
   } else if (!(o.outlier_fraction > 0.0 && o.outlier_fraction <= 0.9)) {
     err << "outlier_fraction: " << o.outlier_fraction << " must be in (0, 0.9]";
+  } else if (o.continuation_min_support != 0 &&
+             !in_range(o.continuation_min_support, 2, (o.window_size * o.window_size - 1) / 2)) {
+    err << "continuation_min_support: " << o.continuation_min_support
+        << " must be 0 or in 2..(window_size^2 - 1)/2";
   } else if (!(o.ransac_confidence > 0.0 && o.ransac_confidence < 1.0)) {
     err << "ransac_confidence: " << o.ransac_confidence << " must be in (0, 1)";
   } else if (!(o.inlier_tolerance_us > 0.0 && o.inlier_tolerance_us <= 1e6)) {
@@ -36,6 +40,8 @@ std::string validate_lifetime_options(const LifetimeOptions& o) {
     err << "lambda_unit_px2: " << o.lambda_unit_px2 << " must be in [0, 1e6]";
   } else if (!in_range(o.lambda_decay_per_us, 0.0, 1e3)) {
     err << "lambda_decay_per_us: " << o.lambda_decay_per_us << " must be in [0, 1000]";
+  } else if (!in_range(o.burst_window_lifetimes, 0.0, 10.0)) {
+    err << "burst_window_lifetimes: " << o.burst_window_lifetimes << " must be in [0, 10]";
   } else if (!(o.max_lifetime_us > 0.0 && o.max_lifetime_us <= 1e9)) {
     err << "max_lifetime_us: " << o.max_lifetime_us << " must be in (0, 1e9]";
   }

@@ -42,6 +42,12 @@ void add_estimator_keys(std::vector<ConfigKey>& keys) {
   keys.push_back(number_key<double>(
       "estimator.lambda_unit_px2", [](auto& c) -> auto& { return c.estimator.lambda_unit_px2; },
       D{0.0, 1e6}));
+  keys.push_back(number_key<int>(
+      "estimator.continuation_min_support", [](auto& c) -> auto& { return c.estimator.continuation_min_support; },
+      Range<int>{0, 112}));
+  keys.push_back(number_key<double>(
+      "estimator.burst_window_lifetimes",
+      [](auto& c) -> auto& { return c.estimator.burst_window_lifetimes; }, D{0.0, 10.0}));
   keys.push_back(number_key<double>(
       "estimator.max_lifetime_us", [](auto& c) -> auto& { return c.estimator.max_lifetime_us; },
       D{0.0, 1e9, true, false}));

@@ -66,11 +66,13 @@ std::string band_label(std::size_t b) {
   return buf;
 }
 
-// Edge events per (pixel, polarity), by time: a noise event within half a
-// lifetime of one of them cannot be told apart from it.
+// Edge events per (pixel, polarity), by time: a noise event from half a
+// lifetime before one of them to the end of its burst window cannot be told
+// apart from it (an edge event or a burst follower).
 class EdgeIndex {
  public:
-  explicit EdgeIndex(const io::SyntheticScene& scene) {
+  EdgeIndex(const io::SyntheticScene& scene, double burst_window_lifetimes)
+      : burst_window_lifetimes_(std::max(0.5, burst_window_lifetimes)) {
     for (std::size_t i = 0; i < scene.events.size(); ++i) {
       if (scene.truth[i].is_noise) continue;
       const Event& e = scene.events[i];
@@ -110,9 +112,11 @@ class EdgeIndex {
     return (static_cast<std::uint64_t>(e.y) * static_cast<std::uint64_t>(s.width) + e.x) * 2 +
            (e.p > 0 ? 1 : 0);
   }
-  static bool close(const Entry& edge, const Event& e) {
-    return std::abs(static_cast<double>(e.t_us - edge.t_us)) < 0.5 * edge.lifetime_us;
+  bool close(const Entry& edge, const Event& e) const {
+    const auto after_us = static_cast<double>(e.t_us - edge.t_us);
+    return after_us > -0.5 * edge.lifetime_us && after_us < burst_window_lifetimes_ * edge.lifetime_us;
   }
+  double burst_window_lifetimes_;
   std::vector<Entry> entries_;
 };
 
@@ -128,7 +132,7 @@ AccuracyReport evaluate_accuracy(const io::SyntheticScene& scene, std::span<cons
   std::vector<Samples> per_feature(scene.feature_names.size());
   std::vector<Samples> per_band(kBandUpperUs.size());
   AccuracyReport report;
-  const EdgeIndex edges(scene);
+  const EdgeIndex edges(scene, options.burst_window_lifetimes);
   std::size_t onset_skipped = 0;
 
   for (std::size_t i = 0; i < scene.events.size(); ++i) {

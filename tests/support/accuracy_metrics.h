@@ -24,6 +24,11 @@ struct AccuracyOptions {
   /// since its motion began: before that the window cannot hold a plane's
   /// worth of past events (a start-up effect like the warm-up, per edge).
   double min_travel_windows = 1.0;
+  /// A noise event from half a lifetime before to this many lifetimes after an
+  /// edge event at its pixel and polarity is indistinguishable from a burst
+  /// follower (real pixels fire several events per edge over ~2 lifetimes;
+  /// the estimator's estimator.burst_window_lifetimes): not scored.
+  double burst_window_lifetimes = 2.0;
 };
 
 struct AccuracyMetrics {
@@ -40,7 +45,7 @@ struct AccuracyMetrics {
   double p90_dir_error_deg = 0.0;
   // Noise (overall row only):
   std::size_t noise_events = 0;        ///< scored noise events (distinguishable ones)
-  std::size_t noise_indistinguishable = 0;  ///< within tau/2 of an edge event, same pixel+polarity
+  std::size_t noise_indistinguishable = 0;  ///< within the burst window of an edge event, same pixel+polarity
   std::size_t noise_labelled_noise = 0;
   double noise_share = 0.0;            ///< noise_labelled_noise / noise_events
 };

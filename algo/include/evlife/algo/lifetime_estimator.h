@@ -23,6 +23,7 @@ struct LifetimeStats {
   std::uint64_t events = 0;
   std::uint64_t noise = 0;             ///< events given lifetime 0
   std::uint64_t predictions = 0;       ///< events that had a prediction
+  std::uint64_t followers = 0;         ///< events that inherited their burst's estimate
   std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
   std::uint64_t bad_polarity = 0;      ///< rejected: p not +1/-1
 };
@@ -62,6 +63,7 @@ class LifetimeEstimator {
   }
 
   int iterations_needed(int inliers, int count) const noexcept;
+  bool continues_an_edge(int pol, int x, int y, std::int64_t t_us) const noexcept;
 
   LifetimeOptions options_;
   LifetimeStats stats_;
@@ -72,6 +74,14 @@ class LifetimeEstimator {
   // window row is one or two cache lines.
   std::vector<std::int64_t> sae_t_us_;  // last timestamp; kNeverFired if none
   std::vector<Prediction> predictions_;
+  // The estimate of the burst now at a pixel (lifetime 0: none), which its
+  // followers inherit.
+  struct BurstEstimate {
+    float lifetime_us;
+    float vx_px_s;
+    float vy_px_s;
+  };
+  std::vector<BurstEstimate> bursts_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 

@@ -25,6 +25,14 @@ struct LifetimeOptions {
   /// window's value). In (0, 0.9].
   double outlier_fraction = 0.4;
 
+  /// Minimum support, in past events, of an event that continues an edge:
+  /// one that the plane of an edge estimated at a neighbour upstream predicts
+  /// within the inlier tolerance. Real pixels fire sparsely (a pixel whose
+  /// threshold is not reached by an edge's contrast stays silent), so eq. 8's
+  /// m, meant for a full window, starts edges and this one follows them.
+  /// 2..(N^2-1)/2; 0 = eq. 8 for every event (the paper).
+  int continuation_min_support = 3;
+
   /// Probability that RANSAC draws at least one all-inlier sample. (0, 1).
   double ransac_confidence = 0.99;
 
@@ -55,6 +63,14 @@ struct LifetimeOptions {
   double lambda_gain = 100.0;
   double lambda_decay_per_us = 0.005;
   double lambda_unit_px2 = 0.1;
+
+  /// Bursts (real DVS pixels fire several events per edge crossing, one per
+  /// threshold multiple, spread over up to ~2 lifetimes): an event at a pixel
+  /// whose burst began less than burst_window_lifetimes x its lifetime ago is a
+  /// follower. It keeps the arrival time (the first event of the burst) in the
+  /// surface and inherits the burst's estimate. 0 = every event is an arrival
+  /// (the paper's last-event surface). In [0, 10].
+  double burst_window_lifetimes = 2.0;
 
   /// Lifetimes above this are treated as noise (a near-vertical plane fitted
   /// through stale events is not an edge). Microseconds, > 0.
