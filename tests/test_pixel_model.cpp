@@ -18,6 +18,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/render/pixel_statistics.h"
+#include "cli_runner.h"
 
 namespace evlife {
 namespace {
@@ -294,6 +295,44 @@ TEST(PixelModel, BadParametersAreRejected) {
   EXPECT_NE(io::validate_scene_spec(s).find("pixel.contrast_log"), std::string::npos);
   s.pixel.enabled = false;  // an unused model is not checked
   EXPECT_EQ(io::validate_scene_spec(s), "");
+}
+
+// `evlife synth --pixel`: the file holds the generator's events, the truth
+// CSV the burst index and hot flag; pixel options need a pixel model.
+TEST(PixelModel, SynthCommandLine) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "evlife_test_pixel_model";
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "dvs.txt").string(), truth = (dir / "dvs_truth.csv").string();
+  const auto run = [&](const std::string& args) { return test::run_cli(EVLIFE_CLI_PATH, args, dir / "cli.log"); };
+  const auto ok = run("synth -o '" + out + "' --scene edges-bar --sensor 346x260 --duration 0.1 --seed 3 "
+                      "--pixel dvs-dim --latency-us 300 --truth '" + truth + "'");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("latency 300 +- 300 us"), std::string::npos) << ok.output;
+  SceneSpec spec = io::edges_and_bar_scene({346, 260}, 100'000, 3);
+  ASSERT_TRUE(io::apply_pixel_setting(spec, "dvs-dim"));
+  spec.pixel.latency_us = 300.0;
+  const SyntheticScene expected = io::generate_scene(spec);
+  auto reader = io::open_event_reader(out);
+  std::vector<Event> written(expected.events.size() + 1);
+  std::size_t n = 0;
+  while (const std::size_t k = reader->read(std::span<Event>(written).subspan(n))) n += k;
+  written.resize(n);
+  EXPECT_TRUE(same_events(written, expected.events));
+  const std::string csv = test::read_text_file(truth);
+  EXPECT_EQ(csv.rfind("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n", 0), 0u);
+  std::size_t followers = 0;
+  for (const EventTruth& t : expected.truth) followers += t.burst_index > 0 ? 1 : 0;
+  ASSERT_GT(followers, 0u);
+
+  const auto no_model = run("synth -o '" + out + "' --latency-us 300");
+  EXPECT_EQ(no_model.exit_code, 2);
+  EXPECT_NE(no_model.output.find("--latency-us needs --pixel dvs or dvs-dim"), std::string::npos) << no_model.output;
+  const auto unknown = run("synth -o '" + out + "' --pixel dvs128");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("--pixel dvs128: expected ideal, dvs or dvs-dim"), std::string::npos);
+  const auto bad = run("synth -o '" + out + "' --pixel dvs --threshold 0.05 --contrast 2");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("pixel.contrast_log"), std::string::npos) << bad.output;
 }
 
 // ---------------------------------------------------------------------------
