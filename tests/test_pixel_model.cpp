@@ -65,7 +65,7 @@ TEST(PixelModel, OffIsTheGeneratorOf3aee002) {
   }
 }
 
-SceneSpec dvs_scene(bool dim, std::int64_t duration_us = 300'000, std::uint64_t seed = 7) {
+SceneSpec dvs_scene(bool dim, std::int64_t duration_us = 150'000, std::uint64_t seed = 7) {
   SceneSpec s = io::edges_and_bar_scene({346, 260}, duration_us, seed);
   EXPECT_TRUE(io::apply_pixel_setting(s, dim ? "dvs-dim" : "dvs"));
   return s;
