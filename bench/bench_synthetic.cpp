@@ -29,6 +29,16 @@ BENCHMARK_CAPTURE(BM_SyntheticStream, mixed_128x128_3s, evlife::io::mixed_scene(
 BENCHMARK_CAPTURE(BM_SyntheticStream, large_1280x720_0_1s, evlife::io::large_scene({1280, 720}, 100'000, 7))
     ->Unit(benchmark::kMillisecond);
 
+// The same scene with ideal and with DVS pixels: the pixel model's cost.
+evlife::io::SceneSpec edges_bar(const char* pixel) {
+  evlife::io::SceneSpec s = evlife::io::edges_and_bar_scene({346, 260}, 500'000, 1);
+  evlife::io::apply_pixel_setting(s, pixel);
+  return s;
+}
+BENCHMARK_CAPTURE(BM_SyntheticStream, edges_bar_346x260_0_5s_ideal, edges_bar("ideal"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SyntheticStream, edges_bar_346x260_0_5s_dvs, edges_bar("dvs"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SyntheticStream, edges_bar_346x260_0_5s_dvs_dim, edges_bar("dvs-dim"))->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

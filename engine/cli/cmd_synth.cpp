@@ -27,16 +27,20 @@ constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"scene", 0, true, false},  {"sensor", 0, true, false},
     {"duration", 0, true, false},     {"seed", 0, true, false},   {"noise-rate", 0, true, false},
     {"jitter-us", 0, true, false},    {"truth", 0, true, false},  {"quiet", 'q', false, false},
-    {"help", 'h', false, false},
+    {"help", 'h', false, false},      {"pixel", 0, true, false},  {"contrast", 0, true, false},
+    {"threshold", 0, true, false},    {"threshold-sigma", 0, true, false},
+    {"edge-blur-px", 0, true, false}, {"latency-us", 0, true, false},
+    {"latency-jitter-us", 0, true, false}, {"refractory-us", 0, true, false},
+    {"hot-pixels", 0, true, false},   {"hot-rate", 0, true, false},
 };
 
 void print_help(std::FILE* out) {
   std::fprintf(out,
       "evlife synth — write a synthetic event recording with known ground truth\n"
       "\n"
-      "Usage: evlife synth -o FILE [--scene edges|bar|mixed|large] [--sensor WxH]\n"
+      "Usage: evlife synth -o FILE [--scene edges|bar|mixed|large|edges-bar] [--sensor WxH]\n"
       "                    [--duration S] [--seed N] [--noise-rate R] [--jitter-us J]\n"
-      "                    [--truth TRUTH.csv] [--quiet]\n"
+      "                    [--pixel ideal|dvs|dvs-dim] [pixel options] [--truth TRUTH.csv] [--quiet]\n"
       "\n"
       "The scene: bright bars on a dark background. An event fires when an edge\n"
       "crosses a pixel centre: ON (p=1) for the leading edge of a bar, OFF (p=0) for\n"
@@ -50,6 +54,17 @@ void print_help(std::FILE* out) {
       "         (default; on 128x128 for 3 s: ~300 k events, the README's sample)\n"
       "  large  80 px tiles of patterns everywhere, all moving all the time: for\n"
       "         throughput tests on big sensors (1280x720 gives ~40 M events/s).\n"
+      "  edges-bar  the tiles of 'edges' on the left two thirds, the speeding bar on\n"
+      "         the right third (e.g. --sensor 346x260 --pixel dvs).\n"
+      "\n"
+      "Pixels: 'ideal' (default) fires one event per edge crossing, as above. 'dvs'\n"
+      "models a real DVS pixel in normal light: the edge is a log-intensity step\n"
+      "(contrast) spread over a blurred profile; the pixel fires one event per\n"
+      "threshold crossed (per-pixel mismatch), so an edge gives a burst of ~1-4\n"
+      "events, stamped after a latency with jitter, each followed by a refractory\n"
+      "period; hot pixels fire on their own. 'dvs-dim': dim light (latency and\n"
+      "jitter of hundreds of us, longer refractory period, more background noise).\n"
+      "Every event of a burst carries the edge's truth.\n"
       "\n"
       "Options:\n"
       "  -o, --output FILE    .txt: RPG text, one event per line 't x y p' (t in\n"
@@ -62,11 +77,25 @@ void print_help(std::FILE* out) {
       "  --noise-rate R       background noise, events per pixel per second, uniform\n"
       "                       over pixels and time, random polarity (default 1).\n"
       "  --jitter-us J        timestamp jitter: Gaussian sigma in microseconds,\n"
-      "                       truncated at 4 sigma, applied before sorting (default 20).\n"
+      "                       truncated at 4 sigma, applied before sorting (default 20;\n"
+      "                       ideal pixels only: the pixel model has its latency jitter).\n"
+      "  --pixel P            ideal | dvs | dvs-dim (default ideal); dvs sets the\n"
+      "                       noise rate to 0.2, dvs-dim to 1 (--noise-rate overrides).\n"
+      "  Pixel options (with --pixel dvs or dvs-dim; defaults: dvs | dvs-dim):\n"
+      "  --contrast C         log-intensity step of an edge (0.5), varied +-40 %% per pattern.\n"
+      "  --threshold T        ON/OFF threshold in log units (0.2).\n"
+      "  --threshold-sigma S  per-pixel threshold mismatch, sigma in log units (0.03).\n"
+      "  --edge-blur-px B     width of the edge profile in pixels (1.5).\n"
+      "  --latency-us L       mean pixel latency (80 | 500).\n"
+      "  --latency-jitter-us J  latency sigma per event, truncated (40 | 300).\n"
+      "  --refractory-us R    refractory period (200 | 800).\n"
+      "  --hot-pixels F       share of hot pixels, at least one when > 0 (0.0001).\n"
+      "  --hot-rate H         events per second of a hot pixel (20).\n"
       "  --truth FILE         also write the ground truth as CSV, one row per event in\n"
-      "                       the same order: t_us,x,y,p,noise,lifetime_us,nx,ny where\n"
-      "                       (nx, ny) is the unit direction of motion of the edge and\n"
-      "                       noise rows have lifetime 0.\n"
+      "                       the same order: t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n"
+      "                       where (nx, ny) is the unit direction of motion of the edge,\n"
+      "                       noise rows have lifetime 0, burst_index is 0 for the first\n"
+      "                       event of an edge's burst and hot is 1 for hot-pixel events.\n"
       "  -q, --quiet          no summary.\n"
       "  -h, --help           this text.\n"
       "\n"
@@ -75,7 +104,8 @@ void print_help(std::FILE* out) {
       "Examples:\n"
       "  evlife synth -o sample.txt                      # the README's sample\n"
       "  evlife process sample.txt --sensor 128x128 -o sample.csv\n"
-      "  evlife synth -o bar.txt --scene bar --sensor 346x260 --duration 1 --truth bar_truth.csv\n");
+      "  evlife synth -o bar.txt --scene bar --sensor 346x260 --duration 1 --truth bar_truth.csv\n"
+      "  evlife synth -o dim.txt --scene edges-bar --sensor 346x260 --pixel dvs-dim --truth dim_truth.csv\n");
 }
 
 double parse_number(const std::string& name, const std::string& text, double lo, double hi) {
@@ -99,12 +129,38 @@ std::uint64_t parse_seed(const std::string& text) {
   return v;
 }
 
+// The pixel options override the --pixel setting's values (dvs, dvs-dim only).
+void apply_pixel_options(const ParsedArgs& a, io::PixelModel& m) {
+  struct Flag {
+    const char* name;
+    double io::PixelModel::* field;
+    double lo, hi;
+  };
+  static constexpr Flag kFlags[] = {
+      {"contrast", &io::PixelModel::contrast_log, 1e-3, 10.0},
+      {"threshold", &io::PixelModel::threshold_log, 0.01, 5.0},
+      {"threshold-sigma", &io::PixelModel::threshold_mismatch_sigma, 0.0, 5.0},
+      {"edge-blur-px", &io::PixelModel::edge_blur_px, 0.0, 10.0},
+      {"latency-us", &io::PixelModel::latency_us, 0.0, 1e5},
+      {"latency-jitter-us", &io::PixelModel::latency_jitter_us, 0.0, 1e5},
+      {"refractory-us", &io::PixelModel::refractory_us, 0.0, 1e5},
+      {"hot-pixels", &io::PixelModel::hot_pixel_fraction, 0.0, 0.1},
+      {"hot-rate", &io::PixelModel::hot_pixel_rate_hz, 0.0, 1e5},
+  };
+  for (const Flag& f : kFlags) {
+    const auto v = a.value(f.name);
+    if (!v) continue;
+    if (!m.enabled) throw UsageError(std::string("--") + f.name + " needs --pixel dvs or dvs-dim");
+    m.*f.field = parse_number(f.name, *v, f.lo, f.hi);
+  }
+}
+
 // Ground truth as CSV (a tiny writer: this file is its only user).
 class TruthCsv {
  public:
   explicit TruthCsv(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "wb")) {
     if (file_ == nullptr) throw io::WriteError(path, "cannot create the file");
-    put("t_us,x,y,p,noise,lifetime_us,nx,ny\n");
+    put("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n");
   }
   ~TruthCsv() {
     if (file_ != nullptr) std::fclose(file_);
@@ -117,10 +173,11 @@ class TruthCsv {
     for (std::size_t i = 0; i < events.size(); ++i) {
       const Event& e = events[i];
       const io::EventTruth& t = truth[i];
-      const int n = std::snprintf(line, sizeof line, "%lld,%u,%u,%d,%d,%.6g,%.6f,%.6f\n",
+      const int n = std::snprintf(line, sizeof line, "%lld,%u,%u,%d,%d,%.6g,%.6f,%.6f,%u,%d\n",
                                   static_cast<long long>(e.t_us), static_cast<unsigned>(e.x),
                                   static_cast<unsigned>(e.y), e.p > 0 ? 1 : -1, t.is_noise ? 1 : 0,
-                                  t.lifetime_us, t.nx, t.ny);
+                                  t.lifetime_us, t.nx, t.ny, static_cast<unsigned>(t.burst_index),
+                                  t.is_hot ? 1 : 0);
       if (std::fwrite(line, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n)) {
         throw io::WriteError(path_, "write failed (disk full?)");
       }
@@ -149,7 +206,7 @@ int synth(int argc, char** argv) {
     }
   }
   io::SceneSpec spec;
-  std::string output, truth_path, scene_name = "mixed";
+  std::string output, truth_path, scene_name = "mixed", pixel_name;
   bool quiet = false;
   try {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
@@ -162,12 +219,18 @@ int synth(int argc, char** argv) {
     const double duration_s = parse_number("duration", a.value("duration").value_or("3"), 1e-3, 3600.0);
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
     const auto preset = io::scene_preset(scene_name, sensor, std::llround(duration_s * 1e6), seed);
-    if (!preset) throw UsageError("--scene " + scene_name + ": expected edges, bar, mixed or large");
+    if (!preset) throw UsageError("--scene " + scene_name + ": expected edges, bar, mixed, large or edges-bar");
     spec = *preset;
+    pixel_name = a.value("pixel").value_or("ideal");
+    if (!io::apply_pixel_setting(spec, pixel_name)) {
+      throw UsageError("--pixel " + pixel_name + ": expected ideal, dvs or dvs-dim");
+    }
+    apply_pixel_options(a, spec.pixel);
     if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number("noise-rate", *r, 0.0, 1e4);
     if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number("jitter-us", *j, 0.0, 1e5);
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
+    if (const auto err = io::validate_scene_spec(spec); !err.empty()) throw UsageError(err);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "evlife synth: %s\n(see evlife synth --help)\n", e.what());
     return kExitUsage;
@@ -176,7 +239,7 @@ int synth(int argc, char** argv) {
   io::SyntheticSceneReader scene(spec);
   std::vector<Event> events(kBatchEvents);
   std::vector<io::EventTruth> truth(kBatchEvents);
-  unsigned long long written = 0, noise = 0;
+  unsigned long long written = 0, noise = 0, hot = 0;
   try {
     auto writer = io::open_event_writer(output);
     std::unique_ptr<TruthCsv> truth_csv;
@@ -184,7 +247,10 @@ int synth(int argc, char** argv) {
     while (const std::size_t n = scene.read_with_truth(events, truth)) {
       writer->write(std::span<const Event>(events.data(), n));
       if (truth_csv) truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));
-      for (std::size_t i = 0; i < n; ++i) noise += truth[i].is_noise ? 1 : 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        noise += truth[i].is_noise ? 1 : 0;
+        hot += truth[i].is_hot ? 1 : 0;
+      }
       written += n;
     }
     writer->close();
@@ -196,11 +262,20 @@ int synth(int argc, char** argv) {
   }
   if (!quiet) {
     std::fprintf(stdout,
-                 "evlife synth: %s: scene %s, %dx%d, %.3f s, seed %llu: %llu events (%llu noise, "
-                 "jitter sigma %g us)\n",
+                 "evlife synth: %s: scene %s, %dx%d, %.3f s, seed %llu: %llu events (%llu noise, ",
                  output.c_str(), scene_name.c_str(), spec.sensor.width, spec.sensor.height,
                  static_cast<double>(spec.duration_us) * 1e-6,
-                 static_cast<unsigned long long>(spec.seed), written, noise, spec.jitter_sigma_us);
+                 static_cast<unsigned long long>(spec.seed), written, noise);
+    if (spec.pixel.enabled) {
+      const io::PixelModel& m = spec.pixel;
+      std::fprintf(stdout,
+                   "%llu hot; pixels %s: contrast %g, threshold %g +- %g, blur %g px, latency %g +- %g us, "
+                   "refractory %g us)\n",
+                   hot, pixel_name.c_str(), m.contrast_log, m.threshold_log, m.threshold_mismatch_sigma,
+                   m.edge_blur_px, m.latency_us, m.latency_jitter_us, m.refractory_us);
+    } else {
+      std::fprintf(stdout, "jitter sigma %g us)\n", spec.jitter_sigma_us);
+    }
     const auto names = io::scene_feature_names(spec);
     for (std::size_t i = 0; i < names.size() && i < 8; ++i) std::fprintf(stdout, "  %s\n", names[i].c_str());
     if (names.size() > 8) std::fprintf(stdout, "  ... and %zu more patterns\n", names.size() - 8);

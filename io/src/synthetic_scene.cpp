@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "dvs_pixel_model.h"
+
 namespace evlife::io {
 namespace {
 
@@ -119,7 +121,7 @@ void grating_slice(const GratingSpec& g, std::int16_t feature, const SliceContex
           truth.ny = ny;
           truth.feature = feature;
           truth.margin_px = margin_in(r, x, y);
-          emit(x, y, edge == 0 ? 1 : -1, truth);
+          emit(x, y, edge == 0 ? 1 : -1, truth, k);
         }
       }
     }
@@ -164,11 +166,55 @@ void bar_slice(const RotatingBarSpec& bar, std::int16_t feature, const SliceCont
           truth.feature = feature;
           truth.margin_px = margin_in(r, x, y);
           truth.scorable = radius >= bar.min_scored_radius_px;
-          emit(x, y, edge == 0 ? 1 : -1, truth);
+          emit(x, y, edge == 0 ? 1 : -1, truth, k);
         }
       }
     }
   }
+}
+
+// Hot pixels: each fires hot_pixel_rate_hz on its own, uniform in time, random polarity.
+template <typename Push>
+void hot_pixel_slice(const SceneSpec& spec, const std::vector<std::uint32_t>& hot_pixels, Rng& rng,
+                     std::int64_t a, std::int64_t b, Push&& push) {
+  const double mean = spec.pixel.hot_pixel_rate_hz * static_cast<double>(b - a) * 1e-6;
+  const SensorSize s = spec.sensor;
+  const PixelRegion whole{0, 0, s.width, s.height};
+  for (const std::uint32_t pixel : hot_pixels) {
+    auto count = static_cast<std::uint64_t>(mean);
+    if (rng.uniform() < mean - static_cast<double>(count)) ++count;
+    const int x = static_cast<int>(pixel % static_cast<std::uint32_t>(s.width));
+    const int y = static_cast<int>(pixel / static_cast<std::uint32_t>(s.width));
+    for (std::uint64_t i = 0; i < count; ++i) {
+      const auto t = a + static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(b - a)));
+      EventTruth truth;
+      truth.t_true_us = static_cast<double>(t);
+      truth.is_noise = true;
+      truth.is_hot = true;
+      truth.margin_px = margin_in(whole, x, y);
+      push(t, x, y, rng.uniform() < 0.5 ? 1 : -1, truth);
+    }
+  }
+}
+
+std::string validate_pixel_model(const PixelModel& m) {
+  if (!m.enabled) return {};
+  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  if (!in(m.contrast_log, 1e-3, 10.0)) return "contrast_log: must be in [0.001, 10]";
+  if (!in(m.contrast_spread, 0.0, 0.99)) return "contrast_spread: must be in [0, 0.99]";
+  if (!in(m.threshold_log, 0.01, 5.0)) return "threshold_log: must be in [0.01, 5]";
+  if (!in(m.threshold_mismatch_sigma, 0.0, m.threshold_log))
+    return "threshold_mismatch_sigma: must be in [0, threshold_log]";
+  // The threshold's floor is threshold_log / 4: at most 4 * 15 < 64 events per crossing.
+  if (m.contrast_log * (1.0 + m.contrast_spread) > 15.0 * m.threshold_log)
+    return "contrast_log: at most 15 thresholds per edge (with contrast_spread)";
+  if (!in(m.edge_blur_px, 0.0, 10.0)) return "edge_blur_px: must be in [0, 10]";
+  if (!in(m.latency_us, 0.0, 1e5)) return "latency_us: must be in [0, 1e5]";
+  if (!in(m.latency_jitter_us, 0.0, 1e5)) return "latency_jitter_us: must be in [0, 1e5]";
+  if (!in(m.refractory_us, 0.0, 1e5)) return "refractory_us: must be in [0, 1e5]";
+  if (!in(m.hot_pixel_fraction, 0.0, 0.1)) return "hot_pixel_fraction: must be in [0, 0.1]";
+  if (!in(m.hot_pixel_rate_hz, 0.0, 1e5)) return "hot_pixel_rate_hz: must be in [0, 1e5]";
+  return {};
 }
 
 std::string fmt_num(double v) {
@@ -189,6 +235,7 @@ std::string validate_scene_spec(const SceneSpec& s) {
   if (!(s.jitter_sigma_us >= 0.0) || s.jitter_sigma_us > 1e5)
     return "jitter_sigma_us: must be in [0, 1e5]";
   if (s.gratings.size() + s.bars.size() > 30000) return "too many features (max 30000)";
+  if (auto err = validate_pixel_model(s.pixel); !err.empty()) return "pixel." + err;
   for (std::size_t i = 0; i < s.gratings.size(); ++i) {
     const auto& g = s.gratings[i];
     const std::string where = "gratings[" + std::to_string(i) + "].";
@@ -230,6 +277,12 @@ SyntheticSceneReader::SyntheticSceneReader(SceneSpec spec) : spec_(std::move(spe
     throw std::invalid_argument("synthetic scene: " + err);
   }
   slice_count_ = (spec_.duration_us + spec_.slice_us - 1) / spec_.slice_us;
+  if (spec_.pixel.enabled) {
+    early_us_ = static_cast<std::int64_t>(std::ceil(detail::max_early_offset_us(spec_)));
+    hot_pixels_ = detail::PixelSampler(spec_.pixel, spec_.seed).hot_pixels(spec_.sensor);
+  } else {
+    early_us_ = static_cast<std::int64_t>(std::ceil(kJitterTruncationSigmas * spec_.jitter_sigma_us));
+  }
 }
 
 void SyntheticSceneReader::generate_next_slice() {
@@ -241,11 +294,9 @@ void SyntheticSceneReader::generate_next_slice() {
   const double max_jitter = kJitterTruncationSigmas * sigma;
 
   slice_.clear();
-  auto emit = [&](int x, int y, int p, const EventTruth& truth) {
-    double jitter = sigma > 0.0 ? sigma * rng.gaussian() : 0.0;
-    jitter = std::clamp(jitter, -max_jitter, max_jitter);
+  auto push = [&](std::int64_t t_us, int x, int y, int p, const EventTruth& truth) {
     Pending e;
-    e.event.t_us = std::max<std::int64_t>(0, std::llround(truth.t_true_us + jitter));
+    e.event.t_us = std::max<std::int64_t>(0, t_us);
     e.event.x = static_cast<std::uint16_t>(x);
     e.event.y = static_cast<std::uint16_t>(y);
     e.event.p = static_cast<std::int8_t>(p);
@@ -253,10 +304,36 @@ void SyntheticSceneReader::generate_next_slice() {
     e.sequence = sequence_++;
     slice_.push_back(e);
   };
+  auto emit_ideal = [&](int x, int y, int p, const EventTruth& truth, long long /*crossing*/) {
+    double jitter = sigma > 0.0 ? sigma * rng.gaussian() : 0.0;
+    jitter = std::clamp(jitter, -max_jitter, max_jitter);
+    push(std::llround(truth.t_true_us + jitter), x, y, p, truth);
+  };
+  const detail::PixelSampler sampler(spec_.pixel, spec_.seed);
+  detail::Burst burst;
+  auto emit_burst = [&](int x, int y, int p, const EventTruth& truth, long long crossing) {
+    detail::Crossing c{truth.t_true_us, truth.lifetime_us, x, y, p, truth.feature, crossing};
+    if (static_cast<std::size_t>(truth.feature) < spec_.gratings.size()) {  // moves within [t_begin, t_end)
+      const GratingSpec& g = spec_.gratings[static_cast<std::size_t>(truth.feature)];
+      c.t_from_us = std::max(0.0, static_cast<double>(g.t_begin_us));
+      c.t_to_us = static_cast<double>(g.t_end_us);
+    }
+    sampler.burst(c, burst);
+    EventTruth t = truth;
+    for (std::size_t i = 0; i < burst.count; ++i) {
+      t.burst_index = static_cast<std::uint8_t>(i);
+      push(std::llround(burst.t_us[i]), x, y, p, t);
+    }
+  };
   const SliceContext ctx{spec_, static_cast<double>(a), static_cast<double>(b), rng};
   std::int16_t feature = 0;
-  for (const auto& g : spec_.gratings) grating_slice(g, feature++, ctx, emit);
-  for (const auto& bar : spec_.bars) bar_slice(bar, feature++, ctx, emit);
+  if (spec_.pixel.enabled) {
+    for (const auto& g : spec_.gratings) grating_slice(g, feature++, ctx, emit_burst);
+    for (const auto& bar : spec_.bars) bar_slice(bar, feature++, ctx, emit_burst);
+  } else {
+    for (const auto& g : spec_.gratings) grating_slice(g, feature++, ctx, emit_ideal);
+    for (const auto& bar : spec_.bars) bar_slice(bar, feature++, ctx, emit_ideal);
+  }
 
   // Background noise: Poisson-like count by randomized rounding of the mean.
   const double mean = spec_.noise_rate_hz_per_px * static_cast<double>(spec_.sensor.pixel_count()) *
@@ -278,6 +355,7 @@ void SyntheticSceneReader::generate_next_slice() {
     e.sequence = sequence_++;
     slice_.push_back(e);
   }
+  hot_pixel_slice(spec_, hot_pixels_, rng, a, b, push);
 
   const auto before = [](const Pending& l, const Pending& r) {
     return l.event.t_us != r.event.t_us ? l.event.t_us < r.event.t_us : l.sequence < r.sequence;
@@ -287,12 +365,13 @@ void SyntheticSceneReader::generate_next_slice() {
   pending_.insert(pending_.end(), slice_.begin(), slice_.end());
   std::inplace_merge(pending_.begin(), pending_.begin() + old_size, pending_.end(), before);
 
-  // Later slices start at b and are jittered by at most max_jitter (+0.5 from
-  // rounding), so every event earlier than that bound is final.
+  // Later slices hold crossings at b or after; their events are stamped at
+  // most early_us_ before (ideal: the jitter; pixel model: half an edge ramp),
+  // +0.5 from rounding, so every event earlier than that bound is final.
   if (next_slice_ >= slice_count_) {
     ready_ = pending_.size();
   } else {
-    const auto bound = b - static_cast<std::int64_t>(std::ceil(max_jitter)) - 1;
+    const auto bound = b - early_us_ - 1;
     ready_ = static_cast<std::size_t>(
         std::lower_bound(pending_.begin(), pending_.end(), bound,
                          [](const Pending& e, std::int64_t t) { return e.event.t_us < t; }) -

@@ -19,16 +19,17 @@ double tile_direction_deg(int i) { return std::fmod(23.0 + 137.508 * i, 360.0); 
 // Tiles of gratings. `pass_time_us` sets the bar period (period * lifetime);
 // a pixel sees a new bar of each polarity once per period, and older passes
 // stay in the time surface as stale events.
-void add_grating_tiles(SceneSpec& spec, int tile_px, double pass_time_us, double min_period_px,
+// The tiles cover columns [0, width) of the sensor.
+void add_grating_tiles(SceneSpec& spec, int width, int tile_px, double pass_time_us, double min_period_px,
                        double max_period_px, int max_passes) {
-  const int nx = std::max(1, static_cast<int>(std::lround(spec.sensor.width / double(tile_px))));
+  const int nx = std::max(1, static_cast<int>(std::lround(width / double(tile_px))));
   const int ny = std::max(1, static_cast<int>(std::lround(spec.sensor.height / double(tile_px))));
   for (int ty = 0; ty < ny; ++ty) {
     for (int tx = 0; tx < nx; ++tx) {
       const int i = ty * nx + tx;
       GratingSpec g;
-      g.region = {tx * spec.sensor.width / nx, ty * spec.sensor.height / ny,
-                  (tx + 1) * spec.sensor.width / nx, (ty + 1) * spec.sensor.height / ny};
+      g.region = {tx * width / nx, ty * spec.sensor.height / ny,
+                  (tx + 1) * width / nx, (ty + 1) * spec.sensor.height / ny};
       g.lifetime_us = kLifetimesUs[static_cast<std::size_t>(i) % kLifetimesUs.size()];
       g.direction_deg = tile_direction_deg(i);
       g.period_px = std::clamp(std::round(pass_time_us / g.lifetime_us), min_period_px, max_period_px);
@@ -64,7 +65,7 @@ SceneSpec edges_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t
   s.sensor = sensor;
   s.duration_us = duration_us;
   s.seed = seed;
-  add_grating_tiles(s, 60, 9000.0, 10.0, 30.0, max_passes);
+  add_grating_tiles(s, sensor.width, 60, 9000.0, 10.0, 30.0, max_passes);
   return s;
 }
 
@@ -117,7 +118,21 @@ SceneSpec large_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t
   s.sensor = sensor;
   s.duration_us = duration_us;
   s.seed = seed;
-  add_grating_tiles(s, 80, 30000.0, 16.0, 100.0, 0);
+  add_grating_tiles(s, sensor.width, 80, 30000.0, 16.0, 100.0, 0);
+  return s;
+}
+
+SceneSpec edges_and_bar_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed) {
+  SceneSpec s;
+  s.sensor = sensor;
+  s.duration_us = duration_us;
+  s.seed = seed;
+  const int tiles_w = sensor.width * 2 / 3;
+  add_grating_tiles(s, tiles_w, 60, 9000.0, 10.0, 30.0, 6);
+  const double cx = tiles_w + (sensor.width - tiles_w) / 2.0 - 0.5 + 0.37;
+  RotatingBarSpec bar = flip_bar(cx, sensor.height / 2.0 - 0.5 + 0.21, duration_us);
+  bar.region = {tiles_w, 0, sensor.width, sensor.height};
+  s.bars.push_back(bar);
   return s;
 }
 
@@ -127,7 +142,41 @@ std::optional<SceneSpec> scene_preset(std::string_view name, SensorSize sensor,
   if (name == "bar") return rotating_bar_scene(sensor, duration_us, seed);
   if (name == "mixed") return mixed_scene(sensor, duration_us, seed);
   if (name == "large") return large_scene(sensor, duration_us, seed);
+  if (name == "edges-bar") return edges_and_bar_scene(sensor, duration_us, seed);
   return std::nullopt;
+}
+
+// Sources of the figures: PixelModel's comments (synthetic_scene.h).
+PixelModel dvs_pixel_normal() {
+  PixelModel m;
+  m.enabled = true;
+  m.latency_us = 80.0;
+  m.latency_jitter_us = 40.0;
+  m.refractory_us = 200.0;
+  return m;
+}
+
+PixelModel dvs_pixel_dim() {
+  PixelModel m = dvs_pixel_normal();
+  m.latency_us = 500.0;
+  m.latency_jitter_us = 300.0;
+  m.refractory_us = 800.0;
+  return m;
+}
+
+bool apply_pixel_setting(SceneSpec& spec, std::string_view name) {
+  if (name == "ideal") return true;
+  if (name == "dvs") {
+    spec.pixel = dvs_pixel_normal();
+    spec.noise_rate_hz_per_px = kDvsNormalNoiseRateHzPerPx;
+    return true;
+  }
+  if (name == "dvs-dim") {
+    spec.pixel = dvs_pixel_dim();
+    spec.noise_rate_hz_per_px = kDvsDimNoiseRateHzPerPx;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace evlife::io

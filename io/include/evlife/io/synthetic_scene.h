@@ -10,6 +10,12 @@
 // truncated at 4 sigma) and are then sorted, so the output is time-ordered.
 // Background noise: uniform over pixels and time, random polarity.
 //
+// Optional DVS pixel model (SceneSpec::pixel, off by default: the ideal model
+// above is unchanged bit for bit): an edge is a log-intensity step spread over
+// a blurred profile; each pixel fires one event per (mismatched) threshold
+// crossed, with latency, latency jitter and a refractory period, so an edge
+// gives a burst of events; plus hot pixels. See PixelModel.
+//
 // Deterministic: the same spec gives the same events bit for bit (own RNG and
 // own Gaussian: std:: distributions differ between standard libraries; only
 // libm's log/cos/atan2 could differ in the last bit across platforms). The
@@ -69,6 +75,52 @@ struct RotatingBarSpec {
   PixelRegion region;
 };
 
+/// A DVS pixel (Lichtsteiner et al., JSSC 2008, the DVS128; simulators v2e,
+/// Delbruck et al. 2021, and ESIM, Rebecq et al. 2018). Per crossing of a pixel
+/// by an edge whose centre passes at t_c with lifetime tau, the pixel's log
+/// intensity follows L(t) = C * clamp((t - t_c) / (blur * tau) + 1/2, 0, 1)
+/// (OFF edges mirrored). The pixel starts with a residual r0 in [0, theta)
+/// already accumulated (reference -r0); it fires at each time L reaches
+/// reference + theta, the event is stamped latency later, the pixel resets then
+/// (reference = L) and stays in reset for the refractory period. A crossing
+/// thus gives a burst of ~C/theta events spread over ~blur * tau around t_c,
+/// fewer when latency + refractory period are long against the transit.
+/// All draws of a crossing are hashes of (seed, feature, pixel, polarity,
+/// crossing): a burst does not depend on how the scene is sliced.
+/// With the model on, SceneSpec::jitter_sigma_us is not used (latency jitter
+/// replaces it); background activity stays SceneSpec::noise_rate_hz_per_px.
+struct PixelModel {
+  bool enabled = false;
+  /// Log-intensity step of an edge (ln units). Bright bar on a dark background:
+  /// 0.5 = a 1.65:1 intensity ratio, a printed pattern under office light.
+  double contrast_log = 0.5;
+  /// Each feature's contrast = contrast_log * (1 + spread * u), u in [-1, 1)
+  /// from a hash of the feature index: scenes hold edges of different contrast.
+  double contrast_spread = 0.4;
+  /// Nominal ON and OFF threshold (ln units). v2e default 0.2; ESIM 0.15 (its
+  /// examples 0.1-0.5); DVS128 ~0.15 (Lichtsteiner 2008: 15 % contrast).
+  double threshold_log = 0.2;
+  /// Fixed-pattern mismatch of the threshold per pixel and polarity (sigma, ln
+  /// units). v2e default 0.03; ESIM default 0.021; DVS128: 2.1 % contrast.
+  double threshold_mismatch_sigma = 0.03;
+  /// Width of the edge profile in pixels (optics, pixel aperture, motion blur
+  /// in the photoreceptor): L ramps over edge_blur_px * tau around t_c.
+  double edge_blur_px = 1.5;
+  /// Mean pixel latency (us), from the threshold crossing to the timestamp.
+  /// DVS128: 15 us at 1 klux, ~ms in dim light (Lichtsteiner 2008, Fig. 9);
+  /// the readout of a busy array adds tens of us.
+  double latency_us = 80.0;
+  /// Per-event latency sigma (us), Gaussian truncated to [0, mean + 4 sigma].
+  double latency_jitter_us = 40.0;
+  /// Refractory period (us): the pixel stays in reset this long after an event.
+  /// v2e default 500 us; ESIM example 100 us; set by a bias on real sensors.
+  double refractory_us = 200.0;
+  /// Share of pixels that are hot (at least one when > 0): they fire on their
+  /// own at hot_pixel_rate_hz with random polarity (noise in the truth).
+  double hot_pixel_fraction = 1e-4;
+  double hot_pixel_rate_hz = 20.0;
+};
+
 struct SceneSpec {
   SensorSize sensor{240, 180};
   std::int64_t duration_us = 1'000'000;
@@ -78,6 +130,7 @@ struct SceneSpec {
   double jitter_sigma_us = 20.0;      ///< Gaussian sigma of timestamp jitter (truncated at 4 sigma)
   std::uint64_t seed = 1;
   std::int64_t slice_us = 20'000;     ///< generation slice (part of the determinism contract)
+  PixelModel pixel;                   ///< off: ideal pixels (one event per crossing)
 };
 
 /// Ground truth of one event (same index as the event).
@@ -91,7 +144,9 @@ struct EventTruth {
   std::int16_t feature = -1;  ///< index into SyntheticScene::feature_names; -1 = noise
   std::uint16_t margin_px = 0;  ///< Chebyshev distance to the edge of the feature's region
                                 ///< (noise: of the sensor): an N x N window fits when >= N/2
+  std::uint8_t burst_index = 0;  ///< pixel model: 0 = first event of its crossing's burst
   bool is_noise = false;
+  bool is_hot = false;        ///< from a hot pixel (is_noise is true too)
   bool scorable = true;       ///< false where the local time surface is not a plane
                               ///< (near a rotation centre)
 };
@@ -133,9 +188,34 @@ SceneSpec mixed_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t
 /// sensor (e.g. 1280 x 720), lifetimes 300 us .. 20 ms, running all the time.
 SceneSpec large_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed);
 
-/// Preset by name: "edges", "bar", "mixed", "large". nullopt for an unknown name.
+/// Left two thirds: the tiles of edges_scene; right third: a bar rotating
+/// 150 -> 1200 deg/s. Translating and rotating edges in one scene (the pixel
+/// model's test scene, e.g. on a DAVIS346's 346 x 260).
+SceneSpec edges_and_bar_scene(SensorSize sensor, std::int64_t duration_us, std::uint64_t seed);
+
+/// Preset by name: "edges", "bar", "mixed", "large", "edges-bar". nullopt for an unknown name.
 std::optional<SceneSpec> scene_preset(std::string_view name, SensorSize sensor,
                                       std::int64_t duration_us, std::uint64_t seed);
+
+// ---- Pixel settings ----
+
+/// A DVS in normal (office, ~100s of lux) light: latency 80 +- 40 us,
+/// refractory 200 us; background activity kDvsNormalNoiseRateHzPerPx.
+PixelModel dvs_pixel_normal();
+
+/// A DVS in dim light: the photocurrent is small, so latency and its jitter
+/// grow to hundreds of us (Lichtsteiner 2008, Fig. 9: latency ~ 1/illuminance)
+/// and the refractory period is set longer; background activity higher.
+PixelModel dvs_pixel_dim();
+
+/// Background activity of the two settings (events per pixel per second):
+/// DVS128 and DAVIS report ~0.1-1 Hz at room temperature, more in the dark.
+inline constexpr double kDvsNormalNoiseRateHzPerPx = 0.2;
+inline constexpr double kDvsDimNoiseRateHzPerPx = 1.0;
+
+/// Applies a pixel setting by name: "ideal" (leaves the spec as it is), "dvs"
+/// (dvs_pixel_normal + its background rate), "dvs-dim". False for an unknown name.
+bool apply_pixel_setting(SceneSpec& spec, std::string_view name);
 
 /// Streams a scene slice by slice with memory bounded by one slice (slice_us of
 /// events, ~80 B each, plus the jitter carry-over): a camera-free source of
@@ -170,6 +250,8 @@ class SyntheticSceneReader : public EventReader {
   std::uint64_t sequence_ = 0;
   std::vector<Pending> pending_;  // sorted by (t, sequence)
   std::vector<Pending> slice_;    // scratch: the slice being generated
+  std::int64_t early_us_ = 0;     // how far before its slice an event can be stamped
+  std::vector<std::uint32_t> hot_pixels_;  // pixel indices y * width + x (pixel model)
   std::size_t ready_ = 0;         // pending_[0, ready_) can no longer be preceded
   std::size_t emitted_ = 0;       // pending_[0, emitted_) were handed out
 };

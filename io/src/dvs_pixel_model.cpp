@@ -1,0 +1,148 @@
+// The DVS pixel model: bursts per edge crossing, threshold mismatch, hot
+// pixels (see dvs_pixel_model.h and PixelModel in synthetic_scene.h).
+#include "dvs_pixel_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace evlife::io::detail {
+namespace {
+
+// splitmix64's finalizer: identical on every platform, well mixed.
+std::uint64_t mix(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t combine(std::uint64_t h, std::uint64_t v) { return mix(h ^ mix(v)); }
+
+template <typename... Rest>
+std::uint64_t combine(std::uint64_t h, std::uint64_t v, Rest... rest) {
+  return combine(combine(h, v), static_cast<std::uint64_t>(rest)...);
+}
+
+// What a draw is for: the same identity never feeds two draws.
+enum Tag : std::uint64_t { kContrast = 1, kThreshold, kResidual, kLatency, kHot };
+
+double uniform(std::uint64_t key) { return static_cast<double>(mix(key) >> 11) * 0x1.0p-53; }  // [0, 1)
+
+double gaussian(std::uint64_t key) {  // Box-Muller from two independent hashes
+  const double u1 = 1.0 - uniform(combine(key, 1));  // (0, 1]
+  const double u2 = uniform(combine(key, 2));
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
+constexpr double kLatencyTruncationSigmas = 4.0;
+constexpr int kLatencyDraws = 8;  // rejection tries before falling back to the mean
+
+}  // namespace
+
+double PixelSampler::contrast(int feature) const {
+  // Not seeded: the contrast belongs to the scene, not to the sensor's noise.
+  const double u = uniform(combine(kContrast, static_cast<std::uint64_t>(feature)));
+  return m_.contrast_log * (1.0 + m_.contrast_spread * (2.0 * u - 1.0));
+}
+
+double PixelSampler::threshold(int x, int y, int p) const {
+  const double g = gaussian(combine(seed_, kThreshold, static_cast<std::uint64_t>(x),
+                                    static_cast<std::uint64_t>(y), static_cast<std::uint64_t>(p > 0)));
+  // A threshold cannot vanish; the floor is > 6 sigma away for the settings.
+  return std::max(m_.threshold_log + m_.threshold_mismatch_sigma * g, 0.25 * m_.threshold_log);
+}
+
+double PixelSampler::ramp_us(double lifetime_us) const {
+  return std::min(m_.edge_blur_px * lifetime_us, kMaxEdgeRampUs);
+}
+
+double PixelSampler::latency_us(std::uint64_t key) const {
+  const double mu = m_.latency_us, sigma = m_.latency_jitter_us;
+  if (sigma <= 0.0) return mu;
+  // Gaussian truncated to [max(0, mu - 4 sigma), mu + 4 sigma] by rejection
+  // (a clamp would pile events up at zero latency when sigma ~ mu).
+  for (int i = 0; i < kLatencyDraws; ++i) {
+    const double g = gaussian(combine(key, static_cast<std::uint64_t>(i)));
+    const double l = mu + sigma * g;
+    if (l >= 0.0 && std::fabs(g) <= kLatencyTruncationSigmas) return l;
+  }
+  return mu;
+}
+
+void PixelSampler::burst(const Crossing& c, Burst& out) const {
+  out.count = 0;
+  const double contrast_log = contrast(c.feature);
+  const double theta = threshold(c.x, c.y, c.p);
+  const double ramp = ramp_us(c.lifetime_us);
+  const double start = c.t_c_us - 0.5 * ramp;
+  const auto level_at = [&](double t) {  // log intensity accumulated by the edge at t
+    t = std::clamp(t, c.t_from_us, c.t_to_us);
+    if (ramp <= 0.0) return t >= c.t_c_us ? contrast_log : 0.0;
+    return contrast_log * std::clamp((t - start) / ramp, 0.0, 1.0);
+  };
+  const std::uint64_t key = combine(seed_, static_cast<std::uint64_t>(c.feature), static_cast<std::uint64_t>(c.x),
+                                    static_cast<std::uint64_t>(c.y), static_cast<std::uint64_t>(c.p > 0),
+                                    static_cast<std::uint64_t>(c.index));
+  // Residual already accumulated since the pixel's last reset: the reference
+  // sits r0 below the current level.
+  double reference = level_at(c.t_from_us) - theta * uniform(combine(key, kResidual));
+  while (out.count < kMaxBurstEvents) {
+    // Above the level at t_from: the reference starts less than theta below it.
+    const double target = reference + theta;
+    if (target > level_at(c.t_to_us)) break;
+    const double t_fire = ramp <= 0.0 ? c.t_c_us : start + ramp * target / contrast_log;
+    const double t_stamp = t_fire + latency_us(combine(key, kLatency, out.count));
+    out.t_us[out.count++] = t_stamp;
+    // Reset at the timestamp, held in reset for the refractory period: the
+    // new reference is the level at release.
+    reference = level_at(t_stamp + m_.refractory_us);
+  }
+}
+
+std::vector<std::uint32_t> PixelSampler::hot_pixels(SensorSize sensor) const {
+  const auto n = static_cast<std::uint64_t>(sensor.pixel_count());
+  if (!(m_.hot_pixel_fraction > 0.0) || n == 0) return {};
+  const auto wanted = std::min<std::uint64_t>(
+      n, std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(m_.hot_pixel_fraction * static_cast<double>(n)))));
+  std::vector<bool> taken(n, false);
+  std::vector<std::uint32_t> pixels;
+  for (std::uint64_t i = 0; pixels.size() < wanted; ++i) {
+    const auto idx = static_cast<std::uint32_t>(mix(combine(seed_, kHot, i)) % n);
+    if (taken[idx]) continue;
+    taken[idx] = true;
+    pixels.push_back(idx);
+  }
+  std::sort(pixels.begin(), pixels.end());
+  return pixels;
+}
+
+double max_early_offset_us(const SceneSpec& spec) {
+  if (!spec.pixel.enabled) return 0.0;
+  const PixelSampler sampler(spec.pixel, spec.seed);
+  double longest_ramp = 0.0;
+  for (const auto& g : spec.gratings) longest_ramp = std::max(longest_ramp, sampler.ramp_us(g.lifetime_us));
+  for (const auto& b : spec.bars) {
+    // Lifetime 1 / (omega * arm), arm = sqrt(r^2 - (w/2)^2): largest at the
+    // slowest rotation and the shortest arm among the pixels that see edges.
+    PixelRegion r = b.region;
+    if (r.x1 <= 0) r.x1 = spec.sensor.width;
+    if (r.y1 <= 0) r.y1 = spec.sensor.height;
+    const double half_w = 0.5 * b.bar_width_px;
+    double min_arm = std::numeric_limits<double>::infinity();
+    for (int y = std::max(r.y0, 0); y < std::min(r.y1, spec.sensor.height); ++y) {
+      for (int x = std::max(r.x0, 0); x < std::min(r.x1, spec.sensor.width); ++x) {
+        const double radius = std::hypot(x - b.centre_x, y - b.centre_y);
+        if (radius <= half_w + 1e-9) continue;
+        min_arm = std::min(min_arm, radius * std::cos(std::asin(half_w / radius)));
+      }
+    }
+    if (!std::isfinite(min_arm)) continue;
+    const double omega_min = std::min(b.omega_start_deg_s, b.omega_end_deg_s) * std::numbers::pi / 180.0 * 1e-6;
+    longest_ramp = std::max(longest_ramp, sampler.ramp_us(1.0 / (omega_min * min_arm)));
+  }
+  return 0.5 * longest_ramp;
+}
+
+}  // namespace evlife::io::detail

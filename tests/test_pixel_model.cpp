@@ -1,0 +1,426 @@
+// The DVS pixel model of the synthetic scenes (io/synthetic_scene.h,
+// PixelModel): off it changes nothing, on it gives bursts, latency, a
+// refractory period and hot pixels, deterministically; and the per-pixel
+// statistics (render/pixel_statistics.h) that compare it with real sensors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "accuracy_metrics.h"
+#include "evlife/algo/lifetime_estimator.h"
+#include "evlife/io/event_reader.h"
+#include "evlife/io/synthetic_scene.h"
+#include "evlife/render/pixel_statistics.h"
+#include "cli_runner.h"
+
+namespace evlife {
+namespace {
+
+using io::EventTruth;
+using io::PixelModel;
+using io::SceneSpec;
+using io::SyntheticScene;
+
+// FNV-1a over (t_us int64, x uint16, y uint16, p int8), little endian.
+std::uint64_t fnv1a(const std::vector<Event>& events) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  const auto put = [&h](std::uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) {
+      h ^= (v >> (8 * i)) & 0xffU;
+      h *= 0x100000001b3ULL;
+    }
+  };
+  for (const Event& e : events) {
+    put(static_cast<std::uint64_t>(e.t_us), 8);
+    put(e.x, 2);
+    put(e.y, 2);
+    put(static_cast<std::uint64_t>(static_cast<std::uint8_t>(e.p)), 1);
+  }
+  return h;
+}
+
+// With the pixel model off (the default) the generator is the one of commit
+// 3aee002, bit for bit. The checksums come from that commit's binary, not from
+// this code: `evlife synth -o edges.txt --scene edges --sensor 120x90
+// --duration 0.3 --seed 5` and `... --scene mixed --sensor 128x128 --duration
+// 0.5 --seed 42`, FNV-1a of (t_us, x, y, p) as here over the text file's lines
+// (p 0 -> -1), computed by a separate script.
+TEST(PixelModel, OffIsTheGeneratorOf3aee002) {
+  const SyntheticScene edges = io::generate_scene(io::edges_scene({120, 90}, 300'000, 5));
+  EXPECT_EQ(edges.events.size(), 132840u);
+  EXPECT_EQ(fnv1a(edges.events), 0xfbb0b0188a208ffbULL);
+  const SyntheticScene mixed = io::generate_scene(io::mixed_scene({128, 128}, 500'000, 42));
+  EXPECT_EQ(mixed.events.size(), 89212u);
+  EXPECT_EQ(fnv1a(mixed.events), 0xe8d033c40a9679e3ULL);
+  for (const EventTruth& t : edges.truth) {
+    ASSERT_EQ(t.burst_index, 0);
+    ASSERT_FALSE(t.is_hot);
+  }
+}
+
+SceneSpec dvs_scene(bool dim, std::int64_t duration_us = 150'000, std::uint64_t seed = 7) {
+  SceneSpec s = io::edges_and_bar_scene({346, 260}, duration_us, seed);
+  EXPECT_TRUE(io::apply_pixel_setting(s, dim ? "dvs-dim" : "dvs"));
+  return s;
+}
+
+bool same_events(const std::vector<Event>& a, const std::vector<Event>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const Event& l, const Event& r) {
+           return l.t_us == r.t_us && l.x == r.x && l.y == r.y && l.p == r.p;
+         });
+}
+
+TEST(PixelModel, DeterministicAndStreamingEqualsWhole) {
+  for (const bool dim : {false, true}) {
+    const SceneSpec spec = dvs_scene(dim);
+    const SyntheticScene a = io::generate_scene(spec);
+    ASSERT_GT(a.events.size(), 50000u);
+    for (std::size_t i = 1; i < a.events.size(); ++i) ASSERT_LE(a.events[i - 1].t_us, a.events[i].t_us) << i;
+    EXPECT_TRUE(same_events(a.events, io::generate_scene(spec).events));
+    SceneSpec other = spec;
+    other.seed = spec.seed + 1;
+    EXPECT_FALSE(same_events(a.events, io::generate_scene(other).events));
+    // Streaming in odd-sized reads gives the same events and truth.
+    io::SyntheticSceneReader reader(spec);
+    std::vector<Event> streamed, buf(777);
+    std::vector<EventTruth> truth, tbuf(777);
+    while (const std::size_t n = reader.read_with_truth(buf, tbuf)) {
+      streamed.insert(streamed.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
+      truth.insert(truth.end(), tbuf.begin(), tbuf.begin() + static_cast<std::ptrdiff_t>(n));
+    }
+    EXPECT_TRUE(same_events(a.events, streamed)) << "dim " << dim;
+    ASSERT_EQ(truth.size(), a.truth.size());
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      ASSERT_EQ(truth[i].t_true_us, a.truth[i].t_true_us) << i;
+      ASSERT_EQ(truth[i].burst_index, a.truth[i].burst_index) << i;
+    }
+  }
+}
+
+// A crossing's burst is drawn from the crossing's identity, not from the
+// slice: slicing the scene differently gives the same edge events.
+TEST(PixelModel, BurstsDoNotDependOnSlicing) {
+  SceneSpec spec = dvs_scene(true, 200'000);
+  spec.noise_rate_hz_per_px = 0.0;  // noise and hot pixels are drawn per slice
+  spec.pixel.hot_pixel_fraction = 0.0;
+  SceneSpec resliced = spec;
+  resliced.slice_us = 7'000;
+  const auto key = [](const Event& e) { return std::make_tuple(e.t_us, e.x, e.y, e.p); };
+  std::vector<std::tuple<std::int64_t, int, int, int>> a, b;
+  for (const Event& e : io::generate_scene(spec).events) a.push_back(key(e));
+  for (const Event& e : io::generate_scene(resliced).events) b.push_back(key(e));
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  ASSERT_GT(a.size(), 10000u);
+  EXPECT_EQ(a, b);
+}
+
+// One slow grating: the ramp (blur * tau = 15 ms) is long against latency and
+// refractory period, so a crossing gives floor((C + r0) / theta) events with
+// r0 uniform in [0, theta): C / theta on average.
+SceneSpec slow_grating(double contrast, double threshold) {
+  SceneSpec s;
+  s.sensor = {64, 64};
+  s.duration_us = 2'000'000;
+  s.noise_rate_hz_per_px = 0.0;
+  io::GratingSpec g;
+  g.direction_deg = 30.0;
+  g.lifetime_us = 10'000.0;
+  g.period_px = 20.0;
+  g.bar_width_px = 10.0;
+  s.gratings.push_back(g);
+  s.pixel = io::dvs_pixel_normal();
+  s.pixel.contrast_log = contrast;
+  s.pixel.contrast_spread = 0.0;
+  s.pixel.threshold_log = threshold;
+  s.pixel.threshold_mismatch_sigma = 0.0;
+  s.pixel.hot_pixel_fraction = 0.0;
+  return s;
+}
+
+struct BurstCount {
+  std::size_t bursts = 0, events = 0;
+  double mean() const { return bursts == 0 ? 0.0 : static_cast<double>(events) / static_cast<double>(bursts); }
+};
+
+BurstCount count_bursts(const SyntheticScene& scene) {
+  BurstCount c;
+  for (const EventTruth& t : scene.truth) {
+    if (t.is_noise) continue;
+    ++c.events;
+    c.bursts += t.burst_index == 0 ? 1 : 0;
+  }
+  return c;
+}
+
+TEST(PixelModel, BurstsHoldContrastOverThresholdEvents) {
+  // Instant reset (no latency, no refractory period): C / theta per crossing.
+  for (const auto& [contrast, threshold] : {std::pair{0.5, 0.2}, std::pair{0.7, 0.2}, std::pair{0.3, 0.25}}) {
+    SceneSpec s = slow_grating(contrast, threshold);
+    s.pixel.latency_us = s.pixel.latency_jitter_us = s.pixel.refractory_us = 0.0;
+    const BurstCount c = count_bursts(io::generate_scene(s));
+    ASSERT_GT(c.bursts, 5000u);
+    EXPECT_NEAR(c.mean(), contrast / threshold, 0.02 * contrast / threshold) << contrast << " / " << threshold;
+  }
+  // With latency L and refractory period R, the pixel is reset L + R after the
+  // crossing, when the level has risen by d = C (L + R) / ramp more: levels
+  // l0 + k (theta + d) with l0 uniform in (0, theta] are crossed.
+  {
+    const SceneSpec s = slow_grating(0.5, 0.2);
+    const PixelModel& m = s.pixel;
+    const double c = m.contrast_log, theta = m.threshold_log;
+    const double step = theta + c * (m.latency_us + m.refractory_us) / (m.edge_blur_px * s.gratings[0].lifetime_us);
+    double expected = 0.0;
+    constexpr int kSteps = 10000;
+    for (int i = 0; i < kSteps; ++i) {
+      const double l0 = theta * (i + 0.5) / kSteps;
+      expected += std::floor((c - l0) / step) + 1.0;
+    }
+    expected /= kSteps;
+    const BurstCount got = count_bursts(io::generate_scene(s));
+    EXPECT_NEAR(got.mean(), expected, 0.02 * expected);
+    EXPECT_LT(expected, 0.98 * c / theta);  // the effect is resolved by the tolerance
+  }
+  // The presets (contrast varied per feature, thresholds mismatched): bursts
+  // of 1-4 events, ~C / theta = 2.5 on slow edges, fewer on fast ones.
+  const SyntheticScene scene = io::generate_scene(dvs_scene(false));
+  const BurstCount c = count_bursts(scene);
+  EXPECT_GT(c.mean(), 1.5);
+  EXPECT_LT(c.mean(), 3.0);
+}
+
+// A fast edge (ramp 150 us) is over before latency + refractory period
+// (80 + 200 us) have passed: one event per crossing.
+TEST(PixelModel, FastEdgesAreRefractoryLimited) {
+  SceneSpec s = slow_grating(0.5, 0.2);
+  s.gratings[0].lifetime_us = 100.0;
+  s.pixel.latency_jitter_us = 0.0;
+  s.duration_us = 200'000;
+  const BurstCount c = count_bursts(io::generate_scene(s));
+  ASSERT_GT(c.bursts, 5000u);
+  EXPECT_EQ(c.events, c.bursts);
+}
+
+// Every event of a burst carries its edge's truth, and is stamped within the
+// ramp around the crossing time plus latency and refractory periods.
+TEST(PixelModel, EveryBurstEventCarriesItsEdgesTruth) {
+  for (const bool dim : {false, true}) {
+    const SceneSpec spec = dvs_scene(dim);
+    const SyntheticScene scene = io::generate_scene(spec);
+    const PixelModel& m = spec.pixel;
+    std::size_t followers = 0, edge = 0;
+    for (std::size_t i = 0; i < scene.events.size(); ++i) {
+      const EventTruth& t = scene.truth[i];
+      if (t.is_noise) {
+        ASSERT_EQ(t.lifetime_us, 0.0);
+        ASSERT_EQ(t.feature, -1);
+        continue;
+      }
+      ++edge;
+      followers += t.burst_index > 0 ? 1 : 0;
+      ASSERT_GT(t.lifetime_us, 0.0) << i;
+      ASSERT_NEAR(std::hypot(t.nx, t.ny), 1.0, 1e-9) << i;
+      ASSERT_GE(t.feature, 0) << i;
+      const double ramp = std::min(m.edge_blur_px * t.lifetime_us, 100'000.0);
+      const double dt = static_cast<double>(scene.events[i].t_us) - t.t_true_us;
+      if (scene.events[i].t_us > 0) {  // stamps before 0 are clamped to 0
+        ASSERT_GE(dt, -0.5 * ramp - 0.5) << i;
+      }
+      const double latest = 0.5 * ramp + m.latency_us + 4.0 * m.latency_jitter_us +
+                            t.burst_index * (m.refractory_us + m.latency_us + 4.0 * m.latency_jitter_us);
+      ASSERT_LE(dt, latest + 0.5) << i;
+    }
+    EXPECT_GT(static_cast<double>(followers) / static_cast<double>(edge), dim ? 0.15 : 0.25) << "dim " << dim;
+  }
+}
+
+// No two events of one pixel and polarity closer than the refractory period
+// (noise and hot pixels off: they are independent of the pixel's state).
+TEST(PixelModel, RefractoryPeriodRespected) {
+  for (const bool dim : {false, true}) {
+    SceneSpec spec = dvs_scene(dim);
+    spec.noise_rate_hz_per_px = 0.0;
+    spec.pixel.hot_pixel_fraction = 0.0;
+    const SyntheticScene scene = io::generate_scene(spec);
+    std::vector<std::int64_t> last(static_cast<std::size_t>(spec.sensor.pixel_count()) * 2, -1);
+    std::int64_t closest = std::numeric_limits<std::int64_t>::max();
+    for (const Event& e : scene.events) {
+      std::int64_t& l = last[(static_cast<std::size_t>(e.y) * 346 + e.x) * 2 + (e.p > 0 ? 1 : 0)];
+      if (l >= 0) closest = std::min(closest, e.t_us - l);
+      l = e.t_us;
+    }
+    EXPECT_GE(static_cast<double>(closest), spec.pixel.refractory_us) << "dim " << dim;
+  }
+}
+
+TEST(PixelModel, HotPixelsFireAtTheirRate) {
+  SceneSpec s;
+  s.sensor = {346, 260};
+  s.duration_us = 2'000'000;
+  s.noise_rate_hz_per_px = 0.0;
+  s.pixel = io::dvs_pixel_normal();
+  s.pixel.hot_pixel_fraction = 1e-3;
+  s.pixel.hot_pixel_rate_hz = 30.0;
+  const SyntheticScene scene = io::generate_scene(s);
+  std::set<std::pair<int, int>> pixels;
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    ASSERT_TRUE(scene.truth[i].is_hot);
+    ASSERT_TRUE(scene.truth[i].is_noise);
+    pixels.insert({scene.events[i].x, scene.events[i].y});
+  }
+  const auto hot = static_cast<std::size_t>(std::lround(1e-3 * 346 * 260));
+  EXPECT_EQ(pixels.size(), hot);
+  const double expected = 30.0 * 2.0 * static_cast<double>(hot);
+  EXPECT_NEAR(static_cast<double>(scene.events.size()), expected, 0.03 * expected);
+  // At least one hot pixel whenever the fraction is > 0.
+  s.pixel.hot_pixel_fraction = 1e-9;
+  pixels.clear();
+  for (const Event& e : io::generate_scene(s).events) pixels.insert({e.x, e.y});
+  EXPECT_EQ(pixels.size(), 1u);
+}
+
+TEST(PixelModel, BadParametersAreRejected) {
+  SceneSpec s = dvs_scene(false);
+  s.pixel.threshold_log = 0.0;
+  EXPECT_NE(io::validate_scene_spec(s).find("pixel.threshold_log"), std::string::npos);
+  s = dvs_scene(false);
+  s.pixel.contrast_log = 5.0;  // 25 thresholds per edge
+  EXPECT_NE(io::validate_scene_spec(s).find("pixel.contrast_log"), std::string::npos);
+  s.pixel.enabled = false;  // an unused model is not checked
+  EXPECT_EQ(io::validate_scene_spec(s), "");
+}
+
+// `evlife synth --pixel`: the file holds the generator's events, the truth
+// CSV the burst index and hot flag; pixel options need a pixel model.
+TEST(PixelModel, SynthCommandLine) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "evlife_test_pixel_model";
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "dvs.txt").string(), truth = (dir / "dvs_truth.csv").string();
+  const auto run = [&](const std::string& args) { return test::run_cli(EVLIFE_CLI_PATH, args, dir / "cli.log"); };
+  const auto ok = run("synth -o '" + out + "' --scene edges-bar --sensor 346x260 --duration 0.1 --seed 3 "
+                      "--pixel dvs-dim --latency-us 300 --truth '" + truth + "'");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("latency 300 +- 300 us"), std::string::npos) << ok.output;
+  SceneSpec spec = io::edges_and_bar_scene({346, 260}, 100'000, 3);
+  ASSERT_TRUE(io::apply_pixel_setting(spec, "dvs-dim"));
+  spec.pixel.latency_us = 300.0;
+  const SyntheticScene expected = io::generate_scene(spec);
+  auto reader = io::open_event_reader(out);
+  std::vector<Event> written(expected.events.size() + 1);
+  std::size_t n = 0;
+  while (const std::size_t k = reader->read(std::span<Event>(written).subspan(n))) n += k;
+  written.resize(n);
+  EXPECT_TRUE(same_events(written, expected.events));
+  const std::string csv = test::read_text_file(truth);
+  EXPECT_EQ(csv.rfind("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n", 0), 0u);
+  std::size_t followers = 0;
+  for (const EventTruth& t : expected.truth) followers += t.burst_index > 0 ? 1 : 0;
+  ASSERT_GT(followers, 0u);
+
+  const auto no_model = run("synth -o '" + out + "' --latency-us 300");
+  EXPECT_EQ(no_model.exit_code, 2);
+  EXPECT_NE(no_model.output.find("--latency-us needs --pixel dvs or dvs-dim"), std::string::npos) << no_model.output;
+  const auto unknown = run("synth -o '" + out + "' --pixel dvs128");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.output.find("--pixel dvs128: expected ideal, dvs or dvs-dim"), std::string::npos);
+  const auto bad = run("synth -o '" + out + "' --pixel dvs --threshold 0.05 --contrast 2");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("pixel.contrast_log"), std::string::npos) << bad.output;
+}
+
+// ---------------------------------------------------------------------------
+// Per-pixel statistics.
+// ---------------------------------------------------------------------------
+
+TEST(PixelStatistics, CountsBurstsIntervalsAndFollowers) {
+  // Pixel (1, 1) ON: a burst of 3 (gaps 100, 200 us), a burst of 1 after a
+  // 10 ms gap; OFF at the same pixel: its own burst of 2; (2, 0): 1 event.
+  const std::vector<Event> ev{{0, 1, 1, 1},      {50, 1, 1, -1},     {100, 1, 1, 1}, {150, 1, 1, -1},
+                              {300, 1, 1, 1},    {400, 2, 0, 1},     {10'300, 1, 1, 1}};
+  const render::PixelStatistics s = render::pixel_statistics(ev, {4, 4}, 5000);
+  EXPECT_EQ(s.events, 7u);
+  EXPECT_EQ(s.bursts, 4u);  // ON 3, ON 1, OFF 2, (2,0) 1
+  EXPECT_EQ(s.bursts_by_size[0], 2u);
+  EXPECT_EQ(s.bursts_by_size[1], 1u);
+  EXPECT_EQ(s.bursts_by_size[2], 1u);
+  EXPECT_EQ(s.bursts_by_size[3], 0u);
+  EXPECT_DOUBLE_EQ(s.follower_share(), 3.0 / 7.0);
+  EXPECT_EQ(s.intervals, 4u);  // 100, 200, 10000 (ON), 100 (OFF)
+  EXPECT_DOUBLE_EQ(s.interval_median_us, 100.0);
+  EXPECT_DOUBLE_EQ(s.interval_p90_us, 200.0);
+}
+
+render::PixelStatistics statistics_of_file(const std::string& path) {
+  auto reader = io::open_event_reader(path);
+  render::PixelStatisticsAccumulator acc(reader->sensor_size().value_or(SensorSize{128, 128}));
+  std::vector<Event> buf(1 << 15);
+  while (const std::size_t n = reader->read(buf)) acc.add(std::span<const Event>(buf.data(), n));
+  return acc.finish();
+}
+
+std::string row(const std::string& name, const render::PixelStatistics& s) {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "| %s | %.2f | %.0f / %.0f / %.0f / %.0f %% | %.2f | %.0f / %.0f / %.0f |\n", name.c_str(),
+                s.mean_burst_size(), 100 * s.burst_share(0), 100 * s.burst_share(1), 100 * s.burst_share(2),
+                100 * s.burst_share(3), s.follower_share(), s.interval_p10_us, s.interval_median_us,
+                s.interval_p90_us);
+  return line;
+}
+
+// The README's comparison table of real sensors and the pixel model (burst gap
+// 5 ms). Run: build/tests/test_pixel_model --gtest_filter='PixelStatistics.RealAndModel'
+TEST(PixelStatistics, RealAndModel) {
+  std::string table =
+      "| stream | events per burst | bursts of 1 / 2 / 3 / 4+ | followers | same-pixel interval p10 / "
+      "median / p90 (us) |\n|---|---|---|---|---|\n";
+  const std::string data = EVLIFE_SHARED_DATA_DIR;
+  for (const char* file : {"/reference/stripes.mat", "/reference/garfield.mat", "/rpg_txt/slider_depth_events_chunk.txt"}) {
+    if (!std::filesystem::exists(data + file)) continue;
+    table += row(std::filesystem::path(file).filename().string(), statistics_of_file(data + file));
+  }
+  for (const bool dim : {false, true}) {
+    const SceneSpec spec = dvs_scene(dim, 1'000'000, 1);
+    const SyntheticScene scene = io::generate_scene(spec);
+    const render::PixelStatistics s = render::pixel_statistics(scene.events, spec.sensor);
+    table += row(std::string("synth edges-bar 346x260 --pixel ") + (dim ? "dvs-dim" : "dvs"), s);
+    // The model's own bursts: followers and sizes as configured, no interval
+    // under the refractory period except noise coinciding with an edge.
+    EXPECT_GT(s.follower_share(), 0.05);
+    EXPECT_GT(s.mean_burst_size(), 1.05);
+    EXPECT_LT(s.mean_burst_size(), 3.5);
+    EXPECT_GE(s.interval_p10_us, spec.pixel.refractory_us);
+  }
+  std::printf("%s", table.c_str());
+}
+
+// The estimator (default options) on the pixel-model scenes of issue 11's
+// floors: a baseline table, no assertion (the floors belong to the estimator's
+// tests). Run: build/tests/test_pixel_model --gtest_also_run_disabled_tests
+//   --gtest_filter='PixelModel.DISABLED_EstimatorBaseline'
+TEST(PixelModel, DISABLED_EstimatorBaseline) {
+  for (const bool dim : {false, true}) {
+    const SyntheticScene scene = io::generate_scene(dvs_scene(dim, 1'000'000, 1));
+    LifetimeOptions options;
+    options.sensor = scene.spec.sensor;
+    LifetimeEstimator estimator(options);
+    std::vector<AugmentedEvent> out(scene.events.size());
+    ASSERT_EQ(estimator.process(scene.events, out), out.size());
+    const auto report = test::evaluate_accuracy(scene, out);
+    std::printf("%s", test::format_accuracy_table(std::string("edges-bar 346x260 1 s, --pixel ") +
+                                                      (dim ? "dvs-dim" : "dvs"), report)
+                          .c_str());
+  }
+}
+
+}  // namespace
+}  // namespace evlife
