@@ -368,6 +368,53 @@ TEST(LifetimeAccuracy, MixedDvs128) {
   expect_floors("mixed 128x128, 2 s", evlife::io::mixed_scene({128, 128}, 2'000'000, 5));
 }
 
+// ---- Realistic pixels (issue 11): bursts, threshold mismatch, latency
+// jitter, refractory period, background activity, hot pixels ----
+
+struct PixelFloors {
+  double lifetime_share, median_rel_error, p90_rel_error, median_dir_error_deg, noise_share;
+};
+constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
+constexpr PixelFloors kDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
+
+void expect_pixel_floors(const std::string& title, SceneSpec spec, std::string_view setting,
+                         const PixelFloors& floors) {
+  ASSERT_TRUE(evlife::io::apply_pixel_setting(spec, setting));
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const auto report = run_estimator(scene, evlife::LifetimeOptions{});
+  std::cout << evlife::test::format_accuracy_table(
+      title + ", " + std::string(setting) + " pixels (" + std::to_string(scene.events.size()) + " events)",
+      report);
+  const auto& o = report.overall;
+  ASSERT_GT(o.edge_events, 20000u);
+  ASSERT_GT(o.noise_events, 500u);
+  EXPECT_GE(o.lifetime_share, floors.lifetime_share) << title << " " << setting;
+  EXPECT_LE(o.median_rel_error, floors.median_rel_error) << title << " " << setting;
+  EXPECT_LE(o.p90_rel_error, floors.p90_rel_error) << title << " " << setting;
+  EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << title << " " << setting;
+  EXPECT_GE(o.noise_share, floors.noise_share) << title << " " << setting;
+}
+
+TEST(PixelModelAccuracy, EdgesDavis346NormalLight) {
+  expect_pixel_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 11, 4), "dvs",
+                      kNormalLightFloors);
+}
+
+TEST(PixelModelAccuracy, RotatingBarDavis346NormalLight) {
+  expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
+                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 12), "dvs", kNormalLightFloors);
+}
+
+TEST(PixelModelAccuracy, EdgesDavis346DimLight) {
+  expect_pixel_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 13, 4),
+                      "dvs-dim", kDimLightFloors);
+}
+
+TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) {
+  expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
+                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kDimLightFloors);
+}
+
 // Beyond the floors: where does the estimator stop working? Not a pass/fail
 // test; run with --gtest_also_run_disabled_tests --gtest_filter=*Sweep* to
 // print one row per condition (faster edges, more noise, more jitter, dense

@@ -46,7 +46,7 @@ struct LifetimeOptions {
   /// stale events fit steep planes through a noise event and noise passes as
   /// an edge.
   double inlier_tolerance_us = 60.0;
-  double inlier_tolerance_lifetime_fraction = 0.2;
+  double inlier_tolerance_lifetime_fraction = 0.3;
 
   /// Regularize the least-squares plane towards the plane predicted for this
   /// pixel by an earlier event (paper eq. 12).
