@@ -97,8 +97,8 @@ struct PixelModel {
   /// Each feature's contrast = contrast_log * (1 + spread * u), u in [-1, 1)
   /// from a hash of the feature index: scenes hold edges of different contrast.
   double contrast_spread = 0.4;
-  /// Nominal ON and OFF threshold (ln units). v2e default 0.2; ESIM 0.15 (its
-  /// examples 0.1-0.5); DVS128 ~0.15 (Lichtsteiner 2008: 15 % contrast).
+  /// Nominal ON and OFF threshold (ln units). v2e default 0.2; ESIM's Python
+  /// simulator 0.15; issue 11: 0.15-0.3 on real sensors (bias-set).
   double threshold_log = 0.2;
   /// Fixed-pattern mismatch of the threshold per pixel and polarity (sigma, ln
   /// units). v2e default 0.03; ESIM default 0.021; DVS128: 2.1 % contrast.
@@ -107,13 +107,14 @@ struct PixelModel {
   /// in the photoreceptor): L ramps over edge_blur_px * tau around t_c.
   double edge_blur_px = 1.5;
   /// Mean pixel latency (us), from the threshold crossing to the timestamp.
-  /// DVS128: 15 us at 1 klux, ~ms in dim light (Lichtsteiner 2008, Fig. 9);
+  /// DVS128: 15 us in bright light, growing as the photocurrent falls
+  /// (Lichtsteiner 2008);
   /// the readout of a busy array adds tens of us.
   double latency_us = 80.0;
   /// Per-event latency sigma (us), Gaussian truncated to [0, mean + 4 sigma].
   double latency_jitter_us = 40.0;
   /// Refractory period (us): the pixel stays in reset this long after an event.
-  /// v2e default 500 us; ESIM example 100 us; set by a bias on real sensors.
+  /// v2e default 500 us; ESIM default 100 us; set by a bias on real sensors.
   double refractory_us = 200.0;
   /// Share of pixels that are hot (at least one when > 0): they fire on their
   /// own at hot_pixel_rate_hz with random polarity (noise in the truth).
@@ -204,7 +205,7 @@ std::optional<SceneSpec> scene_preset(std::string_view name, SensorSize sensor,
 PixelModel dvs_pixel_normal();
 
 /// A DVS in dim light: the photocurrent is small, so latency and its jitter
-/// grow to hundreds of us (Lichtsteiner 2008, Fig. 9: latency ~ 1/illuminance)
+/// grow to hundreds of us (Lichtsteiner 2008: latency grows as light falls)
 /// and the refractory period is set longer; background activity higher.
 PixelModel dvs_pixel_dim();
 
