@@ -48,6 +48,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   sae_t_us_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
   predictions_.resize(sae_t_us_.size());
   bursts_.resize(sae_t_us_.size());
+  timing_noise_us_.resize(sae_t_us_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -69,6 +70,7 @@ void LifetimeEstimator::reset() noexcept {
   std::fill(sae_t_us_.begin(), sae_t_us_.end(), kNeverFired);
   std::fill(predictions_.begin(), predictions_.end(), Prediction{kNoPrediction, 0.0f, 0.0f});
   std::fill(bursts_.begin(), bursts_.end(), BurstEstimate{0.0f, 0.0f, 0.0f});
+  std::fill(timing_noise_us_.begin(), timing_noise_us_.end(), 0.0f);
   stats_ = LifetimeStats{};
 }
 
@@ -161,9 +163,14 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
   detail::WindowSamples nb;
   sae_t_us_[self] = kNeverFired;  // the new event's own pixel is not a sample
+  float noise_sum_us = 0.0f;
+  int noise_count = 0;
   for (int yy = y0; yy <= y1; ++yy) {
     const std::int64_t* row = &sae_t_us_[pixel_index(pol, 0, yy)];
+    const float* noise_row = &timing_noise_us_[pixel_index(pol, 0, yy)];
     for (int xx = x0; xx <= x1; ++xx) {
+      noise_sum_us += noise_row[xx];
+      noise_count += noise_row[xx] > 0.0f;
       const std::int64_t t = row[xx];
       if (t == kNeverFired || t > e.t_us) continue;
       nb.dx[nb.count] = static_cast<float>(xx - x);
@@ -199,7 +206,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // Tolerance = max(floor, fraction of the candidate's lifetime): timing noise
   // of real sensors grows with the lifetime, a fixed floor covers jitter.
   // Compared squared: no square root per candidate.
-  const float tol_floor2 = static_cast<float>(options_.inlier_tolerance_us * options_.inlier_tolerance_us);
+  // The floor: the sensor's timing noise, at least inlier_tolerance_us, else
+  // a multiple of the residual scale the fits around this pixel observed
+  // (latency jitter grows to hundreds of us in dim light).
+  const double observed_noise_us =
+      noise_count > 0 ? options_.tolerance_noise_factor * noise_sum_us / static_cast<float>(noise_count) : 0.0;
+  const double tol_floor_us = std::max(options_.inlier_tolerance_us, observed_noise_us);
+  const auto tol_floor2 = static_cast<float>(tol_floor_us * tol_floor_us);
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
                                                  options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
@@ -258,6 +271,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
   burst = {out.lifetime_us, out.vx_px_s, out.vy_px_s};
+  if (const double rms = fit.residual_rms(g); rms >= 0.0) timing_noise_us_[self] = static_cast<float>(rms);
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).

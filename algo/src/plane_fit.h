@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
 
 namespace evlife::detail {
 
@@ -20,6 +22,19 @@ class PlaneFit {
     syy_ += dy * dy;
     sxt_ += dx * dt_us;
     syt_ += dy * dt_us;
+    stt_ += dt_us * dt_us;
+  }
+
+  /// Root mean square residual of the samples about dt = c + g . dp, with c
+  /// chosen best for g; per degree of freedom (n - 3). -1 with n <= 3.
+  double residual_rms(const Eigen::Vector2d& g) const noexcept {
+    if (n_ <= 3.0) return -1.0;
+    // sum (t - g.p)^2 - (sum (t - g.p))^2 / n, expanded in the sums.
+    const double gx = g.x(), gy = g.y();
+    const double s1 = st_ - gx * sx_ - gy * sy_;
+    const double s2 = stt_ - 2.0 * (gx * sxt_ + gy * syt_) + gx * gx * sxx_ + 2.0 * gx * gy * sxy_ + gy * gy * syy_;
+    const double sse = s2 - s1 * s1 / n_;
+    return std::sqrt(std::max(sse, 0.0) / (n_ - 3.0));
   }
 
   /// Minimizes sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over (c, g).
@@ -39,7 +54,7 @@ class PlaneFit {
   }
 
  private:
-  double n_ = 0, sx_ = 0, sy_ = 0, st_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0, sxt_ = 0, syt_ = 0;
+  double n_ = 0, sx_ = 0, sy_ = 0, st_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0, sxt_ = 0, syt_ = 0, stt_ = 0;
 };
 
 }  // namespace evlife::detail

@@ -82,6 +82,7 @@ class LifetimeEstimator {
     float vy_px_s;
   };
   std::vector<BurstEstimate> bursts_;
+  std::vector<float> timing_noise_us_;  // residual rms of the last fit here; 0 = none
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 

@@ -47,6 +47,8 @@ struct LifetimeOptions {
   /// an edge.
   double inlier_tolerance_us = 60.0;
   double inlier_tolerance_lifetime_fraction = 0.3;
+  /// EXPERIMENT
+  double tolerance_noise_factor = 2.0;
 
   /// Regularize the least-squares plane towards the plane predicted for this
   /// pixel by an earlier event (paper eq. 12).
@@ -62,7 +64,7 @@ struct LifetimeOptions {
   double lambda_offset = 9.0;
   double lambda_gain = 100.0;
   double lambda_decay_per_us = 0.005;
-  double lambda_unit_px2 = 0.1;
+  double lambda_unit_px2 = 0.3;
 
   /// Bursts (real DVS pixels fire several events per edge crossing, one per
   /// threshold multiple, spread over up to ~2 lifetimes): an event at a pixel
