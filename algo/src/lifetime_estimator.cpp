@@ -45,6 +45,11 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   half_window_ = options_.window_size / 2;
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
+  // The smallest lifetime the timestamps resolve: a plane rising less than
+  // the timestamp jitter (inlier_tolerance_us) across the window's half-width
+  // fits a flat surface as well, e.g. a blob whose pixels fire within a few
+  // us, or a readout that stamps a row of events with one timestamp.
+  min_lifetime_us_ = std::max(options_.inlier_tolerance_us / half_window_, 1.0);
   sae_t_us_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
   predictions_.resize(sae_t_us_.size());
   bursts_.resize(sae_t_us_.size());
@@ -83,7 +88,15 @@ std::size_t LifetimeEstimator::process(std::span<const Event> in,
 
 // True when an edge estimated at a neighbour predicts this event: its plane
 // (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
-bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us) const noexcept {
+// Weight of a prior plane that predicted this event with error err_us
+// (paper eq. 13, in our units).
+double LifetimeEstimator::prior_weight(double err_us) const noexcept {
+  return options_.lambda_unit_px2 *
+         (options_.lambda_offset + options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * err_us));
+}
+
+bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
+                                          EdgePrior& prior) const noexcept {
   const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(options_.sensor.height - 1, y + half_window_);
   for (int yy = y0; yy <= y1; ++yy) {
@@ -92,14 +105,18 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
       const std::size_t q = pixel_index(pol, xx, yy);
       const BurstEstimate& b = bursts_[q];
       if (b.lifetime_us <= 0.0f) continue;
-      const double tau2_s = static_cast<double>(b.lifetime_us) * b.lifetime_us * 1e-6;
-      const double gx = b.vx_px_s * tau2_s, gy = b.vy_px_s * tau2_s;  // us/px
+      const double tau_us = static_cast<double>(b.lifetime_us);
+      const double tau2_s = tau_us * tau_us * 1e-6;
+      const double gx = static_cast<double>(b.vx_px_s) * tau2_s;  // us/px
+      const double gy = static_cast<double>(b.vy_px_s) * tau2_s;
       const double ahead_us = gx * (x - xx) + gy * (y - yy);
       if (ahead_us <= 0.0) continue;  // the edge moves from the neighbour to this pixel
       const double predicted = static_cast<double>(sae_t_us_[q]) + ahead_us;
-      const double tol = std::max(options_.inlier_tolerance_us,
-                                  options_.inlier_tolerance_lifetime_fraction * b.lifetime_us);
-      if (std::fabs(static_cast<double>(t_us) - predicted) <= tol) return true;
+      const double tol = std::max(tol_floor_us, options_.inlier_tolerance_lifetime_fraction * tau_us);
+      if (const double err_us = std::fabs(static_cast<double>(t_us) - predicted); err_us <= tol) {
+        prior = {gx, gy, err_us};
+        return true;
+      }
     }
   }
   return false;
@@ -150,9 +167,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     if (options_.regularization) {
       prior_gx = pred.gx_us_px;
       prior_gy = pred.gy_us_px;
-      lambda = options_.lambda_unit_px2 *
-               (options_.lambda_offset +
-                options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * std::fabs(err_us)));
+      lambda = prior_weight(std::fabs(err_us));
     }
     pred.t_us = kNoPrediction;  // a prediction is for the next event only
   }
@@ -210,7 +225,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // a multiple of the residual scale the fits around this pixel observed
   // (latency jitter grows to hundreds of us in dim light).
   const double observed_noise_us =
-      noise_count > 0 ? options_.tolerance_noise_factor * noise_sum_us / static_cast<float>(noise_count) : 0.0;
+      noise_count > 0 ? options_.inlier_tolerance_residual_factor * static_cast<double>(noise_sum_us) / noise_count : 0.0;
   const double tol_floor_us = std::max(options_.inlier_tolerance_us, observed_noise_us);
   const auto tol_floor2 = static_cast<float>(tol_floor_us * tol_floor_us);
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
@@ -240,10 +255,20 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
-  if (best_support < min_support &&
-      (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us))) {
-    ++stats_.noise;
-    return out;
+  if (best_support < min_support) {
+    // Too little support to start an edge: accept the event only where an
+    // edge upstream predicts it, and let that edge's plane regularize the
+    // fit of the few samples (as a prediction does, eq. 12-13).
+    EdgePrior upstream;
+    if (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream)) {
+      ++stats_.noise;
+      return out;
+    }
+    if (lambda == 0.0) {
+      prior_gx = static_cast<float>(upstream.gx_us_px);
+      prior_gy = static_cast<float>(upstream.gy_us_px);
+      lambda = prior_weight(upstream.err_us);
+    }
   }
 
   // Least-squares refit on the inliers and the new event: dt = c + g . dp,
@@ -261,7 +286,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const double gx = g.x(), gy = g.y();
   const double g2 = gx * gx + gy * gy;
   const double lifetime_us = std::sqrt(g2);
-  if (!solved || !std::isfinite(lifetime_us) || lifetime_us <= 0.0 ||
+  if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
     return out;

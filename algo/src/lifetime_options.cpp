@@ -33,6 +33,8 @@ std::string validate_lifetime_options(const LifetimeOptions& o) {
                o.inlier_tolerance_lifetime_fraction <= 0.5)) {
     err << "inlier_tolerance_lifetime_fraction: " << o.inlier_tolerance_lifetime_fraction
         << " must be in (0, 0.5]";
+  } else if (!in_range(o.inlier_tolerance_residual_factor, 0.0, 10.0)) {
+    err << "inlier_tolerance_residual_factor: " << o.inlier_tolerance_residual_factor << " must be in [0, 10]";
   } else if (!in_range(o.lambda_offset, 0.0, 1e9) || !in_range(o.lambda_gain, 0.0, 1e9)) {
     err << "lambda_offset/lambda_gain: " << o.lambda_offset << "/" << o.lambda_gain
         << " must be in [0, 1e9]";

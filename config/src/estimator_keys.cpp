@@ -28,6 +28,9 @@ void add_estimator_keys(std::vector<ConfigKey>& keys) {
       "estimator.inlier_tolerance_lifetime_fraction",
       [](auto& c) -> auto& { return c.estimator.inlier_tolerance_lifetime_fraction; },
       D{0.0, 0.5, true, false}));
+  keys.push_back(number_key<double>(
+      "estimator.inlier_tolerance_residual_factor",
+      [](auto& c) -> auto& { return c.estimator.inlier_tolerance_residual_factor; }, D{0.0, 10.0}));
   keys.push_back(bool_key("estimator.regularization",
                           [](auto& c) -> auto& { return c.estimator.regularization; }));
   keys.push_back(number_key<double>(

@@ -4,6 +4,7 @@
 // Raw input is processed once per estimator variant (N = 3, 5, 7, with and
 // without regularization); every pass streams (constant memory).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,7 @@
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/frame_painter.h"
 #include "evlife/render/histogram.h"
+#include "evlife/render/image_quality.h"
 #include "evlife/render/plot.h"
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/sharpness.h"
@@ -61,9 +63,11 @@ void print_eval_help(std::FILE* out) {
       "                             N = 3, 5, 7 with and without regularization (paper Fig. 9)\n"
       "  velocity_histogram.png/.csv  speed |v| of non-noise events (px/s)\n"
       "  velocity_components.png/.csv vx and vy of non-noise events (px/s)\n"
-      "  sharpness.png/.csv, sharpness_summary.csv  thin-edge share of the lifetime image vs\n"
-      "                             1 ms and 30 ms windows, sampled every --sample-every\n"
-      "  runs.csv                   per estimator run: events, noise, predictions, timings\n"
+      "  sharpness.png/.csv, sharpness_summary.csv  thin-edge share, completeness and their\n"
+      "                             product of the lifetime image vs 1, 10 and 30 ms\n"
+      "                             windows, sampled every --sample-every\n"
+      "  runs.csv                   per estimator run: events, share with a lifetime, with a\n"
+      "                             prediction, median |prediction error| / lifetime, timings\n"
       "  compare_frame.png          1 ms | 30 ms | lifetime at --frame-at\n"
       "\n"
       "INPUT  a raw recording (processed 6 times: N = 3, 5, 7 x regularization on/off,\n"
@@ -76,6 +80,9 @@ void print_eval_help(std::FILE* out) {
       "vertically or diagonally), on a thin edge when in addition its horizontal or\n"
       "vertical run is <= 2 px. thin-edge share = thin-edge pixels / active pixels (higher\n"
       "= sharper, less noise); mean thickness over edge pixels (lower = sharper).\n"
+      "Completeness: the share of the edge pixels of the best fixed window at that instant\n"
+      "(the one with the most thin-edge pixels) that an image draws within 1 px. A method\n"
+      "is complete *and* sharp when completeness x thin-edge share is high.\n"
       "\n"
       "Options:\n"
       "  -o, --output DIR       required.\n"
@@ -141,10 +148,18 @@ struct RunResult {
   render::Histogram speed_px_s{0.0, 10.0, 2000};        // up to 20000 px/s
   render::Histogram vx_px_s{-10000.0, 20.0, 1000};
   render::Histogram vy_px_s{-10000.0, 20.0, 1000};
+  render::Histogram error_over_lifetime{0.0, 0.01, 1000};  // |prediction error| / lifetime, up to 10
   std::uint64_t events = 0;
   std::uint64_t noise = 0;
   std::uint64_t predictions = 0;
   double wall_s = 0.0;
+
+  double share_with_lifetime() const noexcept {
+    return events ? static_cast<double>(events - noise) / static_cast<double>(events) : 0.0;
+  }
+  double share_with_prediction() const noexcept {
+    return events ? static_cast<double>(predictions) / static_cast<double>(events) : 0.0;
+  }
 
   void add(std::span<const AugmentedEvent> batch) {
     for (const auto& a : batch) {
@@ -158,6 +173,8 @@ struct RunResult {
         continue;
       }
       lifetime_us.add(static_cast<double>(a.lifetime_us));
+      if (a.has_prediction())
+        error_over_lifetime.add(std::fabs(static_cast<double>(a.prediction_error_us)) / static_cast<double>(a.lifetime_us));
       speed_px_s.add(std::hypot(static_cast<double>(a.vx_px_s), static_cast<double>(a.vy_px_s)));
       vx_px_s.add(static_cast<double>(a.vx_px_s));
       vy_px_s.add(static_cast<double>(a.vy_px_s));
@@ -183,17 +200,27 @@ class TapSource final : public render::AugmentedSource {
   RunResult& result_;
 };
 
+// The images compared: fixed windows of these lengths, then the lifetimes.
+constexpr std::int64_t kWindowLengthsUs[] = {1000, 10000, 30000};
+constexpr std::size_t kMethods = std::size(kWindowLengthsUs) + 1;
+constexpr std::size_t kLifetimeMethod = kMethods - 1;
+constexpr const char* kMethodNames[kMethods] = {"fixed window 1 ms", "fixed window 10 ms", "fixed window 30 ms",
+                                                "lifetime (ours)"};
+
+using MethodQuality = render::ImageQuality;
+
 struct SharpnessSample {
   double t_s = 0.0;
-  render::Sharpness lifetime, window_1ms, window_30ms;
+  std::array<MethodQuality, kMethods> methods;
 };
 
 struct SharpnessResult {
   std::vector<SharpnessSample> samples;
-  render::Sharpness lifetime, window_1ms, window_30ms;  // pooled over samples
+  std::array<MethodQuality, kMethods> pooled;  // over samples
   cv::Mat compare_frame;
   double compare_t_s = 0.0;
 };
+
 
 // The measuring pass with rendering: sharpness at every sample instant and the compare frame.
 void run_with_sharpness(render::AugmentedSource& source, RunResult& result, const EvalArgs& args,
@@ -208,22 +235,18 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   render::FrameStyle style;
   style.scale = std::max(1, 384 / std::max(sensor.width, sensor.height));
   render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
-  cv::Mat mask;
+  std::array<cv::Mat, kMethods> masks;
   for (std::int64_t rel = args.sample_every_us;; rel += args.sample_every_us) {
     const std::int64_t t = *first + rel;
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) break;
+    for (std::size_t m = 0; m < kLifetimeMethod; ++m) render::window_mask(window, t, kWindowLengthsUs[m], masks[m]);
+    render::active_mask(set, t, masks[kLifetimeMethod]);
     SharpnessSample s;
     s.t_s = static_cast<double>(rel) * 1e-6;
-    render::active_mask(set, t, mask);
-    s.lifetime = render::measure_sharpness(mask);
-    render::window_mask(window, t, 1000, mask);
-    s.window_1ms = render::measure_sharpness(mask);
-    render::window_mask(window, t, 30000, mask);
-    s.window_30ms = render::measure_sharpness(mask);
-    sharp.lifetime += s.lifetime;
-    sharp.window_1ms += s.window_1ms;
-    sharp.window_30ms += s.window_30ms;
+    const auto quality = render::compare_images(masks, kLifetimeMethod);
+    std::copy(quality.begin(), quality.end(), s.methods.begin());
+    for (std::size_t m = 0; m < kMethods; ++m) sharp.pooled[m] += s.methods[m];
     sharp.samples.push_back(s);
     if (rel <= args.frame_at_us || sharp.compare_frame.empty()) {
       composer.compose(set, window, t, rel).copyTo(sharp.compare_frame);
@@ -413,42 +436,43 @@ void write_outputs(const EvalArgs& args, const std::string& description, SensorS
     }
   }
 
-  // Sharpness.
+  // Sharpness and completeness.
   {
-    std::vector<render::PlotSeries> plot(3);
-    const char* names[3] = {"fixed window 1 ms", "fixed window 30 ms", "lifetime (ours)"};
-    for (int m = 0; m < 3; ++m) {
-      plot[static_cast<std::size_t>(m)].label = names[m];
-      plot[static_cast<std::size_t>(m)].color = render::series_color(m == 2 ? 1 : (m == 0 ? 2 : 0));
+    std::vector<render::PlotSeries> plot(kMethods);
+    for (std::size_t m = 0; m < kMethods; ++m) {
+      plot[m].label = kMethodNames[m];
+      plot[m].color = render::series_color(static_cast<int>(m == kLifetimeMethod ? 1 : (m == 0 ? 2 : m + 2)));
     }
     auto csv = open_csv(dir / "sharpness.csv");
-    csv << "t_s,method,active_pixels,edge_pixels,thin_edge_pixels,thin_edge_share,mean_edge_thickness_px\n";
+    csv << "t_s,method,active_pixels,edge_pixels,thin_edge_pixels,thin_edge_share,mean_edge_thickness_px,"
+           "completeness,score\n";
     for (const auto& s : sharp.samples) {
-      const render::Sharpness* per[3] = {&s.window_1ms, &s.window_30ms, &s.lifetime};
-      for (int m = 0; m < 3; ++m) {
-        plot[static_cast<std::size_t>(m)].x.push_back(s.t_s);
-        plot[static_cast<std::size_t>(m)].y.push_back(per[m]->thin_edge_share());
-        csv << s.t_s << "," << names[m] << "," << per[m]->active_pixels << "," << per[m]->edge_pixels << ","
-            << per[m]->thin_edge_pixels << "," << per[m]->thin_edge_share() << ","
-            << per[m]->mean_edge_thickness_px << "\n";
+      for (std::size_t m = 0; m < kMethods; ++m) {
+        const MethodQuality& q = s.methods[m];
+        plot[m].x.push_back(s.t_s);
+        plot[m].y.push_back(q.score());
+        csv << s.t_s << "," << kMethodNames[m] << "," << q.sharpness.active_pixels << "," << q.sharpness.edge_pixels
+            << "," << q.sharpness.thin_edge_pixels << "," << q.sharpness.thin_edge_share() << ","
+            << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
       }
     }
     render::PlotOptions o;
-    o.title = "Sharpness: share of drawn pixels on thin edges (higher = sharper)";
+    o.title = "Complete and sharp: completeness x thin-edge share (higher = better)";
     o.x_label = "time [s]";
-    o.y_label = "thin-edge share";
+    o.y_label = "completeness x thin-edge share";
     o.y_min = 0.0;
     o.y_max = 1.0;
     o.legend_bottom = true;
     write_png(dir / "sharpness.png", render::draw_plot(o, plot));
     auto sum = open_csv(dir / "sharpness_summary.csv");
-    sum << "method,samples,active_pixels_per_sample,edge_pixels_per_sample,thin_edge_share,mean_edge_thickness_px\n";
-    const render::Sharpness* pooled[3] = {&sharp.window_1ms, &sharp.window_30ms, &sharp.lifetime};
+    sum << "method,samples,active_pixels_per_sample,edge_pixels_per_sample,thin_edge_share,mean_edge_thickness_px,"
+           "completeness,score\n";
     const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
-    for (int m = 0; m < 3; ++m) {
-      sum << names[m] << "," << sharp.samples.size() << "," << static_cast<double>(pooled[m]->active_pixels) / n << ","
-          << static_cast<double>(pooled[m]->edge_pixels) / n << "," << pooled[m]->thin_edge_share() << ","
-          << pooled[m]->mean_edge_thickness_px << "\n";
+    for (std::size_t m = 0; m < kMethods; ++m) {
+      const MethodQuality& q = sharp.pooled[m];
+      sum << kMethodNames[m] << "," << sharp.samples.size() << "," << static_cast<double>(q.sharpness.active_pixels) / n
+          << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
+          << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
     }
   }
   if (!sharp.compare_frame.empty()) write_png(dir / "compare_frame.png", sharp.compare_frame);
@@ -457,13 +481,15 @@ void write_outputs(const EvalArgs& args, const std::string& description, SensorS
   {
     auto csv = open_csv(dir / "runs.csv");
     csv << "run,window_size,regularization,events,noise,noise_share,predictions,median_lifetime_ms,"
-           "median_abs_error_ms,share_abs_error_below_10ms,wall_s\n";
+           "median_abs_error_ms,share_abs_error_below_10ms,wall_s,share_with_lifetime,share_with_prediction,"
+           "median_abs_error_over_lifetime\n";
     for (const auto& r : runs) {
       csv << "\"" << r.label << "\"," << r.window_size << "," << (r.regularization ? 1 : 0) << "," << r.events
           << "," << r.noise << "," << (r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0)
           << "," << r.predictions << "," << r.lifetime_us.quantile(0.5) / 1000.0 << ","
           << r.abs_error_us.quantile(0.5) / 1000.0 << "," << r.abs_error_us.cdf_at_bin_end(99) << "," << r.wall_s
-          << "\n";
+          << "," << r.share_with_lifetime() << "," << r.share_with_prediction() << ","
+          << r.error_over_lifetime.quantile(0.5) << "\n";
     }
   }
 
@@ -476,34 +502,37 @@ void write_outputs(const EvalArgs& args, const std::string& description, SensorS
           "th{background:#eee}img{max-width:49%;margin:2px}</style></head><body>\n";
   html << "<h1>evlife eval</h1><p>Input: <b>" << description << "</b>, sensor " << sensor.width << "&times;"
        << sensor.height << ". Lifetime estimation after Mueggler et al., ICRA 2015.</p>\n";
-  html << "<h2>Estimator runs</h2><table><tr><th>run</th><th>events</th><th>noise</th><th>predictions</th>"
-          "<th>median lifetime</th><th>median |pred. error|</th><th>|pred. error| &lt; 10 ms</th><th>wall</th></tr>\n";
+  html << "<h2>Estimator runs</h2><table><tr><th>run</th><th>events</th><th>with a lifetime</th>"
+          "<th>with a prediction</th><th>median lifetime</th><th>median |pred. error|</th>"
+          "<th>median |pred. error| / lifetime</th><th>|pred. error| &lt; 10 ms</th><th>wall</th></tr>\n";
   for (const auto& r : runs) {
     html << "<tr><td style=\"text-align:left\">" << r.label << "</td><td>" << r.events << "</td><td>"
-         << pct(r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0) << "</td><td>"
-         << r.predictions << "</td><td>" << fmt("%.2f ms", r.lifetime_us.quantile(0.5) / 1000.0) << "</td><td>"
+         << pct(r.share_with_lifetime()) << "</td><td>" << pct(r.share_with_prediction()) << "</td><td>"
+         << fmt("%.2f ms", r.lifetime_us.quantile(0.5) / 1000.0) << "</td><td>"
          << fmt("%.2f ms", r.abs_error_us.quantile(0.5) / 1000.0) << "</td><td>"
+         << fmt("%.3f", r.error_over_lifetime.quantile(0.5)) << "</td><td>"
          << pct(r.abs_error_us.cdf_at_bin_end(99)) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
   }
   html << "</table>\n<h2>Sharpness (" << sharp.samples.size() << " instants, every "
        << static_cast<double>(args.sample_every_us) / 1000.0 << " ms; " << primary.label << ")</h2>\n"
        << "<table><tr><th>method</th><th>drawn pixels / image</th><th>edge pixels / image</th>"
-          "<th>thin-edge share</th><th>mean edge thickness</th></tr>\n";
+          "<th>thin-edge share</th><th>mean edge thickness</th><th>completeness</th>"
+          "<th>completeness &times; thin-edge share</th></tr>\n";
   {
-    const char* names[3] = {"fixed window 1 ms", "fixed window 30 ms", "lifetime (ours)"};
-    const render::Sharpness* pooled[3] = {&sharp.window_1ms, &sharp.window_30ms, &sharp.lifetime};
     const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
-    for (int m = 0; m < 3; ++m) {
-      html << "<tr><td style=\"text-align:left\">" << names[m] << "</td><td>"
-           << fmt("%.0f", static_cast<double>(pooled[m]->active_pixels) / n) << "</td><td>"
-           << fmt("%.0f", static_cast<double>(pooled[m]->edge_pixels) / n) << "</td><td>"
-           << pct(pooled[m]->thin_edge_share()) << "</td><td>" << fmt("%.2f px", pooled[m]->mean_edge_thickness_px)
-           << "</td></tr>\n";
+    for (std::size_t m = 0; m < kMethods; ++m) {
+      const MethodQuality& q = sharp.pooled[m];
+      html << "<tr><td style=\"text-align:left\">" << kMethodNames[m] << "</td><td>"
+           << fmt("%.0f", static_cast<double>(q.sharpness.active_pixels) / n) << "</td><td>"
+           << fmt("%.0f", static_cast<double>(q.sharpness.edge_pixels) / n) << "</td><td>"
+           << pct(q.sharpness.thin_edge_share()) << "</td><td>" << fmt("%.2f px", q.sharpness.mean_edge_thickness_px)
+           << "</td><td>" << pct(q.completeness.share()) << "</td><td>" << fmt("%.3f", q.score()) << "</td></tr>\n";
     }
   }
   html << "</table><p>A pixel lies on an edge when a run of &ge; 3 drawn pixels passes through it; on a thin edge"
           " when, in addition, its horizontal or vertical run is &le; 2 px. Thin-edge share = thin-edge pixels /"
-          " drawn pixels.</p>\n";
+          " drawn pixels. Completeness = share of the edge pixels of the best fixed window at that instant (the one"
+          " with the most thin-edge pixels) that the image draws within 1 px.</p>\n";
   html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
        << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n"
        << "<h2>Figures</h2><img src=\"lifetime_histogram.png\"><img src=\"prediction_error_cdf.png\">"
@@ -584,20 +613,21 @@ int eval_recording(int argc, char** argv) {
   if (!args.quiet) {
     std::fprintf(stdout, "evlife eval: %s -> %s/summary.html\n", description.c_str(), args.output.c_str());
     for (const auto& r : runs) {
-      std::fprintf(stdout, "  %-26s %9llu events, noise %5.1f %%, median lifetime %6.2f ms, |pred. err| < 10 ms: %5.1f %%\n",
-                   r.label.c_str(), static_cast<unsigned long long>(r.events),
-                   r.events ? 100.0 * static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0,
-                   r.lifetime_us.quantile(0.5) / 1000.0, 100.0 * r.abs_error_us.cdf_at_bin_end(99));
+      std::fprintf(stdout,
+                   "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "
+                   "%6.2f ms, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %.3f\n",
+                   r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
+                   100.0 * r.share_with_prediction(), r.lifetime_us.quantile(0.5) / 1000.0,
+                   100.0 * r.abs_error_us.cdf_at_bin_end(99), r.error_over_lifetime.quantile(0.5));
     }
-    const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
-    std::fprintf(stdout, "  sharpness over %zu instants (thin-edge share, mean edge thickness, drawn px/image):\n",
+    std::fprintf(stdout, "  over %zu instants: thin-edge share, mean edge thickness, completeness, score (product):\n",
                  sharp.samples.size());
-    std::fprintf(stdout, "    fixed window 1 ms   %5.1f %%  %5.2f px  %7.0f\n", 100.0 * sharp.window_1ms.thin_edge_share(),
-                 sharp.window_1ms.mean_edge_thickness_px, static_cast<double>(sharp.window_1ms.active_pixels) / n);
-    std::fprintf(stdout, "    fixed window 30 ms  %5.1f %%  %5.2f px  %7.0f\n", 100.0 * sharp.window_30ms.thin_edge_share(),
-                 sharp.window_30ms.mean_edge_thickness_px, static_cast<double>(sharp.window_30ms.active_pixels) / n);
-    std::fprintf(stdout, "    lifetime (ours)     %5.1f %%  %5.2f px  %7.0f\n", 100.0 * sharp.lifetime.thin_edge_share(),
-                 sharp.lifetime.mean_edge_thickness_px, static_cast<double>(sharp.lifetime.active_pixels) / n);
+    for (std::size_t m = 0; m < kMethods; ++m) {
+      const MethodQuality& q = sharp.pooled[m];
+      std::fprintf(stdout, "    %-20s %5.1f %%  %5.2f px  %5.1f %%  %.3f\n", kMethodNames[m],
+                   100.0 * q.sharpness.thin_edge_share(), q.sharpness.mean_edge_thickness_px,
+                   100.0 * q.completeness.share(), q.score());
+    }
   }
   return kExitOk;
 }

@@ -53,6 +53,19 @@ Sharpness& Sharpness::operator+=(const Sharpness& o) noexcept {
   return *this;
 }
 
+cv::Mat edge_mask(const cv::Mat& mask) {
+  if (mask.type() != CV_8UC1) throw std::invalid_argument("sharpness: mask must be CV_8UC1");
+  static constexpr std::array<std::array<int, 2>, 4> kDirs{{{1, 0}, {0, 1}, {1, 1}, {1, -1}}};
+  cv::Mat extent, runs;
+  for (const auto& d : kDirs) {
+    run_lengths(mask, d[0], d[1], runs);
+    extent = extent.empty() ? runs.clone() : cv::max(extent, runs);
+  }
+  cv::Mat edges;
+  cv::compare(extent, 3, edges, cv::CMP_GE);
+  return edges;
+}
+
 cv::Mat thickness_map(const cv::Mat& mask) {
   if (mask.type() != CV_8UC1) throw std::invalid_argument("sharpness: mask must be CV_8UC1");
   cv::Mat horizontal, vertical;

@@ -63,13 +63,22 @@ class LifetimeEstimator {
   }
 
   int iterations_needed(int inliers, int count) const noexcept;
-  bool continues_an_edge(int pol, int x, int y, std::int64_t t_us) const noexcept;
+  // The plane of an edge upstream that predicted an event, and its error.
+  struct EdgePrior {
+    double gx_us_px = 0.0;
+    double gy_us_px = 0.0;
+    double err_us = 0.0;
+  };
+  double prior_weight(double err_us) const noexcept;
+  bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
+                         EdgePrior& prior) const noexcept;
 
   LifetimeOptions options_;
   LifetimeStats stats_;
   int half_window_ = 2;
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
+  double min_lifetime_us_ = 0.0;  // see the constructor
   // [polarity][y][x]. The SAE is kept apart from the predictions so that a
   // window row is one or two cache lines.
   std::vector<std::int64_t> sae_t_us_;  // last timestamp; kNeverFired if none

@@ -47,8 +47,12 @@ struct LifetimeOptions {
   /// an edge.
   double inlier_tolerance_us = 60.0;
   double inlier_tolerance_lifetime_fraction = 0.3;
-  /// EXPERIMENT
-  double tolerance_noise_factor = 2.0;
+  /// The floor adapts to the timing noise actually observed: it is at least
+  /// this factor x the mean residual RMS (us) of the last accepted fits in the
+  /// window. Latency jitter grows from ~50 us in bright light to several
+  /// hundred us in dim light; a fixed floor either rejects dim edges or passes
+  /// noise in bright light. In [0, 10]; 0 = the fixed floor alone.
+  double inlier_tolerance_residual_factor = 2.0;
 
   /// Regularize the least-squares plane towards the plane predicted for this
   /// pixel by an earlier event (paper eq. 12).
@@ -59,8 +63,9 @@ struct LifetimeOptions {
   ///   sum_i (dt_i - c - g . dp_i)^2 + lambda_unit_px2 * lambda(dt_err) * |g - g_hat|^2
   /// with g the SAE gradient in us/px: lambda_unit_px2 converts the paper's
   /// dimensionless weight into our units (px^2 of data spread it is worth).
-  /// 0.1 was chosen by measurement: with 1.0 the prior outweighs a 5 x 5
-  /// window's data ~5:1 and biases curved motion (a rotating bar) by ~3 deg.
+  /// 0.3 was chosen by measurement: with 1.0 the prior outweighs a 5 x 5
+  /// window's data and biases curved motion (a rotating bar) by ~3 deg; 0.1
+  /// lets the bursts' timing noise through on real pixels.
   double lambda_offset = 9.0;
   double lambda_gain = 100.0;
   double lambda_decay_per_us = 0.005;
@@ -74,6 +79,10 @@ struct LifetimeOptions {
   /// (the paper's last-event surface). In [0, 10].
   double burst_window_lifetimes = 2.0;
 
+  /// Lifetimes below inlier_tolerance_us / (window_size / 2) are treated as
+  /// noise: a plane that rises less than the timestamp jitter across the
+  /// window's half-width is not resolved by the timestamps (a blob whose
+  /// pixels fire within a few us, a readout that stamps a row with one time).
   /// Lifetimes above this are treated as noise (a near-vertical plane fitted
   /// through stale events is not an edge). Microseconds, > 0.
   double max_lifetime_us = 1.0e6;

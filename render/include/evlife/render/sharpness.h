@@ -30,6 +30,9 @@ struct Sharpness {
 /// `mask`: CV_8UC1, non-zero = active. Throws std::invalid_argument otherwise.
 Sharpness measure_sharpness(const cv::Mat& mask);
 
+/// The edge pixels of `mask` (extent >= 3): CV_8UC1, 255 on an edge, 0 elsewhere.
+cv::Mat edge_mask(const cv::Mat& mask);
+
 /// Thickness (shorter of the horizontal and vertical run) of each active pixel, 0 elsewhere (CV_32SC1).
 cv::Mat thickness_map(const cv::Mat& mask);
 
