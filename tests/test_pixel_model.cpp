@@ -403,24 +403,5 @@ TEST(PixelStatistics, RealAndModel) {
   std::printf("%s", table.c_str());
 }
 
-// The estimator (default options) on the pixel-model scenes of issue 11's
-// floors: a baseline table, no assertion (the floors belong to the estimator's
-// tests). Run: build/tests/test_pixel_model --gtest_also_run_disabled_tests
-//   --gtest_filter='PixelModel.DISABLED_EstimatorBaseline'
-TEST(PixelModel, DISABLED_EstimatorBaseline) {
-  for (const bool dim : {false, true}) {
-    const SyntheticScene scene = io::generate_scene(dvs_scene(dim, 1'000'000, 1));
-    LifetimeOptions options;
-    options.sensor = scene.spec.sensor;
-    LifetimeEstimator estimator(options);
-    std::vector<AugmentedEvent> out(scene.events.size());
-    ASSERT_EQ(estimator.process(scene.events, out), out.size());
-    const auto report = test::evaluate_accuracy(scene, out);
-    std::printf("%s", test::format_accuracy_table(std::string("edges-bar 346x260 1 s, --pixel ") +
-                                                      (dim ? "dvs-dim" : "dvs"), report)
-                          .c_str());
-  }
-}
-
 }  // namespace
 }  // namespace evlife
