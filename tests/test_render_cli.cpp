@@ -52,6 +52,22 @@ TEST_F(RenderCliTest, HelpExplainsTheOptions) {
   EXPECT_NE(e.output.find("prediction_error_cdf"), std::string::npos);
 }
 
+// Image files load the plugin libevlife_media.so on demand; a command that
+// draws nothing runs without it (the point: it starts without ~200 codec and
+// GUI libraries), and a missing plugin is a clear output error.
+TEST_F(RenderCliTest, OnlyCommandsThatDrawLoadTheMediaPlugin) {
+  const std::string missing = "EVLIFE_MEDIA_PLUGIN='" + path("none/libevlife_media.so") + "' ";
+  auto r = evlife::test::run_cli("/usr/bin/env", missing + "'" + kCli + "' process '" + kGarfield + "' -o '" +
+                                                     path("g.bin") + "' -q", dir_ / "cli.log");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = evlife::test::run_cli("/usr/bin/env", missing + "'" + kCli + "' render '" + kGarfield + "' -o '" +
+                                                path("g.png") + "' --at 0.5 -q", dir_ / "cli.log");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("cannot load libevlife_media.so"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(path("none/libevlife_media.so")), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("g.png")));
+}
+
 TEST_F(RenderCliTest, CompareFramesAtChosenInstantsSameFromRawAndFromAugmented) {
   auto r = run("render '" + kStripes + "' -o '" + path("raw") + "' --at 0.5,0.25 --mode compare -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -18,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "arg_parser.h"
 #include "command_start.h"
@@ -32,6 +31,7 @@
 #include "evlife/render/frame_painter.h"
 #include "evlife/render/histogram.h"
 #include "evlife/render/image_quality.h"
+#include "evlife/render/media.h"
 #include "evlife/render/plot.h"
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/sharpness.h"
@@ -269,13 +269,11 @@ class OutputError : public std::runtime_error {
 };
 
 void write_png(const fs::path& path, const cv::Mat& img) {
-  bool ok = false;
   try {
-    ok = cv::imwrite(path.string(), img);
-  } catch (const cv::Exception&) {
-    ok = false;
+    render::write_image(path.string(), img);
+  } catch (const std::runtime_error& e) {
+    throw OutputError(e.what());
   }
-  if (!ok) throw OutputError("cannot write " + path.string());
 }
 
 std::ofstream open_csv(const fs::path& path) {

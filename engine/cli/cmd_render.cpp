@@ -18,8 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "arg_parser.h"
 #include "command_start.h"
@@ -30,6 +28,7 @@
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
+#include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
 #include "exit_code.h"
 
@@ -300,21 +299,21 @@ int render_recording(int argc, char** argv) {
   }
 
   // Output.
-  cv::VideoWriter video;
+  std::unique_ptr<render::VideoFile> video;
   if (args.video) {
     const bool mp4 = std::filesystem::path(args.output).extension() == ".mp4";
-    const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v') : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
     const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
     if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(parent, ec);
     }
-    video.open(args.output, fourcc, video_fps, frame_size, true);
-    if (!video.isOpened()) {
+    try {
+      video = render::open_video(args.output, video_fps, frame_size);
+    } catch (const std::runtime_error& e) {
       std::fprintf(stderr,
-                   "evlife render: output error: OpenCV cannot write %s with codec %s (missing encoder "
-                   "or unwritable path); try .avi (MJPG) or a directory of PNG frames\n",
-                   args.output.c_str(), mp4 ? "mp4v" : "MJPG");
+                   "evlife render: output error: %s with codec %s (missing encoder or unwritable path); "
+                   "try .avi (MJPG) or a directory of PNG frames\n",
+                   e.what(), mp4 ? "mp4v" : "MJPG");
       return kExitOutput;
     }
   } else if (args.single_png) {
@@ -367,18 +366,14 @@ int render_recording(int argc, char** argv) {
     const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
     draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
     if (args.video) {
-      video.write(frame);
+      video->write(frame);
     } else {
       const std::string path = args.single_png ? args.output
                                                : (std::filesystem::path(args.output) / frame_name(k, rel)).string();
-      bool ok = false;
       try {
-        ok = cv::imwrite(path, frame);
-      } catch (const cv::Exception&) {
-        ok = false;
-      }
-      if (!ok) {
-        output_fault = "cannot write " + path;
+        render::write_image(path, frame);
+      } catch (const std::runtime_error& e) {
+        output_fault = e.what();
         break;
       }
     }
@@ -387,7 +382,7 @@ int render_recording(int argc, char** argv) {
   }
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  if (video.isOpened()) video.release();
+  if (video) video->close();
   progress.finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 

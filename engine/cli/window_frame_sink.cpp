@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <thread>
 
-#include <opencv2/highgui.hpp>
+#include "evlife/render/media.h"
 
 namespace evlife::cli {
 
@@ -32,8 +32,11 @@ std::string probe_window_display() {
       dup2(null_fd, STDERR_FILENO);
       dup2(null_fd, STDOUT_FILENO);
     }
-    cv::namedWindow("evlife probe", cv::WINDOW_AUTOSIZE);
-    cv::destroyAllWindows();
+    try {
+      render::try_window();
+    } catch (...) {
+      _exit(1);
+    }
     _exit(0);
   }
   // A display that does not answer can hang the toolkit: give it 10 s.
@@ -64,24 +67,15 @@ WindowFrameSink::~WindowFrameSink() {
 
 void WindowFrameSink::write(const cv::Mat& frame, std::int64_t /*t_us*/) {
   if (closed_by_user_) return;  // the run is stopping; frames still count
-  if (!open_) {
-    cv::namedWindow(title_, cv::WINDOW_AUTOSIZE);
-    open_ = true;
-  }
-  cv::imshow(title_, frame);
-  const int key = cv::waitKey(1);  // also lets the toolkit draw and handle events
-  const bool quit_key = key == 'q' || key == 'Q' || key == 27;
-  if (quit_key || cv::getWindowProperty(title_, cv::WND_PROP_VISIBLE) < 1.0) {
+  if (!window_) window_ = render::open_window(title_);
+  if (!window_->show(frame)) {
     closed_by_user_ = true;
     if (on_close_) on_close_();
   }
 }
 
 void WindowFrameSink::finish() {
-  if (!open_) return;
-  cv::destroyWindow(title_);
-  cv::waitKey(1);
-  open_ = false;
+  if (window_) window_->close();
 }
 
 }  // namespace evlife::cli

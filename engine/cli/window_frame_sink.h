@@ -1,12 +1,13 @@
 // `evlife run --window`: the render thread's frames in an on-screen window
-// (OpenCV highgui). Only the command line links highgui, so an embedding of
-// the engine never loads a GUI toolkit.
+// (render/media.h: the GUI toolkit is loaded only when a window opens).
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "evlife/engine/frame_sink.h"
+#include "evlife/render/media.h"
 
 namespace evlife::cli {
 
@@ -29,7 +30,7 @@ class WindowFrameSink final : public engine::FrameSink {
  private:
   std::string title_;
   std::function<void()> on_close_;
-  bool open_ = false;
+  std::unique_ptr<render::Window> window_;
   bool closed_by_user_ = false;
 };
 

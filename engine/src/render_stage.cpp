@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
+#include "evlife/render/media.h"
 
 namespace evlife::engine {
 
@@ -21,21 +21,21 @@ void PngFolderFrameSink::write(const cv::Mat& frame, std::int64_t t_us) {
   char name[64];
   std::snprintf(name, sizeof name, "/frame_%06lld_t%lld.png", index_++, static_cast<long long>(t_us));
   const std::string path = dir_ + name;
-  if (!cv::imwrite(path, frame)) throw std::runtime_error(path + ": cannot write the frame");
+  render::write_image(path, frame);
 }
 
 VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
     : path_(std::move(path)), playback_fps_(playback_fps) {}
 
+VideoFrameSink::~VideoFrameSink() = default;
+
 void VideoFrameSink::write(const cv::Mat& frame, std::int64_t) {
-  if (!writer_.isOpened()) {
-    const bool mp4 = std::filesystem::path(path_).extension() == ".mp4";
-    const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v')
-                           : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
-    if (!writer_.open(path_, fourcc, playback_fps_, frame.size(), true))
-      throw std::runtime_error(path_ + ": cannot open the video for writing");
-  }
-  writer_.write(frame);
+  if (!video_) video_ = render::open_video(path_, playback_fps_, frame.size());
+  video_->write(frame);
+}
+
+void VideoFrameSink::finish() {
+  if (video_) video_->close();
 }
 
 RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options,

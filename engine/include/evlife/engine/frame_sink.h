@@ -3,10 +3,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
+
+namespace evlife::render {
+class VideoFile;
+}
 
 namespace evlife::engine {
 
@@ -39,13 +43,14 @@ class PngFolderFrameSink final : public FrameSink {
 class VideoFrameSink final : public FrameSink {
  public:
   VideoFrameSink(std::string path, double playback_fps);
+  ~VideoFrameSink() override;
   void write(const cv::Mat& frame, std::int64_t t_us) override;
-  void finish() override { writer_.release(); }
+  void finish() override;
 
  private:
   std::string path_;
   double playback_fps_;
-  cv::VideoWriter writer_;
+  std::unique_ptr<render::VideoFile> video_;  // opened at the first frame
 };
 
 }  // namespace evlife::engine

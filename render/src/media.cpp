@@ -1,0 +1,77 @@
+#include "evlife/render/media.h"
+
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <vector>
+
+#include "media_backend.h"
+
+namespace evlife::render {
+namespace {
+
+// The plugin: $EVLIFE_MEDIA_PLUGIN when set, else the build tree's (when
+// this build tree still exists), else where `cmake --install` put it, else
+// the loader's search path.
+detail::MediaBackend& backend() {
+  static std::once_flag once;
+  static detail::MediaBackend* loaded = nullptr;
+  static std::string failure;
+  std::call_once(once, [] {
+    std::string tried;
+    // EVLIFE_MEDIA_PLUGIN: an explicit path (a relocated install; tests).
+    const char* user = std::getenv("EVLIFE_MEDIA_PLUGIN");
+    const std::vector<const char*> candidates =
+        user != nullptr && *user != '\0'
+            ? std::vector<const char*>{user}
+            : std::vector<const char*>{EVLIFE_MEDIA_BUILD_PATH, EVLIFE_MEDIA_INSTALL_PATH, "libevlife_media.so"};
+    for (const char* candidate : candidates) {
+      std::error_code ec;
+      const bool absolute = candidate[0] == '/';
+      if (absolute && !std::filesystem::exists(candidate, ec)) {
+        tried += std::string("\n  ") + candidate + ": no such file";
+        continue;
+      }
+      void* handle = dlopen(candidate, RTLD_NOW | RTLD_LOCAL);
+      if (handle == nullptr) {
+        const char* why = dlerror();
+        tried += std::string("\n  ") + candidate + ": " + (why ? why : "?");
+        continue;
+      }
+      auto* entry = reinterpret_cast<detail::MediaBackend* (*)()>(dlsym(handle, EVLIFE_MEDIA_ENTRY_POINT));
+      if (entry == nullptr) {
+        tried += std::string("\n  ") + candidate + ": no " EVLIFE_MEDIA_ENTRY_POINT;
+        continue;
+      }
+      loaded = entry();
+      return;
+    }
+    failure = "cannot load libevlife_media.so (image, video and window support)" +
+              (tried.empty() ? std::string(": not found") : tried);
+  });
+  if (loaded == nullptr) throw std::runtime_error(failure);
+  return *loaded;
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const cv::Mat& image) {
+  if (!backend().write_image(path, image)) throw std::runtime_error("cannot write " + path);
+}
+
+cv::Mat read_image(const std::string& path) { return backend().read_image(path); }
+
+std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) {
+  auto video = backend().open_video(path, fps, frame_size);
+  if (!video) throw std::runtime_error("cannot open the video " + path + " for writing");
+  return video;
+}
+
+std::unique_ptr<Window> open_window(const std::string& title) { return backend().open_window(title); }
+
+void try_window() { backend().open_window("evlife probe")->close(); }
+
+}  // namespace evlife::render
