@@ -50,10 +50,9 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   // fits a flat surface as well, e.g. a blob whose pixels fire within a few
   // us, or a readout that stamps a row of events with one timestamp.
   min_lifetime_us_ = std::max(options_.inlier_tolerance_us / half_window_, 1.0);
-  sae_t_us_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
-  predictions_.resize(sae_t_us_.size());
-  bursts_.resize(sae_t_us_.size());
-  timing_noise_us_.resize(sae_t_us_.size());
+  surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
+  burst_velocity_.resize(surface_.size());
+  predictions_.resize(surface_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -72,10 +71,9 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 }
 
 void LifetimeEstimator::reset() noexcept {
-  std::fill(sae_t_us_.begin(), sae_t_us_.end(), kNeverFired);
+  std::fill(surface_.begin(), surface_.end(), SurfacePixel{kNeverFired, 0.0f, 0.0f});
+  std::fill(burst_velocity_.begin(), burst_velocity_.end(), BurstVelocity{0.0f, 0.0f});
   std::fill(predictions_.begin(), predictions_.end(), Prediction{kNoPrediction, 0.0f, 0.0f});
-  std::fill(bursts_.begin(), bursts_.end(), BurstEstimate{0.0f, 0.0f, 0.0f});
-  std::fill(timing_noise_us_.begin(), timing_noise_us_.end(), 0.0f);
   stats_ = LifetimeStats{};
 }
 
@@ -103,15 +101,15 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
     for (int xx = x0; xx <= x1; ++xx) {
       if (xx == x && yy == y) continue;
       const std::size_t q = pixel_index(pol, xx, yy);
-      const BurstEstimate& b = bursts_[q];
-      if (b.lifetime_us <= 0.0f) continue;
-      const double tau_us = static_cast<double>(b.lifetime_us);
+      const SurfacePixel& s = surface_[q];
+      if (s.burst_lifetime_us <= 0.0f) continue;
+      const double tau_us = static_cast<double>(s.burst_lifetime_us);
       const double tau2_s = tau_us * tau_us * 1e-6;
-      const double gx = static_cast<double>(b.vx_px_s) * tau2_s;  // us/px
-      const double gy = static_cast<double>(b.vy_px_s) * tau2_s;
+      const double gx = static_cast<double>(burst_velocity_[q].vx_px_s) * tau2_s;  // us/px
+      const double gy = static_cast<double>(burst_velocity_[q].vy_px_s) * tau2_s;
       const double ahead_us = gx * (x - xx) + gy * (y - yy);
       if (ahead_us <= 0.0) continue;  // the edge moves from the neighbour to this pixel
-      const double predicted = static_cast<double>(sae_t_us_[q]) + ahead_us;
+      const double predicted = static_cast<double>(s.t_us) + ahead_us;
       const double tol = std::max(tol_floor_us, options_.inlier_tolerance_lifetime_fraction * tau_us);
       if (const double err_us = std::fabs(static_cast<double>(t_us) - predicted); err_us <= tol) {
         prior = {gx, gy, err_us};
@@ -145,17 +143,17 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
 
   // A follower of the burst at this pixel inherits its estimate; the surface
   // keeps the burst's arrival time.
-  BurstEstimate& burst = bursts_[self];
-  if (burst.lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
-      static_cast<double>(e.t_us - sae_t_us_[self]) <=
-          options_.burst_window_lifetimes * static_cast<double>(burst.lifetime_us)) {
+  SurfacePixel& here = surface_[self];
+  if (here.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
+      static_cast<double>(e.t_us - here.t_us) <=
+          options_.burst_window_lifetimes * static_cast<double>(here.burst_lifetime_us)) {
     ++stats_.followers;
-    out.lifetime_us = burst.lifetime_us;
-    out.vx_px_s = burst.vx_px_s;
-    out.vy_px_s = burst.vy_px_s;
+    out.lifetime_us = here.burst_lifetime_us;
+    out.vx_px_s = burst_velocity_[self].vx_px_s;
+    out.vy_px_s = burst_velocity_[self].vy_px_s;
     return out;
   }
-  burst.lifetime_us = 0.0f;
+  here.burst_lifetime_us = 0.0f;
 
   // Prediction for this pixel made by an earlier event (paper III-B.2).
   float prior_gx = 0.0f, prior_gy = 0.0f;
@@ -177,16 +175,15 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
   detail::WindowSamples nb;
-  sae_t_us_[self] = kNeverFired;  // the new event's own pixel is not a sample
+  here.t_us = kNeverFired;  // the new event's own pixel is not a sample
   float noise_sum_us = 0.0f;
   int noise_count = 0;
   for (int yy = y0; yy <= y1; ++yy) {
-    const std::int64_t* row = &sae_t_us_[pixel_index(pol, 0, yy)];
-    const float* noise_row = &timing_noise_us_[pixel_index(pol, 0, yy)];
+    const SurfacePixel* row = &surface_[pixel_index(pol, 0, yy)];
     for (int xx = x0; xx <= x1; ++xx) {
-      noise_sum_us += noise_row[xx];
-      noise_count += noise_row[xx] > 0.0f;
-      const std::int64_t t = row[xx];
+      noise_sum_us += row[xx].timing_noise_us;
+      noise_count += row[xx].timing_noise_us > 0.0f;
+      const std::int64_t t = row[xx].t_us;
       if (t == kNeverFired || t > e.t_us) continue;
       nb.dx[nb.count] = static_cast<float>(xx - x);
       nb.dy[nb.count] = static_cast<float>(yy - y);
@@ -194,7 +191,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       ++nb.count;
     }
   }
-  sae_t_us_[self] = e.t_us;
+  here.t_us = e.t_us;
 
   // Only the newer half of the window (paper Fig. 6): older events belong to
   // an earlier edge, newer ones do not exist yet.
@@ -298,8 +295,9 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.lifetime_us = static_cast<float>(lifetime_us);
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
-  burst = {out.lifetime_us, out.vx_px_s, out.vy_px_s};
-  if (const double rms = fit.residual_rms(g); rms >= 0.0) timing_noise_us_[self] = static_cast<float>(rms);
+  here.burst_lifetime_us = out.lifetime_us;
+  burst_velocity_[self] = {out.vx_px_s, out.vy_px_s};
+  if (const double rms = fit.residual_rms(g); rms >= 0.0) here.timing_noise_us = static_cast<float>(rms);
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).

@@ -79,19 +79,21 @@ class LifetimeEstimator {
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
   double min_lifetime_us_ = 0.0;  // see the constructor
-  // [polarity][y][x]. The SAE is kept apart from the predictions so that a
-  // window row is one or two cache lines.
-  std::vector<std::int64_t> sae_t_us_;  // last timestamp; kNeverFired if none
-  std::vector<Prediction> predictions_;
-  // The estimate of the burst now at a pixel (lifetime 0: none), which its
-  // followers inherit.
-  struct BurstEstimate {
-    float lifetime_us;
+  // [polarity][y][x]. What the window gather reads for every pixel, in 16
+  // bytes (a window row of 5 pixels is one or two cache lines; on a 1280x720
+  // sensor the gather is bound by cache misses); the rest apart.
+  struct SurfacePixel {
+    std::int64_t t_us;            // arrival of the edge (burst) here; kNeverFired if none
+    float timing_noise_us;        // residual rms of the last accepted fit here; 0 = none
+    float burst_lifetime_us;      // estimate of the burst now here, inherited by its followers; 0 = none
+  };
+  struct BurstVelocity {
     float vx_px_s;
     float vy_px_s;
   };
-  std::vector<BurstEstimate> bursts_;
-  std::vector<float> timing_noise_us_;  // residual rms of the last fit here; 0 = none
+  std::vector<SurfacePixel> surface_;
+  std::vector<BurstVelocity> burst_velocity_;
+  std::vector<Prediction> predictions_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
