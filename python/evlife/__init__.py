@@ -10,7 +10,7 @@ NumPy arrays, with the same results bit for bit:
 
 Reading:    read, open (chunks of bounded size), read_augmented, formats
 Estimating: LifetimeEstimator (state across calls), process (path or array),
-            estimator_options (every keyword, its range and default)
+            process_file (`evlife process IN -o OUT`), estimator_options (every keyword, its range and default)
 Drawing:    frame (the image `evlife render` draws at an instant)
 Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
 Many files: evlife.batch.process_files (Dask distributed)
@@ -32,6 +32,7 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     formats,
     open,
     process,
+    process_file,
     read,
     read_augmented,
     write,
@@ -40,7 +41,7 @@ from . import _evlife
 
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "InputError", "LifetimeEstimator", "Reader",
-    "estimator_options", "formats", "frame", "open", "process", "read", "read_augmented",
+    "estimator_options", "formats", "frame", "open", "process", "process_file", "read", "read_augmented",
     "write", "batch",
 ]
 
@@ -90,6 +91,6 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
 
 def __getattr__(name):  # evlife.batch imports Dask: only when asked for
     if name == "batch":
-        from . import batch
-        return batch
+        import importlib
+        return importlib.import_module(__name__ + ".batch")
     raise AttributeError("module 'evlife' has no attribute %r" % name)

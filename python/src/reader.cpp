@@ -2,7 +2,11 @@
 // readers and writers, straight into and out of NumPy arrays (the C++ reader
 // writes into the array's memory; the GIL is released while it runs).
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include <filesystem>
+
+#include <algorithm>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -39,17 +43,18 @@ py::array read_all(io::EventReader& reader) {
   std::optional<io::ReadError> fault;
   {
     py::gil_scoped_release release;
+    std::size_t good = 0;  // events.size() beyond it: a block being filled
     try {
       for (;;) {
-        const std::size_t old = events.size();
-        events.resize(old + kReadBlock);
-        const std::size_t n = reader.read(std::span(events.data() + old, kReadBlock));
-        events.resize(old + n);
+        events.resize(good + kReadBlock);
+        const std::size_t n = reader.read(std::span(events.data() + good, kReadBlock));
+        good += n;
         if (n == 0) break;
       }
     } catch (const io::ReadError& e) {
       fault.emplace(e);
     }
+    events.resize(good);
   }
   py::array out = adopt(std::move(events), event_dtype());
   if (fault) raise_input_error(*fault, out);
@@ -67,7 +72,7 @@ class Reader {
 
   py::array read(std::optional<std::size_t> max_events) {
     const std::size_t n_max = max_events.value_or(chunk_events_);
-    std::vector<Event> events(n_max);
+    std::vector<Event> events;  // grows block by block: a large max_events costs nothing
     std::size_t n = 0;
     std::optional<io::ReadError> fault;
     {
@@ -79,7 +84,8 @@ class Reader {
         try {
           // Fill the chunk unless the stream ends (a reader may return less).
           while (n < n_max) {
-            const std::size_t got = reader_->read(std::span(events.data() + n, n_max - n));
+            events.resize(n + std::min(n_max - n, kReadBlock));
+            const std::size_t got = reader_->read(std::span(events.data() + n, events.size() - n));
             if (got == 0) break;
             n += got;
           }
@@ -140,7 +146,12 @@ py::array read_events(const std::string& path, const py::object& sensor) {
 }
 
 void bind_reader(py::module_& m) {
-  m.def("read", &read_events, py::arg("path"), py::arg("sensor") = py::none(),
+  m.def(
+      "read",
+      [](const std::filesystem::path& path, const py::object& sensor) {
+        return read_events(path.string(), sensor);
+      },
+      py::arg("path"), py::arg("sensor") = py::none(),
         R"(Read every event of a recording into a NumPy structured array.
 
 Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
@@ -181,10 +192,10 @@ good events come first, the next chunk raises evlife.InputError.)")
 
   m.def(
       "open",
-      [](const std::string& path, const py::object& sensor, std::size_t chunk_events) {
+      [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events) {
         const auto s = optional_sensor(sensor);
         py::gil_scoped_release release;
-        return std::make_unique<Reader>(path, s, chunk_events);
+        return std::make_unique<Reader>(path.string(), s, chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20,
       R"(Open a recording for reading in chunks (recordings larger than memory).
@@ -200,26 +211,28 @@ Errors as evlife.read.)");
 
   m.def(
       "read_augmented",
-      [](const std::string& path) {
+      [](const std::filesystem::path& fs_path) {
+        const std::string path = fs_path.string();
         std::unique_ptr<io::AugmentedEventReader> reader;
         std::vector<AugmentedEvent> events;
         std::optional<io::ReadError> fault;
         std::optional<SensorSize> sensor;
+        std::size_t good = 0;  // events.size() beyond it: a block being filled
         {
           py::gil_scoped_release release;
           try {
             reader = io::open_augmented_reader(path);
             sensor = reader->sensor_size();
             for (;;) {
-              const std::size_t old = events.size();
-              events.resize(old + kReadBlock);
-              const std::size_t n = reader->read(std::span(events.data() + old, kReadBlock));
-              events.resize(old + n);
+              events.resize(good + kReadBlock);
+              const std::size_t n = reader->read(std::span(events.data() + good, kReadBlock));
+              good += n;
               if (n == 0) break;
             }
           } catch (const io::ReadError& e) {
             fault.emplace(e);
           }
+          events.resize(good);
         }
         py::array out = adopt(std::move(events), augmented_dtype());
         if (fault) raise_input_error(*fault, reader ? py::object(out) : py::none());
@@ -233,7 +246,8 @@ Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
 
   m.def(
       "write",
-      [](const std::string& path, const py::array& augmented, const py::object& sensor) {
+      [](const std::filesystem::path& fs_path, const py::array& augmented, const py::object& sensor) {
+        const std::string path = fs_path.string();
         if (!is_exact(augmented, augmented_dtype())) {
           throw py::type_error("write: expected a 1-D contiguous array of evlife.AUGMENTED_DTYPE");
         }
