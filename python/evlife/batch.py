@@ -13,6 +13,7 @@ installed package) and the paths readable where they run.
 import os
 import sys
 import time
+import uuid
 from collections import namedtuple
 
 from . import _evlife
@@ -121,8 +122,10 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     from distributed import as_completed
     client, to_close = _client(scheduler, workers)
     try:
+        run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
         futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config,
-                                 dict(options), pure=False, key="evlife-%d-%s" % (i, os.path.basename(p)))
+                                 dict(options), pure=False,
+                                 key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
         rows = [None] * len(futures)
