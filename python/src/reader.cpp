@@ -75,11 +75,14 @@ class Reader {
     std::vector<Event> events;  // grows block by block: a large max_events costs nothing
     std::size_t n = 0;
     std::optional<io::ReadError> fault;
+    bool closed = false;
     {
       py::gil_scoped_release release;
       std::lock_guard lock(mutex_);
-      if (!reader_) {
-        fault.emplace("", -1, -1, "the reader is closed");
+      if (pending_) {  // a fault met after good events last time: raised now, once
+        fault.swap(pending_);
+      } else if (!reader_) {
+        closed = true;
       } else {
         try {
           // Fill the chunk unless the stream ends (a reader may return less).
@@ -95,20 +98,13 @@ class Reader {
         }
       }
     }
-    if (fault) {
-      if (fault->path().empty()) throw py::value_error(fault->what());
-      raise_input_error(*fault);
-    }
+    if (closed) throw py::value_error("the reader is closed");
+    if (fault) raise_input_error(*fault);
     events.resize(n);
     return adopt(std::move(events), event_dtype());
   }
 
   py::array next() {
-    if (pending_) {
-      const io::ReadError e = *pending_;
-      pending_.reset();
-      raise_input_error(e);
-    }
     py::array chunk = read(std::nullopt);
     if (chunk.shape(0) == 0) throw py::stop_iteration();
     return chunk;
