@@ -89,7 +89,7 @@ def compare_batch(paths, out_dir, repetitions):
         for workers in (1, 2):
             t0 = time.perf_counter()
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+                                   dashboard_address=":0")
             clients[workers] = Client(cluster)
             clients[workers].run(lambda: __import__("evlife"))  # workers import the module once
             startup[workers] = time.perf_counter() - t0
@@ -108,6 +108,22 @@ def compare_batch(paths, out_dir, repetitions):
     return runs, startup, sum(r.events for r in table)
 
 
+def cli_parallel_seconds(cli, paths, out_dir, parallel):
+    """The machine's own bound: the same files through `evlife process`, `parallel` at a time."""
+    os.makedirs(out_dir, exist_ok=True)
+    t0 = time.perf_counter()
+    pending = list(paths)
+    running = []
+    while pending or running:
+        while pending and len(running) < parallel:
+            p = pending.pop(0)
+            out = os.path.join(out_dir, os.path.basename(p) + ".bin")
+            running.append(subprocess.Popen([cli, "process", p, "-o", out, "-q"]))
+        running[0].wait()
+        assert running.pop(0).returncode == 0
+    return time.perf_counter() - t0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
@@ -116,6 +132,7 @@ def main():
     ap.add_argument("--files", type=int, default=6)
     args = ap.parse_args()
 
+    print("load average at the start: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
     with tempfile.TemporaryDirectory() as tmp:
         empty = os.path.join(tmp, "struct_defaults.yaml")
         open(empty, "w").close()
@@ -135,6 +152,11 @@ def main():
         cli = os.path.join(args.build, "engine", "evlife")
         paths = make_recordings(cli, tmp, args.files)
         runs, startup, events = compare_batch(paths, os.path.join(tmp, "out"), args.repetitions)
+        cli_runs = {1: [], 2: []}
+        for _ in range(args.repetitions):
+            for parallel in (1, 2):
+                cli_runs[parallel].append(cli_parallel_seconds(cli, paths, os.path.join(tmp, "cli"), parallel))
+        cli_ratios = [a / b for a, b in zip(cli_runs[1], cli_runs[2])]
         one, two = statistics.median(runs[1]), statistics.median(runs[2])
         ratios = [a / b for a, b in zip(runs[1], runs[2])]
         print()
@@ -147,6 +169,11 @@ def main():
             two, events / two / 1e6, statistics.median(ratios), min(ratios), max(ratios), startup[2]))
         print("| 2 vs 1, start-up included (one call) | | | %.2f | |" % (
             (one + startup[1]) / (two + startup[2])))
+        print("| reference: `evlife process` on the same files, 2 at a time vs 1 (this machine's bound now) "
+              "| %.2f / %.2f | | %.2f (%.2f..%.2f) | |" % (
+                  statistics.median(cli_runs[1]), statistics.median(cli_runs[2]),
+                  statistics.median(cli_ratios), min(cli_ratios), max(cli_ratios)))
+        print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
 
 if __name__ == "__main__":
     main()

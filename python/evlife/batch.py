@@ -82,7 +82,7 @@ def _client(scheduler, workers):
     from distributed import Client, LocalCluster
     if scheduler is None:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=":0")
         client = Client(cluster)
         return client, [client, cluster]
     if isinstance(scheduler, Client):
