@@ -10,6 +10,9 @@
 2. evlife.batch.process_files on a LocalCluster of 2 workers vs 1 worker over
    synthetic recordings made by `evlife synth` (alternating runs; cluster
    start-up excluded, then included).
+3. evlife.batch.process_slices (4 time slices of one recording in parallel)
+   against one pass: how many events change label (noise/edge) or lifetime,
+   by warm-up length.
 """
 import argparse
 import json
@@ -124,6 +127,30 @@ def cli_parallel_seconds(cli, paths, out_dir, parallel):
     return time.perf_counter() - t0
 
 
+def slice_differences(data_dir, warmups_ms, slices=4):
+    """Rows: recording, length, warm-up, label differs %, lifetime > 1 % off (% of edge events)."""
+    import numpy as np
+    from distributed import Client, LocalCluster
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp, \
+            LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        for name in RECORDINGS:
+            path = os.path.join(data_dir, "reference", name + ".mat")
+            one = evlife.process(path)
+            for warm in warmups_ms:
+                out = os.path.join(tmp, "slices.bin")
+                batch.process_slices(path, out, slices=slices, warmup_ms=warm, scheduler=client,
+                                     progress=False)
+                sliced, _ = evlife.read_augmented(out)
+                a, b = sliced["lifetime"], one["lifetime"]
+                both = (a > 0) & (b > 0)
+                rel = np.abs(a[both] - b[both]) / b[both]
+                rows.append((name, (one["t"][-1] - one["t"][0]) / 1e6, warm,
+                             100 * ((a > 0) != (b > 0)).mean(), 100 * (rel > 0.01).mean()))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
@@ -173,6 +200,13 @@ def main():
               "| %.2f / %.2f | | %.2f (%.2f..%.2f) | |" % (
                   statistics.median(cli_runs[1]), statistics.median(cli_runs[2]),
                   statistics.median(cli_ratios), min(cli_ratios), max(cli_ratios)))
+
+        print()
+        print("evlife.batch.process_slices: 4 slices in parallel vs one pass (default options)")
+        print("| recording | length | warm-up | noise/edge label differs | lifetime off by > 1 % (edge events) |")
+        print("|---|---|---|---|---|")
+        for name, length, warm, label, off in slice_differences(args.data, (10, 100, 300)):
+            print("| %s | %.2f s | %d ms | %.2f %% | %.2f %% |" % (name, length, warm, label, off))
         print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
 
 if __name__ == "__main__":

@@ -10,10 +10,10 @@ NumPy arrays, with the same results bit for bit:
 
 Reading:    read, open (chunks of bounded size), read_augmented, formats
 Estimating: LifetimeEstimator (state across calls), process (path or array),
-            process_file (`evlife process IN -o OUT`), estimator_options (every keyword, its range and default)
+            process_file (`evlife process IN -o OUT`), scan, estimator_options
 Drawing:    frame (the image `evlife render` draws at an instant)
 Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
-Many files: evlife.batch.process_files (Dask distributed)
+Many files: evlife.batch.process_files, process_slices (Dask distributed)
 Errors:     InputError (a ValueError; bad input, with file, event index and
             byte offset), FileNotFoundError, ValueError (bad options), OSError.
 
@@ -35,6 +35,7 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     process_file,
     read,
     read_augmented,
+    scan,
     write,
 )
 from . import _evlife
@@ -42,7 +43,7 @@ from . import _evlife
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "InputError", "LifetimeEstimator", "Reader",
     "estimator_options", "formats", "frame", "open", "process", "process_file", "read", "read_augmented",
-    "write", "batch",
+    "scan", "write", "batch",
 ]
 
 _FRAME_FIELDS = ("t", "x", "y", "p", "lifetime", "vx", "vy")

@@ -212,6 +212,81 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   return d;
 }
 
+// The sensor `evlife process` would use for `path`, the time span and the
+// event count: one pass (what a caller needs to cut a recording into slices).
+py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config) {
+  const ResolvedOptions r = resolve_options("evlife.scan", py::none(), config, py::dict());
+  const std::optional<SensorSize> user = user_sensor(sensor);
+  std::int64_t first = 0, last = 0;
+  std::uint64_t count = 0;
+  FileRun run;
+  {
+    py::gil_scoped_release release;
+    const auto probe = io::open_unchecked_event_reader(path);
+    if (const auto stated = probe->sensor_size()) run.sensor = *stated;
+    else if (user) run.sensor = *user;
+    else if (r.sensor) run.sensor = *r.sensor;
+    else run.sensor = scan_sensor(path);
+    auto reader = io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+    run.format = std::string(reader->format_name());
+    std::vector<Event> in(kBlockEvents);
+    while (const std::size_t n = reader->read(in)) {  // a fault: InputError
+      if (count == 0) first = in[0].t_us;
+      last = in[n - 1].t_us;
+      count += n;
+    }
+  }
+  py::dict d;
+  d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
+  d["format"] = run.format;
+  d["events"] = count;
+  d["t_first"] = first;
+  d["t_last"] = last;
+  return d;
+}
+
+// The events of `path` with t in [t_begin, t_end), estimated by an estimator
+// that started warmup_us earlier (its outputs before t_begin are dropped):
+// one slice of a recording processed in parallel with the others.
+py::array process_time_range(const std::string& path, const py::object& sensor,
+                             std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us,
+                             const py::object& config, const py::dict& options) {
+  if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
+  ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
+  const SensorSize s = sensor_from_python(sensor);
+  std::vector<AugmentedEvent> out;
+  {
+    py::gil_scoped_release release;
+    auto reader = io::open_event_reader(path, io::ReaderOptions{s, true});
+    r.config.estimator.sensor = s;
+    LifetimeEstimator estimator(r.config.estimator);
+    const std::int64_t start = t_begin < INT64_MIN + warmup_us ? INT64_MIN : t_begin - warmup_us;
+    std::vector<Event> in(kBlockEvents);
+    std::vector<AugmentedEvent> block(kBlockEvents);
+    bool done = false;
+    while (!done) {
+      const std::size_t n = reader->read(in);
+      if (n == 0) break;
+      std::size_t lo = 0, hi = n;
+      while (lo < n && in[lo].t_us < start) ++lo;
+      for (std::size_t i = lo; i < n; ++i) {
+        if (in[i].t_us >= t_end) {
+          hi = i;
+          done = true;
+          break;
+        }
+      }
+      if (hi <= lo) continue;
+      estimator.process(std::span<const Event>(in.data() + lo, hi - lo),
+                        std::span(block.data(), hi - lo));
+      for (std::size_t i = 0; i < hi - lo; ++i) {
+        if (block[i].event.t_us >= t_begin) out.push_back(block[i]);
+      }
+    }
+  }
+  return adopt(std::move(out), augmented_dtype());
+}
+
 constexpr const char* kEstimatorDoc = R"(The lifetime estimator (Mueggler et al., ICRA 2015) over NumPy arrays.
 
     est = evlife.LifetimeEstimator(sensor=(240, 180), window_size=7)
@@ -302,6 +377,29 @@ OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
 'format'}. On bad input the events before the fault are written, then
 evlife.InputError is raised (as the CLI exits 3). Other arguments as
 evlife.process.)");
+
+  m.def(
+      "scan",
+      [](const py::object& input, const py::object& sensor, const py::object& config) {
+        return scan_file(py::str(py::module_::import("os").attr("fspath")(input)), sensor, config);
+      },
+      py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
+      py::arg("config") = py::none(),
+      R"(One pass over a recording: {'sensor' (the one `evlife process` uses), 'format',
+'events', 't_first', 't_last'} (µs). Errors as evlife.read.)");
+
+  m.def(
+      "_process_time_range",
+      [](const py::object& input, const py::object& sensor, std::int64_t t_begin,
+         std::int64_t t_end, std::int64_t warmup_us, const py::object& config,
+         const py::kwargs& kw) {
+        return process_time_range(py::str(py::module_::import("os").attr("fspath")(input)), sensor,
+                                  t_begin, t_end, warmup_us, config, kw);
+      },
+      py::arg("input"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
+      py::arg("warmup_us"), py::kw_only(), py::arg("config") = py::none(),
+      "Internal (evlife.batch.process_slices): events with t in [t_begin, t_end), the estimator\n"
+      "started warmup_us before t_begin.");
 }
 
 }  // namespace evlife::python
