@@ -149,6 +149,10 @@ void ConfigBuilder::set(std::string_view assignment) {
   assign(key, value, "--set " + std::string(assignment), /*by_user=*/true);
 }
 
+void ConfigBuilder::set(std::string_view key, std::string_view value, const std::string& where) {
+  assign(key, value, where, /*by_user=*/true);
+}
+
 Config ConfigBuilder::build() const {
   for (const auto& k : config_keys()) {
     if (!k.in_range(config_)) {

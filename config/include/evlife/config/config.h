@@ -79,6 +79,10 @@ class ConfigBuilder {
   /// Applies one "dotted.key=value" override (the value as in YAML).
   void set(std::string_view assignment);
 
+  /// Same for one key and its value, `where` naming the origin in messages
+  /// (e.g. a Python keyword argument). Throws ConfigError as set() does.
+  void set(std::string_view key, std::string_view value, const std::string& where);
+
   /// Validates every key once; throws ConfigError naming the first bad key,
   /// its value, where it was set and the allowed range.
   Config build() const;

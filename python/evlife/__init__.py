@@ -1,0 +1,97 @@
+"""evlife: lifetime and velocity of every event of an event camera, from Python.
+
+The C++ engine of the `evlife` command line (Mueggler et al., ICRA 2015) over
+NumPy arrays, with the same results bit for bit:
+
+    import evlife
+    events = evlife.read("recording.aedat4")              # t, x, y, p
+    augmented = evlife.process(events, sensor=(240, 180))  # + lifetime, vx, vy, prediction_error
+    image = evlife.frame(augmented, events["t"][0] + 500_000, sensor=(240, 180))
+
+Reading:    read, open (chunks of bounded size), read_augmented, formats
+Estimating: LifetimeEstimator (state across calls), process (path or array),
+            process_file (`evlife process IN -o OUT`), scan, estimator_options
+Drawing:    frame (the image `evlife render` draws at an instant)
+Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
+Many files: evlife.batch.process_files, process_slices (Dask distributed)
+Errors:     InputError (a ValueError; bad input, with file, event index and
+            byte offset), FileNotFoundError, ValueError (bad options), OSError.
+
+Units: t in microseconds (int64), lifetime and prediction_error in
+microseconds, vx and vy in pixels per second; lifetime 0 = noise.
+"""
+import numpy as _np
+
+from ._evlife import (  # noqa: F401  (the public C++ API)
+    AUGMENTED_DTYPE,
+    EVENT_DTYPE,
+    InputError,
+    LifetimeEstimator,
+    Reader,
+    estimator_options,
+    formats,
+    open,
+    process,
+    process_file,
+    read,
+    read_augmented,
+    scan,
+    write,
+)
+from . import _evlife
+
+__all__ = [
+    "AUGMENTED_DTYPE", "EVENT_DTYPE", "InputError", "LifetimeEstimator", "Reader",
+    "estimator_options", "formats", "frame", "open", "process", "process_file", "read", "read_augmented",
+    "scan", "write", "batch",
+]
+
+_FRAME_FIELDS = ("t", "x", "y", "p", "lifetime", "vx", "vy")
+
+
+def _as_augmented(augmented):
+    """The array as a contiguous AUGMENTED_DTYPE array (no copy when it is one)."""
+    a = _np.asarray(augmented)
+    if a.dtype == AUGMENTED_DTYPE and a.ndim == 1 and a.flags.c_contiguous:
+        return a
+    missing = [f for f in _FRAME_FIELDS if a.dtype.names is None or f not in a.dtype.names]
+    if missing:
+        raise TypeError("augmented: missing field(s) %s (expected the output of "
+                        "evlife.process or evlife.read_augmented)" % ", ".join(missing))
+    out = _np.zeros(a.shape[0], dtype=AUGMENTED_DTYPE)
+    for name in AUGMENTED_DTYPE.names:
+        if name in a.dtype.names:
+            out[name] = a[name]
+        elif name == "prediction_error":
+            out[name] = _np.nan
+    return out
+
+
+def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", scale=None,
+          caption=True, legend=True, thinning=True, lifetime_range_ms=(0.3, 30.0)):
+    """The frame `evlife render` draws at instant t_us, as an RGB image.
+
+    augmented: the output of evlife.process (or any array with t, x, y, p,
+    lifetime, vx, vy fields), in time order.
+    t_us: the instant, microseconds on the recording's clock (e.g.
+    augmented["t"][0] + 500_000 is `evlife render --at 0.5`).
+    sensor: (width, height); default: the smallest sensor holding every event.
+    mode: "lifetime" (the active events), "window:30ms" (a fixed window) or
+    "compare" (1 ms window | 30 ms window | lifetime), as `evlife render --mode`.
+    color, scale, caption, legend, thinning, lifetime_range_ms: as --color,
+    --scale (default 512 / larger sensor side), --no-caption, --no-legend,
+    --no-thinning, --lifetime-range.
+
+    Returns a uint8 array of shape (height, width, 3), RGB (the pixels of the
+    PNG `evlife render` writes), ready for matplotlib's imshow.
+    """
+    return _evlife._frame(_as_augmented(augmented), int(t_us), sensor, mode, color, scale,
+                          bool(caption), bool(legend), bool(thinning),
+                          (float(lifetime_range_ms[0]), float(lifetime_range_ms[1])))
+
+
+def __getattr__(name):  # evlife.batch imports Dask: only when asked for
+    if name == "batch":
+        import importlib
+        return importlib.import_module(__name__ + ".batch")
+    raise AttributeError("module 'evlife' has no attribute %r" % name)

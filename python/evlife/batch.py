@@ -1,0 +1,220 @@
+"""Many recordings at once on Dask distributed: one task per recording.
+
+    from evlife import batch
+    table = batch.process_files(paths, "out/", window_size=7)   # LocalCluster here
+    table = batch.process_files(paths, "out/", scheduler="tcp://host:8786")
+    print(table)
+
+One long recording can also be cut into time slices processed in parallel,
+each estimator starting a warm-up before its slice (process_slices); the result
+then differs slightly from one pass (see the README for the measured share).
+
+Each task of process_files runs `evlife process PATH -o OUT_DIR/NAME.bin` in the worker
+(evlife.process_file: the same bytes as the command line, constant memory, the
+GIL released), so the workers need evlife importable (PYTHONPATH or an
+installed package) and the paths readable where they run.
+"""
+import os
+import shutil
+import sys
+import time
+import uuid
+from collections import namedtuple
+
+from . import _evlife
+
+__all__ = ["FileResult", "BatchResult", "process_files", "process_slices"]
+
+FileResult = namedtuple("FileResult", "path events lifetime_share seconds output error")
+FileResult.__doc__ = """One recording's row: path, events, lifetime_share (share of events
+with a lifetime, 0..1), seconds (in the worker), output (the written file),
+error (None, or the message of the failure; the events before an input
+fault are still written, as the command line does)."""
+
+
+class BatchResult(list):
+    """The rows of process_files, in the order of the paths (a list of FileResult)."""
+
+    @property
+    def failed(self):
+        """The rows whose recording failed."""
+        return [r for r in self if r.error is not None]
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame (needs pandas)."""
+        import pandas
+        return pandas.DataFrame(list(self), columns=FileResult._fields)
+
+    def __str__(self):
+        lines = ["%-40s %12s %9s %9s  %s" % ("path", "events", "lifetime", "seconds", "status")]
+        for r in self:
+            share = "" if r.lifetime_share is None else "%.1f %%" % (100.0 * r.lifetime_share)
+            lines.append("%-40s %12s %9s %9.2f  %s" % (
+                _short(r.path, 40), "" if r.events is None else r.events, share, r.seconds,
+                "ok" if r.error is None else "FAILED: " + r.error.splitlines()[0]))
+        return "\n".join(lines)
+
+
+def _short(text, width):
+    return text if len(text) <= width else "..." + text[-(width - 3):]
+
+
+def _output_names(paths, extension):
+    """OUT names from the recordings' names, made unique (a.bin, a-2.bin)."""
+    names, seen = [], {}
+    for p in paths:
+        stem = os.path.splitext(os.path.basename(p))[0] or "recording"
+        n = seen.get(stem, 0) + 1
+        seen[stem] = n
+        names.append(stem + ("" if n == 1 else "-%d" % n) + extension)
+    return names
+
+
+def _process_one(path, output, sensor, config, options):
+    """The task: runs in a worker; never raises (a failure is the row's error)."""
+    start = time.perf_counter()
+    try:
+        from evlife import _evlife as core
+        r = core.process_file(path, output, sensor, config=config, **options)
+        events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
+    except Exception as e:  # reported by name in the table, the other files go on
+        events, share, error = None, None, "%s: %s" % (type(e).__name__, e)
+    return FileResult(path, events, share, time.perf_counter() - start, output, error)
+
+
+def _client(scheduler, workers):
+    """(client, things to close). scheduler: None, an address, a Client or a cluster."""
+    from distributed import Client, LocalCluster
+    if scheduler is None:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0")
+        client = Client(cluster)
+        return client, [client, cluster]
+    if isinstance(scheduler, Client):
+        return scheduler, []
+    client = Client(scheduler)  # an address ("tcp://host:8786") or a cluster object
+    return client, [client]
+
+
+def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
+                  extension=".bin", progress=True, **options):
+    """Process many recordings on Dask distributed, one task per recording.
+
+    paths: recordings (any format of `evlife process`).
+    out_dir: created if needed; each result is written there as
+    NAME.bin (or `extension`: ".csv", ".h5"), NAME from the recording's file
+    name (made unique), the same bytes as `evlife process PATH -o OUT`.
+    scheduler: None = a LocalCluster of `workers` processes on this machine
+    (one thread each), or a scheduler address ("tcp://host:8786"), a
+    distributed.Client or a cluster object.
+    sensor, config, **options: as evlife.process (every estimator keyword);
+    checked here before any task starts (ValueError / TypeError).
+    progress: a line per finished recording on stderr.
+
+    Returns a BatchResult: one FileResult row (path, events, lifetime_share,
+    seconds, output, error) per path, in order. A failed recording is reported
+    by name in its row (and in .failed); the others are not affected.
+    """
+    paths = [os.fspath(p) for p in paths]
+    # Bad options fail now, with the command line's message, not once per task.
+    _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
+    if sensor is not None:
+        _evlife.LifetimeEstimator(sensor=sensor)
+    os.makedirs(out_dir, exist_ok=True)
+    outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension)]
+    if not paths:
+        return BatchResult()
+    from distributed import as_completed
+    client, to_close = _client(scheduler, workers)
+    try:
+        run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
+        futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config,
+                                 dict(options), pure=False,
+                                 key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
+                   for i, (p, out) in enumerate(zip(paths, outputs))]
+        index = {f.key: i for i, f in enumerate(futures)}
+        rows = [None] * len(futures)
+        for done, future in enumerate(as_completed(futures), 1):
+            i = index[future.key]
+            try:
+                row = future.result()
+            except Exception as e:  # the worker died: still reported by name
+                row = FileResult(os.path.abspath(paths[i]), None, None, 0.0, outputs[i],
+                                 "%s: %s" % (type(e).__name__, e))
+            rows[i] = row._replace(path=paths[i])
+            if progress:
+                status = "ok" if row.error is None else "FAILED: " + row.error
+                print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
+                    done, len(futures), paths[i], row.events, row.seconds, status),
+                    file=sys.stderr, flush=True)
+        return BatchResult(rows)
+    finally:
+        for c in to_close:
+            c.close()
+
+
+def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, options):
+    """The task of one slice: its augmented events written to `part` (.bin)."""
+    from evlife import _evlife as core
+    start = time.perf_counter()
+    aug = core._process_time_range(path, sensor, t_begin, t_end, warmup_us, config=config, **options)
+    core.write(part, aug, sensor)
+    return len(aug), int((aug["lifetime"] > 0).sum()), time.perf_counter() - start
+
+
+_BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records
+
+
+def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
+                   sensor=None, config=None, progress=True, **options):
+    """One long recording cut into `slices` equal time slices processed in parallel.
+
+    Each slice's estimator starts `warmup_ms` before its slice (those events
+    only build up its state; their outputs are dropped), so the result is
+    close to, not identical with, one pass: an event whose window or
+    prediction reaches back further than the warm-up can differ (README:
+    measured share). With warmup_ms at least the recording's length the result
+    is identical. Writes `output` (.bin, the format of `evlife process`) with
+    the slices in order; returns a BatchResult with one row per slice
+    (path "PATH[k]"). scheduler, workers, sensor, config, **options: as
+    process_files. Raises on failure (the slices are one result).
+    """
+    path = os.path.abspath(os.fspath(path))
+    if slices < 1:
+        raise ValueError("slices must be at least 1")
+    if not str(output).endswith(".bin"):
+        raise ValueError("process_slices writes a .bin file: %s" % output)
+    _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
+    info = _evlife.scan(path, sensor, config=config)
+    t0, t1 = info["t_first"], info["t_last"] + 1
+    cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
+    warmup_us = int(round(warmup_ms * 1000.0))
+    parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
+    from distributed import wait
+    client, to_close = _client(scheduler, workers)
+    try:
+        run = uuid.uuid4().hex[:8]
+        futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k], cuts[k + 1],
+                                 warmup_us, config, dict(options), pure=False,
+                                 key="evlife-slice-%s-%d" % (run, k))
+                   for k in range(slices)]
+        rows = []
+        for k, f in enumerate(futures):
+            events, with_lifetime, seconds = f.result()
+            rows.append(FileResult("%s[%d]" % (path, k), events,
+                                   with_lifetime / events if events else 0.0, seconds, output, None))
+            if progress:
+                print("evlife.batch: slice %d/%d of %s (%d events, %.2f s)" % (
+                    k + 1, slices, path, events, seconds), file=sys.stderr, flush=True)
+        wait(futures)
+    finally:
+        for c in to_close:
+            c.close()
+    with open(output, "wb") as out:  # one header, then every slice's records in order
+        for k, part in enumerate(parts):
+            with open(part, "rb") as f:
+                if k > 0:
+                    f.seek(_BIN_HEADER_BYTES)
+                shutil.copyfileobj(f, out, 1 << 20)
+            os.remove(part)
+    return BatchResult(rows)

@@ -1,0 +1,20 @@
+// One function per part of the module, called by module.cpp.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+namespace evlife::python {
+
+namespace py = pybind11;
+
+void bind_reader(py::module_& m);     // read, open, Reader, read_augmented, write
+void bind_estimator(py::module_& m);  // LifetimeEstimator, process
+void bind_frame(py::module_& m);      // frame
+
+/// evlife.read's body (also used by process(path)).
+py::array read_events(const std::string& path, const py::object& sensor);
+
+}  // namespace evlife::python

@@ -1,0 +1,61 @@
+#include "errors.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "evlife/config/config.h"
+#include "evlife/io/write_error.h"
+
+namespace evlife::python {
+namespace {
+
+PyObject* g_input_error = nullptr;  // evlife.InputError, owned by the module
+
+constexpr const char* kInputErrorDoc =
+    "Bad input: a file or array evlife cannot use (unknown format, corrupt or\n"
+    "truncated data, an event outside the sensor, timestamps going backwards).\n"
+    "A ValueError. The message is the command line's (file, byte offset, event\n"
+    "index); the attributes path, byte_offset, event_index (-1 = unknown) and\n"
+    "partial (the good events before the fault, or None) say the same as data.";
+
+}  // namespace
+
+void raise_input_error(const io::ReadError& e, py::object partial) {
+  std::error_code ec;
+  const bool missing = !e.path().empty() && e.event_index() < 0 && e.byte_offset() < 0 &&
+                       !std::filesystem::exists(e.path(), ec);
+  if (missing) {
+    PyErr_SetString(PyExc_FileNotFoundError, e.what());
+    throw py::error_already_set();
+  }
+  py::object error = py::reinterpret_borrow<py::object>(g_input_error)(e.what());
+  error.attr("path") = e.path();
+  error.attr("byte_offset") = e.byte_offset();
+  error.attr("event_index") = e.event_index();
+  error.attr("partial") = std::move(partial);
+  PyErr_SetObject(g_input_error, error.ptr());
+  throw py::error_already_set();
+}
+
+void bind_errors(py::module_& m) {
+  g_input_error = PyErr_NewExceptionWithDoc("evlife.InputError", kInputErrorDoc, PyExc_ValueError,
+                                            nullptr);
+  m.attr("InputError") = py::handle(g_input_error);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const io::ReadError& e) {
+      try {
+        raise_input_error(e);
+      } catch (py::error_already_set& error) {
+        error.restore();  // the InputError (or FileNotFoundError) becomes the raised one
+      }
+    } catch (const config::ConfigError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const io::WriteError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+}
+
+}  // namespace evlife::python

@@ -1,0 +1,405 @@
+// evlife.LifetimeEstimator and evlife.process: the C++ estimator over NumPy
+// arrays. The output array is allocated once and the estimator writes into it
+// directly; the GIL is released while events are checked and estimated.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "dtypes.h"
+#include "errors.h"
+#include "event_columns.h"
+#include "evlife/algo/lifetime_estimator.h"
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "options.h"
+
+namespace evlife::python {
+namespace {
+
+constexpr std::size_t kBlockEvents = 1 << 16;  // as `evlife process`
+
+/// The estimator with what Python needs around it: the time of the last
+/// event (order is checked across calls) and a lock (calls from several
+/// threads run one at a time).
+class Estimator {
+ public:
+  Estimator(const std::string& where, const py::object& sensor, const py::object& config,
+            const py::dict& options)
+      : resolved_(resolve_options(where, sensor, config, options)),
+        estimator_(resolved_.config.estimator) {}
+
+  /// Checks `events` whole, then estimates them; on bad input raises
+  /// InputError and leaves the state as it was.
+  py::array process(const py::handle& events) {
+    const EventColumns cols = event_columns(events);
+    py::array out(augmented_dtype(), std::vector<py::ssize_t>{static_cast<py::ssize_t>(cols.size)},
+                  std::vector<py::ssize_t>{static_cast<py::ssize_t>(sizeof(AugmentedEvent))});
+    auto* dst = static_cast<AugmentedEvent*>(out.mutable_data());
+    EventCheck check;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(mutex_);
+      check = check_events(cols, estimator_.options().sensor, last_t_us_);
+      if (check.bad_index == SIZE_MAX) {
+        if (!check.convert) {
+          estimator_.process(std::span(cols.exact, cols.size), std::span(dst, cols.size));
+        } else {
+          std::vector<Event> block(std::min(cols.size, kBlockEvents));
+          for (std::size_t first = 0; first < cols.size; first += block.size()) {
+            const std::size_t n = std::min(block.size(), cols.size - first);
+            convert_events(cols, first, std::span(block.data(), n));
+            estimator_.process(std::span<const Event>(block.data(), n), std::span(dst + first, n));
+          }
+        }
+        last_t_us_ = check.last_t_us;
+      }
+    }
+    if (check.bad_index != SIZE_MAX) {
+      raise_input_error(io::ReadError("events", -1, static_cast<std::int64_t>(check.bad_index),
+                                      check.what + "; no event of this call was processed"));
+    }
+    return out;
+  }
+
+  void reset() {
+    py::gil_scoped_release release;
+    std::lock_guard lock(mutex_);
+    estimator_.reset();
+    last_t_us_ = INT64_MIN;
+  }
+
+  py::dict stats() {
+    LifetimeStats s;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(mutex_);
+      s = estimator_.stats();
+    }
+    py::dict d;
+    d["events"] = s.events;
+    d["noise"] = s.noise;
+    d["predictions"] = s.predictions;
+    d["followers"] = s.followers;
+    d["out_of_sensor"] = s.out_of_sensor;
+    d["bad_polarity"] = s.bad_polarity;
+    return d;
+  }
+
+  SensorSize sensor() const { return estimator_.options().sensor; }
+  const config::Config& config() const { return resolved_.config; }
+
+ private:
+  ResolvedOptions resolved_;
+  LifetimeEstimator estimator_;
+  std::int64_t last_t_us_ = INT64_MIN;
+  std::mutex mutex_;
+};
+
+// Smallest sensor holding every event of `path`, tolerant of a fault (the
+// events before it count; the processing pass reports it): `evlife process`'s
+// scan.
+SensorSize scan_sensor(const std::string& path) {
+  auto reader = io::open_unchecked_event_reader(path);
+  std::vector<Event> block(kBlockEvents);
+  int max_x = 0, max_y = 0;
+  try {
+    while (const std::size_t n = reader->read(block)) {
+      for (std::size_t i = 0; i < n; ++i) {
+        max_x = std::max<int>(max_x, block[i].x);
+        max_y = std::max<int>(max_y, block[i].y);
+      }
+    }
+  } catch (const io::ReadError&) {
+  }
+  return {max_x + 1, max_y + 1};
+}
+
+/// What one run over a file saw.
+struct FileRun {
+  SensorSize sensor;
+  std::string format;
+  std::uint64_t events = 0;
+  std::uint64_t with_lifetime = 0;
+  std::optional<io::ReadError> fault;  // the events before it were handed to the sink
+};
+
+// `evlife process PATH`: the same sensor rule, reader, estimator and blocks;
+// each block of augmented events goes to `sink`, then `on_sensor` has been
+// called once before. Runs without the GIL.
+template <class OnSensor, class Sink>
+FileRun run_file(const std::string& path, std::optional<SensorSize> user, ResolvedOptions r,
+                 OnSensor&& on_sensor, Sink&& sink) {
+  FileRun run;
+  const auto probe = io::open_unchecked_event_reader(path);
+  if (const auto stated = probe->sensor_size()) run.sensor = *stated;
+  else if (user) run.sensor = *user;  // --sensor
+  else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
+  else run.sensor = scan_sensor(path);
+  auto reader = io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+  run.format = std::string(reader->format_name());
+  r.config.estimator.sensor = run.sensor;
+  LifetimeEstimator estimator(r.config.estimator);  // std::invalid_argument: ValueError
+  on_sensor(run.sensor);
+  std::vector<Event> in(kBlockEvents);
+  std::vector<AugmentedEvent> out(kBlockEvents);
+  for (;;) {
+    std::size_t n = 0;
+    try {
+      n = reader->read(in);
+    } catch (const io::ReadError& e) {
+      run.fault.emplace(e);
+      break;
+    }
+    if (n == 0) break;
+    estimator.process(std::span<const Event>(in.data(), n), std::span(out.data(), n));
+    for (std::size_t i = 0; i < n; ++i) run.with_lifetime += !out[i].is_noise();
+    run.events += n;
+    sink(std::span<const AugmentedEvent>(out.data(), n));
+  }
+  return run;
+}
+
+std::optional<SensorSize> user_sensor(const py::object& sensor) {
+  if (sensor.is_none()) return std::nullopt;
+  return sensor_from_python(sensor);
+}
+
+py::array process_file(const std::string& path, const py::object& sensor,
+                       const py::object& config, const py::dict& options) {
+  // The sensor argument only counts when the format states none (as --sensor).
+  const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
+  const std::optional<SensorSize> user = user_sensor(sensor);
+  std::vector<AugmentedEvent> out;
+  FileRun run;
+  {
+    py::gil_scoped_release release;
+    run = run_file(path, user, r, [](SensorSize) {}, [&](std::span<const AugmentedEvent> block) {
+      out.insert(out.end(), block.begin(), block.end());
+    });
+  }
+  py::array result = adopt(std::move(out), augmented_dtype());
+  if (run.fault) raise_input_error(*run.fault, result);
+  return result;
+}
+
+// `evlife process PATH -o OUTPUT`, in constant memory.
+py::dict process_to_file(const std::string& path, const std::string& output,
+                         const py::object& sensor, const py::object& config,
+                         const py::dict& options) {
+  const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
+  const std::optional<SensorSize> user = user_sensor(sensor);
+  FileRun run;
+  {
+    py::gil_scoped_release release;
+    std::unique_ptr<io::AugmentedEventWriter> writer;
+    run = run_file(
+        path, user, r, [&](SensorSize s) { writer = io::open_augmented_writer(output, s); },
+        [&](std::span<const AugmentedEvent> block) { writer->write(block); });
+    writer->close();  // everything before a fault reaches the disk
+  }
+  if (run.fault) raise_input_error(*run.fault);
+  py::dict d;
+  d["events"] = run.events;
+  d["with_lifetime"] = run.with_lifetime;
+  d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
+  d["format"] = run.format;
+  return d;
+}
+
+// The sensor `evlife process` would use for `path`, the time span and the
+// event count: one pass (what a caller needs to cut a recording into slices).
+py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config) {
+  const ResolvedOptions r = resolve_options("evlife.scan", py::none(), config, py::dict());
+  const std::optional<SensorSize> user = user_sensor(sensor);
+  std::int64_t first = 0, last = 0;
+  std::uint64_t count = 0;
+  FileRun run;
+  {
+    py::gil_scoped_release release;
+    const auto probe = io::open_unchecked_event_reader(path);
+    if (const auto stated = probe->sensor_size()) run.sensor = *stated;
+    else if (user) run.sensor = *user;
+    else if (r.sensor) run.sensor = *r.sensor;
+    else run.sensor = scan_sensor(path);
+    auto reader = io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+    run.format = std::string(reader->format_name());
+    std::vector<Event> in(kBlockEvents);
+    while (const std::size_t n = reader->read(in)) {  // a fault: InputError
+      if (count == 0) first = in[0].t_us;
+      last = in[n - 1].t_us;
+      count += n;
+    }
+  }
+  py::dict d;
+  d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
+  d["format"] = run.format;
+  d["events"] = count;
+  d["t_first"] = first;
+  d["t_last"] = last;
+  return d;
+}
+
+// The events of `path` with t in [t_begin, t_end), estimated by an estimator
+// that started warmup_us earlier (its outputs before t_begin are dropped):
+// one slice of a recording processed in parallel with the others.
+py::array process_time_range(const std::string& path, const py::object& sensor,
+                             std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us,
+                             const py::object& config, const py::dict& options) {
+  if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
+  ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
+  const SensorSize s = sensor_from_python(sensor);
+  std::vector<AugmentedEvent> out;
+  {
+    py::gil_scoped_release release;
+    auto reader = io::open_event_reader(path, io::ReaderOptions{s, true});
+    r.config.estimator.sensor = s;
+    LifetimeEstimator estimator(r.config.estimator);
+    const std::int64_t start = t_begin < INT64_MIN + warmup_us ? INT64_MIN : t_begin - warmup_us;
+    std::vector<Event> in(kBlockEvents);
+    std::vector<AugmentedEvent> block(kBlockEvents);
+    bool done = false;
+    while (!done) {
+      const std::size_t n = reader->read(in);
+      if (n == 0) break;
+      std::size_t lo = 0, hi = n;
+      while (lo < n && in[lo].t_us < start) ++lo;
+      for (std::size_t i = lo; i < n; ++i) {
+        if (in[i].t_us >= t_end) {
+          hi = i;
+          done = true;
+          break;
+        }
+      }
+      if (hi <= lo) continue;
+      estimator.process(std::span<const Event>(in.data() + lo, hi - lo),
+                        std::span(block.data(), hi - lo));
+      for (std::size_t i = 0; i < hi - lo; ++i) {
+        if (block[i].event.t_us >= t_begin) out.push_back(block[i]);
+      }
+    }
+  }
+  return adopt(std::move(out), augmented_dtype());
+}
+
+constexpr const char* kEstimatorDoc = R"(The lifetime estimator (Mueggler et al., ICRA 2015) over NumPy arrays.
+
+    est = evlife.LifetimeEstimator(sensor=(240, 180), window_size=7)
+    for chunk in evlife.open("rec.aedat4"):
+        out = est.process(chunk)
+
+sensor: (width, height). Keywords: every key of the `estimator:` section of
+config/evlife.yaml (see evlife.estimator_options()), validated as the command
+line validates --set estimator.KEY=VALUE (ValueError with its message;
+TypeError for an unknown keyword). Keys not given take the values
+`evlife process` uses: the documented default file, or config=PATH (a YAML
+file, as --config).
+
+process(events) takes any array with t, x, y, p fields (p as +1/-1, 0/1 or
+bool) and returns evlife.AUGMENTED_DTYPE: t, x, y, p, lifetime (µs, 0 = noise),
+vx, vy (px/s), prediction_error (µs, NaN = no prediction). The estimator keeps
+its state across calls: processing in chunks gives exactly the result of one
+call. The GIL is released while it runs; no per-event Python object is made.)";
+
+}  // namespace
+
+void bind_estimator(py::module_& m) {
+  py::class_<Estimator>(m, "LifetimeEstimator", kEstimatorDoc)
+      .def(py::init([](const py::object& sensor, const py::object& config, const py::kwargs& kw) {
+             return std::make_unique<Estimator>("evlife.LifetimeEstimator", sensor, config, kw);
+           }),
+           py::arg("sensor"), py::kw_only(), py::arg("config") = py::none())
+      .def("process", &Estimator::process, py::arg("events"),
+           R"(Estimate lifetime and velocity of every event (in time order, also across calls).
+
+Returns a new array of evlife.AUGMENTED_DTYPE, one row per input event, in
+input order. Raises evlife.InputError (naming the event index) for an event
+outside the sensor, a timestamp before the previous one or a bad polarity;
+then nothing of this call is processed and the state is unchanged.)")
+      .def("reset", &Estimator::reset, "Forget all history (keeps the options).")
+      .def_property_readonly(
+          "sensor", [](const Estimator& e) { return py::make_tuple(e.sensor().width, e.sensor().height); })
+      .def_property_readonly(
+          "options", [](const Estimator& e) { return options_dict(e.config()); },
+          "The effective options, {keyword: value}.")
+      .def_property_readonly("stats", &Estimator::stats,
+                             "Counters: events, noise, predictions, followers, out_of_sensor, bad_polarity.");
+
+  m.def(
+      "process",
+      [](const py::object& input, const py::object& sensor, const py::object& config,
+         const py::kwargs& kw) -> py::array {
+        if (py::isinstance<py::str>(input) || py::hasattr(input, "__fspath__")) {
+          const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
+          return process_file(path, sensor, config, kw);
+        }
+        const py::object s = sensor.is_none()
+            ? [&] {
+                const SensorSize d = sensor_from_events(event_columns(input));
+                return py::object(py::make_tuple(std::max(d.width, 1), std::max(d.height, 1)));
+              }()
+            : sensor;
+        Estimator estimator("evlife.process", s, config, kw);
+        return estimator.process(input);
+      },
+      py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
+      py::arg("config") = py::none(),
+      R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
+
+input: a path (every format of `evlife process`) or an array with t, x, y, p
+fields. Returns evlife.AUGMENTED_DTYPE, bit-identical to the records of
+`evlife process INPUT -o OUT.bin` with the same options.
+
+sensor: (width, height) when the format states none (as --sensor); without
+it the smallest sensor holding every event. Keywords and config=: as
+evlife.LifetimeEstimator. Errors: FileNotFoundError, evlife.InputError (with
+.partial: the augmented events before the fault, as the CLI writes them),
+ValueError for bad options.)");
+
+  m.def(
+      "process_file",
+      [](const py::object& input, const py::object& output, const py::object& sensor,
+         const py::object& config, const py::kwargs& kw) {
+        const auto fspath = py::module_::import("os").attr("fspath");
+        return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor, config,
+                               kw);
+      },
+      py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
+      py::arg("config") = py::none(),
+      R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
+
+OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
+'format'}. On bad input the events before the fault are written, then
+evlife.InputError is raised (as the CLI exits 3). Other arguments as
+evlife.process.)");
+
+  m.def(
+      "scan",
+      [](const py::object& input, const py::object& sensor, const py::object& config) {
+        return scan_file(py::str(py::module_::import("os").attr("fspath")(input)), sensor, config);
+      },
+      py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
+      py::arg("config") = py::none(),
+      R"(One pass over a recording: {'sensor' (the one `evlife process` uses), 'format',
+'events', 't_first', 't_last'} (µs). Errors as evlife.read.)");
+
+  m.def(
+      "_process_time_range",
+      [](const py::object& input, const py::object& sensor, std::int64_t t_begin,
+         std::int64_t t_end, std::int64_t warmup_us, const py::object& config,
+         const py::kwargs& kw) {
+        return process_time_range(py::str(py::module_::import("os").attr("fspath")(input)), sensor,
+                                  t_begin, t_end, warmup_us, config, kw);
+      },
+      py::arg("input"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
+      py::arg("warmup_us"), py::kw_only(), py::arg("config") = py::none(),
+      "Internal (evlife.batch.process_slices): events with t in [t_begin, t_end), the estimator\n"
+      "started warmup_us before t_begin.");
+}
+
+}  // namespace evlife::python

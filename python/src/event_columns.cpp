@@ -1,0 +1,127 @@
+#include "event_columns.h"
+
+#include <algorithm>
+
+#include "dtypes.h"
+
+namespace evlife::python {
+namespace {
+
+Column column(const py::handle& events, const char* name, py::object& keep, bool allow_bool) {
+  py::object col;
+  try {
+    col = events[py::str(name)];
+  } catch (const py::error_already_set& e) {
+    if (!e.matches(PyExc_KeyError) && !e.matches(PyExc_ValueError) &&
+        !e.matches(PyExc_IndexError) && !e.matches(PyExc_TypeError)) {
+      throw;
+    }
+    throw py::type_error(std::string("events: no field '") + name +
+                         "' (expected an array with fields t, x, y, p, e.g. from evlife.read)");
+  }
+  py::array a = py::array::ensure(col);
+  if (!a || a.ndim() != 1) {
+    throw py::type_error(std::string("events['") + name + "']: expected a 1-D array");
+  }
+  const py::dtype dt = a.dtype();
+  const char kind = dt.kind();
+  if (!(kind == 'i' || kind == 'u' || (allow_bool && kind == 'b'))) {
+    throw py::type_error(std::string("events['") + name + "']: expected integers" +
+                         (allow_bool ? " or bools" : "") + ", got dtype " +
+                         py::str(py::handle(dt)).cast<std::string>() +
+                         (name[0] == 't' ? " (timestamps are integer microseconds)" : ""));
+  }
+  if (dt.itemsize() > 1 && !dt.attr("isnative").cast<bool>()) {
+    a = py::array::ensure(a.attr("astype")(dt.attr("newbyteorder")("=")));
+  }
+  keep = a;
+  Column c;
+  c.base = static_cast<const char*>(a.data());
+  c.stride = a.strides(0);
+  c.kind = kind;
+  c.size = static_cast<int>(a.dtype().itemsize());
+  return c;
+}
+
+}  // namespace
+
+EventColumns event_columns(const py::handle& events) {
+  EventColumns c;
+  if (py::isinstance<py::array>(events)) {
+    const auto a = py::reinterpret_borrow<py::array>(events);
+    if (is_exact(a, event_dtype())) c.exact = static_cast<const Event*>(a.data());
+  }
+  c.t = column(events, "t", c.keep[0], false);
+  c.x = column(events, "x", c.keep[1], false);
+  c.y = column(events, "y", c.keep[2], false);
+  c.p = column(events, "p", c.keep[3], true);
+  c.p_is_bool = c.p.kind == 'b';
+  c.size = static_cast<std::size_t>(py::len(c.keep[0]));
+  for (int i = 1; i < 4; ++i) {
+    if (static_cast<std::size_t>(py::len(c.keep[i])) != c.size) {
+      throw py::value_error("events: the columns t, x, y, p differ in length");
+    }
+  }
+  return c;
+}
+
+EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t last_t_us) noexcept {
+  EventCheck r;
+  r.convert = c.exact == nullptr || c.p_is_bool;
+  std::int64_t last = last_t_us;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    std::int64_t t, x, y, p;
+    if (c.exact) {
+      const Event& e = c.exact[i];
+      t = e.t_us, x = e.x, y = e.y, p = e.p;
+    } else {
+      t = c.t.get(i), x = c.x.get(i), y = c.y.get(i), p = c.p.get(i);
+    }
+    if (x < 0 || y < 0 || x >= sensor.width || y >= sensor.height) {
+      r.bad_index = i;
+      r.what = "event at (x " + std::to_string(x) + ", y " + std::to_string(y) +
+               ") is outside the " + std::to_string(sensor.width) + "x" +
+               std::to_string(sensor.height) + " sensor";
+      break;
+    }
+    if (t < last) {
+      r.bad_index = i;
+      r.what = "timestamp goes backwards: " + std::to_string(t) + " us after " +
+               std::to_string(last) + " us";
+      break;
+    }
+    if (p == 0 && !c.p_is_bool) {
+      r.convert = true;  // 0/1 polarity
+    } else if (p != 1 && p != -1 && !c.p_is_bool) {
+      r.bad_index = i;
+      r.what = "polarity " + std::to_string(p) + " is none of +1/-1, 0/1 or a bool";
+      break;
+    }
+    last = t;
+  }
+  r.last_t_us = last;
+  return r;
+}
+
+void convert_events(const EventColumns& c, std::size_t first, std::span<Event> out) noexcept {
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const std::size_t i = first + k;
+    Event& e = out[k];
+    e.t_us = c.t.get(i);
+    e.x = static_cast<std::uint16_t>(c.x.get(i));
+    e.y = static_cast<std::uint16_t>(c.y.get(i));
+    e.p = c.p.get(i) > 0 ? 1 : -1;
+  }
+}
+
+SensorSize sensor_from_events(const EventColumns& c) noexcept {
+  std::int64_t max_x = -1, max_y = -1;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    max_x = std::max(max_x, c.exact ? c.exact[i].x : c.x.get(i));
+    max_y = std::max(max_y, c.exact ? c.exact[i].y : c.y.get(i));
+  }
+  return {static_cast<int>(std::clamp<std::int64_t>(max_x + 1, 0, INT32_MAX)),
+          static_cast<int>(std::clamp<std::int64_t>(max_y + 1, 0, INT32_MAX))};
+}
+
+}  // namespace evlife::python

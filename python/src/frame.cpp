@@ -1,0 +1,110 @@
+// evlife.frame: the frame `evlife render` draws at one instant, from an
+// augmented array in memory. The same cursor, active-event set, fixed-window
+// map and composer as the CLI; only the source is the array.
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "bindings.h"
+#include "dtypes.h"
+#include "evlife/render/active_event_set.h"
+#include "evlife/render/augmented_source.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_composer.h"
+#include "evlife/render/render_cursor.h"
+#include "options.h"
+
+namespace evlife::python {
+namespace {
+
+/// The augmented array as the renderer's source.
+class ArraySource final : public render::AugmentedSource {
+ public:
+  ArraySource(std::span<const AugmentedEvent> events, SensorSize sensor)
+      : events_(events), sensor_(sensor) {}
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    const std::size_t n = std::min(out.size(), events_.size() - pos_);
+    std::copy_n(events_.data() + pos_, n, out.data());
+    pos_ += n;
+    return n;
+  }
+  SensorSize sensor() const override { return sensor_; }
+  std::string description() const override { return "array"; }
+  const LifetimeStats* estimator_stats() const override { return nullptr; }
+
+ private:
+  std::span<const AugmentedEvent> events_;
+  std::size_t pos_ = 0;
+  SensorSize sensor_;
+};
+
+py::array frame(const py::array& augmented, std::int64_t t_us, const py::object& sensor_obj,
+                const std::string& mode, const std::string& color, const py::object& scale_obj,
+                bool caption, bool legend, bool thinning, std::pair<double, double> range_ms) {
+  if (!is_exact(augmented, augmented_dtype())) {
+    throw py::type_error("frame: expected a 1-D contiguous array of evlife.AUGMENTED_DTYPE");
+  }
+  const std::span events(static_cast<const AugmentedEvent*>(augmented.data()),
+                         static_cast<std::size_t>(augmented.shape(0)));
+  SensorSize sensor;
+  if (!sensor_obj.is_none()) {
+    sensor = sensor_from_python(sensor_obj);
+  } else {
+    for (const auto& a : events) {
+      sensor.width = std::max(sensor.width, a.event.x + 1);
+      sensor.height = std::max(sensor.height, a.event.y + 1);
+    }
+  }
+  if (sensor.width < 1 || sensor.height < 1 || sensor.width > 4096 || sensor.height > 4096) {
+    throw py::value_error("frame: sensor " + std::to_string(sensor.width) + "x" +
+                          std::to_string(sensor.height) + " is not usable (1..4096 each)");
+  }
+  if (events.empty()) throw py::value_error("frame: the array holds no event: nothing to draw");
+  // As `evlife render`'s options (its defaults when not given).
+  render::FrameStyle style;
+  style.color = render::parse_color_mode(color);  // std::invalid_argument: ValueError
+  if (scale_obj.is_none()) {
+    style.scale = std::max(1, 512 / std::max(sensor.width, sensor.height));
+  } else {
+    style.scale = scale_obj.cast<int>();
+    if (style.scale < 1 || style.scale > 32) throw py::value_error("frame: scale must be 1..32");
+  }
+  style.caption = caption;
+  style.legend = legend;
+  if (!(range_ms.first > 0.0) || !(range_ms.second > range_ms.first)) {
+    throw py::value_error("frame: lifetime_range_ms must be (MIN, MAX) with 0 < MIN < MAX");
+  }
+  style.colormap = render::LifetimeColormap(1000.0 * range_ms.first, 1000.0 * range_ms.second);
+  render::FrameComposer composer(render::parse_view_mode(mode), style, mode);
+
+  cv::Mat rgb;
+  {
+    py::gil_scoped_release release;
+    ArraySource source(events, sensor);
+    render::ActiveEventSet set(sensor, thinning);
+    render::FixedWindowMap window(sensor);
+    render::RenderCursor cursor(source, set, &window);
+    const std::int64_t first_t = *cursor.first_t_us();
+    cursor.advance_to(t_us);
+    const cv::Mat& bgr = composer.compose(set, window, t_us, t_us - first_t);
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  }
+  py::array_t<std::uint8_t> out({rgb.rows, rgb.cols, 3});
+  for (int r = 0; r < rgb.rows; ++r) {
+    std::memcpy(out.mutable_data(r, 0, 0), rgb.ptr(r), static_cast<std::size_t>(rgb.cols) * 3);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_frame(py::module_& m) {
+  m.def("_frame", &frame, py::arg("augmented"), py::arg("t_us"), py::arg("sensor"),
+        py::arg("mode"), py::arg("color"), py::arg("scale"), py::arg("caption"),
+        py::arg("legend"), py::arg("thinning"), py::arg("lifetime_range_ms"),
+        "Internal: evlife.frame on an exact AUGMENTED_DTYPE array.");
+}
+
+}  // namespace evlife::python

@@ -1,0 +1,153 @@
+#include "options.h"
+
+#include <string>
+#include <vector>
+
+#include "evlife/config/config_key.h"
+
+namespace evlife::python {
+namespace {
+
+bool is_estimator_key(const config::ConfigKey& k) {
+  return k.name.compare(0, kEstimatorPrefix.size(), kEstimatorPrefix) == 0 &&
+         k.name.rfind("estimator.sensor.", 0) != 0;  // the sensor has its own argument
+}
+
+// The Python value as the YAML scalar the key's parser takes. Types are
+// strict (a bool is no number, a float no integer); a str passes as written,
+// as on the command line.
+std::string scalar_text(const config::ConfigKey& key, const std::string& keyword,
+                        const py::handle& value) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  const bool is_bool = py::isinstance<py::bool_>(value);
+  if (key.type == "boolean") {
+    if (!is_bool) throw py::type_error(keyword + ": expected True or False");
+    return value.cast<bool>() ? "true" : "false";
+  }
+  if (is_bool) throw py::type_error(keyword + ": expected a " + key.type + ", got a bool");
+  if (key.type == "integer") {
+    if (!py::hasattr(value, "__index__")) {
+      throw py::type_error(keyword + ": expected an integer, got " +
+                           std::string(py::str(py::type::of(value).attr("__name__"))));
+    }
+    return py::str(py::int_(value.attr("__index__")())).cast<std::string>();
+  }
+  if (key.type == "number") {
+    if (py::hasattr(value, "__index__")) {
+      return py::str(py::int_(value.attr("__index__")())).cast<std::string>();
+    }
+    if (!py::hasattr(value, "__float__")) {
+      throw py::type_error(keyword + ": expected a number, got " +
+                           std::string(py::str(py::type::of(value).attr("__name__"))));
+    }
+    // repr(float) is the shortest text that reads back exactly, as the table's format.
+    return py::repr(py::float_(py::reinterpret_borrow<py::object>(value))).cast<std::string>();
+  }
+  return py::str(value).cast<std::string>();
+}
+
+// The key's current value as a Python object of its type.
+py::object key_value(const config::ConfigKey& key, const config::Config& c) {
+  const std::string text = key.format(c);
+  if (key.type == "boolean") return py::bool_(text == "true");
+  if (key.type == "integer") return py::module_::import("builtins").attr("int")(text);
+  if (key.type == "number") return py::float_(std::stod(text));
+  return py::str(text);
+}
+
+}  // namespace
+
+SensorSize sensor_from_python(const py::object& sensor) {
+  if (!py::isinstance<py::sequence>(sensor) || py::len(sensor) != 2 ||
+      py::isinstance<py::str>(sensor)) {
+    throw py::type_error("sensor: expected (width, height), e.g. (240, 180)");
+  }
+  const auto seq = sensor.cast<py::sequence>();
+  SensorSize s;
+  try {
+    s.width = py::int_(seq[0].attr("__index__")()).cast<int>();
+    s.height = py::int_(seq[1].attr("__index__")()).cast<int>();
+  } catch (const py::error_already_set&) {
+    throw py::type_error("sensor: expected two integers (width, height)");
+  } catch (const py::cast_error&) {
+    throw py::value_error("sensor: width and height must be 1..4096");
+  }
+  return s;
+}
+
+ResolvedOptions resolve_options(const std::string& where, const py::object& sensor,
+                                const py::object& config_path, const py::dict& options) {
+  config::ConfigBuilder b;
+  if (config_path.is_none()) {
+    b.load_default_file_if_present();
+  } else {
+    b.load_file(py::str(config_path).cast<std::string>());
+  }
+  for (const auto& [k, v] : options) {
+    const std::string keyword = py::str(k).cast<std::string>();
+    const std::string key = std::string(kEstimatorPrefix) + keyword;
+    const config::ConfigKey* ck = config::find_config_key(key);
+    if (ck == nullptr || !is_estimator_key(*ck)) {
+      // The configuration's own message (closest key, the keys of the section).
+      std::string message = where + "() got an unexpected keyword argument '" + keyword + "'";
+      try {
+        b.set(key, "0", where);
+      } catch (const config::ConfigError& e) {
+        message += ": " + std::string(e.what());
+      }
+      if (ck != nullptr) message += " (give the sensor as sensor=(width, height))";
+      throw py::type_error(message);
+    }
+    const std::string text = scalar_text(*ck, keyword, v);
+    b.set(key, text, where + "(" + keyword + "=" + text + ")");
+  }
+  ResolvedOptions r;
+  if (!sensor.is_none()) {
+    const SensorSize s = sensor_from_python(sensor);
+    const std::string origin = where + "(sensor=(" + std::to_string(s.width) + ", " +
+                               std::to_string(s.height) + "))";
+    b.set("estimator.sensor.width", std::to_string(s.width), origin);
+    b.set("estimator.sensor.height", std::to_string(s.height), origin);
+  }
+  r.config = b.build();
+  const auto* ow = b.origin("estimator.sensor.width");
+  const auto* oh = b.origin("estimator.sensor.height");
+  if ((ow && ow->by_user) || (oh && oh->by_user)) r.sensor = r.config.estimator.sensor;
+  return r;
+}
+
+void bind_options(py::module_& m) {
+  m.def(
+      "estimator_options",
+      [](py::object config_path) {
+        config::ConfigBuilder b;
+        if (config_path.is_none()) b.load_default_file_if_present();
+        else b.load_file(py::str(config_path).cast<std::string>());
+        const config::Config c = b.build();
+        py::dict out;
+        for (const auto& k : config::config_keys()) {
+          if (!is_estimator_key(k)) continue;
+          py::dict d;
+          d["type"] = k.type;
+          d["allowed"] = k.allowed;
+          d["default"] = key_value(k, c);
+          out[py::str(k.name.substr(kEstimatorPrefix.size()))] = d;
+        }
+        return out;
+      },
+      py::arg("config") = py::none(),
+      "The estimator's keyword options: {name: {'type', 'allowed', 'default'}}.\n\n"
+      "The same table as the `estimator:` section of config/evlife.yaml and the\n"
+      "command line's --set estimator.NAME=VALUE; defaults as `evlife process`\n"
+      "uses them (the documented default file when present, or `config`).");
+}
+
+py::dict options_dict(const config::Config& c) {
+  py::dict out;
+  for (const auto& k : config::config_keys()) {
+    if (is_estimator_key(k)) out[py::str(k.name.substr(kEstimatorPrefix.size()))] = key_value(k, c);
+  }
+  return out;
+}
+
+}  // namespace evlife::python

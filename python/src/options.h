@@ -1,0 +1,45 @@
+// Estimator options from Python keywords, through the same key table and
+// ConfigBuilder as the command line's --config/--set: the keywords are the
+// `estimator.` keys of config/evlife.yaml (without the prefix), checked
+// against the same ranges, with the same messages.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
+
+#include "evlife/algo/event.h"
+#include "evlife/config/config.h"
+
+namespace evlife::python {
+
+namespace py = pybind11;
+
+/// The prefix of the keys that are estimator keywords.
+inline constexpr std::string_view kEstimatorPrefix = "estimator.";
+
+struct ResolvedOptions {
+  config::Config config;
+  /// The sensor given by the caller (sensor= keyword) or by the user's
+  /// configuration file; nullopt when neither did.
+  std::optional<SensorSize> sensor;
+};
+
+/// Starts as `evlife process` does (the documented default file when there is
+/// no `config_path`, else that file), then applies `options` and `sensor`
+/// ((width, height) or None) and validates. `where` names the caller in
+/// messages, e.g. "evlife.LifetimeEstimator". Unknown keywords raise
+/// TypeError, bad values ValueError (the CLI's text).
+ResolvedOptions resolve_options(const std::string& where, const py::object& sensor,
+                                const py::object& config_path, const py::dict& options);
+
+/// The estimator keywords' current values in `c`, {name: value}.
+py::dict options_dict(const config::Config& c);
+
+/// (width, height) -> SensorSize; TypeError/ValueError otherwise.
+SensorSize sensor_from_python(const py::object& sensor);
+
+void bind_options(py::module_& m);
+
+}  // namespace evlife::python

@@ -1,0 +1,264 @@
+// evlife.read / evlife.open / evlife.read_augmented / evlife.write: the io
+// readers and writers, straight into and out of NumPy arrays (the C++ reader
+// writes into the array's memory; the GIL is released while it runs).
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "dtypes.h"
+#include "errors.h"
+#include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/event_reader.h"
+#include "options.h"
+
+namespace evlife::python {
+namespace {
+
+constexpr std::size_t kReadBlock = 1 << 16;
+
+std::optional<SensorSize> optional_sensor(const py::object& sensor) {
+  if (sensor.is_none()) return std::nullopt;
+  return sensor_from_python(sensor);
+}
+
+py::object sensor_tuple(std::optional<SensorSize> s) {
+  if (!s) return py::none();
+  return py::make_tuple(s->width, s->height);
+}
+
+// Every event of a reader; on a fault raises InputError carrying the events
+// before it.
+py::array read_all(io::EventReader& reader) {
+  std::vector<Event> events;
+  std::optional<io::ReadError> fault;
+  {
+    py::gil_scoped_release release;
+    std::size_t good = 0;  // events.size() beyond it: a block being filled
+    try {
+      for (;;) {
+        events.resize(good + kReadBlock);
+        const std::size_t n = reader.read(std::span(events.data() + good, kReadBlock));
+        good += n;
+        if (n == 0) break;
+      }
+    } catch (const io::ReadError& e) {
+      fault.emplace(e);
+    }
+    events.resize(good);
+  }
+  py::array out = adopt(std::move(events), event_dtype());
+  if (fault) raise_input_error(*fault, out);
+  return out;
+}
+
+/// evlife.open(): a recording read chunk by chunk (bounded memory).
+class Reader {
+ public:
+  Reader(const std::string& path, std::optional<SensorSize> sensor, std::size_t chunk_events)
+      : chunk_events_(chunk_events) {
+    if (chunk_events == 0) throw py::value_error("chunk_events must be at least 1");
+    reader_ = io::open_event_reader(path, io::ReaderOptions{sensor, true});
+  }
+
+  py::array read(std::optional<std::size_t> max_events) {
+    const std::size_t n_max = max_events.value_or(chunk_events_);
+    std::vector<Event> events;  // grows block by block: a large max_events costs nothing
+    std::size_t n = 0;
+    std::optional<io::ReadError> fault;
+    bool closed = false;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(mutex_);
+      if (pending_) {  // a fault met after good events last time: raised now, once
+        fault.swap(pending_);
+      } else if (!reader_) {
+        closed = true;
+      } else {
+        try {
+          // Fill the chunk unless the stream ends (a reader may return less).
+          while (n < n_max) {
+            events.resize(n + std::min(n_max - n, kReadBlock));
+            const std::size_t got = reader_->read(std::span(events.data() + n, events.size() - n));
+            if (got == 0) break;
+            n += got;
+          }
+        } catch (const io::ReadError& e) {
+          if (n == 0) fault.emplace(e);  // else: the good events first, the fault next call
+          else pending_.emplace(e);
+        }
+      }
+    }
+    if (closed) throw py::value_error("the reader is closed");
+    if (fault) raise_input_error(*fault);
+    events.resize(n);
+    return adopt(std::move(events), event_dtype());
+  }
+
+  py::array next() {
+    py::array chunk = read(std::nullopt);
+    if (chunk.shape(0) == 0) throw py::stop_iteration();
+    return chunk;
+  }
+
+  void close() {
+    py::gil_scoped_release release;
+    std::lock_guard lock(mutex_);
+    reader_.reset();
+  }
+
+  const io::EventReader& reader() const {
+    if (!reader_) throw py::value_error("the reader is closed");
+    return *reader_;
+  }
+  std::size_t chunk_events() const { return chunk_events_; }
+
+ private:
+  std::unique_ptr<io::EventReader> reader_;
+  std::size_t chunk_events_;
+  std::optional<io::ReadError> pending_;
+  std::mutex mutex_;
+};
+
+}  // namespace
+
+py::array read_events(const std::string& path, const py::object& sensor) {
+  std::unique_ptr<io::EventReader> reader;
+  {
+    const auto s = optional_sensor(sensor);
+    py::gil_scoped_release release;
+    reader = io::open_event_reader(path, io::ReaderOptions{s, true});
+  }
+  return read_all(*reader);
+}
+
+void bind_reader(py::module_& m) {
+  m.def(
+      "read",
+      [](const std::filesystem::path& path, const py::object& sensor) {
+        return read_events(path.string(), sensor);
+      },
+      py::arg("path"), py::arg("sensor") = py::none(),
+        R"(Read every event of a recording into a NumPy structured array.
+
+Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
+p (int8, +1 ON / -1 OFF), dtype evlife.EVENT_DTYPE. Every input format of
+`evlife process` (sniffed from the content, else the extension).
+
+sensor: (width, height) the events must fit in; default: the size the format
+states (if any). Raises FileNotFoundError for a missing file and
+evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
+data, an event outside the sensor or a timestamp going backwards; its message
+names the file, event index and byte offset, and its `partial` attribute
+holds the events before the fault.)");
+
+  py::class_<Reader>(m, "Reader", R"(A recording read in chunks of bounded size (see evlife.open).
+
+Iterating yields arrays of at most `chunk_events` events (evlife.EVENT_DTYPE)
+until the end; memory stays bounded whatever the file size. On a fault the
+good events come first, the next chunk raises evlife.InputError.)")
+      .def_property_readonly(
+          "sensor", [](const Reader& r) { return sensor_tuple(r.reader().sensor_size()); },
+          "(width, height) when the format states it (or sensor= was given), else None.")
+      .def_property_readonly(
+          "format", [](const Reader& r) { return std::string(r.reader().format_name()); },
+          "Short format name, e.g. 'mat', 'aedat2', 'evt3'.")
+      .def_property_readonly("path", [](const Reader& r) { return r.reader().path(); })
+      .def_property_readonly("chunk_events", &Reader::chunk_events)
+      .def_property_readonly(
+          "bytes_consumed",
+          [](const Reader& r) { return r.reader().bytes_consumed(); },
+          "Bytes of the file consumed so far (approximate for compressed formats).")
+      .def("read", &Reader::read, py::arg("max_events") = py::none(),
+           "The next chunk of at most max_events (default chunk_events) events; empty at the end.")
+      .def("close", &Reader::close)
+      .def("__iter__", [](py::object self) { return self; })
+      .def("__next__", &Reader::next)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](Reader& r, py::args) { r.close(); });
+
+  m.def(
+      "open",
+      [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events) {
+        const auto s = optional_sensor(sensor);
+        py::gil_scoped_release release;
+        return std::make_unique<Reader>(path.string(), s, chunk_events);
+      },
+      py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20,
+      R"(Open a recording for reading in chunks (recordings larger than memory).
+
+Returns an evlife.Reader with .sensor ((width, height) or None), .format and
+iteration over chunks of at most chunk_events events:
+
+    with evlife.open("rec.aedat4") as r:
+        for chunk in r:
+            ...
+
+Errors as evlife.read.)");
+
+  m.def(
+      "read_augmented",
+      [](const std::filesystem::path& fs_path) {
+        const std::string path = fs_path.string();
+        std::unique_ptr<io::AugmentedEventReader> reader;
+        std::vector<AugmentedEvent> events;
+        std::optional<io::ReadError> fault;
+        std::optional<SensorSize> sensor;
+        std::size_t good = 0;  // events.size() beyond it: a block being filled
+        {
+          py::gil_scoped_release release;
+          try {
+            reader = io::open_augmented_reader(path);
+            sensor = reader->sensor_size();
+            for (;;) {
+              events.resize(good + kReadBlock);
+              const std::size_t n = reader->read(std::span(events.data() + good, kReadBlock));
+              good += n;
+              if (n == 0) break;
+            }
+          } catch (const io::ReadError& e) {
+            fault.emplace(e);
+          }
+          events.resize(good);
+        }
+        py::array out = adopt(std::move(events), augmented_dtype());
+        if (fault) raise_input_error(*fault, reader ? py::object(out) : py::none());
+        return py::make_tuple(out, sensor_tuple(sensor));
+      },
+      py::arg("path"),
+      R"(Read a file written by `evlife process` (.bin or .csv).
+
+Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
+(width, height) from the .bin header, None for CSV.)");
+
+  m.def(
+      "write",
+      [](const std::filesystem::path& fs_path, const py::array& augmented, const py::object& sensor) {
+        const std::string path = fs_path.string();
+        if (!is_exact(augmented, augmented_dtype())) {
+          throw py::type_error("write: expected a 1-D contiguous array of evlife.AUGMENTED_DTYPE");
+        }
+        const SensorSize s = sensor_from_python(sensor);
+        const auto* data = static_cast<const AugmentedEvent*>(augmented.data());
+        const auto n = static_cast<std::size_t>(augmented.shape(0));
+        py::gil_scoped_release release;
+        auto writer = io::open_augmented_writer(path, s);
+        writer->write(std::span(data, n));
+        writer->close();
+      },
+      py::arg("path"), py::arg("augmented"), py::arg("sensor"),
+      R"(Write augmented events as `evlife process -o` does: .bin (the binary format
+of the README, 32-byte records), .csv or .h5, by extension. Raises OSError
+when the file cannot be written.)");
+}
+
+}  // namespace evlife::python

@@ -1,0 +1,67 @@
+"""The contract: keywords from config/evlife.yaml, docs, the stub."""
+import ast
+import os
+
+import pytest
+
+import evlife
+
+yaml = pytest.importorskip("yaml")
+SOURCE = os.path.join(os.path.dirname(__file__), "..", "..")
+
+
+def yaml_estimator_keys():
+    with open(os.path.join(SOURCE, "config", "evlife.yaml")) as f:
+        section = yaml.safe_load(f)["estimator"]
+    flat = {}
+    for k, v in section.items():
+        if isinstance(v, dict):
+            flat.update({k + "." + kk: vv for kk, vv in v.items()})
+        else:
+            flat[k] = v
+    return flat
+
+
+def test_every_estimator_key_of_the_yaml_is_a_keyword_with_its_default():
+    keys = yaml_estimator_keys()
+    table = evlife.estimator_options()
+    # (The key table may hold keys the YAML does not document yet: test_config's job.)
+    assert {k for k in keys if not k.startswith("sensor.")} <= set(table)
+    for k, v in keys.items():
+        if k.startswith("sensor."):
+            continue
+        assert table[k]["default"] == v, k
+        evlife.LifetimeEstimator(sensor=(32, 32), **{k: v})  # accepted as given
+    assert {"window_size", "regularization", "seed"} <= set(table)
+
+
+def test_config_file_as_cli_config(tmp_path):
+    cfg = tmp_path / "my.yaml"
+    cfg.write_text("estimator:\n  window_size: 9\n")
+    est = evlife.LifetimeEstimator(sensor=(32, 32), config=cfg)
+    assert est.options["window_size"] == 9
+    assert evlife.estimator_options(cfg)["window_size"]["default"] == 9
+    cfg.write_text("estimator:\n  window_size: 8\n")
+    with pytest.raises(ValueError, match="my.yaml:2"):
+        evlife.LifetimeEstimator(sensor=(32, 32), config=cfg)
+
+
+def test_help_shows_docstrings():
+    for obj in (evlife, evlife.read, evlife.open, evlife.process, evlife.process_file,
+                evlife.frame, evlife.LifetimeEstimator, evlife.LifetimeEstimator.process,
+                evlife.Reader, evlife.InputError, evlife.estimator_options, evlife.write,
+                evlife.read_augmented):
+        assert obj.__doc__ and len(obj.__doc__) > 40, obj
+    from evlife import batch
+    assert "Dask" in batch.__doc__ and batch.process_files.__doc__
+
+
+def test_stub_lists_every_public_name_and_keyword():
+    path = os.path.join(os.path.dirname(evlife.__file__), "__init__.pyi")
+    tree = ast.parse(open(path).read())
+    names = {n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+    names |= {t.target.id for t in tree.body if isinstance(t, ast.AnnAssign)}
+    assert set(evlife.__all__) - {"batch"} <= names
+    init = next(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == "__init__")
+    stub_keywords = {a.arg for a in init.args.kwonlyargs} - {"config"}
+    assert stub_keywords == set(evlife.estimator_options())

@@ -1,0 +1,68 @@
+"""evlife.batch on a Dask LocalCluster of 2 workers: the command line's files."""
+import os
+import shutil
+
+import pytest
+
+import evlife
+from conftest import RECORDINGS, cli, data
+
+pytest.importorskip("distributed")
+
+
+def test_local_cluster_of_two_workers_writes_the_cli_files(tmp_path, capsys):
+    from evlife import batch
+    paths = [data("reference/stripes.mat"), data("reference/garfield.mat"),
+             data(RECORDINGS["evt3"]), data(RECORDINGS["aedat2"])]
+    # Same file name twice: both kept (names made unique).
+    copy = tmp_path / "in" / "stripes.mat"
+    copy.parent.mkdir()
+    shutil.copy(paths[0], copy)
+    bad = tmp_path / "in" / "broken.aedat"
+    bad.write_bytes(b"not a recording")
+    paths += [str(copy), str(bad)]
+    out = tmp_path / "out"
+    table = batch.process_files(paths, out, workers=2, window_size=7)
+
+    assert [r.path for r in table] == paths
+    assert [r.path for r in table.failed] == [str(bad)]
+    assert "broken.aedat" in table.failed[0].error and "unknown event file format" in table.failed[0].error
+    for row in table[:-1]:
+        assert row.error is None and row.events > 0 and 0 < row.lifetime_share <= 1
+        expected = tmp_path / ("cli_" + os.path.basename(row.output))
+        cli("process", row.path, "-o", expected, "-q", "--set", "estimator.window_size=7")
+        assert open(row.output, "rb").read() == expected.read_bytes(), row.path
+    assert sorted(os.listdir(out)) == sorted(
+        os.path.basename(r.output) for r in table[:-1])
+    assert "stripes-2.bin" in os.listdir(out)
+    err = capsys.readouterr().err
+    assert "6/6" in err and "FAILED" in err  # progress, failure named
+    text = str(table)
+    assert "broken.aedat" in text and "FAILED" in text
+
+
+def test_bad_options_fail_before_any_task(tmp_path):
+    from evlife import batch
+    with pytest.raises(ValueError, match="window_size"):
+        batch.process_files([data("reference/stripes.mat")], tmp_path, window_size=4)
+    with pytest.raises(TypeError):
+        batch.process_files([data("reference/stripes.mat")], tmp_path, windowsize=5)
+
+
+def test_time_slices_in_parallel(tmp_path):
+    from evlife import batch
+    path = data("reference/stripes.mat")
+    cli("process", path, "-o", tmp_path / "cli.bin", "-q")
+    # A warm-up longer than the recording: every slice's estimator sees the
+    # whole past, so the file is the CLI's, byte for byte.
+    rows = batch.process_slices(path, tmp_path / "full.bin", slices=3, warmup_ms=1e7, workers=2)
+    assert (tmp_path / "full.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
+    assert len(rows) == 3 and all(r.events > 0 for r in rows)
+    assert not [p for p in os.listdir(tmp_path) if ".part" in p]
+    # No warm-up: the same events in the same order, estimates near the slice starts differ.
+    batch.process_slices(path, tmp_path / "cold.bin", slices=3, warmup_ms=0, workers=2)
+    cold, _ = evlife.read_augmented(tmp_path / "cold.bin")
+    whole, _ = evlife.read_augmented(tmp_path / "cli.bin")
+    for f in "txyp":
+        assert (cold[f] == whole[f]).all()
+    assert (cold["lifetime"] != whole["lifetime"]).any()

@@ -1,0 +1,131 @@
+"""Errors: Python exceptions carrying the command line's messages."""
+import numpy as np
+import pytest
+
+import evlife
+from conftest import BIN_DTYPE, RECORDINGS, assert_same_events, cli, data
+
+
+def cli_error(*args):
+    """The CLI's message for a failing `evlife process` (its stderr, prefix and notes cut)."""
+    r = cli("process", *args, check=False)
+    assert r.returncode != 0
+    lines = r.stderr.rstrip("\n").split("\n")
+    keep = [lines[0]] + [l for l in lines[1:] if not l.startswith("evlife process: ")]
+    message = "\n".join(keep)
+    for prefix in ("evlife process: configuration error: ", "evlife process: input error: "):
+        if message.startswith(prefix):
+            return message[len(prefix):]
+    raise AssertionError("unexpected CLI message: " + r.stderr)
+
+
+@pytest.mark.parametrize("key,value,python_value", [
+    ("window_size", "4", 4),
+    ("outlier_fraction", "0.95", 0.95),
+    ("inlier_tolerance_us", "0", 0),
+    ("seed", "-1", -1),
+    ("regularization", "maybe", "maybe"),
+])
+def test_bad_option_values_raise_valueerror_with_the_cli_message(key, value, python_value, tmp_path):
+    expected = cli_error(data(RECORDINGS["mat"]), "-o", tmp_path / "x.bin",
+                         "--set", "estimator.%s=%s" % (key, value))
+    with pytest.raises(ValueError) as e:
+        evlife.LifetimeEstimator(sensor=(128, 128), **{key: python_value})
+    origin = "evlife.LifetimeEstimator(%s=%s)" % (key, value)
+    assert str(e.value) == expected.replace("--set estimator.%s=%s" % (key, value), origin)
+
+
+def test_wrong_types_and_unknown_keywords_raise_typeerror():
+    with pytest.raises(TypeError, match="did you mean 'estimator.window_size'"):
+        evlife.LifetimeEstimator(sensor=(128, 128), windowsize=5)
+    with pytest.raises(TypeError, match="regularization: expected True or False"):
+        evlife.LifetimeEstimator(sensor=(128, 128), regularization=1)
+    with pytest.raises(TypeError, match="window_size: expected an integer"):
+        evlife.LifetimeEstimator(sensor=(128, 128), window_size=5.0)
+    with pytest.raises(TypeError, match="sensor"):
+        evlife.LifetimeEstimator(sensor=128)
+    with pytest.raises(ValueError, match="sensor.width = 0"):
+        evlife.LifetimeEstimator(sensor=(0, 128))
+    with pytest.raises(TypeError):
+        evlife.process(data(RECORDINGS["mat"]), windowsize=5)
+
+
+def test_missing_file_is_filenotfounderror(tmp_path):
+    missing = tmp_path / "nope.aedat4"
+    expected = cli_error(missing, "-o", tmp_path / "x.bin")
+    for call in (evlife.read, evlife.open, evlife.process):
+        with pytest.raises(FileNotFoundError) as e:
+            call(missing)
+        assert str(e.value) == expected
+        assert isinstance(e.value, OSError)
+
+
+def test_unknown_format_is_inputerror_with_the_cli_message(tmp_path):
+    bad = tmp_path / "noise.aedat"
+    bad.write_bytes(b"this is no recording\n" * 10)
+    expected = cli_error(bad, "-o", tmp_path / "x.bin")
+    with pytest.raises(evlife.InputError) as e:
+        evlife.process(bad)
+    assert str(e.value) == expected and isinstance(e.value, ValueError)
+    assert e.value.path == str(bad)
+
+
+def test_truncated_file_keeps_the_events_before_the_fault(tmp_path):
+    src = data(RECORDINGS["aedat2"])
+    cut = tmp_path / "cut.aedat"
+    cut.write_bytes(open(src, "rb").read()[:100_001])
+    expected = cli_error(cut, "-o", tmp_path / "cli.bin")
+    written = np.fromfile(tmp_path / "cli.bin", dtype=BIN_DTYPE, offset=32)
+    with pytest.raises(evlife.InputError) as e:
+        evlife.process(cut)
+    assert str(e.value) == expected
+    assert e.value.event_index == len(written) and e.value.byte_offset > 0
+    assert_same_events(e.value.partial, written)  # nothing good is lost
+    with pytest.raises(evlife.InputError):
+        evlife.process_file(cut, tmp_path / "py.bin")
+    assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
+    with evlife.open(cut, chunk_events=10_000_000) as r:
+        first = r.read()  # the good events first ...
+        assert len(first) == len(written)
+        with pytest.raises(evlife.InputError):  # ... the fault next
+            r.read()
+
+
+def test_bad_arrays_name_the_event_and_leave_the_state_unchanged():
+    events = evlife.read(data(RECORDINGS["mat"]))
+    whole = evlife.process(events, sensor=(128, 128))
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    first = est.process(events[:1000])
+    bad = events[1000:2000].copy()
+    bad["x"][17] = 500
+    with pytest.raises(evlife.InputError, match=r"outside the 128x128 sensor.*event index 17"):
+        est.process(bad)
+    backwards = events[1000:2000].copy()
+    backwards["t"][5] = 0
+    with pytest.raises(evlife.InputError, match=r"timestamp goes backwards.*event index 5"):
+        est.process(backwards)
+    polarity = events[1000:2000].copy()
+    polarity["p"][3] = 2
+    with pytest.raises(evlife.InputError, match=r"polarity 2.*event index 3"):
+        est.process(polarity)
+    rest = est.process(events[1000:])  # as if the bad calls never happened
+    assert_same_events(np.concatenate([first, rest]), whole)
+
+
+def test_arrays_without_integer_t_x_y_p_raise_typeerror():
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    with pytest.raises(TypeError, match="no field 'p'"):
+        est.process(np.zeros(3, dtype=[("t", "i8"), ("x", "u2"), ("y", "u2")]))
+    with pytest.raises(TypeError, match="integer microseconds"):
+        est.process(np.zeros(3, dtype=[("t", "f8"), ("x", "u2"), ("y", "u2"), ("p", "i1")]))
+    with pytest.raises(ValueError, match="differ in length"):
+        est.process({"t": np.zeros(3, "i8"), "x": np.zeros(2, "u2"), "y": np.zeros(3, "u2"),
+                     "p": np.ones(3, "i1")})
+
+
+def test_unwritable_output_is_oserror(tmp_path):
+    aug = evlife.process(evlife.read(data(RECORDINGS["mat"]))[:100], sensor=(128, 128))
+    with pytest.raises(OSError):
+        evlife.write(tmp_path / "missing-dir" / "x.bin", aug, (128, 128))
+    with pytest.raises(OSError):
+        evlife.write(tmp_path / "x.xyz", aug, (128, 128))

@@ -1,0 +1,62 @@
+"""evlife.frame: the pixels of the PNG `evlife render --at` writes."""
+import numpy as np
+import pytest
+
+import evlife
+from conftest import cli, data
+
+PIL_Image = pytest.importorskip("PIL.Image")
+
+
+def cli_frame(tmp_path, augmented_bin, at_s, *args):
+    png = tmp_path / ("frame_%s.png" % at_s)
+    cli("render", augmented_bin, "--at", at_s, "-o", png, "-q", *args)
+    return np.asarray(PIL_Image.open(png).convert("RGB"))
+
+
+@pytest.fixture(scope="module")
+def stripes(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("frame")
+    path = data("reference/stripes.mat")
+    cli("process", path, "-o", tmp / "stripes.bin", "-q")
+    aug, sensor = evlife.read_augmented(tmp / "stripes.bin")
+    return tmp, tmp / "stripes.bin", aug, sensor
+
+
+@pytest.mark.parametrize("mode,at_s", [("lifetime", "0.5"), ("compare", "0.25"),
+                                        ("window:10ms", "1.0")])
+def test_frame_equals_cli_render(stripes, mode, at_s):
+    tmp, bin_path, aug, sensor = stripes
+    expected = cli_frame(tmp, bin_path, at_s, "--mode", mode)
+    t_us = int(aug["t"][0]) + int(round(float(at_s) * 1e6))
+    image = evlife.frame(aug, t_us, sensor=sensor, mode=mode)
+    assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
+    assert image.shape == expected.shape
+    assert np.array_equal(image, expected)
+    assert (image.reshape(-1, 3).max(axis=1) > 0).mean() > 0.01  # something is drawn
+
+
+def test_frame_options_as_cli_flags(stripes):
+    tmp, bin_path, aug, sensor = stripes
+    expected = cli_frame(tmp, bin_path, "0.5", "--color", "polarity", "--scale", "2",
+                         "--no-caption", "--no-legend", "--no-thinning")
+    image = evlife.frame(aug, int(aug["t"][0]) + 500_000, sensor=sensor, color="polarity",
+                         scale=2, caption=False, legend=False, thinning=False)
+    assert image.shape[1] == 2 * sensor[0]
+    assert np.array_equal(image, expected)
+
+
+def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
+    _, _, aug, sensor = stripes
+    t0 = int(aug["t"][0])
+    a = evlife.frame(aug, t0 + 300_000, sensor=sensor, caption=False, legend=False)
+    b = evlife.frame(aug, t0 + 900_000, sensor=sensor, caption=False, legend=False)
+    assert not np.array_equal(a, b)
+    with pytest.raises(ValueError):
+        evlife.frame(aug, t0, sensor=sensor, mode="sideways")
+    with pytest.raises(ValueError):
+        evlife.frame(aug, t0, sensor=sensor, color="purple")
+    with pytest.raises(ValueError):
+        evlife.frame(aug[:0], t0, sensor=sensor)
+    with pytest.raises(TypeError, match="lifetime"):
+        evlife.frame(evlife.read(data("reference/stripes.mat")), t0, sensor=sensor)

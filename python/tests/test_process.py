@@ -1,0 +1,96 @@
+"""evlife.process / LifetimeEstimator / process_file: the same results as `evlife process`."""
+import numpy as np
+import pytest
+
+import evlife
+from conftest import RECORDINGS, assert_same_events, cli, cli_bin, data
+
+
+@pytest.mark.parametrize("name", ["reference/stripes.mat", "reference/garfield.mat"])
+def test_process_path_equals_cli_bin_on_the_reference_recordings(name, tmp_path):
+    path = data(name)
+    expected, sensor = cli_bin(tmp_path, path)
+    actual = evlife.process(path)
+    assert actual.dtype == evlife.AUGMENTED_DTYPE
+    assert_same_events(actual, expected)
+    assert (actual["lifetime"] > 0).mean() > 0.3  # the recordings have edges: not all noise
+    # And the array route: read, then estimate with the CLI's sensor.
+    assert_same_events(evlife.process(evlife.read(path), sensor=sensor), expected)
+
+
+@pytest.mark.parametrize("fmt", ["aedat4", "evt3", "rpg-text"])
+def test_process_other_formats_equal_cli(fmt, tmp_path):
+    path = data(RECORDINGS[fmt])
+    expected, _ = cli_bin(tmp_path, path)
+    assert_same_events(evlife.process(path), expected)
+
+
+def test_options_reach_the_estimator_as_cli_set(tmp_path):
+    path = data("reference/garfield.mat")
+    expected, _ = cli_bin(tmp_path, path, "--set", "estimator.window_size=7",
+                          "--set", "estimator.regularization=false")
+    actual = evlife.process(path, window_size=7, regularization=False)
+    assert_same_events(actual, expected)
+    default = evlife.process(path)
+    assert not np.array_equal(default["lifetime"], actual["lifetime"])
+
+
+def test_sensor_argument_as_cli_sensor(tmp_path):
+    path = data(RECORDINGS["rpg-text"])
+    expected, sensor = cli_bin(tmp_path, path, "--sensor", "300x200")
+    assert sensor == (300, 200)
+    assert_same_events(evlife.process(path, sensor=(300, 200)), expected)
+
+
+def test_process_file_writes_the_cli_bytes(tmp_path):
+    path = data("reference/stripes.mat")
+    cli("process", path, "-o", tmp_path / "cli.bin", "-q")
+    info = evlife.process_file(path, tmp_path / "py.bin")
+    assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
+    assert info["events"] > 0 and info["format"] == "mat"
+    aug, sensor = evlife.read_augmented(tmp_path / "py.bin")
+    assert sensor == info["sensor"]
+    assert_same_events(aug, evlife.process(path))
+
+
+def test_chunked_equals_whole():
+    events = evlife.read(data("reference/stripes.mat"))
+    whole = evlife.LifetimeEstimator(sensor=(128, 128)).process(events)
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    rng = np.random.default_rng(1)
+    cuts = np.sort(rng.choice(np.arange(1, len(events)), size=40, replace=False))
+    parts = [est.process(c) for c in np.split(events, cuts)] + [est.process(events[:0])]
+    assert_same_events(np.concatenate(parts), whole)
+    assert est.stats["events"] == len(events)
+    est.reset()
+    assert_same_events(est.process(events), whole)  # reset forgets everything
+
+
+def test_any_array_with_t_x_y_p_and_every_polarity_convention():
+    events = evlife.read(data("reference/garfield.mat"))
+    expected = evlife.process(events, sensor=(128, 128))
+    on = events["p"] > 0
+    variants = {
+        "01": {"t": events["t"], "x": events["x"].astype(np.int64),
+               "y": events["y"].astype(np.int32), "p": on.astype(np.uint8)},
+        "bool": {"t": events["t"], "x": events["x"], "y": events["y"], "p": on},
+    }
+    other = np.zeros(len(events), dtype=[("p", "i2"), ("y", ">u2"), ("x", "<i4"), ("t", "<u8"),
+                                         ("extra", "f8")])
+    for f in "txyp":
+        other[f] = events[f]
+    variants["other structured"] = other
+    variants["strided view"] = np.zeros(len(events), dtype=evlife.AUGMENTED_DTYPE)
+    for f in "txyp":
+        variants["strided view"][f] = events[f]
+    for name, v in variants.items():
+        assert_same_events(evlife.process(v, sensor=(128, 128)), expected), name
+
+
+def test_estimator_options_are_the_cli_defaults():
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    table = evlife.estimator_options()
+    assert est.options == {k: v["default"] for k, v in table.items()}
+    est7 = evlife.LifetimeEstimator(sensor=(128, 128), window_size=7, seed=7)
+    assert est7.options["window_size"] == 7 and est7.options["seed"] == 7
+    assert est7.sensor == (128, 128)

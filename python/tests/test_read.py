@@ -1,0 +1,66 @@
+"""evlife.read / evlife.open on every input format, against the command line."""
+import numpy as np
+import pytest
+
+import evlife
+from conftest import RECORDINGS, assert_same_events, cli, cli_bin, data
+
+
+def test_event_dtype_is_the_contract():
+    d = evlife.EVENT_DTYPE
+    assert d.names == ("t", "x", "y", "p")
+    assert [d[f] for f in d.names] == [np.dtype("<i8"), np.dtype("<u2"), np.dtype("<u2"), np.dtype("i1")]
+    assert d.itemsize == 16
+    assert evlife.AUGMENTED_DTYPE.names == ("t", "x", "y", "p", "lifetime", "vx", "vy",
+                                            "prediction_error")
+    assert evlife.AUGMENTED_DTYPE.itemsize == 32
+
+
+@pytest.mark.parametrize("fmt", sorted(RECORDINGS))
+def test_read_every_format_equals_the_cli_input_fields(fmt, tmp_path):
+    path = data(RECORDINGS[fmt])
+    events = evlife.read(path)
+    expected, _ = cli_bin(tmp_path, path)  # the CLI copies t, x, y, p of every event as read
+    assert len(events) > 1000
+    assert_same_events(events, expected, ["t", "x", "y", "p"])
+    assert set(np.unique(events["p"])) <= {-1, 1}
+    with evlife.open(path) as r:
+        assert r.format == fmt
+
+
+def test_read_hdf5_made_by_the_cli(tmp_path):
+    src = data(RECORDINGS["rpg-text"])
+    h5 = tmp_path / "slider.h5"
+    cli("convert", src, h5)
+    assert_same_events(evlife.read(h5), evlife.read(src), ["t", "x", "y", "p"])
+    with evlife.open(h5) as r:
+        assert r.format == "hdf5"
+
+
+def test_open_yields_bounded_chunks_equal_to_read():
+    path = data(RECORDINGS["evt2"])
+    whole = evlife.read(path)
+    with evlife.open(path, chunk_events=50_000) as r:
+        chunks = list(r)
+        assert r.sensor is None or len(r.sensor) == 2
+    assert all(0 < len(c) <= 50_000 for c in chunks)
+    assert len(chunks) == -(-len(whole) // 50_000)
+    assert_same_events(np.concatenate(chunks), whole, ["t", "x", "y", "p"])
+
+
+def test_reader_reports_sensor_and_format():
+    with evlife.open(data(RECORDINGS["mat"])) as r:
+        assert r.format == "mat"
+        assert r.sensor is None  # .mat states no size
+        first = r.read(10)
+        assert len(first) == 10 and first.dtype == evlife.EVENT_DTYPE
+    with evlife.open(data(RECORDINGS["mat"]), sensor=(128, 128)) as r:
+        assert r.sensor == (128, 128)
+
+
+def test_read_checks_the_given_sensor():
+    path = data(RECORDINGS["mat"])
+    with pytest.raises(evlife.InputError, match="outside the 64x64 sensor") as e:
+        evlife.read(path, sensor=(64, 64))
+    assert e.value.event_index >= 0
+    assert e.value.partial is not None and len(e.value.partial) == e.value.event_index
