@@ -464,8 +464,9 @@ TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
     ASSERT_EQ(ee::LatencyHistogram::bucket_of(ee::LatencyHistogram::bucket_upper(i)), i);
 }
 
-// ---- Configuration -------------------------------------------------------------
+// ---- Configuration (not in a core-only build: no config component) -------------
 
+#if __has_include("evlife/config/config.h")
 #include "evlife/config/config.h"
 
 TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
@@ -489,9 +490,11 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
   EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
 }
+#endif
 
-// ---- Render thread ---------------------------------------------------------------
+// ---- Render thread (not in a core-only build: no render component) ---------------
 
+#if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
 namespace {
@@ -565,6 +568,7 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
   // Frames are not all alike (they show the motion).
   EXPECT_NE(inline_run.frames.hashes.front(), inline_run.frames.hashes.back());
 }
+#endif
 
 // ---- The command line --------------------------------------------------------
 
