@@ -13,7 +13,9 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE BOTH)   # header-only Eigen, concurrentqueue
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
 set(ENV{PKG_CONFIG_LIBDIR} "/usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig")
-# Test programs (and gtest_discover_tests) run through qemu-user; -L finds the
-# target's dynamic loader, the multiarch libraries sit in the usual paths.
+# Test programs (and gtest_discover_tests) run through qemu-user, with the
+# arm64 multiarch C library (libc6:arm64, /lib/ld-linux-aarch64.so.1). Not
+# with `-L /usr/aarch64-linux-gnu`: that loader (libc6-arm64-cross) with the
+# multiarch libc.so.6 of another version hangs in pthread_create.
 find_program(EVLIFE_QEMU_AARCH64 qemu-aarch64 REQUIRED)
-set(CMAKE_CROSSCOMPILING_EMULATOR ${EVLIFE_QEMU_AARCH64} -L /usr/aarch64-linux-gnu)
+set(CMAKE_CROSSCOMPILING_EMULATOR ${EVLIFE_QEMU_AARCH64})
