@@ -16,6 +16,7 @@
 
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/engine/engine.h"
+#include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/tile_layout.h"
@@ -449,6 +450,74 @@ TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
   EXPECT_GT(r.stats.latency_max_us, 0.0);
   EXPECT_LE(r.stats.latency_p50_us, r.stats.latency_p99_us);
   EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
+}
+
+// ---- The pipeline in a host's scheduler: run_for() and PacketSource ---------
+
+TEST(PacketSource, RefusesAndCountsWhatDoesNotFitThenEndsAfterClose) {
+  const auto events = stripes(100);
+  ee::PacketSource source(kDvs128, 64);
+  EXPECT_EQ(source.kind(), ee::SourceKind::live);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data(), 40)), 40u);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data() + 40, 40)), 24u);  // 16 refused
+  EXPECT_EQ(source.lost_events(), 16u);
+  std::vector<Event> out(100);
+  EXPECT_EQ(source.pull(std::span<Event>(out.data(), 50)), 50u);
+  source.close();
+  EXPECT_EQ(source.status(), ee::SourceStatus::ok);  // 14 still buffered
+  EXPECT_EQ(source.pull(std::span<Event>(out.data() + 50, 50)), 14u);
+  EXPECT_EQ(source.status(), ee::SourceStatus::end_of_stream);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data(), 5)), 0u);  // after close: lost
+  EXPECT_EQ(source.lost_events(), 21u);
+  for (std::size_t i = 0; i < 64; ++i) ASSERT_TRUE(same_bits(AugmentedEvent{out[i]}, AugmentedEvent{events[i]}));
+}
+
+TEST(Pipeline, RunForStopsAtItsBudgetAndResumesToTheBareEstimatorsOutput) {
+  const auto events = stripes(20'000);
+  const auto expect = bare_estimator(events, kDvs128);
+  Collector c;
+  ee::PacketSource source(kDvs128, events.size());
+  ee::Pipeline pipeline(source, &c.sink, engine_options(2, 1, 1, kDvs128));
+  source.push(events);
+  source.close();
+  // Budget 0: every call makes exactly one round and says it stopped at the budget.
+  int calls = 0;
+  ee::PipelineRunReport r;
+  do {
+    r = pipeline.run_for(0);
+    ++calls;
+    ASSERT_EQ(r.rounds, 1);
+    ASSERT_TRUE(r.finished || r.budget_exhausted);
+  } while (!r.finished && calls < 1'000'000);
+  ASSERT_TRUE(r.finished);
+  // 256-event chunks: at least one round per chunk.
+  EXPECT_GE(calls, static_cast<int>(events.size() / 256));
+  EXPECT_TRUE(same_bits(c.events, expect));
+  EXPECT_EQ(pipeline.run_for(1'000'000).finished, true);  // stays finished
+}
+
+TEST(Pipeline, RunForReturnsWhenTheSourceHasNothingMore) {
+  const auto events = stripes(5'000);
+  Collector c;
+  ee::PacketSource source(kDvs128, events.size());
+  ee::Pipeline pipeline(source, &c.sink, engine_options(2, 1, 1, kDvs128));
+  // Nothing pushed: returns at once, idle, neither finished nor out of budget.
+  ee::PipelineRunReport r = pipeline.run_for(1'000'000'000);
+  EXPECT_FALSE(r.finished);
+  EXPECT_FALSE(r.budget_exhausted);
+  EXPECT_EQ(r.events_out, 0u);
+  // Half the events: a large budget processes all of them and returns idle.
+  source.push(std::span<const Event>(events.data(), 2'500));
+  r = pipeline.run_for(10'000'000'000);
+  EXPECT_FALSE(r.finished);
+  EXPECT_FALSE(r.budget_exhausted);
+  EXPECT_EQ(r.events_out, 2'500u);
+  source.push(std::span<const Event>(events.data() + 2'500, 2'500));
+  source.close();
+  r = pipeline.run_for(10'000'000'000);
+  EXPECT_TRUE(r.finished);
+  EXPECT_EQ(r.events_out, 2'500u);
+  EXPECT_TRUE(same_bits(c.events, bare_estimator(events, kDvs128)));
 }
 
 TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
