@@ -24,7 +24,7 @@ namespace {
 
 long long heap_in_use() {
   const struct mallinfo2 m = mallinfo2();
-  return static_cast<long long>(m.uordblks + m.hblkhd);
+  return static_cast<long long>(m.uordblks) + static_cast<long long>(m.hblkhd);
 }
 
 long long rss_bytes() {
