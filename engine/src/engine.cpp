@@ -172,6 +172,7 @@ RunResult Engine::run() {
     gate.store(2, std::memory_order_release);
     gate.notify_all();
     for (auto& t : threads) t.join();
+    if (rt.lock_memory) unlock_process_memory();  // nothing of this run stays locked
     RunResult refused;
     refused.status = RunStatus::realtime_error;
     refused.message = rt_error;

@@ -28,6 +28,8 @@ std::string lock_process_memory() {
          rlimit_text(RLIMIT_MEMLOCK) + " bytes)";
 }
 
+void unlock_process_memory() noexcept { munlockall(); }
+
 std::string pin_thread(pthread_t thread, int cpu) {
   if (cpu < 0) return {};
   if (cpu >= CPU_SETSIZE) return "--cpus: CPU " + std::to_string(cpu) + " is beyond CPU_SETSIZE";

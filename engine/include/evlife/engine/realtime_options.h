@@ -22,7 +22,9 @@ struct RealtimeOptions {
   int rt_priority = 0;
   /// mlockall(MCL_CURRENT | MCL_FUTURE) before the threads start: every pool,
   /// the estimators' state and the queues (allocated by then) are faulted in
-  /// and locked, and so is each thread's stack as it is created.
+  /// and locked, and so is each thread's stack as it is created. The lock is
+  /// the process's: it stays after run() returns (munlockall() to undo),
+  /// except when a setting was refused (then run() undoes it).
   bool lock_memory = false;
 
   bool any() const noexcept { return !cpus.empty() || rt_priority != 0 || lock_memory; }

@@ -11,6 +11,8 @@ namespace evlife::engine {
 
 /// mlockall(MCL_CURRENT | MCL_FUTURE).
 std::string lock_process_memory();
+/// munlockall() (undoes it when a later setting is refused).
+void unlock_process_memory() noexcept;
 
 /// Pins `thread` to `cpu` (cpu < 0: leave as is).
 std::string pin_thread(pthread_t thread, int cpu);
