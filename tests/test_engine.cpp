@@ -884,4 +884,19 @@ TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(refused.exit_code, 5);
   EXPECT_NE(refused.output.find("--cpus: cannot pin a thread to CPU 1023"), std::string::npos) << refused.output;
 }
+
+TEST(RunCommand, SummaryStatesTheRealtimeSettingsApplied) {
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
+  const auto plain = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0", kCliLog);
+  EXPECT_EQ(plain.exit_code, 0);
+  EXPECT_NE(plain.output.find("realtime: none (default scheduling"), std::string::npos) << plain.output;
+  if (!realtime_permitted()) GTEST_SKIP() << "no CAP_SYS_NICE / RLIMIT_RTPRIO here";
+  const auto rt = evlife::test::run_cli(
+      EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0 --cpus 0 --rt-priority 5 --lock-memory", kCliLog);
+  EXPECT_EQ(rt.exit_code, 0) << rt.output;
+  EXPECT_NE(rt.output.find("realtime: cpus source:0 worker0:0 worker1:0 merger:0; SCHED_FIFO 5 (source, "
+                           "workers, merger); memory locked"),
+            std::string::npos)
+      << rt.output;
+}
 #endif
