@@ -159,7 +159,7 @@ RunResult Engine::run() {
     });
   }
 
-  std::string applied_cpus, fifo_threads;
+  std::string applied_cpus;
   for (std::size_t i = 0; i < threads.size() && rt_error.empty(); ++i) {
     const int cpu = rt.cpus.empty() ? -1 : rt.cpus[i % rt.cpus.size()];
     rt_error = pin_thread(threads[i].native_handle(), cpu);
