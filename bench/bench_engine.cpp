@@ -6,6 +6,7 @@
 //    the replay paced at 1 M events/s (drop policy, as for a live camera).
 // Run: build/bench/bench_engine --benchmark_min_time=1
 #include <benchmark/benchmark.h>
+#include <sys/mman.h>
 
 #include <time.h>
 
@@ -181,7 +182,25 @@ BENCHMARK(BM_Engine)
 // packets of packet_us as a camera's USB transfers; policy drop as for a
 // camera. Latency starts when an event's packet was due (so a lagging engine
 // shows); age_p99 adds the event's wait for its packet.
-void BM_EngineLatency(benchmark::State& state) {
+void engine_latency(benchmark::State& state, const ee::RealtimeOptions& realtime);
+void BM_EngineLatency(benchmark::State& state) { engine_latency(state, {}); }
+
+// The same with the real-time settings of `evlife run --cpus 0,1
+// --rt-priority 50 --lock-memory` (realtime:1) and without (realtime:0), run
+// alternately so that both see the same machine load. Needs CAP_SYS_NICE and
+// CAP_IPC_LOCK (root in the container here): else the benchmark reports the
+// refusal as an error.
+void BM_EngineLatencyRealtime(benchmark::State& state) {
+  ee::RealtimeOptions rt;
+  if (state.range(5) != 0) {
+    rt.cpus = {0, 1};
+    rt.rt_priority = 50;
+    rt.lock_memory = true;
+  }
+  engine_latency(state, rt);
+}
+
+void engine_latency(benchmark::State& state, const ee::RealtimeOptions& realtime) {
   const int which = static_cast<int>(state.range(0));
   const int workers = static_cast<int>(state.range(1));
   const double target_rate = static_cast<double>(state.range(2)) * 1e3;
@@ -192,6 +211,7 @@ void BM_EngineLatency(benchmark::State& state) {
   o.auto_policy = false;
   o.policy = ee::OverloadPolicy::drop;
   o.batch_events = 256;
+  o.realtime = realtime;
   const double rate = static_cast<double>(rec.events.size()) / rec.duration_s;
   const double speed = target_rate / rate;
   ee::EngineStats st;
@@ -199,7 +219,13 @@ void BM_EngineLatency(benchmark::State& state) {
     ee::ReplaySource source(rec.events, rec.sensor, speed, ee::SourceKind::live);
     source.set_packet_us(packet_us);
     ee::Engine engine(source, nullptr, o);
-    st = engine.run().stats;
+    const ee::RunResult r = engine.run();
+    if (realtime.lock_memory) munlockall();
+    if (r.status == ee::RunStatus::realtime_error) {
+      state.SkipWithError(r.message.c_str());
+      return;
+    }
+    st = r.stats;
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rec.events.size()));
   state.counters["p50_us"] = st.latency_p50_us;
@@ -232,6 +258,12 @@ BENCHMARK(BM_EngineLatency)
     ->Name("BM_EngineLatencySpin")
     ->ArgsProduct({{0, 1}, {1, 2}, {1000, 200}, {ee::ReplaySource::kDefaultPacketUs}, {100}})
     ->ArgNames({"data", "workers", "kev_per_s", "packet_us", "idle_spin_us"})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_EngineLatencyRealtime)
+    ->ArgsProduct({{0, 1}, {2}, {1000}, {ee::ReplaySource::kDefaultPacketUs}, {0, 100}, {0, 1}})
+    ->ArgNames({"data", "workers", "kev_per_s", "packet_us", "idle_spin_us", "realtime"})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -3,6 +3,13 @@
 // the bare LifetimeEstimator run by hand (not from the engine) or from
 // counting; stages are also driven without threads (Pipeline::step_all).
 #include <gtest/gtest.h>
+#include <grp.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -16,6 +23,8 @@
 
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/engine/engine.h"
+#include "evlife/engine/realtime_thread.h"
+#include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/tile_layout.h"
@@ -451,6 +460,223 @@ TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
   EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
 }
 
+// ---- The pipeline in a host's scheduler: run_for() and PacketSource ---------
+
+TEST(PacketSource, RefusesAndCountsWhatDoesNotFitThenEndsAfterClose) {
+  const auto events = stripes(100);
+  ee::PacketSource source(kDvs128, 64);
+  EXPECT_EQ(source.kind(), ee::SourceKind::live);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data(), 40)), 40u);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data() + 40, 40)), 24u);  // 16 refused
+  EXPECT_EQ(source.lost_events(), 16u);
+  std::vector<Event> out(100);
+  EXPECT_EQ(source.pull(std::span<Event>(out.data(), 50)), 50u);
+  source.close();
+  EXPECT_EQ(source.status(), ee::SourceStatus::ok);  // 14 still buffered
+  EXPECT_EQ(source.pull(std::span<Event>(out.data() + 50, 50)), 14u);
+  EXPECT_EQ(source.status(), ee::SourceStatus::end_of_stream);
+  EXPECT_EQ(source.push(std::span<const Event>(events.data(), 5)), 0u);  // after close: lost
+  EXPECT_EQ(source.lost_events(), 21u);
+  for (std::size_t i = 0; i < 64; ++i) ASSERT_TRUE(same_bits(AugmentedEvent{out[i]}, AugmentedEvent{events[i]}));
+}
+
+TEST(Pipeline, RunForStopsAtItsBudgetAndResumesToTheBareEstimatorsOutput) {
+  const auto events = stripes(20'000);
+  const auto expect = bare_estimator(events, kDvs128);
+  Collector c;
+  ee::PacketSource source(kDvs128, events.size());
+  ee::Pipeline pipeline(source, &c.sink, engine_options(2, 1, 1, kDvs128));
+  source.push(events);
+  source.close();
+  // Budget 0: every call makes exactly one round and says it stopped at the budget.
+  int calls = 0;
+  ee::PipelineRunReport r;
+  do {
+    r = pipeline.run_for(0);
+    ++calls;
+    ASSERT_EQ(r.rounds, 1);
+    ASSERT_TRUE(r.finished || r.budget_exhausted);
+  } while (!r.finished && calls < 1'000'000);
+  ASSERT_TRUE(r.finished);
+  // 256-event chunks: at least one round per chunk.
+  EXPECT_GE(calls, static_cast<int>(events.size() / 256));
+  EXPECT_TRUE(same_bits(c.events, expect));
+  EXPECT_EQ(pipeline.run_for(1'000'000).finished, true);  // stays finished
+}
+
+TEST(Pipeline, RunForReturnsWhenTheSourceHasNothingMore) {
+  const auto events = stripes(5'000);
+  Collector c;
+  ee::PacketSource source(kDvs128, events.size());
+  ee::Pipeline pipeline(source, &c.sink, engine_options(2, 1, 1, kDvs128));
+  // Nothing pushed: returns at once, idle, neither finished nor out of budget.
+  ee::PipelineRunReport r = pipeline.run_for(1'000'000'000);
+  EXPECT_FALSE(r.finished);
+  EXPECT_FALSE(r.budget_exhausted);
+  EXPECT_EQ(r.events_out, 0u);
+  // Half the events: a large budget processes all of them and returns idle.
+  source.push(std::span<const Event>(events.data(), 2'500));
+  r = pipeline.run_for(10'000'000'000);
+  EXPECT_FALSE(r.finished);
+  EXPECT_FALSE(r.budget_exhausted);
+  EXPECT_EQ(r.events_out, 2'500u);
+  source.push(std::span<const Event>(events.data() + 2'500, 2'500));
+  source.close();
+  r = pipeline.run_for(10'000'000'000);
+  EXPECT_TRUE(r.finished);
+  EXPECT_EQ(r.events_out, 2'500u);
+  EXPECT_TRUE(same_bits(c.events, bare_estimator(events, kDvs128)));
+}
+
+// ---- Real-time settings (realtime_options.h) ---------------------------------
+
+namespace {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitizerBuild = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+constexpr bool kSanitizerBuild = true;
+#else
+constexpr bool kSanitizerBuild = false;
+#endif
+#else
+constexpr bool kSanitizerBuild = false;
+#endif
+
+// Whether this process may use SCHED_FIFO and pin to CPU 0 (probed on the
+// calling thread, then restored).
+bool realtime_permitted() {
+  const pthread_t self = pthread_self();
+  int policy = 0;
+  sched_param old{};
+  pthread_getschedparam(self, &policy, &old);
+  cpu_set_t old_set;
+  pthread_getaffinity_np(self, sizeof old_set, &old_set);
+  const bool ok = ee::set_fifo_priority(self, 10).empty() && ee::pin_thread(self, 0).empty();
+  pthread_setschedparam(self, policy, &old);
+  pthread_setaffinity_np(self, sizeof old_set, &old_set);
+  return ok;
+}
+
+// Runs `fn` in a child process that gave up root's privileges (uid/gid
+// nobody: no CAP_SYS_NICE, no CAP_IPC_LOCK) and whose limits allow no
+// real-time priority and 64 KiB of locked memory; returns the child's exit code.
+template <typename Fn>
+int in_unprivileged_child(Fn fn) {
+  const pid_t child = fork();
+  if (child == 0) {
+    const rlimit rtprio{0, 0}, memlock{64 * 1024, 64 * 1024};
+    setrlimit(RLIMIT_RTPRIO, &rtprio);
+    setrlimit(RLIMIT_MEMLOCK, &memlock);
+    if (geteuid() == 0 && (setgroups(0, nullptr) != 0 || setresgid(65534, 65534, 65534) != 0 ||
+                           setresuid(65534, 65534, 65534) != 0))
+      _exit(90);
+    _exit(fn());
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 100 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+}  // namespace
+
+TEST(Realtime, CpuListParsesRangesAndNamesBadParts) {
+  EXPECT_EQ(ee::parse_cpu_list("0,2-4,1"), (std::vector<int>{0, 2, 3, 4, 1}));
+  EXPECT_THROW(ee::parse_cpu_list("0,x"), std::invalid_argument);
+  EXPECT_THROW(ee::parse_cpu_list("3-1"), std::invalid_argument);
+  ee::EngineOptions o;
+  o.realtime.rt_priority = 100;
+  EXPECT_NE(ee::validate_engine_options(o).find("rt_priority"), std::string::npos);
+}
+
+TEST(Realtime, PinnedFifoThreadsAreWhatTheSinkRunsOn) {
+  if (!realtime_permitted()) GTEST_SKIP() << "no CAP_SYS_NICE / RLIMIT_RTPRIO here: see RefusedSettings tests";
+  const auto events = stripes(20'000);
+  std::mutex m;
+  std::vector<int> cpus, policies;
+  Collector c;
+  ee::CallbackSink sink([&](std::span<const AugmentedEvent> s) {
+    std::lock_guard lock(m);
+    c.events.insert(c.events.end(), s.begin(), s.end());
+    cpus.push_back(sched_getcpu());  // the merge runs on a worker or the merger thread
+    policies.push_back(sched_getscheduler(0));
+  });
+  ee::ReplaySource source(events, kDvs128);
+  auto options = engine_options(2, 1, 1, kDvs128);
+  options.realtime.cpus = {0};
+  options.realtime.rt_priority = 10;
+  // Not under a sanitizer: mlockall would fault in its terabytes of shadow mappings.
+  options.realtime.lock_memory = !kSanitizerBuild;
+  ee::Engine engine(source, &sink, options);
+  const ee::RunResult r = engine.run();
+  munlockall();
+  ASSERT_EQ(r.status, ee::RunStatus::completed) << r.message;
+  EXPECT_TRUE(same_bits(c.events, bare_estimator(events, kDvs128)));
+  ASSERT_FALSE(cpus.empty());
+  for (std::size_t i = 0; i < cpus.size(); ++i) {
+    EXPECT_EQ(cpus[i], 0);
+    EXPECT_EQ(policies[i], SCHED_FIFO);
+  }
+  EXPECT_NE(r.realtime.find("source:0 worker0:0 worker1:0 merger:0"), std::string::npos) << r.realtime;
+  EXPECT_NE(r.realtime.find("SCHED_FIFO 10"), std::string::npos) << r.realtime;
+  if (!kSanitizerBuild) {
+    EXPECT_NE(r.realtime.find("memory locked"), std::string::npos) << r.realtime;
+  }
+}
+
+TEST(Realtime, NoSettingsSaysSoAndKeepsDefaultScheduling) {
+  const auto events = stripes(5'000);
+  std::vector<int> policies;
+  ee::CallbackSink sink([&](std::span<const AugmentedEvent>) { policies.push_back(sched_getscheduler(0)); });
+  ee::ReplaySource source(events, kDvs128);
+  ee::Engine engine(source, &sink, engine_options(1, 1, 1, kDvs128));  // 1 worker: one sink thread at a time
+  const ee::RunResult r = engine.run();
+  EXPECT_EQ(r.status, ee::RunStatus::completed);
+  EXPECT_NE(r.realtime.find("none"), std::string::npos) << r.realtime;
+  for (int p : policies) EXPECT_EQ(p, SCHED_OTHER);
+}
+
+// Each refused setting: the run ends before any event, status realtime_error,
+// the message names the flag and the permission.
+void expect_refused(const ee::RealtimeOptions& rt, const char* flag, const char* permission) {
+  const int code = in_unprivileged_child([&] {
+    const auto events = stripes(5'000);
+    std::atomic<std::uint64_t> written{0};
+    ee::CallbackSink sink([&](std::span<const AugmentedEvent> s) { written += s.size(); });
+    ee::ReplaySource source(events, kDvs128);
+    auto options = engine_options(2, 1, 1, kDvs128);
+    options.realtime = rt;
+    ee::Engine engine(source, &sink, options);
+    const ee::RunResult r = engine.run();
+    if (r.status != ee::RunStatus::realtime_error) return 1;
+    if (r.message.find(flag) == std::string::npos) return 2;
+    if (r.message.find(permission) == std::string::npos) return 3;
+    if (r.stats.events_in != 0 || written != 0) return 4;
+    if (r.exit_code() == 0) return 5;
+    return 0;
+  });
+  EXPECT_EQ(code, 0) << flag << " (1 not refused, 2/3 message, 4 events moved, 5 exit code, 90 setuid)";
+}
+
+TEST(Realtime, RefusedFifoPriorityStopsTheRunBeforeAnyEvent) {
+  ee::RealtimeOptions rt;
+  rt.rt_priority = 20;
+  expect_refused(rt, "--rt-priority", "CAP_SYS_NICE");
+}
+
+TEST(Realtime, RefusedMemoryLockStopsTheRunBeforeAnyEvent) {
+  // The sanitizers' runtimes replace mlockall by a no-op that returns success.
+  if (kSanitizerBuild) GTEST_SKIP() << "mlockall is a no-op under the sanitizers";
+  ee::RealtimeOptions rt;
+  rt.lock_memory = true;
+  expect_refused(rt, "--lock-memory", "CAP_IPC_LOCK");
+}
+
+TEST(Realtime, CpuOutsideTheAffinityMaskStopsTheRunBeforeAnyEvent) {
+  ee::RealtimeOptions rt;
+  rt.cpus = {0, 1023};  // no machine here has CPU 1023
+  expect_refused(rt, "--cpus", "CPU 1023");
+}
+
 TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
   ee::LatencyHistogram h;
   for (std::int64_t v = 1; v <= 100'000; ++v) h.record(v * 10);  // 10 ns .. 1 ms uniform
@@ -464,8 +690,9 @@ TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
     ASSERT_EQ(ee::LatencyHistogram::bucket_of(ee::LatencyHistogram::bucket_upper(i)), i);
 }
 
-// ---- Configuration -------------------------------------------------------------
+// ---- Configuration (not in a core-only build: no config component) -------------
 
+#if __has_include("evlife/config/config.h")
 #include "evlife/config/config.h"
 
 TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
@@ -489,9 +716,11 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
   EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
 }
+#endif
 
-// ---- Render thread ---------------------------------------------------------------
+// ---- Render thread (not in a core-only build: no render component) ---------------
 
+#if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
 namespace {
@@ -565,6 +794,7 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
   // Frames are not all alike (they show the motion).
   EXPECT_NE(inline_run.frames.hashes.front(), inline_run.frames.hashes.back());
 }
+#endif
 
 // ---- The command line --------------------------------------------------------
 
@@ -646,5 +876,27 @@ TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(run_cli("run --source x.mat --workers 0 -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --tiles 2 -q"), 2);
   EXPECT_EQ(run_cli("run --help"), 0);
+  EXPECT_EQ(run_cli("run --source x.mat --rt-priority 0 -q"), 2);
+  EXPECT_EQ(run_cli("run --source x.mat --cpus 1,a -q"), 2);
+  // A refused real-time setting: exit 5, naming it (CPU 1023 exists nowhere here).
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
+  const auto refused = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --cpus 1023 -q", kCliLog);
+  EXPECT_EQ(refused.exit_code, 5);
+  EXPECT_NE(refused.output.find("--cpus: cannot pin a thread to CPU 1023"), std::string::npos) << refused.output;
+}
+
+TEST(RunCommand, SummaryStatesTheRealtimeSettingsApplied) {
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
+  const auto plain = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0", kCliLog);
+  EXPECT_EQ(plain.exit_code, 0);
+  EXPECT_NE(plain.output.find("realtime: none (default scheduling"), std::string::npos) << plain.output;
+  if (!realtime_permitted()) GTEST_SKIP() << "no CAP_SYS_NICE / RLIMIT_RTPRIO here";
+  const auto rt = evlife::test::run_cli(
+      EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0 --cpus 0 --rt-priority 5 --lock-memory", kCliLog);
+  EXPECT_EQ(rt.exit_code, 0) << rt.output;
+  EXPECT_NE(rt.output.find("realtime: cpus source:0 worker0:0 worker1:0 merger:0; SCHED_FIFO 5 (source, "
+                           "workers, merger); memory locked"),
+            std::string::npos)
+      << rt.output;
 }
 #endif

@@ -1,6 +1,9 @@
 // Unit tests of the estimator on exact scenes whose answer is known
 // analytically (a plane t = t0 + g.p sampled on the pixel grid).
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +12,7 @@
 #include <vector>
 
 #include "evlife/algo/lifetime_estimator.h"
+#include "evlife/algo/make_lifetime_estimator.h"
 
 namespace evlife {
 namespace {
@@ -68,12 +72,29 @@ TEST(LifetimeOptions, InvalidValuesNameTheField) {
     c.mutate(o);
     const std::string err = validate_lifetime_options(o);
     EXPECT_NE(err.find(c.field), std::string::npos) << err;
+    const LifetimeEstimatorOrError made = make_lifetime_estimator(o);
+    EXPECT_FALSE(made) << c.field;
+    EXPECT_EQ(made.error, "LifetimeOptions." + err);
+#if defined(__cpp_exceptions)
     try {
       LifetimeEstimator est(o);
       ADD_FAILURE() << "constructor accepted invalid " << c.field;
     } catch (const std::invalid_argument& ex) {
       EXPECT_NE(std::string(ex.what()).find(c.field), std::string::npos) << ex.what();
+      EXPECT_EQ(made.error, ex.what());  // the factory says what the constructor says
     }
+#else  // -fno-exceptions: the constructor cannot report, it stops the process
+    // (a plain fork: gtest's death tests need the library built as the test is)
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      LifetimeEstimator est(o);
+      _exit(0);  // accepted: the parent sees exit status 0
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT) << c.field;
+#endif
   }
 }
 
@@ -239,6 +260,20 @@ TEST(LifetimeEstimator, DeterministicAndBatchEqualsPerEvent) {
   EXPECT_EQ(std::memcmp(out_a.data(), out_b.data(), out_a.size() * sizeof(AugmentedEvent)), 0);
   a.reset();
   for (std::size_t i = 0; i < events.size(); ++i) out_b[i] = a.process(events[i]);
+  EXPECT_EQ(std::memcmp(out_a.data(), out_b.data(), out_a.size() * sizeof(AugmentedEvent)), 0);
+}
+
+TEST(LifetimeEstimator, FactoryEstimatorEqualsConstructedOne) {
+  const SensorSize s{48, 36};
+  const auto events = straight_edge(s, 0.7, 2500.0);
+  LifetimeEstimatorOrError made = make_lifetime_estimator(options_for(s));
+  ASSERT_TRUE(made) << made.error;
+  EXPECT_TRUE(made.error.empty());
+  LifetimeEstimator constructed(options_for(s));
+  std::vector<AugmentedEvent> out_a(events.size()), out_b(events.size());
+  ASSERT_EQ(made.estimator->process(events, out_a), events.size());
+  ASSERT_EQ(constructed.process(events, out_b), events.size());
+  EXPECT_GT(made.estimator->stats().events - made.estimator->stats().noise, events.size() / 2);
   EXPECT_EQ(std::memcmp(out_a.data(), out_b.data(), out_a.size() * sizeof(AugmentedEvent)), 0);
 }
 

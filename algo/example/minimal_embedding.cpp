@@ -5,15 +5,18 @@
 #include <string>
 
 #include "evlife/algo/lifetime_estimator.h"
+#include "evlife/algo/make_lifetime_estimator.h"
 
 int main() {
   evlife::LifetimeOptions options;  // paper defaults: N = 5, eps = 0.4, regularization on
   options.sensor = {240, 180};      // DAVIS240
-  if (const std::string err = evlife::validate_lifetime_options(options); !err.empty()) {
-    std::fprintf(stderr, "bad options: %s\n", err.c_str());  // exception-free check
+  // Exception-free: builds with -fno-exceptions -fno-rtti (EVLIFE_ALGO_NO_EXCEPTIONS).
+  evlife::LifetimeEstimatorOrError made = evlife::make_lifetime_estimator(options);
+  if (!made) {
+    std::fprintf(stderr, "bad options: %s\n", made.error.c_str());  // names the field
     return 1;
   }
-  evlife::LifetimeEstimator estimator(options);  // all memory is allocated here
+  evlife::LifetimeEstimator& estimator = *made.estimator;  // all memory is allocated here
 
   // A vertical edge sweeping right at 2000 px/s: pixel x fires at t = x * 500 us.
   int with_lifetime = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -40,7 +41,11 @@ int LifetimeEstimator::iterations_needed(int inliers, int count) const noexcept 
 
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
   if (const std::string err = validate_lifetime_options(options); !err.empty()) {
+#if defined(__cpp_exceptions)
     throw std::invalid_argument("LifetimeOptions." + err);
+#else
+    std::abort();  // built without exceptions: use make_lifetime_estimator(), which validates first
+#endif
   }
   half_window_ = options_.window_size / 2;
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);

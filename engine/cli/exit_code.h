@@ -9,6 +9,7 @@ enum ExitCode : int {
   kExitUsage = 2,         ///< bad command line or configuration
   kExitInput = 3,         ///< input missing, unknown format, corrupt or invalid data
   kExitOutput = 4,        ///< output cannot be created or written
+  kExitRealtime = 5,      ///< `run`: a real-time setting (--cpus, --rt-priority, --lock-memory) refused
   kExitInterrupted = 130  ///< SIGINT/SIGTERM: output flushed up to the stop
 };
 

@@ -1,6 +1,8 @@
 #include "evlife/engine/engine.h"
 
 #include <chrono>
+#include <cstdio>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -11,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "evlife/engine/monotonic_clock.h"
+#include "evlife/engine/realtime_thread.h"
 
 namespace evlife::engine {
 
@@ -19,7 +22,8 @@ int RunResult::exit_code() const noexcept {
     case RunStatus::completed: return 0;
     case RunStatus::interrupted: return 130;
     case RunStatus::source_error:
-    case RunStatus::sink_error: return 1;
+    case RunStatus::sink_error:
+    case RunStatus::realtime_error: return 1;
   }
   return 1;
 }
@@ -60,8 +64,25 @@ RunResult Engine::run() {
                state.policy == OverloadPolicy::block ? "block" : "drop",
                options_.batches_per_worker, options_.batch_events, idle_spin_us);
 
+  // Real-time settings first (realtime_options.h): every thread waits at the
+  // gate until the creating thread has pinned it and set its policy; if
+  // anything is refused, the threads leave without touching the pipeline.
+  const RealtimeOptions& rt = options_.realtime;
+  std::string rt_error;
+  if (rt.lock_memory) rt_error = lock_process_memory();
+  std::atomic<int> gate{0};  // 0 wait, 1 run, 2 leave
+  const auto pass_gate = [&gate]() noexcept {
+    int g;
+    // Sleeps (futex), not spins: a SCHED_FIFO thread spinning here could keep
+    // the creating thread off its CPU.
+    while ((g = gate.load(std::memory_order_acquire)) == 0) gate.wait(0, std::memory_order_acquire);
+    return g == 1;
+  };
   std::vector<std::thread> threads;
+  std::vector<std::string> thread_names;
+  if (!rt_error.empty()) gate.store(2, std::memory_order_release);  // before any thread: no notify needed
   threads.emplace_back([&] {
+    if (!pass_gate()) return;
 #if defined(__linux__)
     // Paced sleeps (replay packets) must end on time: the default 50 us
     // timer slack would add up to 50 us to every event's latency.
@@ -75,8 +96,11 @@ RunResult Engine::run() {
       else if (r == StepResult::idle) std::this_thread::yield();  // pull() paces itself
     }
   });
+  thread_names.emplace_back("source");
   for (int w = 0; w < pipeline_.worker_count(); ++w) {
+    thread_names.push_back("worker" + std::to_string(w));
     threads.emplace_back([&, w] {
+      if (!pass_gate()) return;
       TileWorker& worker = pipeline_.worker(w);
       WorkerChannel& channel = *state.workers[static_cast<std::size_t>(w)];
       const std::int64_t spin_ns = std::int64_t{idle_spin_us} * 1000;
@@ -99,7 +123,12 @@ RunResult Engine::run() {
       }
     });
   }
+  thread_names.emplace_back("merger");
   threads.emplace_back([&] {
+    if (!pass_gate()) {
+      merger_done.store(true, std::memory_order_release);
+      return;
+    }
     // Backstop: workers merge as they finish batches; this thread merges
     // what is left when the render tap frees room, for chunks whose events
     // were all dropped, and at the end (where it also finishes the sink).
@@ -114,7 +143,12 @@ RunResult Engine::run() {
   });
   std::atomic<int> aux_running{static_cast<int>(pipeline_.aux_stages().size())};
   for (AuxStage* aux : pipeline_.aux_stages()) {
+    thread_names.emplace_back("render");
     threads.emplace_back([&, aux] {
+      if (!pass_gate()) {
+        aux_running.fetch_sub(1, std::memory_order_release);
+        return;
+      }
       for (;;) {
         const StepResult r = aux->step();
         if (r == StepResult::finished) break;
@@ -124,6 +158,44 @@ RunResult Engine::run() {
       monitor_wake.signal();
     });
   }
+
+  std::string applied_cpus;
+  for (std::size_t i = 0; i < threads.size() && rt_error.empty(); ++i) {
+    const int cpu = rt.cpus.empty() ? -1 : rt.cpus[i % rt.cpus.size()];
+    rt_error = pin_thread(threads[i].native_handle(), cpu);
+    if (cpu >= 0) applied_cpus += " " + thread_names[i] + ":" + std::to_string(cpu);
+    if (rt_error.empty() && thread_names[i] != "render") {
+      rt_error = set_fifo_priority(threads[i].native_handle(), rt.rt_priority);
+    }
+  }
+  if (!rt_error.empty()) {
+    gate.store(2, std::memory_order_release);
+    gate.notify_all();
+    for (auto& t : threads) t.join();
+    if (rt.lock_memory) unlock_process_memory();  // nothing of this run stays locked
+    RunResult refused;
+    refused.status = RunStatus::realtime_error;
+    refused.message = rt_error;
+    refused.stats = pipeline_.stats();
+    refused.realtime = "refused";
+    spdlog::error("engine: {}", rt_error);
+    return refused;
+  }
+  std::string applied;
+  if (!applied_cpus.empty()) applied += "cpus" + applied_cpus;
+  if (rt.rt_priority > 0)
+    applied += (applied.empty() ? "" : "; ") + std::string("SCHED_FIFO ") + std::to_string(rt.rt_priority) +
+               " (source, workers, merger)";
+  if (rt.lock_memory) {
+    const long long locked = locked_memory_bytes();
+    char mib[64];
+    std::snprintf(mib, sizeof mib, "%.1f MiB", static_cast<double>(locked) / (1024.0 * 1024.0));
+    applied += (applied.empty() ? "" : "; ") + std::string("memory locked (mlockall current+future, ") +
+               (locked >= 0 ? mib : "size unknown") + " locked at start)";
+  }
+  if (applied.empty()) applied = "none (default scheduling, threads not pinned, memory not locked)";
+  gate.store(1, std::memory_order_release);
+  gate.notify_all();
 
   // Monitor: stop requests, progress lines; never on the data path.
   bool stop_forwarded = false;
@@ -150,6 +222,7 @@ RunResult Engine::run() {
   for (auto& t : threads) t.join();
 
   RunResult result;
+  result.realtime = applied;
   result.stats = pipeline_.stats();
   if (pipeline_.router().source_failed()) {
     result.status = RunStatus::source_error;

@@ -16,6 +16,7 @@ int effective_idle_spin_us(const EngineOptions& options, bool live_source) {
 }
 
 std::string validate_engine_options(const EngineOptions& o) {
+  if (std::string rt = validate_realtime_options(o.realtime); !rt.empty()) return rt;
   if (o.workers < 1 || o.workers > TileLayout::kMaxWorkers)
     return "engine.workers: must be 1..32 (got " + std::to_string(o.workers) + ")";
   if (o.tiles_x < 1 || o.tiles_x > 256)

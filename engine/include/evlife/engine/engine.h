@@ -22,13 +22,17 @@ enum class RunStatus {
   interrupted,   ///< request_stop() (SIGINT/SIGTERM); all accepted work done
   source_error,  ///< the source failed (corrupt file, vanished device)
   sink_error,    ///< the output failed (disk full...)
+  realtime_error,  ///< a real-time setting was refused; nothing was processed
 };
 
 struct RunResult {
   RunStatus status = RunStatus::completed;
   std::string message;  ///< the source's or sink's error, naming file/device
   EngineStats stats;
-  /// 0 completed, 1 source/sink error, 130 interrupted (128 + SIGINT).
+  /// What options.realtime applied, for the summary ("none" when off), e.g.
+  /// "cpus source:0 worker0:1 worker1:0 merger:1; SCHED_FIFO 50 (source, workers, merger); memory locked (41.2 MiB)".
+  std::string realtime;
+  /// 0 completed, 1 source/sink/real-time error, 130 interrupted (128 + SIGINT).
   int exit_code() const noexcept;
 };
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "evlife/algo/lifetime_options.h"
+#include "evlife/engine/realtime_options.h"
 
 namespace evlife::engine {
 
@@ -63,6 +64,9 @@ struct EngineOptions {
 
   /// Period of the progress line (spdlog info); 0 = only the final summary.
   double stats_period_s = 1.0;
+
+  /// CPU pinning, SCHED_FIFO, locked memory (Engine::run(); off by default).
+  RealtimeOptions realtime;
 };
 
 /// Margin actually used for `options` (resolves -1 and the 1x1 case).

@@ -1,8 +1,11 @@
 // The engine's stages wired together, without threads: Router, one
 // TileWorker per worker, Merger, over one PipelineState. Tests drive it with
-// step_all(); Engine runs each stage's step() on its own thread.
+// step_all(); Engine runs each stage's step() on its own thread; a host's
+// scheduler (a flight-software work queue) calls run_for() from its own loop
+// — README: "The pipeline inside your scheduler".
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -17,6 +20,15 @@
 #include "evlife/engine/tile_worker.h"
 
 namespace evlife::engine {
+
+/// What one Pipeline::run_for() call did.
+struct PipelineRunReport {
+  bool finished = false;          ///< the stream ended and everything was handed to the sink
+  bool budget_exhausted = false;  ///< stopped at the time budget with work left (call again)
+  int rounds = 0;                 ///< rounds of step_all() made
+  std::int64_t elapsed_ns = 0;    ///< time spent in the call
+  std::uint64_t events_out = 0;   ///< events handed to the sink during the call
+};
 
 class Pipeline {
  public:
@@ -37,6 +49,16 @@ class Pipeline {
     while (!step_all()) {
     }
   }
+
+  /// For a host's scheduler: rounds of step_all() on the calling thread —
+  /// source pull -> workers -> merge -> sink — until no stage can progress
+  /// (the source has nothing more for now), the stream has finished, or
+  /// `budget_ns` has elapsed. Creates no thread, never sleeps or waits, does
+  /// not allocate. The budget is checked between rounds: one call can exceed
+  /// it by one round (one source chunk of up to batch_events events through
+  /// every stage). Work left when the budget ends stays queued for the next
+  /// call; what the source cannot buffer meanwhile is its own to count.
+  PipelineRunReport run_for(std::int64_t budget_ns) noexcept;
 
   Router& router() noexcept { return *router_; }
   TileWorker& worker(int w) noexcept { return *workers_[static_cast<std::size_t>(w)]; }
