@@ -286,7 +286,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     fit.add(static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
             static_cast<double>(nb.dt_us[k]));
   }
-  Eigen::Vector2d g;
+  Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
   const double gx = g.x(), gy = g.y();
   const double g2 = gx * gx + gy * gy;
