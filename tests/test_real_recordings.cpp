@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evlife/algo/lifetime_estimator.h"
@@ -49,6 +50,18 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Lifetimes of stripes.mat's far board (0.2 m, rows 32-67) and near board
+// (0.1 m, rows 72-127), non-noise events only.
+std::pair<std::vector<double>, std::vector<double>> stripes_depth_bands(const std::vector<AugmentedEvent>& out) {
+  std::vector<double> far, near;
+  for (const auto& a : out) {
+    if (a.is_noise()) continue;
+    if (a.event.y >= 32 && a.event.y <= 67) far.push_back(static_cast<double>(a.lifetime_us));
+    if (a.event.y >= 72 && a.event.y <= 127) near.push_back(static_cast<double>(a.lifetime_us));
+  }
+  return {far, near};
+}
+
 // Paper Fig. 9: with N = 5, more than 90 % of predictions err by less than 10 ms.
 TEST(RealRecordings, StripesPredictionErrorsMostlyBelow10ms) {
   const auto out = run_default("stripes.mat");
@@ -73,12 +86,7 @@ TEST(RealRecordings, StripesFarPatternLivesLongerThanNearPattern) {
     o.regularization = regularization;
     const auto out = run_default("stripes.mat", o);
     if (out.empty()) GTEST_SKIP() << "shared data not found";
-    std::vector<double> far, near;
-    for (const auto& a : out) {
-      if (a.is_noise()) continue;
-      if (a.event.y >= 32 && a.event.y <= 67) far.push_back(static_cast<double>(a.lifetime_us));
-      if (a.event.y >= 72 && a.event.y <= 127) near.push_back(static_cast<double>(a.lifetime_us));
-    }
+    const auto [far, near] = stripes_depth_bands(out);
     ASSERT_GT(far.size(), 1000u);
     ASSERT_GT(near.size(), 1000u);
     const double ratio = median(far) / median(near);
@@ -128,12 +136,7 @@ TEST(RealRecordings, MostEventsOfThePapersRecordingsGetALifetime) {
 TEST(RealRecordings, StripesFarNearLifetimeRatioIsTheDepthRatio) {
   const auto out = run_default("stripes.mat");
   if (out.empty()) GTEST_SKIP() << "shared data not found";
-  std::vector<double> far, near;
-  for (const auto& a : out) {
-    if (a.is_noise()) continue;
-    if (a.event.y >= 32 && a.event.y <= 67) far.push_back(static_cast<double>(a.lifetime_us));
-    if (a.event.y >= 72 && a.event.y <= 127) near.push_back(static_cast<double>(a.lifetime_us));
-  }
+  const auto [far, near] = stripes_depth_bands(out);
   const double ratio = median(far) / median(near);
   EXPECT_GE(ratio, 1.8);
   EXPECT_LE(ratio, 2.2);
@@ -151,12 +154,7 @@ TEST(RealRecordings, SupportCriterionHoldsForEveryWindowSize) {
     const double share = share_with_lifetime(out);
     EXPECT_GE(share, 0.75) << "N = " << n;
     EXPECT_LE(share, 0.92) << "N = " << n << ": noise passes as edges";  // measured 0.87 / 0.80 / 0.77
-    std::vector<double> far, near;
-    for (const auto& a : out) {
-      if (a.is_noise()) continue;
-      if (a.event.y >= 32 && a.event.y <= 67) far.push_back(static_cast<double>(a.lifetime_us));
-      if (a.event.y >= 72 && a.event.y <= 127) near.push_back(static_cast<double>(a.lifetime_us));
-    }
+    const auto [far, near] = stripes_depth_bands(out);
     const double ratio = median(far) / median(near);
     EXPECT_GE(ratio, 1.7) << "N = " << n;
     EXPECT_LE(ratio, 2.2) << "N = " << n;
