@@ -106,4 +106,13 @@ std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::
   return instants;
 }
 
+io::ReaderOptions parse_input_options(const ParsedArgs& a) {
+  io::ReaderOptions options;
+  if (const auto topic = a.value("topic")) {
+    if (topic->empty()) throw UsageError("--topic: empty topic name");
+    options.topic = *topic;
+  }
+  return options;
+}
+
 }  // namespace evlife::cli

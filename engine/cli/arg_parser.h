@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/event_reader.h"
 
 namespace evlife::cli {
 
@@ -52,5 +53,14 @@ SensorSize parse_sensor_size(std::string_view text);
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
 /// sorted, without repeats; `option` names the flag in errors. Throws UsageError.
 std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text);
+
+/// The input selection shared by every command that reads events: --topic
+/// (ROS bags). Add kInputOptionSpecs' entries to the command's option table
+/// and kInputOptionsHelp to its help. The sensor stays unset.
+io::ReaderOptions parse_input_options(const ParsedArgs& a);
+inline constexpr OptionSpec kTopicOptionSpec{"topic", 0, true, false};
+inline constexpr std::string_view kInputOptionsHelp =
+    "  --topic NAME       ROS bags: the event topic to read (needed when the bag has\n"
+    "                     several; the error lists them).\n";
 
 }  // namespace evlife::cli

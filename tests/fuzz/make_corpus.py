@@ -148,3 +148,65 @@ for i in range(50):
                                               rng.choice((1, -1)), rng.random() * 1e4, rng.random() * 100,
                                               -rng.random() * 100, b'' if i % 3 else b'%.2f' % rng.random())
 put('augmented', 'synthetic_50.csv', csv)
+
+# ---- ROS 2 bag messages (tests/fuzz/fuzz_ros_*.cpp): real messages of the shared
+# rosbag2 bags; payload seeds = u16 width, u16 height, u64 time_base, u8 cut + payload.
+import sqlite3  # noqa: E402
+
+
+def bag_messages(rel, limit):
+    db = sqlite3.connect('file:' + os.path.join(DATA, rel) + '?mode=ro', uri=True)
+    rows = db.execute('SELECT data FROM messages ORDER BY timestamp, id LIMIT ?', (limit,)).fetchall()
+    db.close()
+    return [bytes(r[0]) for r in rows]
+
+
+def packet_fields(m):
+    """(width, height, time_base, payload) of a CDR EventPacket."""
+    def align(pos, n):
+        return 4 + (pos - 4 + n - 1) // n * n
+    pos = 4 + 8
+    n, = struct.unpack_from('<I', m, pos)
+    pos = align(pos + 4 + n, 4)
+    height, width = struct.unpack_from('<II', m, pos)
+    pos = align(pos + 8, 8)
+    _, time_base = struct.unpack_from('<QQ', m, pos)
+    pos += 16
+    n, = struct.unpack_from('<I', m, pos)
+    pos += 4 + n + 1
+    pos = align(pos, 4)
+    n, = struct.unpack_from('<I', m, pos)
+    return width, height, time_base, m[pos + 4:pos + 4 + n]
+
+
+for what, rel in (('ros_evt3', 'rosbag/test_data_evt3_trigger/test_data_evt3_trigger_0.db3'),
+                  ('ros_libcaer', 'rosbag/test_data_libcaer_rollover/libcaer_rollover_0.db3'),
+                  ('ros_mono', 'rosbag/test_data_mono_cd/test_data_mono_cd_0.db3')):
+    for i, m in enumerate(bag_messages(rel, 2)):
+        width, height, time_base, payload = packet_fields(m)
+        put(what, 'real_msg%d.bin' % i, struct.pack('<HHQB', width, height, time_base, 40) + payload[:3000])
+    # Whole messages for the message parser (the first one; mono: both are small).
+    put('ros_message', what[4:] + '_msg0.bin', b'\x00' + bag_messages(rel, 1)[0])
+
+
+class Cdr:
+    """Little-endian CDR: primitives aligned to their size from byte 4."""
+    def __init__(self):
+        self.b = bytearray(b'\x00\x01\x00\x00')
+
+    def put(self, fmt, v):
+        n = struct.calcsize('<' + fmt)
+        self.b += b'\x00' * ((-(len(self.b) - 4)) % n)
+        self.b += struct.pack('<' + fmt, v)
+
+
+arr = Cdr()
+for fmt, v in (('i', 1), ('I', 2), ('I', 4)):
+    arr.put(fmt, v)
+arr.b += b'cam\x00'
+for fmt, v in (('I', 180), ('I', 240), ('I', 3)):
+    arr.put(fmt, v)
+for k in range(3):
+    for fmt, v in (('H', 10 + k), ('H', 20 + k), ('i', 3), ('I', 1000 * k), ('B', k & 1)):
+        arr.put(fmt, v)
+put('ros_message', 'dvs_array.bin', b'\x01' + bytes(arr.b))

@@ -75,12 +75,21 @@ class EventReader {
 
 /// What open_event_reader checks on top of decoding.
 struct ReaderOptions {
+  ReaderOptions() = default;
+  // (A constructor, not aggregate initialization: fields can be added
+  // without touching every caller.)
+  ReaderOptions(std::optional<SensorSize> sensor_size, bool time_order)
+      : sensor(sensor_size), require_time_order(time_order) {}
+
   /// Sensor the events must fit in; overrides what the format states. When
   /// neither says, coordinates are not bounds-checked (see
   /// sensor_size_from_data.h to infer one).
   std::optional<SensorSize> sensor;
   /// Timestamps going backwards are an error (the estimator needs order).
   bool require_time_order = true;
+  /// Containers with several streams (ROS bags): the topic to read; empty =
+  /// the only event topic (an error lists them when there are several).
+  std::string topic;
 };
 
 /// Opens `path`, sniffing its format, and wraps the reader so that
@@ -97,6 +106,8 @@ std::unique_ptr<EventReader> open_checked_event_reader(const std::string& path,
 
 /// The decoder alone, without the checks above (format errors still throw).
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path);
+std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
+                                                         const ReaderOptions& options);
 
 /// A readable format: short name (as format_name()) and a one-line description.
 struct EventFormatInfo {
