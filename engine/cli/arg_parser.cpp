@@ -112,6 +112,11 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a) {
     if (topic->empty()) throw UsageError("--topic: empty topic name");
     options.topic = *topic;
   }
+  if (const auto unit = a.value("time-unit")) {
+    if (*unit != "s" && *unit != "ms" && *unit != "us" && *unit != "ns")
+      throw UsageError("--time-unit " + *unit + ": expected s, ms, us or ns");
+    options.time_unit = *unit;
+  }
   return options;
 }
 

@@ -59,8 +59,11 @@ std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::
 /// and kInputOptionsHelp to its help. The sensor stays unset.
 io::ReaderOptions parse_input_options(const ParsedArgs& a);
 inline constexpr OptionSpec kTopicOptionSpec{"topic", 0, true, false};
+inline constexpr OptionSpec kTimeUnitOptionSpec{"time-unit", 0, true, false};
 inline constexpr std::string_view kInputOptionsHelp =
     "  --topic NAME       ROS bags: the event topic to read (needed when the bag has\n"
-    "                     several; the error lists them).\n";
+    "                     several; the error lists them).\n"
+    "  --time-unit U      CSV/text input: unit of the time column, s|ms|us|ns (default:\n"
+    "                     the header's, else s if the times have a decimal point, else us).\n";
 
 }  // namespace evlife::cli

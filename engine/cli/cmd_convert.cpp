@@ -31,7 +31,7 @@ constexpr OptionSpec kOptions[] = {
     {"unchecked", 0, false, false},
     {"quiet", 'q', false, false},
     {"help", 'h', false, false},
-    kTopicOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -270,7 +270,16 @@ int convert(int argc, char** argv) {
     return kExitUsage;
   }
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
-  if (has_ext(input, {".csv", ".bin"})) return convert_augmented(input, output, quiet);
+  // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
+  if (has_ext(input, {".bin"})) return convert_augmented(input, output, quiet);
+  if (has_ext(input, {".csv"})) {
+    bool augmented = false;
+    try {
+      augmented = io::open_augmented_reader(input) != nullptr;
+    } catch (const io::ReadError&) {
+    }
+    if (augmented) return convert_augmented(input, output, quiet);
+  }
   return convert_events(input, output, sensor, input_options, unchecked, quiet);
 }
 

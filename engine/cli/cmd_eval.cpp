@@ -46,7 +46,7 @@ constexpr OptionSpec kEvalOptions[] = {
     {"output", 'o', true, false},    {"sensor", 0, true, false},  {"config", 0, true, false},
     {"set", 0, true, true},          {"sample-every", 0, true, false}, {"frame-at", 0, true, false},
     {"quiet", 'q', false, false},    {"help", 'h', false, false},
-    kTopicOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec,
 };
 
 void print_eval_help(std::FILE* out) {

@@ -36,7 +36,7 @@ constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
     {"config", 0, true, false},       {"set", 0, true, true},
     {"print-config", 0, false, false}, {"quiet", 'q', false, false},
-    {"help", 'h', false, false},      kTopicOptionSpec,
+    {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec,
 };
 
 void print_help(std::FILE* out) {

@@ -46,7 +46,7 @@ constexpr OptionSpec kRenderOptions[] = {
     {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
     {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
     {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
-    kTopicOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec,
 };
 
 void print_render_help(std::FILE* out) {

@@ -48,7 +48,7 @@ extern "C" void on_run_signal(int) {
 
 constexpr OptionSpec kOptions[] = {
     {"source", 0, true, false},       {"sensor", 0, true, false},
-    kTopicOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec,
     {"realtime", 0, true, false},     {"workers", 'j', true, false},
     {"tiles", 0, true, false},        {"margin", 0, true, false},
     {"policy", 0, true, false},       {"batch-events", 0, true, false},

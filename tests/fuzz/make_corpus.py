@@ -210,3 +210,12 @@ for k in range(3):
     for fmt, v in (('H', 10 + k), ('H', 20 + k), ('i', 3), ('I', 1000 * k), ('B', k & 1)):
         arr.put(fmt, v)
 put('ros_message', 'dvs_array.bin', b'\x01' + bytes(arr.b))
+
+# ---- CSV / text layouts of other tools (fuzz_csv_text).
+mv = b''.join(b'%d,%d,%d,%d\n' % (rng.randrange(640), rng.randrange(480), rng.randrange(2), 1000 + 7 * i)
+              for i in range(40))
+put('csv_text', 'metavision_xypt.csv', mv)
+put('csv_text', 'header_tab_xytp.csv', b'x\ty\tt\tp\n' + b''.join(
+    b'%d\t%d\t%d\t%d\n' % (rng.randrange(346), rng.randrange(260), 50 + 3 * i, rng.randrange(2)) for i in range(40)))
+put('csv_text', 'seconds_txyp.csv', b'# t x y p\n' + b''.join(
+    b'%.6f,%d,%d,%d\n' % (0.5 + 1e-5 * i, rng.randrange(240), rng.randrange(180), rng.choice((1, -1))) for i in range(40)))

@@ -90,6 +90,10 @@ struct ReaderOptions {
   /// Containers with several streams (ROS bags): the topic to read; empty =
   /// the only event topic (an error lists them when there are several).
   std::string topic;
+  /// CSV/text layouts of other tools (format "csv"): the unit of the time
+  /// column, "s", "ms", "us" or "ns"; empty = from the header, else seconds
+  /// when the values have a decimal point, else µs.
+  std::string time_unit;
 };
 
 /// Opens `path`, sniffing its format, and wraps the reader so that
