@@ -226,17 +226,21 @@ Detection detect(const char* p, const char* end) {
         return d;
       }
     }
+    // A bad line ends the sample: the reader reports it after the events before it.
     const std::size_t n = split(line, nl, d.sep, f.data(), f.size());
     if (n != 4) {
+      if (!rows.empty()) break;
       d.why = "a line has " + std::to_string(n) + " fields, not 4";
       return d;
     }
     std::array<Number, 4> row;
-    for (int i = 0; i < 4; ++i) {
-      if (!parse_number(f[static_cast<std::size_t>(i)], row[static_cast<std::size_t>(i)])) {
-        d.why = "a field is not a number";
-        return d;
-      }
+    bool numbers = true;
+    for (int i = 0; i < 4 && numbers; ++i)
+      numbers = parse_number(f[static_cast<std::size_t>(i)], row[static_cast<std::size_t>(i)]);
+    if (!numbers) {
+      if (!rows.empty()) break;
+      d.why = "a field is not a number";
+      return d;
     }
     rows.push_back(row);
   }

@@ -30,7 +30,7 @@ class Evt3Reader final : public EventReader {
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());
   }
-  std::uint64_t trigger_count() const noexcept { return decoder_.trigger_count(); }
+  std::uint64_t trigger_count() const override { return decoder_.trigger_count(); }
 
  private:
   static constexpr std::size_t kMaxEventsPerWord = Evt3Decoder::kMaxEventsPerWord;

@@ -59,6 +59,7 @@ class Rosbag2Reader final : public EventReader {
                                         topic.serialization + "', not cdr");
     }
     decoder_ = ros::MessageDecoder(ros::message_kind(topic.type));
+    topic_ = topic.name;
     bag_.select(topic.name);
     // The sensor size comes from the first message.
     load_message();
@@ -96,6 +97,13 @@ class Rosbag2Reader final : public EventReader {
     return decoder_.trigger_count() + decoder_.other_count();
   }
   std::uint64_t bytes_consumed() const override { return bytes_; }
+  std::uint64_t trigger_count() const override { return decoder_.trigger_count(); }
+  std::vector<ContainerStream> streams() const override {
+    std::vector<ContainerStream> s;
+    for (const ros::TopicInfo& t : bag_.topics())
+      s.push_back(ContainerStream{t.name, t.type, t.message_count, t.name == topic_});
+    return s;
+  }
 
  private:
   /// Decodes the next message into events_; sets ended_ or error_.
@@ -127,6 +135,7 @@ class Rosbag2Reader final : public EventReader {
   }
 
   std::string path_;
+  std::string topic_;
   ros::Rosbag2Messages bag_;
   ros::MessageDecoder decoder_;
   std::optional<SensorSize> sensor_;

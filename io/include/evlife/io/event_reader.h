@@ -37,6 +37,14 @@ class ReadError : public std::runtime_error {
   std::int64_t event_index_;
 };
 
+/// A stream of a container file (a ROS bag's topic), for `evlife info`.
+struct ContainerStream {
+  std::string name;            ///< e.g. "/dvs/events"
+  std::string type;            ///< e.g. "dvs_msgs/msg/EventArray"
+  std::uint64_t messages = 0;  ///< message count
+  bool read = false;           ///< the stream this reader delivers
+};
+
 class EventReader {
  public:
   virtual ~EventReader() = default;
@@ -59,6 +67,14 @@ class EventReader {
   /// Records in the file that are not events and were skipped on purpose
   /// (e.g. AEDAT 2.0 special/external events). Shown to the user.
   virtual std::uint64_t skipped_record_count() const { return 0; }
+
+  /// External trigger events seen so far (part of skipped_record_count(),
+  /// never mixed into the events).
+  virtual std::uint64_t trigger_count() const { return 0; }
+
+  /// The streams of a container (every topic of a ROS bag); empty for
+  /// single-stream formats.
+  virtual std::vector<ContainerStream> streams() const { return {}; }
 
   /// Bytes of the file consumed so far (for progress display; approximate
   /// for compressed formats). 0 when unknown.
