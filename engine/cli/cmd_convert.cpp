@@ -31,7 +31,7 @@ constexpr OptionSpec kOptions[] = {
     {"unchecked", 0, false, false},
     {"quiet", 'q', false, false},
     {"help", 'h', false, false},
-    kTopicOptionSpec, kTimeUnitOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -80,7 +80,7 @@ void print_help(std::FILE* out) {
       "  evlife convert recording.aedat4 recording.h5\n"
       "  evlife convert evt3_sample.raw events.txt\n"
       "  evlife convert lifetimes.bin lifetimes.h5     # output of evlife process\n",
-      std::string(kInputOptionsHelp).c_str());
+      (std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str());
 }
 
 bool has_ext(const std::string& path, std::initializer_list<const char*> exts) {

@@ -46,7 +46,7 @@ constexpr OptionSpec kEvalOptions[] = {
     {"output", 'o', true, false},    {"sensor", 0, true, false},  {"config", 0, true, false},
     {"set", 0, true, true},          {"sample-every", 0, true, false}, {"frame-at", 0, true, false},
     {"quiet", 'q', false, false},    {"help", 'h', false, false},
-    kTopicOptionSpec, kTimeUnitOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_eval_help(std::FILE* out) {
@@ -92,7 +92,7 @@ void print_eval_help(std::FILE* out) {
       "                         (default 0.5; the last sample if the recording is shorter).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
       );
-  std::fputs(std::string(kInputOptionsHelp).c_str(), out);
+  std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
       "  --config FILE, --set KEY=VALUE   estimator configuration, as for `evlife process`.\n"
       "  -q, --quiet            no progress and no summary on stdout.\n"

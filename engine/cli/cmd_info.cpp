@@ -18,8 +18,7 @@ namespace {
 
 constexpr OptionSpec kOptions[] = {
     {"help", 'h', false, false},
-    kTopicOptionSpec,
-    kTimeUnitOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -36,7 +35,7 @@ void print_help(std::FILE* out) {
                "the figures of the events before it.\n"
                "\n"
                "Options:\n");
-  std::fputs(std::string(kInputOptionsHelp).c_str(), out);
+  std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
                "\n"
                "Exit status: 0 done; 2 bad command line; 3 input error.\n");

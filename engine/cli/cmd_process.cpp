@@ -36,7 +36,7 @@ constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
     {"config", 0, true, false},       {"set", 0, true, true},
     {"print-config", 0, false, false}, {"quiet", 'q', false, false},
-    {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec,
+    {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -97,7 +97,7 @@ void print_help(std::FILE* out) {
       "Examples:\n"
       "  evlife process stripes.mat -o stripes.csv\n"
       "  evlife process events.txt --sensor 240x180 -o events.bin --set estimator.window_size=7\n",
-      std::string(kInputOptionsHelp).c_str(),
+      (std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(),
       config::default_config_path().empty() ? "(no default file compiled in)"
                                             : config::default_config_path().c_str());
 }

@@ -46,7 +46,7 @@ constexpr OptionSpec kRenderOptions[] = {
     {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
     {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
     {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
-    kTopicOptionSpec, kTimeUnitOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec,
 };
 
 void print_render_help(std::FILE* out) {
@@ -212,7 +212,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto v = a.value("video-fps")) r.video_fps = parse_positive("video-fps", *v);
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
-  r.input_options = parse_input_options(a);
+  r.input_options = parse_input_options(a, /*crop=*/false);
   r.quiet = a.has("quiet");
 
   config::ConfigBuilder builder;

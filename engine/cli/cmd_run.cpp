@@ -48,7 +48,7 @@ extern "C" void on_run_signal(int) {
 
 constexpr OptionSpec kOptions[] = {
     {"source", 0, true, false},       {"sensor", 0, true, false},
-    kTopicOptionSpec, kTimeUnitOptionSpec,
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
     {"realtime", 0, true, false},     {"workers", 'j', true, false},
     {"tiles", 0, true, false},        {"margin", 0, true, false},
     {"policy", 0, true, false},       {"batch-events", 0, true, false},
@@ -94,7 +94,7 @@ void print_help(std::FILE* out) {
       "  --sensor WxH         sensor size when the format does not state one (else\n"
       "                       scanned from the data).\n"
       );
-  std::fputs(std::string(kInputOptionsHelp).c_str(), out);
+  std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
       "  --realtime[=K]       pace a replay by its event clock at K x real time\n"
       "                       (default 1). Without it: as fast as possible.\n"

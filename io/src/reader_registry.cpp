@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "checked_event_reader.h"
+#include "cropping_event_reader.h"
 #include "input_file.h"
 
 namespace evlife::io {
@@ -51,8 +52,22 @@ std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path
   return open_unchecked_event_reader(path, ReaderOptions{});
 }
 
+namespace {
+
+std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderOptions& options);
+
+}  // namespace
+
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
                                                          const ReaderOptions& options) {
+  std::unique_ptr<EventReader> reader = open_decoder(path, options);
+  if (!options.filters()) return reader;
+  return std::make_unique<detail::CroppingEventReader>(std::move(reader), options);
+}
+
+namespace {
+
+std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     for (const detail::ReaderFormat* f : detail::reader_formats()) {
@@ -81,6 +96,8 @@ std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path
                   head_size == 0 ? "empty file, not a known event format; known formats:" + known
                                  : "unknown event file format; known formats:" + known);
 }
+
+}  // namespace
 
 std::unique_ptr<EventReader> open_event_reader(const std::string& path,
                                                const ReaderOptions& options) {

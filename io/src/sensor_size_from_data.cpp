@@ -11,6 +11,10 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
   // Time order is not checked here: this pass only looks at coordinates;
   // the processing pass reports ordering faults with their index.
   ReaderOptions options = input;
+  // The sensor holds every event of the file, cropped or not.
+  options.from_us.reset();
+  options.to_us.reset();
+  options.polarity = PolarityFilter::both;
   options.require_time_order = false;
   options.sensor = SensorSize{65536, 65536};  // the Event coordinate range: never fails
   const std::unique_ptr<EventReader> reader = open_event_reader(path, options);

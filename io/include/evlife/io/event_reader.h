@@ -89,6 +89,9 @@ class EventReader {
   }
 };
 
+/// Which polarities a reader delivers.
+enum class PolarityFilter { both, on, off };
+
 /// What open_event_reader checks on top of decoding.
 struct ReaderOptions {
   ReaderOptions() = default;
@@ -110,6 +113,17 @@ struct ReaderOptions {
   /// column, "s", "ms", "us" or "ns"; empty = from the header, else seconds
   /// when the values have a decimal point, else µs.
   std::string time_unit;
+  /// Cropping at the source (--from/--to): only events with
+  /// first + from_us <= t < first + to_us, where `first` is the time of the
+  /// file's first event; reading stops at the first event at or after the end.
+  std::optional<std::int64_t> from_us;
+  std::optional<std::int64_t> to_us;
+  /// --polarity: only ON or only OFF events.
+  PolarityFilter polarity = PolarityFilter::both;
+
+  bool filters() const noexcept {
+    return from_us.has_value() || to_us.has_value() || polarity != PolarityFilter::both;
+  }
 };
 
 /// Opens `path`, sniffing its format, and wraps the reader so that
