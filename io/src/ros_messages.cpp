@@ -13,14 +13,16 @@ constexpr std::uint64_t kMaxTimeNs = static_cast<std::uint64_t>(std::numeric_lim
 /// the byte after the encapsulation header (`base`).
 class CdrCursor {
  public:
-  CdrCursor(std::span<const std::uint8_t> m, std::size_t base) : m_(m), base_(base), pos_(base) {}
+  CdrCursor(std::span<const std::uint8_t> m, std::size_t base, bool aligned = true)
+      : m_(m), base_(base), pos_(base), aligned_(aligned) {}
   std::size_t pos() const noexcept { return pos_; }
   std::size_t remaining() const noexcept { return m_.size() - pos_; }
   const std::uint8_t* here() const noexcept { return m_.data() + pos_; }
 
   template <typename T>
   bool read(T& v) {
-    const std::size_t aligned = base_ + (pos_ - base_ + sizeof(T) - 1) / sizeof(T) * sizeof(T);
+    const std::size_t a = aligned_ ? sizeof(T) : 1;
+    const std::size_t aligned = base_ + (pos_ - base_ + a - 1) / a * a;
     if (aligned > m_.size() || m_.size() - aligned < sizeof(T)) return false;
     std::memcpy(&v, m_.data() + aligned, sizeof(T));
     pos_ = aligned + sizeof(T);
@@ -45,6 +47,7 @@ class CdrCursor {
   std::span<const std::uint8_t> m_;
   std::size_t base_;
   std::size_t pos_;
+  bool aligned_;
 };
 
 MessageFault ends_inside(const CdrCursor& c, const char* field) {
@@ -183,6 +186,9 @@ std::optional<MessageFault> decode_evt3(std::span<const std::uint8_t> payload, E
 std::optional<MessageFault> MessageDecoder::decode(std::span<const std::uint8_t> message,
                                                    std::vector<RosEvent>& out) {
   out.clear();
+  if (serialization_ == Serialization::ros1) {
+    return kind_ == MessageKind::event_packet ? decode_packet(message, 0, out) : decode_array(message, 0, out);
+  }
   if (message.size() < kEncapsulationBytes)
     return MessageFault{0, "message shorter than its CDR encapsulation header"};
   if (message[0] != 0 || message[1] > 1)
@@ -195,8 +201,10 @@ std::optional<MessageFault> MessageDecoder::decode(std::span<const std::uint8_t>
 
 namespace {
 
-/// std_msgs/Header: stamp (i32 sec, u32 nanosec), string frame_id.
-bool skip_header(CdrCursor& c) {
+/// std_msgs/Header: (ROS 1: u32 seq), stamp (i32 sec, u32 nanosec), string frame_id.
+bool skip_header(CdrCursor& c, bool ros1) {
+  std::uint32_t seq = 0;
+  if (ros1 && !c.read(seq)) return false;
   std::int32_t sec = 0;
   std::uint32_t nanosec = 0;
   std::uint32_t n = 0;
@@ -208,8 +216,9 @@ bool skip_header(CdrCursor& c) {
 std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::uint8_t> m,
                                                           std::size_t base,
                                                           std::vector<RosEvent>& out) {
-  CdrCursor c(m, base);
-  if (!skip_header(c)) return ends_inside(c, "header");
+  const bool ros1 = serialization_ == Serialization::ros1;
+  CdrCursor c(m, base, !ros1);
+  if (!skip_header(c, ros1)) return ends_inside(c, "header");
   if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
   std::uint64_t seq = 0;
   std::uint64_t time_base = 0;
@@ -245,9 +254,10 @@ std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::u
 std::optional<MessageFault> MessageDecoder::decode_array(std::span<const std::uint8_t> m,
                                                          std::size_t base,
                                                          std::vector<RosEvent>& out) {
-  CdrCursor c(m, base);
+  const bool ros1 = serialization_ == Serialization::ros1;
+  CdrCursor c(m, base, !ros1);
   encoding_.clear();
-  if (!skip_header(c)) return ends_inside(c, "header");
+  if (!skip_header(c, ros1)) return ends_inside(c, "header");
   if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
   std::uint32_t n = 0;
   if (!c.read(n)) return ends_inside(c, "events");

@@ -44,6 +44,10 @@ struct RosEvent {
 
 enum class MessageKind { event_packet, event_array, not_events };
 
+/// ROS 2 CDR (4-byte encapsulation header, primitives aligned to their size)
+/// or ROS 1 (no header, packed; std_msgs/Header starts with a u32 seq).
+enum class Serialization { cdr, ros1 };
+
 /// The kind of a message type name (ROS 1 "pkg/Type" or ROS 2 "pkg/msg/Type").
 MessageKind message_kind(std::string_view type);
 
@@ -58,9 +62,10 @@ struct MessageFault {
 
 class MessageDecoder {
  public:
-  explicit MessageDecoder(MessageKind kind) : kind_(kind) {}
+  explicit MessageDecoder(MessageKind kind, Serialization serialization = Serialization::cdr)
+      : kind_(kind), serialization_(serialization) {}
 
-  /// Decodes one CDR-serialized message (with its 4-byte encapsulation
+  /// Decodes one serialized message (CDR: with its 4-byte encapsulation
   /// header) into `out` (cleared first). On bad data returns the fault; the
   /// events decoded before it stay in `out`.
   std::optional<MessageFault> decode(std::span<const std::uint8_t> message,
@@ -84,6 +89,7 @@ class MessageDecoder {
                                            std::vector<RosEvent>& out);
 
   MessageKind kind_;
+  Serialization serialization_;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
   std::string encoding_;

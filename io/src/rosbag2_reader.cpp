@@ -6,54 +6,18 @@
 #include "reader_registry.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
+#include "ros_topics.h"
 
 namespace evlife::io {
 namespace {
 
 using ros::MessageKind;
 
-std::string topic_list(const std::vector<ros::TopicInfo>& topics) {
-  std::string s;
-  for (const ros::TopicInfo& t : topics)
-    s += "\n  " + t.name + " (" + t.type + ", " + std::to_string(t.message_count) + " messages)";
-  return s.empty() ? "\n  (none)" : s;
-}
-
-/// The event topic to read: `wanted` if given, else the only one.
-const ros::TopicInfo& choose_topic(const std::string& path, const std::vector<ros::TopicInfo>& topics,
-                                   const std::string& wanted) {
-  if (!wanted.empty()) {
-    const auto it = std::find_if(topics.begin(), topics.end(),
-                                 [&](const ros::TopicInfo& t) { return t.name == wanted; });
-    if (it == topics.end())
-      throw ReadError(path, -1, -1, "no topic '" + wanted + "' in the bag; its topics:" + topic_list(topics));
-    if (ros::message_kind(it->type) == MessageKind::not_events) {
-      throw ReadError(path, -1, -1,
-                      "topic '" + wanted + "' has type " + it->type +
-                          ", not an event message (readable: " +
-                          std::string(ros::known_message_types()) + ")");
-    }
-    return *it;
-  }
-  std::vector<const ros::TopicInfo*> events;
-  for (const ros::TopicInfo& t : topics)
-    if (ros::message_kind(t.type) != MessageKind::not_events) events.push_back(&t);
-  if (events.size() == 1) return *events.front();
-  if (events.empty()) {
-    throw ReadError(path, -1, -1,
-                    "no event topic in the bag (readable types: " +
-                        std::string(ros::known_message_types()) + "); its topics:" + topic_list(topics));
-  }
-  std::vector<ros::TopicInfo> listed;
-  for (const ros::TopicInfo* t : events) listed.push_back(*t);
-  throw ReadError(path, -1, -1, "several event topics: choose one with --topic NAME:" + topic_list(listed));
-}
-
 class Rosbag2Reader final : public EventReader {
  public:
   Rosbag2Reader(const std::string& path, const ReaderOptions& options)
       : path_(path), bag_(path), decoder_(MessageKind::not_events) {
-    const ros::TopicInfo& topic = choose_topic(path, bag_.topics(), options.topic);
+    const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic);
     if (topic.serialization != "cdr") {
       throw ReadError(path, -1, -1, "topic '" + topic.name + "' is serialized as '" +
                                         topic.serialization + "', not cdr");
