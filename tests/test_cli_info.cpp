@@ -24,7 +24,7 @@ struct Case {
 };
 
 class CliInfo : public ::testing::Test {
- protected:
+ public:
   CliInfo() : dir_(fs::temp_directory_path() / ("evlife_test_cli_info_" + std::to_string(::getpid()))) {
     fs::create_directories(dir_);
   }
@@ -32,6 +32,8 @@ class CliInfo : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
+
+ protected:
   evlife::test::CliRun run(const std::string& args) const {
     return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_ / "cli.log");
   }

@@ -18,7 +18,7 @@ using evlife::Event;
 namespace io = evlife::io;
 
 class IoCrop : public ::testing::Test {
- protected:
+ public:
   IoCrop() : dir_(fs::temp_directory_path() / ("evlife_test_io_crop_" + std::to_string(::getpid()))) {
     fs::create_directories(dir_);
     // 10 events, t = 5000 + 1000 i µs, p alternating ON/OFF, x = i.
@@ -30,6 +30,8 @@ class IoCrop : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
+
+ protected:
   std::string csv() const { return (dir_ / "ten.csv").string(); }
   std::vector<int> xs(const io::ReaderOptions& options, bool checked = true) const {
     const auto reader = checked ? io::open_event_reader(csv(), options)

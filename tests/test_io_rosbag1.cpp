@@ -101,7 +101,7 @@ TEST(Rosbag1, DvsEventArrayMatchesTheMonoDb3AndSkipsOtherTopics) {
 }
 
 class Rosbag1Faults : public ::testing::Test {
- protected:
+ public:
   Rosbag1Faults() : dir_(fs::temp_directory_path() / ("evlife_test_io_rosbag1_" + std::to_string(::getpid()))) {
     fs::create_directories(dir_);
   }
@@ -109,6 +109,8 @@ class Rosbag1Faults : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
+
+ protected:
   static std::vector<char> load(const std::string& p) {
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
