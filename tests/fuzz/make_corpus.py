@@ -219,3 +219,21 @@ put('csv_text', 'header_tab_xytp.csv', b'x\ty\tt\tp\n' + b''.join(
     b'%d\t%d\t%d\t%d\n' % (rng.randrange(346), rng.randrange(260), 50 + 3 * i, rng.randrange(2)) for i in range(40)))
 put('csv_text', 'seconds_txyp.csv', b'# t x y p\n' + b''.join(
     b'%.6f,%d,%d,%d\n' % (0.5 + 1e-5 * i, rng.randrange(240), rng.randrange(180), rng.choice((1, -1))) for i in range(40)))
+
+# ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
+# timestamp overflow, one invalid event), an IMU and a special packet.
+def aedat3_packet(type_, size, overflow, events):
+    return struct.pack('<hhiiiiii', type_, 1, size, 4, overflow, len(events), len(events), len(events)) + b''.join(events)
+
+
+def aedat3_polarity(x, y, on, ts, valid=True):
+    return struct.pack('<Ii', (x << 17) | (y << 2) | (2 if on else 0) | (1 if valid else 0), ts)
+
+
+a3 = b'#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS346\r\n#!END-HEADER\r\n'
+a3 += aedat3_packet(1, 8, 0, [aedat3_polarity(rng.randrange(346), rng.randrange(260), rng.randrange(2) == 1,
+                                              1000 + 13 * i, i % 17 != 5) for i in range(60)])
+a3 += aedat3_packet(3, 36, 0, [bytes(36)] * 2)
+a3 += aedat3_packet(0, 8, 0, [struct.pack('<Ii', 0, 2000)])
+a3 += aedat3_packet(1, 8, 1, [aedat3_polarity(3, 4, True, 7)])
+put('aedat3', 'synthetic_packets.aedat', a3)
