@@ -106,4 +106,42 @@ std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::
   return instants;
 }
 
+io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
+  io::ReaderOptions options;
+  if (const auto topic = a.value("topic")) {
+    if (topic->empty()) throw UsageError("--topic: empty topic name");
+    options.topic = *topic;
+  }
+  if (const auto unit = a.value("time-unit")) {
+    if (*unit != "s" && *unit != "ms" && *unit != "us" && *unit != "ns")
+      throw UsageError("--time-unit " + *unit + ": expected s, ms, us or ns");
+    options.time_unit = *unit;
+  }
+  if (const auto pol = a.value("polarity")) {
+    if (*pol == "on") {
+      options.polarity = io::PolarityFilter::on;
+    } else if (*pol == "off") {
+      options.polarity = io::PolarityFilter::off;
+    } else if (*pol != "both") {
+      throw UsageError("--polarity " + *pol + ": expected on, off or both");
+    }
+  }
+  if (!crop) return options;
+  for (const char* name : {"from", "to"}) {
+    const auto v = a.value(name);
+    if (!v) continue;
+    std::int64_t us = 0;
+    try {
+      us = render::parse_duration_us(*v);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError("--" + std::string(name) + ": " + e.what());
+    }
+    if (us < 0) throw UsageError("--" + std::string(name) + " " + *v + ": negative time");
+    (std::string_view(name) == "from" ? options.from_us : options.to_us) = us;
+  }
+  if (options.from_us && options.to_us && *options.to_us <= *options.from_us)
+    throw UsageError("--to must be after --from");
+  return options;
+}
+
 }  // namespace evlife::cli

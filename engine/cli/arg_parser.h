@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/event_reader.h"
 
 namespace evlife::cli {
 
@@ -52,5 +53,25 @@ SensorSize parse_sensor_size(std::string_view text);
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
 /// sorted, without repeats; `option` names the flag in errors. Throws UsageError.
 std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text);
+
+/// The input selection shared by every command that reads events: --topic
+/// (ROS bags). Add kInputOptionSpecs' entries to the command's option table
+/// and kInputOptionsHelp to its help. The sensor stays unset.
+/// `crop`: also --from/--to (render has its own, for the frames it draws).
+io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop = true);
+inline constexpr OptionSpec kTopicOptionSpec{"topic", 0, true, false};
+inline constexpr OptionSpec kTimeUnitOptionSpec{"time-unit", 0, true, false};
+inline constexpr OptionSpec kPolarityOptionSpec{"polarity", 0, true, false};
+inline constexpr OptionSpec kFromOptionSpec{"from", 0, true, false};
+inline constexpr OptionSpec kToOptionSpec{"to", 0, true, false};
+inline constexpr std::string_view kInputOptionsHelp =
+    "  --topic NAME       ROS bags: the event topic to read (needed when the bag has\n"
+    "                     several; the error lists them).\n"
+    "  --time-unit U      CSV/text input: unit of the time column, s|ms|us|ns (default:\n"
+    "                     the header's, else s if the times have a decimal point, else us).\n"
+    "  --polarity on|off|both  read only ON or only OFF events (default both).\n";
+inline constexpr std::string_view kCropOptionsHelp =
+    "  --from T, --to T   read only the events from T to T (exclusive) after the first\n"
+    "                     event of the file; seconds or with a unit (250ms, 40us, 2s).\n";
 
 }  // namespace evlife::cli

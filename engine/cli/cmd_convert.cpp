@@ -31,6 +31,7 @@ constexpr OptionSpec kOptions[] = {
     {"unchecked", 0, false, false},
     {"quiet", 'q', false, false},
     {"help", 'h', false, false},
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -64,6 +65,7 @@ void print_help(std::FILE* out) {
       "                 HDF5) when the format does not state one.\n"
       "  --unchecked    write events exactly as decoded: no check of coordinates\n"
       "                 against the sensor or of time order.\n"
+      "%s"
       "  -q, --quiet    no summary.\n"
       "  -h, --help     this text.\n"
       "\n"
@@ -77,7 +79,8 @@ void print_help(std::FILE* out) {
       "Examples:\n"
       "  evlife convert recording.aedat4 recording.h5\n"
       "  evlife convert evt3_sample.raw events.txt\n"
-      "  evlife convert lifetimes.bin lifetimes.h5     # output of evlife process\n");
+      "  evlife convert lifetimes.bin lifetimes.h5     # output of evlife process\n",
+      (std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str());
 }
 
 bool has_ext(const std::string& path, std::initializer_list<const char*> exts) {
@@ -188,7 +191,8 @@ int convert_augmented(const std::string& input, const std::string& output, bool 
 }
 
 int convert_events(const std::string& input, const std::string& output,
-                   std::optional<SensorSize> sensor_arg, bool unchecked, bool quiet) {
+                   std::optional<SensorSize> sensor_arg, const io::ReaderOptions& input_options,
+                   bool unchecked, bool quiet) {
   if (has_ext(output, {".csv", ".bin"})) {
     std::fprintf(stderr,
                  "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
@@ -201,12 +205,14 @@ int convert_events(const std::string& input, const std::string& output,
   std::optional<SensorSize> sensor;
   try {
     if (unchecked) {
-      reader = io::open_unchecked_event_reader(input);
+      reader = io::open_unchecked_event_reader(input, input_options);
       sensor = reader->sensor_size() ? reader->sensor_size() : sensor_arg;
     } else {
-      const auto probe = io::open_unchecked_event_reader(input);
+      const auto probe = io::open_unchecked_event_reader(input, input_options);
       sensor = probe->sensor_size() ? probe->sensor_size() : sensor_arg;
-      reader = io::open_event_reader(input, io::ReaderOptions{sensor, true});
+      io::ReaderOptions checked = input_options;
+      checked.sensor = sensor;
+      reader = io::open_event_reader(input, checked);
     }
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
@@ -245,6 +251,7 @@ int convert(int argc, char** argv) {
   std::optional<SensorSize> sensor;
   bool unchecked = false;
   bool quiet = false;
+  io::ReaderOptions input_options;
   try {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
     if (a.positional.size() != 2) throw UsageError("expected INPUT and OUTPUT");
@@ -252,6 +259,7 @@ int convert(int argc, char** argv) {
     output = a.positional[1];
     if (const auto s = a.value("sensor")) sensor = parse_sensor_size(*s);
     unchecked = a.has("unchecked");
+    input_options = parse_input_options(a);
     quiet = a.has("quiet");
     std::error_code ec;
     if (std::filesystem::equivalent(input, output, ec)) {
@@ -262,8 +270,17 @@ int convert(int argc, char** argv) {
     return kExitUsage;
   }
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
-  if (has_ext(input, {".csv", ".bin"})) return convert_augmented(input, output, quiet);
-  return convert_events(input, output, sensor, unchecked, quiet);
+  // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
+  if (has_ext(input, {".bin"})) return convert_augmented(input, output, quiet);
+  if (has_ext(input, {".csv"})) {
+    bool augmented = false;
+    try {
+      augmented = io::open_augmented_reader(input) != nullptr;
+    } catch (const io::ReadError&) {
+    }
+    if (augmented) return convert_augmented(input, output, quiet);
+  }
+  return convert_events(input, output, sensor, input_options, unchecked, quiet);
 }
 
 }  // namespace

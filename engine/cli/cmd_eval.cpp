@@ -46,6 +46,7 @@ constexpr OptionSpec kEvalOptions[] = {
     {"output", 'o', true, false},    {"sensor", 0, true, false},  {"config", 0, true, false},
     {"set", 0, true, true},          {"sample-every", 0, true, false}, {"frame-at", 0, true, false},
     {"quiet", 'q', false, false},    {"help", 'h', false, false},
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_eval_help(std::FILE* out) {
@@ -90,6 +91,9 @@ void print_eval_help(std::FILE* out) {
       "  --frame-at T           instant of compare_frame.png, seconds from the first event\n"
       "                         (default 0.5; the last sample if the recording is shorter).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
+      );
+  std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
+  std::fprintf(out,
       "  --config FILE, --set KEY=VALUE   estimator configuration, as for `evlife process`.\n"
       "  -q, --quiet            no progress and no summary on stdout.\n"
       "\n"
@@ -103,6 +107,7 @@ struct EvalArgs {
   std::string input;
   std::string output;
   std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;  // --topic
   LifetimeOptions estimator;
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
@@ -126,6 +131,7 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   }
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
   if (const auto s = a.value("sensor")) e.sensor = parse_sensor_size(*s);
+  e.input_options = parse_input_options(a);
   e.quiet = a.has("quiet");
   config::ConfigBuilder builder;
   if (const auto c = a.value("config"))
@@ -563,7 +569,7 @@ int eval_recording(int argc, char** argv) {
       o.window_size = n;
       o.regularization = reg;
       const auto t0 = std::chrono::steady_clock::now();
-      auto source = render::open_augmented_source(args.input, o, args.sensor);
+      auto source = render::open_augmented_source(args.input, o, args.sensor, args.input_options);
       RunResult r;
       r.from_file = source->estimator_stats() == nullptr;
       r.window_size = r.from_file ? 0 : n;

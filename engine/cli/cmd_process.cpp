@@ -36,7 +36,7 @@ constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
     {"config", 0, true, false},       {"set", 0, true, true},
     {"print-config", 0, false, false}, {"quiet", 'q', false, false},
-    {"help", 'h', false, false},
+    {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
 void print_help(std::FILE* out) {
@@ -71,6 +71,7 @@ void print_help(std::FILE* out) {
       "                     not state one (the format wins). Without it: estimator.sensor.*\n"
       "                     if you set it, else the smallest sensor holding every event\n"
       "                     (one extra pass over the file).\n"
+      "%s"
       "  --config FILE      YAML configuration; keys it omits keep the built-in defaults.\n"
       "                     Without it: %s\n"
       "                     if present (documents every key, unit and range), else the\n"
@@ -96,6 +97,7 @@ void print_help(std::FILE* out) {
       "Examples:\n"
       "  evlife process stripes.mat -o stripes.csv\n"
       "  evlife process events.txt --sensor 240x180 -o events.bin --set estimator.window_size=7\n",
+      (std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(),
       config::default_config_path().empty() ? "(no default file compiled in)"
                                             : config::default_config_path().c_str());
 }
@@ -105,6 +107,7 @@ struct ProcessArgs {
   std::string input;
   std::string output;
   std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;     // --topic
   config::ConfigBuilder config;
   std::string config_source;           // for the summary
   std::vector<std::string> overrides;  // --set, in order
@@ -127,6 +130,7 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   p.overrides = a.values("set");
   for (const auto& s : p.overrides) p.config.set(s);
   if (const auto s = a.value("sensor")) p.sensor = parse_sensor_size(*s);
+  p.input_options = parse_input_options(a);
   if (p.print_config) return p;
 
   if (a.positional.empty()) throw UsageError("missing INPUT");
@@ -148,8 +152,8 @@ ProcessArgs parse_process_args(int argc, char** argv) {
 
 // Smallest sensor holding every event, tolerant of a fault: the events
 // before it count (the main pass reports the fault after writing them).
-SensorSize scan_sensor_size(const std::string& path) {
-  auto reader = io::open_unchecked_event_reader(path);
+SensorSize scan_sensor_size(const std::string& path, const io::ReaderOptions& input) {
+  auto reader = io::open_unchecked_event_reader(path, input);
   std::vector<Event> batch(kBatchEvents);
   int max_x = 0;
   int max_y = 0;
@@ -195,7 +199,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
                    "(pass --sensor WxH to skip this pass)\n", args.input.c_str());
     }
   }
-  return {scan_sensor_size(args.input), "scanned from the data"};
+  return {scan_sensor_size(args.input, args.input_options), "scanned from the data"};
 }
 
 int process_recording(int argc, char** argv) {
@@ -219,9 +223,11 @@ int process_recording(int argc, char** argv) {
   std::unique_ptr<io::EventReader> reader;
   ResolvedSensor sensor;
   try {
-    const auto probe = io::open_unchecked_event_reader(args.input);
+    const auto probe = io::open_unchecked_event_reader(args.input, args.input_options);
     sensor = resolve_sensor(args, cfg, *probe);
-    reader = io::open_event_reader(args.input, io::ReaderOptions{sensor.size, true});
+    io::ReaderOptions checked = args.input_options;
+    checked.sensor = sensor.size;
+    reader = io::open_event_reader(args.input, checked);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife process: input error: %s\n", e.what());
     return kExitInput;

@@ -45,6 +45,7 @@ constexpr OptionSpec kRenderOptions[] = {
     {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
     {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
     {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec,
 };
 
 void print_render_help(std::FILE* out) {
@@ -93,6 +94,9 @@ void print_render_help(std::FILE* out) {
       "  --video-fps F       frame rate written into a video (default: --fps, i.e. real\n"
       "                      time; at most 60).\n"
       "  --sensor WxH        sensor size when the input does not state it.\n"
+      );
+  std::fputs(std::string(kInputOptionsHelp).c_str(), out);
+  std::fprintf(out,
       "  --config FILE, --set KEY=VALUE  estimator configuration (raw input only).\n"
       "  -q, --quiet         no progress and no summary.\n"
       "\n"
@@ -126,6 +130,7 @@ struct RenderArgs {
   double lifetime_max_us = 30000.0;
   std::optional<double> video_fps;
   std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;  // --topic
   LifetimeOptions estimator;
   bool quiet = false;
 };
@@ -206,6 +211,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto v = a.value("video-fps")) r.video_fps = parse_positive("video-fps", *v);
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  r.input_options = parse_input_options(a, /*crop=*/false);
   r.quiet = a.has("quiet");
 
   config::ConfigBuilder builder;
@@ -264,7 +270,7 @@ int render_recording(int argc, char** argv) {
 
   std::unique_ptr<render::AugmentedSource> source;
   try {
-    source = render::open_augmented_source(args.input, args.estimator, args.sensor);
+    source = render::open_augmented_source(args.input, args.estimator, args.sensor, args.input_options);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
     return kExitInput;

@@ -48,6 +48,7 @@ extern "C" void on_run_signal(int) {
 
 constexpr OptionSpec kOptions[] = {
     {"source", 0, true, false},       {"sensor", 0, true, false},
+    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
     {"realtime", 0, true, false},     {"workers", 'j', true, false},
     {"tiles", 0, true, false},        {"margin", 0, true, false},
     {"policy", 0, true, false},       {"batch-events", 0, true, false},
@@ -94,6 +95,9 @@ void print_help(std::FILE* out) {
       "Options:\n"
       "  --sensor WxH         sensor size when the format does not state one (else\n"
       "                       scanned from the data).\n"
+      );
+  std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
+  std::fprintf(out,
       "  --realtime[=K]       pace a replay by its event clock at K x real time\n"
       "                       (default 1). Without it: as fast as possible.\n"
       "  -j, --workers N      worker threads, 1..32 (default: engine.workers).\n"
@@ -182,6 +186,7 @@ T parse_number(std::string_view name, const std::string& text, T lo, T hi) {
 struct RunArgs {
   std::string source;
   std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;  // --topic
   double speed = 0.0;
   int packet_us = engine::ReplaySource::kDefaultPacketUs;
   std::string output;
@@ -215,6 +220,7 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (!src) throw UsageError("missing --source (file:PATH, dvs128[:SERIAL] or synth:PRESET)");
   r.source = *src;
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
   if (const auto s = a.value("output")) r.output = *s;
   if (const auto s = a.value("biases")) r.biases = *s;
@@ -303,7 +309,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
     return source;
   }
   if (spec.starts_with("file:")) spec.remove_prefix(5);
-  auto source = engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed);
+  auto source = engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed, r.input_options);
   source->set_packet_us(r.packet_us);
   return source;
 }

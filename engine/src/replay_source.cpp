@@ -26,11 +26,15 @@ constexpr std::int64_t kMaxPollNs = 60'000;
 
 std::unique_ptr<ReplaySource> ReplaySource::open_file(const std::string& path,
                                                       std::optional<SensorSize> sensor,
-                                                      double speed) {
+                                                      double speed,
+                                                      const io::ReaderOptions& input) {
   // The format's size, else the user's, else one scan of the data; then a
   // checked reader (bounds, time order) so bad data stops with its index.
-  const io::ResolvedSensorSize size = io::resolve_sensor_size(path, sensor);
-  return from_reader(io::open_event_reader(path, io::ReaderOptions{size.size, true}), size.size,
+  const io::ResolvedSensorSize size = io::resolve_sensor_size(path, sensor, input);
+  io::ReaderOptions checked = input;
+  checked.sensor = size.size;
+  checked.require_time_order = true;
+  return from_reader(io::open_event_reader(path, checked), size.size,
                      speed, SourceKind::offline);
 }
 

@@ -26,6 +26,8 @@ class CheckedEventReader final : public EventReader {
   std::string_view format_name() const override { return inner_->format_name(); }
   const std::string& path() const override { return inner_->path(); }
   std::uint64_t skipped_record_count() const override { return inner_->skipped_record_count(); }
+  std::uint64_t trigger_count() const override { return inner_->trigger_count(); }
+  std::vector<ContainerStream> streams() const override { return inner_->streams(); }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return inner_->byte_offset_of_event(event_index);

@@ -28,7 +28,7 @@ class Evt2Reader final : public EventReader {
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());
   }
-  std::uint64_t trigger_count() const noexcept { return trigger_count_; }
+  std::uint64_t trigger_count() const override { return trigger_count_; }
 
  private:
   ChunkedFile file_;

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <filesystem>
 #include <vector>
 
 #include "checked_event_reader.h"
+#include "cropping_event_reader.h"
 #include "input_file.h"
 
 namespace evlife::io {
@@ -37,7 +39,42 @@ std::vector<EventFormatInfo> known_event_formats() {
   return formats;
 }
 
+namespace {
+
+std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::string& path,
+                                     const ReaderOptions& options) {
+  return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);
+}
+
+}  // namespace
+
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path) {
+  return open_unchecked_event_reader(path, ReaderOptions{});
+}
+
+namespace {
+
+std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderOptions& options);
+
+}  // namespace
+
+std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
+                                                         const ReaderOptions& options) {
+  std::unique_ptr<EventReader> reader = open_decoder(path, options);
+  if (!options.filters()) return reader;
+  return std::make_unique<detail::CroppingEventReader>(std::move(reader), options);
+}
+
+namespace {
+
+std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    for (const detail::ReaderFormat* f : detail::reader_formats()) {
+      if (f->claims_directory != nullptr && f->claims_directory(path)) return open_as(*f, path, options);
+    }
+    throw ReadError(path, -1, -1, "a directory, and not a ROS 2 bag folder (no metadata.yaml or .db3 files)");
+  }
   std::array<std::byte, detail::kSniffBytes> head{};
   std::size_t head_size = 0;
   {
@@ -48,10 +85,10 @@ std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path
   const detail::ReaderFormat* by_extension = nullptr;
   for (const detail::ReaderFormat* f : detail::reader_formats()) {
     const detail::SniffResult r = f->sniff(head_view, path);
-    if (r == detail::SniffResult::by_content) return f->open(path);
+    if (r == detail::SniffResult::by_content) return open_as(*f, path, options);
     if (r == detail::SniffResult::by_extension && by_extension == nullptr) by_extension = f;
   }
-  if (by_extension != nullptr) return by_extension->open(path);
+  if (by_extension != nullptr) return open_as(*by_extension, path, options);
   std::string known;
   for (const detail::ReaderFormat* f : detail::reader_formats())
     known += "\n  " + std::string(f->name) + ": " + std::string(f->description);
@@ -60,9 +97,11 @@ std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path
                                  : "unknown event file format; known formats:" + known);
 }
 
+}  // namespace
+
 std::unique_ptr<EventReader> open_event_reader(const std::string& path,
                                                const ReaderOptions& options) {
-  std::unique_ptr<EventReader> raw = open_unchecked_event_reader(path);
+  std::unique_ptr<EventReader> raw = open_unchecked_event_reader(path, options);
   const std::optional<SensorSize> sensor = options.sensor ? options.sensor : raw->sensor_size();
   return std::make_unique<detail::CheckedEventReader>(std::move(raw), sensor,
                                                       options.require_time_order);

@@ -5,6 +5,7 @@
 //     extern const ReaderFormat <name>_format;   // (declared by the .def line)
 //     const ReaderFormat <name>_format{"name", "description", &sniff_fn, &open_fn};
 //     }
+// (open_with_options / claims_directory: optional, see ReaderFormat)
 // and add `EVLIFE_READER_FORMAT(<name>)` to io/src/reader_formats.def. Nothing
 // else changes: declarations and the table are generated from that list.
 // (Self-registration by static initializers is avoided on purpose: the linker
@@ -34,8 +35,15 @@ struct ReaderFormat {
   /// `head` = the first bytes of the file (up to kSniffBytes, fewer if the
   /// file is shorter); `path` for the extension. Must not throw.
   SniffResult (*sniff)(std::span<const std::byte> head, std::string_view path);
-  /// Opens the file; throws ReadError on failure.
+  /// Opens the file; throws ReadError on failure. (nullptr when
+  /// open_with_options is set.)
   std::unique_ptr<EventReader> (*open)(const std::string& path);
+  /// For formats that take options (e.g. a bag's topic); used when set.
+  std::unique_ptr<EventReader> (*open_with_options)(const std::string& path,
+                                                    const ReaderOptions& options) = nullptr;
+  /// For formats stored as a directory: true when `path` (a directory) is
+  /// one of theirs. Must not throw.
+  bool (*claims_directory)(const std::string& path) = nullptr;
 };
 
 inline constexpr std::size_t kSniffBytes = 4096;

@@ -7,10 +7,14 @@
 
 namespace evlife::io {
 
-SensorSize sensor_size_from_data(const std::string& path) {
+SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input) {
   // Time order is not checked here: this pass only looks at coordinates;
   // the processing pass reports ordering faults with their index.
-  ReaderOptions options;
+  ReaderOptions options = input;
+  // The sensor holds every event of the file, cropped or not.
+  options.from_us.reset();
+  options.to_us.reset();
+  options.polarity = PolarityFilter::both;
   options.require_time_order = false;
   options.sensor = SensorSize{65536, 65536};  // the Event coordinate range: never fails
   const std::unique_ptr<EventReader> reader = open_event_reader(path, options);
@@ -35,11 +39,12 @@ std::string_view to_string(SensorSizeSource source) {
   return "?";
 }
 
-ResolvedSensorSize resolve_sensor_size(const std::string& path, std::optional<SensorSize> user) {
-  if (const std::optional<SensorSize> stated = open_unchecked_event_reader(path)->sensor_size())
+ResolvedSensorSize resolve_sensor_size(const std::string& path, std::optional<SensorSize> user,
+                                       const ReaderOptions& input) {
+  if (const std::optional<SensorSize> stated = open_unchecked_event_reader(path, input)->sensor_size())
     return {*stated, SensorSizeSource::format};
   if (user) return {*user, SensorSizeSource::user};
-  return {sensor_size_from_data(path), SensorSizeSource::data};
+  return {sensor_size_from_data(path, input), SensorSizeSource::data};
 }
 
 }  // namespace evlife::io

@@ -78,7 +78,8 @@ SensorSize sensor_from_augmented(const std::string& path) {
 
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                                                        const LifetimeOptions& estimator,
-                                                       std::optional<SensorSize> sensor) {
+                                                       std::optional<SensorSize> sensor,
+                                                       const io::ReaderOptions& input) {
   std::unique_ptr<io::AugmentedEventReader> augmented;
   std::string augmented_error;
   try {
@@ -93,16 +94,19 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
   }
   std::unique_ptr<io::EventReader> raw;
   try {
-    raw = io::open_event_reader(path);
+    raw = io::open_event_reader(path, input);
   } catch (const io::ReadError& e) {
     throw io::ReadError(path, e.byte_offset(), e.event_index(),
                         std::string(e.what()) + " (and not an augmented file: " + augmented_error + ")");
   }
   LifetimeOptions options = estimator;
-  options.sensor = io::resolve_sensor_size(path, sensor).size;
+  options.sensor = io::resolve_sensor_size(path, sensor, input).size;
   // The checked reader: coordinates outside the sensor and time going
   // backwards are reported (file, event index, offset), never silently used.
-  raw = io::open_event_reader(path, io::ReaderOptions{options.sensor, true});
+  io::ReaderOptions checked = input;
+  checked.sensor = options.sensor;
+  checked.require_time_order = true;
+  raw = io::open_event_reader(path, checked);
   return std::make_unique<EstimatingSource>(std::move(raw), options);
 }
 

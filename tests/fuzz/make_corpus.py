@@ -148,3 +148,92 @@ for i in range(50):
                                               rng.choice((1, -1)), rng.random() * 1e4, rng.random() * 100,
                                               -rng.random() * 100, b'' if i % 3 else b'%.2f' % rng.random())
 put('augmented', 'synthetic_50.csv', csv)
+
+# ---- ROS 2 bag messages (tests/fuzz/fuzz_ros_*.cpp): real messages of the shared
+# rosbag2 bags; payload seeds = u16 width, u16 height, u64 time_base, u8 cut + payload.
+import sqlite3  # noqa: E402
+
+
+def bag_messages(rel, limit):
+    db = sqlite3.connect('file:' + os.path.join(DATA, rel) + '?mode=ro', uri=True)
+    rows = db.execute('SELECT data FROM messages ORDER BY timestamp, id LIMIT ?', (limit,)).fetchall()
+    db.close()
+    return [bytes(r[0]) for r in rows]
+
+
+def packet_fields(m):
+    """(width, height, time_base, payload) of a CDR EventPacket."""
+    def align(pos, n):
+        return 4 + (pos - 4 + n - 1) // n * n
+    pos = 4 + 8
+    n, = struct.unpack_from('<I', m, pos)
+    pos = align(pos + 4 + n, 4)
+    height, width = struct.unpack_from('<II', m, pos)
+    pos = align(pos + 8, 8)
+    _, time_base = struct.unpack_from('<QQ', m, pos)
+    pos += 16
+    n, = struct.unpack_from('<I', m, pos)
+    pos += 4 + n + 1
+    pos = align(pos, 4)
+    n, = struct.unpack_from('<I', m, pos)
+    return width, height, time_base, m[pos + 4:pos + 4 + n]
+
+
+for what, rel in (('ros_evt3', 'rosbag/test_data_evt3_trigger/test_data_evt3_trigger_0.db3'),
+                  ('ros_libcaer', 'rosbag/test_data_libcaer_rollover/libcaer_rollover_0.db3'),
+                  ('ros_mono', 'rosbag/test_data_mono_cd/test_data_mono_cd_0.db3')):
+    for i, m in enumerate(bag_messages(rel, 2)):
+        width, height, time_base, payload = packet_fields(m)
+        put(what, 'real_msg%d.bin' % i, struct.pack('<HHQB', width, height, time_base, 40) + payload[:3000])
+    # Whole messages for the message parser (the first one; mono: both are small).
+    put('ros_message', what[4:] + '_msg0.bin', b'\x00' + bag_messages(rel, 1)[0])
+
+
+class Cdr:
+    """Little-endian CDR: primitives aligned to their size from byte 4."""
+    def __init__(self):
+        self.b = bytearray(b'\x00\x01\x00\x00')
+
+    def put(self, fmt, v):
+        n = struct.calcsize('<' + fmt)
+        self.b += b'\x00' * ((-(len(self.b) - 4)) % n)
+        self.b += struct.pack('<' + fmt, v)
+
+
+arr = Cdr()
+for fmt, v in (('i', 1), ('I', 2), ('I', 4)):
+    arr.put(fmt, v)
+arr.b += b'cam\x00'
+for fmt, v in (('I', 180), ('I', 240), ('I', 3)):
+    arr.put(fmt, v)
+for k in range(3):
+    for fmt, v in (('H', 10 + k), ('H', 20 + k), ('i', 3), ('I', 1000 * k), ('B', k & 1)):
+        arr.put(fmt, v)
+put('ros_message', 'dvs_array.bin', b'\x01' + bytes(arr.b))
+
+# ---- CSV / text layouts of other tools (fuzz_csv_text).
+mv = b''.join(b'%d,%d,%d,%d\n' % (rng.randrange(640), rng.randrange(480), rng.randrange(2), 1000 + 7 * i)
+              for i in range(40))
+put('csv_text', 'metavision_xypt.csv', mv)
+put('csv_text', 'header_tab_xytp.csv', b'x\ty\tt\tp\n' + b''.join(
+    b'%d\t%d\t%d\t%d\n' % (rng.randrange(346), rng.randrange(260), 50 + 3 * i, rng.randrange(2)) for i in range(40)))
+put('csv_text', 'seconds_txyp.csv', b'# t x y p\n' + b''.join(
+    b'%.6f,%d,%d,%d\n' % (0.5 + 1e-5 * i, rng.randrange(240), rng.randrange(180), rng.choice((1, -1))) for i in range(40)))
+
+# ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
+# timestamp overflow, one invalid event), an IMU and a special packet.
+def aedat3_packet(type_, size, overflow, events):
+    return struct.pack('<hhiiiiii', type_, 1, size, 4, overflow, len(events), len(events), len(events)) + b''.join(events)
+
+
+def aedat3_polarity(x, y, on, ts, valid=True):
+    return struct.pack('<Ii', (x << 17) | (y << 2) | (2 if on else 0) | (1 if valid else 0), ts)
+
+
+a3 = b'#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS346\r\n#!END-HEADER\r\n'
+a3 += aedat3_packet(1, 8, 0, [aedat3_polarity(rng.randrange(346), rng.randrange(260), rng.randrange(2) == 1,
+                                              1000 + 13 * i, i % 17 != 5) for i in range(60)])
+a3 += aedat3_packet(3, 36, 0, [bytes(36)] * 2)
+a3 += aedat3_packet(0, 8, 0, [struct.pack('<Ii', 0, 2000)])
+a3 += aedat3_packet(1, 8, 1, [aedat3_polarity(3, 4, True, 7)])
+put('aedat3', 'synthetic_packets.aedat', a3)

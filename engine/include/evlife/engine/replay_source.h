@@ -27,9 +27,11 @@ class ReplaySource final : public EventSource {
   /// Opens `path` (format sniffed by io) with bounds and time-order checks.
   /// Sensor: the format's where it states one, else `sensor`, else a scan of
   /// the data. Throws io::ReadError if the file cannot be opened.
+  /// `input`: the input selection (topic...; its sensor is replaced).
   static std::unique_ptr<ReplaySource> open_file(const std::string& path,
                                                  std::optional<SensorSize> sensor,
-                                                 double speed = 0.0);
+                                                 double speed = 0.0,
+                                                 const io::ReaderOptions& input = {});
 
   /// Replays any io reader (e.g. io::SyntheticSceneReader: a camera-free
   /// live source when kind == live). Throws std::invalid_argument without a

@@ -37,6 +37,14 @@ class ReadError : public std::runtime_error {
   std::int64_t event_index_;
 };
 
+/// A stream of a container file (a ROS bag's topic), for `evlife info`.
+struct ContainerStream {
+  std::string name;            ///< e.g. "/dvs/events"
+  std::string type;            ///< e.g. "dvs_msgs/msg/EventArray"
+  std::uint64_t messages = 0;  ///< message count
+  bool read = false;           ///< the stream this reader delivers
+};
+
 class EventReader {
  public:
   virtual ~EventReader() = default;
@@ -60,6 +68,14 @@ class EventReader {
   /// (e.g. AEDAT 2.0 special/external events). Shown to the user.
   virtual std::uint64_t skipped_record_count() const { return 0; }
 
+  /// External trigger events seen so far (part of skipped_record_count(),
+  /// never mixed into the events).
+  virtual std::uint64_t trigger_count() const { return 0; }
+
+  /// The streams of a container (every topic of a ROS bag); empty for
+  /// single-stream formats.
+  virtual std::vector<ContainerStream> streams() const { return {}; }
+
   /// Bytes of the file consumed so far (for progress display; approximate
   /// for compressed formats). 0 when unknown.
   virtual std::uint64_t bytes_consumed() const { return 0; }
@@ -73,14 +89,41 @@ class EventReader {
   }
 };
 
+/// Which polarities a reader delivers.
+enum class PolarityFilter { both, on, off };
+
 /// What open_event_reader checks on top of decoding.
 struct ReaderOptions {
+  ReaderOptions() = default;
+  // (A constructor, not aggregate initialization: fields can be added
+  // without touching every caller.)
+  ReaderOptions(std::optional<SensorSize> sensor_size, bool time_order)
+      : sensor(sensor_size), require_time_order(time_order) {}
+
   /// Sensor the events must fit in; overrides what the format states. When
   /// neither says, coordinates are not bounds-checked (see
   /// sensor_size_from_data.h to infer one).
   std::optional<SensorSize> sensor;
   /// Timestamps going backwards are an error (the estimator needs order).
   bool require_time_order = true;
+  /// Containers with several streams (ROS bags): the topic to read; empty =
+  /// the only event topic (an error lists them when there are several).
+  std::string topic;
+  /// CSV/text layouts of other tools (format "csv"): the unit of the time
+  /// column, "s", "ms", "us" or "ns"; empty = from the header, else seconds
+  /// when the values have a decimal point, else µs.
+  std::string time_unit;
+  /// Cropping at the source (--from/--to): only events with
+  /// first + from_us <= t < first + to_us, where `first` is the time of the
+  /// file's first event; reading stops at the first event at or after the end.
+  std::optional<std::int64_t> from_us;
+  std::optional<std::int64_t> to_us;
+  /// --polarity: only ON or only OFF events.
+  PolarityFilter polarity = PolarityFilter::both;
+
+  bool filters() const noexcept {
+    return from_us.has_value() || to_us.has_value() || polarity != PolarityFilter::both;
+  }
 };
 
 /// Opens `path`, sniffing its format, and wraps the reader so that
@@ -97,6 +140,8 @@ std::unique_ptr<EventReader> open_checked_event_reader(const std::string& path,
 
 /// The decoder alone, without the checks above (format errors still throw).
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path);
+std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
+                                                         const ReaderOptions& options);
 
 /// A readable format: short name (as format_name()) and a one-line description.
 struct EventFormatInfo {

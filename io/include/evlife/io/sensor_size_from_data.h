@@ -7,12 +7,15 @@
 #include <string_view>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/event_reader.h"
 
 namespace evlife::io {
 
 /// Reads `path` once (constant memory) and returns {max x + 1, max y + 1}.
 /// Throws ReadError when the file cannot be read or holds no event.
-SensorSize sensor_size_from_data(const std::string& path);
+/// `input`: the caller's input selection (topic...); its sensor and
+/// time-order settings are replaced.
+SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input = {});
 
 /// Where a resolved sensor size came from (for the user's summary).
 enum class SensorSizeSource { format, user, data };
@@ -26,6 +29,7 @@ struct ResolvedSensorSize {
 /// The rule of `evlife process`: the format's sensor where it states one,
 /// else `user` (--sensor), else sensor_size_from_data(path).
 ResolvedSensorSize resolve_sensor_size(const std::string& path,
-                                       std::optional<SensorSize> user);
+                                       std::optional<SensorSize> user,
+                                       const ReaderOptions& input = {});
 
 }  // namespace evlife::io

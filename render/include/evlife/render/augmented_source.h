@@ -40,9 +40,11 @@ std::unique_ptr<AugmentedSource> make_estimating_source(std::unique_ptr<io::Even
 /// io::open_event_reader and augmented by a LifetimeEstimator with
 /// `estimator` (its sensor replaced by the resolved one). `sensor` overrides
 /// the sensor size. Throws io::ReadError (file at fault, both attempts
-/// explained) or std::invalid_argument (bad options).
+/// explained) or std::invalid_argument (bad options). `input`: the input
+/// selection for event files (topic...; its sensor is replaced).
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                                                        const LifetimeOptions& estimator,
-                                                       std::optional<SensorSize> sensor = {});
+                                                       std::optional<SensorSize> sensor = {},
+                                                       const io::ReaderOptions& input = {});
 
 }  // namespace evlife::render

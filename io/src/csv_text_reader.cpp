@@ -1,0 +1,474 @@
+// CSV / text events as other tools write them: one event per line, four
+// columns in one of the layouts
+//   x,y,p,t   (Prophesee metavision_file_to_csv)
+//   x,y,t,p
+//   t,x,y,p
+// separated by commas, tabs or spaces; with or without a header line naming
+// the columns (x, y, t|ts|time|timestamp, p|pol|polarity, optionally with a
+// unit: t_us, timestamp(us), t [s]...; other named columns are ignored, so
+// evlife's own augmented CSV reads too). Without a header the layout is told
+// from the first lines (the polarity column holds only -1/0/1, the time
+// column never decreases, x and y are integers) and must be unambiguous.
+// Time unit: ReaderOptions::time_unit (--time-unit), else the header's, else
+// seconds when the time column has a decimal point, else µs. Times are parsed
+// as decimals straight to integer µs (rounded to nearest), no floating point.
+// Polarity 1 = ON, 0 or -1 = OFF. '#' and '%' lines are comments.
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstring>
+#include <vector>
+
+#include "input_file.h"
+#include "reader_registry.h"
+
+namespace evlife::io::detail {
+namespace {
+
+constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
+constexpr std::size_t kSampleLines = 1000;     // lines looked at to tell the layout
+
+constexpr const char* kLayouts =
+    "accepted layouts: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; separated by commas, "
+    "tabs or spaces; an optional header line naming the columns (x, y, t|ts|time|timestamp, "
+    "p|pol|polarity; other columns ignored); t in seconds with a decimal point or integer µs "
+    "(or say it with --time-unit s|ms|us|ns)";
+
+enum Role { kX = 0, kY = 1, kT = 2, kP = 3 };
+/// Column index of x, y, t, p.
+using Layout = std::array<int, 4>;
+
+struct Field {
+  const char* begin;
+  const char* end;
+};
+
+bool is_blank(char c) noexcept { return c == ' ' || c == '\t' || c == '\r'; }
+
+/// Splits a line at `sep` (' ' = runs of blanks); at most `max` fields.
+std::size_t split(const char* p, const char* end, char sep, Field* out, std::size_t max) {
+  while (p < end && is_blank(*p)) ++p;
+  while (end > p && is_blank(end[-1])) --end;
+  std::size_t n = 0;
+  while (p <= end && n < max + 1) {
+    const char* q = p;
+    if (sep == ' ') {
+      while (q < end && !is_blank(*q)) ++q;
+    } else {
+      while (q < end && *q != sep) ++q;
+    }
+    const char* b = p;
+    const char* e = q;
+    while (b < e && is_blank(*b)) ++b;
+    while (e > b && is_blank(e[-1])) --e;
+    if (n < max) out[n] = Field{b, e};
+    ++n;
+    if (q >= end) break;
+    p = q + 1;
+    if (sep == ' ')
+      while (p < end && is_blank(*p)) ++p;
+  }
+  return n;
+}
+
+/// A decimal number: sign, digits, optional fraction. `frac` = had a '.'.
+struct Number {
+  bool negative = false;
+  std::uint64_t int_part = 0;
+  std::uint64_t frac = 0;  // first up to 9 fraction digits
+  int frac_digits = 0;     // how many of them
+  bool round_up = false;   // 10th fraction digit >= 5
+  bool has_point = false;
+};
+
+bool parse_number(Field f, Number& n) noexcept {
+  const char* p = f.begin;
+  n = Number{};
+  if (p < f.end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
+  const char* digits = p;
+  while (p < f.end && *p >= '0' && *p <= '9') {
+    if (n.int_part > 999'999'999'999'999ULL) return false;
+    n.int_part = n.int_part * 10 + static_cast<std::uint64_t>(*p++ - '0');
+  }
+  bool any = p != digits;
+  if (p < f.end && *p == '.') {
+    n.has_point = true;
+    ++p;
+    while (p < f.end && *p >= '0' && *p <= '9') {
+      if (n.frac_digits < 9) {
+        n.frac = n.frac * 10 + static_cast<std::uint64_t>(*p - '0');
+        ++n.frac_digits;
+      } else if (n.frac_digits == 9) {
+        n.round_up = *p >= '5';
+        ++n.frac_digits;
+      }
+      any = true;
+      ++p;
+    }
+  }
+  return any && p == f.end;
+}
+
+bool as_uint16(const Number& n, std::uint16_t& v) noexcept {
+  if (n.negative || n.has_point || n.int_part > 65535) return false;
+  v = static_cast<std::uint16_t>(n.int_part);
+  return true;
+}
+
+/// µs per unit, as a numerator/denominator in ns: unit_ns = ns per unit.
+bool to_us(const Number& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
+  // value_ns = int_part * unit_ns + frac * unit_ns / 10^digits (digits <= 9).
+  const int digits = std::min(n.frac_digits, 9);
+  if (n.int_part > static_cast<std::uint64_t>(INT64_MAX / 2 / unit_ns)) return false;
+  std::int64_t ns = static_cast<std::int64_t>(n.int_part) * unit_ns;
+  std::int64_t pow10 = 1;
+  for (int i = 0; i < digits; ++i) pow10 *= 10;
+  // frac < 10^9 and unit_ns <= 10^9: the product fits in int64.
+  ns += (static_cast<std::int64_t>(n.frac) * unit_ns + (n.round_up ? unit_ns / 2 : 0)) / pow10;
+  const std::int64_t us = (ns + 500) / 1000;
+  t_us = n.negative ? -us : us;
+  return true;
+}
+
+std::string lower(Field f) {
+  std::string s(f.begin, f.end);
+  s.erase(std::remove(s.begin(), s.end(), '"'), s.end());
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// ns per unit named `u` (s, ms, us, µs, ns...), 0 if unknown.
+std::int64_t unit_ns(std::string u) {
+  u.erase(std::remove_if(u.begin(), u.end(), [](char c) { return c == ' ' || c == '_' || c == '(' || c == ')' || c == '[' || c == ']'; }), u.end());
+  if (u == "s" || u == "sec" || u == "seconds" || u == "second") return 1'000'000'000;
+  if (u == "ms" || u == "msec" || u == "milliseconds") return 1'000'000;
+  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "microseconds") return 1'000;
+  if (u == "ns" || u == "nsec" || u == "nanoseconds") return 1;
+  return 0;
+}
+
+/// The role of a header name (-1: other column); `unit` set for a time name with a unit.
+int header_role(const std::string& name, std::int64_t& unit) {
+  if (name == "x") return kX;
+  if (name == "y") return kY;
+  if (name == "p" || name == "pol" || name == "polarity") return kP;
+  for (const char* base : {"timestamp", "time", "ts", "t"}) {
+    const std::size_t n = std::strlen(base);
+    if (name.compare(0, n, base) != 0) continue;
+    const std::string rest = name.substr(n);
+    if (rest.empty()) return kT;
+    if (const std::int64_t u = unit_ns(rest)) {
+      unit = u;
+      return kT;
+    }
+  }
+  return -1;
+}
+
+char separator_of(const char* p, const char* end) {
+  if (std::memchr(p, ',', static_cast<std::size_t>(end - p)) != nullptr) return ',';
+  if (std::memchr(p, '\t', static_cast<std::size_t>(end - p)) != nullptr) return '\t';
+  if (std::memchr(p, ';', static_cast<std::size_t>(end - p)) != nullptr) return ';';
+  return ' ';
+}
+
+bool is_comment_or_blank(const char* p, const char* end) {
+  while (p < end && is_blank(*p)) ++p;
+  return p == end || *p == '#' || *p == '%';
+}
+
+/// What the head of a file says about its layout.
+struct Detection {
+  bool ok = false;
+  bool header = false;       // first data line is a header
+  char sep = ',';
+  Layout layout{};
+  int columns = 0;
+  std::int64_t unit_ns = 0;  // 0 = not stated
+  bool rpg_like = false;     // t,x,y,p with t in seconds: the rpg-text reader's
+  std::string why;           // when !ok
+};
+
+Detection detect(const char* p, const char* end) {
+  Detection d;
+  std::vector<std::array<Number, 4>> rows;
+  bool first = true;
+  while (p < end && rows.size() < kSampleLines) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (nl == nullptr) break;  // whole lines only
+    const char* line = p;
+    p = nl + 1;
+    if (is_comment_or_blank(line, nl)) continue;
+    std::array<Field, 64> f{};
+    if (first) {
+      first = false;
+      d.sep = separator_of(line, nl);
+      const std::size_t n = split(line, nl, d.sep, f.data(), f.size());
+      Number probe;
+      bool any_letter = false;
+      for (std::size_t i = 0; i < std::min(n, f.size()); ++i)
+        any_letter = any_letter || !parse_number(f[i], probe);
+      if (any_letter) {
+        d.header = true;
+        d.layout = {-1, -1, -1, -1};
+        for (std::size_t i = 0; i < std::min(n, f.size()); ++i) {
+          std::int64_t unit = 0;
+          const int role = header_role(lower(f[i]), unit);
+          if (role >= 0 && d.layout[role] < 0) d.layout[role] = static_cast<int>(i);
+          if (role == kT && unit != 0) d.unit_ns = unit;
+        }
+        d.columns = static_cast<int>(n);
+        if (*std::min_element(d.layout.begin(), d.layout.end()) < 0) {
+          d.why = "the header line does not name x, y, t and p columns";
+          return d;
+        }
+        d.ok = true;
+        return d;
+      }
+    }
+    // A bad line ends the sample: the reader reports it after the events before it.
+    const std::size_t n = split(line, nl, d.sep, f.data(), f.size());
+    if (n != 4) {
+      if (!rows.empty()) break;
+      d.why = "a line has " + std::to_string(n) + " fields, not 4";
+      return d;
+    }
+    std::array<Number, 4> row;
+    bool numbers = true;
+    for (int i = 0; i < 4 && numbers; ++i)
+      numbers = parse_number(f[static_cast<std::size_t>(i)], row[static_cast<std::size_t>(i)]);
+    if (!numbers) {
+      if (!rows.empty()) break;
+      d.why = "a field is not a number";
+      return d;
+    }
+    rows.push_back(row);
+  }
+  if (rows.empty()) {
+    d.why = "no event line found";
+    return d;
+  }
+  std::array<bool, 4> pol{}, frac{}, nondec{}, coord{};
+  for (int c = 0; c < 4; ++c) {
+    pol[c] = frac[c] = false;
+    nondec[c] = coord[c] = pol[c] = true;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const Number& v = rows[r][static_cast<std::size_t>(c)];
+      frac[c] = frac[c] || v.has_point;
+      pol[c] = pol[c] && !v.has_point && v.int_part <= 1;
+      coord[c] = coord[c] && !v.negative && !v.has_point && v.int_part <= 65535;
+      if (r > 0) {
+        std::int64_t a = 0, b = 0;
+        to_us(rows[r - 1][static_cast<std::size_t>(c)], 1'000'000'000, a);
+        to_us(v, 1'000'000'000, b);
+        nondec[c] = nondec[c] && b >= a;
+      }
+    }
+  }
+  constexpr std::array<Layout, 3> kCandidates = {{{0, 1, 3, 2}, {0, 1, 2, 3}, {1, 2, 0, 3}}};
+  std::vector<Layout> valid;
+  for (const Layout& l : kCandidates) {
+    if (pol[l[kP]] && nondec[l[kT]] && coord[l[kX]] && coord[l[kY]]) valid.push_back(l);
+  }
+  // A time column with decimals settles it among the candidates.
+  if (valid.size() > 1) {
+    std::vector<Layout> with_frac;
+    for (const Layout& l : valid)
+      if (frac[l[kT]]) with_frac.push_back(l);
+    if (with_frac.size() == 1) valid = with_frac;
+  }
+  // Else a time column that moves, where the other candidate's does not.
+  if (valid.size() > 1) {
+    std::vector<Layout> moving;
+    for (const Layout& l : valid) {
+      const std::size_t t = static_cast<std::size_t>(l[kT]);
+      if (rows.size() > 1 && rows.front()[t].int_part != rows.back()[t].int_part) moving.push_back(l);
+    }
+    if (moving.size() == 1) valid = moving;
+  }
+  if (valid.size() != 1) {
+    d.why = valid.empty() ? "no accepted layout fits the first lines"
+                          : "the first lines fit several layouts (add a header line, e.g. x,y,t,p)";
+    return d;
+  }
+  d.ok = true;
+  d.layout = valid.front();
+  d.columns = 4;
+  d.rpg_like = d.layout == Layout{1, 2, 0, 3} && frac[0] && d.sep == ' ';
+  return d;
+}
+
+class CsvTextReader final : public EventReader {
+ public:
+  CsvTextReader(const std::string& path, const ReaderOptions& options)
+      : file_(path), buffer_(kBufferBytes) {
+    refill();
+    const Detection d = detect(buffer_.data(), buffer_.data() + end_);
+    if (!d.ok) throw ReadError(path, 0, -1, "not a readable CSV/text event file: " + d.why + "; " + kLayouts);
+    sep_ = d.sep;
+    layout_ = d.layout;
+    columns_ = d.columns;
+    skip_header_ = d.header;
+    if (!options.time_unit.empty()) {
+      unit_ns_ = unit_ns(options.time_unit);
+      if (unit_ns_ == 0) throw ReadError(path, -1, -1, "unknown time unit '" + options.time_unit + "' (s, ms, us, ns)");
+    } else if (d.unit_ns != 0) {
+      unit_ns_ = d.unit_ns;
+    } else {
+      unit_ns_ = time_has_point(d) ? 1'000'000'000 : 1'000;
+    }
+  }
+
+  std::size_t read(std::span<Event> out) override {
+    if (pending_) throw *pending_;
+    std::size_t n = 0;
+    while (n < out.size()) {
+      const char* begin = buffer_.data() + pos_;
+      const char* newline = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
+      if (newline == nullptr) {
+        if (!refill()) {
+          if (pending_ || pos_ == end_) break;
+          newline = buffer_.data() + end_;
+          begin = buffer_.data() + pos_;
+        } else {
+          continue;
+        }
+      }
+      const std::uint64_t line_offset = offset_;
+      const std::size_t consumed = std::min<std::size_t>(static_cast<std::size_t>(newline - begin) + 1, end_ - pos_);
+      ++line_number_;
+      if (!is_comment_or_blank(begin, newline)) {
+        if (skip_header_) {
+          skip_header_ = false;
+        } else if (!parse(begin, newline, out[n])) {
+          fail(line_offset, std::string(begin, std::min<std::size_t>(static_cast<std::size_t>(newline - begin), 80)));
+          break;
+        } else {
+          ++n;
+          ++next_index_;
+        }
+      }
+      pos_ += consumed;
+      offset_ += consumed;
+    }
+    if (n == 0 && pending_) throw *pending_;
+    return n;
+  }
+
+  std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
+  std::string_view format_name() const override { return "csv"; }
+  const std::string& path() const override { return file_.path(); }
+  std::uint64_t bytes_consumed() const override { return offset_; }
+
+ private:
+  bool time_has_point(const Detection& d) const {
+    // Any time value with a decimal point among the sampled lines.
+    const char* p = buffer_.data();
+    const char* end = p + end_;
+    bool header = d.header;
+    std::size_t lines = 0;
+    while (p < end && lines < kSampleLines) {
+      const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      if (nl == nullptr) nl = end;
+      if (!is_comment_or_blank(p, nl)) {
+        if (header) {
+          header = false;
+        } else {
+          std::array<Field, 64> f{};
+          const std::size_t n = split(p, nl, d.sep, f.data(), f.size());
+          const auto t = static_cast<std::size_t>(d.layout[kT]);
+          if (t < std::min(n, f.size()) &&
+              std::memchr(f[t].begin, '.', static_cast<std::size_t>(f[t].end - f[t].begin)) != nullptr)
+            return true;
+          ++lines;
+        }
+      }
+      p = nl + 1;
+    }
+    return false;
+  }
+
+  bool parse(const char* p, const char* end, Event& e) const noexcept {
+    std::array<Field, 64> f{};
+    const std::size_t n = split(p, end, sep_, f.data(), f.size());
+    if (n != static_cast<std::size_t>(columns_)) return false;
+    Number x, y, t, pol;
+    if (!parse_number(f[static_cast<std::size_t>(layout_[kX])], x) ||
+        !parse_number(f[static_cast<std::size_t>(layout_[kY])], y) ||
+        !parse_number(f[static_cast<std::size_t>(layout_[kT])], t) ||
+        !parse_number(f[static_cast<std::size_t>(layout_[kP])], pol))
+      return false;
+    if (!as_uint16(x, e.x) || !as_uint16(y, e.y) || !to_us(t, unit_ns_, e.t_us)) return false;
+    if (pol.has_point || pol.int_part > 1) return false;
+    e.p = (pol.int_part == 1 && !pol.negative) ? std::int8_t{1} : std::int8_t{-1};
+    return true;
+  }
+
+  void fail(std::uint64_t line_offset, const std::string& text) {
+    static constexpr const char* kRole = "xytp";
+    std::string layout;
+    std::array<char, 64> names{};
+    for (int r = 0; r < 4; ++r)
+      if (layout_[r] < static_cast<int>(names.size())) names[static_cast<std::size_t>(layout_[r])] = kRole[r];
+    for (int c = 0; c < columns_ && c < static_cast<int>(names.size()); ++c) {
+      if (c > 0) layout += ',';
+      layout += names[static_cast<std::size_t>(c)] != 0 ? std::string(1, names[static_cast<std::size_t>(c)]) : "_";
+    }
+    pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
+                     "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
+                         " fields '" + layout + "' (x y integers, p 0/1/-1, t a number), got '" + text + "'");
+  }
+
+  bool refill() {
+    const std::size_t leftover = end_ - pos_;
+    if (leftover == buffer_.size()) {
+      fail(offset_, "(line longer than " + std::to_string(kBufferBytes) + " bytes)");
+      return false;
+    }
+    std::memmove(buffer_.data(), buffer_.data() + pos_, leftover);
+    pos_ = 0;
+    end_ = leftover;
+    const std::size_t got =
+        file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
+    file_pos_ += got;
+    end_ += got;
+    return got > 0;
+  }
+
+  InputFile file_;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, end_ = 0;
+  std::uint64_t file_pos_ = 0;
+  std::uint64_t offset_ = 0;
+  std::uint64_t line_number_ = 0;
+  std::uint64_t next_index_ = 0;
+  char sep_ = ',';
+  Layout layout_{};
+  int columns_ = 4;
+  bool skip_header_ = false;
+  std::int64_t unit_ns_ = 1000;
+  std::optional<ReadError> pending_;
+};
+
+SniffResult sniff_csv_text(std::span<const std::byte> head, std::string_view path) {
+  const bool csv = has_extension(path, ".csv") || has_extension(path, ".tsv");
+  const char* p = reinterpret_cast<const char*>(head.data());
+  const Detection d = detect(p, p + head.size());
+  // Space-separated `t x y p` with t in seconds stays the rpg-text reader's.
+  if (d.ok && !d.rpg_like) return SniffResult::by_content;
+  return csv ? SniffResult::by_extension : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_csv_text(const std::string& path, const ReaderOptions& options) {
+  return std::make_unique<CsvTextReader>(path, options);
+}
+
+}  // namespace
+
+const ReaderFormat csv_text_format{
+    "csv",
+    "CSV/text events of other tools: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; "
+    "header line optional; comma, tab or space separated; t in s or µs (--time-unit)",
+    &sniff_csv_text, nullptr, &open_csv_text};
+
+}  // namespace evlife::io::detail

@@ -1,0 +1,71 @@
+// The one EVT 3.0 word decoder of the project, shared by the RAW file reader
+// (evt3_reader.cpp) and the ROS `evt3` payloads (ros_payloads.cpp). State
+// persists across calls: a stream may be cut anywhere between words.
+//
+// Words are little-endian u16, type in the top 4 bits. State words set the
+// row (ADDR_Y 0), the time (TIME_LOW 6: bits 0-11, TIME_HIGH 8: bits 12-23, a
+// 24-bit counter unwrapped to 64 bits: a drop of TIME_HIGH by more than half
+// its range is a wrap) and a vector base (VECT_BASE_X 3: x + polarity); events
+// come from ADDR_X 2 (one event) and VECT_12 4 / VECT_8 5 (a bit mask of up to
+// 12 / 8 events at base x + i, base x then advances by 12 / 8). EXT_TRIGGER 10
+// is counted (and handed to a TriggerSink if set); CONTINUED_4 7, OTHERS 14,
+// CONTINUED_12 15 are skipped and counted. Times are in µs.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "evlife/algo/event.h"
+
+namespace evlife::io {
+
+/// Receives EVT 3.0 EXT_TRIGGER words (rare: a virtual call each is fine).
+class Evt3TriggerSink {
+ public:
+  virtual ~Evt3TriggerSink() = default;
+  virtual void on_trigger(std::int64_t t_us, int edge, int id) = 0;
+};
+
+class Evt3Decoder {
+ public:
+  static constexpr std::size_t kWordBytes = 2;
+  static constexpr std::size_t kMaxEventsPerWord = 12;
+
+  /// Coordinates must lie inside width x height (at most 2048 x 2048).
+  void set_geometry(std::uint32_t width, std::uint32_t height) noexcept;
+
+  struct Result {
+    std::size_t words = 0;   ///< words consumed
+    std::size_t events = 0;  ///< events written to out
+    bool fault = false;      ///< the word at index `words` is bad: see fault_message()
+  };
+
+  /// Decodes up to `words` words from `bytes` into `out`, stopping while a
+  /// whole word's events (kMaxEventsPerWord) still fit, or at a bad word.
+  Result decode(const std::uint8_t* bytes, std::size_t words, std::span<Event> out);
+
+  /// What the last faulting decode() found wrong (allocates: error path only).
+  std::string fault_message() const;
+
+  std::uint64_t trigger_count() const noexcept { return trigger_count_; }
+  std::uint64_t other_count() const noexcept { return other_count_; }
+  void set_trigger_sink(Evt3TriggerSink* sink) noexcept { trigger_sink_ = sink; }
+
+ private:
+  std::uint32_t width_ = 2048;
+  std::uint32_t height_ = 2048;
+  std::uint32_t y_ = 0;
+  std::uint32_t base_x_ = 0;
+  std::int8_t vector_p_ = 1;
+  std::uint32_t time_high_ = 0;  // last 12-bit TIME_HIGH
+  std::int64_t wrap_us_ = 0;     // added per 24-bit wrap
+  std::int64_t t_us_ = 0;
+  std::uint64_t trigger_count_ = 0;
+  std::uint64_t other_count_ = 0;
+  Evt3TriggerSink* trigger_sink_ = nullptr;
+  std::uint16_t fault_word_ = 0;
+};
+
+}  // namespace evlife::io

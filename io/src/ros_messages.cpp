@@ -1,0 +1,288 @@
+#include "ros_messages.h"
+
+#include <cstring>
+#include <limits>
+
+namespace evlife::io::ros {
+namespace {
+
+constexpr std::size_t kEncapsulationBytes = 4;
+constexpr std::uint64_t kMaxTimeNs = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+
+/// Reads little-endian CDR: primitives aligned to their size, counted from
+/// the byte after the encapsulation header (`base`).
+class CdrCursor {
+ public:
+  CdrCursor(std::span<const std::uint8_t> m, std::size_t base, bool aligned = true)
+      : m_(m), base_(base), pos_(base), aligned_(aligned) {}
+  std::size_t pos() const noexcept { return pos_; }
+  std::size_t remaining() const noexcept { return m_.size() - pos_; }
+  const std::uint8_t* here() const noexcept { return m_.data() + pos_; }
+
+  template <typename T>
+  bool read(T& v) {
+    const std::size_t a = aligned_ ? sizeof(T) : 1;
+    const std::size_t aligned = base_ + (pos_ - base_ + a - 1) / a * a;
+    if (aligned > m_.size() || m_.size() - aligned < sizeof(T)) return false;
+    std::memcpy(&v, m_.data() + aligned, sizeof(T));
+    pos_ = aligned + sizeof(T);
+    return true;
+  }
+  /// A CDR string: u32 length including the NUL, then the bytes.
+  bool read_string(std::string& s) {
+    std::uint32_t n = 0;
+    if (!read(n) || n > remaining()) return false;
+    const char* p = reinterpret_cast<const char*>(here());
+    s.assign(p, n > 0 && p[n - 1] == '\0' ? n - 1 : n);
+    pos_ += n;
+    return true;
+  }
+  bool skip(std::size_t n) {
+    if (n > remaining()) return false;
+    pos_ += n;
+    return true;
+  }
+
+ private:
+  std::span<const std::uint8_t> m_;
+  std::size_t base_;
+  std::size_t pos_;
+  bool aligned_;
+};
+
+MessageFault ends_inside(const CdrCursor& c, const char* field) {
+  return MessageFault{c.pos(), std::string("message ends inside its field '") + field + "'"};
+}
+
+MessageFault outside(std::size_t at, std::uint32_t x, std::uint32_t y, std::uint32_t width,
+                     std::uint32_t height) {
+  return MessageFault{at, "event at x=" + std::to_string(x) + " y=" + std::to_string(y) +
+                              " outside the " + std::to_string(width) + "x" +
+                              std::to_string(height) + " sensor the message states"};
+}
+
+bool inside(std::uint32_t x, std::uint32_t y, std::uint32_t width, std::uint32_t height) {
+  return width == 0 || (x < width && y < height);
+}
+
+std::string_view strip_msg(std::string_view type, std::string& buffer) {
+  const std::size_t at = type.find("/msg/");
+  if (at == std::string_view::npos) return type;
+  buffer = std::string(type.substr(0, at)) + "/" + std::string(type.substr(at + 5));
+  return buffer;
+}
+
+}  // namespace
+
+MessageKind message_kind(std::string_view type) {
+  std::string buffer;
+  const std::string_view t = strip_msg(type, buffer);
+  if (t == "event_camera_msgs/EventPacket" || t == "event_array_msgs/EventArray")
+    return MessageKind::event_packet;
+  if (t == "dvs_msgs/EventArray" || t == "prophesee_event_msgs/EventArray")
+    return MessageKind::event_array;
+  return MessageKind::not_events;
+}
+
+std::string_view known_message_types() {
+  return "event_camera_msgs/EventPacket (evt3, libcaer, mono), event_array_msgs/EventArray, "
+         "dvs_msgs/EventArray, prophesee_event_msgs/EventArray";
+}
+
+std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload,
+                                           std::uint64_t time_base, std::uint32_t width,
+                                           std::uint32_t height, std::vector<RosEvent>& out) {
+  constexpr std::size_t kBytes = 8;
+  const std::size_t n = payload.size() / kBytes;
+  const std::size_t first = out.size();
+  out.resize(first + n);
+  RosEvent* dst = out.data() + first;
+  std::uint64_t high = time_base;
+  std::int32_t last = 0;  // only rollovers inside one message are seen
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t data;
+    std::int32_t ts;
+    std::memcpy(&data, payload.data() + i * kBytes, 4);
+    std::memcpy(&ts, payload.data() + i * kBytes + 4, 4);
+    const std::uint32_t x = (data >> 17) & 0x7FFFu;
+    const std::uint32_t y = (data >> 2) & 0x7FFFu;
+    if (ts < 0 || !inside(x, y, width, height)) {
+      out.resize(first + i);
+      if (ts < 0) return MessageFault{i * kBytes, "libcaer event with a negative timestamp"};
+      return outside(i * kBytes, x, y, width, height);
+    }
+    if (ts < last) high += (std::uint64_t{1} << 31) * 1000u;  // the 32-bit clock wrapped
+    last = ts;
+    const std::uint64_t t = high + static_cast<std::uint64_t>(ts) * 1000u;
+    if (t > kMaxTimeNs || t < high) {
+      out.resize(first + i);
+      return MessageFault{i * kBytes, "libcaer event time beyond the 64-bit ns range"};
+    }
+    dst[i] = RosEvent{static_cast<std::int64_t>(t), static_cast<std::uint16_t>(x),
+                      static_cast<std::uint16_t>(y), (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
+  }
+  if (payload.size() % kBytes != 0) {
+    return MessageFault{n * kBytes, "libcaer payload of " + std::to_string(payload.size()) +
+                                        " bytes, not a multiple of 8"};
+  }
+  return std::nullopt;
+}
+
+std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
+                                        std::uint64_t time_base, std::uint32_t width,
+                                        std::uint32_t height, std::vector<RosEvent>& out) {
+  constexpr std::size_t kBytes = 8;
+  const std::size_t n = payload.size() / kBytes;
+  const std::size_t first = out.size();
+  out.resize(first + n);
+  RosEvent* dst = out.data() + first;
+  if (time_base > kMaxTimeNs - 0xFFFFFFFFu) {
+    out.resize(first);
+    return MessageFault{0, "mono time_base beyond the 64-bit ns range"};
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t w;
+    std::memcpy(&w, payload.data() + i * kBytes, kBytes);
+    const auto x = static_cast<std::uint32_t>((w >> 32) & 0xFFFFu);
+    const auto y = static_cast<std::uint32_t>((w >> 48) & 0x7FFFu);
+    if (!inside(x, y, width, height)) {
+      out.resize(first + i);
+      return outside(i * kBytes, x, y, width, height);
+    }
+    dst[i] = RosEvent{static_cast<std::int64_t>(time_base + (w & 0xFFFFFFFFu)),
+                      static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                      (w >> 63) != 0 ? std::int8_t{1} : std::int8_t{-1}};
+  }
+  if (payload.size() % kBytes != 0) {
+    return MessageFault{n * kBytes, "mono payload of " + std::to_string(payload.size()) +
+                                        " bytes, not a multiple of 8"};
+  }
+  return std::nullopt;
+}
+
+std::optional<MessageFault> decode_evt3(std::span<const std::uint8_t> payload, Evt3Decoder& decoder,
+                                        std::vector<Event>& scratch, std::vector<RosEvent>& out) {
+  constexpr std::size_t kChunk = 4096;
+  if (scratch.size() < kChunk) scratch.resize(kChunk);
+  const std::size_t words = payload.size() / Evt3Decoder::kWordBytes;
+  std::size_t done = 0;
+  while (done < words) {
+    const Evt3Decoder::Result r =
+        decoder.decode(payload.data() + done * Evt3Decoder::kWordBytes, words - done, scratch);
+    const std::size_t first = out.size();
+    out.resize(first + r.events);
+    for (std::size_t i = 0; i < r.events; ++i) {
+      const Event& e = scratch[i];
+      out[first + i] = RosEvent{e.t_us * 1000, e.x, e.y, e.p};
+    }
+    done += r.words;
+    if (r.fault) return MessageFault{done * Evt3Decoder::kWordBytes, decoder.fault_message()};
+  }
+  if (payload.size() % Evt3Decoder::kWordBytes != 0)
+    return MessageFault{words * Evt3Decoder::kWordBytes, "evt3 payload of odd length"};
+  return std::nullopt;
+}
+
+std::optional<MessageFault> MessageDecoder::decode(std::span<const std::uint8_t> message,
+                                                   std::vector<RosEvent>& out) {
+  out.clear();
+  if (serialization_ == Serialization::ros1) {
+    return kind_ == MessageKind::event_packet ? decode_packet(message, 0, out) : decode_array(message, 0, out);
+  }
+  if (message.size() < kEncapsulationBytes)
+    return MessageFault{0, "message shorter than its CDR encapsulation header"};
+  if (message[0] != 0 || message[1] > 1)
+    return MessageFault{0, "not a CDR message (encapsulation " + std::to_string(message[0]) + "," +
+                               std::to_string(message[1]) + ")"};
+  if (message[1] == 0) return MessageFault{0, "big-endian CDR messages are not supported"};
+  return kind_ == MessageKind::event_packet ? decode_packet(message, kEncapsulationBytes, out)
+                                            : decode_array(message, kEncapsulationBytes, out);
+}
+
+namespace {
+
+/// std_msgs/Header: (ROS 1: u32 seq), stamp (i32 sec, u32 nanosec), string frame_id.
+bool skip_header(CdrCursor& c, bool ros1) {
+  std::uint32_t seq = 0;
+  if (ros1 && !c.read(seq)) return false;
+  std::int32_t sec = 0;
+  std::uint32_t nanosec = 0;
+  std::uint32_t n = 0;
+  return c.read(sec) && c.read(nanosec) && c.read(n) && c.skip(n);
+}
+
+}  // namespace
+
+std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::uint8_t> m,
+                                                          std::size_t base,
+                                                          std::vector<RosEvent>& out) {
+  const bool ros1 = serialization_ == Serialization::ros1;
+  CdrCursor c(m, base, !ros1);
+  if (!skip_header(c, ros1)) return ends_inside(c, "header");
+  if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
+  std::uint64_t seq = 0;
+  std::uint64_t time_base = 0;
+  if (!c.read(seq) || !c.read(time_base)) return ends_inside(c, "seq/time_base");
+  if (!c.read_string(encoding_)) return ends_inside(c, "encoding");
+  std::uint8_t big_endian = 0;
+  std::uint32_t size = 0;
+  if (!c.read(big_endian)) return ends_inside(c, "is_bigendian");
+  if (!c.read(size)) return ends_inside(c, "events");
+  const std::size_t payload_at = c.pos();
+  if (size > c.remaining()) {
+    return MessageFault{payload_at, "events field of " + std::to_string(size) + " bytes, only " +
+                                        std::to_string(c.remaining()) + " left in the message"};
+  }
+  if (big_endian != 0) return MessageFault{payload_at, "big-endian event payloads are not supported"};
+  const std::span<const std::uint8_t> payload(c.here(), size);
+  std::optional<MessageFault> fault;
+  if (encoding_ == "evt3") {
+    evt3_.set_geometry(width_ == 0 ? 2048u : width_, height_ == 0 ? 2048u : height_);
+    fault = decode_evt3(payload, evt3_, evt3_scratch_, out);
+  } else if (encoding_ == "libcaer") {
+    fault = decode_libcaer(payload, time_base, width_, height_, out);
+  } else if (encoding_ == "mono") {
+    fault = decode_mono(payload, time_base, width_, height_, out);
+  } else {
+    return MessageFault{payload_at, "unsupported event encoding '" + encoding_ +
+                                        "' (readable: evt3, libcaer, mono)"};
+  }
+  if (fault) fault->byte_in_message += payload_at;
+  return fault;
+}
+
+std::optional<MessageFault> MessageDecoder::decode_array(std::span<const std::uint8_t> m,
+                                                         std::size_t base,
+                                                         std::vector<RosEvent>& out) {
+  const bool ros1 = serialization_ == Serialization::ros1;
+  CdrCursor c(m, base, !ros1);
+  encoding_.clear();
+  if (!skip_header(c, ros1)) return ends_inside(c, "header");
+  if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
+  std::uint32_t n = 0;
+  if (!c.read(n)) return ends_inside(c, "events");
+  // Each event takes at least 13 bytes: refuse counts the message cannot hold.
+  if (n > c.remaining() / 13) {
+    return MessageFault{c.pos(), "event count " + std::to_string(n) + " larger than the message holds"};
+  }
+  out.reserve(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::size_t at = c.pos();
+    std::uint16_t x = 0;
+    std::uint16_t y = 0;
+    std::int32_t sec = 0;
+    std::uint32_t nanosec = 0;
+    std::uint8_t polarity = 0;
+    if (!c.read(x) || !c.read(y) || !c.read(sec) || !c.read(nanosec) || !c.read(polarity))
+      return ends_inside(c, "events");
+    if (!inside(x, y, width_, height_)) return outside(at, x, y, width_, height_);
+    if (sec < 0 || nanosec >= 1'000'000'000u)
+      return MessageFault{at, "event time " + std::to_string(sec) + " s " + std::to_string(nanosec) +
+                                  " ns is not a valid ROS time"};
+    out.push_back(RosEvent{static_cast<std::int64_t>(sec) * 1'000'000'000 + nanosec, x, y,
+                           polarity != 0 ? std::int8_t{1} : std::int8_t{-1}});
+  }
+  return std::nullopt;
+}
+
+}  // namespace evlife::io::ros

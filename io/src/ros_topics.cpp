@@ -1,0 +1,50 @@
+#include "ros_topics.h"
+
+#include <algorithm>
+
+#include "evlife/io/event_reader.h"
+#include "ros_messages.h"
+
+namespace evlife::io::ros {
+namespace {
+
+std::string topic_list(const std::vector<TopicInfo>& topics) {
+  std::string s;
+  for (const TopicInfo& t : topics)
+    s += "\n  " + t.name + " (" + t.type + ", " + std::to_string(t.message_count) + " messages)";
+  return s.empty() ? "\n  (none)" : s;
+}
+
+}  // namespace
+
+/// The event topic to read: `wanted` if given, else the only one.
+const TopicInfo& choose_topic(const std::string& path, const std::vector<TopicInfo>& topics,
+                                   const std::string& wanted) {
+  if (!wanted.empty()) {
+    const auto it = std::find_if(topics.begin(), topics.end(),
+                                 [&](const TopicInfo& t) { return t.name == wanted; });
+    if (it == topics.end())
+      throw ReadError(path, -1, -1, "no topic '" + wanted + "' in the bag; its topics:" + topic_list(topics));
+    if (message_kind(it->type) == MessageKind::not_events) {
+      throw ReadError(path, -1, -1,
+                      "topic '" + wanted + "' has type " + it->type +
+                          ", not an event message (readable: " +
+                          std::string(known_message_types()) + ")");
+    }
+    return *it;
+  }
+  std::vector<const TopicInfo*> events;
+  for (const TopicInfo& t : topics)
+    if (message_kind(t.type) != MessageKind::not_events) events.push_back(&t);
+  if (events.size() == 1) return *events.front();
+  if (events.empty()) {
+    throw ReadError(path, -1, -1,
+                    "no event topic in the bag (readable types: " +
+                        std::string(known_message_types()) + "); its topics:" + topic_list(topics));
+  }
+  std::vector<TopicInfo> listed;
+  for (const TopicInfo* t : events) listed.push_back(*t);
+  throw ReadError(path, -1, -1, "several event topics: choose one with --topic NAME:" + topic_list(listed));
+}
+
+}  // namespace evlife::io::ros

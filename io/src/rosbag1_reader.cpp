@@ -1,0 +1,366 @@
+// ROS 1 bags, format 2.0 (`#ROSBAG V2.0`): records = u32 header length,
+// header fields (u32 length + "name=value"), u32 data length, data; `op` in
+// the header: 0x03 bag header (index_pos), 0x05 chunk (compression none /
+// bz2 / lz4, uncompressed size), 0x02 message data (conn, time), 0x07
+// connection (conn, topic; data = type, md5sum, definition...), 0x04 index
+// data, 0x06 chunk info (message counts per connection). The index after
+// index_pos gives the topics without reading the chunks; messages are then
+// streamed chunk by chunk in file order and decoded by ros::MessageDecoder
+// in ROS 1 serialization (ros_messages.h: types, encodings, time rule).
+#include <bzlib.h>
+#include <lz4frame.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <memory>
+
+#include "input_file.h"
+#include "reader_registry.h"
+#include "ros_messages.h"
+#include "ros_topics.h"
+
+namespace evlife::io {
+namespace {
+
+constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+constexpr std::uint32_t kMaxRecordPart = 1u << 30;  // refuse absurd lengths
+
+enum Op : std::uint8_t {
+  kMessage = 0x02,
+  kBagHeader = 0x03,
+  kIndex = 0x04,
+  kChunk = 0x05,
+  kChunkInfo = 0x06,
+  kConnection = 0x07
+};
+
+/// "name=value" fields of a record header.
+using Fields = std::map<std::string, std::string, std::less<>>;
+
+bool parse_fields(std::span<const std::uint8_t> h, Fields& fields) {
+  fields.clear();
+  std::size_t pos = 0;
+  while (pos < h.size()) {
+    std::uint32_t n = 0;
+    if (h.size() - pos < 4) return false;
+    std::memcpy(&n, h.data() + pos, 4);
+    pos += 4;
+    if (n > h.size() - pos) return false;
+    const std::string_view f(reinterpret_cast<const char*>(h.data() + pos), n);
+    pos += n;
+    const std::size_t eq = f.find('=');
+    if (eq == std::string_view::npos) return false;
+    fields.emplace(std::string(f.substr(0, eq)), std::string(f.substr(eq + 1)));
+  }
+  return true;
+}
+
+template <typename T>
+bool field(const Fields& f, std::string_view name, T& v) {
+  const auto it = f.find(name);
+  if (it == f.end() || it->second.size() != sizeof(T)) return false;
+  std::memcpy(&v, it->second.data(), sizeof(T));
+  return true;
+}
+
+class Rosbag1Reader final : public EventReader {
+ public:
+  Rosbag1Reader(const std::string& path, const ReaderOptions& options)
+      : file_(path), decoder_(ros::MessageKind::not_events) {
+    std::array<std::byte, 13> magic{};
+    if (file_.read_at(0, magic) != magic.size() ||
+        std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0)
+      throw ReadError(path, 0, -1, "not a ROS 1 bag (no '#ROSBAG V2.0' line)");
+    Fields f;
+    std::uint64_t data_at = 0;
+    std::uint32_t data_len = 0;
+    std::uint64_t next = read_record(kMagic.size(), f, data_at, data_len);
+    std::uint8_t op = 0;
+    std::uint64_t index_pos = 0;
+    if (!field(f, "op", op) || op != kBagHeader || !field(f, "index_pos", index_pos))
+      throw ReadError(path, static_cast<std::int64_t>(kMagic.size()), -1, "ROS 1 bag without its bag header record");
+    if (index_pos == 0 || index_pos > file_.size_bytes())
+      throw ReadError(path, static_cast<std::int64_t>(kMagic.size()), -1,
+                      "ROS 1 bag not indexed (index_pos " + std::to_string(index_pos) +
+                          "; an interrupted recording: run `rosbag reindex` on it)");
+    first_record_ = next;
+    index_pos_ = index_pos;
+    read_index();
+    const ros::TopicInfo& topic = ros::choose_topic(path, topics_, options.topic);
+    topic_ = topic.name;
+    for (const auto& [conn, c] : connections_)
+      if (c.topic == topic_) wanted_.push_back(conn);
+    decoder_ = ros::MessageDecoder(ros::message_kind(topic.type), ros::Serialization::ros1);
+    pos_ = first_record_;
+    load_message();
+    if (decoder_.width() > 0 && decoder_.height() > 0)
+      sensor_ = SensorSize{static_cast<int>(decoder_.width()), static_cast<int>(decoder_.height())};
+  }
+
+  std::size_t read(std::span<Event> out) override {
+    std::size_t n = 0;
+    while (n < out.size()) {
+      if (next_ == events_.size()) {
+        if (error_ || ended_) break;
+        load_message();
+        continue;
+      }
+      const std::size_t k = std::min(out.size() - n, events_.size() - next_);
+      for (std::size_t i = 0; i < k; ++i) {
+        const ros::RosEvent& e = events_[next_ + i];
+        out[n + i] = Event{e.t_ns / 1000, e.x, e.y, e.p};
+      }
+      n += k;
+      next_ += k;
+      delivered_ += static_cast<std::int64_t>(k);
+    }
+    if (n == 0 && error_) throw *error_;
+    return n;
+  }
+
+  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  std::string_view format_name() const override { return "rosbag1"; }
+  const std::string& path() const override { return file_.path(); }
+  std::uint64_t skipped_record_count() const override {
+    return decoder_.trigger_count() + decoder_.other_count();
+  }
+  std::uint64_t trigger_count() const override { return decoder_.trigger_count(); }
+  std::uint64_t bytes_consumed() const override { return pos_; }
+  std::vector<ContainerStream> streams() const override {
+    std::vector<ContainerStream> s;
+    for (const ros::TopicInfo& t : topics_) s.push_back(ContainerStream{t.name, t.type, t.message_count, t.name == topic_});
+    return s;
+  }
+
+ private:
+  struct Connection {
+    std::string topic;
+    std::string type;
+    std::uint64_t messages = 0;
+  };
+
+  [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {
+    throw ReadError(file_.path(), static_cast<std::int64_t>(offset), -1, what);
+  }
+
+  /// Reads the record at `at`: its header fields and where its data is;
+  /// returns the offset of the next record. Throws ReadError.
+  std::uint64_t read_record(std::uint64_t at, Fields& f, std::uint64_t& data_at, std::uint32_t& data_len) {
+    std::uint32_t header_len = 0;
+    if (file_.read_at(at, std::as_writable_bytes(std::span(&header_len, 1))) != 4)
+      fail(at, "ROS 1 bag truncated inside a record header");
+    if (header_len > kMaxRecordPart || header_len > file_.size_bytes() - at - 4)
+      fail(at, "ROS 1 record header of " + std::to_string(header_len) + " bytes runs past the end of the file");
+    header_.resize(header_len);
+    if (file_.read_at(at + 4, std::as_writable_bytes(std::span(header_))) != header_len)
+      fail(at, "ROS 1 bag truncated inside a record header");
+    if (!parse_fields(header_, f)) fail(at, "corrupt ROS 1 record header");
+    data_at = at + 4 + header_len;
+    if (file_.read_at(data_at, std::as_writable_bytes(std::span(&data_len, 1))) != 4)
+      fail(data_at, "ROS 1 bag truncated before a record's data length");
+    data_at += 4;
+    if (data_len > kMaxRecordPart || data_len > file_.size_bytes() - data_at)
+      fail(data_at - 4, "ROS 1 record data of " + std::to_string(data_len) + " bytes runs past the end of the file");
+    return data_at + data_len;
+  }
+
+  void read_data(std::uint64_t at, std::uint32_t len, std::vector<std::uint8_t>& out) {
+    out.resize(len);
+    if (file_.read_at(at, std::as_writable_bytes(std::span(out))) != len) fail(at, "ROS 1 bag truncated inside a record");
+  }
+
+  /// Connections and message counts from the index section.
+  void read_index() {
+    Fields f;
+    Fields conn_fields;
+    std::vector<std::uint8_t> data;
+    for (std::uint64_t at = index_pos_; at < file_.size_bytes();) {
+      std::uint64_t data_at = 0;
+      std::uint32_t data_len = 0;
+      const std::uint64_t next = read_record(at, f, data_at, data_len);
+      std::uint8_t op = 0;
+      field(f, "op", op);
+      if (op == kConnection) {
+        std::uint32_t conn = 0;
+        read_data(data_at, data_len, data);
+        if (!field(f, "conn", conn) || !parse_fields(data, conn_fields)) fail(at, "corrupt ROS 1 connection record");
+        Connection& c = connections_[conn];
+        c.topic = f.count("topic") ? f.at("topic") : "";
+        c.type = conn_fields.count("type") ? conn_fields.at("type") : "";
+      } else if (op == kChunkInfo) {
+        std::uint32_t count = 0;
+        read_data(data_at, data_len, data);
+        if (!field(f, "count", count) || data.size() < std::size_t{count} * 8) fail(at, "corrupt ROS 1 chunk info record");
+        for (std::uint32_t i = 0; i < count; ++i) {
+          std::uint32_t conn = 0, messages = 0;
+          std::memcpy(&conn, data.data() + 8 * i, 4);
+          std::memcpy(&messages, data.data() + 8 * i + 4, 4);
+          connections_[conn].messages += messages;
+        }
+      }
+      at = next;
+    }
+    std::map<std::string, std::size_t> by_topic;
+    for (const auto& [id, c] : connections_) {
+      const auto [it, added] = by_topic.emplace(c.topic, topics_.size());
+      if (added) {
+        topics_.push_back(ros::TopicInfo{c.topic, c.type, "ros1", c.messages});
+      } else {
+        topics_[it->second].message_count += c.messages;
+      }
+    }
+  }
+
+  /// Decompresses the chunk record at `at` into chunk_.
+  void load_chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint32_t data_len) {
+    std::uint32_t size = 0;
+    const auto compression = f.find("compression");
+    if (compression == f.end() || !field(f, "size", size) || size > kMaxRecordPart)
+      fail(at, "corrupt ROS 1 chunk header");
+    read_data(data_at, data_len, compressed_);
+    chunk_.resize(size);
+    const std::string& kind = compression->second;
+    bool ok = false;
+    if (kind == "none") {
+      ok = data_len == size;
+      if (ok) std::memcpy(chunk_.data(), compressed_.data(), size);
+    } else if (kind == "bz2") {
+      unsigned int out_len = size;
+      ok = BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(chunk_.data()), &out_len,
+                                      reinterpret_cast<char*>(compressed_.data()), data_len, 0, 0) == BZ_OK &&
+           out_len == size;
+    } else if (kind == "lz4") {
+      LZ4F_dctx* ctx = nullptr;
+      if (!LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) {
+        std::size_t out_len = size;
+        std::size_t in_len = data_len;
+        const std::size_t r = LZ4F_decompress(ctx, chunk_.data(), &out_len, compressed_.data(), &in_len, nullptr);
+        ok = !LZ4F_isError(r) && r == 0 && out_len == size;
+        LZ4F_freeDecompressionContext(ctx);
+      }
+    } else {
+      fail(at, "ROS 1 chunk compressed with '" + kind + "' (readable: none, bz2, lz4)");
+    }
+    if (!ok) fail(at, "corrupt ROS 1 chunk (" + kind + " data does not decompress to its " + std::to_string(size) + " bytes)");
+    chunk_at_ = at;
+    chunk_pos_ = 0;
+    in_chunk_ = true;
+  }
+
+  /// The next message of the wanted topic: its data in `message`; false at the end.
+  bool next_message(std::span<const std::uint8_t>& message) {
+    Fields f;
+    while (true) {
+      if (in_chunk_) {
+        while (chunk_pos_ < chunk_.size()) {
+          const std::size_t at = chunk_pos_;
+          const auto bad = [&] { fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk"); };
+          std::uint32_t hlen = 0, dlen = 0;
+          if (chunk_.size() - at < 4) bad();
+          std::memcpy(&hlen, chunk_.data() + at, 4);
+          if (hlen > chunk_.size() - at - 4 || chunk_.size() - at - 4 - hlen < 4) bad();
+          if (!parse_fields(std::span(chunk_.data() + at + 4, hlen), f)) bad();
+          std::memcpy(&dlen, chunk_.data() + at + 4 + hlen, 4);
+          const std::size_t data = at + 8 + hlen;
+          if (dlen > chunk_.size() - data) bad();
+          chunk_pos_ = data + dlen;
+          std::uint8_t op = 0;
+          std::uint32_t conn = 0;
+          if (field(f, "op", op) && op == kMessage && field(f, "conn", conn) &&
+              std::find(wanted_.begin(), wanted_.end(), conn) != wanted_.end()) {
+            message = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
+            return true;
+          }
+        }
+        in_chunk_ = false;
+      }
+      if (pos_ >= index_pos_) return false;
+      std::uint64_t data_at = 0;
+      std::uint32_t data_len = 0;
+      const std::uint64_t at = pos_;
+      pos_ = read_record(at, f, data_at, data_len);
+      std::uint8_t op = 0;
+      if (field(f, "op", op) && op == kChunk) load_chunk(at, f, data_at, data_len);
+    }
+  }
+
+  void load_message() {
+    events_.clear();
+    next_ = 0;
+    std::span<const std::uint8_t> m;
+    try {
+      if (!next_message(m)) {
+        ended_ = true;
+        return;
+      }
+    } catch (const ReadError& e) {
+      error_.emplace(file_.path(), e.byte_offset(), delivered_,
+                     std::string(e.what()).substr(file_.path().size() + 2) + " (after message " +
+                         std::to_string(message_index_) + " of the topic)");
+      return;
+    }
+    const std::uint64_t index = message_index_++;
+    if (const auto fault = decoder_.decode(m, events_)) {
+      error_.emplace(file_.path(), static_cast<std::int64_t>(chunk_at_), delivered_ + static_cast<std::int64_t>(events_.size()),
+                     "message " + std::to_string(index) + " of the topic (in the chunk at this offset), byte " +
+                         std::to_string(fault->byte_in_message) + " of the message: " + fault->what);
+      return;
+    }
+    if (sensor_ && (decoder_.width() != static_cast<std::uint32_t>(sensor_->width) ||
+                    decoder_.height() != static_cast<std::uint32_t>(sensor_->height))) {
+      events_.clear();
+      error_.emplace(file_.path(), static_cast<std::int64_t>(chunk_at_), delivered_,
+                     "message " + std::to_string(index) + " of the topic states another sensor size than the first");
+    }
+  }
+
+  detail::InputFile file_;
+  ros::MessageDecoder decoder_;
+  std::map<std::uint32_t, Connection> connections_;
+  std::vector<ros::TopicInfo> topics_;
+  std::string topic_;
+  std::vector<std::uint32_t> wanted_;
+  std::uint64_t first_record_ = 0;
+  std::uint64_t index_pos_ = 0;
+  std::uint64_t pos_ = 0;  // next top-level record
+  std::vector<std::uint8_t> header_;
+  std::vector<std::uint8_t> compressed_;
+  std::vector<std::uint8_t> chunk_;
+  std::uint64_t chunk_at_ = 0;
+  std::size_t chunk_pos_ = 0;
+  bool in_chunk_ = false;
+  std::optional<SensorSize> sensor_;
+  std::vector<ros::RosEvent> events_;
+  std::size_t next_ = 0;
+  std::int64_t delivered_ = 0;
+  std::uint64_t message_index_ = 0;
+  bool ended_ = false;
+  std::optional<ReadError> error_;
+};
+
+}  // namespace
+
+namespace detail {
+namespace {
+
+SniffResult sniff_rosbag1(std::span<const std::byte> head, std::string_view path) {
+  if (head.size() >= kMagic.size() && std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0)
+    return SniffResult::by_content;
+  return has_extension(path, ".bag") ? SniffResult::by_extension : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_rosbag1(const std::string& path, const ReaderOptions& options) {
+  return std::make_unique<Rosbag1Reader>(path, options);
+}
+
+}  // namespace
+
+const ReaderFormat rosbag1_format{
+    "rosbag1",
+    "ROS 1 bag v2.0 (.bag; chunks uncompressed, bz2 or lz4): event_camera_msgs/EventPacket "
+    "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
+    &sniff_rosbag1, nullptr, &open_rosbag1};
+
+}  // namespace detail
+}  // namespace evlife::io

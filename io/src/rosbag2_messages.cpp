@@ -1,0 +1,177 @@
+#include "rosbag2_messages.h"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "evlife/io/event_reader.h"
+
+namespace evlife::io::ros {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string trim(std::string s) {
+  const auto not_space = [](char c) { return c != ' ' && c != '\t' && c != '\r' && c != '"' && c != '\''; };
+  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
+  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
+  return s;
+}
+
+/// The .db3 files of a bag folder, in reading order.
+std::vector<std::string> bag_folder_files(const std::string& dir) {
+  std::vector<std::string> files;
+  const fs::path metadata = fs::path(dir) / "metadata.yaml";
+  if (std::ifstream in(metadata); in) {
+    std::string line;
+    bool in_list = false;
+    while (std::getline(in, line)) {
+      const std::string t = trim(line);
+      if (t.rfind("storage_identifier:", 0) == 0) {
+        const std::string id = trim(t.substr(19));
+        if (id != "sqlite3") {
+          throw ReadError(metadata.string(), -1, -1,
+                          "rosbag2 storage '" + id + "' is not readable (only sqlite3 .db3 bags)");
+        }
+      }
+      if (t == "relative_file_paths:") {
+        in_list = true;
+      } else if (in_list && t.rfind("- ", 0) == 0) {
+        files.push_back((fs::path(dir) / trim(t.substr(2))).string());
+      } else if (in_list) {
+        in_list = false;
+      }
+    }
+    if (files.empty())
+      throw ReadError(metadata.string(), -1, -1, "rosbag2 metadata lists no relative_file_paths");
+    return files;
+  }
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (entry.path().extension() == ".db3") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw ReadError(dir, -1, -1, "folder without metadata.yaml or .db3 files");
+  return files;
+}
+
+}  // namespace
+
+bool is_rosbag2_directory(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return false;
+  if (fs::exists(fs::path(path) / "metadata.yaml", ec)) return true;
+  for (const auto& entry : fs::directory_iterator(path, ec)) {
+    if (entry.path().extension() == ".db3") return true;
+  }
+  return false;
+}
+
+struct Rosbag2Messages::Db {
+  std::string path;
+  sqlite3* db = nullptr;
+  sqlite3_stmt* stmt = nullptr;
+
+  explicit Db(std::string p) : path(std::move(p)) {
+    if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=
+        SQLITE_OK) {
+      const std::string why = db != nullptr ? sqlite3_errmsg(db) : "out of memory";
+      sqlite3_close(db);
+      throw ReadError(path, -1, -1, "cannot open as an SQLite database: " + why);
+    }
+  }
+  ~Db() {
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+  }
+  Db(const Db&) = delete;
+  Db& operator=(const Db&) = delete;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw ReadError(path, -1, -1, what + ": " + sqlite3_errmsg(db));
+  }
+  void prepare(const char* sql) {
+    sqlite3_finalize(stmt);
+    stmt = nullptr;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) != SQLITE_OK)
+      fail("not a rosbag2 sqlite3 bag (query failed)");
+  }
+  /// sqlite3_step with errors turned into ReadError; true while a row is there.
+  bool step(const std::string& what) {
+    const int rc = sqlite3_step(stmt);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    fail(what);
+  }
+  std::string text(int column) const {
+    const unsigned char* t = sqlite3_column_text(stmt, column);
+    return t != nullptr ? reinterpret_cast<const char*>(t) : "";
+  }
+};
+
+Rosbag2Messages::Rosbag2Messages(const std::string& path) {
+  std::error_code ec;
+  files_ = fs::is_directory(path, ec) ? bag_folder_files(path) : std::vector<std::string>{path};
+  std::map<std::string, std::size_t> by_name;
+  for (const std::string& file : files_) {
+    Db db(file);
+    db.prepare(
+        "SELECT t.name, t.type, t.serialization_format, "
+        "(SELECT COUNT(*) FROM messages m WHERE m.topic_id = t.id) FROM topics t ORDER BY t.id");
+    while (db.step("cannot read the topics table")) {
+      TopicInfo t{db.text(0), db.text(1), db.text(2),
+                  static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 3))};
+      const auto [it, added] = by_name.emplace(t.name, topics_.size());
+      if (added) {
+        topics_.push_back(std::move(t));
+      } else {
+        topics_[it->second].message_count += t.message_count;
+      }
+    }
+  }
+}
+
+Rosbag2Messages::~Rosbag2Messages() = default;
+
+void Rosbag2Messages::open_file(std::size_t i) {
+  file_index_ = i;
+  db_.reset();
+  db_ = std::make_unique<Db>(files_[i]);
+  db_->prepare(
+      "SELECT m.data, m.timestamp FROM messages m JOIN topics t ON m.topic_id = t.id "
+      "WHERE t.name = ?1 ORDER BY m.timestamp, m.id");
+  if (sqlite3_bind_text(db_->stmt, 1, topic_.c_str(), -1, SQLITE_TRANSIENT) != SQLITE_OK)
+    db_->fail("cannot select the topic");
+}
+
+void Rosbag2Messages::select(const std::string& name) {
+  topic_ = name;
+  next_index_ = 0;
+  selected_ = true;
+  open_file(0);
+}
+
+bool Rosbag2Messages::next(Message& m) {
+  if (!selected_) return false;
+  while (true) {
+    if (db_ && db_->step("cannot read message " + std::to_string(next_index_))) break;
+    if (file_index_ + 1 >= files_.size()) {
+      db_.reset();
+      return false;
+    }
+    open_file(file_index_ + 1);
+  }
+  const void* blob = sqlite3_column_blob(db_->stmt, 0);
+  const int size = sqlite3_column_bytes(db_->stmt, 0);
+  m.data = std::span<const std::uint8_t>(static_cast<const std::uint8_t*>(blob),
+                                         static_cast<std::size_t>(std::max(size, 0)));
+  m.bag_time_ns = sqlite3_column_int64(db_->stmt, 1);
+  m.index = next_index_++;
+  m.file = &files_[file_index_];
+  return true;
+}
+
+}  // namespace evlife::io::ros

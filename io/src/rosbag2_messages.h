@@ -1,0 +1,67 @@
+// Private: the messages of a ROS 2 bag stored with the sqlite3 plugin
+// (rosbag2 "storage_identifier: sqlite3"): a `.db3` file, or the bag folder
+// (metadata.yaml lists its .db3 files in `relative_file_paths`, read in that
+// order; without metadata.yaml, every *.db3 in name order). Tables used:
+// topics(id, name, type, serialization_format) and messages(id, topic_id,
+// timestamp, data). One topic's messages stream in (timestamp, id) order.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace evlife::io::ros {
+
+struct TopicInfo {
+  std::string name;
+  std::string type;
+  std::string serialization;
+  std::uint64_t message_count = 0;
+};
+
+class Rosbag2Messages {
+ public:
+  /// Opens a .db3 file or a bag folder; throws ReadError.
+  explicit Rosbag2Messages(const std::string& path);
+  ~Rosbag2Messages();
+  Rosbag2Messages(const Rosbag2Messages&) = delete;
+  Rosbag2Messages& operator=(const Rosbag2Messages&) = delete;
+
+  /// Every topic of the bag (over all its files), with message counts.
+  const std::vector<TopicInfo>& topics() const noexcept { return topics_; }
+
+  /// Starts streaming the messages of topic `name` (from the first file).
+  void select(const std::string& name);
+
+  struct Message {
+    std::span<const std::uint8_t> data;  ///< valid until the next next()
+    std::int64_t bag_time_ns = 0;         ///< receive time stored by the recorder
+    std::uint64_t index = 0;              ///< 0-based index among the topic's messages
+    const std::string* file = nullptr;    ///< the .db3 it comes from
+  };
+  /// The next message of the selected topic; false at the end. Throws ReadError.
+  bool next(Message& m);
+
+  /// The .db3 files, in reading order.
+  const std::vector<std::string>& files() const noexcept { return files_; }
+
+ private:
+  struct Db;
+  void open_file(std::size_t i);
+
+  std::vector<std::string> files_;
+  std::vector<TopicInfo> topics_;
+  std::unique_ptr<Db> db_;
+  std::size_t file_index_ = 0;
+  std::string topic_;
+  std::uint64_t next_index_ = 0;
+  bool selected_ = false;
+};
+
+/// True when `path` is a directory holding a rosbag2 sqlite3 bag
+/// (metadata.yaml or *.db3 files).
+bool is_rosbag2_directory(const std::string& path);
+
+}  // namespace evlife::io::ros

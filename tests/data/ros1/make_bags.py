@@ -1,0 +1,116 @@
+#!/usr/bin/python3
+"""Writes the ROS 1 test bags of tests/test_io_rosbag1.cpp with Debian's python3-rosbag
+(an independent bag writer), from the messages of the shared ROS 2 bags (../shared/data/rosbag):
+
+  evt3_{none,bz2,lz4}.bag  the first 30 messages of test_data_evt3_trigger as
+                           event_camera_msgs/EventPacket (ROS 1 serialization), chunks
+                           uncompressed / bz2 / lz4, small chunks so that the bag has several
+  mono_dvs.bag             the 100 events of test_data_mono_cd as dvs_msgs/EventArray (2
+                           messages), plus a std_msgs/String topic that is not events
+
+  /usr/bin/python3 tests/data/ros1/make_bags.py [SHARED_DATA_DIR]
+The EventPacket md5sum written is a placeholder (no reader here checks it). Deterministic;
+the checked-in bags are its output. Needs the Debian package python3-rosbag (not needed by CI:
+the bags are checked in).
+"""
+import os
+import sqlite3
+import struct
+import sys
+
+import rosbag
+import rospy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, '..', '..', '..', '..', 'shared', 'data')
+
+
+def messages(rel, limit):
+    db = sqlite3.connect('file:' + os.path.join(DATA, rel) + '?mode=ro', uri=True)
+    rows = db.execute('SELECT data, timestamp FROM messages ORDER BY timestamp, id LIMIT ?', (limit,)).fetchall()
+    db.close()
+    return [(bytes(d), t) for d, t in rows]
+
+
+class Cdr:
+    def __init__(self, m):
+        self.m, self.pos = m, 4
+
+    def get(self, fmt):
+        n = struct.calcsize('<' + fmt)
+        self.pos = 4 + (self.pos - 4 + n - 1) // n * n
+        v, = struct.unpack_from('<' + fmt, self.m, self.pos)
+        self.pos += n
+        return v
+
+    def string(self):
+        n = self.get('I')
+        s = self.m[self.pos:self.pos + n - 1]
+        self.pos += n
+        return s
+
+
+def ros1_header(seq, sec, nsec, frame):
+    return struct.pack('<III', seq, sec, nsec) + struct.pack('<I', len(frame)) + frame
+
+
+_classes = {}
+
+
+def Raw(type_, md5, text, payload):
+    """A message already serialized (rosbag needs only these class attributes and serialize())."""
+    if type_ not in _classes:
+        _classes[type_] = type(type_.replace('/', '_'), (), {
+            '_type': type_, '_md5sum': md5, '_full_text': text, '_has_header': True,
+            '__init__': lambda self, payload: setattr(self, 'payload', payload),
+            'serialize': lambda self, buff: buff.write(self.payload)})
+    return _classes[type_](payload)
+
+
+PACKET_TEXT = ('std_msgs/Header header\nuint32 height\nuint32 width\nuint64 seq\nuint64 time_base\n'
+               'string encoding\nbool is_bigendian\nuint8[] events\n')
+DVS_TEXT = 'std_msgs/Header header\nuint32 height\nuint32 width\ndvs_msgs/Event[] events\n'
+
+packets = []
+for i, (m, t) in enumerate(messages('rosbag/test_data_evt3_trigger/test_data_evt3_trigger_0.db3', 30)):
+    c = Cdr(m)
+    sec, nsec = c.get('i'), c.get('I')
+    frame = c.string()
+    height, width = c.get('I'), c.get('I')
+    seq, time_base = c.get('Q'), c.get('Q')
+    encoding = c.string()
+    big = c.get('B')
+    n = c.get('I')
+    payload = m[c.pos:c.pos + n]
+    body = (ros1_header(i, sec, nsec, frame) + struct.pack('<IIQQ', height, width, seq, time_base) +
+            struct.pack('<I', len(encoding)) + encoding + struct.pack('<B', big) + struct.pack('<I', n) + payload)
+    packets.append((Raw('event_camera_msgs/EventPacket', '1f4b0c2e8e5a3c7d9b6a4f2e1d0c3b5a', PACKET_TEXT, body), t))
+
+for compression in ('none', 'bz2', 'lz4'):
+    with rosbag.Bag(os.path.join(HERE, 'evt3_%s.bag' % compression), 'w', compression=compression,
+                    chunk_threshold=64 * 1024) as bag:
+        for msg, t in packets:
+            bag.write('/event_camera/events', msg, rospy.Time(nsecs=t), raw=False)
+
+# mono bag events -> dvs_msgs/EventArray (ts = time_base + dt as ROS time).
+with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
+    for i, (m, t) in enumerate(messages('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3', 2)):
+        c = Cdr(m)
+        c.get('i'), c.get('I'), c.string()
+        height, width = c.get('I'), c.get('I')
+        c.get('Q')
+        time_base = c.get('Q')
+        c.string(), c.get('B')
+        n = c.get('I')
+        payload = m[c.pos:c.pos + n]
+        events = b''
+        for k in range(n // 8):
+            w, = struct.unpack_from('<Q', payload, 8 * k)
+            tt = time_base + (w & 0xFFFFFFFF)
+            events += struct.pack('<HHIIB', (w >> 32) & 0xFFFF, (w >> 48) & 0x7FFF, tt // 10**9, tt % 10**9, w >> 63)
+        body = ros1_header(i, 0, 0, b'cam') + struct.pack('<III', height, width, n // 8) + events
+        bag.write('/dvs/events', Raw('dvs_msgs/EventArray', '5e8beee5a6c107e504c2e78903c224b8', DVS_TEXT, body),
+                  rospy.Time(nsecs=t))
+        note = b'hello'
+        bag.write('/notes', Raw('std_msgs/String', '992ce8a1687cec8c8bd883ec73ca41d1', 'string data\n',
+                                struct.pack('<I', len(note)) + note), rospy.Time(nsecs=t))

@@ -1,0 +1,104 @@
+// `evlife info` on a sample of every readable format: the event counts are
+// the ones ../shared/data/PROVENANCE.md states for each file (decoded by
+// others), the sensor sizes the ones the files state.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kData = EVLIFE_SHARED_DATA_DIR;
+
+struct Case {
+  std::string file;
+  std::string format;
+  std::string events;  // as printed, with thousands separators
+  std::string sensor;  // "" = not stated by the format
+};
+
+class CliInfo : public ::testing::Test {
+ public:
+  CliInfo() : dir_(fs::temp_directory_path() / ("evlife_test_cli_info_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~CliInfo() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+ protected:
+  evlife::test::CliRun run(const std::string& args) const {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_ / "cli.log");
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliInfo, DescribesEverySharedSample) {
+  const Case cases[] = {
+      {"reference/stripes.mat", "mat", "340,394", ""},
+      {"aedat2/alex_walking_again.aedat", "aedat2", "19,182", "128x128"},
+      {"rpg_txt/slider_depth_events_chunk.txt", "rpg-text", "50,000", ""},
+      {"aedat4/sample.aedat4", "aedat4", "111,954", "320x240"},
+      {"evt2/evt2_sample.raw", "evt2", "539,481", "640x480"},
+      {"evt3/evt3_sample.raw", "evt3", "219,596", "1280x720"},
+      {"prophesee_dat/NCARS_obj_004397_td.dat", "prophesee-dat", "4,407", ""},
+      {"rosbag/test_data_evt3_trigger", "rosbag2", "82,469 (41,439 ON, 41,030 OFF)", "1280x720"},
+      {"rosbag/test_data_libcaer_rollover", "rosbag2", "334,331 (181,908 ON, 152,423 OFF)", "640x480"},
+      {"rosbag/test_data_mono_cd", "rosbag2", "100 (50 ON, 50 OFF)", "640x480"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run("info '" + kData + "/" + c.file + "'");
+    EXPECT_EQ(r.exit_code, 0) << c.file << "\n" << r.output;
+    EXPECT_NE(r.output.find("format     " + c.format + " ("), std::string::npos) << c.file << "\n" << r.output;
+    EXPECT_NE(r.output.find("events     " + c.events), std::string::npos) << c.file << "\n" << r.output;
+    if (!c.sensor.empty()) {
+      EXPECT_NE(r.output.find("sensor     " + c.sensor + " (stated"), std::string::npos) << c.file << "\n" << r.output;
+    }
+  }
+}
+
+TEST_F(CliInfo, BagTopicsTriggersAndDuration) {
+  const auto r = run("info '" + kData + "/rosbag/test_data_evt3_trigger'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("triggers   2\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("* /event_camera/events"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("event_camera_msgs/msg/EventPacket"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("105 messages"), std::string::npos) << r.output;
+  // 14.224870 .. 15.476187 s of sensor time (PROVENANCE.md).
+  EXPECT_NE(r.output.find("time       14224870 .. 15476187 us, duration 1.251317 s"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(CliInfo, CsvAndHdf5AndErrors) {
+  const fs::path csv = dir_ / "mv.csv";
+  std::ofstream(csv) << "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n";
+  auto r = run("info '" + csv.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("format     csv ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("events     3 (2 ON, 1 OFF)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the events span 640x480"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1000 .. 2250 us"), std::string::npos) << r.output;
+  const fs::path h5 = dir_ / "mv.h5";
+  ASSERT_EQ(run("convert '" + csv.string() + "' '" + h5.string() + "' -q").exit_code, 0);
+  r = run("info '" + h5.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("format     hdf5 ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("events     3 (2 ON, 1 OFF)"), std::string::npos) << r.output;
+  // A bad line: the events before it are counted, then the error, exit 3.
+  std::ofstream(csv) << "10,20,1,1000\n11,21,0,1500\n639,479,1,22x0\n";
+  r = run("info '" + csv.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("events     2 (1 ON, 1 OFF)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
+  EXPECT_EQ(run("info").exit_code, 2);
+  EXPECT_EQ(run("info '" + (dir_ / "missing.raw").string() + "'").exit_code, 3);
+}
+
+}  // namespace

@@ -1,0 +1,145 @@
+// AEDAT 3.1 (cAER): files written here by a test-only writer following the
+// format description (no public sample was small enough to share): polarity
+// packets with the timestamp overflow, invalid events, frame / IMU / special
+// packets skipped and counted, truncation.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+namespace io = evlife::io;
+
+class Aedat3Writer {
+ public:
+  Aedat3Writer() {
+    const std::string header = "#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS346\r\n#!END-HEADER\r\n";
+    bytes_.assign(header.begin(), header.end());
+  }
+  struct Polarity {
+    std::uint32_t x, y;
+    bool on;
+    std::int32_t ts;
+    bool valid = true;
+  };
+  void polarity(std::int32_t overflow, const std::vector<Polarity>& events) {
+    packet(1, 8, overflow, static_cast<std::int32_t>(events.size()));
+    for (const Polarity& e : events) {
+      put<std::uint32_t>((e.x << 17) | (e.y << 2) | (e.on ? 2u : 0u) | (e.valid ? 1u : 0u));
+      put<std::int32_t>(e.ts);
+    }
+  }
+  /// A packet of another type with `n` events of `size` zero bytes.
+  void other(std::int16_t type, std::int32_t size, std::int32_t n) {
+    packet(type, size, 0, n);
+    bytes_.insert(bytes_.end(), static_cast<std::size_t>(size) * static_cast<std::size_t>(n), '\0');
+  }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  template <typename T>
+  void put(T v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void packet(std::int16_t type, std::int32_t size, std::int32_t overflow, std::int32_t n) {
+    put<std::int16_t>(type);
+    put<std::int16_t>(1);  // source
+    put<std::int32_t>(size);
+    put<std::int32_t>(4);  // timestamp offset inside the event
+    put<std::int32_t>(overflow);
+    put<std::int32_t>(n);  // capacity
+    put<std::int32_t>(n);  // number
+    put<std::int32_t>(n);  // valid
+  }
+  std::vector<char> bytes_;
+};
+
+class IoAedat3 : public ::testing::Test {
+ public:
+  IoAedat3() : dir_(fs::temp_directory_path() / ("evlife_test_io_aedat3_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~IoAedat3() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+ protected:
+  std::string save(const std::string& name, const std::vector<char>& bytes) const {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return p;
+  }
+  fs::path dir_;
+};
+
+struct ReadAll {
+  std::string format;
+  std::vector<Event> events;
+  std::uint64_t skipped = 0;
+  std::optional<io::ReadError> error;
+};
+
+ReadAll read_all(const std::string& path) {
+  ReadAll r;
+  const auto reader = io::open_event_reader(path);
+  r.format = reader->format_name();
+  std::vector<Event> batch(2);
+  try {
+    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
+  } catch (const io::ReadError& e) {
+    r.error = e;
+  }
+  r.skipped = reader->skipped_record_count();
+  return r;
+}
+
+Aedat3Writer sample() {
+  Aedat3Writer w;
+  w.polarity(0, {{10, 20, true, 100}, {11, 21, false, 200, false}, {345, 259, false, 2'147'483'000}});
+  w.other(3, 36, 2);    // IMU6
+  w.other(2, 64, 1);    // a (tiny) frame
+  w.other(0, 8, 1);     // special (e.g. a timestamp wrap marker)
+  w.polarity(1, {{1, 2, true, 5}});  // after the 31-bit overflow
+  return w;
+}
+
+TEST_F(IoAedat3, PolarityPacketsWithOverflowOthersSkippedAndCounted) {
+  const ReadAll r = read_all(save("a.aedat", sample().bytes()));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.format, "aedat3");
+  const std::vector<Event> expected = {
+      {100, 10, 20, 1}, {2'147'483'000, 345, 259, -1}, {(std::int64_t{1} << 31) + 5, 1, 2, 1}};
+  ASSERT_EQ(r.events.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(r.events[i].t_us, expected[i].t_us) << i;
+    EXPECT_EQ(r.events[i].x, expected[i].x) << i;
+    EXPECT_EQ(r.events[i].y, expected[i].y) << i;
+    EXPECT_EQ(r.events[i].p, expected[i].p) << i;
+  }
+  EXPECT_EQ(r.skipped, 1u + 2u + 1u + 1u);  // invalid event, 2 IMU, 1 frame, 1 special
+}
+
+TEST_F(IoAedat3, TruncatedPacketKeepsTheEventsBefore) {
+  std::vector<char> bytes = sample().bytes();
+  bytes.resize(bytes.size() - 3);  // inside the last polarity event
+  const std::string path = save("cut.aedat", bytes);
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 2u);
+  EXPECT_NE(std::string(r.error->what()).find("truncated AEDAT 3.1"), std::string::npos) << r.error->what();
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(bytes.size() + 3 - 8));
+}
+
+}  // namespace

@@ -1,0 +1,103 @@
+// Cropping and filtering at the source (ReaderOptions from_us / to_us /
+// polarity; --from --to --polarity of every command reading events).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "evlife/io/event_reader.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+namespace io = evlife::io;
+
+class IoCrop : public ::testing::Test {
+ public:
+  IoCrop() : dir_(fs::temp_directory_path() / ("evlife_test_io_crop_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+    // 10 events, t = 5000 + 1000 i µs, p alternating ON/OFF, x = i.
+    std::ofstream out(csv());
+    out << "x,y,t,p\n";
+    for (int i = 0; i < 10; ++i) out << i << ",3," << 5000 + 1000 * i << "," << (i % 2 == 0 ? 1 : 0) << "\n";
+  }
+  ~IoCrop() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+ protected:
+  std::string csv() const { return (dir_ / "ten.csv").string(); }
+  std::vector<int> xs(const io::ReaderOptions& options, bool checked = true) const {
+    const auto reader = checked ? io::open_event_reader(csv(), options)
+                                : io::open_unchecked_event_reader(csv(), options);
+    std::vector<Event> batch(3);  // small: filtering across read() calls
+    std::vector<int> x;
+    while (const std::size_t n = reader->read(batch))
+      for (std::size_t i = 0; i < n; ++i) x.push_back(batch[i].x);
+    return x;
+  }
+  evlife::test::CliRun run(const std::string& args) const {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_ / "cli.log");
+  }
+  fs::path dir_;
+};
+
+TEST_F(IoCrop, FromToRelativeToTheFirstEvent) {
+  io::ReaderOptions o;
+  o.from_us = 2000;
+  o.to_us = 5000;
+  EXPECT_EQ(xs(o), (std::vector<int>{2, 3, 4}));
+  EXPECT_EQ(xs(o, false), (std::vector<int>{2, 3, 4}));
+  io::ReaderOptions only_to;
+  only_to.to_us = 1;
+  EXPECT_EQ(xs(only_to), (std::vector<int>{0}));
+  io::ReaderOptions beyond;
+  beyond.from_us = 100'000;
+  EXPECT_TRUE(xs(beyond).empty());
+}
+
+TEST_F(IoCrop, Polarity) {
+  io::ReaderOptions on;
+  on.polarity = io::PolarityFilter::on;
+  EXPECT_EQ(xs(on), (std::vector<int>{0, 2, 4, 6, 8}));
+  io::ReaderOptions off;
+  off.polarity = io::PolarityFilter::off;
+  off.from_us = 3000;
+  EXPECT_EQ(xs(off), (std::vector<int>{3, 5, 7, 9}));
+}
+
+TEST_F(IoCrop, EveryCommandTakesTheFlags) {
+  const std::string bag = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/test_data_mono_cd";
+  // info: the mono bag holds 50 ON / 50 OFF events at t = 0..99 µs.
+  auto r = run("info '" + bag + "' --polarity on --from 10us --to 60us");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("events     25 (25 ON, 0 OFF)"), std::string::npos) << r.output;
+  const std::string txt = (dir_ / "off.txt").string();
+  r = run("convert '" + bag + "' '" + txt + "' --polarity off -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(txt);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lines;
+    EXPECT_EQ(line.back(), '0') << line;  // RPG text: p 0 = OFF
+  }
+  EXPECT_EQ(lines, 50);
+  const std::string out = (dir_ / "p.csv").string();
+  r = run("process '" + csv() + "' --sensor 16x16 --from 0.002 --to 0.005 -q -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream rows(out);
+  int n = 0;
+  for (std::string line; std::getline(rows, line);) ++n;
+  EXPECT_EQ(n, 1 + 3);  // header + x = 2, 3, 4
+  EXPECT_EQ(run("eval '" + csv() + "' --polarity sideways -o '" + (dir_ / "e").string() + "'").exit_code, 2);
+  EXPECT_EQ(run("run --source 'file:" + csv() + "' --from 5ms --to 1ms").exit_code, 2);
+  EXPECT_EQ(run("render '" + csv() + "' --polarity up -o '" + (dir_ / "r").string() + "'").exit_code, 2);
+}
+
+}  // namespace

@@ -1,0 +1,176 @@
+// CSV / text layouts of other tools (io/src/csv_text_reader.cpp): each layout,
+// separator, header or not, time unit from header / values / --time-unit,
+// faults, and a CSV written by `evlife convert` read back.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "evlife/io/event_reader.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+namespace io = evlife::io;
+
+class TempDir {
+ public:
+  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_csv_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string p = path(name);
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+struct ReadAll {
+  std::string format;
+  std::vector<Event> events;
+  std::optional<io::ReadError> error;
+};
+
+ReadAll read_all(const std::string& path, const std::string& time_unit = {}) {
+  io::ReaderOptions options;
+  options.time_unit = time_unit;
+  ReadAll r;
+  const auto reader = io::open_event_reader(path, options);
+  r.format = reader->format_name();
+  std::vector<Event> batch(7);
+  try {
+    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
+  } catch (const io::ReadError& e) {
+    r.error = e;
+  }
+  return r;
+}
+
+bool same(const std::vector<Event>& a, const std::vector<Event>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].t_us != b[i].t_us || a[i].x != b[i].x || a[i].y != b[i].y || a[i].p != b[i].p) return false;
+  }
+  return true;
+}
+
+// The same three events in every layout: (t µs, x, y, p).
+const std::vector<Event> kExpected = {{1000, 10, 20, 1}, {1500, 11, 21, -1}, {2250, 639, 479, 1}};
+
+TEST(IoCsv, MetavisionXypt) {
+  const TempDir dir;
+  const ReadAll r = read_all(dir.write("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n"));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.format, "csv");
+  EXPECT_TRUE(same(r.events, kExpected));
+}
+
+TEST(IoCsv, XytpWithHeaderTabSeparated) {
+  const TempDir dir;
+  const ReadAll r = read_all(dir.write("a.tsv", "x\ty\tt\tp\n10\t20\t1000\t1\n11\t21\t1500\t0\n639\t479\t2250\t1\n"));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_TRUE(same(r.events, kExpected));
+}
+
+TEST(IoCsv, TxypSecondsFromHeaderAndFromValues) {
+  const TempDir dir;
+  // Header with a unit, space separated, any extension.
+  const ReadAll a = read_all(dir.write("a.dat.txt", "timestamp(s) x y polarity\n0.001 10 20 1\n0.0015 11 21 -1\n0.00225 639 479 1\n"));
+  ASSERT_FALSE(a.error) << a.error->what();
+  EXPECT_EQ(a.format, "csv");
+  EXPECT_TRUE(same(a.events, kExpected));
+  // No header, comma separated: the decimal point says seconds.
+  const ReadAll b = read_all(dir.write("b.csv", "0.001000,10,20,1\n0.001500,11,21,0\n0.002250,639,479,1\n"));
+  ASSERT_FALSE(b.error) << b.error->what();
+  EXPECT_TRUE(same(b.events, kExpected));
+  // Header naming µs, integer values.
+  const ReadAll c = read_all(dir.write("c.csv", "t_us,x,y,p\n1000,10,20,1\n1500,11,21,0\n2250,639,479,1\n"));
+  ASSERT_FALSE(c.error) << c.error->what();
+  EXPECT_TRUE(same(c.events, kExpected));
+}
+
+TEST(IoCsv, TimeUnitOptionOverrides) {
+  const TempDir dir;
+  const ReadAll r = read_all(dir.write("ms.csv", "x,y,p,t\n10,20,1,1\n11,21,0,1.5\n639,479,1,2.25\n"), "ms");
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_TRUE(same(r.events, kExpected));
+  const ReadAll ns = read_all(dir.write("ns.csv", "10,20,1,1000000\n11,21,0,1500000\n639,479,1,2250000\n"), "ns");
+  ASSERT_FALSE(ns.error) << ns.error->what();
+  EXPECT_TRUE(same(ns.events, kExpected));
+}
+
+TEST(IoCsv, SpaceSeparatedSecondsStayRpgText) {
+  const ReadAll r = read_all(std::string(EVLIFE_SHARED_DATA_DIR) + "/rpg_txt/slider_depth_events_chunk.txt");
+  ASSERT_FALSE(r.error);
+  EXPECT_EQ(r.format, "rpg-text");
+  EXPECT_EQ(r.events.size(), 50'000u);
+}
+
+TEST(IoCsv, UnreadableFileNamesTheLayouts) {
+  const TempDir dir;
+  for (const std::string text : {"a,b,c,d\n1,2,3,4\n", "1,2,3\n4,5,6\n", "5,5,5,5\n"}) {
+    try {
+      (void)read_all(dir.write("bad.csv", text));
+      ADD_FAILURE() << text;
+    } catch (const io::ReadError& e) {
+      EXPECT_NE(std::string(e.what()).find("x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(IoCsv, BadLineStopsWithItsLineEventsBeforeKept) {
+  const TempDir dir;
+  const std::string path = dir.write("cut.csv", "x,y,t,p\n10,20,1000,1\n11,21,1500,0\n639,479,22x0,1\n1,1,3000,1\n");
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 2u);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("line 4"), std::string::npos) << what;
+  EXPECT_NE(what.find(path), std::string::npos) << what;
+  EXPECT_EQ(r.error->event_index(), 2);
+  EXPECT_EQ(r.error->byte_offset(), 8 + 13 + 13);  // the lines before
+}
+
+// evlife's own CSV (process -> .bin, convert .bin -> .csv) reads back as the
+// recording's events (the x, y, t, p columns; the others are ignored).
+TEST(IoCsv, CsvWrittenByEvlifeConvertReadsBack) {
+  const TempDir dir;
+  const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/aedat2/alex_walking_again.aedat";
+  const auto run = [&](const std::string& args) {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+  };
+  const auto processed = run("process '" + input + "' -q -o '" + dir.path("a.bin") + "'");
+  ASSERT_EQ(processed.exit_code, 0) << processed.output;
+  const auto converted = run("convert '" + dir.path("a.bin") + "' '" + dir.path("a.csv") + "' -q");
+  ASSERT_EQ(converted.exit_code, 0) << converted.output;
+  const ReadAll original = read_all(input);
+  const ReadAll back = read_all(dir.path("a.csv"));
+  ASSERT_FALSE(back.error) << back.error->what();
+  EXPECT_EQ(back.format, "csv");
+  ASSERT_EQ(back.events.size(), 19'182u);
+  EXPECT_TRUE(same(back.events, original.events));
+  // And a CSV of another tool converts to RPG text.
+  const std::string mv = dir.write("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n");
+  const auto to_txt = run("convert '" + mv + "' '" + dir.path("mv.txt") + "' -q");
+  ASSERT_EQ(to_txt.exit_code, 0) << to_txt.output;
+  const ReadAll txt = read_all(dir.path("mv.txt"));
+  EXPECT_TRUE(same(txt.events, kExpected));
+}
+
+}  // namespace

@@ -1,0 +1,498 @@
+// ROS 2 bags (sqlite3 storage): the three shared bags of ros-event-camera's
+// event_camera_codecs reproduce the checksums that repository's own tests
+// assert (../shared/data/PROVENANCE.md, "ROS bags"); bags written here by an
+// independent test-side CDR writer (dvs_msgs / prophesee_event_msgs); topic
+// choice; faults (events before them kept, file + message index named).
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "evlife/io/event_reader.h"
+#include "ros_messages.h"
+#include "rosbag2_messages.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+using evlife::SensorSize;
+namespace io = evlife::io;
+namespace ros = evlife::io::ros;
+
+const std::string kData = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag";
+const std::string kEvt3Bag = kData + "/test_data_evt3_trigger";
+const std::string kLibcaerBag = kData + "/test_data_libcaer_rollover";
+const std::string kMonoBag = kData + "/test_data_mono_cd";
+
+// The checksums of event_camera_codecs' test/decoder_test.cpp: Σt (ns, u64
+// wrapping), Σx, Σy, Σp (p in {0, 1}).
+struct Sums {
+  std::uint64_t t = 0;
+  std::uint64_t x = 0;
+  std::uint64_t y = 0;
+  std::uint64_t p = 0;
+  std::uint64_t events = 0;
+  bool operator==(const Sums&) const = default;
+};
+
+struct TriggerSums final : io::Evt3TriggerSink {
+  std::uint64_t count = 0, t_ns = 0, edge = 0, id = 0;
+  void on_trigger(std::int64_t t_us, int e, int i) override {
+    ++count;
+    t_ns += static_cast<std::uint64_t>(t_us) * 1000u;
+    edge += static_cast<std::uint64_t>(e);
+    id += static_cast<std::uint64_t>(i);
+  }
+};
+
+struct BagDecode {
+  Sums sums;
+  std::uint64_t messages = 0;
+  std::vector<std::vector<ros::RosEvent>> per_message;
+};
+
+BagDecode decode_bag(const std::string& path, io::Evt3TriggerSink* triggers = nullptr) {
+  ros::Rosbag2Messages bag(path);
+  EXPECT_EQ(bag.topics().size(), 1u);
+  const ros::TopicInfo topic = bag.topics().at(0);
+  ros::MessageDecoder decoder(ros::message_kind(topic.type));
+  decoder.set_trigger_sink(triggers);
+  bag.select(topic.name);
+  BagDecode r;
+  ros::Rosbag2Messages::Message m;
+  std::vector<ros::RosEvent> events;
+  while (bag.next(m)) {
+    const auto fault = decoder.decode(m.data, events);
+    EXPECT_FALSE(fault) << "message " << m.index << ": " << fault->what;
+    for (const ros::RosEvent& e : events) {
+      r.sums.t += static_cast<std::uint64_t>(e.t_ns);
+      r.sums.x += e.x;
+      r.sums.y += e.y;
+      r.sums.p += e.p > 0 ? 1u : 0u;
+    }
+    r.sums.events += events.size();
+    r.per_message.push_back(events);
+    ++r.messages;
+  }
+  return r;
+}
+
+TEST(Rosbag2Checksums, Evt3WithTriggers) {
+  TriggerSums triggers;
+  const BagDecode r = decode_bag(kEvt3Bag, &triggers);
+  EXPECT_EQ(r.messages, 105u);
+  EXPECT_EQ(r.sums, (Sums{1222326831810000u, 42078718u, 31656267u, 41439u, 82469u}));
+  EXPECT_EQ(triggers.count, 2u);
+  EXPECT_EQ(triggers.t_ns, 29096982000u);
+  EXPECT_EQ(triggers.edge, 1u);
+  EXPECT_EQ(triggers.id, 0u);
+}
+
+TEST(Rosbag2Checksums, LibcaerWithClockRollover) {
+  const BagDecode r = decode_bag(kLibcaerBag);
+  EXPECT_EQ(r.messages, 201u);
+  EXPECT_EQ(r.sums, (Sums{15762826572202229126u, 111651612u, 82801007u, 181908u, 334331u}));
+  // libcaer_summarize, first message: first/last time, OFF and ON counts.
+  const std::vector<ros::RosEvent>& first = r.per_message.at(0);
+  ASSERT_EQ(first.size(), 1613u);
+  EXPECT_EQ(first.front().t_ns, 1702309120762236018);
+  EXPECT_EQ(first.back().t_ns, 1702309120772213018);
+  std::size_t on = 0;
+  for (const ros::RosEvent& e : first) on += e.p > 0 ? 1u : 0u;
+  EXPECT_EQ(on, 872u);
+  EXPECT_EQ(first.size() - on, 741u);
+  // libcaer_find_first: the second message's first time.
+  EXPECT_EQ(r.per_message.at(1).front().t_ns, 1702309120772229018);
+}
+
+TEST(Rosbag2Checksums, Mono) {
+  const BagDecode r = decode_bag(kMonoBag);
+  EXPECT_EQ(r.messages, 2u);
+  EXPECT_EQ(r.sums, (Sums{4950000u, 34450u, 26450u, 50u, 100u}));
+}
+
+// The shared libcaer bag wraps its clock between messages (time_base moves);
+// a wrap inside one message is added here: + 2^31 µs when ts decreases.
+TEST(RosPayloads, LibcaerClockWrapInsideAMessage) {
+  const auto word = [](std::uint32_t x, std::uint32_t y, std::uint32_t p, std::int32_t ts) {
+    std::vector<std::uint8_t> b(8);
+    const std::uint32_t data = (x << 17) | (y << 2) | (p << 1) | 1u;
+    std::memcpy(b.data(), &data, 4);
+    std::memcpy(b.data() + 4, &ts, 4);
+    return b;
+  };
+  std::vector<std::uint8_t> payload;
+  for (const auto& w : {word(3, 4, 1, 2'147'483'000), word(5, 6, 0, 100), word(7, 8, 1, 200)})
+    payload.insert(payload.end(), w.begin(), w.end());
+  std::vector<ros::RosEvent> out;
+  ASSERT_FALSE(ros::decode_libcaer(payload, 5000, 640, 480, out));
+  ASSERT_EQ(out.size(), 3u);
+  const std::int64_t wrap_ns = (std::int64_t{1} << 31) * 1000;
+  EXPECT_EQ(out[0].t_ns, 5000 + std::int64_t{2'147'483'000} * 1000);
+  EXPECT_EQ(out[1].t_ns, 5000 + wrap_ns + 100'000);
+  EXPECT_EQ(out[2].t_ns, 5000 + wrap_ns + 200'000);
+  EXPECT_EQ(out[1].x, 5);
+  EXPECT_EQ(out[1].y, 6);
+  EXPECT_EQ(out[1].p, -1);
+  // Outside the stated sensor: the events before are kept, the fault names the byte.
+  out.clear();
+  const auto fault = ros::decode_libcaer(payload, 0, 5, 480, out);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->byte_in_message, 8u);
+  EXPECT_EQ(out.size(), 1u);
+}
+
+// EVT 3.0 in bags: the decoder state (time, row) carries over message borders.
+TEST(RosPayloads, Evt3StateCarriesAcrossMessages) {
+  const std::vector<std::uint16_t> words = {0x8001, 0x6002, 0x0007, 0x2805, 0x6003, 0x2006};
+  std::vector<std::uint8_t> bytes(words.size() * 2);
+  std::memcpy(bytes.data(), words.data(), bytes.size());
+  io::Evt3Decoder decoder;
+  std::vector<Event> scratch;
+  std::vector<ros::RosEvent> all;
+  std::vector<ros::RosEvent> out;
+  for (const std::size_t cut : {0u, 3u}) {  // two messages: words 0-2, 3-5
+    const std::span<const std::uint8_t> part(bytes.data() + cut * 2, 6);
+    out.clear();
+    ASSERT_FALSE(ros::decode_evt3(part, decoder, scratch, out));
+    all.insert(all.end(), out.begin(), out.end());
+  }
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].t_ns, ((1 << 12) | 2) * 1000);
+  EXPECT_EQ(all[0].x, 5);
+  EXPECT_EQ(all[0].y, 7);
+  EXPECT_EQ(all[0].p, 1);
+  EXPECT_EQ(all[1].t_ns, ((1 << 12) | 3) * 1000);
+  EXPECT_EQ(all[1].y, 7);
+  EXPECT_EQ(all[1].p, -1);
+}
+
+// ---- through open_event_reader, as every command reads ----
+
+struct ReadAll {
+  std::string format;
+  std::optional<SensorSize> sensor;
+  std::vector<Event> events;
+  std::uint64_t skipped = 0;
+  std::optional<io::ReadError> error;
+};
+
+ReadAll read_all(const std::string& path, const std::string& topic = {}) {
+  ReadAll r;
+  io::ReaderOptions options;
+  options.topic = topic;
+  const auto reader = io::open_event_reader(path, options);
+  r.format = reader->format_name();
+  r.sensor = reader->sensor_size();
+  std::vector<Event> batch(1000);
+  try {
+    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
+  } catch (const io::ReadError& e) {
+    r.error = e;
+  }
+  r.skipped = reader->skipped_record_count();
+  return r;
+}
+
+Sums sums_xyp(const std::vector<Event>& events) {
+  Sums s;
+  for (const Event& e : events) {
+    s.x += e.x;
+    s.y += e.y;
+    s.p += e.p > 0 ? 1u : 0u;
+  }
+  s.events = events.size();
+  return s;
+}
+
+TEST(Rosbag2Reader, FolderAndDb3FileReadAlike) {
+  const ReadAll folder = read_all(kEvt3Bag);
+  ASSERT_FALSE(folder.error) << folder.error->what();
+  EXPECT_EQ(folder.format, "rosbag2");
+  EXPECT_EQ(folder.sensor, (SensorSize{1280, 720}));
+  EXPECT_EQ(sums_xyp(folder.events), (Sums{0, 42078718u, 31656267u, 41439u, 82469u}));
+  // Skipped: 2 triggers + the OTHERS / CONTINUED words (PROVENANCE.md word counts).
+  EXPECT_EQ(folder.skipped, 2u + 15688u + 12512u + 25024u);
+  const ReadAll file = read_all(kEvt3Bag + "/test_data_evt3_trigger_0.db3");
+  ASSERT_FALSE(file.error);
+  ASSERT_EQ(file.events.size(), folder.events.size());
+  EXPECT_EQ(0, std::memcmp(file.events.data(), folder.events.data(), folder.events.size() * sizeof(Event)));
+}
+
+TEST(Rosbag2Reader, LibcaerAndMonoTimesFlooredToMicroseconds) {
+  const ReadAll caer = read_all(kLibcaerBag);
+  ASSERT_FALSE(caer.error) << caer.error->what();
+  EXPECT_EQ(caer.sensor, (SensorSize{640, 480}));
+  EXPECT_EQ(sums_xyp(caer.events), (Sums{0, 111651612u, 82801007u, 181908u, 334331u}));
+  EXPECT_EQ(caer.events.front().t_us, 1702309120762236);  // ...762236018 ns
+  const ReadAll mono = read_all(kMonoBag);
+  ASSERT_FALSE(mono.error) << mono.error->what();
+  EXPECT_EQ(mono.sensor, (SensorSize{640, 480}));
+  ASSERT_EQ(mono.events.size(), 100u);
+  // Message 2 (time_base 50000 ns): event i = 50 + k at x 320 + k, dt = 1000 k.
+  EXPECT_EQ(mono.events[51].t_us, 51);
+  EXPECT_EQ(mono.events[51].x, 321);
+}
+
+// ---- bags written here (independent CDR writer, sqlite3 directly) ----
+
+class TempDir {
+ public:
+  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_rosbag_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+void exec(sqlite3* db, const std::string& sql) {
+  char* err = nullptr;
+  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err), SQLITE_OK) << (err ? err : "");
+}
+
+struct Db {
+  sqlite3* db = nullptr;
+  explicit Db(const std::string& path) { EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK); }
+  ~Db() { sqlite3_close(db); }
+  void insert(int id, int topic, std::int64_t t, const std::vector<std::uint8_t>& data) {
+    sqlite3_stmt* s = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db, "INSERT INTO messages VALUES (?1, ?2, ?3, ?4)", -1, &s, nullptr), SQLITE_OK);
+    sqlite3_bind_int(s, 1, id);
+    sqlite3_bind_int(s, 2, topic);
+    sqlite3_bind_int64(s, 3, t);
+    sqlite3_bind_blob(s, 4, data.data(), static_cast<int>(data.size()), SQLITE_TRANSIENT);
+    EXPECT_EQ(sqlite3_step(s), SQLITE_DONE);
+    sqlite3_finalize(s);
+  }
+};
+
+void create_tables(sqlite3* db) {
+  exec(db,
+       "CREATE TABLE topics(id INTEGER PRIMARY KEY,name TEXT NOT NULL,type TEXT NOT NULL,"
+       "serialization_format TEXT NOT NULL,offered_qos_profiles TEXT NOT NULL);"
+       "CREATE TABLE messages(id INTEGER PRIMARY KEY,topic_id INTEGER NOT NULL,"
+       "timestamp INTEGER NOT NULL, data BLOB NOT NULL);");
+}
+
+/// Little-endian CDR writer: each primitive aligned to its size from the
+/// byte after the 4-byte encapsulation header.
+class CdrWriter {
+ public:
+  CdrWriter() : bytes_{0, 1, 0, 0} {}
+  template <typename T>
+  void put(T v) {
+    while ((bytes_.size() - 4) % sizeof(T) != 0) bytes_.push_back(0);
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  void put_string(const std::string& s) {
+    put(static_cast<std::uint32_t>(s.size() + 1));
+    bytes_.insert(bytes_.end(), s.begin(), s.end());
+    bytes_.push_back(0);
+  }
+  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+};
+
+/// dvs_msgs/EventArray (= prophesee_event_msgs/EventArray) of `events`.
+std::vector<std::uint8_t> event_array(const std::vector<ros::RosEvent>& events, std::uint32_t width,
+                                      std::uint32_t height) {
+  CdrWriter w;
+  w.put<std::int32_t>(1);
+  w.put<std::uint32_t>(2);
+  w.put_string("cam");
+  w.put(height);
+  w.put(width);
+  w.put(static_cast<std::uint32_t>(events.size()));
+  for (const ros::RosEvent& e : events) {
+    w.put(e.x);
+    w.put(e.y);
+    w.put(static_cast<std::int32_t>(e.t_ns / 1'000'000'000));
+    w.put(static_cast<std::uint32_t>(e.t_ns % 1'000'000'000));
+    w.put(static_cast<std::uint8_t>(e.p > 0 ? 1 : 0));
+  }
+  return w.bytes();
+}
+
+TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
+  // The mono bag's events, re-encoded as per-event stamps, must read back the same.
+  const BagDecode mono = decode_bag(kMonoBag);
+  const ReadAll reference = read_all(kMonoBag);
+  ASSERT_FALSE(reference.error);
+  const TempDir dir;
+  for (const std::string type : {"dvs_msgs/msg/EventArray", "prophesee_event_msgs/msg/EventArray"}) {
+    const std::string path = dir.path(type.substr(0, type.find('/')) + ".db3");
+    {
+      Db db(path);
+      create_tables(db.db);
+      exec(db.db, "INSERT INTO topics VALUES (1, '/events', '" + type + "', 'cdr', '')");
+      exec(db.db, "INSERT INTO topics VALUES (2, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
+      for (std::size_t i = 0; i < mono.per_message.size(); ++i)
+        db.insert(static_cast<int>(i + 1), 1, static_cast<std::int64_t>(i), event_array(mono.per_message[i], 640, 480));
+    }
+    const ReadAll r = read_all(path);
+    ASSERT_FALSE(r.error) << r.error->what();
+    EXPECT_EQ(r.sensor, (SensorSize{640, 480}));
+    ASSERT_EQ(r.events.size(), reference.events.size());
+    EXPECT_EQ(0, std::memcmp(r.events.data(), reference.events.data(), r.events.size() * sizeof(Event)))
+        << type;
+  }
+}
+
+TEST(Rosbag2Reader, TopicChoice) {
+  const TempDir dir;
+  const std::string path = dir.path("two.db3");
+  const BagDecode mono = decode_bag(kMonoBag);
+  {
+    Db db(path);
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/left/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    exec(db.db, "INSERT INTO topics VALUES (2, '/right/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    exec(db.db, "INSERT INTO topics VALUES (3, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
+    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
+    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
+  }
+  try {
+    (void)io::open_event_reader(path);
+    ADD_FAILURE() << "several event topics must be refused";
+  } catch (const io::ReadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--topic"), std::string::npos) << what;
+    EXPECT_NE(what.find("/left/events"), std::string::npos) << what;
+    EXPECT_NE(what.find("/right/events"), std::string::npos) << what;
+    EXPECT_EQ(what.find("/imu"), std::string::npos) << what;
+  }
+  const ReadAll right = read_all(path, "/right/events");
+  ASSERT_FALSE(right.error);
+  ASSERT_EQ(right.events.size(), 50u);
+  EXPECT_EQ(right.events[0].t_us, 50);  // the second mono message
+  for (const std::string bad : {"/imu", "/nope"}) {
+    try {
+      (void)read_all(path, bad);
+      ADD_FAILURE() << bad;
+    } catch (const io::ReadError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+}
+
+// ---- the CLI, as a user runs it ----
+
+std::size_t count_lines(const std::string& text) {
+  std::size_t n = 0;
+  for (const char ch : text) n += ch == '\n' ? 1u : 0u;
+  return n;
+}
+
+TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
+  const TempDir dir;
+  const auto run = [&](const std::string& args) {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+  };
+  const std::string out = dir.path("mono.txt");
+  const auto ok = run("convert '" + kMonoBag + "' '" + out + "'");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(count_lines(evlife::test::read_text_file(out)), 100u);
+  // Two event topics: refused with the list, then chosen with --topic.
+  const std::string two = dir.path("two.db3");
+  const BagDecode mono = decode_bag(kMonoBag);
+  {
+    Db db(two);
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/a/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    exec(db.db, "INSERT INTO topics VALUES (2, '/b/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
+    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
+  }
+  const auto refused = run("convert '" + two + "' '" + dir.path("x.txt") + "'");
+  EXPECT_EQ(refused.exit_code, 3) << refused.output;
+  EXPECT_NE(refused.output.find("/a/events"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("/b/events"), std::string::npos) << refused.output;
+  const auto chosen = run("convert '" + two + "' '" + dir.path("b.txt") + "' --topic /b/events");
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.path("b.txt"))), 50u);
+  const auto processed = run("process '" + two + "' --topic /a/events -q -o '" + dir.path("a.csv") + "'");
+  ASSERT_EQ(processed.exit_code, 0) << processed.output;
+  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.path("a.csv"))), 50u + 1u) << "header + 50 rows";
+}
+
+// ---- faults: events before them kept; the file and message index named ----
+
+std::string copy_bag(const TempDir& dir, const std::string& db3, const std::string& name) {
+  const std::string path = dir.path(name);
+  fs::copy_file(db3, path, fs::copy_options::overwrite_existing);
+  fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write);
+  return path;
+}
+
+TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
+  const TempDir dir;
+  const std::string path = copy_bag(dir, kLibcaerBag + "/libcaer_rollover_0.db3", "cut.db3");
+  std::uint64_t before = 0;
+  {
+    Db db(path);
+    // Events in messages 0-9: payload = data after the 68 header bytes (frame_id
+    // "camera", encoding "libcaer"), 8 bytes per event.
+    sqlite3_stmt* s = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db.db, "SELECT SUM((length(data) - 68) / 8) FROM "
+                                        "(SELECT data FROM messages ORDER BY timestamp, id LIMIT 10)",
+                                 -1, &s, nullptr),
+              SQLITE_OK);
+    ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
+    before = static_cast<std::uint64_t>(sqlite3_column_int64(s, 0));
+    sqlite3_finalize(s);
+    exec(db.db, "UPDATE messages SET data = substr(data, 1, length(data) - 3) WHERE id = "
+                "(SELECT id FROM messages ORDER BY timestamp, id LIMIT 1 OFFSET 10)");
+  }
+  const ReadAll full = read_all(kLibcaerBag);
+  const ReadAll cut = read_all(path);
+  ASSERT_TRUE(cut.error);
+  const std::string what = cut.error->what();
+  EXPECT_NE(what.find(path), std::string::npos) << what;
+  EXPECT_NE(what.find("message 10 "), std::string::npos) << what;
+  ASSERT_EQ(cut.events.size(), before);
+  EXPECT_EQ(0, std::memcmp(cut.events.data(), full.events.data(), before * sizeof(Event)));
+}
+
+TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
+  const TempDir dir;
+  const std::string path = copy_bag(dir, kMonoBag + "/test_data_mono_cd_0.db3", "enc.db3");
+  {
+    Db db(path);
+    exec(db.db, "UPDATE messages SET data = replace(data, CAST('mono' AS BLOB), CAST('mpeg' AS BLOB)) "
+                "WHERE id = (SELECT MAX(id) FROM messages)");
+  }
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 50u);
+  EXPECT_NE(std::string(r.error->what()).find("unsupported event encoding 'mpeg'"), std::string::npos)
+      << r.error->what();
+  // An SQLite file that is not a bag.
+  const std::string other = dir.path("other.db3");
+  {
+    Db db(other);
+    exec(db.db, "CREATE TABLE t(a INTEGER)");
+  }
+  EXPECT_THROW((void)io::open_event_reader(other), io::ReadError);
+  // A directory that is no bag.
+  fs::create_directories(dir.path("empty"));
+  EXPECT_THROW((void)io::open_event_reader(dir.path("empty")), io::ReadError);
+}
+
+}  // namespace

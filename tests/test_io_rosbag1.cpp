@@ -1,0 +1,167 @@
+// ROS 1 bags (v2.0) written by Debian's python3-rosbag (tests/data/ros1/
+// make_bags.py) from the shared ROS 2 bags' messages: uncompressed, bz2 and
+// lz4 chunks decode to the same events as the .db3 they come from; topic
+// choice, `info` streams, corrupt chunks and unknown compression.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+#include "ros_messages.h"
+#include "rosbag2_messages.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+using evlife::SensorSize;
+namespace io = evlife::io;
+namespace ros = evlife::io::ros;
+
+const std::string kBags = std::string(EVLIFE_SOURCE_DIR) + "/tests/data/ros1/";
+const std::string kShared = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/";
+
+struct ReadAll {
+  std::string format;
+  std::optional<SensorSize> sensor;
+  std::vector<Event> events;
+  std::vector<io::ContainerStream> streams;
+  std::optional<io::ReadError> error;
+};
+
+ReadAll read_all(const std::string& path) {
+  ReadAll r;
+  const auto reader = io::open_event_reader(path);
+  r.format = reader->format_name();
+  r.sensor = reader->sensor_size();
+  r.streams = reader->streams();
+  std::vector<Event> batch(999);
+  try {
+    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
+  } catch (const io::ReadError& e) {
+    r.error = e;
+  }
+  return r;
+}
+
+/// The events of the first `limit` messages of a ROS 2 bag, floored to µs.
+std::vector<Event> db3_events(const std::string& bag_path, std::size_t limit) {
+  ros::Rosbag2Messages bag(bag_path);
+  const ros::TopicInfo topic = bag.topics().at(0);
+  ros::MessageDecoder decoder(ros::message_kind(topic.type));
+  bag.select(topic.name);
+  std::vector<Event> all;
+  std::vector<ros::RosEvent> events;
+  ros::Rosbag2Messages::Message m;
+  for (std::size_t i = 0; i < limit && bag.next(m); ++i) {
+    EXPECT_FALSE(decoder.decode(m.data, events));
+    for (const ros::RosEvent& e : events) all.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
+  }
+  return all;
+}
+
+bool same(const std::vector<Event>& a, const std::vector<Event>& b, std::size_t n) {
+  if (a.size() < n || b.size() < n) return false;
+  return std::memcmp(a.data(), b.data(), n * sizeof(Event)) == 0;
+}
+
+TEST(Rosbag1, Evt3PacketsInEveryChunkCompressionMatchTheDb3) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
+  ASSERT_GT(reference.size(), 10'000u);
+  for (const std::string c : {"none", "bz2", "lz4"}) {
+    const ReadAll r = read_all(kBags + "evt3_" + c + ".bag");
+    ASSERT_FALSE(r.error) << c << ": " << r.error->what();
+    EXPECT_EQ(r.format, "rosbag1");
+    EXPECT_EQ(r.sensor, (SensorSize{1280, 720}));
+    ASSERT_EQ(r.events.size(), reference.size()) << c;
+    EXPECT_TRUE(same(r.events, reference, reference.size())) << c;
+  }
+}
+
+TEST(Rosbag1, DvsEventArrayMatchesTheMonoDb3AndSkipsOtherTopics) {
+  const ReadAll reference = read_all(kShared + "test_data_mono_cd");
+  const ReadAll r = read_all(kBags + "mono_dvs.bag");
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.sensor, (SensorSize{640, 480}));
+  ASSERT_EQ(r.events.size(), 100u);
+  EXPECT_TRUE(same(r.events, reference.events, 100));
+  ASSERT_EQ(r.streams.size(), 2u);
+  const auto dvs = std::find_if(r.streams.begin(), r.streams.end(), [](const auto& s) { return s.name == "/dvs/events"; });
+  ASSERT_NE(dvs, r.streams.end());
+  EXPECT_TRUE(dvs->read);
+  EXPECT_EQ(dvs->type, "dvs_msgs/EventArray");
+  EXPECT_EQ(dvs->messages, 2u);
+}
+
+class Rosbag1Faults : public ::testing::Test {
+ public:
+  Rosbag1Faults() : dir_(fs::temp_directory_path() / ("evlife_test_io_rosbag1_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~Rosbag1Faults() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+ protected:
+  static std::vector<char> load(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  std::string save(const std::string& name, const std::vector<char>& bytes) const {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return p;
+  }
+  /// Offsets of `text` in `bytes`.
+  static std::vector<std::size_t> find_all(const std::vector<char>& bytes, const std::string& text) {
+    std::vector<std::size_t> at;
+    for (auto it = bytes.begin(); (it = std::search(it, bytes.end(), text.begin(), text.end())) != bytes.end(); ++it)
+      at.push_back(static_cast<std::size_t>(it - bytes.begin()));
+    return at;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Rosbag1Faults, CorruptSecondChunkKeepsTheFirstChunksEvents) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
+  std::vector<char> bytes = load(kBags + "evt3_bz2.bag");
+  const auto chunks = find_all(bytes, "compression=bz2");
+  ASSERT_GE(chunks.size(), 2u);
+  bytes[chunks[1] + 200] = static_cast<char>(bytes[chunks[1] + 200] ^ 0x5A);  // inside the bz2 data
+  const std::string path = save("bad.bag", bytes);
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find(path), std::string::npos) << what;
+  EXPECT_NE(what.find("corrupt ROS 1 chunk"), std::string::npos) << what;
+  EXPECT_GT(r.events.size(), 0u);
+  EXPECT_LT(r.events.size(), reference.size());
+  EXPECT_TRUE(same(r.events, reference, r.events.size()));
+}
+
+TEST_F(Rosbag1Faults, UnknownCompressionTruncatedAndNotIndexed) {
+  std::vector<char> bytes = load(kBags + "evt3_lz4.bag");
+  for (const std::size_t at : find_all(bytes, "compression=lz4")) bytes[at + 12] = 'z';
+  ReadAll r = read_all(save("zz4.bag", bytes));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("'zz4'"), std::string::npos) << r.error->what();
+  // Cut in half: the index at the end is gone.
+  const std::vector<char> full = load(kBags + "evt3_none.bag");
+  const std::string cut = save("cut.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(full.size() / 2)));
+  try {
+    (void)io::open_event_reader(cut);
+    ADD_FAILURE() << "a bag without its index must be refused";
+  } catch (const io::ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("not indexed"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
