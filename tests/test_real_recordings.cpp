@@ -202,7 +202,8 @@ TEST(RealRecordings, Evt2SpotLifetimeIsResolvedNotCollapsed) {
   for (const auto& a : out)
     if (!a.is_noise()) lifetimes.push_back(static_cast<double>(a.lifetime_us));
   ASSERT_GT(lifetimes.size(), out.size() / 20);
-  const double resolvable_us = defaults.inlier_tolerance_us / (defaults.window_size / 2);
+  const int half_window_px = defaults.window_size / 2;  // integer: the window's half-width
+  const double resolvable_us = defaults.inlier_tolerance_us / half_window_px;
   EXPECT_GE(*std::min_element(lifetimes.begin(), lifetimes.end()), resolvable_us);
   EXPECT_GE(median(lifetimes), 45.0);
   EXPECT_LE(median(lifetimes), 180.0);

@@ -14,7 +14,9 @@ namespace {
 
 class OpenCvVideo final : public VideoFile {
  public:
-  explicit OpenCvVideo(cv::VideoWriter w) : writer_(std::move(w)) {}
+  bool open(const std::string& path, int fourcc, double fps, cv::Size frame_size) {
+    return writer_.open(path, fourcc, fps, frame_size, true);
+  }
   void write(const cv::Mat& frame) override { writer_.write(frame); }
   void close() override { writer_.release(); }
 
@@ -64,9 +66,9 @@ class OpenCvBackend final : public MediaBackend {
   std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) override {
     const bool mp4 = path.size() >= 4 && path.compare(path.size() - 4, 4, ".mp4") == 0;
     const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v') : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
-    cv::VideoWriter w;
-    if (!w.open(path, fourcc, fps, frame_size, true)) return nullptr;
-    return std::make_unique<OpenCvVideo>(std::move(w));
+    auto video = std::make_unique<OpenCvVideo>();
+    if (!video->open(path, fourcc, fps, frame_size)) return nullptr;
+    return video;
   }
   std::unique_ptr<Window> open_window(const std::string& title) override {
     return std::make_unique<OpenCvWindow>(title);
