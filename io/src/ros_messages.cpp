@@ -1,5 +1,6 @@
 #include "ros_messages.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -283,6 +284,16 @@ std::optional<MessageFault> MessageDecoder::decode_array(std::span<const std::ui
                            polarity != 0 ? std::int8_t{1} : std::int8_t{-1}});
   }
   return std::nullopt;
+}
+
+std::size_t take_events(const std::vector<RosEvent>& events, std::size_t& next, std::span<Event> out) noexcept {
+  const std::size_t k = std::min(out.size(), events.size() - next);
+  for (std::size_t i = 0; i < k; ++i) {
+    const RosEvent& e = events[next + i];
+    out[i] = Event{e.t_ns / 1000, e.x, e.y, e.p};
+  }
+  next += k;
+  return k;
 }
 
 }  // namespace evlife::io::ros

@@ -42,6 +42,11 @@ struct RosEvent {
   std::int8_t p;  ///< +1 ON, -1 OFF
 };
 
+/// Copies events[next...] into `out` as evlife events (time floored to us;
+/// t_ns >= 0 for every decoder), advancing `next`; returns how many. The one
+/// conversion both bag readers use.
+std::size_t take_events(const std::vector<RosEvent>& events, std::size_t& next, std::span<Event> out) noexcept;
+
 enum class MessageKind { event_packet, event_array, not_events };
 
 /// ROS 2 CDR (4-byte encapsulation header, primitives aligned to their size)

@@ -106,13 +106,8 @@ class Rosbag1Reader final : public EventReader {
         load_message();
         continue;
       }
-      const std::size_t k = std::min(out.size() - n, events_.size() - next_);
-      for (std::size_t i = 0; i < k; ++i) {
-        const ros::RosEvent& e = events_[next_ + i];
-        out[n + i] = Event{e.t_ns / 1000, e.x, e.y, e.p};
-      }
+      const std::size_t k = ros::take_events(events_, next_, out.subspan(n));
       n += k;
-      next_ += k;
       delivered_ += static_cast<std::int64_t>(k);
     }
     if (n == 0 && error_) throw *error_;
