@@ -1,0 +1,18 @@
+#!/bin/sh
+# Start-up time of the evlife tool (issue 12): median of 7 runs of
+# `evlife --help` and of `evlife process` on a 3-event file, in ms.
+#   bench/bench_startup.sh [build/engine/evlife]
+set -eu
+cli=${1:-build/engine/evlife}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+printf '0.000001 1 1 1\n0.000002 2 2 0\n0.000003 3 3 1\n' > "$tmp/three.txt"
+median_ms() {
+  for _ in 1 2 3 4 5 6 7; do
+    t0=$(date +%s%N); "$@" > /dev/null 2>&1; t1=$(date +%s%N)
+    echo $(( (t1 - t0) / 1000 ))
+  done | sort -n | sed -n 4p | awk '{ printf "%.1f", $1 / 1000 }'
+}
+echo "evlife --help: $(median_ms "$cli" --help) ms"
+echo "evlife process (3 events): $(median_ms "$cli" process "$tmp/three.txt" --sensor 8x8 -o "$tmp/three.bin" -q) ms"
+echo "shared libraries loaded: $(ldd "$cli" | wc -l)"
