@@ -70,6 +70,14 @@ def _output_names(paths, extension):
     return names
 
 
+def _size_or_zero(path):
+    """Bytes of a recording (a folder, e.g. a rosbag2 bag, or a missing file: 0)."""
+    try:
+        return os.path.getsize(path) if os.path.isfile(path) else 0
+    except OSError:
+        return 0
+
+
 def _process_one(path, output, sensor, config, options):
     """The task: runs in a worker; never raises (a failure is the row's error)."""
     start = time.perf_counter()
@@ -128,8 +136,10 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     client, to_close = _client(scheduler, workers)
     try:
         run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
+        # Largest recordings first (Dask runs higher priority first): the
+        # last task to finish is then a small one, so workers end together.
         futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config,
-                                 dict(options), pure=False,
+                                 dict(options), pure=False, priority=_size_or_zero(p),
                                  key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
