@@ -24,6 +24,18 @@
 
 namespace evlife::io::mcap {
 
+/// A fault of the container: a ReadError that also keeps its bare reason
+/// (the reader re-reports it with the message index).
+class Fault : public ReadError {
+ public:
+  Fault(const std::string& path, std::uint64_t at, const std::string& what)
+      : ReadError(path, static_cast<std::int64_t>(at), -1, what), what_(what) {}
+  const std::string& reason() const noexcept { return what_; }
+
+ private:
+  std::string what_;
+};
+
 class McapMessages {
  public:
   /// Opens the file, checks the magic and Header, reads the topics; throws ReadError.
@@ -42,7 +54,7 @@ class McapMessages {
     std::uint64_t record_at = 0;  ///< file offset of its Chunk (or Message) record
   };
   /// The next message of the selected topic; false at the end. Throws
-  /// ReadError (truncation, corrupt chunk or record, unknown compression).
+  /// Fault (truncation, corrupt chunk or record, unknown compression).
   bool next(Message& m);
 
   /// File offset reached by the stream.
@@ -88,7 +100,7 @@ class McapMessages {
   std::vector<Pending> pending_;  ///< the topic's messages of the current chunk, sorted
   std::size_t pending_next_ = 0;
   std::uint64_t chunk_at_ = 0;
-  std::optional<ReadError> chunk_fault_;  ///< raised once pending_ is delivered
+  std::optional<Fault> chunk_fault_;  ///< raised once pending_ is delivered
   std::uint64_t next_index_ = 0;
 };
 

@@ -73,10 +73,9 @@ class McapReader final : public EventReader {
         ended_ = true;
         return;
       }
-    } catch (const ReadError& e) {
+    } catch (const mcap::Fault& e) {
       error_.emplace(bag_.path(), e.byte_offset(), delivered_,
-                     std::string(e.what()).substr(bag_.path().size() + 2) + " (after message " +
-                         std::to_string(messages_) + " of the topic)");
+                     e.reason() + " (after " + std::to_string(messages_) + " messages of the topic)");
       return;
     }
     messages_ = m.index + 1;
