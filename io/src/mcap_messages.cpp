@@ -25,7 +25,7 @@ bool has_magic(std::span<const std::byte> head) {
 }
 
 void McapMessages::fail(std::uint64_t at, const std::string& what) const {
-  throw Fault(file_.path(), at, what);
+  throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(at), what);
 }
 
 McapMessages::McapMessages(const std::string& path) : file_(path) {
@@ -204,7 +204,7 @@ void McapMessages::load_chunk(const Unit& u) {
     mcap::Message m;
     if (!r || !learn(*r) || (r->op == kMessage && !parse_message(r->content, m))) {
       // Deliver the chunk's messages before the fault first.
-      chunk_fault_.emplace(file_.path(), u.at,
+      chunk_fault_.emplace(file_.path(), static_cast<std::int64_t>(u.at),
                            "corrupt record at byte " + std::to_string(at) + " of the MCAP chunk at this offset");
       break;
     }

@@ -20,21 +20,11 @@
 #include "evlife/io/event_reader.h"
 #include "input_file.h"
 #include "mcap_records.h"
+#include "ros_topic_reader.h"  // ros::ContainerFault
 #include "rosbag2_messages.h"  // ros::TopicInfo
 
 namespace evlife::io::mcap {
 
-/// A fault of the container: a ReadError that also keeps its bare reason
-/// (the reader re-reports it with the message index).
-class Fault : public ReadError {
- public:
-  Fault(const std::string& path, std::uint64_t at, const std::string& what)
-      : ReadError(path, static_cast<std::int64_t>(at), -1, what), what_(what) {}
-  const std::string& reason() const noexcept { return what_; }
-
- private:
-  std::string what_;
-};
 
 class McapMessages {
  public:
@@ -54,7 +44,7 @@ class McapMessages {
     std::uint64_t record_at = 0;  ///< file offset of its Chunk (or Message) record
   };
   /// The next message of the selected topic; false at the end. Throws
-  /// Fault (truncation, corrupt chunk or record, unknown compression).
+  /// ros::ContainerFault (truncation, corrupt chunk or record, unknown compression).
   bool next(Message& m);
 
   /// File offset reached by the stream.
@@ -100,7 +90,7 @@ class McapMessages {
   std::vector<Pending> pending_;  ///< the topic's messages of the current chunk, sorted
   std::size_t pending_next_ = 0;
   std::uint64_t chunk_at_ = 0;
-  std::optional<Fault> chunk_fault_;  ///< raised once pending_ is delivered
+  std::optional<ros::ContainerFault> chunk_fault_;  ///< raised once pending_ is delivered
   std::uint64_t next_index_ = 0;
 };
 
