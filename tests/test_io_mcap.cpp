@@ -159,6 +159,21 @@ TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << "message " << i;
 }
 
+// Chunks are read in file order and not merged: events going backwards stop
+// the read with the time-order error, after the events before them.
+TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {
+  const PerMessage db3 = decode_db3(kDb3.at("libcaer"));
+  std::vector<Event> first;  // messages 20-39, written first
+  for (std::size_t i = 20; i < 40; ++i)
+    for (const ros::RosEvent& e : db3[i]) first.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
+  const ReadAll r = read_all(kMcap + "libcaer_swapped.mcap");
+  ASSERT_TRUE(r.error);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("libcaer_swapped.mcap"), std::string::npos) << what;
+  EXPECT_EQ(r.error->event_index(), static_cast<std::int64_t>(first.size())) << what;
+  EXPECT_TRUE(same_events(r.events, first)) << r.events.size() << " events, expected " << first.size();
+}
+
 TEST(McapReader, EventArraysEqualTheDb3ReadersAndTopicsAreListed) {
   for (const auto& [bag, db3] : kDb3) {
     const ReadAll expected = read_all(db3);

@@ -13,6 +13,7 @@ Writes into OUT_DIR:
       std_msgs/msg/String topic (/chatter) that is not events, interleaved with the events.
   mono_unchunked.mcap  messages as top-level records, no summary (Footer summary_start = 0).
   evt3_reversed.mcap   zstd; inside each chunk the messages are written in reverse log-time order.
+  libcaer_swapped.mcap zstd; messages 20-39 written before messages 0-19 (chunks out of time order).
 Deterministic. Needs Debian's python3-zstandard and python3-lz4.
 """
 import os
@@ -186,6 +187,9 @@ def main():
         if name == 'mono':
             write(os.path.join(out_dir, 'mono_unchunked.mcap'), messages, compression='', chunk_size=0,
                   chunked=False, summary=False)
+        if name == 'libcaer':
+            write(os.path.join(out_dir, 'libcaer_swapped.mcap'), messages[20:40] + messages[:20] + messages[40:],
+                  compression='zstd', chunk_size=chunk_size)
         if name == 'evt3':
             write(os.path.join(out_dir, 'evt3_reversed.mcap'), messages, compression='zstd',
                   chunk_size=chunk_size, reverse=True)

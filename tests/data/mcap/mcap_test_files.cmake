@@ -9,7 +9,9 @@ foreach(bag evt3 libcaer mono)
     list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${bag}_${how}.mcap)
   endforeach()
 endforeach()
-list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/mono_unchunked.mcap ${EVLIFE_MCAP_TEST_DIR}/evt3_reversed.mcap)
+foreach(f mono_unchunked evt3_reversed libcaer_swapped)
+  list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${f}.mcap)
+endforeach()
 add_custom_command(
   OUTPUT ${outputs}
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/make_mcap.py ${EVLIFE_MCAP_TEST_DIR} ${EVLIFE_SHARED_DATA_DIR}
