@@ -356,6 +356,42 @@ TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
   }
 }
 
+TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
+  const TempDir dir;
+  const std::string source = "evt3_none.mcap";
+  const std::vector<Event> full = read_all(kMcap + source).events;
+  std::vector<char> b = bytes_of(kMcap + source);
+  const std::uint64_t chunk = chunk_offsets(b).at(2);
+  // Chunk content: 3 u64, u32 CRC (set to 0 = not given, so that the damage
+  // below is found by the record framing), compression "" (u32 0), u64 length.
+  std::memset(b.data() + chunk + 9 + 24, 0, 4);
+  const std::uint64_t first = chunk + 9 + 40;  // the chunk's first record: a Message
+  ASSERT_EQ(b[first], 0x05);
+  std::uint64_t len = 0;
+  std::memcpy(&len, b.data() + first + 1, 8);
+  const std::uint64_t second = first + 9 + len;
+  const std::uint64_t huge = ~std::uint64_t{0};
+  std::memcpy(b.data() + second + 1, &huge, 8);
+  const std::string path = dir.path("record.mcap");
+  write_bytes(path, b);
+  std::vector<std::uint64_t> at;
+  const PerMessage messages = decode_mcap(kMcap + source, &at);
+  std::size_t expected = 0;
+  bool first_of_chunk = true;
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    if (at[i] < chunk || (at[i] == chunk && first_of_chunk)) expected += messages[i].size();
+    if (at[i] == chunk) first_of_chunk = false;
+  }
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("corrupt record at byte " + std::to_string(second - first) + " of the MCAP chunk"),
+            std::string::npos) << what;
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(chunk)) << what;
+  ASSERT_EQ(r.events.size(), expected) << what;
+  EXPECT_EQ(0, std::memcmp(r.events.data(), full.data(), expected * sizeof(Event)));
+}
+
 TEST(McapFaults, UnknownCompressionIsNamed) {
   const TempDir dir;
   const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;
