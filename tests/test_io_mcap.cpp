@@ -404,7 +404,7 @@ TEST(McapFaults, UnknownCompressionIsNamed) {
   expect_fault(f, full, "brotli.mcap", "chunk compressed with 'zbr1' (readable: none, zstd, lz4)");
 }
 
-TEST(McapFaults, NotAnMcapFileIsRefusedAtOpen) {
+TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
   const TempDir dir;
   const std::string path = dir.path("text.mcap");
   write_bytes(path, {'h', 'e', 'l', 'l', 'o', '\n'});
@@ -413,6 +413,14 @@ TEST(McapFaults, NotAnMcapFileIsRefusedAtOpen) {
     FAIL() << "read a text file as MCAP";
   } catch (const io::ReadError& e) {
     EXPECT_NE(std::string(e.what()).find("not an MCAP file"), std::string::npos) << e.what();
+  }
+  const std::string magic_only = dir.path("magic.mcap");
+  write_bytes(magic_only, {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n', '\x01'});
+  try {
+    (void)io::open_event_reader(magic_only);
+    FAIL() << "read a cut MCAP header";
+  } catch (const io::ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated inside its Header record"), std::string::npos) << e.what();
   }
 }
 

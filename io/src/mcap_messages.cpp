@@ -31,9 +31,10 @@ void McapMessages::fail(std::uint64_t at, const std::string& what) const {
 McapMessages::McapMessages(const std::string& path) : file_(path) {
   const std::uint64_t size = file_.size_bytes();
   std::array<std::uint8_t, sizeof(kMagic) + kRecordPrefix> head{};
-  if (file_.read_at(0, std::as_writable_bytes(std::span(head))) != head.size() ||
-      std::memcmp(head.data(), kMagic, sizeof(kMagic)) != 0)
+  const std::size_t got = file_.read_at(0, std::as_writable_bytes(std::span(head)));
+  if (got < sizeof(kMagic) || std::memcmp(head.data(), kMagic, sizeof(kMagic)) != 0)
     fail(0, "not an MCAP file (no '\\x89MCAP0\\r\\n' magic)");
+  if (got != head.size()) fail(sizeof(kMagic), "MCAP file truncated inside its Header record");
   std::uint64_t header_len = 0;
   std::memcpy(&header_len, head.data() + sizeof(kMagic) + 1, 8);
   if (head[sizeof(kMagic)] != kHeader) fail(sizeof(kMagic), "MCAP file without its Header record");
