@@ -1,0 +1,253 @@
+#include "mcap_messages.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+
+#include "evlife/io/event_reader.h"
+
+namespace evlife::io::mcap {
+namespace {
+
+constexpr std::uint64_t kMaxRecordBytes = std::uint64_t{1} << 28;   // one message or chunk
+constexpr std::uint64_t kMaxSummaryBytes = std::uint64_t{1} << 26;  // else: scan instead
+constexpr std::uint64_t kFooterRecord = kRecordPrefix + kFooterContent;
+
+std::string hex(std::uint8_t op) {
+  constexpr char digits[] = "0123456789abcdef";
+  return std::string("0x") + digits[op >> 4] + digits[op & 15];
+}
+
+}  // namespace
+
+bool has_magic(std::span<const std::byte> head) {
+  return head.size() >= sizeof(kMagic) && std::memcmp(head.data(), kMagic, sizeof(kMagic)) == 0;
+}
+
+void McapMessages::fail(std::uint64_t at, const std::string& what) const {
+  throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(at), what);
+}
+
+McapMessages::McapMessages(const std::string& path) : file_(path) {
+  const std::uint64_t size = file_.size_bytes();
+  std::array<std::uint8_t, sizeof(kMagic) + kRecordPrefix> head{};
+  const std::size_t got = file_.read_at(0, std::as_writable_bytes(std::span(head)));
+  if (got < sizeof(kMagic) || std::memcmp(head.data(), kMagic, sizeof(kMagic)) != 0)
+    fail(0, "not an MCAP file (no '\\x89MCAP0\\r\\n' magic)");
+  if (got != head.size()) fail(sizeof(kMagic), "MCAP file truncated inside its Header record");
+  std::uint64_t header_len = 0;
+  std::memcpy(&header_len, head.data() + sizeof(kMagic) + 1, 8);
+  if (head[sizeof(kMagic)] != kHeader) fail(sizeof(kMagic), "MCAP file without its Header record");
+  if (header_len > size - head.size())
+    fail(sizeof(kMagic), "MCAP file truncated inside its Header record");
+  data_start_ = head.size() + header_len;
+  data_limit_ = size;
+  // Footer + trailing magic: present in every complete file.
+  std::array<std::uint8_t, kFooterRecord + sizeof(kMagic)> tail{};
+  if (size >= data_start_ + tail.size() &&
+      file_.read_at(size - tail.size(), std::as_writable_bytes(std::span(tail))) == tail.size() &&
+      std::memcmp(tail.data() + kFooterRecord, kMagic, sizeof(kMagic)) == 0 && tail[0] == kFooter) {
+    std::uint64_t len = 0;
+    std::memcpy(&len, tail.data() + 1, 8);
+    Footer footer;
+    const std::uint64_t footer_at = size - tail.size();
+    if (len == kFooterContent && parse_footer(std::span(tail).subspan(kRecordPrefix, kFooterContent), footer)) {
+      has_footer_ = true;
+      data_limit_ = footer_at;
+      if (footer.summary_start >= data_start_ && footer.summary_start < footer_at) {
+        data_limit_ = footer.summary_start;
+        read_summary(footer, footer_at);
+      }
+    }
+  }
+  if (topics_.empty()) scan_data_section();
+}
+
+void McapMessages::read_summary(const Footer& footer, std::uint64_t footer_at) {
+  std::uint64_t end = footer_at;
+  if (footer.summary_offset_start > footer.summary_start && footer.summary_offset_start <= footer_at)
+    end = footer.summary_offset_start;
+  if (end - footer.summary_start > kMaxSummaryBytes) return;
+  std::vector<std::uint8_t> summary(static_cast<std::size_t>(end - footer.summary_start));
+  if (file_.read_at(footer.summary_start, std::as_writable_bytes(std::span(summary))) != summary.size()) return;
+  std::map<std::uint16_t, std::uint64_t> counts;
+  bool has_statistics = false;
+  for (std::size_t pos = 0; pos < summary.size();) {
+    const std::optional<Record> r = record_at(summary, pos);
+    if (!r) return;  // a corrupt summary: the scan decides
+    if (r->op == kStatistics) {
+      if (!parse_statistics(r->content, counts)) return;
+      has_statistics = true;
+    } else if (!learn(*r)) {
+      return;
+    }
+    pos += kRecordPrefix + r->content.size();
+  }
+  if (has_statistics && !channels_.empty()) build_topics(counts);
+}
+
+void McapMessages::scan_data_section() {
+  std::map<std::uint16_t, std::uint64_t> counts;
+  const auto visit = [&](const Record& r) {
+    mcap::Message m;
+    if (r.op == kMessage && parse_message(r.content, m)) ++counts[m.channel_id];
+    return learn(r);
+  };
+  try {
+    std::uint64_t pos = data_start_;
+    Unit u;
+    while (next_unit(pos, u)) {
+      if (u.op != kChunk) {
+        if (!visit(Record{u.op, u.content})) break;
+        continue;
+      }
+      bool ok = true;
+      for (std::size_t at = 0; ok && at < u.content.size();) {
+        const std::optional<Record> r = record_at(u.content, at);
+        ok = r && visit(*r);
+        if (r) at += kRecordPrefix + r->content.size();
+      }
+      if (!ok) break;
+    }
+  } catch (const ReadError&) {
+    // the stream reports the fault when it gets there, after the events before it
+  }
+  build_topics(counts);
+}
+
+bool McapMessages::learn(const Record& r) {
+  if (r.op == kSchema) {
+    Schema s;
+    if (!parse_schema(r.content, s)) return false;
+    if (s.id != 0) schemas_[s.id] = std::move(s);
+  } else if (r.op == kChannel) {
+    Channel c;
+    if (!parse_channel(r.content, c)) return false;
+    channels_[c.id] = std::move(c);
+  }
+  return true;
+}
+
+void McapMessages::build_topics(const std::map<std::uint16_t, std::uint64_t>& counts) {
+  topics_.clear();
+  std::map<std::string, std::size_t> by_name;
+  for (const auto& [id, c] : channels_) {
+    const auto schema = schemas_.find(c.schema_id);
+    const auto count = counts.find(id);
+    const std::uint64_t n = count != counts.end() ? count->second : 0;
+    const auto [it, added] = by_name.emplace(c.topic, topics_.size());
+    if (added) {
+      topics_.push_back(ros::TopicInfo{c.topic, schema != schemas_.end() ? schema->second.name : "",
+                                       c.message_encoding, n});
+    } else {
+      topics_[it->second].message_count += n;
+    }
+  }
+}
+
+bool McapMessages::next_unit(std::uint64_t& pos, Unit& u) {
+  if (pos >= data_limit_) {
+    if (!has_footer_) fail(pos, "MCAP file ends without its DataEnd and Footer records (truncated)");
+    return false;
+  }
+  std::array<std::uint8_t, kRecordPrefix> prefix{};
+  if (data_limit_ - pos < kRecordPrefix ||
+      file_.read_at(pos, std::as_writable_bytes(std::span(prefix))) != prefix.size())
+    fail(pos, has_footer_ ? "MCAP record header runs past the data section" : "MCAP file truncated inside a record header");
+  std::uint64_t len = 0;
+  std::memcpy(&len, prefix.data() + 1, 8);
+  u.op = prefix[0];
+  u.at = pos;
+  u.content = {};
+  if (len > data_limit_ - pos - kRecordPrefix)
+    fail(pos, "MCAP record (opcode " + hex(u.op) + ") of " + std::to_string(len) + " bytes runs past the " +
+                  (has_footer_ ? "data section" : "end of the file (truncated)"));
+  pos += kRecordPrefix + len;
+  if (u.op == kDataEnd || u.op == kFooter) return false;
+  if (u.op != kSchema && u.op != kChannel && u.op != kMessage && u.op != kChunk) return true;  // skipped
+  if (len > kMaxRecordBytes)
+    fail(u.at, "MCAP record of " + std::to_string(len) + " bytes, over this reader's limit");
+  record_.resize(static_cast<std::size_t>(len));
+  if (file_.read_at(u.at + kRecordPrefix, std::as_writable_bytes(std::span(record_))) != record_.size())
+    fail(u.at, "MCAP file truncated inside a record");
+  u.content = record_;
+  if (u.op == kChunk) {
+    Chunk c;
+    if (!parse_chunk(record_, c)) fail(u.at, "corrupt MCAP chunk header");
+    if (const std::optional<std::string> bad = decompress_chunk(c, chunk_)) fail(u.at, "MCAP " + *bad);
+    u.content = chunk_;
+  }
+  return true;
+}
+
+void McapMessages::select(const std::string& name) {
+  topic_ = name;
+  selected_ = true;
+  ended_ = false;
+  pos_ = data_start_;
+  pending_.clear();
+  pending_next_ = 0;
+  chunk_fault_.reset();
+  next_index_ = 0;
+}
+
+bool McapMessages::wanted(std::uint16_t channel_id) const {
+  const auto c = channels_.find(channel_id);
+  return c != channels_.end() && c->second.topic == topic_;
+}
+
+void McapMessages::load_chunk(const Unit& u) {
+  pending_.clear();
+  pending_next_ = 0;
+  chunk_at_ = u.at;
+  for (std::size_t at = 0; at < u.content.size();) {
+    const std::optional<Record> r = record_at(u.content, at);
+    mcap::Message m;
+    if (!r || !learn(*r) || (r->op == kMessage && !parse_message(r->content, m))) {
+      // Deliver the chunk's messages before the fault first.
+      chunk_fault_.emplace(file_.path(), static_cast<std::int64_t>(u.at),
+                           "corrupt record at byte " + std::to_string(at) + " of the MCAP chunk at this offset");
+      break;
+    }
+    if (r->op == kMessage && wanted(m.channel_id)) {
+      pending_.push_back(Pending{m.log_time, static_cast<std::size_t>(r->content.data() - chunk_.data()),
+                                 r->content.size()});
+    }
+    at += kRecordPrefix + r->content.size();
+  }
+  std::stable_sort(pending_.begin(), pending_.end(),
+                   [](const Pending& a, const Pending& b) { return a.log_time_ns < b.log_time_ns; });
+}
+
+bool McapMessages::next(Message& m) {
+  if (!selected_ || ended_) return false;
+  while (true) {
+    if (pending_next_ < pending_.size()) {
+      const Pending& p = pending_[pending_next_++];
+      mcap::Message msg;
+      parse_message(std::span<const std::uint8_t>(chunk_).subspan(p.at, p.size), msg);
+      m = Message{msg.data, msg.log_time, next_index_++, chunk_at_};
+      return true;
+    }
+    if (chunk_fault_) throw *chunk_fault_;
+    Unit u;
+    if (!next_unit(pos_, u)) {
+      ended_ = true;
+      return false;
+    }
+    if (u.op == kChunk) {
+      load_chunk(u);
+    } else if (u.op == kSchema || u.op == kChannel) {
+      if (!learn(Record{u.op, u.content})) fail(u.at, "corrupt MCAP " + std::string(u.op == kSchema ? "Schema" : "Channel") + " record");
+    } else if (u.op == kMessage) {
+      mcap::Message msg;
+      if (!parse_message(u.content, msg)) fail(u.at, "corrupt MCAP Message record");
+      if (wanted(msg.channel_id)) {
+        m = Message{msg.data, msg.log_time, next_index_++, u.at};
+        return true;
+      }
+    }
+  }
+}
+
+}  // namespace evlife::io::mcap

@@ -1,0 +1,100 @@
+// Private: the messages of one topic of an MCAP file, streamed with bounded
+// memory (one chunk at a time). Topics, types and message counts come from
+// the summary section (Channel, Schema, Statistics records) when the file has
+// one; otherwise (no summary, no statistics, or a truncated file) from a scan
+// of the data section at open that stops quietly at the first fault, which
+// next() reports in its turn.
+// ORDER: chunks and unchunked messages in file order (writers append chunks
+// as time advances); inside a chunk, the topic's messages in log-time order
+// (stable sort). Overlapping chunks are not merged: events that then go
+// backwards stop the read with the reader's time-order error.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+#include "input_file.h"
+#include "mcap_records.h"
+#include "ros_topic_reader.h"  // ros::ContainerFault
+#include "rosbag2_messages.h"  // ros::TopicInfo
+
+namespace evlife::io::mcap {
+
+
+class McapMessages {
+ public:
+  /// Opens the file, checks the magic and Header, reads the topics; throws ReadError.
+  explicit McapMessages(const std::string& path);
+
+  /// Every topic (type = its schema name, serialization = message encoding).
+  const std::vector<ros::TopicInfo>& topics() const noexcept { return topics_; }
+
+  /// Starts streaming the messages of topic `name` from the data section's start.
+  void select(const std::string& name);
+
+  struct Message {
+    std::span<const std::uint8_t> data;  ///< valid until the next next()
+    std::uint64_t log_time_ns = 0;
+    std::uint64_t index = 0;      ///< 0-based index among the topic's messages
+    std::uint64_t record_at = 0;  ///< file offset of its Chunk (or Message) record
+  };
+  /// The next message of the selected topic; false at the end. Throws
+  /// ros::ContainerFault (truncation, corrupt chunk or record, unknown compression).
+  bool next(Message& m);
+
+  /// File offset reached by the stream.
+  std::uint64_t bytes_consumed() const noexcept { return pos_; }
+  const std::string& path() const noexcept { return file_.path(); }
+
+ private:
+  /// A top-level data-section record read into memory (Chunks decompressed).
+  struct Unit {
+    std::uint8_t op = 0;
+    std::uint64_t at = 0;                   ///< file offset of the record
+    std::span<const std::uint8_t> content;  ///< a chunk's decompressed records
+  };
+  /// The next unit from `pos`; false at DataEnd / the summary / the Footer.
+  bool next_unit(std::uint64_t& pos, Unit& u);
+  [[noreturn]] void fail(std::uint64_t at, const std::string& what) const;
+  void read_summary(const Footer& footer, std::uint64_t footer_at);
+  void scan_data_section();
+  /// Schema and Channel records (wherever found); false if malformed.
+  bool learn(const Record& r);
+  void build_topics(const std::map<std::uint16_t, std::uint64_t>& counts);
+  void load_chunk(const Unit& u);
+  bool wanted(std::uint16_t channel_id) const;
+
+  detail::InputFile file_;
+  std::uint64_t data_start_ = 0;
+  std::uint64_t data_limit_ = 0;  ///< summary start or Footer offset; else the file size
+  bool has_footer_ = false;
+  std::map<std::uint16_t, Schema> schemas_;
+  std::map<std::uint16_t, Channel> channels_;
+  std::vector<ros::TopicInfo> topics_;
+  std::string topic_;
+  bool selected_ = false;
+  std::uint64_t pos_ = 0;
+  bool ended_ = false;
+  std::vector<std::uint8_t> record_;  ///< the current top-level record's content
+  std::vector<std::uint8_t> chunk_;   ///< the current chunk, decompressed
+  struct Pending {
+    std::uint64_t log_time_ns;
+    std::size_t at;  ///< offset of the Message record's content in chunk_
+    std::size_t size;
+  };
+  std::vector<Pending> pending_;  ///< the topic's messages of the current chunk, sorted
+  std::size_t pending_next_ = 0;
+  std::uint64_t chunk_at_ = 0;
+  std::optional<ros::ContainerFault> chunk_fault_;  ///< raised once pending_ is delivered
+  std::uint64_t next_index_ = 0;
+};
+
+/// True when `head` starts with the MCAP magic.
+bool has_magic(std::span<const std::byte> head);
+
+}  // namespace evlife::io::mcap

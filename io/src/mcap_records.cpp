@@ -1,0 +1,165 @@
+#include "mcap_records.h"
+
+#include <lz4frame.h>
+#include <zlib.h>
+#include <zstd.h>
+
+#include <cstring>
+#include <limits>
+
+namespace evlife::io::mcap {
+namespace {
+
+// Refuse chunks that would need absurd memory (the reader holds one chunk).
+constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 28;  // 256 MiB
+constexpr std::uint64_t kMaxLz4Ratio = 256;  // LZ4 cannot expand more than ~255:1
+
+/// Sequential little-endian field reader over a record's content.
+class Fields {
+ public:
+  explicit Fields(std::span<const std::uint8_t> b) : b_(b) {}
+  template <typename T>
+  bool get(T& v) {
+    if (b_.size() - pos_ < sizeof(T)) return false;
+    std::memcpy(&v, b_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return true;
+  }
+  bool bytes(std::uint64_t n, std::span<const std::uint8_t>& out) {
+    if (n > b_.size() - pos_) return false;
+    out = b_.subspan(pos_, static_cast<std::size_t>(n));
+    pos_ += static_cast<std::size_t>(n);
+    return true;
+  }
+  bool string(std::string& s) {
+    std::uint32_t n = 0;
+    std::span<const std::uint8_t> b;
+    if (!get(n) || !bytes(n, b)) return false;
+    s.assign(reinterpret_cast<const char*>(b.data()), b.size());
+    return true;
+  }
+  /// A u32-length-prefixed map or array, returned whole.
+  bool prefixed(std::span<const std::uint8_t>& out) {
+    std::uint32_t n = 0;
+    return get(n) && bytes(n, out);
+  }
+  std::span<const std::uint8_t> rest() const { return b_.subspan(pos_); }
+
+ private:
+  std::span<const std::uint8_t> b_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+bool parse_footer(std::span<const std::uint8_t> content, Footer& f) {
+  Fields r(content);
+  return r.get(f.summary_start) && r.get(f.summary_offset_start) && r.get(f.summary_crc);
+}
+
+bool parse_schema(std::span<const std::uint8_t> content, Schema& s) {
+  Fields r(content);
+  return r.get(s.id) && r.string(s.name) && r.string(s.encoding);  // data not needed
+}
+
+bool parse_channel(std::span<const std::uint8_t> content, Channel& c) {
+  Fields r(content);
+  std::span<const std::uint8_t> metadata;
+  return r.get(c.id) && r.get(c.schema_id) && r.string(c.topic) && r.string(c.message_encoding) &&
+         r.prefixed(metadata);
+}
+
+bool parse_message(std::span<const std::uint8_t> content, Message& m) {
+  Fields r(content);
+  if (!r.get(m.channel_id) || !r.get(m.sequence) || !r.get(m.log_time) || !r.get(m.publish_time))
+    return false;
+  m.data = r.rest();
+  return true;
+}
+
+bool parse_chunk(std::span<const std::uint8_t> content, Chunk& c) {
+  Fields r(content);
+  std::uint64_t records_size = 0;
+  return r.get(c.message_start_time) && r.get(c.message_end_time) && r.get(c.uncompressed_size) &&
+         r.get(c.uncompressed_crc) && r.string(c.compression) && r.get(records_size) &&
+         r.bytes(records_size, c.records);
+}
+
+bool parse_statistics(std::span<const std::uint8_t> content, std::map<std::uint16_t, std::uint64_t>& counts) {
+  Fields r(content);
+  std::uint64_t message_count = 0, start = 0, end = 0;
+  std::uint16_t schemas = 0;
+  std::uint32_t channels = 0, attachments = 0, metadata = 0, chunks = 0;
+  std::span<const std::uint8_t> map;
+  if (!r.get(message_count) || !r.get(schemas) || !r.get(channels) || !r.get(attachments) ||
+      !r.get(metadata) || !r.get(chunks) || !r.get(start) || !r.get(end) || !r.prefixed(map))
+    return false;
+  counts.clear();
+  Fields entries(map);
+  while (!entries.rest().empty()) {
+    std::uint16_t id = 0;
+    std::uint64_t n = 0;
+    if (!entries.get(id) || !entries.get(n)) return false;
+    counts[id] = n;
+  }
+  return true;
+}
+
+std::optional<Record> record_at(std::span<const std::uint8_t> bytes, std::size_t pos) {
+  if (pos > bytes.size() || bytes.size() - pos < kRecordPrefix) return std::nullopt;
+  std::uint64_t length = 0;
+  std::memcpy(&length, bytes.data() + pos + 1, 8);
+  if (length > bytes.size() - pos - kRecordPrefix) return std::nullopt;
+  return Record{bytes[pos], bytes.subspan(pos + kRecordPrefix, static_cast<std::size_t>(length))};
+}
+
+std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uint8_t>& out) {
+  const std::string size = std::to_string(c.uncompressed_size);
+  if (c.compression != "" && c.compression != "zstd" && c.compression != "lz4")
+    return "chunk compressed with '" + c.compression + "' (readable: none, zstd, lz4)";
+  if (c.uncompressed_size > kMaxChunkBytes)
+    return "chunk of " + size + " bytes uncompressed, over this reader's limit of " +
+           std::to_string(kMaxChunkBytes) + " bytes";
+  const std::size_t n = static_cast<std::size_t>(c.uncompressed_size);
+  if (c.compression.empty()) {
+    if (c.records.size() != n)
+      return "uncompressed chunk holds " + std::to_string(c.records.size()) + " bytes, its header says " + size;
+    out.assign(c.records.begin(), c.records.end());
+  } else if (c.compression == "zstd") {
+    const unsigned long long declared = ZSTD_getFrameContentSize(c.records.data(), c.records.size());
+    if (declared == ZSTD_CONTENTSIZE_ERROR) return "corrupt zstd chunk (not a zstd frame)";
+    if (declared != ZSTD_CONTENTSIZE_UNKNOWN && declared != c.uncompressed_size)
+      return "corrupt zstd chunk (frame of " + std::to_string(declared) + " bytes, header says " + size + ")";
+    out.resize(n);
+    const std::size_t r = ZSTD_decompress(out.data(), n, c.records.data(), c.records.size());
+    if (ZSTD_isError(r) || r != n)
+      return "corrupt zstd chunk (does not decompress to its " + size + " bytes" +
+             (ZSTD_isError(r) ? std::string(": ") + ZSTD_getErrorName(r) : std::string()) + ")";
+  } else {
+    if (c.uncompressed_size > c.records.size() * kMaxLz4Ratio + 64)
+      return "corrupt lz4 chunk (" + std::to_string(c.records.size()) + " bytes cannot hold " + size + ")";
+    out.resize(n);
+    LZ4F_dctx* ctx = nullptr;
+    if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) return "lz4: out of memory";
+    std::size_t out_len = n;
+    std::size_t in_len = c.records.size();
+    const std::size_t r = LZ4F_decompress(ctx, out.data(), &out_len, c.records.data(), &in_len, nullptr);
+    LZ4F_freeDecompressionContext(ctx);
+    if (LZ4F_isError(r) || r != 0 || out_len != n)
+      return "corrupt lz4 chunk (does not decompress to its " + size + " bytes)";
+  }
+  if (c.uncompressed_crc != 0) {
+    uLong crc = crc32(0L, Z_NULL, 0);
+    for (std::size_t at = 0; at < out.size();) {  // crc32 takes uInt lengths
+      const std::size_t k = std::min<std::size_t>(out.size() - at, std::numeric_limits<uInt>::max());
+      crc = crc32(crc, out.data() + at, static_cast<uInt>(k));
+      at += k;
+    }
+    if (static_cast<std::uint32_t>(crc) != c.uncompressed_crc)
+      return "chunk CRC mismatch (records CRC-32 " + std::to_string(crc) + ", header says " +
+             std::to_string(c.uncompressed_crc) + ")";
+  }
+  return std::nullopt;
+}
+
+}  // namespace evlife::io::mcap

@@ -1,0 +1,73 @@
+#include "ros_topic_reader.h"
+
+namespace evlife::io::ros {
+
+void TopicEventReader::start(const std::vector<TopicInfo>& topics, const TopicInfo& topic,
+                             Serialization serialization) {
+  topics_ = topics;
+  topic_ = topic.name;
+  decoder_ = MessageDecoder(message_kind(topic.type), serialization);
+  load_message();
+  if (decoder_.width() > 0 && decoder_.height() > 0)
+    sensor_ = SensorSize{static_cast<int>(decoder_.width()), static_cast<int>(decoder_.height())};
+}
+
+std::size_t TopicEventReader::read(std::span<Event> out) {
+  std::size_t n = 0;
+  while (n < out.size()) {
+    if (next_ == events_.size()) {
+      if (error_ || ended_) break;
+      load_message();
+      continue;
+    }
+    const std::size_t k = take_events(events_, next_, out.subspan(n));
+    n += k;
+    delivered_ += static_cast<std::int64_t>(k);
+  }
+  if (n == 0 && error_) throw *error_;
+  return n;
+}
+
+std::vector<ContainerStream> TopicEventReader::streams() const {
+  std::vector<ContainerStream> s;
+  for (const TopicInfo& t : topics_) s.push_back(ContainerStream{t.name, t.type, t.message_count, t.name == topic_});
+  return s;
+}
+
+void TopicEventReader::load_message() {
+  events_.clear();
+  next_ = 0;
+  Message m;
+  try {
+    if (!next_message(m)) {
+      ended_ = true;
+      return;
+    }
+  } catch (const ReadError& e) {
+    const auto* fault = dynamic_cast<const ContainerFault*>(&e);
+    std::string reason = fault != nullptr ? fault->reason() : e.what();
+    if (fault == nullptr && reason.rfind(e.path() + ": ", 0) == 0) reason.erase(0, e.path().size() + 2);
+    error_.emplace(e.path(), e.byte_offset(), delivered_,
+                   reason + " (after " + std::to_string(messages_) + " messages of the topic)");
+    return;
+  }
+  const std::uint64_t index = messages_++;
+  const std::string& file = m.file != nullptr ? *m.file : path();
+  if (const auto fault = decoder_.decode(m.data, events_)) {
+    error_.emplace(file, m.byte_offset, delivered_ + static_cast<std::int64_t>(events_.size()),
+                   "message " + std::to_string(index) + " of the topic" + m.in_record + ", byte " +
+                       std::to_string(fault->byte_in_message) + " of the message: " + fault->what);
+    return;
+  }
+  if (sensor_ && (decoder_.width() != static_cast<std::uint32_t>(sensor_->width) ||
+                  decoder_.height() != static_cast<std::uint32_t>(sensor_->height))) {
+    events_.clear();
+    error_.emplace(file, m.byte_offset, delivered_,
+                   "message " + std::to_string(index) + " of the topic" + m.in_record + " states a " +
+                       std::to_string(decoder_.width()) + "x" + std::to_string(decoder_.height()) +
+                       " sensor, the first one " + std::to_string(sensor_->width) + "x" +
+                       std::to_string(sensor_->height));
+  }
+}
+
+}  // namespace evlife::io::ros

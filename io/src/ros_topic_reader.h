@@ -1,0 +1,73 @@
+// Private: what every ROS bag reader (rosbag1, rosbag2, mcap) shares: the
+// chosen event topic's messages decoded by ros::MessageDecoder and delivered
+// in batches; the sensor size from the first message (a later message stating
+// another size is a fault); faults of the container (ContainerFault) and of a
+// message kept until the events before them are delivered, then thrown as
+// ReadError naming the file, the byte offset and the topic's message index.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+#include "ros_messages.h"
+#include "rosbag2_messages.h"  // TopicInfo
+
+namespace evlife::io::ros {
+
+/// A fault of a bag container (truncation, corrupt chunk, ...): a ReadError
+/// that also keeps its bare reason, re-reported with the message count.
+class ContainerFault : public ReadError {
+ public:
+  ContainerFault(const std::string& path, std::int64_t byte_offset, const std::string& reason)
+      : ReadError(path, byte_offset, -1, reason), reason_(reason) {}
+  const std::string& reason() const noexcept { return reason_; }
+
+ private:
+  std::string reason_;
+};
+
+class TopicEventReader : public EventReader {
+ public:
+  std::size_t read(std::span<Event> out) final;
+  std::optional<SensorSize> sensor_size() const final { return sensor_; }
+  std::uint64_t skipped_record_count() const final {
+    return decoder_.trigger_count() + decoder_.other_count();
+  }
+  std::uint64_t trigger_count() const final { return decoder_.trigger_count(); }
+  std::vector<ContainerStream> streams() const final;
+
+ protected:
+  struct Message {
+    std::span<const std::uint8_t> data;  ///< the serialized message
+    const std::string* file = nullptr;   ///< the file holding it
+    std::int64_t byte_offset = -1;       ///< of its record or chunk (-1: not known)
+    const char* in_record = "";          ///< says what byte_offset points at, e.g. " (in the chunk at this offset)"
+  };
+  /// The next message of the topic; false at the end. Throws ReadError
+  /// (ContainerFault for the container's own faults).
+  virtual bool next_message(Message& m) = 0;
+
+  /// Call at the end of the derived constructor, after choosing `topic`
+  /// among `topics`: decodes the first message (the sensor size).
+  void start(const std::vector<TopicInfo>& topics, const TopicInfo& topic, Serialization serialization);
+
+ private:
+  void load_message();
+
+  std::vector<TopicInfo> topics_;
+  std::string topic_;
+  MessageDecoder decoder_{MessageKind::not_events};
+  std::optional<SensorSize> sensor_;
+  std::vector<RosEvent> events_;
+  std::size_t next_ = 0;
+  std::int64_t delivered_ = 0;
+  std::uint64_t messages_ = 0;  ///< of the topic, taken from the container so far
+  bool ended_ = false;
+  std::optional<ReadError> error_;
+};
+
+}  // namespace evlife::io::ros

@@ -1,0 +1,427 @@
+// ROS 2 MCAP files (io/src/mcap_*): the shared rosbag2 bags' CDR messages,
+// repackaged by the independent test-only writer tests/data/mcap/make_mcap.py
+// (chunks uncompressed / zstd / lz4, with and without summary, unchunked,
+// messages reversed inside chunks), decode to the same events as the .db3
+// bags and reproduce their checksums (../shared/data/PROVENANCE.md); topics
+// and counts for `evlife info`; faults keep the events before them.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "evlife/io/event_reader.h"
+#include "mcap_messages.h"
+#include "ros_messages.h"
+#include "rosbag2_messages.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using evlife::Event;
+using evlife::SensorSize;
+namespace io = evlife::io;
+namespace ros = evlife::io::ros;
+
+const std::string kMcap = std::string(EVLIFE_MCAP_TEST_DIR) + "/";
+const std::string kBags = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/";
+const std::map<std::string, std::string> kDb3 = {{"evt3", kBags + "test_data_evt3_trigger"},
+                                                 {"libcaer", kBags + "test_data_libcaer_rollover"},
+                                                 {"mono", kBags + "test_data_mono_cd"}};
+const char* const kCompressions[] = {"none", "zstd", "lz4"};
+
+// PROVENANCE.md / event_camera_codecs' decoder_test.cpp: Σt (ns, u64 wrapping), Σx, Σy, Σp, count.
+struct Sums {
+  std::uint64_t t = 0, x = 0, y = 0, p = 0, events = 0;
+  bool operator==(const Sums&) const = default;
+};
+const std::map<std::string, Sums> kProvenance = {
+    {"evt3", {1222326831810000u, 42078718u, 31656267u, 41439u, 82469u}},
+    {"libcaer", {15762826572202229126u, 111651612u, 82801007u, 181908u, 334331u}},
+    {"mono", {4950000u, 34450u, 26450u, 50u, 100u}}};
+
+using PerMessage = std::vector<std::vector<ros::RosEvent>>;
+
+Sums sums(const PerMessage& messages) {
+  Sums s;
+  for (const auto& m : messages) {
+    for (const ros::RosEvent& e : m) {
+      s.t += static_cast<std::uint64_t>(e.t_ns);
+      s.x += e.x;
+      s.y += e.y;
+      s.p += e.p > 0 ? 1u : 0u;
+      ++s.events;
+    }
+  }
+  return s;
+}
+
+/// The event topic's messages decoded, through the MCAP container (white box).
+PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* record_at = nullptr) {
+  io::mcap::McapMessages bag(path);
+  const ros::TopicInfo* topic = nullptr;
+  for (const ros::TopicInfo& t : bag.topics())
+    if (ros::message_kind(t.type) != ros::MessageKind::not_events) topic = &t;
+  EXPECT_NE(topic, nullptr);
+  ros::MessageDecoder decoder(ros::message_kind(topic->type));
+  bag.select(topic->name);
+  PerMessage r;
+  io::mcap::McapMessages::Message m;
+  std::vector<ros::RosEvent> events;
+  while (bag.next(m)) {
+    EXPECT_EQ(m.index, r.size());
+    const auto fault = decoder.decode(m.data, events);
+    EXPECT_FALSE(fault) << path << " message " << m.index << ": " << fault->what;
+    r.push_back(events);
+    if (record_at != nullptr) record_at->push_back(m.record_at);
+  }
+  return r;
+}
+
+/// The same through the rosbag2 container.
+PerMessage decode_db3(const std::string& bag_path) {
+  ros::Rosbag2Messages bag(bag_path);
+  const ros::TopicInfo topic = bag.topics().at(0);
+  ros::MessageDecoder decoder(ros::message_kind(topic.type));
+  bag.select(topic.name);
+  PerMessage r;
+  ros::Rosbag2Messages::Message m;
+  std::vector<ros::RosEvent> events;
+  while (bag.next(m)) {
+    EXPECT_FALSE(decoder.decode(m.data, events));
+    r.push_back(events);
+  }
+  return r;
+}
+
+bool same(const std::vector<ros::RosEvent>& a, const std::vector<ros::RosEvent>& b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(), [](const ros::RosEvent& u, const ros::RosEvent& v) {
+           return u.t_ns == v.t_ns && u.x == v.x && u.y == v.y && u.p == v.p;
+         });
+}
+
+struct ReadAll {
+  std::string format;
+  std::optional<SensorSize> sensor;
+  std::vector<Event> events;
+  std::uint64_t triggers = 0;
+  std::vector<io::ContainerStream> streams;
+  std::optional<io::ReadError> error;
+};
+
+ReadAll read_all(const std::string& path, const std::string& topic = {}) {
+  ReadAll r;
+  io::ReaderOptions options;
+  options.topic = topic;
+  const auto reader = io::open_event_reader(path, options);
+  r.format = reader->format_name();
+  r.sensor = reader->sensor_size();
+  r.streams = reader->streams();
+  std::vector<Event> batch(777);
+  try {
+    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
+  } catch (const io::ReadError& e) {
+    r.error = e;
+  }
+  r.triggers = reader->trigger_count();
+  return r;
+}
+
+bool same_events(const std::vector<Event>& a, const std::vector<Event>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Event)) == 0;
+}
+
+TEST(McapContainer, EveryCompressionDecodesToTheDb3MessagesAndItsChecksums) {
+  for (const auto& [bag, db3] : kDb3) {
+    const PerMessage expected = decode_db3(db3);
+    ASSERT_EQ(sums(expected), kProvenance.at(bag)) << bag;
+    for (const char* how : kCompressions) {
+      const std::string path = kMcap + bag + "_" + how + ".mcap";
+      const PerMessage got = decode_mcap(path);
+      EXPECT_EQ(sums(got), kProvenance.at(bag)) << path;
+      ASSERT_EQ(got.size(), expected.size()) << path;
+      for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << path << " message " << i;
+    }
+  }
+}
+
+TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
+  const PerMessage expected = decode_db3(kDb3.at("evt3"));
+  const PerMessage got = decode_mcap(kMcap + "evt3_reversed.mcap");
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << "message " << i;
+}
+
+// Chunks are read in file order and not merged: events going backwards stop
+// the read with the time-order error, after the events before them.
+TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {
+  const PerMessage db3 = decode_db3(kDb3.at("libcaer"));
+  std::vector<Event> first;  // messages 20-39, written first
+  for (std::size_t i = 20; i < 40; ++i)
+    for (const ros::RosEvent& e : db3[i]) first.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
+  const ReadAll r = read_all(kMcap + "libcaer_swapped.mcap");
+  ASSERT_TRUE(r.error);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("libcaer_swapped.mcap"), std::string::npos) << what;
+  EXPECT_EQ(r.error->event_index(), static_cast<std::int64_t>(first.size())) << what;
+  EXPECT_TRUE(same_events(r.events, first)) << r.events.size() << " events, expected " << first.size();
+}
+
+TEST(McapReader, EventArraysEqualTheDb3ReadersAndTopicsAreListed) {
+  for (const auto& [bag, db3] : kDb3) {
+    const ReadAll expected = read_all(db3);
+    ASSERT_FALSE(expected.error) << expected.error->what();
+    for (const char* how : kCompressions) {
+      const std::string path = kMcap + bag + "_" + how + ".mcap";
+      const ReadAll got = read_all(path);
+      ASSERT_FALSE(got.error) << got.error->what();
+      EXPECT_EQ(got.format, "mcap");
+      EXPECT_EQ(got.sensor, expected.sensor) << path;
+      EXPECT_EQ(got.triggers, expected.triggers) << path;
+      EXPECT_TRUE(same_events(got.events, expected.events)) << path;
+      // Streams: the db3's topic with its type and count (+ /chatter in the mono files).
+      ASSERT_EQ(got.streams.size(), expected.streams.size() + (bag == "mono" ? 1u : 0u)) << path;
+      const io::ContainerStream& db3_topic = expected.streams.at(0);
+      bool found = false;
+      for (const io::ContainerStream& s : got.streams) {
+        if (s.name != db3_topic.name) continue;
+        found = true;
+        EXPECT_EQ(s.type, db3_topic.type);
+        EXPECT_EQ(s.messages, db3_topic.messages);
+        EXPECT_TRUE(s.read);
+      }
+      EXPECT_TRUE(found) << path;
+    }
+  }
+  EXPECT_EQ(read_all(kMcap + "evt3_none.mcap").triggers, 2u);
+}
+
+TEST(McapReader, UnchunkedFileWithoutSummaryReadsAlike) {
+  const ReadAll chunked = read_all(kMcap + "mono_zstd.mcap");
+  const ReadAll plain = read_all(kMcap + "mono_unchunked.mcap");
+  ASSERT_FALSE(plain.error) << plain.error->what();
+  EXPECT_TRUE(same_events(plain.events, chunked.events));
+  ASSERT_EQ(plain.streams.size(), 2u);  // from the scan: both topics with their counts
+  for (const io::ContainerStream& s : plain.streams) EXPECT_EQ(s.messages, 2u) << s.name;
+}
+
+TEST(McapReader, TopicThatIsNotEventsIsRefused) {
+  try {
+    (void)read_all(kMcap + "mono_lz4.mcap", "/chatter");
+    FAIL() << "a std_msgs/String topic was read as events";
+  } catch (const io::ReadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("mono_lz4.mcap"), std::string::npos) << what;
+    EXPECT_NE(what.find("std_msgs/msg/String, not an event message"), std::string::npos) << what;
+  }
+  EXPECT_EQ(read_all(kMcap + "mono_lz4.mcap", "/event_camera/events").events.size(), 100u);
+}
+
+// ---- CLI: info and convert (the registry sniffs .mcap) ----
+
+class TempDir {
+ public:
+  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_mcap_" + std::to_string(::getpid()))) {
+    fs::create_directories(dir_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+ private:
+  fs::path dir_;
+};
+
+TEST(McapCli, InfoListsTopicsAndConvertMatchesTheDb3) {
+  const TempDir dir;
+  const auto run = [&](const std::string& args) {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+  };
+  const auto info = run("info '" + kMcap + "mono_zstd.mcap'");
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("mcap"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("/chatter"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("std_msgs/msg/String"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("event_array_msgs/msg/EventArray"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("640x480"), std::string::npos) << info.output;
+  const auto a = run("convert '" + kMcap + "libcaer_lz4.mcap' '" + dir.path("a.txt") + "'");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const auto b = run("convert '" + kDb3.at("libcaer") + "' '" + dir.path("b.txt") + "'");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  const std::string text = evlife::test::read_text_file(dir.path("a.txt"));
+  EXPECT_GT(text.size(), 334331u);
+  EXPECT_EQ(text, evlife::test::read_text_file(dir.path("b.txt")));
+}
+
+// ---- faults: file, byte offset and message index named; events before kept ----
+
+std::vector<char> bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_bytes(const std::string& path, const std::vector<char>& b) {
+  std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+}
+
+/// File offsets of the top-level Chunk records (opcode 0x06), walked here
+/// from the spec's record framing: magic, then u8 opcode + u64 length + content.
+std::vector<std::uint64_t> chunk_offsets(const std::vector<char>& b) {
+  std::vector<std::uint64_t> chunks;
+  for (std::uint64_t at = 8; at + 9 <= b.size();) {
+    std::uint64_t len = 0;
+    std::memcpy(&len, b.data() + at + 1, 8);
+    if (b[at] == 0x06) chunks.push_back(at);
+    if (b[at] == 0x0F) break;  // DataEnd
+    at += 9 + len;
+  }
+  return chunks;
+}
+
+/// Events (µs) of the messages stored in chunks before file offset `limit`.
+std::size_t events_before(const std::string& path, std::uint64_t limit) {
+  std::vector<std::uint64_t> at;
+  const PerMessage all = decode_mcap(path, &at);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (at[i] < limit) n += all[i].size();
+  return n;
+}
+
+struct Faulty {
+  ReadAll r;
+  std::size_t expected_events = 0;
+  std::uint64_t chunk_at = 0;
+};
+
+/// Copies `source`, lets `damage` change the bytes given the chunk offsets
+/// (it returns the offset of the damaged chunk), and reads the copy.
+template <typename Damage>
+Faulty read_damaged(const TempDir& dir, const std::string& source, const std::string& name, Damage damage) {
+  std::vector<char> b = bytes_of(kMcap + source);
+  const std::vector<std::uint64_t> chunks = chunk_offsets(b);
+  EXPECT_GE(chunks.size(), 4u);
+  Faulty f;
+  f.chunk_at = damage(b, chunks);
+  f.expected_events = events_before(kMcap + source, f.chunk_at);
+  const std::string path = dir.path(name);
+  write_bytes(path, b);
+  f.r = read_all(path);
+  return f;
+}
+
+void expect_fault(const Faulty& f, const std::vector<Event>& full, const std::string& name, const std::string& what) {
+  ASSERT_TRUE(f.r.error) << name;
+  const std::string message = f.r.error->what();
+  EXPECT_NE(message.find(name), std::string::npos) << message;
+  EXPECT_NE(message.find(what), std::string::npos) << message;
+  EXPECT_NE(message.find("messages of the topic"), std::string::npos) << message;
+  EXPECT_EQ(f.r.error->byte_offset(), static_cast<std::int64_t>(f.chunk_at)) << message;
+  EXPECT_GT(f.expected_events, 0u);
+  ASSERT_EQ(f.r.events.size(), f.expected_events) << message;
+  EXPECT_EQ(0, std::memcmp(f.r.events.data(), full.data(), f.expected_events * sizeof(Event)));
+}
+
+TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
+  const TempDir dir;
+  const std::vector<Event> full = read_all(kMcap + "libcaer_zstd.mcap").events;
+  const Faulty f = read_damaged(dir, "libcaer_zstd.mcap", "cut.mcap", [](std::vector<char>& b, const auto& chunks) {
+    b.resize(chunks[3] + 100);  // inside the fourth chunk
+    return chunks[3];
+  });
+  expect_fault(f, full, "cut.mcap", "runs past the end of the file (truncated)");
+}
+
+TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
+  const TempDir dir;
+  for (const char* how : kCompressions) {
+    const std::string source = std::string("evt3_") + how + ".mcap";
+    const std::vector<Event> full = read_all(kMcap + source).events;
+    const std::string name = std::string("corrupt_") + how + ".mcap";
+    const Faulty f = read_damaged(dir, source, name, [](std::vector<char>& b, const auto& chunks) {
+      const std::uint64_t middle = (chunks[2] + chunks[3]) / 2;
+      for (std::uint64_t i = middle; i < middle + 16; ++i) b[i] = static_cast<char>(b[i] ^ 0x5A);
+      return chunks[2];
+    });
+    expect_fault(f, full, name, std::string(how) == "none" ? "chunk CRC mismatch" : "MCAP");
+  }
+}
+
+TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
+  const TempDir dir;
+  const std::string source = "evt3_none.mcap";
+  const std::vector<Event> full = read_all(kMcap + source).events;
+  std::vector<char> b = bytes_of(kMcap + source);
+  const std::uint64_t chunk = chunk_offsets(b).at(2);
+  // Chunk content: 3 u64, u32 CRC (set to 0 = not given, so that the damage
+  // below is found by the record framing), compression "" (u32 0), u64 length.
+  std::memset(b.data() + chunk + 9 + 24, 0, 4);
+  const std::uint64_t first = chunk + 9 + 40;  // the chunk's first record: a Message
+  ASSERT_EQ(b[first], 0x05);
+  std::uint64_t len = 0;
+  std::memcpy(&len, b.data() + first + 1, 8);
+  const std::uint64_t second = first + 9 + len;
+  const std::uint64_t huge = ~std::uint64_t{0};
+  std::memcpy(b.data() + second + 1, &huge, 8);
+  const std::string path = dir.path("record.mcap");
+  write_bytes(path, b);
+  std::vector<std::uint64_t> at;
+  const PerMessage messages = decode_mcap(kMcap + source, &at);
+  std::size_t expected = 0;
+  bool first_of_chunk = true;
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    if (at[i] < chunk || (at[i] == chunk && first_of_chunk)) expected += messages[i].size();
+    if (at[i] == chunk) first_of_chunk = false;
+  }
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("corrupt record at byte " + std::to_string(second - first) + " of the MCAP chunk"),
+            std::string::npos) << what;
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(chunk)) << what;
+  ASSERT_EQ(r.events.size(), expected) << what;
+  EXPECT_EQ(0, std::memcmp(r.events.data(), full.data(), expected * sizeof(Event)));
+}
+
+TEST(McapFaults, UnknownCompressionIsNamed) {
+  const TempDir dir;
+  const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;
+  const Faulty f = read_damaged(dir, "evt3_zstd.mcap", "brotli.mcap", [](std::vector<char>& b, const auto& chunks) {
+    // Chunk content: 3 u64 + u32 CRC, then the compression string (u32 length + "zstd").
+    const std::uint64_t name_at = chunks[1] + 9 + 28 + 4;
+    std::memcpy(b.data() + name_at, "zbr1", 4);
+    return chunks[1];
+  });
+  expect_fault(f, full, "brotli.mcap", "chunk compressed with 'zbr1' (readable: none, zstd, lz4)");
+}
+
+TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
+  const TempDir dir;
+  const std::string path = dir.path("text.mcap");
+  write_bytes(path, {'h', 'e', 'l', 'l', 'o', '\n'});
+  try {
+    (void)io::open_event_reader(path);
+    FAIL() << "read a text file as MCAP";
+  } catch (const io::ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("not an MCAP file"), std::string::npos) << e.what();
+  }
+  const std::string magic_only = dir.path("magic.mcap");
+  write_bytes(magic_only, {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n', '\x01'});
+  try {
+    (void)io::open_event_reader(magic_only);
+    FAIL() << "read a cut MCAP header";
+  } catch (const io::ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated inside its Header record"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
