@@ -6,11 +6,8 @@
 // input (truncation, corrupt addresses, unknown chips) fails clearly after
 // the events before it.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,10 +15,10 @@
 #include "cli_runner.h"
 #include "davis_aedat2_writer.h"
 #include "evlife/io/event_reader.h"
+#include "scratch_dir.h"
 
 namespace {
 
-namespace fs = std::filesystem;
 using evlife::Event;
 using evlife::test::DavisAedat2Writer;
 namespace io = evlife::io;
@@ -68,22 +65,9 @@ std::string kinds_text(const std::vector<io::SkippedKindCount>& kinds) {
 }
 
 class IoAedat2Davis : public ::testing::Test {
- public:
-  IoAedat2Davis() : dir_(fs::temp_directory_path() / ("evlife_test_aedat2_davis_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~IoAedat2Davis() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
  protected:
-  std::string save(const std::string& name, const std::vector<char>& bytes) const {
-    const std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-  fs::path dir_;
+  std::string save(const std::string& name, const std::vector<char>& bytes) const { return dir_.save(name, bytes); }
+  evlife::test::ScratchDir dir_{"test_aedat2_davis"};
 };
 
 // Every kind of record, DVS events at the corners of the sensor between them.
@@ -234,7 +218,7 @@ TEST_F(IoAedat2Davis, UnknownChipAndDavisWithoutChipLineAreRefusedClearly) {
 
 TEST_F(IoAedat2Davis, InfoShowsTheSensorTriggersAndSkippedKinds) {
   const std::string path = save("info.aedat", mixed("eu.seebetter.ini.chips.davis.DAVIS240C", 240, 180).bytes());
-  const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "info '" + path + "'", dir_ / "cli.log");
+  const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "info '" + path + "'", dir_.path() / "cli.log");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("sensor     240x180 (stated by the file)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("events     4 (2 ON, 2 OFF)"), std::string::npos) << r.output;

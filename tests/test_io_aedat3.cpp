@@ -3,20 +3,17 @@
 // packets with the timestamp overflow, invalid events, frame / IMU / special
 // packets skipped and counted, truncation.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "scratch_dir.h"
 
 namespace {
 
-namespace fs = std::filesystem;
 using evlife::Event;
 namespace io = evlife::io;
 
@@ -66,22 +63,9 @@ class Aedat3Writer {
 };
 
 class IoAedat3 : public ::testing::Test {
- public:
-  IoAedat3() : dir_(fs::temp_directory_path() / ("evlife_test_io_aedat3_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~IoAedat3() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
  protected:
-  std::string save(const std::string& name, const std::vector<char>& bytes) const {
-    const std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-  fs::path dir_;
+  std::string save(const std::string& name, const std::vector<char>& bytes) const { return dir_.save(name, bytes); }
+  evlife::test::ScratchDir dir_{"test_io_aedat3"};
 };
 
 struct ReadAll {
