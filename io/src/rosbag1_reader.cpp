@@ -5,8 +5,8 @@
 // connection (conn, topic; data = type, md5sum, definition...), 0x04 index
 // data, 0x06 chunk info (message counts per connection). The index after
 // index_pos gives the topics without reading the chunks; messages are then
-// streamed chunk by chunk in file order and decoded by ros::MessageDecoder
-// in ROS 1 serialization (ros_messages.h: types, encodings, time rule).
+// streamed chunk by chunk in file order and decoded by ros::BagReader in ROS 1
+// serialization (ros_bag_reader.h, ros_messages.h: types, encodings, time rule).
 #include <bzlib.h>
 #include <lz4frame.h>
 
@@ -17,8 +17,7 @@
 
 #include "input_file.h"
 #include "reader_registry.h"
-#include "ros_messages.h"
-#include "ros_topics.h"
+#include "ros_bag_reader.h"
 
 namespace evlife::io {
 namespace {
@@ -64,10 +63,9 @@ bool field(const Fields& f, std::string_view name, T& v) {
   return true;
 }
 
-class Rosbag1Reader final : public EventReader {
+class Rosbag1Reader final : public ros::BagReader {
  public:
-  Rosbag1Reader(const std::string& path, const ReaderOptions& options)
-      : file_(path), decoder_(ros::MessageKind::not_events) {
+  Rosbag1Reader(const std::string& path, const ReaderOptions& options) : file_(path) {
     std::array<std::byte, 13> magic{};
     if (file_.read_at(0, magic) != magic.size() ||
         std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0)
@@ -87,46 +85,16 @@ class Rosbag1Reader final : public EventReader {
     first_record_ = next;
     index_pos_ = index_pos;
     read_index();
-    const ros::TopicInfo& topic = ros::choose_topic(path, topics_, options.topic);
-    topic_ = topic.name;
+    select_topic(path, topics_, options, ros::Serialization::ros1);
     for (const auto& [conn, c] : connections_)
-      if (c.topic == topic_) wanted_.push_back(conn);
-    decoder_ = ros::MessageDecoder(ros::message_kind(topic.type), ros::Serialization::ros1);
+      if (c.topic == topic()) wanted_.push_back(conn);
     pos_ = first_record_;
-    load_message();
-    if (decoder_.width() > 0 && decoder_.height() > 0)
-      sensor_ = SensorSize{static_cast<int>(decoder_.width()), static_cast<int>(decoder_.height())};
+    start();
   }
 
-  std::size_t read(std::span<Event> out) override {
-    std::size_t n = 0;
-    while (n < out.size()) {
-      if (next_ == events_.size()) {
-        if (error_ || ended_) break;
-        load_message();
-        continue;
-      }
-      const std::size_t k = ros::take_events(events_, next_, out.subspan(n));
-      n += k;
-      delivered_ += static_cast<std::int64_t>(k);
-    }
-    if (n == 0 && error_) throw *error_;
-    return n;
-  }
-
-  std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "rosbag1"; }
   const std::string& path() const override { return file_.path(); }
-  std::uint64_t skipped_record_count() const override {
-    return decoder_.trigger_count() + decoder_.other_count();
-  }
-  std::uint64_t trigger_count() const override { return decoder_.trigger_count(); }
   std::uint64_t bytes_consumed() const override { return pos_; }
-  std::vector<ContainerStream> streams() const override {
-    std::vector<ContainerStream> s;
-    for (const ros::TopicInfo& t : topics_) s.push_back(ContainerStream{t.name, t.type, t.message_count, t.name == topic_});
-    return s;
-  }
 
  private:
   struct Connection {
@@ -243,8 +211,8 @@ class Rosbag1Reader final : public EventReader {
     in_chunk_ = true;
   }
 
-  /// The next message of the wanted topic: its data in `message`; false at the end.
-  bool next_message(std::span<const std::uint8_t>& message) {
+  /// The next message of the wanted topic, streamed chunk by chunk; false at the end.
+  bool next_message(Message& message) override {
     Fields f;
     while (true) {
       if (in_chunk_) {
@@ -264,7 +232,8 @@ class Rosbag1Reader final : public EventReader {
           std::uint32_t conn = 0;
           if (field(f, "op", op) && op == kMessage && field(f, "conn", conn) &&
               std::find(wanted_.begin(), wanted_.end(), conn) != wanted_.end()) {
-            message = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
+            message = Message{std::span<const std::uint8_t>(chunk_.data() + data, dlen), message_index_++,
+                              &file_.path(), static_cast<std::int64_t>(chunk_at_), " (in the chunk at this offset)"};
             return true;
           }
         }
@@ -280,41 +249,11 @@ class Rosbag1Reader final : public EventReader {
     }
   }
 
-  void load_message() {
-    events_.clear();
-    next_ = 0;
-    std::span<const std::uint8_t> m;
-    try {
-      if (!next_message(m)) {
-        ended_ = true;
-        return;
-      }
-    } catch (const ReadError& e) {
-      error_.emplace(file_.path(), e.byte_offset(), delivered_,
-                     std::string(e.what()).substr(file_.path().size() + 2) + " (after message " +
-                         std::to_string(message_index_) + " of the topic)");
-      return;
-    }
-    const std::uint64_t index = message_index_++;
-    if (const auto fault = decoder_.decode(m, events_)) {
-      error_.emplace(file_.path(), static_cast<std::int64_t>(chunk_at_), delivered_ + static_cast<std::int64_t>(events_.size()),
-                     "message " + std::to_string(index) + " of the topic (in the chunk at this offset), byte " +
-                         std::to_string(fault->byte_in_message) + " of the message: " + fault->what);
-      return;
-    }
-    if (sensor_ && (decoder_.width() != static_cast<std::uint32_t>(sensor_->width) ||
-                    decoder_.height() != static_cast<std::uint32_t>(sensor_->height))) {
-      events_.clear();
-      error_.emplace(file_.path(), static_cast<std::int64_t>(chunk_at_), delivered_,
-                     "message " + std::to_string(index) + " of the topic states another sensor size than the first");
-    }
-  }
+  const std::vector<ros::TopicInfo>& topics() const override { return topics_; }
 
   detail::InputFile file_;
-  ros::MessageDecoder decoder_;
   std::map<std::uint32_t, Connection> connections_;
   std::vector<ros::TopicInfo> topics_;
-  std::string topic_;
   std::vector<std::uint32_t> wanted_;
   std::uint64_t first_record_ = 0;
   std::uint64_t index_pos_ = 0;
@@ -325,13 +264,7 @@ class Rosbag1Reader final : public EventReader {
   std::uint64_t chunk_at_ = 0;
   std::size_t chunk_pos_ = 0;
   bool in_chunk_ = false;
-  std::optional<SensorSize> sensor_;
-  std::vector<ros::RosEvent> events_;
-  std::size_t next_ = 0;
-  std::int64_t delivered_ = 0;
   std::uint64_t message_index_ = 0;
-  bool ended_ = false;
-  std::optional<ReadError> error_;
 };
 
 }  // namespace
