@@ -3,20 +3,17 @@
 // packets with the timestamp overflow, invalid events, frame / IMU / special
 // packets skipped and counted, truncation.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "scratch_dir.h"
 
 namespace {
 
-namespace fs = std::filesystem;
 using evlife::Event;
 namespace io = evlife::io;
 
@@ -66,28 +63,16 @@ class Aedat3Writer {
 };
 
 class IoAedat3 : public ::testing::Test {
- public:
-  IoAedat3() : dir_(fs::temp_directory_path() / ("evlife_test_io_aedat3_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~IoAedat3() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
  protected:
-  std::string save(const std::string& name, const std::vector<char>& bytes) const {
-    const std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-  fs::path dir_;
+  std::string save(const std::string& name, const std::vector<char>& bytes) const { return dir_.save(name, bytes); }
+  evlife::test::ScratchDir dir_{"test_io_aedat3"};
 };
 
 struct ReadAll {
   std::string format;
   std::vector<Event> events;
   std::uint64_t skipped = 0;
+  std::string kinds;  // "kind=count " for every kind seen
   std::optional<io::ReadError> error;
 };
 
@@ -102,6 +87,8 @@ ReadAll read_all(const std::string& path) {
     r.error = e;
   }
   r.skipped = reader->skipped_record_count();
+  for (const io::SkippedKindCount& k : reader->skipped_record_kinds())
+    r.kinds += std::string(k.kind) + "=" + std::to_string(k.count) + " ";
   return r;
 }
 
@@ -129,6 +116,22 @@ TEST_F(IoAedat3, PolarityPacketsWithOverflowOthersSkippedAndCounted) {
     EXPECT_EQ(r.events[i].p, expected[i].p) << i;
   }
   EXPECT_EQ(r.skipped, 1u + 2u + 1u + 1u);  // invalid event, 2 IMU, 1 frame, 1 special
+  // Per kind, in the order of the specification's type ids (evlife's own last).
+  EXPECT_EQ(r.kinds, "special=1 frame=1 imu6=2 polarity-invalid=1 ");
+}
+
+TEST_F(IoAedat3, EveryOtherPacketTypeIsCountedUnderItsName) {
+  Aedat3Writer w;
+  const std::int16_t types[] = {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 99};
+  std::int32_t n = 1;
+  for (const std::int16_t type : types) w.other(type, 4, n++);
+  const ReadAll r = read_all(save("kinds.aedat", w.bytes()));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_TRUE(r.events.empty());
+  EXPECT_EQ(r.kinds,
+            "imu9=1 sample=2 ear=3 config=4 point1d=5 point2d=6 point3d=7 point4d=8 spike=9 matrix4x4=10 "
+            "unknown-type=11 ");
+  EXPECT_EQ(r.skipped, 66u);
 }
 
 TEST_F(IoAedat3, TruncatedPacketKeepsTheEventsBefore) {

@@ -20,6 +20,7 @@
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
 #include "exit_code.h"
+#include "skipped_kinds_text.h"
 
 namespace evlife::cli {
 namespace {
@@ -233,8 +234,10 @@ int convert_events(const std::string& input, const std::string& output,
   what += ")";
   const int code = report(o, input, output, what, quiet);
   if (!quiet && reader->skipped_record_count() > 0) {
-    std::fprintf(stdout, "  skipped records: %llu (non-event records of the format)\n",
-                 static_cast<unsigned long long>(reader->skipped_record_count()));
+    const std::string kinds = skipped_kinds_text(*reader);
+    std::fprintf(stdout, "  skipped records: %llu (non-event records of the format%s%s)\n",
+                 static_cast<unsigned long long>(reader->skipped_record_count()), kinds.empty() ? "" : ": ",
+                 kinds.c_str());
   }
   return code;
 }

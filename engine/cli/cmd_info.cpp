@@ -12,6 +12,7 @@
 #include "command.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
+#include "skipped_kinds_text.h"
 
 namespace evlife::cli {
 namespace {
@@ -119,6 +120,8 @@ int run_info(int argc, char** argv) {
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",
               thousands(reader->skipped_record_count()).c_str());
+  if (const std::string kinds = skipped_kinds_text(*reader); !kinds.empty())
+    std::printf("  by kind  %s\n", kinds.c_str());
   const auto streams = reader->streams();
   if (!streams.empty()) {
     std::printf("topics     %zu\n", streams.size());

@@ -21,6 +21,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
+#include "skipped_kinds_text.h"
 #include "lifetime_summary.h"
 #include "progress_meter.h"
 
@@ -312,8 +313,9 @@ int process_recording(int argc, char** argv) {
                    input_fault ? "input error" : output_fault ? "output error" : "interrupted");
     }
     if (const auto skipped = reader->skipped_record_count()) {
-      std::fprintf(stdout, "  skipped records     %llu (non-event records of the format)\n",
-                   static_cast<unsigned long long>(skipped));
+      const std::string kinds = skipped_kinds_text(*reader);
+      std::fprintf(stdout, "  skipped records     %llu (non-event records of the format%s%s)\n",
+                   static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
     }
     const LifetimeStats& st = estimator->stats();
     if (st.out_of_sensor + st.bad_polarity > 0) {

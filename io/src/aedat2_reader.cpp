@@ -1,16 +1,39 @@
-// jAER AEDAT 2.0 from a DVS128: `#!AER-DAT2.0` and `#` header lines (CRLF),
-// then per event a big-endian u32 address and a big-endian u32 timestamp (µs).
-// DVS128 address (jAER DVS128.Extractor): bit 0 polarity (raw 0 = ON), bits
-// 1-7 raw x, bits 8-14 raw y, bit 15 special/external event. jAER flips x
-// (x = 127 - raw x) and keeps y with origin bottom-left; evlife's origin is
-// top-left (as libcaer over USB), so both axes are flipped here:
-//   x = 127 - ((a >> 1) & 0x7F),  y = 127 - ((a >> 8) & 0x7F).
+// jAER AEDAT 2.0: `#!AER-DAT2.0` and `#` header lines (CRLF), then per
+// record a big-endian u32 address and a big-endian u32 timestamp (µs). The
+// `# AEChip: <java class>` line selects the address layout and the sensor
+// (table in aedat2_chips.cpp); without it the file is a DVS128's.
+//
+// DVS128 (jAER DVS128.Extractor): bit 0 polarity (raw 0 = ON), bits 1-7 raw
+// x, bits 8-14 raw y, bit 15 external input event.
+//
+// DAVIS (jAER eu.seebetter.ini.chips.DavisChip constants, decoded as
+// davis.DavisBaseCamera.DavisEventExtractor.extractPacket does;
+// github.com/SensorsINI/jaer): bit 31 set = not a DVS event: with bits 10-11
+// both set an IMU word (7 consecutive words make one IMU sample: code in bits
+// 28-30, 16-bit value in bits 12-27), otherwise an APS ADC sample (x 12-21,
+// y 22-30, read cycle 10-11, value 0-9). Bit 31 clear: bits 10-11 = 01 is an
+// external input event (trigger); else a DVS event with y in bits 22-30, x in
+// bits 12-21, polarity in bit 11 (1 = ON); bits 0-9 are zero.
+//
+// Orientation: jAER displays x = W-1 - raw x and y = raw y with the origin at
+// the bottom left (its USB code packs raw y = H-1 - row, raw x = W-1 - column
+// of the sensor's readout, whose row 0 is the top). evlife's origin is the top
+// left (as libcaer over USB), so both layouts flip both axes:
+//   x = W-1 - raw x,  y = H-1 - raw y.
+// APS samples, IMU words and external events are skipped and counted per kind
+// (external events are the triggers), never mixed into the events.
 #include <algorithm>
+#include <array>
 #include <cstring>
+#include <iterator>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "aedat2_chips.h"
 #include "input_file.h"
 #include "reader_registry.h"
+#include "skipped_kinds.h"
 
 namespace evlife::io::detail {
 namespace {
@@ -18,16 +41,31 @@ namespace {
 constexpr std::string_view kMagic = "#!AER-DAT2.0";
 constexpr std::size_t kRecordBytes = 8;
 constexpr std::size_t kChunkRecords = 1 << 16;
-constexpr int kSensorSide = 128;
+
+enum Skipped : std::size_t { kExternal, kApsSample, kImuWord, kSkippedKinds };
+constexpr std::array<std::string_view, kSkippedKinds> kSkippedNames{"external", "aps-sample", "imu-word"};
+
+constexpr std::uint32_t kDavisNotDvs = 0x80000000u;
+constexpr std::uint32_t kDavisImu = 0x80000C00u;
+constexpr std::uint32_t kDavisTypeMask = 0x00000C00u;
+constexpr std::uint32_t kDavisExternal = 0x00000400u;
 
 std::uint32_t load_be32(const unsigned char* p) noexcept {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
          std::uint32_t{p[3]};
 }
 
+std::string hex(std::uint32_t v) {
+  char text[9];
+  static constexpr char digits[] = "0123456789abcdef";
+  for (int i = 7; i >= 0; --i, v >>= 4) text[i] = digits[v & 0xF];
+  text[8] = '\0';
+  return text;
+}
+
 class Aedat2Reader final : public EventReader {
  public:
-  explicit Aedat2Reader(const std::string& path) : file_(path) {
+  explicit Aedat2Reader(const std::string& path) : file_(path), chip_(&default_aedat2_chip()) {
     parse_header();
     buffer_.resize(kChunkRecords * kRecordBytes);
   }
@@ -36,55 +74,28 @@ class Aedat2Reader final : public EventReader {
     if (pending_) throw *pending_;
     batch_first_index_ = next_index_;
     batch_first_offset_ = offset_;
-    specials_in_batch_.clear();
+    skips_in_batch_.clear();
+    skips_in_batch_.reserve(out.size() + 1);  // allocates only when batches grow
+    skipped_in_batch_ = 0;
     std::size_t n = 0;
     while (n < out.size()) {
       if (buffer_pos_ + kRecordBytes > buffer_end_ && !refill()) break;
-      const auto* bytes = reinterpret_cast<const unsigned char*>(buffer_.data());
-      // Decode straight from the buffer: whole records only.
-      const std::size_t records =
-          std::min((buffer_end_ - buffer_pos_) / kRecordBytes, out.size() - n);
-      for (std::size_t r = 0; r < records; ++r) {
-        const unsigned char* rec = bytes + buffer_pos_;
-        const std::uint32_t address = load_be32(rec);
-        const std::uint32_t ts = load_be32(rec + 4);
-        if ((address >> 16) != 0) {  // a DVS128 never sets these bits
-          pending_.emplace(file_.path(), static_cast<std::int64_t>(offset_),
-                           static_cast<std::int64_t>(next_index_),
-                           "corrupt AEDAT 2.0 record: address 0x" + hex(address) +
-                               " has bits above 15 set (not a DVS128 address)");
-          break;
-        }
-        buffer_pos_ += kRecordBytes;
-        offset_ += kRecordBytes;
-        // Unwrap the 32-bit µs clock (wraps every 71.6 min): a jump back by more
-        // than half the range is a wrap; smaller steps back are kept as they
-        // are so that the checked reader reports them.
-        if (ts < last_raw_ts_ && last_raw_ts_ - ts > 0x80000000u) wrap_us_ += std::int64_t{1} << 32;
-        last_raw_ts_ = ts;
-        if (address & 0x8000u) {
-          ++skipped_;
-          specials_in_batch_.push_back(next_index_);
-          continue;
-        }
-        Event& e = out[n++];
-        e.t_us = wrap_us_ + ts;
-        e.x = static_cast<std::uint16_t>(kSensorSide - 1 - ((address >> 1) & 0x7Fu));
-        e.y = static_cast<std::uint16_t>(kSensorSide - 1 - ((address >> 8) & 0x7Fu));
-        e.p = (address & 1u) ? std::int8_t{-1} : std::int8_t{1};
-        ++next_index_;
-        if (n == out.size()) break;
-      }
+      n = chip_->layout == Aedat2Layout::davis ? decode<Aedat2Layout::davis>(out, n)
+                                               : decode<Aedat2Layout::dvs128>(out, n);
       if (pending_) break;
     }
     if (n == 0 && pending_) throw *pending_;
     return n;
   }
 
-  std::optional<SensorSize> sensor_size() const override { return SensorSize{128, 128}; }
+  std::optional<SensorSize> sensor_size() const override {
+    return SensorSize{chip_->width, chip_->height};
+  }
   std::string_view format_name() const override { return "aedat2"; }
   const std::string& path() const override { return file_.path(); }
-  std::uint64_t skipped_record_count() const override { return skipped_; }
+  std::uint64_t skipped_record_count() const override { return skipped_.total(); }
+  std::uint64_t trigger_count() const override { return skipped_.count(kExternal); }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override { return skipped_.seen(); }
   std::uint64_t bytes_consumed() const override { return offset_; }
 
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
@@ -92,25 +103,96 @@ class Aedat2Reader final : public EventReader {
         event_index > static_cast<std::int64_t>(next_index_))
       return -1;
     const auto index = static_cast<std::uint64_t>(event_index);
-    // Records before it in this batch = events before it + specials skipped before it.
-    const auto specials = static_cast<std::uint64_t>(
-        std::upper_bound(specials_in_batch_.begin(), specials_in_batch_.end(), index) -
-        specials_in_batch_.begin());
+    // Records before it in this batch = events before it + records skipped before it.
+    const auto after = std::upper_bound(
+        skips_in_batch_.begin(), skips_in_batch_.end(), index,
+        [](std::uint64_t i, const std::pair<std::uint64_t, std::uint64_t>& s) { return i < s.first; });
+    const std::uint64_t skipped = after == skips_in_batch_.begin() ? 0 : std::prev(after)->second;
     return static_cast<std::int64_t>(batch_first_offset_ +
-                                     (index - batch_first_index_ + specials) * kRecordBytes);
+                                     (index - batch_first_index_ + skipped) * kRecordBytes);
   }
 
  private:
-  static std::string hex(std::uint32_t v) {
-    char text[9];
-    static constexpr char digits[] = "0123456789abcdef";
-    for (int i = 7; i >= 0; --i, v >>= 4) text[i] = digits[v & 0xF];
-    text[8] = '\0';
-    return text;
+  /// Decodes the whole records in the buffer into out[n...]; returns the new n.
+  template <Aedat2Layout L>
+  std::size_t decode(std::span<Event> out, std::size_t n) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(buffer_.data());
+    const std::size_t records = (buffer_end_ - buffer_pos_) / kRecordBytes;
+    const auto width = static_cast<std::uint32_t>(chip_->width);
+    const auto height = static_cast<std::uint32_t>(chip_->height);
+    for (std::size_t r = 0; r < records && n < out.size(); ++r) {
+      const unsigned char* rec = bytes + buffer_pos_;
+      const std::uint32_t address = load_be32(rec);
+      const std::uint32_t ts = load_be32(rec + 4);
+      std::uint32_t raw_x = 0, raw_y = 0;
+      bool on = false;
+      std::size_t skip = kSkippedKinds;
+      if constexpr (L == Aedat2Layout::dvs128) {
+        if ((address >> 16) != 0)  // a DVS128 never sets these bits
+          return corrupt(n, address, "has bits above 15 set (not a DVS128 address)");
+        if (address & 0x8000u) skip = kExternal;
+        raw_x = (address >> 1) & 0x7Fu;
+        raw_y = (address >> 8) & 0x7Fu;
+        on = (address & 1u) == 0;
+      } else {
+        if ((address & kDavisImu) == kDavisImu) {
+          skip = kImuWord;
+        } else if (address & kDavisNotDvs) {
+          skip = kApsSample;
+        } else if ((address & kDavisTypeMask) == kDavisExternal) {
+          skip = kExternal;
+        } else {
+          if ((address & 0x3FFu) != 0)
+            return corrupt(n, address, "is a DVS event with bits 0-9 set (not a DAVIS address)");
+          raw_x = (address >> 12) & 0x3FFu;
+          raw_y = (address >> 22) & 0x1FFu;
+          if (raw_x >= width || raw_y >= height)
+            return corrupt(n, address,
+                           "is a DVS event at raw x " + std::to_string(raw_x) + ", y " + std::to_string(raw_y) +
+                               ", outside the " + std::to_string(width) + "x" + std::to_string(height) + " " +
+                               std::string(chip_->class_prefix) + " sensor");
+          on = (address & 0x800u) != 0;
+        }
+      }
+      buffer_pos_ += kRecordBytes;
+      offset_ += kRecordBytes;
+      // Unwrap the 32-bit µs clock (wraps every 71.6 min): a jump back by more
+      // than half the range is a wrap; smaller steps back are kept as they
+      // are so that the checked reader reports them.
+      if (ts < last_raw_ts_ && last_raw_ts_ - ts > 0x80000000u) wrap_us_ += std::int64_t{1} << 32;
+      last_raw_ts_ = ts;
+      if (skip != kSkippedKinds) {
+        skipped_.add(skip);
+        note_skip();
+        continue;
+      }
+      Event& e = out[n++];
+      e.t_us = wrap_us_ + ts;
+      e.x = static_cast<std::uint16_t>(width - 1 - raw_x);
+      e.y = static_cast<std::uint16_t>(height - 1 - raw_y);
+      e.p = on ? std::int8_t{1} : std::int8_t{-1};
+      ++next_index_;
+    }
+    return n;
   }
 
-  // Header: lines starting with '#'; the first one is the magic. The chip line
-  // ("# AEChip: ...") must name a DVS128 (other chips pack addresses otherwise).
+  std::size_t corrupt(std::size_t n, std::uint32_t address, const std::string& what) {
+    pending_.emplace(file_.path(), static_cast<std::int64_t>(offset_), static_cast<std::int64_t>(next_index_),
+                     "corrupt AEDAT 2.0 record: address 0x" + hex(address) + " " + what);
+    return n;
+  }
+
+  /// Remembers that a record was skipped before event next_index_ (for
+  /// byte_offset_of_event): one entry per event index, at most out.size() + 1.
+  void note_skip() noexcept {
+    ++skipped_in_batch_;
+    if (!skips_in_batch_.empty() && skips_in_batch_.back().first == next_index_)
+      skips_in_batch_.back().second = skipped_in_batch_;
+    else
+      skips_in_batch_.emplace_back(next_index_, skipped_in_batch_);
+  }
+
+  // Header: lines starting with '#'; the first one is the magic.
   void parse_header() {
     std::vector<std::byte> chunk(1 << 16);
     std::string line;
@@ -144,7 +226,10 @@ class Aedat2Reader final : public EventReader {
                       "truncated AEDAT 2.0 header (no end of line)");
     if (first_line)
       throw ReadError(file_.path(), 0, -1, "not an AEDAT 2.0 file (no '#!AER-DAT2.0' line)");
-    header_bytes_ = pos;
+    if (!chip_line_ && davis_hardware_)
+      throw ReadError(file_.path(), static_cast<std::int64_t>(pos), -1,
+                      "AEDAT 2.0 from DAVIS hardware without a '# AEChip:' header line: the sensor "
+                      "size is unknown");
     offset_ = pos;
   }
 
@@ -153,11 +238,17 @@ class Aedat2Reader final : public EventReader {
     if (first_line && line.rfind(kMagic, 0) != 0)
       throw ReadError(file_.path(), 0, -1, "not an AEDAT 2.0 file (first line '" + line + "')");
     constexpr std::string_view kChip = "# AEChip:";
-    if (line.rfind(kChip, 0) == 0 && line.find("DVS128") == std::string::npos &&
-        line.find("Tmpdiff128") == std::string::npos)
+    constexpr std::string_view kHardware = "# HardwareInterface:";
+    if (line.rfind(kHardware, 0) == 0 && line.find("DAVIS") != std::string::npos) davis_hardware_ = true;
+    if (line.rfind(kChip, 0) != 0) return;
+    const std::string name = line.substr(kChip.size());
+    const Aedat2Chip* chip = find_aedat2_chip(name);
+    if (chip == nullptr)
       throw ReadError(file_.path(), static_cast<std::int64_t>(end), -1,
-                      "AEDAT 2.0 from chip '" + line.substr(kChip.size()) +
-                          "': only the DVS128 address layout is supported");
+                      "AEDAT 2.0 from chip '" + name + "': unknown address layout (known chips: " +
+                          known_aedat2_chips() + ")");
+    chip_ = chip;
+    chip_line_ = true;
   }
 
   // Moves the partial record to the front and reads more. False at end of
@@ -179,18 +270,22 @@ class Aedat2Reader final : public EventReader {
   }
 
   InputFile file_;
+  const Aedat2Chip* chip_;
+  bool chip_line_ = false;
+  bool davis_hardware_ = false;
   std::vector<std::byte> buffer_;
   std::size_t buffer_pos_ = 0;
   std::size_t buffer_end_ = 0;
-  std::uint64_t header_bytes_ = 0;
   std::uint64_t offset_ = 0;      // file offset of buffer_[buffer_pos_]
   std::uint64_t next_index_ = 0;  // index of the next event delivered
-  std::uint64_t skipped_ = 0;
+  SkippedKinds<kSkippedKinds> skipped_{kSkippedNames};
   std::uint32_t last_raw_ts_ = 0;
   std::int64_t wrap_us_ = 0;
   std::uint64_t batch_first_index_ = 0;
   std::uint64_t batch_first_offset_ = 0;
-  std::vector<std::uint64_t> specials_in_batch_;  // event index following each skipped special
+  // (event index, records skipped in this batch before it), one entry per index.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> skips_in_batch_;
+  std::uint64_t skipped_in_batch_ = 0;
   std::optional<ReadError> pending_;
 };
 
@@ -209,8 +304,9 @@ std::unique_ptr<EventReader> open_aedat2(const std::string& path) {
 }  // namespace
 
 const ReaderFormat aedat2_format{"aedat2",
-                                 "jAER AEDAT 2.0 from a DVS128 ('#!AER-DAT2.0' header, "
-                                 "big-endian u32 address + u32 timestamp in us)",
+                                 "jAER AEDAT 2.0 from a DVS128 or a DAVIS ('#!AER-DAT2.0' header, "
+                                 "big-endian u32 address + u32 timestamp in us; APS, IMU and "
+                                 "external events skipped and counted)",
                                  &sniff_aedat2, &open_aedat2};
 
 }  // namespace evlife::io::detail

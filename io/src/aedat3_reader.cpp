@@ -5,8 +5,12 @@
 // of eventSize bytes. Polarity packets (type 1, 8-byte events: u32 data with
 // bit 0 valid, bit 1 polarity, bits 2-16 y, bits 17-31 x; i32 timestamp µs)
 // are decoded, t = eventTSOverflow << 31 | timestamp; y = 0 is the top row
-// (libcaer's origin). Events without the valid bit, and every other packet
-// (special 0, frames 2, IMU 3, ...), are skipped and counted.
+// (libcaer's origin). Events without the valid bit, and every other packet,
+// are skipped and counted per kind: the event type ids of the AEDAT 3.1
+// specification (docs.inivation.com, file-formats/aedat-3.1; libcaer
+// events/common.h): 0 special, 2 frame, 3 imu6, 4 imu9, 5 sample, 6 ear,
+// 7 config, 8-11 point1d-point4d, 12 spike, 13 matrix4x4; any other id is
+// counted as "unknown-type".
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -14,6 +18,7 @@
 
 #include "input_file.h"
 #include "reader_registry.h"
+#include "skipped_kinds.h"
 
 namespace evlife::io::detail {
 namespace {
@@ -23,6 +28,13 @@ constexpr std::string_view kEndHeader = "#!END-HEADER";
 constexpr std::size_t kPacketHeader = 28;
 constexpr std::int16_t kPolarity = 1;
 constexpr std::uint64_t kMaxPacketBytes = std::uint64_t{64} << 20;
+
+// Skipped kinds: index = event type id for 0..13; then two of evlife's own.
+constexpr std::size_t kInvalidPolarity = 14;
+constexpr std::size_t kUnknownType = 15;
+constexpr std::array<std::string_view, 16> kSkippedNames{
+    "special", "polarity", "frame", "imu6", "imu9", "sample", "ear", "config", "point1d", "point2d",
+    "point3d", "point4d", "spike", "matrix4x4", "polarity-invalid", "unknown-type"};
 
 class Aedat3Reader final : public EventReader {
  public:
@@ -49,7 +61,8 @@ class Aedat3Reader final : public EventReader {
   std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
   std::string_view format_name() const override { return "aedat3"; }
   const std::string& path() const override { return file_.path(); }
-  std::uint64_t skipped_record_count() const override { return skipped_; }
+  std::uint64_t skipped_record_count() const override { return skipped_.total(); }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override { return skipped_.seen(); }
   std::uint64_t bytes_consumed() const override { return offset_; }
 
  private:
@@ -95,7 +108,8 @@ class Aedat3Reader final : public EventReader {
     const std::uint64_t body = at + kPacketHeader;
     const std::uint64_t available = std::min<std::uint64_t>(bytes, file_.size_bytes() - std::min(body, file_.size_bytes()));
     if (type != kPolarity) {
-      skipped_ += static_cast<std::uint64_t>(number);
+      const bool known = type >= 0 && static_cast<std::size_t>(type) < kInvalidPolarity;
+      skipped_.add(known ? static_cast<std::size_t>(type) : kUnknownType, static_cast<std::uint64_t>(number));
       if (available < bytes) return fault(body + available, "truncated AEDAT 3.1 packet");
       offset_ = body + bytes;
       return;
@@ -113,7 +127,7 @@ class Aedat3Reader final : public EventReader {
       std::memcpy(&data, raw_.data() + 8 * i, 4);
       std::memcpy(&ts, raw_.data() + 8 * i + 4, 4);
       if ((data & 1u) == 0) {
-        ++skipped_;
+        skipped_.add(kInvalidPolarity);
         continue;
       }
       if (ts < 0) return fault(body + 8 * i, "AEDAT 3.1 polarity event with a negative timestamp");
@@ -131,7 +145,7 @@ class Aedat3Reader final : public EventReader {
   std::vector<Event> events_;
   std::size_t next_ = 0;
   std::int64_t delivered_ = 0;
-  std::uint64_t skipped_ = 0;
+  SkippedKinds<kSkippedNames.size()> skipped_{kSkippedNames};
   bool ended_ = false;
   std::optional<ReadError> error_;
 };
@@ -148,7 +162,7 @@ std::unique_ptr<EventReader> open_aedat3(const std::string& path) { return std::
 
 const ReaderFormat aedat3_format{"aedat3",
                                  "iniVation cAER AEDAT 3.1 ('#!AER-DAT3.1'): polarity packets; frames, "
-                                 "IMU and special events skipped and counted",
+                                 "IMU, special and other packets skipped and counted per kind",
                                  &sniff_aedat3, &open_aedat3};
 
 }  // namespace evlife::io::detail

@@ -27,6 +27,9 @@ class CheckedEventReader final : public EventReader {
   const std::string& path() const override { return inner_->path(); }
   std::uint64_t skipped_record_count() const override { return inner_->skipped_record_count(); }
   std::uint64_t trigger_count() const override { return inner_->trigger_count(); }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override {
+    return inner_->skipped_record_kinds();
+  }
   std::vector<ContainerStream> streams() const override { return inner_->streams(); }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {

@@ -237,3 +237,30 @@ a3 += aedat3_packet(3, 36, 0, [bytes(36)] * 2)
 a3 += aedat3_packet(0, 8, 0, [struct.pack('<Ii', 0, 2000)])
 a3 += aedat3_packet(1, 8, 1, [aedat3_polarity(3, 4, True, 7)])
 put('aedat3', 'synthetic_packets.aedat', a3)
+
+# ---- AEDAT 2.0 from DAVIS cameras (fuzz_aedat2): DAVIS240C and DAVIS346
+# headers, DVS events (jAER packing: raw x = W-1-column, raw y = H-1-row), an
+# APS frame corner, one IMU sample (7 words), an external event, a 32-bit
+# clock wrap. Its own random generator: the seeds above stay as they were.
+drng = random.Random(4321)
+
+
+def davis_file(chip, w, h):
+    head = (b'#!AER-DAT2.0\r\n# HardwareInterface: DAVIS FX3 0002-INI\r\n# AEChip: ' + chip.encode() + b'\r\n')
+    recs = []
+    t = 0xFFFFF000
+    for i in range(48):
+        t = (t + 97) & 0xFFFFFFFF
+        col, row, on = drng.randrange(w), drng.randrange(h), drng.randrange(2)
+        recs.append(((h - 1 - row) << 22) | ((w - 1 - col) << 12) | (on << 11))
+        if i == 10:  # APS reset and signal reads of one pixel
+            recs += [0x80000000 | (row << 22) | (col << 12) | (c << 10) | drng.randrange(1024) for c in (0, 1)]
+        if i == 20:  # IMU sample: codes 0-6, 16-bit values
+            recs += [0x80000C00 | (code << 28) | (drng.randrange(65536) << 12) for code in range(7)]
+        if i == 30:
+            recs.append(0x400)  # external input
+    return head + b''.join(struct.pack('>II', a, (0xFFFFF000 + 97 * k) & 0xFFFFFFFF) for k, a in enumerate(recs))
+
+
+put('aedat2', 'synthetic_davis240c.aedat', davis_file('eu.seebetter.ini.chips.davis.DAVIS240C', 240, 180))
+put('aedat2', 'synthetic_davis346b.aedat', davis_file('eu.seebetter.ini.chips.davis.Davis346B', 346, 260))

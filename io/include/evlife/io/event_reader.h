@@ -45,6 +45,13 @@ struct ContainerStream {
   bool read = false;           ///< the stream this reader delivers
 };
 
+/// Records of one kind that a reader skipped (not events), e.g. "imu6" or
+/// "aps-sample"; `kind` names static text.
+struct SkippedKindCount {
+  std::string_view kind;
+  std::uint64_t count = 0;
+};
+
 class EventReader {
  public:
   virtual ~EventReader() = default;
@@ -71,6 +78,10 @@ class EventReader {
   /// External trigger events seen so far (part of skipped_record_count(),
   /// never mixed into the events).
   virtual std::uint64_t trigger_count() const { return 0; }
+
+  /// skipped_record_count() split by kind (only kinds seen, in a fixed order
+  /// per format); empty when the format does not tell them apart.
+  virtual std::vector<SkippedKindCount> skipped_record_kinds() const { return {}; }
 
   /// The streams of a container (every topic of a ROS bag); empty for
   /// single-stream formats.
