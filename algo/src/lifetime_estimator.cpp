@@ -212,12 +212,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     for (int xx = x0; xx <= x1; ++xx) {
       noise_sum_us += row[xx].timing_noise_us;
       noise_count += row[xx].timing_noise_us > 0.0f;
+      // Written unconditionally, kept by advancing count (no branch to
+      // mispredict): a past event that has fired.
       const std::int64_t t = row[xx].t_us;
-      if (t == kNeverFired || t > e.t_us) continue;
       nb.dx[nb.count] = static_cast<float>(xx - x);
       nb.dy[nb.count] = static_cast<float>(yy - y);
       nb.dt_us[nb.count] = static_cast<float>(t - e.t_us);
-      ++nb.count;
+      nb.count += static_cast<int>((t != kNeverFired) & (t <= e.t_us));
     }
   }
   here.t_us = e.t_us;
@@ -306,9 +307,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add(0.0, 0.0, 0.0);  // the new event
   for (int k = 0; k < count; ++k) {
     const float r = nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k];
-    if (!(r * r <= best_tol2)) continue;
-    fit.add(static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
-            static_cast<double>(nb.dt_us[k]));
+    // An outlier adds zeros (no branch to mispredict); the same sums as
+    // skipping it, since a sum that starts at +0 is never -0.
+    fit.add_if(r * r <= best_tol2, static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
+               static_cast<double>(nb.dt_us[k]));
   }
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);

@@ -52,13 +52,14 @@ struct WindowSamples {
       }
       rank_[k] = rank[0] + rank[1] + rank[2] + rank[3];
     }
+    // Compaction without a branch to mispredict: every sample is copied
+    // (out <= k, so nothing unread is overwritten), the kept ones advance.
     int out = 0;
     for (int k = 0; k < count; ++k) {
-      if (rank_[k] >= keep) continue;
       dx[out] = dx[k];
       dy[out] = dy[k];
       dt_us[out] = dt_us[k];
-      ++out;
+      out += static_cast<int>(rank_[k] < keep);
     }
     count = out;
   }
