@@ -8,6 +8,7 @@
 
 #include "event_rng.h"
 #include "plane_fit.h"
+#include "stage_clock.h"
 #include "window_samples.h"
 
 namespace evlife {
@@ -149,6 +150,9 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
 }
 
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
+  using detail::Stage;
+  using detail::stage_end;
+  detail::stage_start();
   AugmentedEvent out;
   out.event = e;
   ++stats_.events;
@@ -157,11 +161,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (e.x >= W || e.y >= H) {
     ++stats_.out_of_sensor;
     ++stats_.noise;
+    stage_end(Stage::head);
     return out;
   }
   if (e.p != 1 && e.p != -1) {
     ++stats_.bad_polarity;
     ++stats_.noise;
+    stage_end(Stage::head);
     return out;
   }
   const int pol = e.p > 0 ? 1 : 0;
@@ -180,6 +186,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     out.lifetime_us = here.burst_lifetime_us;
     out.vx_px_s = state.burst_vx_px_s;
     out.vy_px_s = state.burst_vy_px_s;
+    stage_end(Stage::head);
     return out;
   }
   here.burst_lifetime_us = 0.0f;
@@ -198,6 +205,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     }
     state.prediction_t_us = kNoPrediction;  // a prediction is for the next event only
   }
+
+  stage_end(Stage::head);
 
   // Gather the window's past events (the part of the window inside the sensor).
   const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
@@ -222,11 +231,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     }
   }
   here.t_us = e.t_us;
+  stage_end(Stage::gather);
 
   // Only the newer half of the window (paper Fig. 6): older events belong to
   // an earlier edge, newer ones do not exist yet.
   nb.keep_newest((window_pixels - 1) / 2);
   nb.pad();
+  stage_end(Stage::select);
   const int count = nb.count;
   // Minimum support m = (1 - eps) * N^2 / 2 (eq. 8), counting the new event.
   // Near the border only part of the window exists: there m is taken halfway
@@ -285,6 +296,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
+  stage_end(Stage::ransac);
   if (best_support < min_support) {
     // Too little support to start an edge: accept the event only where an
     // edge upstream predicts it, and let that edge's plane regularize the
@@ -292,6 +304,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     EdgePrior upstream;
     if (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream)) {
       ++stats_.noise;
+      stage_end(Stage::continuation);
       return out;
     }
     if (lambda == 0.0) {
@@ -299,6 +312,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       prior_gy = static_cast<float>(upstream.gy_us_px);
       lambda = prior_weight(upstream.err_us);
     }
+    stage_end(Stage::continuation);
   }
 
   // Least-squares refit on the inliers and the new event: dt = c + g . dp,
@@ -320,9 +334,11 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
+    stage_end(Stage::refit);
     return out;
   }
 
+  stage_end(Stage::refit);
   out.lifetime_us = static_cast<float>(lifetime_us);
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
@@ -341,6 +357,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     next.prediction_gx_us_px = static_cast<float>(gx);
     next.prediction_gy_us_px = static_cast<float>(gy);
   }
+  stage_end(Stage::tail);
   return out;
 }
 
