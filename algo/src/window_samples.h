@@ -40,15 +40,23 @@ struct WindowSamples {
     const int end = (count + kLanes - 1) / kLanes * kLanes;
     for (int k = count; k < end; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
     for (int k = 0; k < count; ++k) {
-      // Samples before sample k in "newest first" order (ties: gather order).
+      // Samples before sample k in "newest first" order (ties: gather
+      // order): newer or as new among the lanes before k's, newer after
+      // them; only the lanes that hold k need both comparisons.
       const float t = dt_us[k];
+      const int k_lanes = k / kLanes * kLanes;
       Lanes4i rank = {0, 0, 0, 0};
-      Lanes4i index = {0, 1, 2, 3};
-      for (int j = 0; j < end; j += kLanes) {
-        Lanes4f v;
+      Lanes4f v;
+      for (int j = 0; j < k_lanes; j += kLanes) {
         __builtin_memcpy(&v, dt_us + j, sizeof v);
-        rank -= (v > t) | ((v == t) & (index < k));
-        index += kLanes;
+        rank -= (v >= t);
+      }
+      __builtin_memcpy(&v, dt_us + k_lanes, sizeof v);
+      const Lanes4i index = Lanes4i{0, 1, 2, 3} + k_lanes;
+      rank -= (v > t) | ((v == t) & (index < k));
+      for (int j = k_lanes + kLanes; j < end; j += kLanes) {
+        __builtin_memcpy(&v, dt_us + j, sizeof v);
+        rank -= (v > t);
       }
       rank_[k] = rank[0] + rank[1] + rank[2] + rank[3];
     }
