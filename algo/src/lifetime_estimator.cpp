@@ -216,20 +216,23 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   here.t_us = kNeverFired;  // the new event's own pixel is not a sample
   float noise_sum_us = 0.0f;
   int noise_count = 0;
+  int gathered = 0;
   for (int yy = y0; yy <= y1; ++yy) {
     const SurfacePixel* row = &surface_[pixel_index(pol, 0, yy)];
+    const auto dy = static_cast<float>(yy - y);
     for (int xx = x0; xx <= x1; ++xx) {
       noise_sum_us += row[xx].timing_noise_us;
       noise_count += row[xx].timing_noise_us > 0.0f;
-      // Written unconditionally, kept by advancing count (no branch to
+      // Written unconditionally, kept by advancing the count (no branch to
       // mispredict): a past event that has fired.
       const std::int64_t t = row[xx].t_us;
-      nb.dx[nb.count] = static_cast<float>(xx - x);
-      nb.dy[nb.count] = static_cast<float>(yy - y);
-      nb.dt_us[nb.count] = static_cast<float>(t - e.t_us);
-      nb.count += static_cast<int>((t != kNeverFired) & (t <= e.t_us));
+      nb.dx[gathered] = static_cast<float>(xx - x);
+      nb.dy[gathered] = dy;
+      nb.dt_us[gathered] = static_cast<float>(t - e.t_us);
+      gathered += static_cast<int>((t != kNeverFired) & (t <= e.t_us));
     }
   }
+  nb.count = gathered;
   here.t_us = e.t_us;
   stage_end(Stage::gather);
 
