@@ -3,39 +3,15 @@
 //   ./build/bench/bench_estimator --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <map>
-#include <string>
 #include <vector>
 
+#include "bench_recordings.h"
 #include "evlife/algo/lifetime_estimator.h"
-#include "evlife/io/event_reader.h"
-#include "evlife/io/synthetic_scene.h"
 
 namespace {
 
-struct Recording {
-  std::vector<evlife::Event> events;
-  evlife::SensorSize sensor;
-};
-
-const Recording& recording(const std::string& name) {
-  static std::map<std::string, Recording> cache;
-  auto it = cache.find(name);
-  if (it != cache.end()) return it->second;
-  Recording r;
-  if (name == "synthetic_1280x720") {
-    r.sensor = {1280, 720};
-    r.events = evlife::io::generate_scene(evlife::io::large_scene(r.sensor, 200'000, 1)).events;
-  } else {
-    const std::string path = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/" + name + ".mat";
-    auto reader = evlife::io::open_event_reader(path);
-    r.sensor = reader->sensor_size().value_or(evlife::SensorSize{128, 128});
-    std::vector<evlife::Event> buf(1 << 16);
-    while (const std::size_t n = reader->read(buf)) r.events.insert(r.events.end(), buf.begin(), buf.begin() + n);
-  }
-  return cache.emplace(name, std::move(r)).first->second;
-}
+using evlife::bench::recording;
+using evlife::bench::Recording;
 
 void run(benchmark::State& state, const std::string& name, int window, bool regularization) {
   const Recording& rec = recording(name);

@@ -8,6 +8,7 @@
 
 #include "event_rng.h"
 #include "plane_fit.h"
+#include "stage_clock.h"
 #include "window_samples.h"
 
 namespace evlife {
@@ -17,6 +18,9 @@ namespace {
 // cannot overflow for any |t_new| < 2^62.
 constexpr std::int64_t kNeverFired = std::numeric_limits<std::int64_t>::min() / 4;
 constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
+// Events ahead that process(span) prefetches: enough to overlap a DRAM
+// access (~100 ns) with the processing of the events before.
+constexpr std::size_t kPrefetchDistance = 4;
 // std::lround of a value in [-1, 1], without the libm call.
 int round_unit(double u) noexcept { return static_cast<int>(u >= 0.5) - static_cast<int>(u <= -0.5); }
 
@@ -56,8 +60,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   // us, or a readout that stamps a row of events with one timestamp.
   min_lifetime_us_ = std::max(options_.inlier_tolerance_us / half_window_, 1.0);
   surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
-  burst_velocity_.resize(surface_.size());
-  predictions_.resize(surface_.size());
+  pixel_state_.resize(surface_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -77,16 +80,37 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 
 void LifetimeEstimator::reset() noexcept {
   std::fill(surface_.begin(), surface_.end(), SurfacePixel{kNeverFired, 0.0f, 0.0f});
-  std::fill(burst_velocity_.begin(), burst_velocity_.end(), BurstVelocity{0.0f, 0.0f});
-  std::fill(predictions_.begin(), predictions_.end(), Prediction{kNoPrediction, 0.0f, 0.0f});
+  std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f});
   stats_ = LifetimeStats{};
 }
 
 std::size_t LifetimeEstimator::process(std::span<const Event> in,
                                        std::span<AugmentedEvent> out) noexcept {
   const std::size_t n = std::min(in.size(), out.size());
-  for (std::size_t i = 0; i < n; ++i) out[i] = process(in[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kPrefetchDistance < n) prefetch(in[i + kPrefetchDistance]);
+    out[i] = process(in[i]);
+  }
   return n;
+}
+
+void LifetimeEstimator::prefetch(const Event& e) const noexcept {
+  const int W = options_.sensor.width;
+  const int H = options_.sensor.height;
+  if (e.x >= W || e.y >= H) return;
+  const int pol = e.p > 0 ? 1 : 0;
+  const int x = e.x;
+  const int y = e.y;
+  __builtin_prefetch(&pixel_state_[pixel_index(pol, x, y)], 1);
+  // Every window row: its first and last pixel (a row of 2 * half_window + 1
+  // pixels of 16 bytes spans at most two cache lines for N = 5).
+  const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
+  const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
+  for (int yy = y0; yy <= y1; ++yy) {
+    const SurfacePixel* row = &surface_[pixel_index(pol, 0, yy)];
+    for (int xx = x0; xx < x1; xx += 4) __builtin_prefetch(row + xx);
+    __builtin_prefetch(row + x1);
+  }
 }
 
 // True when an edge estimated at a neighbour predicts this event: its plane
@@ -110,8 +134,8 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
       if (s.burst_lifetime_us <= 0.0f) continue;
       const double tau_us = static_cast<double>(s.burst_lifetime_us);
       const double tau2_s = tau_us * tau_us * 1e-6;
-      const double gx = static_cast<double>(burst_velocity_[q].vx_px_s) * tau2_s;  // us/px
-      const double gy = static_cast<double>(burst_velocity_[q].vy_px_s) * tau2_s;
+      const double gx = static_cast<double>(pixel_state_[q].burst_vx_px_s) * tau2_s;  // us/px
+      const double gy = static_cast<double>(pixel_state_[q].burst_vy_px_s) * tau2_s;
       const double ahead_us = gx * (x - xx) + gy * (y - yy);
       if (ahead_us <= 0.0) continue;  // the edge moves from the neighbour to this pixel
       const double predicted = static_cast<double>(s.t_us) + ahead_us;
@@ -126,6 +150,9 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
 }
 
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
+  using detail::Stage;
+  using detail::stage_end;
+  detail::stage_start();
   AugmentedEvent out;
   out.event = e;
   ++stats_.events;
@@ -134,11 +161,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (e.x >= W || e.y >= H) {
     ++stats_.out_of_sensor;
     ++stats_.noise;
+    stage_end(Stage::head);
     return out;
   }
   if (e.p != 1 && e.p != -1) {
     ++stats_.bad_polarity;
     ++stats_.noise;
+    stage_end(Stage::head);
     return out;
   }
   const int pol = e.p > 0 ? 1 : 0;
@@ -149,13 +178,15 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // A follower of the burst at this pixel inherits its estimate; the surface
   // keeps the burst's arrival time.
   SurfacePixel& here = surface_[self];
+  PixelState& state = pixel_state_[self];
   if (here.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
       static_cast<double>(e.t_us - here.t_us) <=
           options_.burst_window_lifetimes * static_cast<double>(here.burst_lifetime_us)) {
     ++stats_.followers;
     out.lifetime_us = here.burst_lifetime_us;
-    out.vx_px_s = burst_velocity_[self].vx_px_s;
-    out.vy_px_s = burst_velocity_[self].vy_px_s;
+    out.vx_px_s = state.burst_vx_px_s;
+    out.vy_px_s = state.burst_vy_px_s;
+    stage_end(Stage::head);
     return out;
   }
   here.burst_lifetime_us = 0.0f;
@@ -163,17 +194,19 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // Prediction for this pixel made by an earlier event (paper III-B.2).
   float prior_gx = 0.0f, prior_gy = 0.0f;
   double lambda = 0.0;  // 0: no prior
-  if (Prediction& pred = predictions_[self]; pred.t_us != kNoPrediction) {
-    const double err_us = static_cast<double>(e.t_us - pred.t_us);
+  if (state.prediction_t_us != kNoPrediction) {
+    const double err_us = static_cast<double>(e.t_us - state.prediction_t_us);
     out.prediction_error_us = static_cast<float>(err_us);
     ++stats_.predictions;
     if (options_.regularization) {
-      prior_gx = pred.gx_us_px;
-      prior_gy = pred.gy_us_px;
+      prior_gx = state.prediction_gx_us_px;
+      prior_gy = state.prediction_gy_us_px;
       lambda = prior_weight(std::fabs(err_us));
     }
-    pred.t_us = kNoPrediction;  // a prediction is for the next event only
+    state.prediction_t_us = kNoPrediction;  // a prediction is for the next event only
   }
+
+  stage_end(Stage::head);
 
   // Gather the window's past events (the part of the window inside the sensor).
   const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
@@ -183,25 +216,31 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   here.t_us = kNeverFired;  // the new event's own pixel is not a sample
   float noise_sum_us = 0.0f;
   int noise_count = 0;
+  int gathered = 0;
   for (int yy = y0; yy <= y1; ++yy) {
     const SurfacePixel* row = &surface_[pixel_index(pol, 0, yy)];
+    const auto dy = static_cast<float>(yy - y);
     for (int xx = x0; xx <= x1; ++xx) {
       noise_sum_us += row[xx].timing_noise_us;
       noise_count += row[xx].timing_noise_us > 0.0f;
+      // Written unconditionally, kept by advancing the count (no branch to
+      // mispredict): a past event that has fired.
       const std::int64_t t = row[xx].t_us;
-      if (t == kNeverFired || t > e.t_us) continue;
-      nb.dx[nb.count] = static_cast<float>(xx - x);
-      nb.dy[nb.count] = static_cast<float>(yy - y);
-      nb.dt_us[nb.count] = static_cast<float>(t - e.t_us);
-      ++nb.count;
+      nb.dx[gathered] = static_cast<float>(xx - x);
+      nb.dy[gathered] = dy;
+      nb.dt_us[gathered] = static_cast<float>(t - e.t_us);
+      gathered += static_cast<int>((t != kNeverFired) & (t <= e.t_us));
     }
   }
+  nb.count = gathered;
   here.t_us = e.t_us;
+  stage_end(Stage::gather);
 
   // Only the newer half of the window (paper Fig. 6): older events belong to
   // an earlier edge, newer ones do not exist yet.
   nb.keep_newest((window_pixels - 1) / 2);
   nb.pad();
+  stage_end(Stage::select);
   const int count = nb.count;
   // Minimum support m = (1 - eps) * N^2 / 2 (eq. 8), counting the new event.
   // Near the border only part of the window exists: there m is taken halfway
@@ -260,6 +299,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       iterations = std::min(iterations, iterations_needed(best_support - 1, count));
     }
   }
+  stage_end(Stage::ransac);
   if (best_support < min_support) {
     // Too little support to start an edge: accept the event only where an
     // edge upstream predicts it, and let that edge's plane regularize the
@@ -267,6 +307,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     EdgePrior upstream;
     if (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream)) {
       ++stats_.noise;
+      stage_end(Stage::continuation);
       return out;
     }
     if (lambda == 0.0) {
@@ -274,6 +315,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       prior_gy = static_cast<float>(upstream.gy_us_px);
       lambda = prior_weight(upstream.err_us);
     }
+    stage_end(Stage::continuation);
   }
 
   // Least-squares refit on the inliers and the new event: dt = c + g . dp,
@@ -282,9 +324,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add(0.0, 0.0, 0.0);  // the new event
   for (int k = 0; k < count; ++k) {
     const float r = nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k];
-    if (!(r * r <= best_tol2)) continue;
-    fit.add(static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
-            static_cast<double>(nb.dt_us[k]));
+    // An outlier adds zeros (no branch to mispredict); the same sums as
+    // skipping it, since a sum that starts at +0 is never -0.
+    fit.add_if(r * r <= best_tol2, static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
+               static_cast<double>(nb.dt_us[k]));
   }
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
@@ -294,14 +337,17 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
+    stage_end(Stage::refit);
     return out;
   }
 
+  stage_end(Stage::refit);
   out.lifetime_us = static_cast<float>(lifetime_us);
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
   here.burst_lifetime_us = out.lifetime_us;
-  burst_velocity_[self] = {out.vx_px_s, out.vy_px_s};
+  state.burst_vx_px_s = out.vx_px_s;
+  state.burst_vy_px_s = out.vy_px_s;
   if (const double rms = fit.residual_rms(g); rms >= 0.0) here.timing_noise_us = static_cast<float>(rms);
 
   // Predict the next event at the neighbour in the direction of motion (the
@@ -309,9 +355,12 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int qx = x + round_unit(gx / lifetime_us);
   const int qy = y + round_unit(gy / lifetime_us);
   if (qx >= 0 && qy >= 0 && qx < W && qy < H && (qx != x || qy != y)) {
-    predictions_[pixel_index(pol, qx, qy)] = {e.t_us + round_to_int64(gx * (qx - x) + gy * (qy - y)),
-                                              static_cast<float>(gx), static_cast<float>(gy)};
+    PixelState& next = pixel_state_[pixel_index(pol, qx, qy)];
+    next.prediction_t_us = e.t_us + round_to_int64(gx * (qx - x) + gy * (qy - y));
+    next.prediction_gx_us_px = static_cast<float>(gx);
+    next.prediction_gy_us_px = static_cast<float>(gy);
   }
+  stage_end(Stage::tail);
   return out;
 }
 

@@ -25,6 +25,25 @@ class PlaneFit {
     stt_ += dt_us * dt_us;
   }
 
+  /// add(dx, dy, dt_us) when `take`, else adds +0 to every sum (which
+  /// leaves them bit for bit as they are: none of them is ever -0).
+  void add_if(bool take, double dx, double dy, double dt_us) noexcept {
+    const double w = take ? 1.0 : 0.0;
+    dx = take ? dx : 0.0;
+    dy = take ? dy : 0.0;
+    dt_us = take ? dt_us : 0.0;
+    n_ += w;
+    sx_ += dx;
+    sy_ += dy;
+    st_ += dt_us;
+    sxx_ += dx * dx;
+    sxy_ += dx * dy;
+    syy_ += dy * dy;
+    sxt_ += dx * dt_us;
+    syt_ += dy * dt_us;
+    stt_ += dt_us * dt_us;
+  }
+
   /// Root mean square residual of the samples about dt = c + g . dp, with c
   /// chosen best for g; per degree of freedom (n - 3). -1 with n <= 3.
   double residual_rms(const Eigen::Vector2d& g) const noexcept {

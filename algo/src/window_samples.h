@@ -39,26 +39,27 @@ struct WindowSamples {
   void keep_newest_by_rank(int keep) noexcept {
     const int end = (count + kLanes - 1) / kLanes * kLanes;
     for (int k = count; k < end; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
-    for (int k = 0; k < count; ++k) {
-      // Samples before sample k in "newest first" order (ties: gather order).
-      const float t = dt_us[k];
+    // Four samples' ranks at once (lanes k..k+3), against every sample j:
+    // samples before them count when as new or newer, after them when newer,
+    // and among the four themselves by index (ties: gather order).
+    for (int k = 0; k < count; k += kLanes) {
+      Lanes4f t;
+      __builtin_memcpy(&t, dt_us + k, sizeof t);
       Lanes4i rank = {0, 0, 0, 0};
-      Lanes4i index = {0, 1, 2, 3};
-      for (int j = 0; j < end; j += kLanes) {
-        Lanes4f v;
-        __builtin_memcpy(&v, dt_us + j, sizeof v);
-        rank -= (v > t) | ((v == t) & (index < k));
-        index += kLanes;
-      }
-      rank_[k] = rank[0] + rank[1] + rank[2] + rank[3];
+      for (int j = 0; j < k; ++j) rank -= (dt_us[j] >= t);
+      const Lanes4i index = Lanes4i{0, 1, 2, 3} + k;
+      for (int j = k; j < k + kLanes; ++j) rank -= (dt_us[j] > t) | ((dt_us[j] == t) & (j < index));
+      for (int j = k + kLanes; j < end; ++j) rank -= (dt_us[j] > t);
+      __builtin_memcpy(rank_ + k, &rank, sizeof rank);
     }
+    // Compaction without a branch to mispredict: every sample is copied
+    // (out <= k, so nothing unread is overwritten), the kept ones advance.
     int out = 0;
     for (int k = 0; k < count; ++k) {
-      if (rank_[k] >= keep) continue;
       dx[out] = dx[k];
       dy[out] = dy[k];
       dt_us[out] = dt_us[k];
-      ++out;
+      out += static_cast<int>(rank_[k] < keep);
     }
     count = out;
   }

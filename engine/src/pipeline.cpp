@@ -59,6 +59,7 @@ EngineStats Pipeline::stats() const {
     ws.events_fed = ch.counters.events_fed.get();
     ws.events_owned = ch.counters.events_owned.get();
     ws.busy_s = static_cast<double>(ch.counters.busy_ns.get()) * 1e-9;
+    ws.busy_cpu_s = static_cast<double>(ch.counters.busy_cpu_ns.get()) * 1e-9;
     ws.dropped = s.router_counters.dropped_for_worker[w].get();
     ws.in_flight_hwm = s.router_counters.in_flight_hwm[w].get();
     ws.pool_batches = ch.pool.size();

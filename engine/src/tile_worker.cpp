@@ -1,8 +1,21 @@
 #include "evlife/engine/tile_worker.h"
 
+#include <ctime>
+
 #include "evlife/engine/monotonic_clock.h"
 
 namespace evlife::engine {
+namespace {
+// CPU time of the calling thread (vDSO on Linux: no system call).
+std::int64_t thread_cpu_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+// Events ahead whose memory the estimator starts loading (as its own
+// process(span) does): hides the cache misses of large sensors.
+constexpr std::size_t kPrefetchDistance = 4;
+}  // namespace
 
 TileWorker::TileWorker(PipelineState& state, int worker)
     : state_(state),
@@ -26,11 +39,14 @@ StepResult TileWorker::step() noexcept {
     }
   }
   const std::int64_t t0 = monotonic_ns();
+  const std::int64_t cpu0 = thread_cpu_ns();
   std::size_t kept = 0;
   for (std::size_t i = 0; i < batch->count; ++i) {
+    if (i + kPrefetchDistance < batch->count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
     const AugmentedEvent a = estimator_.process(batch->events[i]);
     if (batch->owned[i] != 0) batch->out[kept++] = a;
   }
+  channel_.counters.busy_cpu_ns.add(static_cast<std::uint64_t>(thread_cpu_ns() - cpu0));
   channel_.counters.busy_ns.add(static_cast<std::uint64_t>(monotonic_ns() - t0));
   channel_.counters.batches.add();
   channel_.counters.events_fed.add(batch->count);

@@ -42,6 +42,11 @@ class LifetimeEstimator {
   /// Returns the number of events processed.
   std::size_t process(std::span<const Event> in, std::span<AugmentedEvent> out) noexcept;
 
+  /// Hint only (no effect on results): starts loading the memory that
+  /// process(event) will touch, so that a caller holding a batch can issue it
+  /// a few events ahead and overlap the cache misses of large sensors.
+  void prefetch(const Event& event) const noexcept;
+
   /// Forgets all history (SAE and predictions); keeps the options.
   void reset() noexcept;
 
@@ -49,12 +54,16 @@ class LifetimeEstimator {
   const LifetimeStats& stats() const noexcept { return stats_; }
 
  private:
-  // The prediction made for a pixel by a neighbour's event: time and
-  // gradient of the predicted plane (t_us == kNoPrediction: none).
-  struct Prediction {
-    std::int64_t t_us;
-    float gx_us_px;
-    float gy_us_px;
+  // What process() reads and writes at the new event's own pixel only, in
+  // one cache line (32 bytes, aligned): the prediction made for it by a
+  // neighbour's event (time and gradient of the predicted plane;
+  // t_us == kNoPrediction: none) and the velocity of the burst now here.
+  struct alignas(32) PixelState {
+    std::int64_t prediction_t_us;
+    float prediction_gx_us_px;
+    float prediction_gy_us_px;
+    float burst_vx_px_s;
+    float burst_vy_px_s;
   };
   std::size_t pixel_index(int polarity_index, int x, int y) const noexcept {
     return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(options_.sensor.height) +
@@ -87,13 +96,8 @@ class LifetimeEstimator {
     float timing_noise_us;        // residual rms of the last accepted fit here; 0 = none
     float burst_lifetime_us;      // estimate of the burst now here, inherited by its followers; 0 = none
   };
-  struct BurstVelocity {
-    float vx_px_s;
-    float vy_px_s;
-  };
   std::vector<SurfacePixel> surface_;
-  std::vector<BurstVelocity> burst_velocity_;
-  std::vector<Prediction> predictions_;
+  std::vector<PixelState> pixel_state_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 

@@ -17,6 +17,7 @@ struct WorkerStats {
   std::uint64_t in_flight_hwm = 0; ///< batches queued or held, high-water mark
   std::uint64_t pool_batches = 0;  ///< its pool size (the bound of the above)
   double busy_s = 0.0;
+  double busy_cpu_s = 0.0;  ///< CPU time of busy_s: per-event cost even on a loaded machine
 };
 
 struct EngineStats {

@@ -43,6 +43,7 @@ struct WorkerCounters {
   Counter events_fed;    ///< owned + margin events run through the estimator
   Counter events_owned;  ///< events whose output was kept
   Counter busy_ns;       ///< time spent processing
+  Counter busy_cpu_ns;   ///< of which on a CPU (thread CPU time: without preemption)
 };
 
 struct MergerCounters {
