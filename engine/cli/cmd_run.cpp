@@ -363,15 +363,15 @@ int run_engine(int argc, char** argv) {
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
   std::optional<engine::Engine> eng;
-  std::unique_ptr<engine::FrameSink> frame_sink;
+  std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;
   try {
     eng.emplace(*source, sink.get(), args.engine);
     if (rendering) {
       if (!args.frames_dir.empty()) {
-        frame_sink = std::make_unique<engine::PngFolderFrameSink>(args.frames_dir);
+        frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
       } else if (!args.video.empty()) {
-        frame_sink = std::make_unique<engine::VideoFrameSink>(args.video, args.render.fps);
+        frame_sink = std::make_unique<render::VideoFrameSink>(args.video, args.render.fps);
       } else {
         engine::Engine* running = &*eng;
         frame_sink = std::make_unique<WindowFrameSink>(
