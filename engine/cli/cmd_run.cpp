@@ -421,25 +421,25 @@ int run_engine(int argc, char** argv) {
     return kExitOutput;
   }
   switch (result.status) {
-    case engine::RunStatus::completed: return kExitOk;
+    case engine::RunStatus::completed: break;
     case engine::RunStatus::interrupted:
       std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
                    static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInterrupted;
+      break;
     case engine::RunStatus::source_error:
       std::fprintf(stderr, "evlife run: input error: %s\n"
                    "evlife run: the %llu events before it were processed and written\n",
                    result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInput;
+      break;
     case engine::RunStatus::sink_error:
       std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
-      return kExitOutput;
+      break;
     case engine::RunStatus::realtime_error:
       std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
                    result.message.c_str());
-      return kExitRealtime;
+      break;
   }
-  return kExitFailure;
+  return result.exit_code();
 }
 
 }  // namespace
