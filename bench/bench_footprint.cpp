@@ -18,7 +18,7 @@
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/engine/pipeline.h"
 #include "evlife/engine/replay_source.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 
 namespace {
 
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     static const std::vector<evlife::Event> none;
     ee::ReplaySource source(none, s);
     const Measured pipe = measure([&] { return std::make_unique<ee::Pipeline>(source, nullptr, eo); });
-    const Measured map = measure([&] { return std::make_unique<evlife::render::ActiveEventSet>(s); });
+    const Measured map = measure([&] { return std::make_unique<evlife::ActiveEventMap>(s); });
     const long long pools = pipe.heap - eo.workers * est.heap;
     std::printf("| %dx%d | %.2f MiB | %.2f MiB | %.2f MiB | %.2f MiB | %.2f MiB |\n", s.width, s.height,
                 mib(est.heap), mib(pipe.heap), mib(pools), mib(map.heap), mib(pipe.heap + map.heap));

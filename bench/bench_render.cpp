@@ -12,7 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "evlife/io/synthetic_scene.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/frame_painter.h"
@@ -66,7 +66,7 @@ const std::vector<AugmentedEvent>& scene_events() {
 // scene with true lifetimes, 1 random events (4 per pixel, worst case).
 void BM_PaintActive_1280x720(benchmark::State& state) {
   const auto mode = static_cast<evlife::render::ColorMode>(state.range(0));
-  evlife::render::ActiveEventSet set(kHd);
+  evlife::ActiveEventMap set(kHd);
   const auto& events = state.range(1) == 0 ? scene_events()
                                            : busy_events(kHd, 4u * static_cast<std::size_t>(kHd.pixel_count()));
   set.feed(events);
@@ -110,7 +110,7 @@ BENCHMARK(BM_PaintWindow30ms_1280x720)->Unit(benchmark::kMillisecond);
 
 // Feeding cost per event (items = events), edge thinning on.
 void BM_FeedActiveEventSet_1280x720(benchmark::State& state) {
-  evlife::render::ActiveEventSet set(kHd, true);
+  evlife::ActiveEventMap set(kHd, true);
   const auto events = busy_events(kHd, 1u << 20);
   for (auto _ : state) {
     set.reset();
@@ -124,7 +124,7 @@ BENCHMARK(BM_FeedActiveEventSet_1280x720)->Unit(benchmark::kMillisecond);
 // What `evlife render --mode compare` draws per frame for a DVS128.
 void BM_ComposeCompare_128x128_x4(benchmark::State& state) {
   constexpr SensorSize kDvs{128, 128};
-  evlife::render::ActiveEventSet set(kDvs);
+  evlife::ActiveEventMap set(kDvs);
   evlife::render::FixedWindowMap map(kDvs);
   const auto events = busy_events(kDvs, 60000);
   set.feed(events);

@@ -413,7 +413,7 @@ TEST(Engine, VanishedDeviceEndsRunWithErrorAfterFlushingItsEvents) {
   ee::Engine engine(source, &out.sink, options);
   const ee::RunResult r = engine.run();
   EXPECT_EQ(r.status, ee::RunStatus::source_error);
-  EXPECT_NE(r.exit_code(), 0);
+  EXPECT_EQ(r.exit_code(), evlife::kExitInput);  // the CLI's scheme: 3, as `evlife run` exits
   EXPECT_NE(r.message.find("vanished"), std::string::npos);
   EXPECT_EQ(out.events.size(), events.size());
   EXPECT_EQ(r.stats.events_dropped, 0u);
@@ -725,13 +725,13 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
 
 namespace {
 // Records each frame's timestamp and a checksum of its pixels.
-class RecordingFrameSink final : public ee::FrameSink {
+class RecordingFrameSink final : public evlife::render::FrameSink {
  public:
-  void write(const cv::Mat& frame, std::int64_t t_us) override {
+  void write(const evlife::render::FrameImage& frame, std::int64_t t_us) override {
     std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the pixels
-    for (int r = 0; r < frame.rows; ++r) {
-      const auto* p = frame.ptr<std::uint8_t>(r);
-      for (std::size_t i = 0; i < frame.cols * frame.elemSize(); ++i) h = (h ^ p[i]) * 1099511628211ull;
+    for (int r = 0; r < frame.height; ++r) {
+      const std::uint8_t* p = frame.bgr + static_cast<std::size_t>(r) * frame.stride_bytes;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(frame.width) * 3; ++i) h = (h ^ p[i]) * 1099511628211ull;
     }
     times.push_back(t_us);
     hashes.push_back(h);

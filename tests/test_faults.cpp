@@ -149,7 +149,7 @@ void put_be32(std::ofstream& out, std::uint32_t v) {
   out.write(b, 4);
 }
 
-// jAER DVS128 layout (see io/src/aedat2_reader.cpp): bit 0 polarity (0 = ON),
+// jAER DVS128 layout (see io/formats/src/aedat2_reader.cpp): bit 0 polarity (0 = ON),
 // bits 1-7 raw x, bits 8-14 raw y, with x = 127 - raw x, y = 127 - raw y.
 void write_aedat2(const fs::path& path, std::int64_t events) {
   std::ofstream out(path, std::ios::binary);

@@ -1,4 +1,4 @@
-// CSV / text layouts of other tools (io/src/csv_text_reader.cpp): each layout,
+// CSV / text layouts of other tools (io/formats/src/csv_text_reader.cpp): each layout,
 // separator, header or not, time unit from header / values / --time-unit,
 // faults, and a CSV written by `evlife convert` read back.
 #include <gtest/gtest.h>

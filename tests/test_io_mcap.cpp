@@ -1,4 +1,4 @@
-// ROS 2 MCAP files (io/src/mcap_*): the shared rosbag2 bags' CDR messages,
+// ROS 2 MCAP files (io/formats/src/mcap_*): the shared rosbag2 bags' CDR messages,
 // repackaged by the independent test-only writer tests/data/mcap/make_mcap.py
 // (chunks uncompressed / zstd / lz4, with and without summary, unchunked,
 // messages reversed inside chunks), decode to the same events as the .db3

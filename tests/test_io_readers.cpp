@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
 
@@ -667,6 +669,32 @@ TEST(SensorSize, FromFormatUserOrData) {
   EXPECT_EQ(r.source, SensorSizeSource::data);
   EXPECT_EQ(r.size, (SensorSize{240, 180}));  // DAVIS240C, per PROVENANCE.md
   EXPECT_EQ(evlife::io::sensor_size_from_data(kStripes), (SensorSize{128, 128}));
+}
+
+// One rule for a size from the data: a fault after some events ends the scan
+// (the processing pass reports it after those events); no event is an error.
+// Augmented files: the stated size, else the same max + 1 rule.
+class SensorSizeFiles : public TempDir {};
+TEST_F(SensorSizeFiles, FromDataStopsAtAFaultAndAugmentedFilesFollowTheSameRule) {
+  const std::string faulty = write_text("faulty.txt", "0.1 5 7 1\n0.2 9 3 0\n0.3 x 1 1\n0.4 50 60 1\n");
+  const ReadAll all = read_all(faulty);
+  EXPECT_TRUE(all.error.has_value());  // the file really is faulty, after 2 events
+  EXPECT_EQ(all.events.size(), 2u);
+  EXPECT_EQ(evlife::io::sensor_size_from_data(faulty), (SensorSize{10, 8}));
+  EXPECT_THROW(evlife::io::sensor_size_from_data(write_text("bad.txt", "0.1 x 1 1\n")), evlife::io::ReadError);
+
+  const std::vector<evlife::AugmentedEvent> events{
+      {evlife::Event{10, 3, 4, 1}, 500.0f, 1.0f, 0.0f}, {evlife::Event{20, 11, 2, -1}, 0.0f, 0.0f, 0.0f}};
+  for (const char* name : {"a.csv", "a.bin"}) {
+    const std::string path = (dir_ / name).string();
+    auto writer = evlife::io::open_augmented_writer(path, SensorSize{64, 48});
+    writer->write(events);
+    writer->close();
+    const SensorSize expected = std::string(name) == "a.bin" ? SensorSize{64, 48}   // stated in the header
+                                                             : SensorSize{12, 5};  // max x + 1, max y + 1
+    EXPECT_EQ(evlife::io::sensor_size_of_augmented(path), expected) << name;
+    EXPECT_EQ(evlife::io::sensor_size_of_augmented(path, SensorSize{7, 7}), (SensorSize{7, 7})) << name;
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "allocation_probe.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/algo/lifetime_estimator.h"
 
 namespace evlife {
@@ -71,6 +72,49 @@ TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
       EXPECT_EQ(probe.allocations(), 0) << "window " << window << " reg " << reg;
       EXPECT_EQ(probe.locks(), 0) << "window " << window << " reg " << reg;
       EXPECT_GT(edges, static_cast<long>(events.size()) / 4);  // the fit path did run
+    }
+  }
+}
+
+// The active-event map (algo/include/evlife/algo/active_event_map.h) after its
+// construction: feed() on every branch (stored, noise, out of sensor, late,
+// thinned, an epoch rebase after ~10 minutes), the queries and reset().
+TEST(NoAllocation, ActiveEventMapFeedAndQueriesAllocateNothing) {
+  if (!test::allocation_probe_available()) GTEST_SKIP() << "sanitizers interpose the allocator";
+  const SensorSize s{40, 30};
+  const auto raw = mixed_events(s);
+  std::vector<AugmentedEvent> events;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    const float lifetime = i % 7 == 0 ? 0.0f : 1000.0f + static_cast<float>(i % 13) * 100.0f;
+    events.push_back({raw[i], lifetime, 900.0f, static_cast<float>(i % 5) * 300.0f - 600.0f});
+  }
+  AugmentedEvent far_later{raw[0], 5000.0f, 0.0f, 0.0f};
+  far_later.event.t_us = std::int64_t{600} * 1000000;  // past the int32 range of the epoch
+  for (bool thinning : {false, true}) {
+    ActiveEventMap map(s, thinning);  // allocates here, at construction
+    std::vector<ActivePixel> pixels(static_cast<std::size_t>(s.pixel_count()));
+    std::vector<float> image(static_cast<std::size_t>(s.pixel_count()));
+    AllocationProbe probe;
+    map.feed(std::span<const AugmentedEvent>(events).first(events.size() / 2));
+    for (std::size_t i = events.size() / 2; i < events.size(); ++i) map.feed(events[i]);
+    map.feed(events[1]);  // late (events[0] is noise)
+    const std::int64_t t = events.back().event.t_us;
+    const std::size_t active = map.count_active(t) + map.active_pixels(t, pixels);
+    map.lifetime_image(t, image);
+    map.feed(far_later);
+    const std::size_t after_rebase = map.active_pixels(far_later.event.t_us, pixels);
+    const ActiveEventMapStats seen = map.stats();
+    map.reset();
+    probe.disarm();
+    EXPECT_EQ(probe.allocations(), 0) << "thinning " << thinning;
+    EXPECT_EQ(probe.locks(), 0) << "thinning " << thinning;
+    EXPECT_GT(active, 0u);  // the queries did find active pixels
+    EXPECT_EQ(after_rebase, 1u);
+    EXPECT_GT(seen.noise, 0u);  // every branch of feed() ran
+    EXPECT_GT(seen.out_of_sensor, 0u);
+    EXPECT_EQ(seen.late, 1u);
+    if (thinning) {
+      EXPECT_GT(seen.thinned, 0u);
     }
   }
 }

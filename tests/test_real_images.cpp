@@ -10,7 +10,7 @@
 #include <string>
 
 #include "evlife/algo/lifetime_options.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_painter.h"
@@ -27,7 +27,7 @@ constexpr std::size_t kImages = std::size(kWindowsUs) + 1;  // + the lifetime im
 std::array<evlife::render::ImageQuality, kImages> pooled_quality(const std::string& path, bool thinning) {
   std::array<evlife::render::ImageQuality, kImages> pooled{};
   auto source = evlife::render::open_augmented_source(path, evlife::LifetimeOptions{});
-  evlife::render::ActiveEventSet set(source->sensor(), thinning);
+  evlife::ActiveEventMap set(source->sensor(), thinning);
   evlife::render::FixedWindowMap window(source->sensor());
   evlife::render::RenderCursor cursor(*source, set, &window);
   const auto first = cursor.first_t_us();

@@ -13,7 +13,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
@@ -29,7 +29,7 @@ namespace {
 using evlife::AugmentedEvent;
 using evlife::Event;
 using evlife::SensorSize;
-using evlife::render::ActiveEventSet;
+using evlife::ActiveEventMap;
 using evlife::render::FixedWindowMap;
 
 constexpr SensorSize kSensor{128, 96};
@@ -68,21 +68,21 @@ void feed_until(const std::vector<AugmentedEvent>& events, std::size_t& next, st
 }
 
 // Active columns of one row, as a list.
-std::vector<int> active_columns(const ActiveEventSet& set, int y, std::int64_t t_us) {
+std::vector<int> active_columns(const ActiveEventMap& set, int y, std::int64_t t_us) {
   std::vector<int> cols;
   for (int x = 0; x < kSensor.width; ++x)
     if (set.is_active(x, y, t_us)) cols.push_back(x);
   return cols;
 }
 
-TEST(ActiveEventSet, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {
+TEST(ActiveEventMap, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {
   for (const double speed : {40.0, 230.0, 1000.0, 4700.0, 25000.0}) {
     for (const bool thinning : {true, false}) {
       SCOPED_TRACE("speed " + std::to_string(speed) + " px/s, thinning " + std::to_string(thinning));
       const auto times = constant_speed_times(speed);
       const float lifetime = static_cast<float>(1e6 / speed);
       const auto events = moving_edge(times, [&](int) { return lifetime; }, static_cast<float>(speed));
-      ActiveEventSet set(kSensor, thinning);
+      ActiveEventMap set(kSensor, thinning);
       std::size_t next = 0;
       // Instants that are no multiple of any frame period, across the whole sweep.
       const double duration_us = (kSensor.width - 1) * 1e6 / speed;
@@ -145,11 +145,11 @@ AcceleratingEdge accelerating_edge() {
   return e;
 }
 
-TEST(ActiveEventSet, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
+TEST(ActiveEventMap, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
   const auto edge = accelerating_edge();
   const std::int64_t t = edge.times[100] + 10;  // speed there ~ 2000 px/s, 10x the estimate
   auto thickness = [&](bool thinning) {
-    ActiveEventSet set(kSensor, thinning);
+    ActiveEventMap set(kSensor, thinning);
     std::size_t next = 0;
     feed_until(edge.events, next, t, set);
     return active_columns(set, 40, t);
@@ -162,8 +162,8 @@ TEST(ActiveEventSet, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
   EXPECT_GE(thick.size(), 5u) << "without thinning the overestimated lifetimes must smear";
 }
 
-TEST(ActiveEventSet, EdgeThinningOnlyExpiresTheSamePolarityBehindTheEdge) {
-  ActiveEventSet set(kSensor, true);
+TEST(ActiveEventMap, EdgeThinningOnlyExpiresTheSamePolarityBehindTheEdge) {
+  ActiveEventMap set(kSensor, true);
   auto ev = [](std::int64_t t, int x, int y, int p, float vx, float vy) {
     AugmentedEvent a;
     a.event = Event{t, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), static_cast<std::int8_t>(p)};
@@ -185,7 +185,7 @@ TEST(ActiveEventSet, EdgeThinningOnlyExpiresTheSamePolarityBehindTheEdge) {
   EXPECT_EQ(set.stats().thinned, 1u);
 }
 
-TEST(ActiveEventSet, NoiseIsNeverDrawn) {
+TEST(ActiveEventMap, NoiseIsNeverDrawn) {
   const auto times = constant_speed_times(500.0);
   auto events = moving_edge(times, [](int) { return 2000.0f; }, 500.0f);
   std::mt19937 rng(7);
@@ -198,7 +198,7 @@ TEST(ActiveEventSet, NoiseIsNeverDrawn) {
     noise.push_back(a);
   }
   // Noise alone: nothing is ever active, nothing painted.
-  ActiveEventSet set(kSensor);
+  ActiveEventMap set(kSensor);
   std::sort(noise.begin(), noise.end(), [](auto& a, auto& b) { return a.event.t_us < b.event.t_us; });
   std::size_t next = 0;
   cv::Mat img;
@@ -213,7 +213,7 @@ TEST(ActiveEventSet, NoiseIsNeverDrawn) {
   // Mixed with an edge: every active pixel is on the edge's column.
   events.insert(events.end(), noise.begin(), noise.end());
   std::stable_sort(events.begin(), events.end(), [](auto& a, auto& b) { return a.event.t_us < b.event.t_us; });
-  ActiveEventSet mixed(kSensor);
+  ActiveEventMap mixed(kSensor);
   next = 0;
   for (std::int64_t t = kT0 + 1001; t < kT0 + 250000; t += 12347) {
     feed_until(events, next, t, mixed);
@@ -223,20 +223,20 @@ TEST(ActiveEventSet, NoiseIsNeverDrawn) {
   }
 }
 
-TEST(ActiveEventSet, OutOfSensorEventsAreCountedNotStored) {
-  ActiveEventSet set(kSensor);
+TEST(ActiveEventMap, OutOfSensorEventsAreCountedNotStored) {
+  ActiveEventMap set(kSensor);
   AugmentedEvent a;
   a.event = Event{10, 500, 3, 1};
   a.lifetime_us = 100.0f;
   set.feed(a);
   EXPECT_EQ(set.stats().out_of_sensor, 1u);
   EXPECT_EQ(set.count_active(10), 0u);
-  EXPECT_THROW(ActiveEventSet(SensorSize{0, 10}), std::invalid_argument);
+  EXPECT_THROW(ActiveEventMap(SensorSize{0, 10}), std::invalid_argument);
 }
 
 // Reference built independently from the event list: pixel active at t when
 // its latest event e (e.t <= t, not noise) has t < e.t + lifetime.
-TEST(ActiveEventSet, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReference) {
+TEST(ActiveEventMap, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReference) {
   std::mt19937 rng(42);
   std::vector<AugmentedEvent> events;
   std::int64_t t = kT0;
@@ -247,7 +247,7 @@ TEST(ActiveEventSet, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReferen
     a.lifetime_us = (rng() % 5 == 0) ? 0.0f : static_cast<float>(50 + rng() % 20000) + 0.25f;
     events.push_back(a);
   }
-  ActiveEventSet set(kSensor, /*edge_thinning=*/false);
+  ActiveEventMap set(kSensor, /*edge_thinning=*/false);
   std::size_t next = 0;
   std::int64_t sample_t = kT0;
   for (int k = 0; k < 40; ++k) {
@@ -274,8 +274,8 @@ TEST(ActiveEventSet, SamplingAtArbitraryIncreasingTimesMatchesABruteForceReferen
 
 // Time is kept relative to a moving epoch in 32 bits: hours of recording
 // must behave like seconds.
-TEST(ActiveEventSet, HoursLongRecordingsKeepExactTiming) {
-  ActiveEventSet set(kSensor);
+TEST(ActiveEventMap, HoursLongRecordingsKeepExactTiming) {
+  ActiveEventMap set(kSensor);
   FixedWindowMap map(kSensor);
   const std::int64_t start = 5'000'000'000;  // 83 min after the sensor's zero
   for (std::int64_t k = 0; k < 800; ++k) {   // one event every 10 s for 2.2 h
@@ -315,7 +315,7 @@ class VectorSource final : public evlife::render::AugmentedSource {
 TEST(RenderCursor, AdvancingFeedsExactlyTheEventsUpToEachTime) {
   const auto events = moving_edge(constant_speed_times(300.0), [](int) { return 3333.3f; }, 300.0f);
   VectorSource source(events);
-  ActiveEventSet set(kSensor);
+  ActiveEventMap set(kSensor);
   FixedWindowMap window(kSensor);
   evlife::render::RenderCursor cursor(source, set, &window, /*buffer_events=*/100);
   ASSERT_EQ(cursor.first_t_us(), kT0);
@@ -334,7 +334,7 @@ TEST(RenderCursor, AdvancingFeedsExactlyTheEventsUpToEachTime) {
 }
 
 TEST(Painter, LongLifetimesRedShortBlueAndUpscaledFrameSize) {
-  ActiveEventSet set(kSensor);
+  ActiveEventMap set(kSensor);
   auto ev = [](int x, float lifetime) {
     AugmentedEvent a;
     a.event = Event{100, static_cast<std::uint16_t>(x), 5, 1};

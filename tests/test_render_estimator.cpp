@@ -1,5 +1,5 @@
 // Rendering through the estimator: a synthetic grating with known motion is
-// augmented by LifetimeEstimator, fed to ActiveEventSet and sampled at
+// augmented by LifetimeEstimator, fed to ActiveEventMap and sampled at
 // arbitrary instants. The ground truth is the scene's edge positions (not
 // anything the renderer or estimator computes).
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/synthetic_scene.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/render_cursor.h"
@@ -89,7 +89,7 @@ TEST_P(EdgeThroughEstimator, RendersAThinLineAtTheTrueEdgeWhateverTheSpeed) {
   options.sensor = sensor;
   auto source = evlife::render::make_estimating_source(
       std::make_unique<evlife::io::SyntheticSceneReader>(spec), options);
-  evlife::render::ActiveEventSet set(sensor, thinning);
+  evlife::ActiveEventMap set(sensor, thinning);
   evlife::render::FixedWindowMap window(sensor);
   evlife::render::RenderCursor cursor(*source, set, &window);
   std::size_t checked = 0;

@@ -20,6 +20,7 @@
 #include "evlife/config/config.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/sensor_size_from_data.h"
 #include "exit_code.h"
 #include "skipped_kinds_text.h"
 #include "lifetime_summary.h"
@@ -153,22 +154,14 @@ ProcessArgs parse_process_args(int argc, char** argv) {
 
 // Smallest sensor holding every event, tolerant of a fault: the events
 // before it count (the main pass reports the fault after writing them).
+// The rule of io::sensor_size_from_data; a file without a readable event is
+// reported by the main pass.
 SensorSize scan_sensor_size(const std::string& path, const io::ReaderOptions& input) {
-  auto reader = io::open_unchecked_event_reader(path, input);
-  std::vector<Event> batch(kBatchEvents);
-  int max_x = 0;
-  int max_y = 0;
   try {
-    while (const std::size_t n = reader->read(batch)) {
-      for (std::size_t i = 0; i < n; ++i) {
-        max_x = std::max<int>(max_x, batch[i].x);
-        max_y = std::max<int>(max_y, batch[i].y);
-      }
-    }
+    return io::sensor_size_from_data(path, input);
   } catch (const io::ReadError&) {
-    // Reported by the main pass, after the good events are written.
+    return {1, 1};
   }
-  return {max_x + 1, max_y + 1};
 }
 
 struct ResolvedSensor {

@@ -28,6 +28,7 @@
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
 #include "exit_code.h"
@@ -255,12 +256,6 @@ class FrameProgress {
   std::chrono::steady_clock::time_point next_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
 };
 
-std::string frame_name(std::size_t index, std::int64_t rel_us) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "frame_%06zu_t%.6fs.png", index, static_cast<double>(rel_us) * 1e-6);
-  return buf;
-}
-
 int render_recording(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   RenderArgs args;
@@ -288,7 +283,8 @@ int render_recording(int argc, char** argv) {
   style.scale = args.scale.value_or(std::max(1, 512 / std::max(sensor.width, sensor.height)));
   style.caption = args.caption;
   style.legend = args.legend;
-  style.colormap = render::LifetimeColormap(args.lifetime_min_us, args.lifetime_max_us);
+  style.lifetime_min_us = args.lifetime_min_us;
+  style.lifetime_max_us = args.lifetime_max_us;
   render::FrameComposer composer(render::parse_view_mode(args.mode), style, args.mode);
   const cv::Size frame_size = composer.frame_size(sensor);
 
@@ -304,37 +300,22 @@ int render_recording(int argc, char** argv) {
     return kExitInput;
   }
 
-  // Output.
-  std::unique_ptr<render::VideoFile> video;
-  if (args.video) {
-    const bool mp4 = std::filesystem::path(args.output).extension() == ".mp4";
-    const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
-    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(parent, ec);
+  // Output: the frame sinks of render/frame_sink.h (also those of `evlife run`).
+  std::unique_ptr<render::FrameSink> sink;
+  try {
+    if (args.video) {
+      const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
+      auto video = std::make_unique<render::VideoFrameSink>(args.output, video_fps);
+      video->open(frame_size.width, frame_size.height);
+      sink = std::move(video);
+    } else if (args.single_png) {
+      sink = std::make_unique<render::ImageFileFrameSink>(args.output);
+    } else {
+      sink = std::make_unique<render::PngFolderFrameSink>(args.output, render::FrameFileNames::seconds);
     }
-    try {
-      video = render::open_video(args.output, video_fps, frame_size);
-    } catch (const std::runtime_error& e) {
-      std::fprintf(stderr,
-                   "evlife render: output error: %s with codec %s (missing encoder or unwritable path); "
-                   "try .avi (MJPG) or a directory of PNG frames\n",
-                   e.what(), mp4 ? "mp4v" : "MJPG");
-      return kExitOutput;
-    }
-  } else if (args.single_png) {
-    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(parent, ec);
-    }
-  } else {
-    std::error_code ec;
-    std::filesystem::create_directories(args.output, ec);
-    if (ec || !std::filesystem::is_directory(args.output)) {
-      std::fprintf(stderr, "evlife render: output error: cannot create directory %s: %s\n",
-                   args.output.c_str(), ec ? ec.message().c_str() : "not a directory");
-      return kExitOutput;
-    }
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "evlife render: output error: %s\n", e.what());
+    return kExitOutput;
   }
 
   // Frame instants (relative to the first event).
@@ -371,24 +352,22 @@ int render_recording(int argc, char** argv) {
     const auto d0 = std::chrono::steady_clock::now();
     const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
     draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
-    if (args.video) {
-      video->write(frame);
-    } else {
-      const std::string path = args.single_png ? args.output
-                                               : (std::filesystem::path(args.output) / frame_name(k, rel)).string();
-      try {
-        render::write_image(path, frame);
-      } catch (const std::runtime_error& e) {
-        output_fault = e.what();
-        break;
-      }
+    try {
+      sink->write(render::as_frame(frame), rel);  // file names: time from the first event
+    } catch (const std::runtime_error& e) {
+      output_fault = e.what();
+      break;
     }
     ++frames;
     progress.update(frames, total, static_cast<double>(rel) * 1e-6);
   }
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  if (video) video->close();
+  try {
+    sink->finish();
+  } catch (const std::runtime_error& e) {
+    if (!output_fault) output_fault = e.what();
+  }
   progress.finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 

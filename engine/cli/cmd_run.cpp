@@ -363,15 +363,15 @@ int run_engine(int argc, char** argv) {
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
   std::optional<engine::Engine> eng;
-  std::unique_ptr<engine::FrameSink> frame_sink;
+  std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;
   try {
     eng.emplace(*source, sink.get(), args.engine);
     if (rendering) {
       if (!args.frames_dir.empty()) {
-        frame_sink = std::make_unique<engine::PngFolderFrameSink>(args.frames_dir);
+        frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
       } else if (!args.video.empty()) {
-        frame_sink = std::make_unique<engine::VideoFrameSink>(args.video, args.render.fps);
+        frame_sink = std::make_unique<render::VideoFrameSink>(args.video, args.render.fps);
       } else {
         engine::Engine* running = &*eng;
         frame_sink = std::make_unique<WindowFrameSink>(
@@ -421,25 +421,25 @@ int run_engine(int argc, char** argv) {
     return kExitOutput;
   }
   switch (result.status) {
-    case engine::RunStatus::completed: return kExitOk;
+    case engine::RunStatus::completed: break;
     case engine::RunStatus::interrupted:
       std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
                    static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInterrupted;
+      break;
     case engine::RunStatus::source_error:
       std::fprintf(stderr, "evlife run: input error: %s\n"
                    "evlife run: the %llu events before it were processed and written\n",
                    result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInput;
+      break;
     case engine::RunStatus::sink_error:
       std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
-      return kExitOutput;
+      break;
     case engine::RunStatus::realtime_error:
       std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
                    result.message.c_str());
-      return kExitRealtime;
+      break;
   }
-  return kExitFailure;
+  return result.exit_code();
 }
 
 }  // namespace

@@ -65,10 +65,10 @@ WindowFrameSink::~WindowFrameSink() {
   }
 }
 
-void WindowFrameSink::write(const cv::Mat& frame, std::int64_t /*t_us*/) {
+void WindowFrameSink::write(const render::FrameImage& frame, std::int64_t /*t_us*/) {
   if (closed_by_user_) return;  // the run is stopping; frames still count
   if (!window_) window_ = render::open_window(title_);
-  if (!window_->show(frame)) {
+  if (!window_->show(render::as_mat(frame))) {
     closed_by_user_ = true;
     if (on_close_) on_close_();
   }

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "evlife/engine/frame_sink.h"
+#include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 
 namespace evlife::cli {
@@ -17,14 +17,14 @@ namespace evlife::cli {
 /// starts.
 std::string probe_window_display();
 
-class WindowFrameSink final : public engine::FrameSink {
+class WindowFrameSink final : public render::FrameSink {
  public:
   /// `on_close` runs (on the render thread) when the user closes the window
   /// or presses q / Esc in it: the run then stops as on SIGINT.
   WindowFrameSink(std::string title, std::function<void()> on_close);
   ~WindowFrameSink() override;
 
-  void write(const cv::Mat& frame, std::int64_t t_us) override;
+  void write(const render::FrameImage& frame, std::int64_t t_us) override;
   void finish() override;
 
  private:

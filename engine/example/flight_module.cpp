@@ -22,7 +22,7 @@
 #include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
 #include "evlife/io/synthetic_scene.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 
 namespace {
 
@@ -44,11 +44,11 @@ class ActiveMapSink final : public evlife::engine::AugmentedSink {
     map_.feed(events);
     out_.insert(out_.end(), events.begin(), events.end());  // kept only for the self-check
   }
-  const evlife::render::ActiveEventSet& map() const { return map_; }
+  const evlife::ActiveEventMap& map() const { return map_; }
   const std::vector<evlife::AugmentedEvent>& out() const { return out_; }
 
  private:
-  evlife::render::ActiveEventSet map_;
+  evlife::ActiveEventMap map_;
   std::vector<evlife::AugmentedEvent> out_;
 };
 

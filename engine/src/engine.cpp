@@ -19,13 +19,13 @@ namespace evlife::engine {
 
 int RunResult::exit_code() const noexcept {
   switch (status) {
-    case RunStatus::completed: return 0;
-    case RunStatus::interrupted: return 130;
-    case RunStatus::source_error:
-    case RunStatus::sink_error:
-    case RunStatus::realtime_error: return 1;
+    case RunStatus::completed: return kExitOk;
+    case RunStatus::interrupted: return kExitInterrupted;
+    case RunStatus::source_error: return kExitInput;
+    case RunStatus::sink_error: return kExitOutput;
+    case RunStatus::realtime_error: return kExitRealtime;
   }
-  return 1;
+  return kExitFailure;
 }
 
 Engine::Engine(EventSource& source, AugmentedSink* sink, const EngineOptions& options)

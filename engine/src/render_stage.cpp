@@ -2,46 +2,23 @@
 #if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
-#include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <stdexcept>
 
+#include "evlife/render/frame_composer.h"
 #include "evlife/render/media.h"
 
 namespace evlife::engine {
 
-PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec) throw std::runtime_error(dir_ + ": cannot create the frame folder: " + ec.message());
-}
-
-void PngFolderFrameSink::write(const cv::Mat& frame, std::int64_t t_us) {
-  char name[64];
-  std::snprintf(name, sizeof name, "/frame_%06lld_t%lld.png", index_++, static_cast<long long>(t_us));
-  const std::string path = dir_ + name;
-  render::write_image(path, frame);
-}
-
-VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
-    : path_(std::move(path)), playback_fps_(playback_fps) {}
-
-VideoFrameSink::~VideoFrameSink() = default;
-
-void VideoFrameSink::write(const cv::Mat& frame, std::int64_t) {
-  if (!video_) video_ = render::open_video(path_, playback_fps_, frame.size());
-  video_->write(frame);
-}
-
-void VideoFrameSink::finish() {
-  if (video_) video_->close();
-}
+struct RenderStage::Drawing {
+  render::FrameComposer composer;
+};
 
 RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options,
-                         FrameSink& sink)
+                         render::FrameSink& sink)
     : tap_(tap), set_(sensor), window_(sensor),
-      composer_(render::parse_view_mode(options.mode), options.style, options.mode),
+      drawing_(std::make_unique<Drawing>(
+          Drawing{render::FrameComposer(render::parse_view_mode(options.mode), options.style, options.mode)})),
       sink_(sink),
       period_us_(options.fps > 0 ? static_cast<std::int64_t>(1e6 / options.fps) : 0),
       at_us_(options.at_us) {
@@ -49,10 +26,12 @@ RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions&
     throw std::invalid_argument("render fps: must be 0 (on request only) or 0 < fps <= 1e6");
 }
 
+RenderStage::~RenderStage() = default;
+
 void RenderStage::emit(std::int64_t t_us) noexcept {
   if (!error_.empty()) return;
   try {
-    sink_.write(composer_.compose(set_, window_, t_us), t_us);
+    sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us)), t_us);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     error_ = e.what();

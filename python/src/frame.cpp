@@ -9,7 +9,7 @@
 
 #include "bindings.h"
 #include "dtypes.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
@@ -76,14 +76,15 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   if (!(range_ms.first > 0.0) || !(range_ms.second > range_ms.first)) {
     throw py::value_error("frame: lifetime_range_ms must be (MIN, MAX) with 0 < MIN < MAX");
   }
-  style.colormap = render::LifetimeColormap(1000.0 * range_ms.first, 1000.0 * range_ms.second);
+  style.lifetime_min_us = 1000.0 * range_ms.first;
+  style.lifetime_max_us = 1000.0 * range_ms.second;
   render::FrameComposer composer(render::parse_view_mode(mode), style, mode);
 
   cv::Mat rgb;
   {
     py::gil_scoped_release release;
     ArraySource source(events, sensor);
-    render::ActiveEventSet set(sensor, thinning);
+    ActiveEventMap set(sensor, thinning);
     render::FixedWindowMap window(sensor);
     render::RenderCursor cursor(source, set, &window);
     const std::int64_t first_t = *cursor.first_t_us();

@@ -64,8 +64,8 @@ class OpenCvBackend final : public MediaBackend {
   }
   cv::Mat read_image(const std::string& path) override { return cv::imread(path, cv::IMREAD_COLOR); }
   std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) override {
-    const bool mp4 = path.size() >= 4 && path.compare(path.size() - 4, 4, ".mp4") == 0;
-    const int fourcc = mp4 ? cv::VideoWriter::fourcc('m', 'p', '4', 'v') : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    const char* c = video_codec(path);
+    const int fourcc = cv::VideoWriter::fourcc(c[0], c[1], c[2], c[3]);
     auto video = std::make_unique<OpenCvVideo>();
     if (!video->open(path, fourcc, fps, frame_size)) return nullptr;
     return video;

@@ -59,21 +59,6 @@ class EstimatingSource final : public AugmentedSource {
   std::vector<Event> raw_;
 };
 
-// Augmented CSV states no sensor: one pass for the largest coordinates.
-SensorSize sensor_from_augmented(const std::string& path) {
-  auto reader = io::open_augmented_reader(path);
-  std::vector<AugmentedEvent> buf(4096);
-  SensorSize s{0, 0};
-  while (const std::size_t n = reader->read(buf)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      s.width = std::max(s.width, buf[i].event.x + 1);
-      s.height = std::max(s.height, buf[i].event.y + 1);
-    }
-  }
-  if (s.width == 0) throw io::ReadError(path, -1, -1, "holds no event: cannot tell the sensor size (give --sensor WxH)");
-  return s;
-}
-
 }  // namespace
 
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
@@ -88,8 +73,7 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
     augmented_error = e.what();
   }
   if (augmented) {
-    SensorSize s = sensor ? *sensor : augmented->sensor_size().value_or(SensorSize{0, 0});
-    if (s.width == 0) s = sensor_from_augmented(path);
+    const SensorSize s = io::sensor_size_of_augmented(path, sensor);
     return std::make_unique<AugmentedFileSource>(std::move(augmented), s);
   }
   std::unique_ptr<io::EventReader> raw;

@@ -64,7 +64,8 @@ std::vector<View> parse_view_mode(std::string_view mode) {
 }
 
 FrameComposer::FrameComposer(std::vector<View> views, FrameStyle style, std::string mode_name)
-    : views_(std::move(views)), style_(std::move(style)), mode_name_(std::move(mode_name)) {
+    : views_(std::move(views)), style_(style),
+      colormap_(style.lifetime_min_us, style.lifetime_max_us), mode_name_(std::move(mode_name)) {
   if (views_.empty()) throw std::invalid_argument("FrameComposer: no view to draw");
   if (style_.scale < 1 || style_.scale > 32)
     throw std::invalid_argument("scale must be 1..32 (got " + std::to_string(style_.scale) + ")");
@@ -93,7 +94,7 @@ cv::Size FrameComposer::frame_size(SensorSize sensor) const {
   return {w, h};
 }
 
-const cv::Mat& FrameComposer::compose(const ActiveEventSet& set, const FixedWindowMap& window,
+const cv::Mat& FrameComposer::compose(const ActiveEventMap& set, const FixedWindowMap& window,
                                       std::int64_t t_us, std::optional<std::int64_t> caption_t_us) {
   const SensorSize sensor = set.sensor();
   const cv::Size size = frame_size(sensor);
@@ -105,7 +106,7 @@ const cv::Mat& FrameComposer::compose(const ActiveEventSet& set, const FixedWind
   int x0 = 0;
   for (const auto& v : views_) {
     if (v.lifetime)
-      paint_active(set, t_us, style_.color, style_.colormap, sensor_img_);
+      paint_active(set, t_us, style_.color, colormap_, sensor_img_);
     else
       paint_window(window, t_us, v.window_us, style_.color, sensor_img_);
     cv::Mat dst = frame_(cv::Rect(x0, top, panel_w, panel_h));
@@ -120,7 +121,7 @@ const cv::Mat& FrameComposer::compose(const ActiveEventSet& set, const FixedWind
     x0 += panel_w + kGap;
   }
   if (has_legend()) {
-    if (legend_.rows != panel_h) legend_ = style_.colormap.legend(panel_h);
+    if (legend_.rows != panel_h) legend_ = colormap_.legend(panel_h);
     legend_.copyTo(frame_(cv::Rect(x0, top, legend_.cols, legend_.rows)));
   }
   if (style_.caption) {

@@ -30,7 +30,7 @@ cv::Vec3b polarity_color(std::int8_t p) { return p > 0 ? kOn : kOff; }
 
 namespace {
 template <ColorMode kMode>
-void paint_active_rows(const ActiveEventSet& set, std::int64_t t_us, const LifetimeColormap& colormap,
+void paint_active_rows(const ActiveEventMap& set, std::int64_t t_us, const LifetimeColormap& colormap,
                        cv::Mat& out) {
   // Rows are cleared with memset: kBackground is black.
   const SensorSize s = set.sensor();
@@ -65,7 +65,7 @@ void paint_active_rows(const ActiveEventSet& set, std::int64_t t_us, const Lifet
 }
 }  // namespace
 
-void paint_active(const ActiveEventSet& set, std::int64_t t_us, ColorMode mode,
+void paint_active(const ActiveEventMap& set, std::int64_t t_us, ColorMode mode,
                   const LifetimeColormap& colormap, cv::Mat& out) {
   const SensorSize s = set.sensor();
   out.create(s.height, s.width, CV_8UC3);
@@ -105,7 +105,7 @@ void paint_window(const FixedWindowMap& map, std::int64_t t_us, std::int64_t win
   }
 }
 
-void active_mask(const ActiveEventSet& set, std::int64_t t_us, cv::Mat& out) {
+void active_mask(const ActiveEventMap& set, std::int64_t t_us, cv::Mat& out) {
   const SensorSize s = set.sensor();
   out.create(s.height, s.width, CV_8UC1);
   const std::int32_t* expire = set.expire_map().data();

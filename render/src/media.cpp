@@ -66,7 +66,11 @@ cv::Mat read_image(const std::string& path) { return backend().read_image(path);
 
 std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) {
   auto video = backend().open_video(path, fps, frame_size);
-  if (!video) throw std::runtime_error("cannot open the video " + path + " for writing");
+  if (!video) {
+    throw std::runtime_error("cannot open the video " + path + " for writing with codec " +
+                             video_codec(path) +
+                             " (missing encoder or unwritable path); try .avi (MJPG) or a directory of PNG frames");
+  }
   return video;
 }
 

@@ -5,7 +5,7 @@
 
 namespace evlife::render {
 
-RenderCursor::RenderCursor(AugmentedSource& source, ActiveEventSet& set, FixedWindowMap* window,
+RenderCursor::RenderCursor(AugmentedSource& source, ActiveEventMap& set, FixedWindowMap* window,
                            std::size_t buffer_events)
     : source_(source), set_(set), window_(window), buffer_(std::max<std::size_t>(buffer_events, 1)) {}
 

@@ -1,5 +1,5 @@
 // libFuzzer target: the ROS EventPacket 'libcaer' payload decoder
-// (io/src/ros_messages.h). Input layout and findings: fuzz_ros_payload.h.
+// (io/formats/src/ros_messages.h). Input layout and findings: fuzz_ros_payload.h.
 // Events are independent of each other except for the clock, so the cut
 // decode must equal the whole one up to the first fault.
 #include "fuzz_ros_payload.h"

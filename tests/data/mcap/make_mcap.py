@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""TEST-ONLY MCAP writer (https://mcap.dev/spec), written apart from the reader in io/src/mcap_*: it
+"""TEST-ONLY MCAP writer (https://mcap.dev/spec), written apart from the reader in io/formats/src/mcap_*: it
 repackages the CDR messages of the shared rosbag2 bags (../shared/data/rosbag, read with sqlite3)
 into .mcap files for tests/test_io_mcap.cpp, the fuzz seeds and bench/bench_ros_payloads.cpp.
 

@@ -32,13 +32,17 @@ struct Event {
 static_assert(std::is_trivially_copyable_v<Event>);
 static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");
 
-/// An event augmented with its lifetime and velocity (paper eq. 1).
+/// An event augmented with its lifetime and normal velocity (paper eq. 1).
 /// Noise events have lifetime 0 and velocity 0.
 struct AugmentedEvent {
   Event event;
   float lifetime_us = 0.0f;  ///< time the edge needs to move one pixel; 0 = noise
-  float vx_px_s = 0.0f;      ///< image-plane velocity, pixels per second
-  float vy_px_s = 0.0f;
+  /// Normal velocity of the edge, pixels per second: the component of its
+  /// motion perpendicular to the edge (the gradient direction of the plane
+  /// fitted to its events), the only one local events can measure (aperture
+  /// problem); its speed is 1e6 / lifetime_us. Not the full optical flow.
+  float vx_px_s = 0.0f;
+  float vy_px_s = 0.0f;      ///< see vx_px_s
   /// t - t_hat of the prediction made for this pixel by an earlier event
   /// (paper Fig. 9), microseconds; NaN when no prediction existed.
   float prediction_error_us = std::numeric_limits<float>::quiet_NaN();

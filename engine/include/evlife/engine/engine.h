@@ -13,6 +13,7 @@
 #include "evlife/engine/engine_options.h"
 #include "evlife/engine/engine_stats.h"
 #include "evlife/engine/event_source.h"
+#include "evlife/engine/exit_code.h"
 #include "evlife/engine/pipeline.h"
 
 namespace evlife::engine {
@@ -32,7 +33,9 @@ struct RunResult {
   /// What options.realtime applied, for the summary ("none" when off), e.g.
   /// "cpus source:0 worker0:1 worker1:0 merger:1; SCHED_FIFO 50 (source, workers, merger); memory locked (41.2 MiB)".
   std::string realtime;
-  /// 0 completed, 1 source/sink/real-time error, 130 interrupted (128 + SIGINT).
+  /// The exit code of `evlife run` for this result (evlife/engine/exit_code.h):
+  /// 0 completed, 3 source error, 4 sink error, 5 real-time setting refused,
+  /// 130 interrupted (128 + SIGINT).
   int exit_code() const noexcept;
 };
 

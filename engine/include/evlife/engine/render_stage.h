@@ -1,8 +1,9 @@
 // The render thread's stage: takes the merged stream from the RenderTap,
-// keeps the active-event set (evlife::render) up to date and draws a frame
+// keeps the active-event map (evlife::algo) up to date and draws a frame
 // every 1/fps of the EVENT clock (so a replay at any speed gives the same
 // frames), plus one frame at any requested timestamp. Frames go to a
-// FrameSink. Off the data path: a slow disk here slows only the render branch
+// render::FrameSink (render/frame_sink.h). No OpenCV in this header: the
+// drawing state is in the .cpp. Off the data path: a slow disk here slows only the render branch
 // (policy drop) or the output (policy block), never silently.
 #pragma once
 
@@ -12,12 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "evlife/algo/active_event_map.h"
 #include "evlife/engine/aux_stage.h"
-#include "evlife/engine/frame_sink.h"
 #include "evlife/engine/render_tap.h"
-#include "evlife/render/active_event_set.h"
 #include "evlife/render/fixed_window_map.h"
-#include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_sink.h"
+#include "evlife/render/frame_style.h"
 
 namespace evlife::engine {
 
@@ -33,7 +34,10 @@ struct RenderOptions {
 class RenderStage final : public AuxStage {
  public:
   /// Throws std::invalid_argument on a bad mode or style.
-  RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options, FrameSink& sink);
+  RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions& options, render::FrameSink& sink);
+  ~RenderStage() override;
+  RenderStage(const RenderStage&) = delete;
+  RenderStage& operator=(const RenderStage&) = delete;
 
   StepResult step() noexcept override;
   moodycamel::LightweightSemaphore& wake() noexcept override { return tap_.wake_render(); }
@@ -53,12 +57,13 @@ class RenderStage final : public AuxStage {
   void feed(const AugmentedEvent& a) noexcept;
 
   static constexpr std::int64_t kNoRequest = INT64_MIN;
+  struct Drawing;  // the frame composer and its images (OpenCV)
 
   RenderTap& tap_;
-  render::ActiveEventSet set_;
+  ActiveEventMap set_;
   render::FixedWindowMap window_;
-  render::FrameComposer composer_;
-  FrameSink& sink_;
+  std::unique_ptr<Drawing> drawing_;
+  render::FrameSink& sink_;
   std::int64_t period_us_;
   std::int64_t next_frame_t_us_ = INT64_MIN;
   std::vector<std::int64_t> at_us_;  // absolute once the first event is seen

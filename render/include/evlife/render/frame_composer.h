@@ -11,9 +11,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_painter.h"
+#include "evlife/render/frame_style.h"
 #include "evlife/render/lifetime_colormap.h"
 
 namespace evlife::render {
@@ -33,22 +34,15 @@ std::vector<View> parse_view_mode(std::string_view mode);
 /// Throws std::invalid_argument naming the text.
 std::int64_t parse_duration_us(std::string_view text);
 
-struct FrameStyle {
-  ColorMode color = ColorMode::lifetime;
-  int scale = 4;          ///< integer upscaling, 1..32 (nearest neighbour: pixels stay crisp)
-  bool caption = true;    ///< time and mode under the image
-  bool legend = true;     ///< lifetime colour bar (only drawn when colouring by lifetime)
-  LifetimeColormap colormap;
-};
-
 class FrameComposer {
  public:
-  /// Throws std::invalid_argument for an empty view list or a bad scale.
+  /// Throws std::invalid_argument for an empty view list, a bad scale or
+  /// lifetime range.
   FrameComposer(std::vector<View> views, FrameStyle style, std::string mode_name);
 
   /// The frame at t_us. The caption shows caption_t_us (e.g. the time from
   /// the first event; default t_us). The image stays valid until the next call.
-  const cv::Mat& compose(const ActiveEventSet& set, const FixedWindowMap& window,
+  const cv::Mat& compose(const ActiveEventMap& set, const FixedWindowMap& window,
                          std::int64_t t_us, std::optional<std::int64_t> caption_t_us = {});
 
   /// Size of every frame (fixed for a given sensor): what a video writer needs.
@@ -63,6 +57,7 @@ class FrameComposer {
 
   std::vector<View> views_;
   FrameStyle style_;
+  LifetimeColormap colormap_;
   std::string mode_name_;
   cv::Mat sensor_img_;
   cv::Mat scaled_;

@@ -9,21 +9,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_style.h"
 #include "evlife/render/lifetime_colormap.h"
 
 namespace evlife::render {
-
-enum class ColorMode {
-  lifetime,  ///< colour by lifetime (LifetimeColormap); windows have none: drawn plain
-  polarity,  ///< ON green, OFF magenta
-  plain,     ///< white
-};
-
-/// "lifetime", "polarity", "plain"; throws std::invalid_argument otherwise.
-ColorMode parse_color_mode(std::string_view name);
-std::string_view to_string(ColorMode mode);
 
 inline const cv::Vec3b kBackground{0, 0, 0};
 inline const cv::Vec3b kPlain{255, 255, 255};
@@ -31,7 +22,7 @@ inline const cv::Vec3b kOn{80, 230, 80};
 inline const cv::Vec3b kOff{255, 90, 255};
 
 /// Events of `set` active at t_us (t_us >= set.last_fed_t_us()).
-void paint_active(const ActiveEventSet& set, std::int64_t t_us, ColorMode mode,
+void paint_active(const ActiveEventMap& set, std::int64_t t_us, ColorMode mode,
                   const LifetimeColormap& colormap, cv::Mat& out);
 
 /// Events of the window [t_us - window_us, t_us].
@@ -39,7 +30,7 @@ void paint_window(const FixedWindowMap& map, std::int64_t t_us, std::int64_t win
                   ColorMode mode, cv::Mat& out);
 
 /// 255 where active, else 0 (for metrics).
-void active_mask(const ActiveEventSet& set, std::int64_t t_us, cv::Mat& out);
+void active_mask(const ActiveEventMap& set, std::int64_t t_us, cv::Mat& out);
 void window_mask(const FixedWindowMap& map, std::int64_t t_us, std::int64_t window_us,
                  cv::Mat& out);
 

@@ -1,6 +1,10 @@
 // Fixed-bin histogram with constant memory (evaluation plots of any
 // recording length): equal bins over [lo, lo + bins * width), plus counts
 // below and above, and quantiles / a cumulative distribution from the bins.
+// Linear bins for the paper's plots (0.2 ms lifetime bins, Figs. 9-10); the
+// CLI's summary percentiles use log bins (engine/cli/log_histogram.h; the two
+// could share one class with a bin scale, not done yet); the engine's latency
+// histogram is a different kind (atomic, per event: latency_histogram.h).
 #pragma once
 
 #include <cstddef>

@@ -9,10 +9,28 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include <opencv2/core.hpp>
 
+#include "evlife/render/frame_sink.h"
+
 namespace evlife::render {
+
+/// A frame as a plain image (no copy; valid while `image`, CV_8UC3, is).
+inline FrameImage as_frame(const cv::Mat& image) {
+  return {image.data, image.cols, image.rows, image.step[0]};
+}
+/// A plain image as a Mat header (no copy).
+inline cv::Mat as_mat(const FrameImage& frame) {
+  return cv::Mat(frame.height, frame.width, CV_8UC3, const_cast<std::uint8_t*>(frame.bgr),
+                 frame.stride_bytes);
+}
+
+/// The codec of a video file, from its extension: "mp4v" for .mp4, else "MJPG".
+inline const char* video_codec(std::string_view path) {
+  return path.size() >= 4 && path.substr(path.size() - 4) == ".mp4" ? "mp4v" : "MJPG";
+}
 
 /// Writes `image` (CV_8UC3 or CV_8UC1; format from the extension, e.g. .png).
 void write_image(const std::string& path, const cv::Mat& image);
@@ -32,7 +50,8 @@ class VideoFile {
   VideoFile& operator=(const VideoFile&) = default;
 };
 
-/// A video file played at `fps`: .mp4 as mp4v, anything else as MJPG.
+/// A video file played at `fps`, codec video_codec(path). Throws
+/// std::runtime_error naming the file and the codec.
 std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size);
 
 class Window {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 
@@ -17,7 +17,7 @@ namespace evlife::render {
 class RenderCursor {
  public:
   /// `window` may be null when no fixed window is drawn.
-  RenderCursor(AugmentedSource& source, ActiveEventSet& set, FixedWindowMap* window,
+  RenderCursor(AugmentedSource& source, ActiveEventMap& set, FixedWindowMap* window,
                std::size_t buffer_events = 8192);
 
   /// Timestamp of the first event (reads ahead); nullopt for an empty source.
@@ -39,7 +39,7 @@ class RenderCursor {
   bool refill();
 
   AugmentedSource& source_;
-  ActiveEventSet& set_;
+  ActiveEventMap& set_;
   FixedWindowMap* window_;
   std::vector<AugmentedEvent> buffer_;
   std::size_t pos_ = 0;

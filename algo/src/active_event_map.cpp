@@ -1,11 +1,12 @@
-#include "evlife/render/active_event_set.h"
+#include "evlife/algo/active_event_map.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
-namespace evlife::render {
+namespace evlife {
 
 namespace {
 // sin(22.5 deg): a unit velocity component above this points at that
@@ -13,12 +14,16 @@ namespace {
 constexpr float kSectorSin = 0.38268343f;
 }  // namespace
 
-ActiveEventSet::ActiveEventSet(SensorSize sensor, bool edge_thinning)
+ActiveEventMap::ActiveEventMap(SensorSize sensor, bool edge_thinning)
     : sensor_(sensor), edge_thinning_(edge_thinning) {
-  if (sensor.width < 1 || sensor.height < 1 || sensor.width > 16384 || sensor.height > 16384) {
-    throw std::invalid_argument("ActiveEventSet: sensor size " + std::to_string(sensor.width) +
-                                "x" + std::to_string(sensor.height) +
-                                " out of range 1..16384 each way");
+  if (!fits(sensor)) {
+#if defined(__cpp_exceptions)
+    throw std::invalid_argument("ActiveEventMap: sensor size " + std::to_string(sensor.width) +
+                                "x" + std::to_string(sensor.height) + " out of range 1.." +
+                                std::to_string(kMaxSide) + " each way");
+#else
+    std::abort();  // built without exceptions: check ActiveEventMap::fits() first
+#endif
   }
   const auto n = static_cast<std::size_t>(sensor.pixel_count());
   expire_rel_.assign(n, kNeverRel);
@@ -29,7 +34,7 @@ ActiveEventSet::ActiveEventSet(SensorSize sensor, bool edge_thinning)
   polarity_.assign(n, 0);
 }
 
-void ActiveEventSet::reset() noexcept {
+void ActiveEventMap::reset() noexcept {
   std::fill(expire_rel_.begin(), expire_rel_.end(), kNeverRel);
   epoch_us_ = 0;
   has_epoch_ = false;
@@ -42,7 +47,7 @@ void ActiveEventSet::reset() noexcept {
   stats_ = {};
 }
 
-void ActiveEventSet::feed(const AugmentedEvent& a) noexcept {
+void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
   ++stats_.fed;
   const Event& e = a.event;
   if (!sensor_.contains(e.x, e.y)) {
@@ -89,16 +94,38 @@ void ActiveEventSet::feed(const AugmentedEvent& a) noexcept {
   }
 }
 
-std::size_t ActiveEventSet::count_active(std::int64_t t_us) const noexcept {
+std::size_t ActiveEventMap::count_active(std::int64_t t_us) const noexcept {
   const std::int64_t rel = relative_time(t_us);
   std::size_t n = 0;
   for (const std::int32_t expire : expire_rel_) n += rel < expire ? 1u : 0u;
   return n;
 }
 
+std::size_t ActiveEventMap::active_pixels(std::int64_t t_us, std::span<ActivePixel> out) const noexcept {
+  const std::int64_t rel = relative_time(t_us);
+  const auto width = static_cast<std::size_t>(sensor_.width);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < expire_rel_.size(); ++i) {
+    if (!(rel < expire_rel_[i])) continue;
+    if (n < out.size()) {
+      out[n] = ActivePixel{t_us_[i], static_cast<std::uint16_t>(i % width),
+                           static_cast<std::uint16_t>(i / width), polarity_[i],
+                           lifetime_us_[i], vx_px_s_[i], vy_px_s_[i]};
+    }
+    ++n;
+  }
+  return n;
+}
+
+void ActiveEventMap::lifetime_image(std::int64_t t_us, std::span<float> out) const noexcept {
+  const std::int64_t rel = relative_time(t_us);
+  const std::size_t n = std::min(out.size(), expire_rel_.size());
+  for (std::size_t i = 0; i < n; ++i) out[i] = rel < expire_rel_[i] ? lifetime_us_[i] : 0.0f;
+}
+
 // Moves the epoch so that t_us sits near the start of the int32 range:
 // O(sensor), once per ~9 minutes of recording (never on a typical frame).
-void ActiveEventSet::rebase(std::int64_t t_us) noexcept {
+void ActiveEventMap::rebase(std::int64_t t_us) noexcept {
   const std::int64_t new_epoch = t_us - kMaxLifetimeUs;
   if (has_epoch_) {
     const std::int64_t shift = new_epoch - epoch_us_;
@@ -112,4 +139,4 @@ void ActiveEventSet::rebase(std::int64_t t_us) noexcept {
   has_epoch_ = true;
 }
 
-}  // namespace evlife::render
+}  // namespace evlife

@@ -1,12 +1,12 @@
 // Private: the table of readable formats used by open_event_reader.
 //
-// HOW TO ADD A FORMAT (one line): implement, in io/src/<name>_reader.cpp,
+// HOW TO ADD A FORMAT (one line): implement, in io/formats/src/<name>_reader.cpp,
 //     namespace evlife::io::detail {
 //     extern const ReaderFormat <name>_format;   // (declared by the .def line)
 //     const ReaderFormat <name>_format{"name", "description", &sniff_fn, &open_fn};
 //     }
 // (open_with_options / claims_directory: optional, see ReaderFormat)
-// and add `EVLIFE_READER_FORMAT(<name>)` to io/src/reader_formats.def. Nothing
+// and add `EVLIFE_READER_FORMAT(<name>)` to io/formats/src/reader_formats.def. Nothing
 // else changes: declarations and the table are generated from that list.
 // (Self-registration by static initializers is avoided on purpose: the linker
 // drops unreferenced objects of a static library, and the format would vanish.)

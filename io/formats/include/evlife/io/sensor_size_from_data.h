@@ -11,7 +11,10 @@
 
 namespace evlife::io {
 
-/// Reads `path` once (constant memory) and returns {max x + 1, max y + 1}.
+/// Reads `path` once (constant memory) and returns {max x + 1, max y + 1}:
+/// the one rule for a sensor size taken from the data (`process`, `render`,
+/// `run`, the engine's replay). A read fault after some events ends the scan
+/// there (the processing pass reports it after delivering those events).
 /// Throws ReadError when the file cannot be read or holds no event.
 /// `input`: the caller's input selection (topic...); its sensor and
 /// time-order settings are replaced.
@@ -26,8 +29,8 @@ struct ResolvedSensorSize {
   SensorSizeSource source = SensorSizeSource::format;
 };
 
-/// The rule of `evlife process`: the format's sensor where it states one,
-/// else `user` (--sensor), else sensor_size_from_data(path).
+/// The format's sensor where it states one, else `user` (--sensor), else
+/// sensor_size_from_data(path). (Augmented files: io::sensor_size_of_augmented.)
 ResolvedSensorSize resolve_sensor_size(const std::string& path,
                                        std::optional<SensorSize> user,
                                        const ReaderOptions& input = {});

@@ -20,11 +20,17 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
   const std::unique_ptr<EventReader> reader = open_event_reader(path, options);
   std::vector<Event> buffer(1 << 16);
   int max_x = -1, max_y = -1;
-  while (const std::size_t n = reader->read(buffer)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      max_x = std::max<int>(max_x, buffer[i].x);
-      max_y = std::max<int>(max_y, buffer[i].y);
+  try {
+    while (const std::size_t n = reader->read(buffer)) {
+      for (std::size_t i = 0; i < n; ++i) {
+        max_x = std::max<int>(max_x, buffer[i].x);
+        max_y = std::max<int>(max_y, buffer[i].y);
+      }
     }
+  } catch (const ReadError&) {
+    // A fault after some events: the sensor of the events before it; the
+    // processing pass delivers those and then reports the fault (no loss).
+    if (max_x < 0) throw;
   }
   if (max_x < 0) throw ReadError(path, -1, -1, "no events: cannot infer the sensor size");
   return SensorSize{max_x + 1, max_y + 1};

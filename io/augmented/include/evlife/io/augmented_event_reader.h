@@ -31,4 +31,10 @@ class AugmentedEventReader {
 /// missing file or unknown content.
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);
 
+/// The sensor of an augmented file: `user` when given, else the one the file
+/// states (.bin), else {max x + 1, max y + 1} of its events (one pass; the
+/// rule of sensor_size_from_data for raw files). Throws ReadError for an
+/// unreadable or corrupt file or one holding no event.
+SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user = {});
+
 }  // namespace evlife::io

@@ -60,8 +60,8 @@ class Hdf5ColumnFile {
           {"p", H5T_STD_I8LE, H5T_NATIVE_INT8, "1", "polarity: +1 ON (brighter), -1 OFF"},
           {"lifetime", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "us",
            "time the edge needs to move one pixel; 0 = noise"},
-          {"vx", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "px/s", "image-plane velocity, x"},
-          {"vy", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "px/s", "image-plane velocity, y"},
+          {"vx", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "px/s", "normal velocity (perpendicular to the edge), x"},
+          {"vy", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "px/s", "normal velocity (perpendicular to the edge), y"},
           {"prediction_error", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, "us",
            "t minus the time predicted by an earlier event; NaN = no prediction"},
       }};

@@ -1,0 +1,41 @@
+#include "evlife/io/augmented_event_reader.h"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "augmented_bin_format.h"
+#include "augmented_formats.h"
+#include "input_file.h"
+
+namespace evlife::io {
+
+std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path) {
+  char head[8] = {};
+  {
+    const detail::InputFile file(path);
+    file.read_at(0, std::as_writable_bytes(std::span(head)));
+  }
+  if (std::memcmp(head, detail::augmented_bin::kMagic.data(), 8) == 0)
+    return detail::open_augmented_bin_reader(path);
+  return detail::open_augmented_csv_reader(path);  // checks its header
+}
+
+SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user) {
+  if (user) return *user;
+  const std::unique_ptr<AugmentedEventReader> reader = open_augmented_reader(path);
+  if (const std::optional<SensorSize> stated = reader->sensor_size(); stated && stated->width > 0)
+    return *stated;
+  std::vector<AugmentedEvent> buf(4096);
+  SensorSize s{0, 0};
+  while (const std::size_t n = reader->read(buf)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      s.width = std::max(s.width, buf[i].event.x + 1);
+      s.height = std::max(s.height, buf[i].event.y + 1);
+    }
+  }
+  if (s.width == 0) throw ReadError(path, -1, -1, "holds no event: cannot tell the sensor size (give --sensor WxH)");
+  return s;
+}
+
+}  // namespace evlife::io

@@ -1,0 +1,88 @@
+// Where drawn frames go: numbered PNG files in a folder, one PNG file, or a
+// video file (an on-screen window: engine/cli/window_frame_sink.h). A frame
+// is a plain image (FrameImage, no OpenCV in this header), so the engine's
+// render stage and the command line hand frames to the same sinks. Called
+// from one thread; write() may throw std::runtime_error naming the file.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace evlife::render {
+
+class VideoFile;
+
+/// A view of an 8-bit BGR image (3 bytes a pixel), rows `stride_bytes` apart.
+struct FrameImage {
+  const std::uint8_t* bgr = nullptr;
+  int width = 0;
+  int height = 0;
+  std::size_t stride_bytes = 0;
+};
+
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  /// `t_us` names the frame (file sinks put it into the file name).
+  virtual void write(const FrameImage& frame, std::int64_t t_us) = 0;
+  virtual void finish() {}
+
+ protected:
+  FrameSink() = default;
+  FrameSink(const FrameSink&) = default;
+  FrameSink& operator=(const FrameSink&) = default;
+};
+
+/// How PngFolderFrameSink names its files.
+enum class FrameFileNames {
+  microseconds,  ///< frame_000000_t500000.png (`evlife run --frames`)
+  seconds,       ///< frame_000000_t0.500000s.png (`evlife render -o DIR`)
+};
+
+/// DIR/frame_000000_t<t>.png, ... Creates DIR (and its parents). Throws
+/// std::runtime_error naming the folder or file that cannot be written.
+class PngFolderFrameSink final : public FrameSink {
+ public:
+  explicit PngFolderFrameSink(std::string dir, FrameFileNames names = FrameFileNames::microseconds);
+  void write(const FrameImage& frame, std::int64_t t_us) override;
+  /// The file name of frame number `index` at `t_us`.
+  static std::string file_name(long long index, std::int64_t t_us, FrameFileNames names);
+
+ private:
+  std::string dir_;
+  FrameFileNames names_;
+  long long index_ = 0;
+};
+
+/// Every frame to one image file (FILE.png: the frame of one instant).
+/// Creates the parent folders.
+class ImageFileFrameSink final : public FrameSink {
+ public:
+  explicit ImageFileFrameSink(std::string path);
+  void write(const FrameImage& frame, std::int64_t t_us) override;
+
+ private:
+  std::string path_;
+};
+
+/// A video (.mp4: codec mp4v, else MJPG; render/media.h) played at
+/// `playback_fps`; opened by open() or at the first frame (its size). Creates
+/// the parent folders. Throws std::runtime_error naming the file and codec.
+class VideoFrameSink final : public FrameSink {
+ public:
+  VideoFrameSink(std::string path, double playback_fps);
+  ~VideoFrameSink() override;
+  /// Opens the file now (to report an unwritable path before drawing).
+  void open(int width, int height);
+  void write(const FrameImage& frame, std::int64_t t_us) override;
+  void finish() override;
+
+ private:
+  std::string path_;
+  double playback_fps_;
+  std::unique_ptr<VideoFile> video_;
+};
+
+}  // namespace evlife::render

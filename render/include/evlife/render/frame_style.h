@@ -1,0 +1,30 @@
+// How a frame looks: colour, scale, caption, legend, lifetime colour range.
+// Plain values, no OpenCV: the engine's public headers take a FrameStyle.
+#pragma once
+
+#include <string_view>
+
+namespace evlife::render {
+
+enum class ColorMode {
+  lifetime,  ///< colour by lifetime (LifetimeColormap); windows have none: drawn plain
+  polarity,  ///< ON green, OFF magenta
+  plain,     ///< white
+};
+
+/// "lifetime", "polarity", "plain"; throws std::invalid_argument otherwise.
+ColorMode parse_color_mode(std::string_view name);
+std::string_view to_string(ColorMode mode);
+
+struct FrameStyle {
+  ColorMode color = ColorMode::lifetime;
+  int scale = 4;          ///< integer upscaling, 1..32 (nearest neighbour: pixels stay crisp)
+  bool caption = true;    ///< time and mode under the image
+  bool legend = true;     ///< lifetime colour bar (only drawn when colouring by lifetime)
+  /// Lifetime colour scale (log): at or below min the first colour, at or
+  /// above max the last; 0 < min < max (checked by FrameComposer).
+  double lifetime_min_us = 300.0;
+  double lifetime_max_us = 30000.0;
+};
+
+}  // namespace evlife::render

@@ -1,0 +1,71 @@
+#include "evlife/render/frame_sink.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "evlife/render/media.h"
+
+namespace evlife::render {
+
+namespace {
+
+void create_parent(const std::string& path) {
+  const auto parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(parent, ec);  // a failure shows when the file is written
+}
+
+}  // namespace
+
+PngFolderFrameSink::PngFolderFrameSink(std::string dir, FrameFileNames names)
+    : dir_(std::move(dir)), names_(names) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec || !std::filesystem::is_directory(dir_)) {
+    throw std::runtime_error("cannot create directory " + dir_ + ": " +
+                             (ec ? ec.message() : std::string("not a directory")));
+  }
+}
+
+std::string PngFolderFrameSink::file_name(long long index, std::int64_t t_us, FrameFileNames names) {
+  char name[80];
+  if (names == FrameFileNames::seconds) {
+    std::snprintf(name, sizeof name, "frame_%06lld_t%.6fs.png", index, static_cast<double>(t_us) * 1e-6);
+  } else {
+    std::snprintf(name, sizeof name, "frame_%06lld_t%lld.png", index, static_cast<long long>(t_us));
+  }
+  return name;
+}
+
+void PngFolderFrameSink::write(const FrameImage& frame, std::int64_t t_us) {
+  write_image((std::filesystem::path(dir_) / file_name(index_++, t_us, names_)).string(), as_mat(frame));
+}
+
+ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { create_parent(path_); }
+
+void ImageFileFrameSink::write(const FrameImage& frame, std::int64_t) { write_image(path_, as_mat(frame)); }
+
+VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
+    : path_(std::move(path)), playback_fps_(playback_fps) {
+  create_parent(path_);
+}
+
+VideoFrameSink::~VideoFrameSink() = default;
+
+void VideoFrameSink::open(int width, int height) {
+  if (!video_) video_ = open_video(path_, playback_fps_, cv::Size(width, height));
+}
+
+void VideoFrameSink::write(const FrameImage& frame, std::int64_t) {
+  open(frame.width, frame.height);
+  video_->write(as_mat(frame));
+}
+
+void VideoFrameSink::finish() {
+  if (video_) video_->close();
+}
+
+}  // namespace evlife::render
