@@ -695,26 +695,58 @@ TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
 #if __has_include("evlife/config/config.h")
 #include "evlife/config/config.h"
 
+#include "evlife/config/config_key.h"
+
 TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
-  const evlife::config::EngineSection c;
+  const evlife::config::Config c;
   const ee::EngineOptions o;
-  EXPECT_EQ(c.workers, o.workers);
-  EXPECT_EQ(c.tiles_x, o.tiles_x);
-  EXPECT_EQ(c.tiles_y, o.tiles_y);
-  EXPECT_EQ(c.margin_px, o.margin_px);
-  EXPECT_EQ(static_cast<std::size_t>(c.batch_events), o.batch_events);
-  EXPECT_EQ(static_cast<std::size_t>(c.batches_per_worker), o.batches_per_worker);
-  EXPECT_EQ(c.policy, "auto");
-  EXPECT_TRUE(o.auto_policy);
-  EXPECT_EQ(c.stats_period_s, o.stats_period_s);
-  EXPECT_EQ(c.idle_spin_us, o.idle_spin_us);
+  EXPECT_EQ(c.engine.workers, o.workers);
+  EXPECT_EQ(c.engine.batches_per_worker, o.batches_per_worker);
+  EXPECT_TRUE(c.engine.auto_policy);
   EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/true), ee::kAutoIdleSpinUs);
   EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/false), 0);
   ee::EngineOptions fixed;
   fixed.idle_spin_us = 7;
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, true), 7);
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
-  EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
+  EXPECT_EQ(o.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
+}
+
+// One table, three readers: every entry is a configuration key with the
+// table's range, and the configuration and validate_engine_options() both
+// refuse a value just past either end of it (and accept the ends).
+TEST(EngineConfig, KeysAndValidationFollowTheOptionTable) {
+  int entries = 0;
+  ee::for_each_engine_option([&](const evlife::OptionInfo& info, auto field) {
+    ++entries;
+    const std::string key = "engine." + std::string(info.key);
+    const auto* k = evlife::config::find_config_key(key);
+    ASSERT_NE(k, nullptr) << key;
+    EXPECT_EQ(k->allowed, info.range_text()) << key;
+    for (const double v : {info.lo, info.hi, info.lo - 1, info.hi + 1}) {
+      const bool inside = info.contains(v);  // -1 too for the "auto" entries
+      ee::EngineOptions o;
+      field(o) = static_cast<std::remove_reference_t<decltype(field(o))>>(v);
+      const std::string err = ee::validate_engine_options(o);
+      EXPECT_EQ(err.empty(), inside) << key << " = " << v << ": " << err;
+      if (!inside) {
+        EXPECT_NE(err.find(key), std::string::npos) << err;
+      }
+      evlife::config::ConfigBuilder b;
+      bool accepted = true;
+      try {
+        b.set(key, std::to_string(static_cast<long long>(v)), "test");
+        (void)b.build();
+      } catch (const evlife::config::ConfigError&) {
+        accepted = false;
+      }
+      if (v >= 0 || std::is_signed_v<std::remove_reference_t<decltype(field(o))>>) {
+        EXPECT_EQ(accepted, inside) << key << " = " << v;
+      }
+    }
+  });
+  EXPECT_GE(entries, 9);
+  EXPECT_NE(evlife::config::find_config_key("engine.policy"), nullptr);
 }
 #endif
 

@@ -43,8 +43,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr OptionSpec kEvalOptions[] = {
-    {"output", 'o', true, false},    {"sensor", 0, true, false},  {"config", 0, true, false},
-    {"set", 0, true, true},          {"sample-every", 0, true, false}, {"frame-at", 0, true, false},
+    {"output", 'o', true, false},    {"sensor", 0, true, false},  kConfigOptionSpec,
+    kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"sample-every", 0, true, false}, {"frame-at", 0, true, false, "at"},
     {"quiet", 'q', false, false},    {"help", 'h', false, false},
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
@@ -88,14 +89,16 @@ void print_eval_help(std::FILE* out) {
       "Options:\n"
       "  -o, --output DIR       required.\n"
       "  --sample-every DUR     sharpness sampling period (default 50ms).\n"
-      "  --frame-at T           instant of compare_frame.png, seconds from the first event\n"
+      "  -i, --input FILE       the INPUT (also as the first argument).\n"
+      "  --frame-at T, --at T   instant of compare_frame.png, seconds from the first event\n"
       "                         (default 0.5; the last sample if the recording is shorter).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
       );
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
-      "  --config FILE, --set KEY=VALUE   estimator configuration, as for `evlife process`.\n"
-      "  -q, --quiet            no progress and no summary on stdout.\n"
+      "  -q, --quiet            no progress and no summary on stdout.\n");
+  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fprintf(out,
       "\n"
       "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"
       "\n"
@@ -108,7 +111,8 @@ struct EvalArgs {
   std::string output;
   std::optional<SensorSize> sensor;
   io::ReaderOptions input_options;  // --topic
-  LifetimeOptions estimator;
+  config::LoadedConfig config;
+  bool print_config = false;
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
   bool quiet = false;
@@ -117,29 +121,21 @@ struct EvalArgs {
 EvalArgs parse_eval_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kEvalOptions);
   EvalArgs e;
+  e.config = load_command_config(a);
+  e.print_config = a.has("print-config");
+  if (e.print_config) return e;
   if (a.positional.empty()) throw UsageError("missing INPUT");
   if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
   e.input = a.positional.front();
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;
-  try {
-    if (const auto s = a.value("sample-every")) e.sample_every_us = render::parse_duration_us(*s);
-    if (const auto s = a.value("frame-at")) e.frame_at_us = render::parse_duration_us(*s);
-  } catch (const std::invalid_argument& ex) {
-    throw UsageError(ex.what());
-  }
+  if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
+  if (const auto s = a.value("frame-at")) e.frame_at_us = parse_time_flag("frame-at", *s);
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
   if (const auto s = a.value("sensor")) e.sensor = parse_sensor_size(*s);
   e.input_options = parse_input_options(a);
   e.quiet = a.has("quiet");
-  config::ConfigBuilder builder;
-  if (const auto c = a.value("config"))
-    builder.load_file(*c);
-  else
-    builder.load_default_file_if_present();
-  for (const auto& s : a.values("set")) builder.set(s);
-  e.estimator = builder.build().estimator;
   return e;
 }
 
@@ -550,6 +546,10 @@ int eval_recording(int argc, char** argv) {
   if (const auto done = start_command("eval", argc, argv, print_eval_help, [&] { args = parse_eval_args(argc, argv); })) {
     return *done;
   }
+  if (args.print_config) {
+    print_config(args.config);
+    return kExitOk;
+  }
   std::error_code ec;
   fs::create_directories(args.output, ec);
   if (ec || !fs::is_directory(args.output)) {
@@ -565,7 +565,7 @@ int eval_recording(int argc, char** argv) {
   try {
     // The configured run first: it also measures sharpness.
     auto run_once = [&](int n, bool reg, bool primary) {
-      LifetimeOptions o = args.estimator;
+      LifetimeOptions o = args.config.config.estimator;
       o.window_size = n;
       o.regularization = reg;
       const auto t0 = std::chrono::steady_clock::now();
@@ -587,18 +587,18 @@ int eval_recording(int argc, char** argv) {
       r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       runs.push_back(std::move(r));
     };
-    run_once(args.estimator.window_size, args.estimator.regularization, true);
+    run_once(args.config.config.estimator.window_size, args.config.config.estimator.regularization, true);
     if (!runs.front().from_file) {
       for (int n : {3, 5, 7})
         for (bool reg : {false, true})
-          if (n != args.estimator.window_size || reg != args.estimator.regularization) run_once(n, reg, false);
+          if (n != args.config.config.estimator.window_size || reg != args.config.config.estimator.regularization) run_once(n, reg, false);
       // Order the table by N, then regularization.
       std::stable_sort(runs.begin(), runs.end(), [](const RunResult& a, const RunResult& b) {
         return a.window_size != b.window_size ? a.window_size < b.window_size : a.regularization < b.regularization;
       });
       for (std::size_t i = 0; i < runs.size(); ++i)
-        if (runs[i].window_size == args.estimator.window_size &&
-            runs[i].regularization == args.estimator.regularization)
+        if (runs[i].window_size == args.config.config.estimator.window_size &&
+            runs[i].regularization == args.config.config.estimator.regularization)
           primary_index = i;
     }
   } catch (const io::ReadError& e) {

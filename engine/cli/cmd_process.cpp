@@ -34,8 +34,8 @@ extern "C" void on_stop_signal(int signal) { g_stop_signal = signal; }
 
 constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
-    {"config", 0, true, false},       {"set", 0, true, true},
-    {"print-config", 0, false, false}, {"quiet", 'q', false, false},
+    kConfigOptionSpec, kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"quiet", 'q', false, false},
     {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
@@ -108,9 +108,7 @@ struct ProcessArgs {
   std::string output;
   std::optional<SensorSize> sensor;
   io::ReaderOptions input_options;     // --topic
-  config::ConfigBuilder config;
-  std::string config_source;           // for the summary
-  std::vector<std::string> overrides;  // --set, in order
+  config::LoadedConfig config;
   bool print_config = false;
   bool quiet = false;
 };
@@ -120,15 +118,7 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   ProcessArgs p;
   p.print_config = a.has("print-config");
   p.quiet = a.has("quiet");
-  if (const auto c = a.value("config")) {
-    p.config.load_file(*c);
-    p.config_source = *c;
-  } else {
-    p.config_source = p.config.load_default_file_if_present();
-    if (p.config_source.empty()) p.config_source = "built-in defaults";
-  }
-  p.overrides = a.values("set");
-  for (const auto& s : p.overrides) p.config.set(s);
+  p.config = load_command_config(a);
   if (const auto s = a.value("sensor")) p.sensor = parse_sensor_size(*s);
   p.input_options = parse_input_options(a);
   if (p.print_config) return p;
@@ -186,10 +176,10 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }
   if (args.sensor) return {*args.sensor, "--sensor"};
-  if (const auto* o = args.config.origin("estimator.sensor.width"); o && o->by_user) {
+  if (const auto* o = args.config.builder.origin("estimator.sensor.width"); o && o->by_user) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
-  if (const auto* o = args.config.origin("estimator.sensor.height"); o && o->by_user) {
+  if (const auto* o = args.config.builder.origin("estimator.sensor.height"); o && o->by_user) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
   if (!args.quiet) {
@@ -208,13 +198,12 @@ int process_recording(int argc, char** argv) {
   config::Config cfg;
   if (const auto done = start_command("process", argc, argv, print_help, [&] {
         args = parse_process_args(argc, argv);
-        cfg = args.config.build();
+        cfg = args.config.config;
       })) {
     return *done;
   }
   if (args.print_config) {
-    std::fprintf(stdout, "# effective configuration (from %s and --set)\n%s",
-                 args.config_source.c_str(), config::to_yaml(cfg).c_str());
+    print_config(args.config);
     return kExitOk;
   }
 
@@ -303,9 +292,7 @@ int process_recording(int argc, char** argv) {
     std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
                  static_cast<int>(reader->format_name().size()), reader->format_name().data(),
                  sensor.size.width, sensor.size.height, sensor.source.c_str());
-    std::fprintf(stdout, "  configuration       %s", args.config_source.c_str());
-    for (const auto& s : args.overrides) std::fprintf(stdout, ", --set %s", s.c_str());
-    std::fprintf(stdout, "\n");
+    std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
     summary.print(stdout, wall_s, estimator_s);
     if (input_fault || output_fault || g_stop_signal != 0) {
       std::fprintf(stdout, "  stopped early       %s (see the message below)\n",

@@ -31,6 +31,7 @@
 #include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
 #include "exit_code.h"
+#include "lifetime_summary.h"
 
 namespace evlife::cli {
 namespace {
@@ -39,12 +40,14 @@ volatile std::sig_atomic_t g_render_stop = 0;
 extern "C" void on_render_stop(int signal) { g_render_stop = signal; }
 
 constexpr OptionSpec kRenderOptions[] = {
-    {"output", 'o', true, false},  {"at", 0, true, false},          {"fps", 0, true, false},
-    {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false},
+    {"output", 'o', true, false, "frames,video"},  {"at", 0, true, false},
+    {"fps", 0, true, false, "render-fps"},
+    {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false, "render-mode"},
     {"color", 0, true, false},     {"scale", 0, true, false},       {"no-caption", 0, false, false},
     {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
-    {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
-    {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
+    {"video-fps", 0, true, false}, {"sensor", 0, true, false},      kConfigOptionSpec,
+    kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"quiet", 'q', false, false},    {"help", 'h', false, false},
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec,
 };
 
@@ -71,13 +74,16 @@ void print_render_help(std::FILE* out) {
       "  -o, --output PATH   required. A directory (created) for PNG frames named\n"
       "                      frame_NNNNNN_tSECONDS.png; FILE.png for one --at instant; or a\n"
       "                      video: .mp4 (codec mp4v) or .avi (codec MJPG), via OpenCV.\n"
+      "                      (--frames DIR and --video FILE, as in `evlife run`, too.)\n"
+      "  -i, --input FILE    the INPUT (also as the first argument).\n"
       "  --at T1,T2,...      instants to draw, seconds from the first event (any value,\n"
       "                      not only frame multiples; e.g. 0.25,0.5,1.0 or 250ms,1s).\n"
       "                      Drawn in increasing order in one pass.\n"
       "  --fps F             draw F frames per second of recording time (default 30 when\n"
       "                      --at is not given), from --from (default 0) to --to (default:\n"
       "                      the last event).\n"
-      "  -m, --mode M        lifetime (default): the active events.\n"
+      "  -m, --mode M        lifetime (default): the active events. (--render-mode and\n"
+      "                      --render-fps, as `evlife run` spelled them, are accepted.)\n"
       "                      window:DUR: every event of the fixed window [t-DUR, t], e.g.\n"
       "                      window:30ms (the naive method).\n"
       "                      compare: 1 ms window | 30 ms window | lifetime, side by side,\n"
@@ -97,8 +103,9 @@ void print_render_help(std::FILE* out) {
       );
   std::fputs(std::string(kInputOptionsHelp).c_str(), out);
   std::fprintf(out,
-      "  --config FILE, --set KEY=VALUE  estimator configuration (raw input only).\n"
-      "  -q, --quiet         no progress and no summary.\n"
+      "  -q, --quiet         no progress and no summary.\n");
+  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fprintf(out,
       "\n"
       "Progress (frames, recording time) goes to stderr; the summary to stdout.\n"
       "Exit status: 0 done; 2 bad command line; 3 input error (frames drawn before the\n"
@@ -131,35 +138,23 @@ struct RenderArgs {
   std::optional<double> video_fps;
   std::optional<SensorSize> sensor;
   io::ReaderOptions input_options;  // --topic
-  LifetimeOptions estimator;
+  config::LoadedConfig config;
+  bool print_config = false;
   bool quiet = false;
 };
 
 double parse_positive(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !(v > 0.0) || !std::isfinite(v)) {
-    throw UsageError("--" + option + " " + text + ": expected a positive number");
-  }
+  const double v = parse_number<double>(option, text, 0.0, 1e300);
+  if (v == 0.0) throw UsageError("--" + option + " " + text + ": expected a positive number");
   return v;
-}
-
-std::int64_t parse_time_us(const std::string& option, const std::string& text) {
-  try {
-    return render::parse_duration_us(text);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError("--" + option + ": " + e.what());
-  }
 }
 
 RenderArgs parse_render_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
   RenderArgs r;
+  r.config = load_command_config(a);
+  r.print_config = a.has("print-config");
+  if (r.print_config) return r;
   if (a.positional.empty()) throw UsageError("missing INPUT");
   if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
   r.input = a.positional.front();
@@ -182,9 +177,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto f = a.value("fps")) r.fps = parse_positive("fps", *f);
   if (r.fps > 1e6) throw UsageError("--fps " + std::to_string(r.fps) + ": at most 1e6");
-  if (const auto f = a.value("from")) r.from_us = parse_time_us("from", *f);
+  if (const auto f = a.value("from")) r.from_us = parse_time_flag("from", *f);
   if (const auto f = a.value("to")) {
-    r.to_us = parse_time_us("to", *f);
+    r.to_us = parse_time_flag("to", *f);
     if (*r.to_us < r.from_us) throw UsageError("--to is before --from");
   }
   if (const auto m = a.value("mode")) r.mode = *m;
@@ -214,13 +209,6 @@ RenderArgs parse_render_args(int argc, char** argv) {
   r.input_options = parse_input_options(a, /*crop=*/false);
   r.quiet = a.has("quiet");
 
-  config::ConfigBuilder builder;
-  if (const auto c = a.value("config"))
-    builder.load_file(*c);
-  else
-    builder.load_default_file_if_present();
-  for (const auto& s : a.values("set")) builder.set(s);
-  r.estimator = builder.build().estimator;
   return r;
 }
 
@@ -267,10 +255,14 @@ int render_recording(int argc, char** argv) {
   if (const auto done = start_command("render", argc, argv, print_render_help, [&] { args = parse_render_args(argc, argv); })) {
     return *done;
   }
+  if (args.print_config) {
+    print_config(args.config);
+    return kExitOk;
+  }
 
   std::unique_ptr<render::AugmentedSource> source;
   try {
-    source = render::open_augmented_source(args.input, args.estimator, args.sensor, args.input_options);
+    source = render::open_augmented_source(args.input, args.config.config.estimator, args.sensor, args.input_options);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
     return kExitInput;
@@ -405,9 +397,19 @@ int render_recording(int argc, char** argv) {
       std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
                    static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
     }
+    std::fprintf(stdout, "  time range          %s%s\n",
+                 format_time_range(*first_t, cursor.last_fed_t_us()).c_str(),
+                 cursor.exhausted() ? "" : " (read so far)");
     if (after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", after_end);
     std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
                  frames ? 1e3 * draw_s / static_cast<double>(frames) : 0.0);
+  }
+  if (after_end > 0 && !args.at_us.empty()) {
+    std::fprintf(stderr,
+                 "evlife render: warning: %zu of the --at instants lie after the last event "
+                 "(the recording is %.6f s long; --at takes seconds from the first event, or "
+                 "a unit: 500ms, 20us)\n",
+                 after_end, static_cast<double>(cursor.last_fed_t_us() - *first_t) * 1e-6);
   }
   if (output_fault) {
     std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", output_fault->c_str(), frames);
