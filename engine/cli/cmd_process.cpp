@@ -2,6 +2,7 @@
 // its lifetime and velocity. Streams batch by batch (constant memory); on bad
 // input writes and flushes everything before the fault, then exits non-zero.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "command.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/config/config.h"
+#include "evlife/engine/process_stream.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
@@ -29,8 +31,9 @@ namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;  // 1 MiB in, 2 MiB out
 
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void on_stop_signal(int signal) { g_stop_signal = signal; }
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
 
 constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
@@ -246,43 +249,20 @@ int process_recording(int argc, char** argv) {
                          [&] { return static_cast<std::int64_t>(reader->bytes_consumed()); });
   progress.set_enabled(!args.quiet);
   LifetimeSummary summary;
-  std::vector<Event> in(kBatchEvents);
-  std::vector<AugmentedEvent> out(kBatchEvents);
-  double estimator_s = 0.0;
-  std::optional<std::string> input_fault;
-  std::optional<std::string> output_fault;
-
-  g_stop_signal = 0;
+  g_stop = false;
   const auto old_int = std::signal(SIGINT, on_stop_signal);
   const auto old_term = std::signal(SIGTERM, on_stop_signal);
-  while (g_stop_signal == 0) {
-    std::size_t n = 0;
-    try {
-      n = reader->read(in);
-    } catch (const io::ReadError& e) {
-      input_fault = e.what();
-      break;
-    }
-    if (n == 0) break;
-    const auto t0 = std::chrono::steady_clock::now();
-    estimator->process(std::span<const Event>(in.data(), n), std::span(out.data(), n));
-    estimator_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    try {
-      writer->write(std::span<const AugmentedEvent>(out.data(), n));
-    } catch (const io::WriteError& e) {
-      output_fault = e.what();
-      break;
-    }
-    summary.add(std::span<const AugmentedEvent>(out.data(), n));
-    progress.update(summary.events());
-  }
+  const engine::ProcessStreamResult result = engine::process_stream(
+      *reader, *estimator, *writer,
+      [&](std::span<const AugmentedEvent> batch) {
+        summary.add(batch);
+        progress.update(summary.events());
+      },
+      &g_stop, kBatchEvents);
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  try {
-    writer->close();  // flushes: everything before a fault reaches the disk
-  } catch (const io::WriteError& e) {
-    if (!output_fault) output_fault = e.what();
-  }
+  const auto& input_fault = result.input_fault;
+  const auto& output_fault = result.output_fault;
   progress.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -293,8 +273,8 @@ int process_recording(int argc, char** argv) {
                  static_cast<int>(reader->format_name().size()), reader->format_name().data(),
                  sensor.size.width, sensor.size.height, sensor.source.c_str());
     std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
-    summary.print(stdout, wall_s, estimator_s);
-    if (input_fault || output_fault || g_stop_signal != 0) {
+    summary.print(stdout, wall_s, result.estimator_s);
+    if (input_fault || output_fault || result.stopped) {
       std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
                    input_fault ? "input error" : output_fault ? "output error" : "interrupted");
     }
@@ -324,7 +304,7 @@ int process_recording(int argc, char** argv) {
                  input_fault->c_str(), written, args.output.c_str());
     return kExitInput;
   }
-  if (g_stop_signal != 0) {
+  if (result.stopped) {
     std::fprintf(stderr, "evlife process: interrupted; the first %llu events were written to %s\n",
                  written, args.output.c_str());
     return kExitInterrupted;
