@@ -195,6 +195,56 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   return {scan_sensor_size(args.input, args.input_options), "scanned from the data"};
 }
 
+void print_summary(const ProcessArgs& args, const io::EventReader& reader,
+                   const ResolvedSensor& sensor, const LifetimeEstimator& estimator,
+                   const LifetimeSummary& summary, const engine::ProcessStreamResult& result,
+                   double wall_s) {
+  std::fprintf(stdout, "evlife process: %s -> %s\n", args.input.c_str(), args.output.c_str());
+  std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
+               static_cast<int>(reader.format_name().size()), reader.format_name().data(),
+               sensor.size.width, sensor.size.height, sensor.source.c_str());
+  std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
+  summary.print(stdout, wall_s, result.estimator_s);
+  if (result.input_fault || result.output_fault || result.stopped) {
+    std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
+                 result.input_fault ? "input error" : result.output_fault ? "output error" : "interrupted");
+  }
+  if (const auto skipped = reader.skipped_record_count()) {
+    std::fprintf(stdout, "  skipped records     %llu (non-event records of the format)\n",
+                 static_cast<unsigned long long>(skipped));
+  }
+  const LifetimeStats& st = estimator.stats();
+  if (st.out_of_sensor + st.bad_polarity > 0) {
+    std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity\n",
+                 static_cast<unsigned long long>(st.out_of_sensor),
+                 static_cast<unsigned long long>(st.bad_polarity));
+  }
+  std::fflush(stdout);
+}
+
+int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
+  const unsigned long long written = result.events_written;
+  if (result.output_fault) {
+    std::fprintf(stderr, "evlife process: output error: %s (%llu events written before it)\n",
+                 result.output_fault->c_str(), written);
+    return kExitOutput;
+  }
+  if (result.input_fault) {
+    std::fprintf(stderr,
+                 "evlife process: input error: %s\n"
+                 "evlife process: the %llu events before the fault were written to %s\n",
+                 result.input_fault->c_str(), written, args.output.c_str());
+    return kExitInput;
+  }
+  if (result.stopped) {
+    std::fprintf(stderr, "evlife process: interrupted; the first %llu events were written to %s\n",
+                 written, args.output.c_str());
+    return kExitInterrupted;
+  }
+  return kExitOk;
+}
+
+
 int process_recording(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   ProcessArgs args;
@@ -261,55 +311,12 @@ int process_recording(int argc, char** argv) {
       &g_stop, kBatchEvents);
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  const auto& input_fault = result.input_fault;
-  const auto& output_fault = result.output_fault;
   progress.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  if (!args.quiet) {
-    std::fprintf(stdout, "evlife process: %s -> %s\n", args.input.c_str(), args.output.c_str());
-    std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
-                 static_cast<int>(reader->format_name().size()), reader->format_name().data(),
-                 sensor.size.width, sensor.size.height, sensor.source.c_str());
-    std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
-    summary.print(stdout, wall_s, result.estimator_s);
-    if (input_fault || output_fault || result.stopped) {
-      std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
-                   input_fault ? "input error" : output_fault ? "output error" : "interrupted");
-    }
-    if (const auto skipped = reader->skipped_record_count()) {
-      std::fprintf(stdout, "  skipped records     %llu (non-event records of the format)\n",
-                   static_cast<unsigned long long>(skipped));
-    }
-    const LifetimeStats& st = estimator->stats();
-    if (st.out_of_sensor + st.bad_polarity > 0) {
-      std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity\n",
-                   static_cast<unsigned long long>(st.out_of_sensor),
-                   static_cast<unsigned long long>(st.bad_polarity));
-    }
-    std::fflush(stdout);
-  }
-
-  const unsigned long long written = summary.events();
-  if (output_fault) {
-    std::fprintf(stderr, "evlife process: output error: %s (%llu events written before it)\n",
-                 output_fault->c_str(), written);
-    return kExitOutput;
-  }
-  if (input_fault) {
-    std::fprintf(stderr,
-                 "evlife process: input error: %s\n"
-                 "evlife process: the %llu events before the fault were written to %s\n",
-                 input_fault->c_str(), written, args.output.c_str());
-    return kExitInput;
-  }
-  if (result.stopped) {
-    std::fprintf(stderr, "evlife process: interrupted; the first %llu events were written to %s\n",
-                 written, args.output.c_str());
-    return kExitInterrupted;
-  }
-  return kExitOk;
+  if (!args.quiet) print_summary(args, *reader, sensor, *estimator, summary, result, wall_s);
+  return exit_status(args, result);
 }
 
 }  // namespace
