@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -30,14 +31,16 @@
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
+#include "evlife/render/render_recording.h"
 #include "exit_code.h"
 #include "lifetime_summary.h"
 
 namespace evlife::cli {
 namespace {
 
-volatile std::sig_atomic_t g_render_stop = 0;
-extern "C" void on_render_stop(int signal) { g_render_stop = signal; }
+std::atomic<bool> g_render_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
+extern "C" void on_render_stop(int) { g_render_stop.store(true); }
 
 constexpr OptionSpec kRenderOptions[] = {
     {"output", 'o', true, false, "frames,video"},  {"at", 0, true, false},
@@ -120,22 +123,7 @@ void print_render_help(std::FILE* out) {
 
 struct RenderArgs {
   std::string input;
-  std::string output;
-  bool video = false;
-  bool single_png = false;  // -o FILE.png with one --at instant
-  std::vector<std::int64_t> at_us;  // relative to the first event, sorted
-  double fps = 30.0;
-  std::int64_t from_us = 0;
-  std::optional<std::int64_t> to_us;
-  std::string mode = "lifetime";
-  render::ColorMode color = render::ColorMode::lifetime;
-  std::optional<int> scale;
-  bool caption = true;
-  bool legend = true;
-  bool thinning = true;
-  double lifetime_min_us = 300.0;
-  double lifetime_max_us = 30000.0;
-  std::optional<double> video_fps;
+  render::RecordingRenderOptions job;  // what to draw and where
   std::optional<SensorSize> sensor;
   io::ReaderOptions input_options;  // --topic
   config::LoadedConfig config;
@@ -160,51 +148,51 @@ RenderArgs parse_render_args(int argc, char** argv) {
   r.input = a.positional.front();
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
-  r.output = *out;
-  std::string ext = std::filesystem::path(r.output).extension().string();
+  r.job.output = *out;
+  std::string ext = std::filesystem::path(r.job.output).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  r.video = ext == ".mp4" || ext == ".avi";
-  r.single_png = ext == ".png";
+  r.job.video = ext == ".mp4" || ext == ".avi";
+  r.job.single_png = ext == ".png";
   for (const char* other : {".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
-    if (ext == other) throw UsageError("-o " + r.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
+    if (ext == other) throw UsageError("-o " + r.job.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
   }
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
   }
-  if (const auto at = a.value("at")) r.at_us = parse_instants_us("at", *at);
-  if (r.single_png && r.at_us.size() != 1) {
-    throw UsageError("-o " + r.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
+  if (const auto at = a.value("at")) r.job.at_us = parse_instants_us("at", *at);
+  if (r.job.single_png && r.job.at_us.size() != 1) {
+    throw UsageError("-o " + r.job.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }
-  if (const auto f = a.value("fps")) r.fps = parse_positive("fps", *f);
-  if (r.fps > 1e6) throw UsageError("--fps " + std::to_string(r.fps) + ": at most 1e6");
-  if (const auto f = a.value("from")) r.from_us = parse_time_flag("from", *f);
+  if (const auto f = a.value("fps")) r.job.fps = parse_positive("fps", *f);
+  if (r.job.fps > 1e6) throw UsageError("--fps " + std::to_string(r.job.fps) + ": at most 1e6");
+  if (const auto f = a.value("from")) r.job.from_us = parse_time_flag("from", *f);
   if (const auto f = a.value("to")) {
-    r.to_us = parse_time_flag("to", *f);
-    if (*r.to_us < r.from_us) throw UsageError("--to is before --from");
+    r.job.to_us = parse_time_flag("to", *f);
+    if (*r.job.to_us < r.job.from_us) throw UsageError("--to is before --from");
   }
-  if (const auto m = a.value("mode")) r.mode = *m;
+  if (const auto m = a.value("mode")) r.job.mode = *m;
   try {
-    (void)render::parse_view_mode(r.mode);
-    if (const auto c = a.value("color")) r.color = render::parse_color_mode(*c);
+    (void)render::parse_view_mode(r.job.mode);
+    if (const auto c = a.value("color")) r.job.color = render::parse_color_mode(*c);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
   if (const auto s = a.value("scale")) {
     const double v = parse_positive("scale", *s);
     if (v != std::floor(v) || v > 32) throw UsageError("--scale " + *s + ": an integer 1..32");
-    r.scale = static_cast<int>(v);
+    r.job.scale = static_cast<int>(v);
   }
-  r.caption = !a.has("no-caption");
-  r.legend = !a.has("no-legend");
-  r.thinning = !a.has("no-thinning");
+  r.job.caption = !a.has("no-caption");
+  r.job.legend = !a.has("no-legend");
+  r.job.thinning = !a.has("no-thinning");
   if (const auto lr = a.value("lifetime-range")) {
     const auto colon = lr->find(':');
     if (colon == std::string::npos) throw UsageError("--lifetime-range " + *lr + ": expected MIN:MAX in ms, e.g. 0.3:30");
-    r.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon));
-    r.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
-    if (r.lifetime_max_us <= r.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
+    r.job.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon));
+    r.job.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
+    if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
-  if (const auto v = a.value("video-fps")) r.video_fps = parse_positive("video-fps", *v);
+  if (const auto v = a.value("video-fps")) r.job.video_fps = parse_positive("video-fps", *v);
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
   r.input_options = parse_input_options(a, /*crop=*/false);
   r.quiet = a.has("quiet");
@@ -243,13 +231,63 @@ class FrameProgress {
   std::chrono::steady_clock::time_point next_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
 };
 
-std::string frame_name(std::size_t index, std::int64_t rel_us) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "frame_%06zu_t%.6fs.png", index, static_cast<double>(rel_us) * 1e-6);
-  return buf;
+
+void print_summary(const RenderArgs& args, const render::AugmentedSource& source,
+                   const render::RecordingRenderResult& r, double wall_s) {
+  const auto& st = r.stats;
+  std::fprintf(stdout, "evlife render: %s -> %s\n", source.description().c_str(), args.job.output.c_str());
+  std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
+               r.frames, r.frame_size.width, r.frame_size.height, source.sensor().width, source.sensor().height, r.scale,
+               args.job.mode.c_str(), std::string(render::to_string(args.job.color)).c_str());
+  std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
+               static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
+               static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
+  if (st.out_of_sensor + st.late > 0) {
+    std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
+                 static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
+  }
+  std::fprintf(stdout, "  time range          %s%s\n",
+               format_time_range(r.first_t_us, r.last_t_us).c_str(),
+               r.exhausted ? "" : " (read so far)");
+  if (r.after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", r.after_end);
+  std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
+               r.frames ? 1e3 * r.draw_s / static_cast<double>(r.frames) : 0.0);
 }
 
-int render_recording(int argc, char** argv) {
+int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) {
+  if (r.setup_failed) {  // nothing drawn: the output or the first read failed
+    std::fprintf(stderr, "evlife render: %s error: %s\n", r.output_fault ? "output" : "input",
+                 (r.output_fault ? *r.output_fault : r.input_fault.value_or("")).c_str());
+    return r.output_fault ? kExitOutput : kExitInput;
+  }
+  if (r.after_end > 0 && !args.job.at_us.empty()) {
+    std::fprintf(stderr,
+                 "evlife render: warning: %zu of the --at instants lie after the last event "
+                 "(the recording is %.6f s long; --at takes seconds from the first event, or "
+                 "a unit: 500ms, 20us)\n",
+                 r.after_end, static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
+  }
+  if (r.output_fault) {
+    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", r.output_fault->c_str(), r.frames);
+    return kExitOutput;
+  }
+  if (r.input_fault) {
+    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
+                 r.input_fault->c_str(), r.frames, args.job.output.c_str());
+    return kExitInput;
+  }
+  if (r.stopped) {
+    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", r.frames, args.job.output.c_str());
+    return kExitInterrupted;
+  }
+  if (r.frames == 0) {
+    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
+    return kExitInput;
+  }
+  return kExitOk;
+}
+
+int run_render(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   RenderArgs args;
   if (const auto done = start_command("render", argc, argv, print_render_help, [&] { args = parse_render_args(argc, argv); })) {
@@ -270,169 +308,27 @@ int render_recording(int argc, char** argv) {
     std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;
   }
-  const SensorSize sensor = source->sensor();
-  render::ActiveEventSet set(sensor, args.thinning);
-  render::FixedWindowMap window(sensor);
-  render::RenderCursor cursor(*source, set, &window);
-
-  render::FrameStyle style;
-  style.color = args.color;
-  style.scale = args.scale.value_or(std::max(1, 512 / std::max(sensor.width, sensor.height)));
-  style.caption = args.caption;
-  style.legend = args.legend;
-  style.colormap = render::LifetimeColormap(args.lifetime_min_us, args.lifetime_max_us);
-  render::FrameComposer composer(render::parse_view_mode(args.mode), style, args.mode);
-  const cv::Size frame_size = composer.frame_size(sensor);
-
-  std::optional<std::int64_t> first_t;
-  try {
-    first_t = cursor.first_t_us();
-  } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
-    return kExitInput;
-  }
-  if (!first_t) {
+  FrameProgress progress(!args.quiet);
+  g_render_stop = false;
+  const auto old_int = std::signal(SIGINT, on_render_stop);
+  const auto old_term = std::signal(SIGTERM, on_render_stop);
+  const render::RecordingRenderResult result = render::render_recording(
+      *source, args.job, [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
+      &g_render_stop);
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (result.no_events) {
     std::fprintf(stderr, "evlife render: %s holds no event: nothing to draw\n", args.input.c_str());
     return kExitInput;
   }
-
-  // Output.
-  std::unique_ptr<render::VideoFile> video;
-  if (args.video) {
-    const bool mp4 = std::filesystem::path(args.output).extension() == ".mp4";
-    const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
-    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(parent, ec);
-    }
-    try {
-      video = render::open_video(args.output, video_fps, frame_size);
-    } catch (const std::runtime_error& e) {
-      std::fprintf(stderr,
-                   "evlife render: output error: %s with codec %s (missing encoder or unwritable path); "
-                   "try .avi (MJPG) or a directory of PNG frames\n",
-                   e.what(), mp4 ? "mp4v" : "MJPG");
-      return kExitOutput;
-    }
-  } else if (args.single_png) {
-    if (const auto parent = std::filesystem::path(args.output).parent_path(); !parent.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(parent, ec);
-    }
-  } else {
-    std::error_code ec;
-    std::filesystem::create_directories(args.output, ec);
-    if (ec || !std::filesystem::is_directory(args.output)) {
-      std::fprintf(stderr, "evlife render: output error: cannot create directory %s: %s\n",
-                   args.output.c_str(), ec ? ec.message().c_str() : "not a directory");
-      return kExitOutput;
-    }
-  }
-
-  // Frame instants (relative to the first event).
-  std::size_t total = args.at_us.size();
-  if (args.at_us.empty() && args.to_us) {
-    total = static_cast<std::size_t>(std::floor(static_cast<double>(*args.to_us - args.from_us) * 1e-6 * args.fps)) + 1;
-  }
-  auto frame_time = [&](std::size_t k) -> std::int64_t {
-    if (!args.at_us.empty()) return args.at_us[k];
-    return args.from_us + std::llround(static_cast<double>(k) * 1e6 / args.fps);
-  };
-
-  FrameProgress progress(!args.quiet);
-  std::size_t frames = 0;
-  std::size_t after_end = 0;
-  std::optional<std::string> input_fault, output_fault;
-  double draw_s = 0.0;
-  g_render_stop = 0;
-  const auto old_int = std::signal(SIGINT, on_render_stop);
-  const auto old_term = std::signal(SIGTERM, on_render_stop);
-  for (std::size_t k = 0; g_render_stop == 0; ++k) {
-    if (total > 0 && k >= total) break;
-    const std::int64_t rel = frame_time(k);
-    const std::int64_t t = *first_t + rel;
-    try {
-      cursor.advance_to(t);
-    } catch (const io::ReadError& e) {
-      input_fault = e.what();
-      break;
-    }
-    // --fps without --to: stop after the last event.
-    if (args.at_us.empty() && !args.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
-    if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
-    const auto d0 = std::chrono::steady_clock::now();
-    const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
-    draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
-    if (args.video) {
-      video->write(frame);
-    } else {
-      const std::string path = args.single_png ? args.output
-                                               : (std::filesystem::path(args.output) / frame_name(k, rel)).string();
-      try {
-        render::write_image(path, frame);
-      } catch (const std::runtime_error& e) {
-        output_fault = e.what();
-        break;
-      }
-    }
-    ++frames;
-    progress.update(frames, total, static_cast<double>(rel) * 1e-6);
-  }
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
-  if (video) video->close();
-  progress.finish();
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-
-  if (!args.quiet) {
-    const auto& st = set.stats();
-    std::fprintf(stdout, "evlife render: %s -> %s\n", source->description().c_str(), args.output.c_str());
-    std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
-                 frames, frame_size.width, frame_size.height, sensor.width, sensor.height, style.scale,
-                 args.mode.c_str(), std::string(render::to_string(args.color)).c_str());
-    std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
-                 static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
-                 static_cast<unsigned long long>(st.thinned), args.thinning ? "" : " (thinning off)");
-    if (st.out_of_sensor + st.late > 0) {
-      std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
-                   static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
-    }
-    std::fprintf(stdout, "  time range          %s%s\n",
-                 format_time_range(*first_t, cursor.last_fed_t_us()).c_str(),
-                 cursor.exhausted() ? "" : " (read so far)");
-    if (after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", after_end);
-    std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
-                 frames ? 1e3 * draw_s / static_cast<double>(frames) : 0.0);
-  }
-  if (after_end > 0 && !args.at_us.empty()) {
-    std::fprintf(stderr,
-                 "evlife render: warning: %zu of the --at instants lie after the last event "
-                 "(the recording is %.6f s long; --at takes seconds from the first event, or "
-                 "a unit: 500ms, 20us)\n",
-                 after_end, static_cast<double>(cursor.last_fed_t_us() - *first_t) * 1e-6);
-  }
-  if (output_fault) {
-    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", output_fault->c_str(), frames);
-    return kExitOutput;
-  }
-  if (input_fault) {
-    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
-                 input_fault->c_str(), frames, args.output.c_str());
-    return kExitInput;
-  }
-  if (g_render_stop != 0) {
-    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", frames, args.output.c_str());
-    return kExitInterrupted;
-  }
-  if (frames == 0) {
-    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
-    return kExitInput;
-  }
-  return kExitOk;
+  if (!args.quiet && !result.setup_failed) print_summary(args, *source, result, wall_s);
+  return exit_status(args, result);
 }
 
 }  // namespace
 
-EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", render_recording);
+EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", run_render);
 
 }  // namespace evlife::cli
