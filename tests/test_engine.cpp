@@ -887,16 +887,16 @@ TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {
   };
   // Only the instants (stripes starts at t = 0); one past the end is drawn at the end.
   ASSERT_EQ(run_cli("run --source " + in + " -q --render-fps 0 --at 0.5,250ms,9 --frames " + (dir / "a").string()), 0);
-  EXPECT_EQ(frames("a"), (std::vector<std::string>{"frame_000000_t250000.png", "frame_000001_t500000.png",
-                                                   "frame_000002_t9000000.png"}));
+  EXPECT_EQ(frames("a"), (std::vector<std::string>{"frame_000000_t0.250000s.png", "frame_000001_t0.500000s.png",
+                                                   "frame_000002_t9.000000s.png"}));
   // Mixed with 10 frames/s of the event clock: in time order, 0.3 s only once.
   ASSERT_EQ(run_cli("run --source " + in + " -q --render-fps 10 --at 0.25,0.3 --frames " + (dir / "b").string()), 0);
   const auto b = frames("b");
   ASSERT_GE(b.size(), 6u);
   EXPECT_EQ(std::vector<std::string>(b.begin(), b.begin() + 6),
-            (std::vector<std::string>{"frame_000000_t100000.png", "frame_000001_t200000.png",
-                                      "frame_000002_t250000.png", "frame_000003_t300000.png",
-                                      "frame_000004_t400000.png", "frame_000005_t500000.png"}));
+            (std::vector<std::string>{"frame_000000_t0.100000s.png", "frame_000001_t0.200000s.png",
+                                      "frame_000002_t0.250000s.png", "frame_000003_t0.300000s.png",
+                                      "frame_000004_t0.400000s.png", "frame_000005_t0.500000s.png"}));
   EXPECT_EQ(run_cli("run --source " + in + " -q --at 0.5"), 2) << "--at without a frame output";
   EXPECT_EQ(run_cli("run --source " + in + " -q --render-fps 0 --video " + (dir / "x.mp4").string()), 2);
   std::filesystem::remove_all(dir);

@@ -117,7 +117,7 @@ void print_help(std::FILE* out) {
       "                       -o: discarded (counted), e.g. to measure throughput.\n"
       "  --frames DIR         a render thread draws the active events (each event\n"
       "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
-      "                       DIR/frame_NNNNNN_t<us>.png ...\n"
+      "                       DIR/frame_NNNNNN_t<seconds>s.png, as `evlife render` ...\n"
       "  --video FILE         ... or to a video (.mp4 or .avi) playing at --fps.\n"
       "  --window             ... or to an on-screen window (needs a display; q, Esc\n"
       "                       or closing the window stops the run as SIGINT does).\n"

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "evlife/render/media.h"
+#include "evlife/render/render_recording.h"
 
 namespace evlife::engine {
 
@@ -18,10 +19,8 @@ PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
 }
 
 void PngFolderFrameSink::write(const cv::Mat& frame, std::int64_t t_us) {
-  char name[64];
-  std::snprintf(name, sizeof name, "/frame_%06lld_t%lld.png", index_++, static_cast<long long>(t_us));
-  const std::string path = dir_ + name;
-  render::write_image(path, frame);
+  // Named as `evlife render` names its frames (t from the first event, seconds).
+  render::write_image(dir_ + "/" + render::frame_file_name(static_cast<std::size_t>(index_++), t_us), frame);
 }
 
 VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
@@ -52,7 +51,7 @@ RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions&
 void RenderStage::emit(std::int64_t t_us) noexcept {
   if (!error_.empty()) return;
   try {
-    sink_.write(composer_.compose(set_, window_, t_us), t_us);
+    sink_.write(composer_.compose(set_, window_, t_us), t_us - first_t_us_);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     error_ = e.what();
@@ -63,8 +62,10 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
-  if (last_t_us_ == INT64_MIN)  // the first event: the instants count from it
+  if (last_t_us_ == INT64_MIN) {  // the first event: the instants count from it
+    first_t_us_ = t;
     for (auto& at : at_us_) at += t;
+  }
   if (period_us_ > 0 && next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.

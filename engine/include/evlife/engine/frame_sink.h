@@ -17,6 +17,7 @@ namespace evlife::engine {
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
+  /// `t_us`: the frame's instant from the stream's first event (RenderStage).
   virtual void write(const cv::Mat& frame, std::int64_t t_us) = 0;
   virtual void finish() {}
 
@@ -26,7 +27,7 @@ class FrameSink {
   FrameSink& operator=(const FrameSink&) = default;
 };
 
-/// DIR/frame_000000_t<t_us>.png, ... Creates DIR. Throws std::runtime_error
+/// DIR/frame_000000_t0.250000s.png, ... (render::frame_file_name, as `evlife render`). Creates DIR. Throws std::runtime_error
 /// naming the file when one cannot be written.
 class PngFolderFrameSink final : public FrameSink {
  public:
