@@ -116,6 +116,19 @@ std::int64_t parse_time_flag(std::string_view name, std::string_view text) {
   return *us;
 }
 
+bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
+  out.config = load_command_config(a);
+  out.print_config = a.has("print-config");
+  out.quiet = a.has("quiet");
+  if (out.print_config) return false;
+  if (a.positional.empty()) throw UsageError("missing INPUT");
+  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
+  out.input = a.positional.front();
+  if (const auto s = a.value("sensor")) out.sensor = parse_sensor_size(*s);
+  out.input_options = parse_input_options(a, crop);
+  return true;
+}
+
 config::LoadedConfig load_command_config(const ParsedArgs& a) {
   return config::load_config(a.value("config").value_or(""), a.values("set"));
 }

@@ -84,6 +84,23 @@ std::int64_t parse_time_flag(std::string_view name, std::string_view text);
 template <typename T>
 void parse_table_flag(const OptionInfo& info, std::string_view text, T& field);
 
+/// What every command that reads one recording with the estimator's
+/// configuration takes (process, render, eval): INPUT (or -i), --sensor, the
+/// input selection, --config/--set/--print-config, -q.
+struct CommonArgs {
+  std::string input;
+  std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;
+  config::LoadedConfig config;
+  bool print_config = false;
+  bool quiet = false;
+};
+
+/// Fills `out`'s CommonArgs part; with --print-config it stops after the
+/// configuration (no INPUT needed) and returns false. `crop`: --from/--to
+/// select the events read (see parse_input_options).
+bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop = true);
+
 /// The command's configuration from --config / --set (config::load_config:
 /// the one loading path). Throws config::ConfigError.
 config::LoadedConfig load_command_config(const ParsedArgs& a);

@@ -106,36 +106,22 @@ void print_eval_help(std::FILE* out) {
       "  evlife eval stripes.mat -o eval_stripes && xdg-open eval_stripes/summary.html\n");
 }
 
-struct EvalArgs {
-  std::string input;
+struct EvalArgs : CommonArgs {
   std::string output;
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;  // --topic
-  config::LoadedConfig config;
-  bool print_config = false;
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
-  bool quiet = false;
 };
 
 EvalArgs parse_eval_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kEvalOptions);
   EvalArgs e;
-  e.config = load_command_config(a);
-  e.print_config = a.has("print-config");
-  if (e.print_config) return e;
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  e.input = a.positional.front();
+  if (!parse_common_args(a, e)) return e;
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;
   if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
   if (const auto s = a.value("frame-at")) e.frame_at_us = parse_time_flag("frame-at", *s);
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
-  if (const auto s = a.value("sensor")) e.sensor = parse_sensor_size(*s);
-  e.input_options = parse_input_options(a);
-  e.quiet = a.has("quiet");
   return e;
 }
 

@@ -106,29 +106,14 @@ void print_help(std::FILE* out) {
 }
 
 // Everything a run needs, resolved from the command line before any work.
-struct ProcessArgs {
-  std::string input;
+struct ProcessArgs : CommonArgs {
   std::string output;
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;     // --topic
-  config::LoadedConfig config;
-  bool print_config = false;
-  bool quiet = false;
 };
 
 ProcessArgs parse_process_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kOptions);
   ProcessArgs p;
-  p.print_config = a.has("print-config");
-  p.quiet = a.has("quiet");
-  p.config = load_command_config(a);
-  if (const auto s = a.value("sensor")) p.sensor = parse_sensor_size(*s);
-  p.input_options = parse_input_options(a);
-  if (p.print_config) return p;
-
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  p.input = a.positional.front();
+  if (!parse_common_args(a, p)) return p;
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o OUTPUT (a .csv, .bin or .h5 file)");
   p.output = *out;

@@ -121,14 +121,8 @@ void print_render_help(std::FILE* out) {
       "  evlife render augmented.bin -o frames/ --fps 60 --from 0.2 --to 0.4\n");
 }
 
-struct RenderArgs {
-  std::string input;
+struct RenderArgs : CommonArgs {
   render::RecordingRenderOptions job;  // what to draw and where
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;  // --topic
-  config::LoadedConfig config;
-  bool print_config = false;
-  bool quiet = false;
 };
 
 double parse_positive(const std::string& option, const std::string& text) {
@@ -140,12 +134,7 @@ double parse_positive(const std::string& option, const std::string& text) {
 RenderArgs parse_render_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
   RenderArgs r;
-  r.config = load_command_config(a);
-  r.print_config = a.has("print-config");
-  if (r.print_config) return r;
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  r.input = a.positional.front();
+  if (!parse_common_args(a, r, /*crop=*/false)) return r;  // --from/--to: the frames drawn
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
   r.job.output = *out;
@@ -193,9 +182,6 @@ RenderArgs parse_render_args(int argc, char** argv) {
     if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
   if (const auto v = a.value("video-fps")) r.job.video_fps = parse_positive("video-fps", *v);
-  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
-  r.input_options = parse_input_options(a, /*crop=*/false);
-  r.quiet = a.has("quiet");
 
   return r;
 }
