@@ -178,9 +178,9 @@ std::string fmt(const char* format, double v) {
   return buf;
 }
 
-void write_outputs(const EvaluationOptions& args, const std::string& description, SensorSize sensor,
-                   const std::vector<RunResult>& runs, const RunResult& primary,
-                   const SharpnessResult& sharp) {
+void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
+    [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
+    [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
   const fs::path dir(args.output);
   // Fig. 10: lifetime histogram for N = 5 with and without regularization.
   std::vector<std::pair<const RunResult*, const render::Histogram*>> lifetime_series, speed_series;
@@ -214,6 +214,12 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
                       1.0, {{&vx_run, &r.vx_px_s}, {&vy_run, &r.vy_px_s}}, vmax);
   }
 
+}
+
+void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
+    [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
+    [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
+  const fs::path dir(args.output);
   // Fig. 9: CDF of |prediction error|.
   {
     std::vector<render::PlotSeries> plot;
@@ -257,6 +263,12 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
     }
   }
 
+}
+
+void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
+    [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
+    [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
+  const fs::path dir(args.output);
   // Sharpness and completeness.
   {
     std::vector<render::PlotSeries> plot(kMethods);
@@ -298,6 +310,12 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
   }
   if (!sharp.compare_frame.empty()) write_png(dir / "compare_frame.png", sharp.compare_frame);
 
+}
+
+void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
+    [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
+    [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
+  const fs::path dir(args.output);
   // runs.csv
   {
     auto csv = open_csv(dir / "runs.csv");
@@ -314,6 +332,12 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
     }
   }
 
+}
+
+void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
+    [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
+    [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
+  const fs::path dir(args.output);
   // summary.html
   std::ofstream html(dir / "summary.html");
   if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
@@ -360,6 +384,15 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
           "<img src=\"velocity_histogram.png\"><img src=\"velocity_components.png\"><img src=\"sharpness.png\">\n"
        << "<p>The numbers behind every figure are in the CSV file of the same name.</p></body></html>\n";
   if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
+}
+void write_outputs(const EvaluationOptions& args, const std::string& description, SensorSize sensor,
+                   const std::vector<RunResult>& runs, const RunResult& primary,
+                   const SharpnessResult& sharp) {
+  write_histograms(args, description, sensor, runs, primary, sharp);
+  write_prediction_error_cdf(args, description, sensor, runs, primary, sharp);
+  write_sharpness(args, description, sensor, runs, primary, sharp);
+  write_runs_csv(args, description, sensor, runs, primary, sharp);
+  write_summary_html(args, description, sensor, runs, primary, sharp);
 }
 
 }  // namespace
