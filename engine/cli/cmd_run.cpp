@@ -276,6 +276,52 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
   return source;
 }
 
+void print_run_summary(const RunArgs& args, const engine::EventSource& src,
+                       const engine::RunResult& result, const engine::RenderStage* render_stage,
+                       double wall_s) {
+  std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", src.describe().c_str(),
+               args.output.empty() ? "(discarded)" : args.output.c_str(),
+               result.stats.summary().c_str());
+  if (render_stage)
+    std::fprintf(stdout, "frames : %llu %s %s\n",
+                 static_cast<unsigned long long>(render_stage->frames_written()),
+                 args.window ? "shown in" : "written to",
+                 args.window ? "a window" :
+                 args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
+  std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
+  std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
+               wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
+  std::fflush(stdout);
+}
+
+int run_exit_status(const engine::RunResult& result, const engine::RenderStage* render_stage) {
+  if (render_stage && !render_stage->error().empty() &&
+      result.status == engine::RunStatus::completed) {
+    std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
+    return kExitOutput;
+  }
+  switch (result.status) {
+    case engine::RunStatus::completed: return kExitOk;
+    case engine::RunStatus::interrupted:
+      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
+                   static_cast<unsigned long long>(result.stats.events_out));
+      return kExitInterrupted;
+    case engine::RunStatus::source_error:
+      std::fprintf(stderr, "evlife run: input error: %s\n"
+                   "evlife run: the %llu events before it were processed and written\n",
+                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
+      return kExitInput;
+    case engine::RunStatus::sink_error:
+      std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
+      return kExitOutput;
+    case engine::RunStatus::realtime_error:
+      std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
+                   result.message.c_str());
+      return kExitRealtime;
+  }
+  return kExitFailure;
+}
+
 int run_engine(int argc, char** argv) {
   RunArgs args;
   if (const auto done = start_command("run", argc, argv, print_help, [&] {
@@ -367,46 +413,9 @@ int run_engine(int argc, char** argv) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  if (!args.quiet && result.status != engine::RunStatus::realtime_error) {
-    std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", source->describe().c_str(),
-                 args.output.empty() ? "(discarded)" : args.output.c_str(),
-                 result.stats.summary().c_str());
-    if (render_stage)
-      std::fprintf(stdout, "frames : %llu %s %s\n",
-                   static_cast<unsigned long long>(render_stage->frames_written()),
-                   args.window ? "shown in" : "written to",
-                   args.window ? "a window" :
-                   args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
-    std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
-    std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
-                 wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
-    std::fflush(stdout);
-  }
-  if (render_stage && !render_stage->error().empty() &&
-      result.status == engine::RunStatus::completed) {
-    std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
-    return kExitOutput;
-  }
-  switch (result.status) {
-    case engine::RunStatus::completed: return kExitOk;
-    case engine::RunStatus::interrupted:
-      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
-                   static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInterrupted;
-    case engine::RunStatus::source_error:
-      std::fprintf(stderr, "evlife run: input error: %s\n"
-                   "evlife run: the %llu events before it were processed and written\n",
-                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
-      return kExitInput;
-    case engine::RunStatus::sink_error:
-      std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
-      return kExitOutput;
-    case engine::RunStatus::realtime_error:
-      std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
-                   result.message.c_str());
-      return kExitRealtime;
-  }
-  return kExitFailure;
+  if (!args.quiet && result.status != engine::RunStatus::realtime_error)
+    print_run_summary(args, *source, result, render_stage.get(), wall_s);
+  return run_exit_status(result, render_stage.get());
 }
 
 }  // namespace
