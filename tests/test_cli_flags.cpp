@@ -137,6 +137,10 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   EXPECT_TRUE(has(r, "time range")) << r.output;
   const RunResult ok = run("render " + path("a.bin") + " -o " + path("in.png") + " --at 0.2");
   EXPECT_FALSE(has(ok, "warning")) << ok.output;
+  const RunResult e = run("eval " + path("a.bin") + " -o " + path("ev") + " --at 2s");
+  EXPECT_EQ(e.exit_code, 0) << e.output;
+  EXPECT_TRUE(has(e, "time range")) << e.output;
+  EXPECT_TRUE(has(e, "warning: --frame-at 2.000000 s lies after the last event")) << e.output;
 }
 
 }  // namespace

@@ -452,6 +452,15 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
   const auto& sharp = ev.sharp;
   const auto& description = ev.description;
   std::fprintf(out, "evlife eval: %s -> %s/summary.html\n", description.c_str(), args.output.c_str());
+  if (!runs.empty()) {
+    const RunResult& r = runs[ev.primary_index];
+    std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
+                 static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
+                 static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
+    if (args.frame_at_us > r.last_t_us - r.first_t_us)
+      std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "
+                   "compare frame is drawn at the last sample\n", static_cast<double>(args.frame_at_us) * 1e-6);
+  }
   for (const auto& r : runs) {
     std::fprintf(out,
                  "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "

@@ -64,7 +64,14 @@ struct RunResult {
     return events ? static_cast<double>(predictions) / static_cast<double>(events) : 0.0;
   }
 
+  std::int64_t first_t_us = 0;  ///< the recording's time range (events read)
+  std::int64_t last_t_us = 0;
+
   void add(std::span<const AugmentedEvent> batch) {
+    if (!batch.empty()) {
+      if (events == 0) first_t_us = batch.front().event.t_us;
+      last_t_us = batch.back().event.t_us;
+    }
     for (const auto& a : batch) {
       ++events;
       if (a.has_prediction()) {
