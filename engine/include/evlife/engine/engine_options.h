@@ -82,30 +82,28 @@ struct EngineOptions {
 /// one option outside it: see kPolicyKey.
 template <typename F>
 void for_each_engine_option(F&& f) {
-#define EVLIFE_FIELD(member) [](auto& o) -> auto& { return o.member; }
   f(OptionInfo{"workers", "workers", 1, 32, false, false, false, false,
-               "worker threads"}, EVLIFE_FIELD(workers));
+               "worker threads"}, [](auto& o) -> auto& { return o.workers; });
   f(OptionInfo{"tiles_x", "", 1, 256, false, false, false, false,
-               "tiles per polarity, columns (flag: --tiles CxR)"}, EVLIFE_FIELD(tiles_x));
+               "tiles per polarity, columns (flag: --tiles CxR)"}, [](auto& o) -> auto& { return o.tiles_x; });
   f(OptionInfo{"tiles_y", "", 1, 256, false, false, false, false,
-               "tiles per polarity, rows (flag: --tiles CxR)"}, EVLIFE_FIELD(tiles_y));
+               "tiles per polarity, rows (flag: --tiles CxR)"}, [](auto& o) -> auto& { return o.tiles_y; });
   f(OptionInfo{"margin_px", "margin", 0, 1024, false, false, false, true,
                "pixels a worker also processes around its tiles; -1: 4 x N"},
-    EVLIFE_FIELD(margin_px));
+    [](auto& o) -> auto& { return o.margin_px; });
   f(OptionInfo{"batch_events", "batch-events", 16, 65536, false, false, false, false,
-               "events per batch through the queues"}, EVLIFE_FIELD(batch_events));
+               "events per batch through the queues"}, [](auto& o) -> auto& { return o.batch_events; });
   f(OptionInfo{"batches_per_worker", "queue-batches", 2, 1024, false, false, false, false,
-               "batches in flight per worker"}, EVLIFE_FIELD(batches_per_worker));
+               "batches in flight per worker"}, [](auto& o) -> auto& { return o.batches_per_worker; });
   f(OptionInfo{"stats_period_s", "stats-period", 0.0, 3600.0, false, false, false, false,
                "progress line period (1.5s, 500ms); 0: none"},
-    EVLIFE_FIELD(stats_period_s));
+    [](auto& o) -> auto& { return o.stats_period_s; });
   f(OptionInfo{"idle_spin_us", "idle-spin-us", 0, 100000, false, false, false, true,
                "idle worker polls this long before sleeping, us; -1: auto"},
-    EVLIFE_FIELD(idle_spin_us));
+    [](auto& o) -> auto& { return o.idle_spin_us; });
   f(OptionInfo{"replay_packet_us", "packet-us", 0, 1000000, false, false, false, false,
                "paced replays: packet period, us; 0: none"},
-    EVLIFE_FIELD(replay_packet_us));
-#undef EVLIFE_FIELD
+    [](auto& o) -> auto& { return o.replay_packet_us; });
 }
 
 /// The overload policy's configuration key and its values.
