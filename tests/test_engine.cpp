@@ -695,26 +695,58 @@ TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
 #if __has_include("evlife/config/config.h")
 #include "evlife/config/config.h"
 
+#include "evlife/config/config_key.h"
+
 TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
-  const evlife::config::EngineSection c;
+  const evlife::config::Config c;
   const ee::EngineOptions o;
-  EXPECT_EQ(c.workers, o.workers);
-  EXPECT_EQ(c.tiles_x, o.tiles_x);
-  EXPECT_EQ(c.tiles_y, o.tiles_y);
-  EXPECT_EQ(c.margin_px, o.margin_px);
-  EXPECT_EQ(static_cast<std::size_t>(c.batch_events), o.batch_events);
-  EXPECT_EQ(static_cast<std::size_t>(c.batches_per_worker), o.batches_per_worker);
-  EXPECT_EQ(c.policy, "auto");
-  EXPECT_TRUE(o.auto_policy);
-  EXPECT_EQ(c.stats_period_s, o.stats_period_s);
-  EXPECT_EQ(c.idle_spin_us, o.idle_spin_us);
+  EXPECT_EQ(c.engine.workers, o.workers);
+  EXPECT_EQ(c.engine.batches_per_worker, o.batches_per_worker);
+  EXPECT_TRUE(c.engine.auto_policy);
   EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/true), ee::kAutoIdleSpinUs);
   EXPECT_EQ(ee::effective_idle_spin_us(o, /*live_source=*/false), 0);
   ee::EngineOptions fixed;
   fixed.idle_spin_us = 7;
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, true), 7);
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
-  EXPECT_EQ(c.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
+  EXPECT_EQ(o.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
+}
+
+// One table, three readers: every entry is a configuration key with the
+// table's range, and the configuration and validate_engine_options() both
+// refuse a value just past either end of it (and accept the ends).
+TEST(EngineConfig, KeysAndValidationFollowTheOptionTable) {
+  int entries = 0;
+  ee::for_each_engine_option([&](const evlife::OptionInfo& info, auto field) {
+    ++entries;
+    const std::string key = "engine." + std::string(info.key);
+    const auto* k = evlife::config::find_config_key(key);
+    ASSERT_NE(k, nullptr) << key;
+    EXPECT_EQ(k->allowed, info.range_text()) << key;
+    for (const double v : {info.lo, info.hi, info.lo - 1, info.hi + 1}) {
+      const bool inside = info.contains(v);  // -1 too for the "auto" entries
+      ee::EngineOptions o;
+      field(o) = static_cast<std::remove_reference_t<decltype(field(o))>>(v);
+      const std::string err = ee::validate_engine_options(o);
+      EXPECT_EQ(err.empty(), inside) << key << " = " << v << ": " << err;
+      if (!inside) {
+        EXPECT_NE(err.find(key), std::string::npos) << err;
+      }
+      evlife::config::ConfigBuilder b;
+      bool accepted = true;
+      try {
+        b.set(key, std::to_string(static_cast<long long>(v)), "test");
+        (void)b.build();
+      } catch (const evlife::config::ConfigError&) {
+        accepted = false;
+      }
+      if (v >= 0 || std::is_signed_v<std::remove_reference_t<decltype(field(o))>>) {
+        EXPECT_EQ(accepted, inside) << key << " = " << v;
+      }
+    }
+  });
+  EXPECT_GE(entries, 9);
+  EXPECT_NE(evlife::config::find_config_key("engine.policy"), nullptr);
 }
 #endif
 
@@ -855,16 +887,16 @@ TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {
   };
   // Only the instants (stripes starts at t = 0); one past the end is drawn at the end.
   ASSERT_EQ(run_cli("run --source " + in + " -q --render-fps 0 --at 0.5,250ms,9 --frames " + (dir / "a").string()), 0);
-  EXPECT_EQ(frames("a"), (std::vector<std::string>{"frame_000000_t250000.png", "frame_000001_t500000.png",
-                                                   "frame_000002_t9000000.png"}));
+  EXPECT_EQ(frames("a"), (std::vector<std::string>{"frame_000000_t0.250000s.png", "frame_000001_t0.500000s.png",
+                                                   "frame_000002_t9.000000s.png"}));
   // Mixed with 10 frames/s of the event clock: in time order, 0.3 s only once.
   ASSERT_EQ(run_cli("run --source " + in + " -q --render-fps 10 --at 0.25,0.3 --frames " + (dir / "b").string()), 0);
   const auto b = frames("b");
   ASSERT_GE(b.size(), 6u);
   EXPECT_EQ(std::vector<std::string>(b.begin(), b.begin() + 6),
-            (std::vector<std::string>{"frame_000000_t100000.png", "frame_000001_t200000.png",
-                                      "frame_000002_t250000.png", "frame_000003_t300000.png",
-                                      "frame_000004_t400000.png", "frame_000005_t500000.png"}));
+            (std::vector<std::string>{"frame_000000_t0.100000s.png", "frame_000001_t0.200000s.png",
+                                      "frame_000002_t0.250000s.png", "frame_000003_t0.300000s.png",
+                                      "frame_000004_t0.400000s.png", "frame_000005_t0.500000s.png"}));
   EXPECT_EQ(run_cli("run --source " + in + " -q --at 0.5"), 2) << "--at without a frame output";
   EXPECT_EQ(run_cli("run --source " + in + " -q --render-fps 0 --video " + (dir / "x.mp4").string()), 2);
   std::filesystem::remove_all(dir);

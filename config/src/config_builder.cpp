@@ -27,6 +27,23 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
+}  // namespace
+
+std::string closest_name(std::string_view name, const std::vector<std::string_view>& candidates) {
+  std::string_view best;
+  std::size_t best_d = 4;  // suggest only close matches
+  for (const auto c : candidates) {
+    const std::size_t d = edit_distance(name, c);
+    if (d < best_d) {
+      best_d = d;
+      best = c;
+    }
+  }
+  return std::string(best);
+}
+
+namespace {
+
 // True when `prefix` names a section (some key lies below it).
 bool is_section(std::string_view prefix) {
   for (const auto& k : config_keys()) {
@@ -41,16 +58,10 @@ bool is_section(std::string_view prefix) {
 std::string unknown_key_message(const std::string& where, std::string_view key) {
   std::ostringstream msg;
   msg << where << ": unknown configuration key '" << key << "'";
-  const ConfigKey* best = nullptr;
-  std::size_t best_d = 4;  // suggest only close matches
-  for (const auto& k : config_keys()) {
-    const std::size_t d = edit_distance(key, k.name);
-    if (d < best_d) {
-      best_d = d;
-      best = &k;
-    }
-  }
-  if (best) msg << " (did you mean '" << best->name << "'?)";
+  std::vector<std::string_view> all;
+  for (const auto& k : config_keys()) all.push_back(k.name);
+  if (const std::string best = closest_name(key, all); !best.empty())
+    msg << " (did you mean '" << best << "'?)";
   // List the keys of the same top-level section, else the sections.
   const std::string section(key.substr(0, key.find('.')));
   const bool known_section = is_section(section);
@@ -181,11 +192,25 @@ std::string default_config_path() {
 #endif
 }
 
-Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
-  ConfigBuilder b;
-  if (!path.empty()) b.load_file(path);
-  for (const auto& o : overrides) b.set(o);
-  return b.build();
+LoadedConfig load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  LoadedConfig c;
+  if (!path.empty()) {
+    c.builder.load_file(path);
+    c.source = path;
+  } else {
+    c.source = c.builder.load_default_file_if_present();
+    if (c.source.empty()) c.source = "built-in defaults";
+  }
+  c.overrides = overrides;
+  for (const auto& o : overrides) c.builder.set(o);
+  c.config = c.builder.build();
+  return c;
+}
+
+std::string LoadedConfig::describe() const {
+  std::string s = source;
+  for (const auto& o : overrides) s += ", --set " + o;
+  return s;
 }
 
 std::string to_yaml(const Config& config) {

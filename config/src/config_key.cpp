@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "evlife/algo/parse_text.h"
 #include "key_helpers.h"
 
 namespace evlife::config {
@@ -45,11 +46,9 @@ bool parse_bool(std::string_view text, bool& out) {
 }
 
 bool parse_double(std::string_view text, double& out) {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  if (text.empty()) return false;
-  const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(text.data(), end, out);
-  return ec == std::errc() && ptr == end && std::isfinite(out);
+  const auto v = parse_decimal(text);  // the one number parser (algo/)
+  if (v) out = *v;
+  return v.has_value();
 }
 
 namespace {

@@ -1,36 +1,27 @@
-// Keys of the `engine:` section (evlife run), 1:1 with EngineSection; the
-// ranges match evlife::engine::validate_engine_options().
+// Keys of the `engine:` section (evlife run): one per entry of the table next
+// to evlife::engine::EngineOptions (for_each_engine_option), whose ranges
+// validate_engine_options() checks too; plus the overload policy.
 #include "key_helpers.h"
 
 namespace evlife::config::detail {
 
 void add_engine_keys(std::vector<ConfigKey>& keys) {
-  keys.push_back(number_key<int>(
-      "engine.workers", [](auto& c) -> auto& { return c.engine.workers; }, Range<int>{1, 32}));
-  keys.push_back(number_key<int>(
-      "engine.tiles_x", [](auto& c) -> auto& { return c.engine.tiles_x; }, Range<int>{1, 256}));
-  keys.push_back(number_key<int>(
-      "engine.tiles_y", [](auto& c) -> auto& { return c.engine.tiles_y; }, Range<int>{1, 256}));
-  keys.push_back(number_key<int>(
-      "engine.margin_px", [](auto& c) -> auto& { return c.engine.margin_px; },
-      Range<int>{-1, 1024}));
-  keys.push_back(number_key<int>(
-      "engine.batch_events", [](auto& c) -> auto& { return c.engine.batch_events; },
-      Range<int>{16, 65536}));
-  keys.push_back(number_key<int>(
-      "engine.batches_per_worker", [](auto& c) -> auto& { return c.engine.batches_per_worker; },
-      Range<int>{2, 1024}));
-  keys.push_back(string_key("engine.policy", [](auto& c) -> auto& { return c.engine.policy; },
-                            {"auto", "block", "drop"}));
-  keys.push_back(number_key<double>(
-      "engine.stats_period_s", [](auto& c) -> auto& { return c.engine.stats_period_s; },
-      Range<double>{0.0, 3600.0}));
-  keys.push_back(number_key<int>(
-      "engine.idle_spin_us", [](auto& c) -> auto& { return c.engine.idle_spin_us; },
-      Range<int>{-1, 100000}));
-  keys.push_back(number_key<int>(
-      "engine.replay_packet_us", [](auto& c) -> auto& { return c.engine.replay_packet_us; },
-      Range<int>{0, 1000000}));
+  engine::for_each_engine_option([&](const OptionInfo& info, auto field) {
+    keys.push_back(table_key("engine", info, [field](auto& c) -> auto& { return field(c.engine); }));
+  });
+  ConfigKey policy;
+  policy.name = "engine." + std::string(engine::kPolicyKey);
+  policy.type = "string";
+  policy.allowed = "one of: auto, block, drop";
+  policy.doc = "when workers lag: auto (block files, drop cameras), block or drop";
+  policy.parse = [](Config& c, std::string_view text) {
+    return engine::parse_overload_policy(text, c.engine.auto_policy, c.engine.policy);
+  };
+  policy.in_range = [](const Config&) { return true; };
+  policy.format = [](const Config& c) {
+    return std::string(engine::overload_policy_name(c.engine.auto_policy, c.engine.policy));
+  };
+  keys.push_back(std::move(policy));
 }
 
 }  // namespace evlife::config::detail

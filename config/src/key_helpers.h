@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "evlife/algo/option_info.h"
 #include "evlife/config/config_key.h"
 
 namespace evlife::config::detail {
@@ -22,44 +23,19 @@ bool parse_int64(std::string_view text, long long& out);
 bool parse_uint64(std::string_view text, unsigned long long& out);
 std::string format_double(double v);  // shortest text that parses back exactly
 
-/// Numeric interval; open ends exclude the bound. `odd` for window sizes.
-template <typename T>
-struct Range {
-  T lo;
-  T hi;
-  bool lo_open = false;
-  bool hi_open = false;
-  bool odd = false;
+/// The key of one option of a table (evlife/algo/option_info.h): its name is
+/// `section.info.key`, its type follows the field's, its range is the
+/// table's. `field` is a generic lambda returning a reference to the field in
+/// a Config (called with Config& and const Config&).
+template <typename Field>
+ConfigKey table_key(std::string_view section, const OptionInfo& info, Field field);
 
-  bool contains(T v) const {
-    if constexpr (std::is_floating_point_v<T>) {
-      if (!std::isfinite(v)) return false;
-    }
-    const bool lo_ok = lo_open ? v > lo : v >= lo;
-    const bool hi_ok = hi_open ? v < hi : v <= hi;
-    const bool odd_ok = !odd || (static_cast<long long>(v) % 2 != 0);
-    return lo_ok && hi_ok && odd_ok;
-  }
-  std::string text() const {
-    auto num = [](T v) {
-      if constexpr (std::is_floating_point_v<T>) return format_double(v);
-      else return std::to_string(v);
-    };
-    // append(), not operator+: GCC 12 warns falsely (-Wrestrict) on the latter.
-    std::string s = odd ? "odd, " : "";
-    s.append(lo_open ? "(" : "[").append(num(lo)).append(", ").append(num(hi));
-    s.append(hi_open ? ")" : "]");
-    return s;
-  }
-};
-
-/// `field` is a generic lambda returning a reference to the field in a
-/// Config (called with Config& and const Config&).
 template <typename T, typename Field>
-ConfigKey number_key(std::string name, Field field, Range<T> range) {
+ConfigKey number_key(std::string name, Field field, const OptionInfo& info) {
   ConfigKey k;
   k.name = std::move(name);
-  k.allowed = range.text();
+  k.allowed = info.range_text();
+  k.doc = std::string(info.doc);
   if constexpr (std::is_floating_point_v<T>) {
     k.type = "number";
     k.parse = [field](Config& c, std::string_view text) {
@@ -91,7 +67,12 @@ ConfigKey number_key(std::string name, Field field, Range<T> range) {
     };
     k.format = [field](const Config& c) { return std::to_string(field(c)); };
   }
-  k.in_range = [field, range](const Config& c) { return range.contains(field(c)); };
+  k.in_range = [field, info](const Config& c) {
+    // A range that spans the whole 64-bit type (a seed): every value parsed is
+    // in it (a double cannot tell the type's top values apart).
+    if (std::is_unsigned_v<T> && info.hi >= 1.8e19 && info.lo <= 0) return true;
+    return info.contains(static_cast<double>(field(c)));
+  };
   return k;
 }
 
@@ -136,6 +117,19 @@ ConfigKey string_key(std::string name, Field field, const std::vector<std::strin
   };
   k.format = [field](const Config& c) { return std::string(field(c)); };
   return k;
+}
+
+template <typename Field>
+ConfigKey table_key(std::string_view section, const OptionInfo& info, Field field) {
+  std::string name = std::string(section) + "." + std::string(info.key);
+  using T = std::remove_cvref_t<decltype(field(std::declval<Config&>()))>;
+  if constexpr (std::is_same_v<T, bool>) {
+    ConfigKey k = bool_key(std::move(name), field);
+    k.doc = std::string(info.doc);
+    return k;
+  } else {
+    return number_key<T>(std::move(name), field, info);
+  }
 }
 
 // One function per section appends its keys (listed in config_key.cpp).

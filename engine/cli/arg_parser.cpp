@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <stdexcept>
 
-#include "evlife/render/frame_composer.h"
 
 namespace evlife::cli {
 
@@ -18,6 +18,38 @@ std::vector<std::string> ParsedArgs::values(std::string_view name) const {
   const auto it = values_.find(name);
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
+
+namespace {
+
+// True when the comma-separated `list` holds `name`.
+bool names_in(std::string_view list, std::string_view name) {
+  while (!list.empty()) {
+    const auto comma = std::min(list.find(','), list.size());
+    if (list.substr(0, comma) == name) return true;
+    list.remove_prefix(std::min(comma + 1, list.size()));
+  }
+  return false;
+}
+
+std::string unknown_option_message(std::string_view arg, std::span<const OptionSpec> options) {
+  std::vector<std::string> names;
+  for (const auto& o : options) {
+    names.push_back("--" + std::string(o.name));
+    for (std::string_view list = o.also; !list.empty();) {
+      const auto comma = std::min(list.find(','), list.size());
+      names.push_back("--" + std::string(list.substr(0, comma)));
+      list.remove_prefix(std::min(comma + 1, list.size()));
+    }
+  }
+  const std::vector<std::string_view> views(names.begin(), names.end());
+  const std::string_view word = arg.substr(0, arg.find('='));
+  std::string msg = "unknown option '" + std::string(arg) + "'";
+  if (const std::string best = config::closest_name(word, views); !best.empty())
+    msg += " (did you mean '" + best + "'?)";
+  return msg;
+}
+
+}  // namespace
 
 ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options) {
   ParsedArgs out;
@@ -41,14 +73,14 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
         name = name.substr(0, eq);
       }
       for (const auto& o : options) {
-        if (o.name == name) spec = &o;
+        if (o.name == name || names_in(o.also, name)) spec = &o;
       }
     } else if (arg.size() == 2) {
       for (const auto& o : options) {
         if (o.alias != 0 && o.alias == arg[1]) spec = &o;
       }
     }
-    if (!spec) throw UsageError("unknown option '" + std::string(arg) + "'");
+    if (!spec) throw UsageError(unknown_option_message(arg, options));
     const std::string name(spec->name);
     std::string value;
     if (spec->takes_value) {
@@ -62,6 +94,10 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
     } else if (inline_value) {
       throw UsageError("option '--" + name + "' takes no value");
     }
+    if (name == kInputOptionSpec.name) {  // -i FILE: the positional INPUT
+      out.positional.push_back(std::move(value));
+      continue;
+    }
     auto& slot = out.values_[name];
     if (!slot.empty() && !spec->repeatable) {
       throw UsageError("option '--" + name + "' given more than once");
@@ -69,6 +105,37 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
     slot.push_back(std::move(value));
   }
   return out;
+}
+
+std::int64_t parse_time_flag(std::string_view name, std::string_view text) {
+  const auto us = parse_time_us(text);
+  if (!us) {
+    throw UsageError("--" + std::string(name) + " " + std::string(text) + ": expected " +
+                     std::string(kTimeExamples));
+  }
+  return *us;
+}
+
+bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
+  out.config = load_command_config(a);
+  out.print_config = a.has("print-config");
+  out.quiet = a.has("quiet");
+  if (out.print_config) return false;
+  if (a.positional.empty()) throw UsageError("missing INPUT");
+  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
+  out.input = a.positional.front();
+  if (const auto s = a.value("sensor")) out.sensor = parse_sensor_size(*s);
+  out.input_options = parse_input_options(a, crop);
+  return true;
+}
+
+config::LoadedConfig load_command_config(const ParsedArgs& a) {
+  return config::load_config(a.value("config").value_or(""), a.values("set"));
+}
+
+void print_config(const config::LoadedConfig& c) {
+  std::fprintf(stdout, "# effective configuration (from %s)\n%s", c.describe().c_str(),
+               config::to_yaml(c.config).c_str());
 }
 
 SensorSize parse_sensor_size(std::string_view text) {
@@ -94,11 +161,7 @@ std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::
     const std::string item = text.substr(start, comma - start);
     start = comma + 1;
     if (item.empty()) continue;
-    try {
-      instants.push_back(render::parse_duration_us(item));
-    } catch (const std::invalid_argument& e) {
-      throw UsageError("--" + std::string(option) + ": " + e.what());
-    }
+    instants.push_back(parse_time_flag(option, item));
   }
   if (instants.empty()) throw UsageError("--" + std::string(option) + ": no time given");
   std::sort(instants.begin(), instants.end());
@@ -130,13 +193,7 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
   for (const char* name : {"from", "to"}) {
     const auto v = a.value(name);
     if (!v) continue;
-    std::int64_t us = 0;
-    try {
-      us = render::parse_duration_us(*v);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError("--" + std::string(name) + ": " + e.what());
-    }
-    if (us < 0) throw UsageError("--" + std::string(name) + " " + *v + ": negative time");
+    const std::int64_t us = parse_time_flag(name, *v);
     (std::string_view(name) == "from" ? options.from_us : options.to_us) = us;
   }
   if (options.from_us && options.to_us && *options.to_us <= *options.from_us)

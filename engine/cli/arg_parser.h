@@ -4,7 +4,10 @@
 // UsageError with a message naming the argument.
 #pragma once
 
+#include <algorithm>
+#include <cstdio>
 #include <map>
+#include <type_traits>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -13,6 +16,9 @@
 #include <vector>
 
 #include "evlife/algo/event.h"
+#include "evlife/algo/option_info.h"
+#include "evlife/algo/parse_text.h"
+#include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 
 namespace evlife::cli {
@@ -27,7 +33,22 @@ struct OptionSpec {
   char alias = 0;            ///< e.g. 'o' for -o; 0 = none
   bool takes_value = true;   ///< false: a flag
   bool repeatable = false;   ///< e.g. --set
+  /// Other long names accepted for the same option (older or other commands'
+  /// spellings), comma-separated, e.g. "render-fps"; values land under `name`.
+  std::string_view also = {};
 };
+
+/// `-i FILE` / `--input FILE`: the same as the positional INPUT (parse_args
+/// puts its value among the positionals, in command-line order).
+inline constexpr OptionSpec kInputOptionSpec{"input", 'i', true, true};
+/// The configuration, on every command that uses it (load_command_config).
+inline constexpr OptionSpec kConfigOptionSpec{"config", 0, true, false};
+inline constexpr OptionSpec kSetOptionSpec{"set", 0, true, true};
+inline constexpr OptionSpec kPrintConfigOptionSpec{"print-config", 0, false, false};
+inline constexpr std::string_view kConfigOptionsHelp =
+    "  --config FILE      YAML configuration (default: config/evlife.yaml when present).\n"
+    "  --set KEY=VALUE    override one key, e.g. --set estimator.window_size=7.\n"
+    "  --print-config     print the effective configuration (YAML) and exit.\n";
 
 class ParsedArgs {
  public:
@@ -44,8 +65,52 @@ class ParsedArgs {
   std::map<std::string, std::vector<std::string>, std::less<>> values_;
 };
 
-/// Parses argv[1..argc) (argv[0] is the subcommand name). Throws UsageError.
+/// Parses argv[1..argc) (argv[0] is the subcommand name). Throws UsageError;
+/// an unknown option's message suggests the nearest known one.
 ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options);
+
+/// The one number parser of the flags: the whole text a decimal number in
+/// [lo, hi] (and whole for integer T), else UsageError naming --`name`.
+template <typename T>
+T parse_number(std::string_view name, std::string_view text, T lo, T hi);
+
+/// The one time parser of the flags (evlife/algo/parse_text.h): "1.5s",
+/// "500ms", "20us" or a bare number of seconds, >= 0, in microseconds.
+std::int64_t parse_time_flag(std::string_view name, std::string_view text);
+
+/// A flag of an option table (evlife/algo/option_info.h): the flag's value,
+/// checked against the table's range, into `field`. Floating fields whose
+/// key ends in "_s" take a time with units (stats-period 500ms).
+template <typename T>
+void parse_table_flag(const OptionInfo& info, std::string_view text, T& field);
+
+/// What every command that reads one recording with the estimator's
+/// configuration takes (process, render, eval): INPUT (or -i), --sensor, the
+/// input selection, --config/--set/--print-config, -q.
+struct CommonArgs {
+  std::string input;
+  std::optional<SensorSize> sensor;
+  io::ReaderOptions input_options;
+  config::LoadedConfig config;
+  bool print_config = false;
+  bool quiet = false;
+};
+
+/// Fills `out`'s CommonArgs part; with --print-config it stops after the
+/// configuration (no INPUT needed) and returns false. `crop`: --from/--to
+/// select the events read (see parse_input_options).
+bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop = true);
+
+/// The command's configuration from --config / --set (config::load_config:
+/// the one loading path). Throws config::ConfigError.
+config::LoadedConfig load_command_config(const ParsedArgs& a);
+
+/// --print-config: the effective configuration as YAML, on stdout.
+void print_config(const config::LoadedConfig& c);
+
+/// "  --flag  doc [range]" lines of an option table's entries that have a flag.
+template <typename ForEach>
+std::string table_flags_help(ForEach for_each);
 
 /// "WIDTHxHEIGHT", e.g. "240x180", each 1..4096. Throws UsageError.
 SensorSize parse_sensor_size(std::string_view text);
@@ -73,5 +138,64 @@ inline constexpr std::string_view kInputOptionsHelp =
 inline constexpr std::string_view kCropOptionsHelp =
     "  --from T, --to T   read only the events from T to T (exclusive) after the first\n"
     "                     event of the file; seconds or with a unit (250ms, 40us, 2s).\n";
+
+template <typename T>
+T parse_number(std::string_view name, std::string_view text, T lo, T hi) {
+  const auto v = parse_decimal(text);
+  bool ok = v && *v >= static_cast<double>(lo) && *v <= static_cast<double>(hi);
+  if constexpr (std::is_integral_v<T>) ok = ok && *v == static_cast<double>(static_cast<T>(*v));
+  if (!ok) {
+    auto num = [](T x) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));
+      return std::string(buf);
+    };
+    const std::string lo_text = num(lo), hi_text = num(hi);
+    throw UsageError("--" + std::string(name) + " " + std::string(text) + ": expected " +
+                     (std::is_integral_v<T> ? "a whole number" : "a number") + " in [" + lo_text +
+                     ", " + hi_text + "]");
+  }
+  return static_cast<T>(*v);
+}
+
+template <typename T>
+void parse_table_flag(const OptionInfo& info, std::string_view text, T& field) {
+  double v = 0.0;
+  if constexpr (std::is_floating_point_v<T>) {
+    if (info.key.ends_with("_s")) {
+      v = static_cast<double>(parse_time_flag(info.flag, text)) * 1e-6;
+    } else {
+      v = parse_number<double>(info.flag, text, -1e300, 1e300);
+    }
+  } else {
+    v = static_cast<double>(parse_number<long long>(info.flag, text, -(1LL << 53), 1LL << 53));
+  }
+  if (!info.contains(v)) {
+    throw UsageError("--" + std::string(info.flag) + " " + std::string(text) + ": expected " +
+                     info.range_text());
+  }
+  field = static_cast<T>(v);
+}
+
+template <typename ForEach>
+std::string table_flags_help(ForEach for_each) {
+  std::string out;
+  for_each([&](const OptionInfo& info, auto) {
+    if (info.flag.empty()) return;
+    std::string head = "  --" + std::string(info.flag) + " " +
+                       (info.key.ends_with("_s") ? "T" : "N");
+    head.resize(std::max<std::size_t>(head.size() + 1, 23), ' ');
+    std::string line = head + std::string(info.doc) + ";";
+    const std::string range = " " + info.range_text() + ".";
+    if (line.size() + range.size() > 80) {  // the range on a line of its own
+      out += line + "\n";
+      line = std::string(23, ' ') + range.substr(1);
+    } else {
+      line += range;
+    }
+    out += line + "\n";
+  });
+  return out;
+}
 
 }  // namespace evlife::cli

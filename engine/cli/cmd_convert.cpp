@@ -29,6 +29,8 @@ constexpr std::size_t kBatchEvents = 1 << 16;
 
 constexpr OptionSpec kOptions[] = {
     {"sensor", 0, true, false},
+    {"output", 'o', true, false},
+    kInputOptionSpec,
     {"unchecked", 0, false, false},
     {"quiet", 'q', false, false},
     {"help", 'h', false, false},
@@ -40,6 +42,7 @@ void print_help(std::FILE* out) {
       "evlife convert — rewrite an event recording in another format\n"
       "\n"
       "Usage: evlife convert INPUT OUTPUT [--sensor WxH] [--unchecked] [--quiet]\n"
+      "       evlife convert [-i] INPUT -o OUTPUT ...\n"
       "\n"
       "INPUT: any event recording evlife reads (sniffed from the content, else the\n"
       "extension):\n");
@@ -257,9 +260,11 @@ int convert(int argc, char** argv) {
   io::ReaderOptions input_options;
   try {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
-    if (a.positional.size() != 2) throw UsageError("expected INPUT and OUTPUT");
-    input = a.positional[0];
-    output = a.positional[1];
+    std::vector<std::string> files = a.positional;  // INPUT OUTPUT, or INPUT -o OUTPUT
+    if (const auto o = a.value("output")) files.push_back(*o);
+    if (files.size() != 2) throw UsageError("expected INPUT and OUTPUT (or -o OUTPUT)");
+    input = files[0];
+    output = files[1];
     if (const auto s = a.value("sensor")) sensor = parse_sensor_size(*s);
     unchecked = a.has("unchecked");
     input_options = parse_input_options(a);

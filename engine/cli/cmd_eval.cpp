@@ -24,7 +24,7 @@
 #include "command.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
-#include "evlife/render/active_event_set.h"
+#include "evlife/render/evaluation.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
@@ -43,8 +43,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr OptionSpec kEvalOptions[] = {
-    {"output", 'o', true, false},    {"sensor", 0, true, false},  {"config", 0, true, false},
-    {"set", 0, true, true},          {"sample-every", 0, true, false}, {"frame-at", 0, true, false},
+    {"output", 'o', true, false},    {"sensor", 0, true, false},  kConfigOptionSpec,
+    kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"sample-every", 0, true, false}, {"frame-at", 0, true, false, "at"},
     {"quiet", 'q', false, false},    {"help", 'h', false, false},
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
@@ -88,14 +89,16 @@ void print_eval_help(std::FILE* out) {
       "Options:\n"
       "  -o, --output DIR       required.\n"
       "  --sample-every DUR     sharpness sampling period (default 50ms).\n"
-      "  --frame-at T           instant of compare_frame.png, seconds from the first event\n"
+      "  -i, --input FILE       the INPUT (also as the first argument).\n"
+      "  --frame-at T, --at T   instant of compare_frame.png, seconds from the first event\n"
       "                         (default 0.5; the last sample if the recording is shorter).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
       );
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
-      "  --config FILE, --set KEY=VALUE   estimator configuration, as for `evlife process`.\n"
-      "  -q, --quiet            no progress and no summary on stdout.\n"
+      "  -q, --quiet            no progress and no summary on stdout.\n");
+  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fprintf(out,
       "\n"
       "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"
       "\n"
@@ -103,446 +106,23 @@ void print_eval_help(std::FILE* out) {
       "  evlife eval stripes.mat -o eval_stripes && xdg-open eval_stripes/summary.html\n");
 }
 
-struct EvalArgs {
-  std::string input;
+struct EvalArgs : CommonArgs {
   std::string output;
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;  // --topic
-  LifetimeOptions estimator;
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
-  bool quiet = false;
 };
 
 EvalArgs parse_eval_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kEvalOptions);
   EvalArgs e;
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  e.input = a.positional.front();
+  if (!parse_common_args(a, e)) return e;
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;
-  try {
-    if (const auto s = a.value("sample-every")) e.sample_every_us = render::parse_duration_us(*s);
-    if (const auto s = a.value("frame-at")) e.frame_at_us = render::parse_duration_us(*s);
-  } catch (const std::invalid_argument& ex) {
-    throw UsageError(ex.what());
-  }
+  if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
+  if (const auto s = a.value("frame-at")) e.frame_at_us = parse_time_flag("frame-at", *s);
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
-  if (const auto s = a.value("sensor")) e.sensor = parse_sensor_size(*s);
-  e.input_options = parse_input_options(a);
-  e.quiet = a.has("quiet");
-  config::ConfigBuilder builder;
-  if (const auto c = a.value("config"))
-    builder.load_file(*c);
-  else
-    builder.load_default_file_if_present();
-  for (const auto& s : a.values("set")) builder.set(s);
-  e.estimator = builder.build().estimator;
   return e;
-}
-
-// Everything measured over one pass.
-struct RunResult {
-  int window_size = 0;
-  bool regularization = false;
-  bool from_file = false;
-  std::string label;
-  render::Histogram lifetime_us{0.0, 200.0, 1000};      // 0.2 ms bins up to 200 ms
-  render::Histogram abs_error_us{0.0, 100.0, 5000};     // 0.1 ms bins up to 500 ms
-  render::Histogram speed_px_s{0.0, 10.0, 2000};        // up to 20000 px/s
-  render::Histogram vx_px_s{-10000.0, 20.0, 1000};
-  render::Histogram vy_px_s{-10000.0, 20.0, 1000};
-  render::Histogram error_over_lifetime{0.0, 0.01, 1000};  // |prediction error| / lifetime, up to 10
-  std::uint64_t events = 0;
-  std::uint64_t noise = 0;
-  std::uint64_t predictions = 0;
-  double wall_s = 0.0;
-
-  double share_with_lifetime() const noexcept {
-    return events ? static_cast<double>(events - noise) / static_cast<double>(events) : 0.0;
-  }
-  double share_with_prediction() const noexcept {
-    return events ? static_cast<double>(predictions) / static_cast<double>(events) : 0.0;
-  }
-
-  void add(std::span<const AugmentedEvent> batch) {
-    for (const auto& a : batch) {
-      ++events;
-      if (a.has_prediction()) {
-        ++predictions;
-        abs_error_us.add(std::fabs(static_cast<double>(a.prediction_error_us)));
-      }
-      if (a.is_noise()) {
-        ++noise;
-        continue;
-      }
-      lifetime_us.add(static_cast<double>(a.lifetime_us));
-      if (a.has_prediction())
-        error_over_lifetime.add(std::fabs(static_cast<double>(a.prediction_error_us)) / static_cast<double>(a.lifetime_us));
-      speed_px_s.add(std::hypot(static_cast<double>(a.vx_px_s), static_cast<double>(a.vy_px_s)));
-      vx_px_s.add(static_cast<double>(a.vx_px_s));
-      vy_px_s.add(static_cast<double>(a.vy_px_s));
-    }
-  }
-};
-
-// Passes events through while measuring them.
-class TapSource final : public render::AugmentedSource {
- public:
-  TapSource(render::AugmentedSource& inner, RunResult& result) : inner_(inner), result_(result) {}
-  std::size_t read(std::span<AugmentedEvent> out) override {
-    const std::size_t n = inner_.read(out);
-    result_.add(out.first(n));
-    return n;
-  }
-  SensorSize sensor() const override { return inner_.sensor(); }
-  std::string description() const override { return inner_.description(); }
-  const LifetimeStats* estimator_stats() const override { return inner_.estimator_stats(); }
-
- private:
-  render::AugmentedSource& inner_;
-  RunResult& result_;
-};
-
-// The images compared: fixed windows of these lengths, then the lifetimes.
-constexpr std::int64_t kWindowLengthsUs[] = {1000, 10000, 30000};
-constexpr std::size_t kMethods = std::size(kWindowLengthsUs) + 1;
-constexpr std::size_t kLifetimeMethod = kMethods - 1;
-constexpr const char* kMethodNames[kMethods] = {"fixed window 1 ms", "fixed window 10 ms", "fixed window 30 ms",
-                                                "lifetime (ours)"};
-
-using MethodQuality = render::ImageQuality;
-
-struct SharpnessSample {
-  double t_s = 0.0;
-  std::array<MethodQuality, kMethods> methods;
-};
-
-struct SharpnessResult {
-  std::vector<SharpnessSample> samples;
-  std::array<MethodQuality, kMethods> pooled;  // over samples
-  cv::Mat compare_frame;
-  double compare_t_s = 0.0;
-};
-
-
-// The measuring pass with rendering: sharpness at every sample instant and the compare frame.
-void run_with_sharpness(render::AugmentedSource& source, RunResult& result, const EvalArgs& args,
-                        SharpnessResult& sharp) {
-  TapSource tap(source, result);
-  const SensorSize sensor = source.sensor();
-  render::ActiveEventSet set(sensor, true);
-  render::FixedWindowMap window(sensor);
-  render::RenderCursor cursor(tap, set, &window);
-  const auto first = cursor.first_t_us();
-  if (!first) return;
-  render::FrameStyle style;
-  style.scale = std::max(1, 384 / std::max(sensor.width, sensor.height));
-  render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
-  std::array<cv::Mat, kMethods> masks;
-  for (std::int64_t rel = args.sample_every_us;; rel += args.sample_every_us) {
-    const std::int64_t t = *first + rel;
-    cursor.advance_to(t);
-    if (cursor.exhausted() && t > cursor.last_fed_t_us()) break;
-    for (std::size_t m = 0; m < kLifetimeMethod; ++m) render::window_mask(window, t, kWindowLengthsUs[m], masks[m]);
-    render::active_mask(set, t, masks[kLifetimeMethod]);
-    SharpnessSample s;
-    s.t_s = static_cast<double>(rel) * 1e-6;
-    const auto quality = render::compare_images(masks, kLifetimeMethod);
-    std::copy(quality.begin(), quality.end(), s.methods.begin());
-    for (std::size_t m = 0; m < kMethods; ++m) sharp.pooled[m] += s.methods[m];
-    sharp.samples.push_back(s);
-    if (rel <= args.frame_at_us || sharp.compare_frame.empty()) {
-      composer.compose(set, window, t, rel).copyTo(sharp.compare_frame);
-      sharp.compare_t_s = s.t_s;
-    }
-  }
-  cursor.advance_to(INT64_MAX);  // the statistics cover the whole recording
-}
-
-void run_plain(render::AugmentedSource& source, RunResult& result) {
-  std::vector<AugmentedEvent> buf(1 << 14);
-  while (const std::size_t n = source.read(buf)) result.add(std::span<const AugmentedEvent>(buf.data(), n));
-}
-
-// ---- output ----
-
-class OutputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-void write_png(const fs::path& path, const cv::Mat& img) {
-  try {
-    render::write_image(path.string(), img);
-  } catch (const std::runtime_error& e) {
-    throw OutputError(e.what());
-  }
-}
-
-std::ofstream open_csv(const fs::path& path) {
-  std::ofstream f(path);
-  if (!f) throw OutputError("cannot write " + path.string());
-  return f;
-}
-
-double ceil_nice(double v) {
-  if (!(v > 0.0) || !std::isfinite(v)) return 1.0;
-  const double mag = std::pow(10.0, std::floor(std::log10(v)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * mag >= v) return m * mag;
-  return 10.0 * mag;
-}
-
-const RunResult* find_run(const std::vector<RunResult>& runs, int n, bool reg) {
-  for (const auto& r : runs)
-    if (!r.from_file && r.window_size == n && r.regularization == reg) return &r;
-  return nullptr;
-}
-
-// Histogram series of the given runs, bins in `scale` units, up to x_max (in those units).
-void histogram_outputs(const fs::path& dir, const std::string& stem, const std::string& title,
-                       const std::string& x_label, double scale,
-                       const std::vector<std::pair<const RunResult*, const render::Histogram*>>& series,
-                       double x_max) {
-  std::vector<render::PlotSeries> plot;
-  int k = 0;
-  for (const auto& [run, h] : series) {
-    render::PlotSeries s;
-    s.label = run->label;
-    s.color = render::series_color(run->regularization ? 1 : 0);
-    if (series.size() == 1 || run->from_file) s.color = render::series_color(k);
-    s.style = render::PlotSeries::Style::step;
-    // Earlier series wider, so identical curves drawn on top stay visible.
-    s.thickness = k == 0 && series.size() > 1 ? 4 : 2;
-    for (std::size_t b = 0; b < h->bins(); ++b) {
-      if (h->bin_start(b) / scale > x_max) break;
-      s.x.push_back(h->bin_start(b) / scale);
-      s.y.push_back(static_cast<double>(h->count(b)));
-    }
-    plot.push_back(std::move(s));
-    ++k;
-  }
-  render::PlotOptions o;
-  o.title = title;
-  o.x_label = x_label;
-  o.y_label = "events per bin";
-  const double lo = series.front().second->lo() / scale;
-  o.x_min = std::max(lo, series.front().second->lo() < 0 ? -x_max : 0.0);
-  o.x_max = x_max;
-  write_png(dir / (stem + ".png"), render::draw_plot(o, plot));
-
-  auto csv = open_csv(dir / (stem + ".csv"));
-  csv << "bin_start,bin_end";
-  for (const auto& [run, h] : series) csv << ",\"" << run->label << "\"";
-  csv << "\n";
-  const auto* h0 = series.front().second;
-  for (std::size_t b = 0; b < h0->bins(); ++b) {
-    csv << h0->bin_start(b) / scale << "," << h0->bin_start(b + 1) / scale;
-    for (const auto& p : series) csv << "," << p.second->count(b);
-    csv << "\n";
-  }
-  csv << "# values below the first bin / above the last:";
-  for (const auto& p : series) csv << " " << p.second->below() << "/" << p.second->above();
-  csv << "\n";
-}
-
-std::string pct(double share) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f %%", 100.0 * share);
-  return buf;
-}
-
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-void write_outputs(const EvalArgs& args, const std::string& description, SensorSize sensor,
-                   const std::vector<RunResult>& runs, const RunResult& primary,
-                   const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
-  // Fig. 10: lifetime histogram for N = 5 with and without regularization.
-  std::vector<std::pair<const RunResult*, const render::Histogram*>> lifetime_series, speed_series;
-  const RunResult* n5r = find_run(runs, 5, true);
-  const RunResult* n5 = find_run(runs, 5, false);
-  if (n5 && n5r) {
-    lifetime_series = {{n5, &n5->lifetime_us}, {n5r, &n5r->lifetime_us}};
-    speed_series = {{n5, &n5->speed_px_s}, {n5r, &n5r->speed_px_s}};
-  } else {
-    lifetime_series = {{&primary, &primary.lifetime_us}};
-    speed_series = {{&primary, &primary.speed_px_s}};
-  }
-  double lifetime_max_ms = 0.0, speed_max = 0.0;
-  // Show the bulk (a long tail of slow background edges would flatten the peaks).
-  for (const auto& p : lifetime_series) lifetime_max_ms = std::max(lifetime_max_ms, 1.5 * p.second->quantile(0.95) / 1000.0);
-  for (const auto& p : speed_series) speed_max = std::max(speed_max, 1.5 * p.second->quantile(0.95));
-  histogram_outputs(dir, "lifetime_histogram", "Lifetime histogram (0.2 ms bins, noise excluded)",
-                    "lifetime [ms]", 1000.0, lifetime_series, ceil_nice(lifetime_max_ms));
-  histogram_outputs(dir, "velocity_histogram", "Speed of non-noise events", "speed |v| [px/s]", 1.0,
-                    speed_series, ceil_nice(speed_max));
-  {
-    const RunResult& r = primary;
-    const double vmax = ceil_nice(std::max({std::fabs(r.vx_px_s.quantile(0.005)), std::fabs(r.vx_px_s.quantile(0.995)),
-                                            std::fabs(r.vy_px_s.quantile(0.005)), std::fabs(r.vy_px_s.quantile(0.995))}));
-    RunResult vx_run = RunResult{};
-    vx_run.label = "vx (" + r.label + ")";
-    RunResult vy_run = RunResult{};
-    vy_run.label = "vy (" + r.label + ")";
-    vy_run.from_file = vx_run.from_file = true;  // colour by order
-    histogram_outputs(dir, "velocity_components", "Velocity components of non-noise events", "velocity [px/s]",
-                      1.0, {{&vx_run, &r.vx_px_s}, {&vy_run, &r.vy_px_s}}, vmax);
-  }
-
-  // Fig. 9: CDF of |prediction error|.
-  {
-    std::vector<render::PlotSeries> plot;
-    std::vector<const RunResult*> with_predictions;
-    for (const auto& r : runs)
-      if (r.predictions > 0) with_predictions.push_back(&r);
-    const double x_max_ms = 50.0;
-    for (const RunResult* r : with_predictions) {
-      render::PlotSeries s;
-      s.label = r->label;
-      s.color = render::series_color(r->from_file ? 0 : (r->window_size - 3) / 2);
-      s.dashed = !r->regularization && !r->from_file;
-      s.x.push_back(0.0);
-      s.y.push_back(0.0);  // no prediction has a negative error
-      for (std::size_t b = 0; b < r->abs_error_us.bins(); ++b) {
-        const double x = r->abs_error_us.bin_start(b + 1) / 1000.0;
-        if (x > x_max_ms) break;
-        s.x.push_back(x);
-        s.y.push_back(r->abs_error_us.cdf_at_bin_end(b));
-      }
-      plot.push_back(std::move(s));
-    }
-    render::PlotOptions o;
-    o.title = "Cumulative distribution of |prediction error| (solid: regularized, dashed: not)";
-    o.x_label = "absolute prediction error [ms]";
-    o.y_label = "share of predictions";
-    o.x_min = 0.0;
-    o.x_max = x_max_ms;
-    o.y_min = 0.0;
-    o.y_max = 1.0;
-    o.legend_bottom = true;
-    write_png(dir / "prediction_error_cdf.png", render::draw_plot(o, plot));
-    auto csv = open_csv(dir / "prediction_error_cdf.csv");
-    csv << "abs_error_ms";
-    for (const RunResult* r : with_predictions) csv << ",\"" << r->label << "\"";
-    csv << "\n";
-    for (std::size_t b = 0; b < 5000; ++b) {
-      csv << static_cast<double>(b + 1) * 0.1;
-      for (const RunResult* r : with_predictions) csv << "," << r->abs_error_us.cdf_at_bin_end(b);
-      csv << "\n";
-    }
-  }
-
-  // Sharpness and completeness.
-  {
-    std::vector<render::PlotSeries> plot(kMethods);
-    for (std::size_t m = 0; m < kMethods; ++m) {
-      plot[m].label = kMethodNames[m];
-      plot[m].color = render::series_color(static_cast<int>(m == kLifetimeMethod ? 1 : (m == 0 ? 2 : m + 2)));
-    }
-    auto csv = open_csv(dir / "sharpness.csv");
-    csv << "t_s,method,active_pixels,edge_pixels,thin_edge_pixels,thin_edge_share,mean_edge_thickness_px,"
-           "completeness,score\n";
-    for (const auto& s : sharp.samples) {
-      for (std::size_t m = 0; m < kMethods; ++m) {
-        const MethodQuality& q = s.methods[m];
-        plot[m].x.push_back(s.t_s);
-        plot[m].y.push_back(q.score());
-        csv << s.t_s << "," << kMethodNames[m] << "," << q.sharpness.active_pixels << "," << q.sharpness.edge_pixels
-            << "," << q.sharpness.thin_edge_pixels << "," << q.sharpness.thin_edge_share() << ","
-            << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
-      }
-    }
-    render::PlotOptions o;
-    o.title = "Complete and sharp: completeness x thin-edge share (higher = better)";
-    o.x_label = "time [s]";
-    o.y_label = "completeness x thin-edge share";
-    o.y_min = 0.0;
-    o.y_max = 1.0;
-    o.legend_bottom = true;
-    write_png(dir / "sharpness.png", render::draw_plot(o, plot));
-    auto sum = open_csv(dir / "sharpness_summary.csv");
-    sum << "method,samples,active_pixels_per_sample,edge_pixels_per_sample,thin_edge_share,mean_edge_thickness_px,"
-           "completeness,score\n";
-    const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
-    for (std::size_t m = 0; m < kMethods; ++m) {
-      const MethodQuality& q = sharp.pooled[m];
-      sum << kMethodNames[m] << "," << sharp.samples.size() << "," << static_cast<double>(q.sharpness.active_pixels) / n
-          << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
-          << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
-    }
-  }
-  if (!sharp.compare_frame.empty()) write_png(dir / "compare_frame.png", sharp.compare_frame);
-
-  // runs.csv
-  {
-    auto csv = open_csv(dir / "runs.csv");
-    csv << "run,window_size,regularization,events,noise,noise_share,predictions,median_lifetime_ms,"
-           "median_abs_error_ms,share_abs_error_below_10ms,wall_s,share_with_lifetime,share_with_prediction,"
-           "median_abs_error_over_lifetime\n";
-    for (const auto& r : runs) {
-      csv << "\"" << r.label << "\"," << r.window_size << "," << (r.regularization ? 1 : 0) << "," << r.events
-          << "," << r.noise << "," << (r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0)
-          << "," << r.predictions << "," << r.lifetime_us.quantile(0.5) / 1000.0 << ","
-          << r.abs_error_us.quantile(0.5) / 1000.0 << "," << r.abs_error_us.cdf_at_bin_end(99) << "," << r.wall_s
-          << "," << r.share_with_lifetime() << "," << r.share_with_prediction() << ","
-          << r.error_over_lifetime.quantile(0.5) << "\n";
-    }
-  }
-
-  // summary.html
-  std::ofstream html(dir / "summary.html");
-  if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
-  html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>evlife eval: " << description
-       << "</title><style>body{font-family:sans-serif;max-width:1600px;margin:1em auto}"
-          "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-          "th{background:#eee}img{max-width:49%;margin:2px}</style></head><body>\n";
-  html << "<h1>evlife eval</h1><p>Input: <b>" << description << "</b>, sensor " << sensor.width << "&times;"
-       << sensor.height << ". Lifetime estimation after Mueggler et al., ICRA 2015.</p>\n";
-  html << "<h2>Estimator runs</h2><table><tr><th>run</th><th>events</th><th>with a lifetime</th>"
-          "<th>with a prediction</th><th>median lifetime</th><th>median |pred. error|</th>"
-          "<th>median |pred. error| / lifetime</th><th>|pred. error| &lt; 10 ms</th><th>wall</th></tr>\n";
-  for (const auto& r : runs) {
-    html << "<tr><td style=\"text-align:left\">" << r.label << "</td><td>" << r.events << "</td><td>"
-         << pct(r.share_with_lifetime()) << "</td><td>" << pct(r.share_with_prediction()) << "</td><td>"
-         << fmt("%.2f ms", r.lifetime_us.quantile(0.5) / 1000.0) << "</td><td>"
-         << fmt("%.2f ms", r.abs_error_us.quantile(0.5) / 1000.0) << "</td><td>"
-         << fmt("%.3f", r.error_over_lifetime.quantile(0.5)) << "</td><td>"
-         << pct(r.abs_error_us.cdf_at_bin_end(99)) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
-  }
-  html << "</table>\n<h2>Sharpness (" << sharp.samples.size() << " instants, every "
-       << static_cast<double>(args.sample_every_us) / 1000.0 << " ms; " << primary.label << ")</h2>\n"
-       << "<table><tr><th>method</th><th>drawn pixels / image</th><th>edge pixels / image</th>"
-          "<th>thin-edge share</th><th>mean edge thickness</th><th>completeness</th>"
-          "<th>completeness &times; thin-edge share</th></tr>\n";
-  {
-    const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
-    for (std::size_t m = 0; m < kMethods; ++m) {
-      const MethodQuality& q = sharp.pooled[m];
-      html << "<tr><td style=\"text-align:left\">" << kMethodNames[m] << "</td><td>"
-           << fmt("%.0f", static_cast<double>(q.sharpness.active_pixels) / n) << "</td><td>"
-           << fmt("%.0f", static_cast<double>(q.sharpness.edge_pixels) / n) << "</td><td>"
-           << pct(q.sharpness.thin_edge_share()) << "</td><td>" << fmt("%.2f px", q.sharpness.mean_edge_thickness_px)
-           << "</td><td>" << pct(q.completeness.share()) << "</td><td>" << fmt("%.3f", q.score()) << "</td></tr>\n";
-    }
-  }
-  html << "</table><p>A pixel lies on an edge when a run of &ge; 3 drawn pixels passes through it; on a thin edge"
-          " when, in addition, its horizontal or vertical run is &le; 2 px. Thin-edge share = thin-edge pixels /"
-          " drawn pixels. Completeness = share of the edge pixels of the best fixed window at that instant (the one"
-          " with the most thin-edge pixels) that the image draws within 1 px.</p>\n";
-  html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
-       << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n"
-       << "<h2>Figures</h2><img src=\"lifetime_histogram.png\"><img src=\"prediction_error_cdf.png\">"
-          "<img src=\"velocity_histogram.png\"><img src=\"velocity_components.png\"><img src=\"sharpness.png\">\n"
-       << "<p>The numbers behind every figure are in the CSV file of the same name.</p></body></html>\n";
-  if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
 }
 
 int eval_recording(int argc, char** argv) {
@@ -550,57 +130,28 @@ int eval_recording(int argc, char** argv) {
   if (const auto done = start_command("eval", argc, argv, print_eval_help, [&] { args = parse_eval_args(argc, argv); })) {
     return *done;
   }
+  if (args.print_config) {
+    print_config(args.config);
+    return kExitOk;
+  }
   std::error_code ec;
   fs::create_directories(args.output, ec);
   if (ec || !fs::is_directory(args.output)) {
     std::fprintf(stderr, "evlife eval: output error: cannot create directory %s\n", args.output.c_str());
     return kExitOutput;
   }
-
-  std::vector<RunResult> runs;
-  SharpnessResult sharp;
-  std::string description;
-  SensorSize sensor{};
-  std::size_t primary_index = 0;
+  render::eval::EvaluationOptions options;
+  options.input = args.input;
+  options.output = args.output;
+  options.sensor = args.sensor;
+  options.input_options = args.input_options;
+  options.estimator = args.config.config.estimator;
+  options.sample_every_us = args.sample_every_us;
+  options.frame_at_us = args.frame_at_us;
+  options.quiet = args.quiet;
+  render::eval::Evaluation evaluation;
   try {
-    // The configured run first: it also measures sharpness.
-    auto run_once = [&](int n, bool reg, bool primary) {
-      LifetimeOptions o = args.estimator;
-      o.window_size = n;
-      o.regularization = reg;
-      const auto t0 = std::chrono::steady_clock::now();
-      auto source = render::open_augmented_source(args.input, o, args.sensor, args.input_options);
-      RunResult r;
-      r.from_file = source->estimator_stats() == nullptr;
-      r.window_size = r.from_file ? 0 : n;
-      r.regularization = r.from_file ? false : reg;
-      r.label = r.from_file ? "lifetimes from the file"
-                            : "N=" + std::to_string(n) + (reg ? ", regularized" : ", not regularized");
-      if (!args.quiet) std::fprintf(stderr, "evlife eval: %s ...\n", r.label.c_str());
-      if (primary) {
-        description = source->description();
-        sensor = source->sensor();
-        run_with_sharpness(*source, r, args, sharp);
-      } else {
-        run_plain(*source, r);
-      }
-      r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      runs.push_back(std::move(r));
-    };
-    run_once(args.estimator.window_size, args.estimator.regularization, true);
-    if (!runs.front().from_file) {
-      for (int n : {3, 5, 7})
-        for (bool reg : {false, true})
-          if (n != args.estimator.window_size || reg != args.estimator.regularization) run_once(n, reg, false);
-      // Order the table by N, then regularization.
-      std::stable_sort(runs.begin(), runs.end(), [](const RunResult& a, const RunResult& b) {
-        return a.window_size != b.window_size ? a.window_size < b.window_size : a.regularization < b.regularization;
-      });
-      for (std::size_t i = 0; i < runs.size(); ++i)
-        if (runs[i].window_size == args.estimator.window_size &&
-            runs[i].regularization == args.estimator.regularization)
-          primary_index = i;
-    }
+    evaluation = render::eval::evaluate(options);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife eval: input error: %s\n", e.what());
     return kExitInput;
@@ -609,30 +160,12 @@ int eval_recording(int argc, char** argv) {
     return kExitInput;
   }
   try {
-    write_outputs(args, description, sensor, runs, runs[primary_index], sharp);
-  } catch (const OutputError& e) {
+    render::eval::write_evaluation(options, evaluation);
+  } catch (const render::eval::EvaluationOutputError& e) {
     std::fprintf(stderr, "evlife eval: output error: %s\n", e.what());
     return kExitOutput;
   }
-  if (!args.quiet) {
-    std::fprintf(stdout, "evlife eval: %s -> %s/summary.html\n", description.c_str(), args.output.c_str());
-    for (const auto& r : runs) {
-      std::fprintf(stdout,
-                   "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "
-                   "%6.2f ms, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %.3f\n",
-                   r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
-                   100.0 * r.share_with_prediction(), r.lifetime_us.quantile(0.5) / 1000.0,
-                   100.0 * r.abs_error_us.cdf_at_bin_end(99), r.error_over_lifetime.quantile(0.5));
-    }
-    std::fprintf(stdout, "  over %zu instants: thin-edge share, mean edge thickness, completeness, score (product):\n",
-                 sharp.samples.size());
-    for (std::size_t m = 0; m < kMethods; ++m) {
-      const MethodQuality& q = sharp.pooled[m];
-      std::fprintf(stdout, "    %-20s %5.1f %%  %5.2f px  %5.1f %%  %.3f\n", kMethodNames[m],
-                   100.0 * q.sharpness.thin_edge_share(), q.sharpness.mean_edge_thickness_px,
-                   100.0 * q.completeness.share(), q.score());
-    }
-  }
+  if (!args.quiet) render::eval::print_evaluation_summary(stdout, options, evaluation);
   return kExitOk;
 }
 

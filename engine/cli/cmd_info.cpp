@@ -18,7 +18,7 @@ namespace evlife::cli {
 namespace {
 
 constexpr OptionSpec kOptions[] = {
-    {"help", 'h', false, false},
+    {"help", 'h', false, false}, kInputOptionSpec,
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 

@@ -2,6 +2,7 @@
 // its lifetime and velocity. Streams batch by batch (constant memory); on bad
 // input writes and flushes everything before the fault, then exits non-zero.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "command.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/config/config.h"
+#include "evlife/engine/process_stream.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
@@ -31,13 +33,14 @@ namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;  // 1 MiB in, 2 MiB out
 
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void on_stop_signal(int signal) { g_stop_signal = signal; }
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
 
 constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
-    {"config", 0, true, false},       {"set", 0, true, true},
-    {"print-config", 0, false, false}, {"quiet", 'q', false, false},
+    kConfigOptionSpec, kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"quiet", 'q', false, false},
     {"help", 'h', false, false},      kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
 
@@ -105,39 +108,14 @@ void print_help(std::FILE* out) {
 }
 
 // Everything a run needs, resolved from the command line before any work.
-struct ProcessArgs {
-  std::string input;
+struct ProcessArgs : CommonArgs {
   std::string output;
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;     // --topic
-  config::ConfigBuilder config;
-  std::string config_source;           // for the summary
-  std::vector<std::string> overrides;  // --set, in order
-  bool print_config = false;
-  bool quiet = false;
 };
 
 ProcessArgs parse_process_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kOptions);
   ProcessArgs p;
-  p.print_config = a.has("print-config");
-  p.quiet = a.has("quiet");
-  if (const auto c = a.value("config")) {
-    p.config.load_file(*c);
-    p.config_source = *c;
-  } else {
-    p.config_source = p.config.load_default_file_if_present();
-    if (p.config_source.empty()) p.config_source = "built-in defaults";
-  }
-  p.overrides = a.values("set");
-  for (const auto& s : p.overrides) p.config.set(s);
-  if (const auto s = a.value("sensor")) p.sensor = parse_sensor_size(*s);
-  p.input_options = parse_input_options(a);
-  if (p.print_config) return p;
-
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  p.input = a.positional.front();
+  if (!parse_common_args(a, p)) return p;
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o OUTPUT (a .csv, .bin or .h5 file)");
   p.output = *out;
@@ -180,10 +158,10 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }
   if (args.sensor) return {*args.sensor, "--sensor"};
-  if (const auto* o = args.config.origin("estimator.sensor.width"); o && o->by_user) {
+  if (const auto* o = args.config.builder.origin("estimator.sensor.width"); o && o->by_user) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
-  if (const auto* o = args.config.origin("estimator.sensor.height"); o && o->by_user) {
+  if (const auto* o = args.config.builder.origin("estimator.sensor.height"); o && o->by_user) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
   if (!args.quiet) {
@@ -196,19 +174,69 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   return {scan_sensor_size(args.input, args.input_options), "scanned from the data"};
 }
 
+void print_summary(const ProcessArgs& args, const io::EventReader& reader,
+                   const ResolvedSensor& sensor, const LifetimeEstimator& estimator,
+                   const LifetimeSummary& summary, const engine::ProcessStreamResult& result,
+                   double wall_s) {
+  std::fprintf(stdout, "evlife process: %s -> %s\n", args.input.c_str(), args.output.c_str());
+  std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
+               static_cast<int>(reader.format_name().size()), reader.format_name().data(),
+               sensor.size.width, sensor.size.height, sensor.source.c_str());
+  std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
+  summary.print(stdout, wall_s, result.estimator_s);
+  if (result.input_fault || result.output_fault || result.stopped) {
+    std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
+                 result.input_fault ? "input error" : result.output_fault ? "output error" : "interrupted");
+  }
+  if (const auto skipped = reader.skipped_record_count()) {
+    const std::string kinds = skipped_kinds_text(reader);
+    std::fprintf(stdout, "  skipped records     %llu (non-event records of the format%s%s)\n",
+                 static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
+  }
+  const LifetimeStats& st = estimator.stats();
+  if (st.out_of_sensor + st.bad_polarity > 0) {
+    std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity\n",
+                 static_cast<unsigned long long>(st.out_of_sensor),
+                 static_cast<unsigned long long>(st.bad_polarity));
+  }
+  std::fflush(stdout);
+}
+
+int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
+  const unsigned long long written = result.events_written;
+  if (result.output_fault) {
+    std::fprintf(stderr, "evlife process: output error: %s (%llu events written before it)\n",
+                 result.output_fault->c_str(), written);
+    return kExitOutput;
+  }
+  if (result.input_fault) {
+    std::fprintf(stderr,
+                 "evlife process: input error: %s\n"
+                 "evlife process: the %llu events before the fault were written to %s\n",
+                 result.input_fault->c_str(), written, args.output.c_str());
+    return kExitInput;
+  }
+  if (result.stopped) {
+    std::fprintf(stderr, "evlife process: interrupted; the first %llu events were written to %s\n",
+                 written, args.output.c_str());
+    return kExitInterrupted;
+  }
+  return kExitOk;
+}
+
+
 int process_recording(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   ProcessArgs args;
   config::Config cfg;
   if (const auto done = start_command("process", argc, argv, print_help, [&] {
         args = parse_process_args(argc, argv);
-        cfg = args.config.build();
+        cfg = args.config.config;
       })) {
     return *done;
   }
   if (args.print_config) {
-    std::fprintf(stdout, "# effective configuration (from %s and --set)\n%s",
-                 args.config_source.c_str(), config::to_yaml(cfg).c_str());
+    print_config(args.config);
     return kExitOk;
   }
 
@@ -251,93 +279,24 @@ int process_recording(int argc, char** argv) {
                          [&] { return static_cast<std::int64_t>(reader->bytes_consumed()); });
   progress.set_enabled(!args.quiet);
   LifetimeSummary summary;
-  std::vector<Event> in(kBatchEvents);
-  std::vector<AugmentedEvent> out(kBatchEvents);
-  double estimator_s = 0.0;
-  std::optional<std::string> input_fault;
-  std::optional<std::string> output_fault;
-
-  g_stop_signal = 0;
+  g_stop = false;
   const auto old_int = std::signal(SIGINT, on_stop_signal);
   const auto old_term = std::signal(SIGTERM, on_stop_signal);
-  while (g_stop_signal == 0) {
-    std::size_t n = 0;
-    try {
-      n = reader->read(in);
-    } catch (const io::ReadError& e) {
-      input_fault = e.what();
-      break;
-    }
-    if (n == 0) break;
-    const auto t0 = std::chrono::steady_clock::now();
-    estimator->process(std::span<const Event>(in.data(), n), std::span(out.data(), n));
-    estimator_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    try {
-      writer->write(std::span<const AugmentedEvent>(out.data(), n));
-    } catch (const io::WriteError& e) {
-      output_fault = e.what();
-      break;
-    }
-    summary.add(std::span<const AugmentedEvent>(out.data(), n));
-    progress.update(summary.events());
-  }
+  const engine::ProcessStreamResult result = engine::process_stream(
+      *reader, *estimator, *writer,
+      [&](std::span<const AugmentedEvent> batch) {
+        summary.add(batch);
+        progress.update(summary.events());
+      },
+      &g_stop, kBatchEvents);
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  try {
-    writer->close();  // flushes: everything before a fault reaches the disk
-  } catch (const io::WriteError& e) {
-    if (!output_fault) output_fault = e.what();
-  }
   progress.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  if (!args.quiet) {
-    std::fprintf(stdout, "evlife process: %s -> %s\n", args.input.c_str(), args.output.c_str());
-    std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
-                 static_cast<int>(reader->format_name().size()), reader->format_name().data(),
-                 sensor.size.width, sensor.size.height, sensor.source.c_str());
-    std::fprintf(stdout, "  configuration       %s", args.config_source.c_str());
-    for (const auto& s : args.overrides) std::fprintf(stdout, ", --set %s", s.c_str());
-    std::fprintf(stdout, "\n");
-    summary.print(stdout, wall_s, estimator_s);
-    if (input_fault || output_fault || g_stop_signal != 0) {
-      std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
-                   input_fault ? "input error" : output_fault ? "output error" : "interrupted");
-    }
-    if (const auto skipped = reader->skipped_record_count()) {
-      const std::string kinds = skipped_kinds_text(*reader);
-      std::fprintf(stdout, "  skipped records     %llu (non-event records of the format%s%s)\n",
-                   static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
-    }
-    const LifetimeStats& st = estimator->stats();
-    if (st.out_of_sensor + st.bad_polarity > 0) {
-      std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity\n",
-                   static_cast<unsigned long long>(st.out_of_sensor),
-                   static_cast<unsigned long long>(st.bad_polarity));
-    }
-    std::fflush(stdout);
-  }
-
-  const unsigned long long written = summary.events();
-  if (output_fault) {
-    std::fprintf(stderr, "evlife process: output error: %s (%llu events written before it)\n",
-                 output_fault->c_str(), written);
-    return kExitOutput;
-  }
-  if (input_fault) {
-    std::fprintf(stderr,
-                 "evlife process: input error: %s\n"
-                 "evlife process: the %llu events before the fault were written to %s\n",
-                 input_fault->c_str(), written, args.output.c_str());
-    return kExitInput;
-  }
-  if (g_stop_signal != 0) {
-    std::fprintf(stderr, "evlife process: interrupted; the first %llu events were written to %s\n",
-                 written, args.output.c_str());
-    return kExitInterrupted;
-  }
-  return kExitOk;
+  if (!args.quiet) print_summary(args, *reader, sensor, *estimator, summary, result, wall_s);
+  return exit_status(args, result);
 }
 
 }  // namespace

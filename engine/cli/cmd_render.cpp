@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -28,24 +29,28 @@
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
-#include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
+#include "evlife/render/render_recording.h"
 #include "exit_code.h"
+#include "lifetime_summary.h"
 
 namespace evlife::cli {
 namespace {
 
-volatile std::sig_atomic_t g_render_stop = 0;
-extern "C" void on_render_stop(int signal) { g_render_stop = signal; }
+std::atomic<bool> g_render_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
+extern "C" void on_render_stop(int) { g_render_stop.store(true); }
 
 constexpr OptionSpec kRenderOptions[] = {
-    {"output", 'o', true, false},  {"at", 0, true, false},          {"fps", 0, true, false},
-    {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false},
+    {"output", 'o', true, false, "frames,video"},  {"at", 0, true, false},
+    {"fps", 0, true, false, "render-fps"},
+    {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false, "render-mode"},
     {"color", 0, true, false},     {"scale", 0, true, false},       {"no-caption", 0, false, false},
     {"no-legend", 0, false, false}, {"no-thinning", 0, false, false}, {"lifetime-range", 0, true, false},
-    {"video-fps", 0, true, false}, {"sensor", 0, true, false},      {"config", 0, true, false},
-    {"set", 0, true, true},        {"quiet", 'q', false, false},    {"help", 'h', false, false},
+    {"video-fps", 0, true, false}, {"sensor", 0, true, false},      kConfigOptionSpec,
+    kSetOptionSpec, kPrintConfigOptionSpec, kInputOptionSpec,
+    {"quiet", 'q', false, false},    {"help", 'h', false, false},
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec,
 };
 
@@ -72,13 +77,16 @@ void print_render_help(std::FILE* out) {
       "  -o, --output PATH   required. A directory (created) for PNG frames named\n"
       "                      frame_NNNNNN_tSECONDS.png; FILE.png for one --at instant; or a\n"
       "                      video: .mp4 (codec mp4v) or .avi (codec MJPG), via OpenCV.\n"
+      "                      (--frames DIR and --video FILE, as in `evlife run`, too.)\n"
+      "  -i, --input FILE    the INPUT (also as the first argument).\n"
       "  --at T1,T2,...      instants to draw, seconds from the first event (any value,\n"
       "                      not only frame multiples; e.g. 0.25,0.5,1.0 or 250ms,1s).\n"
       "                      Drawn in increasing order in one pass.\n"
       "  --fps F             draw F frames per second of recording time (default 30 when\n"
       "                      --at is not given), from --from (default 0) to --to (default:\n"
       "                      the last event).\n"
-      "  -m, --mode M        lifetime (default): the active events.\n"
+      "  -m, --mode M        lifetime (default): the active events. (--render-mode and\n"
+      "                      --render-fps, as `evlife run` spelled them, are accepted.)\n"
       "                      window:DUR: every event of the fixed window [t-DUR, t], e.g.\n"
       "                      window:30ms (the naive method).\n"
       "                      compare: 1 ms window | 30 ms window | lifetime, side by side,\n"
@@ -98,8 +106,9 @@ void print_render_help(std::FILE* out) {
       );
   std::fputs(std::string(kInputOptionsHelp).c_str(), out);
   std::fprintf(out,
-      "  --config FILE, --set KEY=VALUE  estimator configuration (raw input only).\n"
-      "  -q, --quiet         no progress and no summary.\n"
+      "  -q, --quiet         no progress and no summary.\n");
+  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fprintf(out,
       "\n"
       "Progress (frames, recording time) goes to stderr; the summary to stdout.\n"
       "Exit status: 0 done; 2 bad command line; 3 input error (frames drawn before the\n"
@@ -112,116 +121,68 @@ void print_render_help(std::FILE* out) {
       "  evlife render augmented.bin -o frames/ --fps 60 --from 0.2 --to 0.4\n");
 }
 
-struct RenderArgs {
-  std::string input;
-  std::string output;
-  bool video = false;
-  bool single_png = false;  // -o FILE.png with one --at instant
-  std::vector<std::int64_t> at_us;  // relative to the first event, sorted
-  double fps = 30.0;
-  std::int64_t from_us = 0;
-  std::optional<std::int64_t> to_us;
-  std::string mode = "lifetime";
-  render::ColorMode color = render::ColorMode::lifetime;
-  std::optional<int> scale;
-  bool caption = true;
-  bool legend = true;
-  bool thinning = true;
-  double lifetime_min_us = 300.0;
-  double lifetime_max_us = 30000.0;
-  std::optional<double> video_fps;
-  std::optional<SensorSize> sensor;
-  io::ReaderOptions input_options;  // --topic
-  LifetimeOptions estimator;
-  bool quiet = false;
+struct RenderArgs : CommonArgs {
+  render::RecordingRenderOptions job;  // what to draw and where
 };
 
 double parse_positive(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !(v > 0.0) || !std::isfinite(v)) {
-    throw UsageError("--" + option + " " + text + ": expected a positive number");
-  }
+  const double v = parse_number<double>(option, text, 0.0, 1e300);
+  if (v == 0.0) throw UsageError("--" + option + " " + text + ": expected a positive number");
   return v;
-}
-
-std::int64_t parse_time_us(const std::string& option, const std::string& text) {
-  try {
-    return render::parse_duration_us(text);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError("--" + option + ": " + e.what());
-  }
 }
 
 RenderArgs parse_render_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
   RenderArgs r;
-  if (a.positional.empty()) throw UsageError("missing INPUT");
-  if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
-  r.input = a.positional.front();
+  if (!parse_common_args(a, r, /*crop=*/false)) return r;  // --from/--to: the frames drawn
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
-  r.output = *out;
-  std::string ext = std::filesystem::path(r.output).extension().string();
+  r.job.output = *out;
+  std::string ext = std::filesystem::path(r.job.output).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  r.video = ext == ".mp4" || ext == ".avi";
-  r.single_png = ext == ".png";
+  r.job.video = ext == ".mp4" || ext == ".avi";
+  r.job.single_png = ext == ".png";
   for (const char* other : {".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
-    if (ext == other) throw UsageError("-o " + r.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
+    if (ext == other) throw UsageError("-o " + r.job.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
   }
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
   }
-  if (const auto at = a.value("at")) r.at_us = parse_instants_us("at", *at);
-  if (r.single_png && r.at_us.size() != 1) {
-    throw UsageError("-o " + r.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
+  if (const auto at = a.value("at")) r.job.at_us = parse_instants_us("at", *at);
+  if (r.job.single_png && r.job.at_us.size() != 1) {
+    throw UsageError("-o " + r.job.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }
-  if (const auto f = a.value("fps")) r.fps = parse_positive("fps", *f);
-  if (r.fps > 1e6) throw UsageError("--fps " + std::to_string(r.fps) + ": at most 1e6");
-  if (const auto f = a.value("from")) r.from_us = parse_time_us("from", *f);
+  if (const auto f = a.value("fps")) r.job.fps = parse_positive("fps", *f);
+  if (r.job.fps > 1e6) throw UsageError("--fps " + std::to_string(r.job.fps) + ": at most 1e6");
+  if (const auto f = a.value("from")) r.job.from_us = parse_time_flag("from", *f);
   if (const auto f = a.value("to")) {
-    r.to_us = parse_time_us("to", *f);
-    if (*r.to_us < r.from_us) throw UsageError("--to is before --from");
+    r.job.to_us = parse_time_flag("to", *f);
+    if (*r.job.to_us < r.job.from_us) throw UsageError("--to is before --from");
   }
-  if (const auto m = a.value("mode")) r.mode = *m;
+  if (const auto m = a.value("mode")) r.job.mode = *m;
   try {
-    (void)render::parse_view_mode(r.mode);
-    if (const auto c = a.value("color")) r.color = render::parse_color_mode(*c);
+    (void)render::parse_view_mode(r.job.mode);
+    if (const auto c = a.value("color")) r.job.color = render::parse_color_mode(*c);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
   if (const auto s = a.value("scale")) {
     const double v = parse_positive("scale", *s);
     if (v != std::floor(v) || v > 32) throw UsageError("--scale " + *s + ": an integer 1..32");
-    r.scale = static_cast<int>(v);
+    r.job.scale = static_cast<int>(v);
   }
-  r.caption = !a.has("no-caption");
-  r.legend = !a.has("no-legend");
-  r.thinning = !a.has("no-thinning");
+  r.job.caption = !a.has("no-caption");
+  r.job.legend = !a.has("no-legend");
+  r.job.thinning = !a.has("no-thinning");
   if (const auto lr = a.value("lifetime-range")) {
     const auto colon = lr->find(':');
     if (colon == std::string::npos) throw UsageError("--lifetime-range " + *lr + ": expected MIN:MAX in ms, e.g. 0.3:30");
-    r.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon));
-    r.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
-    if (r.lifetime_max_us <= r.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
+    r.job.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon));
+    r.job.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
+    if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
-  if (const auto v = a.value("video-fps")) r.video_fps = parse_positive("video-fps", *v);
-  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
-  r.input_options = parse_input_options(a, /*crop=*/false);
-  r.quiet = a.has("quiet");
+  if (const auto v = a.value("video-fps")) r.job.video_fps = parse_positive("video-fps", *v);
 
-  config::ConfigBuilder builder;
-  if (const auto c = a.value("config"))
-    builder.load_file(*c);
-  else
-    builder.load_default_file_if_present();
-  for (const auto& s : a.values("set")) builder.set(s);
-  r.estimator = builder.build().estimator;
   return r;
 }
 
@@ -256,16 +217,76 @@ class FrameProgress {
   std::chrono::steady_clock::time_point next_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
 };
 
-int render_recording(int argc, char** argv) {
+
+void print_summary(const RenderArgs& args, const render::AugmentedSource& source,
+                   const render::RecordingRenderResult& r, double wall_s) {
+  const auto& st = r.stats;
+  std::fprintf(stdout, "evlife render: %s -> %s\n", source.description().c_str(), args.job.output.c_str());
+  std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
+               r.frames, r.frame_size.width, r.frame_size.height, source.sensor().width, source.sensor().height, r.scale,
+               args.job.mode.c_str(), std::string(render::to_string(args.job.color)).c_str());
+  std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
+               static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
+               static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
+  if (st.out_of_sensor + st.late > 0) {
+    std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
+                 static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
+  }
+  std::fprintf(stdout, "  time range          %s%s\n",
+               format_time_range(r.first_t_us, r.last_t_us).c_str(),
+               r.exhausted ? "" : " (read so far)");
+  if (r.after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", r.after_end);
+  std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
+               r.frames ? 1e3 * r.draw_s / static_cast<double>(r.frames) : 0.0);
+}
+
+int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) {
+  if (r.setup_failed) {  // nothing drawn: the output or the first read failed
+    std::fprintf(stderr, "evlife render: %s error: %s\n", r.output_fault ? "output" : "input",
+                 (r.output_fault ? *r.output_fault : r.input_fault.value_or("")).c_str());
+    return r.output_fault ? kExitOutput : kExitInput;
+  }
+  if (r.after_end > 0 && !args.job.at_us.empty()) {
+    std::fprintf(stderr,
+                 "evlife render: warning: %zu of the --at instants lie after the last event "
+                 "(the recording is %.6f s long; --at takes seconds from the first event, or "
+                 "a unit: 500ms, 20us)\n",
+                 r.after_end, static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
+  }
+  if (r.output_fault) {
+    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", r.output_fault->c_str(), r.frames);
+    return kExitOutput;
+  }
+  if (r.input_fault) {
+    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
+                 r.input_fault->c_str(), r.frames, args.job.output.c_str());
+    return kExitInput;
+  }
+  if (r.stopped) {
+    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", r.frames, args.job.output.c_str());
+    return kExitInterrupted;
+  }
+  if (r.frames == 0) {
+    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
+    return kExitInput;
+  }
+  return kExitOk;
+}
+
+int run_render(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   RenderArgs args;
   if (const auto done = start_command("render", argc, argv, print_render_help, [&] { args = parse_render_args(argc, argv); })) {
     return *done;
   }
+  if (args.print_config) {
+    print_config(args.config);
+    return kExitOk;
+  }
 
   std::unique_ptr<render::AugmentedSource> source;
   try {
-    source = render::open_augmented_source(args.input, args.estimator, args.sensor, args.input_options);
+    source = render::open_augmented_source(args.input, args.config.config.estimator, args.sensor, args.input_options);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
     return kExitInput;
@@ -273,143 +294,27 @@ int render_recording(int argc, char** argv) {
     std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;
   }
-  const SensorSize sensor = source->sensor();
-  render::ActiveEventSet set(sensor, args.thinning);
-  render::FixedWindowMap window(sensor);
-  render::RenderCursor cursor(*source, set, &window);
-
-  render::FrameStyle style;
-  style.color = args.color;
-  style.scale = args.scale.value_or(std::max(1, 512 / std::max(sensor.width, sensor.height)));
-  style.caption = args.caption;
-  style.legend = args.legend;
-  style.lifetime_min_us = args.lifetime_min_us;
-  style.lifetime_max_us = args.lifetime_max_us;
-  render::FrameComposer composer(render::parse_view_mode(args.mode), style, args.mode);
-  const cv::Size frame_size = composer.frame_size(sensor);
-
-  std::optional<std::int64_t> first_t;
-  try {
-    first_t = cursor.first_t_us();
-  } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
-    return kExitInput;
-  }
-  if (!first_t) {
+  FrameProgress progress(!args.quiet);
+  g_render_stop = false;
+  const auto old_int = std::signal(SIGINT, on_render_stop);
+  const auto old_term = std::signal(SIGTERM, on_render_stop);
+  const render::RecordingRenderResult result = render::render_recording(
+      *source, args.job, [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
+      &g_render_stop);
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (result.no_events) {
     std::fprintf(stderr, "evlife render: %s holds no event: nothing to draw\n", args.input.c_str());
     return kExitInput;
   }
-
-  // Output: the frame sinks of render/frame_sink.h (also those of `evlife run`).
-  std::unique_ptr<render::FrameSink> sink;
-  try {
-    if (args.video) {
-      const double video_fps = std::min(60.0, args.video_fps.value_or(args.at_us.empty() ? args.fps : 10.0));
-      auto video = std::make_unique<render::VideoFrameSink>(args.output, video_fps);
-      video->open(frame_size.width, frame_size.height);
-      sink = std::move(video);
-    } else if (args.single_png) {
-      sink = std::make_unique<render::ImageFileFrameSink>(args.output);
-    } else {
-      sink = std::make_unique<render::PngFolderFrameSink>(args.output, render::FrameFileNames::seconds);
-    }
-  } catch (const std::runtime_error& e) {
-    std::fprintf(stderr, "evlife render: output error: %s\n", e.what());
-    return kExitOutput;
-  }
-
-  // Frame instants (relative to the first event).
-  std::size_t total = args.at_us.size();
-  if (args.at_us.empty() && args.to_us) {
-    total = static_cast<std::size_t>(std::floor(static_cast<double>(*args.to_us - args.from_us) * 1e-6 * args.fps)) + 1;
-  }
-  auto frame_time = [&](std::size_t k) -> std::int64_t {
-    if (!args.at_us.empty()) return args.at_us[k];
-    return args.from_us + std::llround(static_cast<double>(k) * 1e6 / args.fps);
-  };
-
-  FrameProgress progress(!args.quiet);
-  std::size_t frames = 0;
-  std::size_t after_end = 0;
-  std::optional<std::string> input_fault, output_fault;
-  double draw_s = 0.0;
-  g_render_stop = 0;
-  const auto old_int = std::signal(SIGINT, on_render_stop);
-  const auto old_term = std::signal(SIGTERM, on_render_stop);
-  for (std::size_t k = 0; g_render_stop == 0; ++k) {
-    if (total > 0 && k >= total) break;
-    const std::int64_t rel = frame_time(k);
-    const std::int64_t t = *first_t + rel;
-    try {
-      cursor.advance_to(t);
-    } catch (const io::ReadError& e) {
-      input_fault = e.what();
-      break;
-    }
-    // --fps without --to: stop after the last event.
-    if (args.at_us.empty() && !args.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
-    if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
-    const auto d0 = std::chrono::steady_clock::now();
-    const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
-    draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
-    try {
-      sink->write(render::as_frame(frame), rel);  // file names: time from the first event
-    } catch (const std::runtime_error& e) {
-      output_fault = e.what();
-      break;
-    }
-    ++frames;
-    progress.update(frames, total, static_cast<double>(rel) * 1e-6);
-  }
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
-  try {
-    sink->finish();
-  } catch (const std::runtime_error& e) {
-    if (!output_fault) output_fault = e.what();
-  }
-  progress.finish();
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-
-  if (!args.quiet) {
-    const auto& st = set.stats();
-    std::fprintf(stdout, "evlife render: %s -> %s\n", source->description().c_str(), args.output.c_str());
-    std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
-                 frames, frame_size.width, frame_size.height, sensor.width, sensor.height, style.scale,
-                 args.mode.c_str(), std::string(render::to_string(args.color)).c_str());
-    std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
-                 static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
-                 static_cast<unsigned long long>(st.thinned), args.thinning ? "" : " (thinning off)");
-    if (st.out_of_sensor + st.late > 0) {
-      std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
-                   static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
-    }
-    if (after_end > 0) std::fprintf(stdout, "  note                %zu frame(s) after the last event\n", after_end);
-    std::fprintf(stdout, "  time                %.2f s wall, %.2f ms per frame drawn\n", wall_s,
-                 frames ? 1e3 * draw_s / static_cast<double>(frames) : 0.0);
-  }
-  if (output_fault) {
-    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", output_fault->c_str(), frames);
-    return kExitOutput;
-  }
-  if (input_fault) {
-    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
-                 input_fault->c_str(), frames, args.output.c_str());
-    return kExitInput;
-  }
-  if (g_render_stop != 0) {
-    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", frames, args.output.c_str());
-    return kExitInterrupted;
-  }
-  if (frames == 0) {
-    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
-    return kExitInput;
-  }
-  return kExitOk;
+  if (!args.quiet && !result.setup_failed) print_summary(args, *source, result, wall_s);
+  return exit_status(args, result);
 }
 
 }  // namespace
 
-EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", render_recording);
+EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", run_render);
 
 }  // namespace evlife::cli

@@ -48,17 +48,18 @@ extern "C" void on_run_signal(int) {
 
 constexpr OptionSpec kOptions[] = {
     {"source", 0, true, false},       {"sensor", 0, true, false},
-    kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
+    kInputOptionSpec, kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec,
+    kToOptionSpec,
     {"realtime", 0, true, false},     {"workers", 'j', true, false},
     {"tiles", 0, true, false},        {"margin", 0, true, false},
     {"policy", 0, true, false},       {"batch-events", 0, true, false},
     {"queue-batches", 0, true, false}, {"stats-period", 0, true, false},
-    {"render-fps", 0, true, false},   {"frames", 0, true, false},
-    {"video", 0, true, false},        {"render-mode", 0, true, false},
+    {"fps", 0, true, false, "render-fps"}, {"frames", 0, true, false},
+    {"video", 0, true, false},        {"mode", 'm', true, false, "render-mode"},
     {"window", 0, false, false},     {"at", 0, true, false},
     {"output", 'o', true, false},
     {"biases", 0, true, false},       {"duration", 0, true, false},
-    {"config", 0, true, false},       {"set", 0, true, true},
+    kConfigOptionSpec, kSetOptionSpec, kPrintConfigOptionSpec,
     {"idle-spin-us", 0, true, false}, {"packet-us", 0, true, false},
     {"cpus", 0, true, false},         {"rt-priority", 0, true, false},
     {"lock-memory", 0, false, false},
@@ -70,9 +71,9 @@ void print_help(std::FILE* out) {
       "evlife run — the real-time engine: lifetimes and velocities of a live or\n"
       "replayed event stream, on several threads, with bounded latency and memory\n"
       "\n"
-      "Usage: evlife run --source SPEC [--sensor WxH] [--realtime[=K]] [--workers N]\n"
+      "Usage: evlife run [--source] SPEC [--sensor WxH] [--realtime[=K]] [--workers N]\n"
       "                  [--tiles CxR] [--margin PX] [--policy block|drop] [-o OUT]\n"
-      "                  [--render-fps F] [--frames DIR | --video FILE | --window]\n"
+      "                  [--fps F] [--frames DIR | --video FILE | --window]\n"
       "                  [--config FILE] [--set KEY=VALUE]... [--quiet]\n"
       "\n"
       "Threads: one source thread (reads and routes), N worker threads (each runs\n"
@@ -83,13 +84,14 @@ void print_help(std::FILE* out) {
       "between them, fixed at start.\n"
       "\n"
       "Sources (--source):\n"
-      "  file:PATH | PATH     a recording, any format `evlife process` reads; replayed\n"
+      "  file:PATH | PATH     a recording, any format `evlife process` reads (also as\n"
+      "                       `evlife run PATH` or -i PATH); replayed\n"
       "                       as fast as the workers go, or paced with --realtime.\n"
       "  dvs128[:SERIAL]      the DVS128 camera over USB (--biases FILE); a live\n"
       "                       source: runs until SIGINT; a vanished camera ends the\n"
       "                       run with exit status 3 after writing what arrived.\n"
       "  synth:PRESET         a synthetic scene (edges, bar, mixed, large) of\n"
-      "                       --duration S seconds (default 1) on --sensor (default\n"
+      "                       --duration T (default 1s; 500ms ...) on --sensor (default\n"
       "                       1280x720); live-like: paced with --realtime.\n"
       "\n"
       "Options:\n"
@@ -100,43 +102,32 @@ void print_help(std::FILE* out) {
   std::fprintf(out,
       "  --realtime[=K]       pace a replay by its event clock at K x real time\n"
       "                       (default 1). Without it: as fast as possible.\n"
-      "  -j, --workers N      worker threads, 1..32 (default: engine.workers).\n"
       "  --tiles CxR          tiles per polarity (default 1x1: one worker per\n"
       "                       polarity, output identical to `evlife process`). The\n"
-      "                       2*C*R tiles are dealt to the workers round robin.\n"
-      "  --margin PX          pixels around its tiles a worker also processes so that\n"
-      "                       windows across tile borders see their past (-1 = auto,\n"
-      "                       4 x window size). Tiled output differs from the single-\n"
-      "                       threaded one on a small share of events near borders\n"
-      "                       (see README); it is identical from run to run.\n"
+      "                       2*C*R tiles are dealt to the workers round robin. Tiled\n"
+      "                       output differs from the single-threaded one on a small\n"
+      "                       share of events near borders (see README; --margin).\n"
       "  --policy block|drop  when workers fall behind: block the source (default for\n"
       "                       files) or drop and count (default for cameras).\n"
-      "  --batch-events N     events per batch through the queues (default 1024).\n"
-      "  --queue-batches N    batches in flight per worker (default 64).\n"
-      "  --stats-period S     progress line every S seconds on stderr (0: none).\n"
-      "  --packet-us US       with --realtime: hand events over in packets of US\n"
-      "                       microseconds, as a camera's USB transfers (default 100;\n"
-      "                       0: whenever the source thread asks). Latency counts\n"
-      "                       from when an event's packet is due.\n"
-      "  --idle-spin-us US    an idle worker polls US microseconds (yielding the core)\n"
-      "                       before it sleeps: lower latency for busy cores. Default\n"
-      "                       -1: 100 for live sources (camera; synth:* paced with\n"
-      "                       --realtime), 0 otherwise.\n"
+      "Engine options (defaults: the engine: section of the configuration; -j = --workers):\n");
+  std::fputs(table_flags_help([](auto f) { engine::for_each_engine_option(f); }).c_str(), out);
+  std::fprintf(out,
       "  -o, --output FILE    write the augmented stream, in input order: FILE.csv,\n"
       "                       FILE.bin or FILE.h5 (as `evlife process`). Without\n"
       "                       -o: discarded (counted), e.g. to measure throughput.\n"
       "  --frames DIR         a render thread draws the active events (each event\n"
       "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
-      "                       DIR/frame_NNNNNN_t<us>.png ...\n"
-      "  --video FILE         ... or to a video (.mp4 or .avi) playing at --render-fps.\n"
+      "                       DIR/frame_NNNNNN_t<seconds>s.png, as `evlife render` ...\n"
+      "  --video FILE         ... or to a video (.mp4 or .avi) playing at --fps.\n"
       "  --window             ... or to an on-screen window (needs a display; q, Esc\n"
       "                       or closing the window stops the run as SIGINT does).\n"
       "                       With --realtime it plays at the recording's pace.\n"
-      "  --render-fps F       frames per second of the EVENT clock (default 30): the\n"
+      "  --fps F              frames per second of the EVENT clock (default 30): the\n"
       "                       same frames at any replay speed; 0: only --at frames.\n"
       "  --at T1,T2,...       also draw these instants, seconds from the first event\n"
-      "                       (or 250ms, 40us), e.g. --render-fps 0 --at 0.25,0.5.\n"
-      "  --render-mode M      lifetime | window:30ms | compare (as `evlife render`).\n"
+      "                       (or 250ms, 40us), e.g. --fps 0 --at 0.25,0.5.\n"
+      "  -m, --mode M         lifetime | window:30ms | compare (as `evlife render`).\n"
+      "                       (--render-fps and --render-mode are accepted too.)\n"
       "                       With policy drop the render branch skips what it cannot\n"
       "                       keep up with (counted); with block it slows the run.\n"
       "Real time (Linux; each refused setting stops the run before it starts, exit 5):\n"
@@ -148,9 +139,9 @@ void print_help(std::FILE* out) {
       "                       stacks faulted in and locked before the first event\n"
       "                       (needs CAP_IPC_LOCK or a large enough ulimit -l).\n"
       "                       The summary's `realtime` line states what was applied.\n"
-      "  --config FILE        YAML configuration (estimator: and engine: sections).\n"
-      "  --set KEY=VALUE      override one key, e.g. --set estimator.window_size=7.\n"
-      "  -q, --quiet          no progress and no summary.\n"
+      "  -q, --quiet          no progress and no summary.\n");
+  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fprintf(out,
       "\n"
       "At the end (and on SIGINT/SIGTERM, after finishing the queued work) a summary\n"
       "per stage goes to stdout: events in/out/dropped (in = out + dropped), queue\n"
@@ -166,29 +157,11 @@ void print_help(std::FILE* out) {
       "  evlife run --source dvs128 -o live.bin\n");
 }
 
-template <typename T>
-T parse_number(std::string_view name, const std::string& text, T lo, T hi) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used != text.size() || !(v >= static_cast<double>(lo)) || !(v <= static_cast<double>(hi)))
-      throw UsageError("");
-    if constexpr (std::is_integral_v<T>) {
-      if (static_cast<double>(static_cast<T>(v)) != v) throw UsageError("");
-    }
-    return static_cast<T>(v);
-  } catch (const std::exception&) {
-    throw UsageError("--" + std::string(name) + " " + text + ": expected a number in [" +
-                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
-}
-
 struct RunArgs {
   std::string source;
   std::optional<SensorSize> sensor;
   io::ReaderOptions input_options;  // --topic
   double speed = 0.0;
-  int packet_us = engine::ReplaySource::kDefaultPacketUs;
   std::string output;
   std::string biases;
   std::string frames_dir;
@@ -197,7 +170,8 @@ struct RunArgs {
   engine::RenderOptions render;
   double duration_s = 1.0;
   bool quiet = false;
-  config::ConfigBuilder config;
+  bool print_config = false;
+  config::LoadedConfig config;
   engine::EngineOptions engine;
 };
 
@@ -212,69 +186,59 @@ RunArgs parse_run_args(int argc, char** argv) {
 
   RunArgs r;
   r.quiet = a.has("quiet");
-  if (const auto c = a.value("config")) r.config.load_file(*c);
-  else r.config.load_default_file_if_present();
-  for (const auto& s : a.values("set")) r.config.set(s);
-  if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional.front() + "'");
+  r.config = load_command_config(a);
+  r.print_config = a.has("print-config");
+  if (r.print_config) return r;
+  if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
   const auto src = a.value("source");
-  if (!src) throw UsageError("missing --source (file:PATH, dvs128[:SERIAL] or synth:PRESET)");
-  r.source = *src;
+  if (src && !a.positional.empty())
+    throw UsageError("give the source once: --source " + *src + " or " + a.positional.front());
+  if (!src && a.positional.empty())
+    throw UsageError("missing --source (file:PATH or PATH, dvs128[:SERIAL] or synth:PRESET)");
+  r.source = src ? *src : a.positional.front();  // `run FILE` = --source FILE
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
   r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
   if (const auto s = a.value("output")) r.output = *s;
   if (const auto s = a.value("biases")) r.biases = *s;
-  if (const auto s = a.value("duration")) r.duration_s = parse_number<double>("duration", *s, 1e-3, 3600);
+  if (const auto s = a.value("duration")) {
+    r.duration_s = static_cast<double>(parse_time_flag("duration", *s)) * 1e-6;
+    if (r.duration_s < 1e-3 || r.duration_s > 3600)
+      throw UsageError("--duration " + *s + ": expected 1ms..3600s");
+  }
   if (const auto s = a.value("frames")) r.frames_dir = *s;
   if (const auto s = a.value("video")) r.video = *s;
-  if (const auto s = a.value("render-mode")) r.render.mode = *s;
-  if (const auto s = a.value("render-fps")) r.render.fps = parse_number<double>("render-fps", *s, 0, 100000);
+  if (const auto s = a.value("mode")) r.render.mode = *s;
+  if (const auto s = a.value("fps")) r.render.fps = parse_number<double>("fps", *s, 0, 100000);
   if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
   if (!r.video.empty() && r.render.fps == 0)
-    throw UsageError("--video needs --render-fps > 0 (it plays at that rate)");
+    throw UsageError("--video needs --fps > 0 (it plays at that rate)");
   r.window = a.has("window");
   if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
     throw UsageError("--frames, --video and --window: choose one");
-  if ((a.has("render-fps") || a.has("render-mode") || a.has("at")) && r.frames_dir.empty() &&
+  if ((a.has("fps") || a.has("mode") || a.has("at")) && r.frames_dir.empty() &&
       r.video.empty() && !r.window)
-    throw UsageError("--render-fps/--render-mode/--at need --frames DIR, --video FILE or --window");
+    throw UsageError("--fps/--mode/--at need --frames DIR, --video FILE or --window");
 
-  // The configuration file first, then the flags override it.
-  const config::Config cfg = r.config.build();
+  // The configuration file first, then the flags override it: every flag of
+  // the engine's option table (engine_options.h), with the table's range.
   engine::EngineOptions& e = r.engine;
-  e.lifetime = cfg.estimator;
-  e.workers = cfg.engine.workers;
-  e.tiles_x = cfg.engine.tiles_x;
-  e.tiles_y = cfg.engine.tiles_y;
-  e.margin_px = cfg.engine.margin_px;
-  e.batch_events = static_cast<std::size_t>(cfg.engine.batch_events);
-  e.batches_per_worker = static_cast<std::size_t>(cfg.engine.batches_per_worker);
-  e.auto_policy = cfg.engine.policy == "auto";
-  e.policy = cfg.engine.policy == "drop" ? engine::OverloadPolicy::drop : engine::OverloadPolicy::block;
-  e.stats_period_s = cfg.engine.stats_period_s;
-  e.idle_spin_us = cfg.engine.idle_spin_us;
-  r.packet_us = cfg.engine.replay_packet_us;
-  if (const auto s = a.value("idle-spin-us"))
-    e.idle_spin_us = parse_number<int>("idle-spin-us", *s, -1, 100000);
-  if (const auto s = a.value("packet-us")) r.packet_us = parse_number<int>("packet-us", *s, 0, 1000000);
-  if (const auto s = a.value("workers")) e.workers = parse_number<int>("workers", *s, 1, 32);
+  e = r.config.config.engine;
+  e.lifetime = r.config.config.estimator;
+  engine::for_each_engine_option([&](const OptionInfo& info, auto field) {
+    if (info.flag.empty()) return;
+    if (const auto s = a.value(info.flag)) parse_table_flag(info, *s, field(e));
+  });
   if (const auto s = a.value("tiles")) {
     const auto x = s->find('x');
     if (x == std::string::npos) throw UsageError("--tiles " + *s + ": expected CxR, e.g. 2x2");
     e.tiles_x = parse_number<int>("tiles", s->substr(0, x), 1, 256);
     e.tiles_y = parse_number<int>("tiles", s->substr(x + 1), 1, 256);
   }
-  if (const auto s = a.value("margin")) e.margin_px = parse_number<int>("margin", *s, -1, 1024);
   if (const auto s = a.value("policy")) {
-    e.auto_policy = false;
-    if (*s == "block") e.policy = engine::OverloadPolicy::block;
-    else if (*s == "drop") e.policy = engine::OverloadPolicy::drop;
-    else throw UsageError("--policy " + *s + ": expected block or drop");
+    if (*s == "auto" || !engine::parse_overload_policy(*s, e.auto_policy, e.policy))
+      throw UsageError("--policy " + *s + ": expected block or drop");
   }
-  if (const auto s = a.value("batch-events"))
-    e.batch_events = parse_number<std::size_t>("batch-events", *s, 16, 65536);
-  if (const auto s = a.value("queue-batches"))
-    e.batches_per_worker = parse_number<std::size_t>("queue-batches", *s, 2, 1024);
   if (const auto s = a.value("cpus")) {
     try {
       e.realtime.cpus = engine::parse_cpu_list(*s);
@@ -284,8 +248,6 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto s = a.value("rt-priority")) e.realtime.rt_priority = parse_number<int>("rt-priority", *s, 1, 99);
   e.realtime.lock_memory = a.has("lock-memory");
-  if (const auto s = a.value("stats-period"))
-    e.stats_period_s = parse_number<double>("stats-period", *s, 0.0, 3600.0);
   if (!r.output.empty()) {
     const std::string ext = std::filesystem::path(r.output).extension().string();
     if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
@@ -305,23 +267,74 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
     auto source = engine::ReplaySource::from_reader(
         std::make_unique<io::SyntheticSceneReader>(*preset), sensor, r.speed,
         r.speed > 0 ? engine::SourceKind::live : engine::SourceKind::offline);
-    source->set_packet_us(r.packet_us);
+    source->set_packet_us(r.engine.replay_packet_us);
     return source;
   }
   if (spec.starts_with("file:")) spec.remove_prefix(5);
   auto source = engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed, r.input_options);
-  source->set_packet_us(r.packet_us);
+  source->set_packet_us(r.engine.replay_packet_us);
   return source;
+}
+
+void print_run_summary(const RunArgs& args, const engine::EventSource& src,
+                       const engine::RunResult& result, const engine::RenderStage* render_stage,
+                       double wall_s) {
+  std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", src.describe().c_str(),
+               args.output.empty() ? "(discarded)" : args.output.c_str(),
+               result.stats.summary().c_str());
+  if (render_stage)
+    std::fprintf(stdout, "frames : %llu %s %s\n",
+                 static_cast<unsigned long long>(render_stage->frames_written()),
+                 args.window ? "shown in" : "written to",
+                 args.window ? "a window" :
+                 args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
+  std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
+  std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
+               wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
+  std::fflush(stdout);
+}
+
+int run_exit_status(const engine::RunResult& result, const engine::RenderStage* render_stage) {
+  if (render_stage && !render_stage->error().empty() &&
+      result.status == engine::RunStatus::completed) {
+    std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
+    return kExitOutput;
+  }
+  switch (result.status) {
+    case engine::RunStatus::completed: break;
+    case engine::RunStatus::interrupted:
+      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
+                   static_cast<unsigned long long>(result.stats.events_out));
+      break;
+    case engine::RunStatus::source_error:
+      std::fprintf(stderr, "evlife run: input error: %s\n"
+                   "evlife run: the %llu events before it were processed and written\n",
+                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
+      break;
+    case engine::RunStatus::sink_error:
+      std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
+      break;
+    case engine::RunStatus::realtime_error:
+      std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
+                   result.message.c_str());
+      break;
+  }
+  return result.exit_code();  // the one scheme (evlife/engine/exit_code.h)
 }
 
 int run_engine(int argc, char** argv) {
   RunArgs args;
   if (const auto done = start_command("run", argc, argv, print_help, [&] {
         args = parse_run_args(argc, argv);
+        if (args.print_config) return;
         const std::string problem = engine::validate_engine_options(args.engine);
         if (!problem.empty()) throw UsageError(problem);
       })) {
     return *done;
+  }
+  if (args.print_config) {
+    print_config(args.config);
+    return kExitOk;
   }
   if (args.window) {  // before any thread: the probe forks
     const std::string problem = probe_window_display();
@@ -400,46 +413,9 @@ int run_engine(int argc, char** argv) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  if (!args.quiet && result.status != engine::RunStatus::realtime_error) {
-    std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", source->describe().c_str(),
-                 args.output.empty() ? "(discarded)" : args.output.c_str(),
-                 result.stats.summary().c_str());
-    if (render_stage)
-      std::fprintf(stdout, "frames : %llu %s %s\n",
-                   static_cast<unsigned long long>(render_stage->frames_written()),
-                   args.window ? "shown in" : "written to",
-                   args.window ? "a window" :
-                   args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
-    std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
-    std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
-                 wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
-    std::fflush(stdout);
-  }
-  if (render_stage && !render_stage->error().empty() &&
-      result.status == engine::RunStatus::completed) {
-    std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
-    return kExitOutput;
-  }
-  switch (result.status) {
-    case engine::RunStatus::completed: break;
-    case engine::RunStatus::interrupted:
-      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
-                   static_cast<unsigned long long>(result.stats.events_out));
-      break;
-    case engine::RunStatus::source_error:
-      std::fprintf(stderr, "evlife run: input error: %s\n"
-                   "evlife run: the %llu events before it were processed and written\n",
-                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
-      break;
-    case engine::RunStatus::sink_error:
-      std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
-      break;
-    case engine::RunStatus::realtime_error:
-      std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n",
-                   result.message.c_str());
-      break;
-  }
-  return result.exit_code();
+  if (!args.quiet && result.status != engine::RunStatus::realtime_error)
+    print_run_summary(args, *source, result, render_stage.get(), wall_s);
+  return run_exit_status(result, render_stage.get());
 }
 
 }  // namespace

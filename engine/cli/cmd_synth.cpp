@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "arg_parser.h"
+#include "command_start.h"
 #include "command.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/synthetic_scene.h"
@@ -39,7 +40,7 @@ void print_help(std::FILE* out) {
       "evlife synth — write a synthetic event recording with known ground truth\n"
       "\n"
       "Usage: evlife synth -o FILE [--scene edges|bar|mixed|large|edges-bar] [--sensor WxH]\n"
-      "                    [--duration S] [--seed N] [--noise-rate R] [--jitter-us J]\n"
+      "                    [--duration T] [--seed N] [--noise-rate R] [--jitter-us J]\n"
       "                    [--pixel ideal|dvs|dvs-dim] [pixel options] [--truth TRUTH.csv] [--quiet]\n"
       "\n"
       "The scene: bright bars on a dark background. An event fires when an edge\n"
@@ -71,7 +72,7 @@ void print_help(std::FILE* out) {
       "                       seconds, 6 decimals; p 1 = ON, 0 = OFF); .h5: HDF5.\n"
       "  --scene NAME         see above (default mixed).\n"
       "  --sensor WxH         sensor size in pixels (default 128x128, the DVS128).\n"
-      "  --duration S         seconds of scene (default 3).\n"
+      "  --duration T         length of the scene: 1.5s, 500ms, or seconds (default 3).\n"
       "  --seed N             seed of jitter and noise (default 1); the same options\n"
       "                       give the same file byte for byte.\n"
       "  --noise-rate R       background noise, events per pixel per second, uniform\n"
@@ -108,17 +109,6 @@ void print_help(std::FILE* out) {
       "  evlife synth -o dim.txt --scene edges-bar --sensor 346x260 --pixel dvs-dim --truth dim_truth.csv\n");
 }
 
-double parse_number(const std::string& name, const std::string& text, double lo, double hi) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || errno != 0 || !(v >= lo && v <= hi)) {
-    throw UsageError("--" + name + " " + text + ": expected a number in [" + std::to_string(lo) +
-                     ", " + std::to_string(hi) + "]");
-  }
-  return v;
-}
-
 std::uint64_t parse_seed(const std::string& text) {
   char* end = nullptr;
   errno = 0;
@@ -151,7 +141,7 @@ void apply_pixel_options(const ParsedArgs& a, io::PixelModel& m) {
     const auto v = a.value(f.name);
     if (!v) continue;
     if (!m.enabled) throw UsageError(std::string("--") + f.name + " needs --pixel dvs or dvs-dim");
-    m.*f.field = parse_number(f.name, *v, f.lo, f.hi);
+    m.*f.field = parse_number<double>(f.name, *v, f.lo, f.hi);
   }
 }
 
@@ -199,16 +189,10 @@ class TruthCsv {
 };
 
 int synth(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
-      print_help(stdout);
-      return kExitOk;
-    }
-  }
   io::SceneSpec spec;
   std::string output, truth_path, scene_name = "mixed", pixel_name;
   bool quiet = false;
-  try {
+  if (const auto done = start_command("synth", argc, argv, print_help, [&] {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
     if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
     if (!a.has("output")) throw UsageError("missing -o FILE");
@@ -216,9 +200,11 @@ int synth(int argc, char** argv) {
     truth_path = a.value("truth").value_or("");
     scene_name = a.value("scene").value_or("mixed");
     const SensorSize sensor = parse_sensor_size(a.value("sensor").value_or("128x128"));
-    const double duration_s = parse_number("duration", a.value("duration").value_or("3"), 1e-3, 3600.0);
+    const std::int64_t duration_us = parse_time_flag("duration", a.value("duration").value_or("3"));
+    if (duration_us < 1000 || duration_us > 3600'000'000)
+      throw UsageError("--duration " + *a.value("duration") + ": expected 1ms..3600s");
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
-    const auto preset = io::scene_preset(scene_name, sensor, std::llround(duration_s * 1e6), seed);
+    const auto preset = io::scene_preset(scene_name, sensor, duration_us, seed);
     if (!preset) throw UsageError("--scene " + scene_name + ": expected edges, bar, mixed, large or edges-bar");
     spec = *preset;
     pixel_name = a.value("pixel").value_or("ideal");
@@ -226,14 +212,13 @@ int synth(int argc, char** argv) {
       throw UsageError("--pixel " + pixel_name + ": expected ideal, dvs or dvs-dim");
     }
     apply_pixel_options(a, spec.pixel);
-    if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number("noise-rate", *r, 0.0, 1e4);
-    if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number("jitter-us", *j, 0.0, 1e5);
+    if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number<double>("noise-rate", *r, 0.0, 1e4);
+    if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
     if (const auto err = io::validate_scene_spec(spec); !err.empty()) throw UsageError(err);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife synth: %s\n(see evlife synth --help)\n", e.what());
-    return kExitUsage;
+  })) {
+    return *done;
   }
 
   io::SyntheticSceneReader scene(spec);

@@ -15,6 +15,9 @@ struct Command {
 
 std::vector<Command>& command_registry();
 
+/// "0.1.0 (git v0.1-12-gabcdef)": `evlife --version` and `evlife CMD --version`.
+const char* version_text();
+
 inline bool register_command(const Command& command) {
   command_registry().push_back(command);
   return true;

@@ -1,5 +1,5 @@
 // The start every command shares: `--help`/`-h` anywhere prints the help and
-// ends with 0; otherwise `parse()` runs, and a usage or configuration error is
+// ends with 0 (`--version` the version); otherwise `parse()` runs, and a usage or configuration error is
 // printed as "evlife <command>: ..." and ends with status 2.
 #pragma once
 
@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "arg_parser.h"
+#include "command.h"
 #include "evlife/config/config.h"
 #include "exit_code.h"
 
@@ -21,6 +22,10 @@ std::optional<int> start_command(const char* command, int argc, char** argv, voi
     const std::string_view arg = argv[i];
     if (arg == "--help" || arg == "-h") {
       help(stdout);
+      return kExitOk;
+    }
+    if (arg == "--version") {
+      std::printf("evlife %s\n", version_text());
       return kExitOk;
     }
   }

@@ -1,6 +1,7 @@
 #include "lifetime_summary.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace evlife::cli {
@@ -10,6 +11,10 @@ LifetimeSummary::LifetimeSummary()
       abs_error_us_(0.1, 1e10, 100) {}
 
 void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
+  if (!events.empty()) {
+    if (events_ == 0) first_t_us_ = events.front().event.t_us;
+    last_t_us_ = events.back().event.t_us;
+  }
   for (const AugmentedEvent& a : events) {
     ++events_;
     if (a.is_noise()) {
@@ -22,6 +27,13 @@ void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
       abs_error_us_.add(static_cast<double>(std::fabs(a.prediction_error_us)));
     }
   }
+}
+
+std::string format_time_range(std::int64_t first_t_us, std::int64_t last_t_us) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "t = %lld .. %lld us (%.6f s long)", static_cast<long long>(first_t_us),
+                static_cast<long long>(last_t_us), static_cast<double>(last_t_us - first_t_us) * 1e-6);
+  return buf;
 }
 
 std::string format_duration_us(double us) {
@@ -56,6 +68,7 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
     return whole == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(whole);
   };
   std::fprintf(out, "  events              %llu\n", static_cast<unsigned long long>(events_));
+  if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
   std::fprintf(out, "  labelled noise      %.1f %% (%llu events)\n", share(noise_, events_),
                static_cast<unsigned long long>(noise_));
   if (lifetime_us_.count() > 0) {

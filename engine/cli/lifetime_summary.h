@@ -33,10 +33,15 @@ class LifetimeSummary {
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;
+  std::int64_t first_t_us_ = 0;
+  std::int64_t last_t_us_ = 0;
   LogHistogram lifetime_us_;
   LogHistogram abs_error_us_;
 };
 
+/// The recording's time range as every summary states it:
+/// "t = 0 .. 2345678 us (2.345678 s long)".
+std::string format_time_range(std::int64_t first_t_us, std::int64_t last_t_us);
 /// "850 µs", "12.3 ms", "1.52 s": a duration given in microseconds.
 std::string format_duration_us(double us);
 /// "1.23 M", "456 k": a count or rate with an SI prefix.

@@ -6,11 +6,20 @@
 #include <string_view>
 
 #include "command.h"
+#include "evlife/config/config.h"
 
 namespace evlife::cli {
 std::vector<Command>& command_registry() {
   static std::vector<Command> registry;
   return registry;
+}
+
+const char* version_text() {
+#ifdef EVLIFE_VERSION
+  return EVLIFE_VERSION;
+#else
+  return "unknown";
+#endif
 }
 }  // namespace evlife::cli
 
@@ -34,7 +43,9 @@ void print_usage(std::FILE* out) {
                "  evlife render recording.mat -o f.png --at 0.5 --mode compare   # 1 ms | 30 ms | lifetime\n"
                "  evlife run --source dvs128 -o live.bin          # live DVS128, real-time engine\n"
                "\nEvery event is active from t to t + lifetime, so a sharp edge image exists at any instant.\n"
-               "Configuration: config/evlife.yaml (--config FILE, --set key=value); exit status 0 ok,\n"
+               "Every command takes -i/--input FILE (or FILE), --help and --version; those that\n"
+               "estimate take --config FILE, --set key=value and --print-config (config/evlife.yaml).\n"
+               "Times: 1.5s, 500ms, 20us, or a bare number of seconds. Exit status 0 ok,\n"
                "2 usage, 3 input error, 4 output error, 130 interrupted.\n");
 }
 }  // namespace
@@ -43,6 +54,10 @@ int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "-V") == 0) {
+    std::printf("evlife %s\n", evlife::cli::version_text());
+    return 0;
   }
   const std::string_view name = argv[1];
   for (const auto& c : evlife::cli::command_registry()) {
@@ -54,7 +69,11 @@ int main(int argc, char** argv) {
       return 1;  // kExitFailure
     }
   }
-  std::fprintf(stderr, "evlife: unknown command '%s'\n\n", argv[1]);
+  std::vector<std::string_view> names;
+  for (const auto& c : evlife::cli::command_registry()) names.push_back(c.name);
+  const std::string best = evlife::config::closest_name(name, names);
+  std::fprintf(stderr, "evlife: unknown command '%s'%s%s%s\n\n", argv[1],
+               best.empty() ? "" : " (did you mean '", best.c_str(), best.empty() ? "" : "'?)");
   print_usage(stderr);
   return 2;
 }

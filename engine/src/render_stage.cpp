@@ -31,7 +31,7 @@ RenderStage::~RenderStage() = default;
 void RenderStage::emit(std::int64_t t_us) noexcept {
   if (!error_.empty()) return;
   try {
-    sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us)), t_us);
+    sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us)), t_us - first_t_us_);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     error_ = e.what();
@@ -42,8 +42,10 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
-  if (last_t_us_ == INT64_MIN)  // the first event: the instants count from it
+  if (last_t_us_ == INT64_MIN) {  // the first event: the instants count from it
+    first_t_us_ = t;
     for (auto& at : at_us_) at += t;
+  }
   if (period_us_ > 0 && next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.

@@ -1,5 +1,7 @@
 #include "evlife/render/frame_composer.h"
 
+#include "evlife/algo/parse_text.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -24,28 +26,9 @@ std::string format_duration(std::int64_t us) {
 }  // namespace
 
 std::int64_t parse_duration_us(std::string_view text) {
-  std::string_view number = text;
-  double unit_us = 1e6;
-  auto ends_with = [&](std::string_view suffix) {
-    return number.size() > suffix.size() && number.substr(number.size() - suffix.size()) == suffix;
-  };
-  if (ends_with("us")) {
-    unit_us = 1.0;
-    number.remove_suffix(2);
-  } else if (ends_with("ms")) {
-    unit_us = 1e3;
-    number.remove_suffix(2);
-  } else if (ends_with("s")) {
-    number.remove_suffix(1);
-  }
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
-  if (ec != std::errc() || ptr != number.data() + number.size() || !std::isfinite(value) ||
-      value < 0.0 || value * unit_us > 1e15) {
-    throw std::invalid_argument("bad duration '" + std::string(text) +
-                                "' (examples: 30ms, 500us, 0.25s, 1.5)");
-  }
-  return std::llround(value * unit_us);
+  if (const auto us = parse_time_us(text)) return *us;  // the one time parser (algo/)
+  throw std::invalid_argument("bad duration '" + std::string(text) + "' (" +
+                              std::string(kTimeExamples) + ")");
 }
 
 std::vector<View> parse_view_mode(std::string_view mode) {

@@ -20,8 +20,7 @@ void create_parent(const std::string& path) {
 
 }  // namespace
 
-PngFolderFrameSink::PngFolderFrameSink(std::string dir, FrameFileNames names)
-    : dir_(std::move(dir)), names_(names) {
+PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec || !std::filesystem::is_directory(dir_)) {
@@ -30,18 +29,14 @@ PngFolderFrameSink::PngFolderFrameSink(std::string dir, FrameFileNames names)
   }
 }
 
-std::string PngFolderFrameSink::file_name(long long index, std::int64_t t_us, FrameFileNames names) {
+std::string PngFolderFrameSink::file_name(long long index, std::int64_t t_us) {
   char name[80];
-  if (names == FrameFileNames::seconds) {
-    std::snprintf(name, sizeof name, "frame_%06lld_t%.6fs.png", index, static_cast<double>(t_us) * 1e-6);
-  } else {
-    std::snprintf(name, sizeof name, "frame_%06lld_t%lld.png", index, static_cast<long long>(t_us));
-  }
+  std::snprintf(name, sizeof name, "frame_%06lld_t%.6fs.png", index, static_cast<double>(t_us) * 1e-6);
   return name;
 }
 
 void PngFolderFrameSink::write(const FrameImage& frame, std::int64_t t_us) {
-  write_image((std::filesystem::path(dir_) / file_name(index_++, t_us, names_)).string(), as_mat(frame));
+  write_image((std::filesystem::path(dir_) / file_name(index_++, t_us)).string(), as_mat(frame));
 }
 
 ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { create_parent(path_); }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "evlife/algo/event.h"
+#include "evlife/algo/option_info.h"
 
 namespace evlife {
 
@@ -91,6 +92,55 @@ struct LifetimeOptions {
   /// (seed, x, y, t, p), so results do not depend on processing order.
   std::uint64_t seed = 0x5eed;
 };
+
+/// The one declaration of every option's key, range and documentation (see
+/// option_info.h): calls f(info, accessor) per field, `accessor(o)` returning
+/// the field of a LifetimeOptions (const or not). validate_lifetime_options(),
+/// the `estimator:` keys of config/ and the --help texts read it.
+template <typename F>
+void for_each_lifetime_option(F&& f) {
+  f(OptionInfo{"sensor.width", "", 1, 4096, false, false, false, false,
+               "sensor width, px (input formats that state it win)"}, [](auto& o) -> auto& { return o.sensor.width; });
+  f(OptionInfo{"sensor.height", "", 1, 4096, false, false, false, false, "sensor height, px"},
+    [](auto& o) -> auto& { return o.sensor.height; });
+  f(OptionInfo{"window_size", "window-size", 3, 15, false, false, true, false,
+               "N: side of the square window around each event"}, [](auto& o) -> auto& { return o.window_size; });
+  f(OptionInfo{"outlier_fraction", "", 0.0, 0.9, true, false, false, false,
+               "epsilon: expected share of outliers (RANSAC, minimum support)"},
+    [](auto& o) -> auto& { return o.outlier_fraction; });
+  f(OptionInfo{"ransac_confidence", "", 0.0, 1.0, true, true, false, false,
+               "probability that RANSAC draws an all-inlier sample"},
+    [](auto& o) -> auto& { return o.ransac_confidence; });
+  f(OptionInfo{"inlier_tolerance_us", "", 0.0, 1e6, true, false, false, false,
+               "inlier tolerance floor, us"}, [](auto& o) -> auto& { return o.inlier_tolerance_us; });
+  f(OptionInfo{"inlier_tolerance_lifetime_fraction", "", 0.0, 0.5, true, false, false, false,
+               "inlier tolerance as a share of the candidate's lifetime"},
+    [](auto& o) -> auto& { return o.inlier_tolerance_lifetime_fraction; });
+  f(OptionInfo{"inlier_tolerance_residual_factor", "", 0.0, 10.0, false, false, false, false,
+               "floor >= this x the recent fits' residual RMS; 0 = fixed floor"},
+    [](auto& o) -> auto& { return o.inlier_tolerance_residual_factor; });
+  f(OptionInfo{"regularization", "", 0, 1, false, false, false, false,
+               "regularize the refit towards the predicted plane (eq. 12)"},
+    [](auto& o) -> auto& { return o.regularization; });
+  f(OptionInfo{"lambda_offset", "", 0.0, 1e9, false, false, false, false, "eq. 13 offset"},
+    [](auto& o) -> auto& { return o.lambda_offset; });
+  f(OptionInfo{"lambda_gain", "", 0.0, 1e9, false, false, false, false, "eq. 13 gain"},
+    [](auto& o) -> auto& { return o.lambda_gain; });
+  f(OptionInfo{"lambda_decay_per_us", "", 0.0, 1e3, false, false, false, false,
+               "eq. 13 decay, 1/us"}, [](auto& o) -> auto& { return o.lambda_decay_per_us; });
+  f(OptionInfo{"lambda_unit_px2", "", 0.0, 1e6, false, false, false, false,
+               "weight of the prior in px^2 of data spread"}, [](auto& o) -> auto& { return o.lambda_unit_px2; });
+  f(OptionInfo{"continuation_min_support", "", 0, 112, false, false, false, false,
+               "minimum support of an edge's continuation: 0 or 2..(N^2-1)/2"},
+    [](auto& o) -> auto& { return o.continuation_min_support; });
+  f(OptionInfo{"burst_window_lifetimes", "", 0.0, 10.0, false, false, false, false,
+               "burst followers within this many lifetimes; 0 = none"},
+    [](auto& o) -> auto& { return o.burst_window_lifetimes; });
+  f(OptionInfo{"max_lifetime_us", "", 0.0, 1e9, true, false, false, false,
+               "longer lifetimes are noise, us"}, [](auto& o) -> auto& { return o.max_lifetime_us; });
+  f(OptionInfo{"seed", "", 0.0, 18446744073709551615.0, false, false, false, false,
+               "seed of the RANSAC sampler"}, [](auto& o) -> auto& { return o.seed; });
+}
 
 /// Returns an empty string when the options are usable, else a message that
 /// names the offending field and its allowed range. Never throws.

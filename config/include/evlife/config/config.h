@@ -22,29 +22,16 @@
 #include <vector>
 
 #include "evlife/algo/lifetime_options.h"
+#include "evlife/engine/engine_options.h"  // a plain struct: config links no engine code
 
 namespace evlife::config {
 
-/// YAML section `engine:` (`evlife run`): thread roles, tiling, queue sizes,
-/// overload policy. Plain values, mapped onto evlife::engine::EngineOptions
-/// by the CLI (config does not depend on the engine); defaults equal
-/// EngineOptions' (test_engine checks).
-struct EngineSection {
-  int workers = 2;                ///< worker threads, 1..32
-  int tiles_x = 1;                ///< tiles per polarity, columns, 1..256
-  int tiles_y = 1;                ///< tiles per polarity, rows, 1..256
-  int margin_px = -1;             ///< -1 = auto (4 x window size), 0..1024
-  int batch_events = 1024;        ///< events per batch through the queues, 16..65536
-  int batches_per_worker = 64;    ///< batches in flight per worker, 2..1024
-  std::string policy = "auto";    ///< auto | block | drop
-  double stats_period_s = 1.0;    ///< progress line period, 0 = none
-  int idle_spin_us = -1;          ///< idle worker polls this long before sleeping; -1 auto, 0..100000
-  int replay_packet_us = 100;     ///< paced replays: packet period, 0..1000000 (0 = none)
-};
-
 struct Config {
   LifetimeOptions estimator;  ///< YAML section `estimator:`, 1:1 with LifetimeOptions
-  EngineSection engine;       ///< YAML section `engine:`
+  /// YAML section `engine:` (`evlife run`), 1:1 with the table next to
+  /// EngineOptions (and its policy); `engine.lifetime` is not read from it:
+  /// the estimator's options are `estimator` (the CLI copies them in).
+  engine::EngineOptions engine;
 };
 
 /// Any configuration problem: the message names the key, where it was set
@@ -101,8 +88,25 @@ class ConfigBuilder {
 /// Path of the documented default file compiled into the library.
 std::string default_config_path();
 
-/// Convenience: defaults, then `path` (if not empty), then overrides; validated.
-Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
+/// A configuration as every command loads it, with where it came from.
+struct LoadedConfig {
+  Config config;
+  ConfigBuilder builder;               ///< origins of the keys (origin())
+  std::string source;                  ///< the file read, or "built-in defaults"
+  std::vector<std::string> overrides;  ///< the --set assignments, in order
+
+  /// "FILE, --set a=b, ..." for summaries.
+  std::string describe() const;
+};
+
+/// The one loading path of every command: `path` when given, else the shipped
+/// default file when present (else the struct defaults), then the overrides
+/// in order; validated. Throws ConfigError.
+LoadedConfig load_config(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The candidate nearest to `name` (at most 3 edits away), else "": the
+/// "did you mean" of configuration keys, commands and flags.
+std::string closest_name(std::string_view name, const std::vector<std::string_view>& candidates);
 
 /// The effective configuration as YAML (every key, current value).
 std::string to_yaml(const Config& config);

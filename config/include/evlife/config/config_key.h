@@ -15,7 +15,8 @@ namespace evlife::config {
 struct ConfigKey {
   std::string name;     ///< dotted, e.g. "estimator.window_size"
   std::string type;     ///< "integer", "number", "boolean", "string"
-  std::string allowed;  ///< human text of the allowed range, e.g. "odd, 3..15"
+  std::string allowed;  ///< human text of the allowed range, e.g. "odd, [3, 15]"
+  std::string doc;      ///< one line, from the option's table
   /// Parses `text` (a YAML scalar) into the field; false when it is not a
   /// value of `type` (the range is checked separately by in_range).
   std::function<bool(Config&, std::string_view text)> parse;

@@ -6,8 +6,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "evlife/algo/lifetime_options.h"
+#include "evlife/algo/option_info.h"
 #include "evlife/engine/realtime_options.h"
 
 namespace evlife::engine {
@@ -41,7 +43,7 @@ struct EngineOptions {
   /// Events per batch (the unit moved through the queues). 16..65536.
   std::size_t batch_events = 1024;
 
-  /// Batches per worker in flight (its pool and queue capacity). 2..4096.
+  /// Batches per worker in flight (its pool and queue capacity). 2..1024.
   std::size_t batches_per_worker = 64;
 
   /// When workers lag. auto_policy: block for offline sources, drop for live ones.
@@ -65,9 +67,61 @@ struct EngineOptions {
   /// Period of the progress line (spdlog info); 0 = only the final summary.
   double stats_period_s = 1.0;
 
+  /// Paced replays (ReplaySource::set_packet_us): events are handed over in
+  /// packets of this period, microseconds, 0..1000000 (0: none).
+  int replay_packet_us = 100;
+
   /// CPU pinning, SCHED_FIFO, locked memory (Engine::run(); off by default).
   RealtimeOptions realtime;
 };
+
+/// The one declaration of the engine's numeric options (see
+/// evlife/algo/option_info.h): f(info, accessor) per field. The `engine:` keys
+/// of config/, validate_engine_options() and `evlife run`'s flags and --help
+/// read it. The overload policy (an enum, "auto" | "block" | "drop") is the
+/// one option outside it: see kPolicyKey.
+template <typename F>
+void for_each_engine_option(F&& f) {
+  f(OptionInfo{"workers", "workers", 1, 32, false, false, false, false,
+               "worker threads"}, [](auto& o) -> auto& { return o.workers; });
+  f(OptionInfo{"tiles_x", "", 1, 256, false, false, false, false,
+               "tiles per polarity, columns (flag: --tiles CxR)"}, [](auto& o) -> auto& { return o.tiles_x; });
+  f(OptionInfo{"tiles_y", "", 1, 256, false, false, false, false,
+               "tiles per polarity, rows (flag: --tiles CxR)"}, [](auto& o) -> auto& { return o.tiles_y; });
+  f(OptionInfo{"margin_px", "margin", 0, 1024, false, false, false, true,
+               "pixels a worker also processes around its tiles; -1: 4 x N"},
+    [](auto& o) -> auto& { return o.margin_px; });
+  f(OptionInfo{"batch_events", "batch-events", 16, 65536, false, false, false, false,
+               "events per batch through the queues"}, [](auto& o) -> auto& { return o.batch_events; });
+  f(OptionInfo{"batches_per_worker", "queue-batches", 2, 1024, false, false, false, false,
+               "batches in flight per worker"}, [](auto& o) -> auto& { return o.batches_per_worker; });
+  f(OptionInfo{"stats_period_s", "stats-period", 0.0, 3600.0, false, false, false, false,
+               "progress line period (1.5s, 500ms); 0: none"},
+    [](auto& o) -> auto& { return o.stats_period_s; });
+  f(OptionInfo{"idle_spin_us", "idle-spin-us", 0, 100000, false, false, false, true,
+               "idle worker polls this long before sleeping, us; -1: auto"},
+    [](auto& o) -> auto& { return o.idle_spin_us; });
+  f(OptionInfo{"replay_packet_us", "packet-us", 0, 1000000, false, false, false, false,
+               "paced replays: packet period, us; 0: none"},
+    [](auto& o) -> auto& { return o.replay_packet_us; });
+}
+
+/// The overload policy's configuration key and its values.
+inline constexpr std::string_view kPolicyKey = "policy";
+
+/// "auto", "block" or "drop" into the two fields; false (fields unchanged)
+/// for anything else.
+inline bool parse_overload_policy(std::string_view text, bool& auto_policy,
+                                  OverloadPolicy& policy) {
+  if (text != "auto" && text != "block" && text != "drop") return false;
+  auto_policy = text == "auto";
+  if (!auto_policy) policy = text == "block" ? OverloadPolicy::block : OverloadPolicy::drop;
+  return true;
+}
+
+inline std::string_view overload_policy_name(bool auto_policy, OverloadPolicy policy) {
+  return auto_policy ? "auto" : policy == OverloadPolicy::block ? "block" : "drop";
+}
 
 /// Margin actually used for `options` (resolves -1 and the 1x1 case).
 int effective_margin_px(const EngineOptions& options);

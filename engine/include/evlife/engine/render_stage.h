@@ -69,6 +69,7 @@ class RenderStage final : public AuxStage {
   std::vector<std::int64_t> at_us_;  // absolute once the first event is seen
   std::size_t next_at_ = 0;
   std::int64_t last_t_us_ = INT64_MIN;
+  std::int64_t first_t_us_ = 0;  ///< the first event's: sinks get t from it
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};
   std::string error_;

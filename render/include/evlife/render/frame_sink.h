@@ -35,24 +35,20 @@ class FrameSink {
   FrameSink& operator=(const FrameSink&) = default;
 };
 
-/// How PngFolderFrameSink names its files.
-enum class FrameFileNames {
-  microseconds,  ///< frame_000000_t500000.png (`evlife run --frames`)
-  seconds,       ///< frame_000000_t0.500000s.png (`evlife render -o DIR`)
-};
-
-/// DIR/frame_000000_t<t>.png, ... Creates DIR (and its parents). Throws
-/// std::runtime_error naming the folder or file that cannot be written.
+/// DIR/frame_000000_t0.500000s.png, ...: frame number and time from the
+/// stream's first event in seconds (the unit the flags take); `evlife render
+/// -o DIR` and `evlife run --frames DIR` name frames alike. Creates DIR (and
+/// its parents). Throws std::runtime_error naming the folder or file that
+/// cannot be written.
 class PngFolderFrameSink final : public FrameSink {
  public:
-  explicit PngFolderFrameSink(std::string dir, FrameFileNames names = FrameFileNames::microseconds);
+  explicit PngFolderFrameSink(std::string dir);
   void write(const FrameImage& frame, std::int64_t t_us) override;
-  /// The file name of frame number `index` at `t_us`.
-  static std::string file_name(long long index, std::int64_t t_us, FrameFileNames names);
+  /// The file name of frame number `index` at `t_us` from the first event.
+  static std::string file_name(long long index, std::int64_t t_us);
 
  private:
   std::string dir_;
-  FrameFileNames names_;
   long long index_ = 0;
 };
 

@@ -1,0 +1,38 @@
+#include "evlife/algo/parse_text.h"
+
+#include <charconv>
+#include <cmath>
+
+namespace evlife {
+
+std::optional<double> parse_decimal(std::string_view text) noexcept {
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.empty() || text.front() == '+') return std::nullopt;
+  double v = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<std::int64_t> parse_time_us(std::string_view text) noexcept {
+  std::string_view number = text;
+  double unit_us = 1e6;
+  auto ends_with = [&](std::string_view suffix) {
+    return number.size() > suffix.size() && number.substr(number.size() - suffix.size()) == suffix;
+  };
+  if (ends_with("us")) {
+    unit_us = 1.0;
+    number.remove_suffix(2);
+  } else if (ends_with("ms")) {
+    unit_us = 1e3;
+    number.remove_suffix(2);
+  } else if (ends_with("s")) {
+    number.remove_suffix(1);
+  }
+  const auto value = parse_decimal(number);
+  if (!value || *value < 0.0 || *value * unit_us > 1e15) return std::nullopt;
+  return std::llround(*value * unit_us);
+}
+
+}  // namespace evlife

@@ -1,0 +1,127 @@
+// The frame loop of `evlife render` (render_recording.h), out of the command line.
+#include "evlife/render/render_recording.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include "evlife/io/event_reader.h"
+#include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_sink.h"
+#include "evlife/render/media.h"
+#include "evlife/render/render_cursor.h"
+
+namespace evlife::render {
+
+RecordingRenderResult render_recording(
+    AugmentedSource& source, const RecordingRenderOptions& options,
+    const std::function<void(std::size_t, std::size_t, double)>& progress,
+    const std::atomic<bool>* stop) {
+  RecordingRenderResult result;
+  const SensorSize sensor = source.sensor();
+  ActiveEventSet set(sensor, options.thinning);
+  FixedWindowMap window(sensor);
+  RenderCursor cursor(source, set, &window);
+
+  FrameStyle style;
+  style.color = options.color;
+  style.scale = options.scale.value_or(std::max(1, 512 / std::max(sensor.width, sensor.height)));
+  style.caption = options.caption;
+  style.legend = options.legend;
+  style.lifetime_min_us = options.lifetime_min_us;
+  style.lifetime_max_us = options.lifetime_max_us;
+  FrameComposer composer(parse_view_mode(options.mode), style, options.mode);
+  const cv::Size frame_size = composer.frame_size(sensor);
+
+  std::optional<std::int64_t> first_t;
+  try {
+    first_t = cursor.first_t_us();
+  } catch (const io::ReadError& e) {
+    result.input_fault = e.what();
+    result.setup_failed = true;
+    return result;
+  }
+  if (!first_t) {
+    result.no_events = true;
+    return result;
+  }
+  result.first_t_us = *first_t;
+
+  // Output: the frame sinks of frame_sink.h (also those of `evlife run`).
+  std::unique_ptr<FrameSink> sink;
+  try {
+    if (options.video) {
+      const double video_fps = std::min(60.0, options.video_fps.value_or(options.at_us.empty() ? options.fps : 10.0));
+      auto video_sink = std::make_unique<VideoFrameSink>(options.output, video_fps);
+      video_sink->open(frame_size.width, frame_size.height);
+      sink = std::move(video_sink);
+    } else if (options.single_png) {
+      sink = std::make_unique<ImageFileFrameSink>(options.output);
+    } else {
+      sink = std::make_unique<PngFolderFrameSink>(options.output);
+    }
+  } catch (const std::runtime_error& e) {
+    result.output_fault = e.what();
+    result.setup_failed = true;
+    return result;
+  }
+
+  // Frame instants (relative to the first event).
+  std::size_t total = options.at_us.size();
+  if (options.at_us.empty() && options.to_us) {
+    total = static_cast<std::size_t>(std::floor(static_cast<double>(*options.to_us - options.from_us) * 1e-6 * options.fps)) + 1;
+  }
+  auto frame_time = [&](std::size_t k) -> std::int64_t {
+    if (!options.at_us.empty()) return options.at_us[k];
+    return options.from_us + std::llround(static_cast<double>(k) * 1e6 / options.fps);
+  };
+
+  std::size_t& frames = result.frames;
+  std::size_t& after_end = result.after_end;
+  auto& input_fault = result.input_fault;
+  auto& output_fault = result.output_fault;
+  double& draw_s = result.draw_s;
+  for (std::size_t k = 0; !(stop && stop->load(std::memory_order_relaxed)); ++k) {
+    if (total > 0 && k >= total) break;
+    const std::int64_t rel = frame_time(k);
+    const std::int64_t t = *first_t + rel;
+    try {
+      cursor.advance_to(t);
+    } catch (const io::ReadError& e) {
+      input_fault = e.what();
+      break;
+    }
+    // --fps without --to: stop after the last event.
+    if (options.at_us.empty() && !options.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
+    if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
+    const auto d0 = std::chrono::steady_clock::now();
+    const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
+    draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();
+    try {
+      sink->write(as_frame(frame), rel);  // file names: time from the first event
+    } catch (const std::runtime_error& e) {
+      output_fault = e.what();
+      break;
+    }
+    ++frames;
+    if (progress) progress(frames, total, static_cast<double>(rel) * 1e-6);
+  }
+  try {
+    sink->finish();
+  } catch (const std::runtime_error& e) {
+    if (!output_fault) output_fault = e.what();
+  }
+  result.stopped = stop && stop->load(std::memory_order_relaxed);
+  result.frame_size = frame_size;
+  result.scale = style.scale;
+  result.stats = set.stats();
+  result.last_t_us = cursor.last_fed_t_us();
+  result.exhausted = cursor.exhausted();
+  return result;
+}
+
+}  // namespace evlife::render

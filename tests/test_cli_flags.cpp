@@ -1,0 +1,146 @@
+// The command line's shared conventions, run as a user would (the built
+// binary): the same flag for the same thing in every command (old spellings
+// kept as aliases), -i/--input, --version, "did you mean", --print-config on
+// every command that reads the configuration, times with units everywhere,
+// one range per option (the engine's table) and the recording's time range
+// in the summaries.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kCli = EVLIFE_CLI_PATH;
+using RunResult = evlife::test::CliRun;
+
+class CliFlags : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(testing::TempDir()) / "evlife_test_cli_flags" / info->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  RunResult run(const std::string& args) const {
+    return evlife::test::run_cli(kCli, args, dir_ / "cli.log");
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // A 0.3 s synthetic recording (the synth command itself is tested elsewhere).
+  std::string sample() const {
+    const std::string p = path("s.txt");
+    if (!fs::exists(p)) {
+      EXPECT_EQ(run("synth -q --scene edges -o " + p + " --duration 300ms").exit_code, 0);
+    }
+    return p;
+  }
+  fs::path dir_;
+};
+
+bool has(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
+
+TEST_F(CliFlags, VersionEverywhere) {
+  const RunResult top = run("--version");
+  EXPECT_EQ(top.exit_code, 0);
+  EXPECT_TRUE(has(top, "evlife 0.")) << top.output;
+  const RunResult cmd = run("process --version");
+  EXPECT_EQ(cmd.exit_code, 0);
+  EXPECT_EQ(cmd.output, top.output);
+}
+
+TEST_F(CliFlags, DidYouMeanForCommandsAndFlags) {
+  const RunResult c = run("proces x");
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_TRUE(has(c, "did you mean 'process'")) << c.output;
+  const RunResult f = run("run --source synth:edges --duraton 1");
+  EXPECT_EQ(f.exit_code, 2);
+  EXPECT_TRUE(has(f, "did you mean '--duration'")) << f.output;
+  const RunResult far = run("process --zzzzzzzz");
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_FALSE(has(far, "did you mean")) << far.output;
+}
+
+TEST_F(CliFlags, PrintConfigOnEveryCommandThatReadsIt) {
+  for (const char* cmd : {"process", "render", "eval", "run"}) {
+    const RunResult r = run(std::string(cmd) + " --print-config --set estimator.window_size=9");
+    EXPECT_EQ(r.exit_code, 0) << cmd << ": " << r.output;
+    EXPECT_TRUE(has(r, "window_size: 9")) << cmd << ": " << r.output;
+    EXPECT_TRUE(has(r, "batches_per_worker: 64")) << cmd << ": " << r.output;
+  }
+}
+
+TEST_F(CliFlags, OneRangePerEngineOption) {
+  // The range of the table next to EngineOptions, for the flag and the key.
+  const std::string src = "run --source synth:edges --sensor 64x64 --duration 10ms -q ";
+  const RunResult flag = run(src + "--queue-batches 1025");
+  EXPECT_EQ(flag.exit_code, 2);
+  EXPECT_TRUE(has(flag, "[2, 1024]")) << flag.output;
+  const RunResult key = run(src + "--set engine.batches_per_worker=1025");
+  EXPECT_EQ(key.exit_code, 2);
+  EXPECT_TRUE(has(key, "[2, 1024]")) << key.output;
+  EXPECT_EQ(run(src + "--queue-batches 1024").exit_code, 0);
+  const RunResult help = run("run --help");
+  EXPECT_TRUE(has(help, "--queue-batches N")) << help.output;
+}
+
+TEST_F(CliFlags, TimesWithUnitsEverywhere) {
+  const std::string in = sample();
+  EXPECT_EQ(run("run --source synth:edges --sensor 64x64 --duration 50ms --stats-period 500ms -q").exit_code, 0);
+  EXPECT_EQ(run("render " + in + " -o " + path("a.png") + " --at 150ms -q").exit_code, 0);
+  EXPECT_TRUE(fs::exists(path("a.png")));
+  const RunResult bad = run("synth -o " + path("x.txt") + " --duration 5parsecs");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_TRUE(has(bad, "--duration 5parsecs")) << bad.output;
+}
+
+TEST_F(CliFlags, InputAndOutputSpellings) {
+  const std::string in = sample();
+  // -i for the input; convert takes -o as well as a second name.
+  EXPECT_EQ(run("process -i " + in + " -o " + path("a.bin") + " -q").exit_code, 0);
+  EXPECT_EQ(run("convert -i " + in + " -o " + path("b.h5") + " -q").exit_code, 0);
+  EXPECT_TRUE(fs::exists(path("b.h5")));
+  EXPECT_EQ(run("info -i " + in).exit_code, 0);
+  // run FILE = run --source FILE: the same output bytes.
+  EXPECT_EQ(run("run " + in + " -q -o " + path("r1.bin")).exit_code, 0);
+  EXPECT_EQ(run("run --source " + in + " -q -o " + path("r2.bin")).exit_code, 0);
+  EXPECT_EQ(evlife::test::read_text_file(path("r1.bin")), evlife::test::read_text_file(path("r2.bin")));
+  EXPECT_EQ(run("run " + in + " --source " + in).exit_code, 2);
+}
+
+TEST_F(CliFlags, RenderAndRunShareTheirFrameFlags) {
+  const std::string in = sample();
+  // render: --frames DIR (run's spelling) = -o DIR; --render-mode/--render-fps accepted.
+  ASSERT_EQ(run("render " + in + " --frames " + path("f") + " --render-mode compare --at 0.1 -q").exit_code, 0);
+  ASSERT_EQ(run("render " + in + " -o " + path("g") + " --mode compare --at 0.1 -q").exit_code, 0);
+  EXPECT_EQ(evlife::test::read_text_file(path("f") + "/frame_000000_t0.100000s.png"),
+            evlife::test::read_text_file(path("g") + "/frame_000000_t0.100000s.png"));
+  // run: --mode/--fps (render's spelling) and the old --render-* ones.
+  EXPECT_EQ(run("run " + in + " -q --fps 0 --at 0.1 --mode compare --frames " + path("h")).exit_code, 0);
+  EXPECT_EQ(run("run " + in + " -q --render-fps 0 --at 0.1 --render-mode compare --frames " + path("k")).exit_code, 0);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("h")), fs::directory_iterator{}), 1);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("k")), fs::directory_iterator{}), 1);
+}
+
+TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
+  const std::string in = sample();
+  const RunResult p = run("process " + in + " -o " + path("a.bin"));
+  EXPECT_EQ(p.exit_code, 0);
+  EXPECT_TRUE(has(p, "time range")) << p.output;
+  // 300000 (meant as microseconds) is 300000 s: after the end; the user is told.
+  const RunResult r = run("render " + path("a.bin") + " -o " + path("late.png") + " --at 300000");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_TRUE(has(r, "warning: 1 of the --at instants lie after the last event")) << r.output;
+  EXPECT_TRUE(has(r, "time range")) << r.output;
+  const RunResult ok = run("render " + path("a.bin") + " -o " + path("in.png") + " --at 0.2");
+  EXPECT_FALSE(has(ok, "warning")) << ok.output;
+  const RunResult e = run("eval " + path("a.bin") + " -o " + path("ev") + " --at 2s");
+  EXPECT_EQ(e.exit_code, 0) << e.output;
+  EXPECT_TRUE(has(e, "time range")) << e.output;
+  EXPECT_TRUE(has(e, "warning: --frame-at 2.000000 s lies after the last event")) << e.output;
+}
+
+}  // namespace
