@@ -86,14 +86,12 @@ def make_recordings(cli, folder, count):
 def compare_batch(paths, out_dir, repetitions):
     """Wall seconds of process_files on 1 and on 2 workers, alternating, and
     each cluster's start-up time."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
     clients, startup, runs = {}, {}, {1: [], 2: []}
     try:
         for workers in (1, 2):
             t0 = time.perf_counter()
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0")
-            clients[workers] = Client(cluster)
+            clients[workers] = Client(batch.local_cluster(workers))  # as process_files makes it
             clients[workers].run(lambda: __import__("evlife"))  # workers import the module once
             startup[workers] = time.perf_counter() - t0
         for _ in range(repetitions):

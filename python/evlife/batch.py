@@ -90,12 +90,36 @@ def _process_one(path, output, sensor, config, options):
     return FileResult(path, events, share, time.perf_counter() - start, output, error)
 
 
+# Dask's per-worker housekeeping, set for tasks that are one long C++ call
+# each: the statistical profiler samples every worker's Python stacks each
+# 10 ms (nothing to see inside process_file) and the nanny and system monitors
+# poll psutil each 100 / 500 ms. On 2 cores that CPU is taken from the tasks:
+# 2 workers ran 1.58x one worker with Dask's defaults, 1.91x with these
+# (bench/bench_python.py, 6 files, idle machine).
+LOCAL_WORKER_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+}
+
+
+def local_cluster(workers=2):
+    """A distributed.LocalCluster for evlife tasks on this machine: `workers`
+    processes of one thread each, Dask's housekeeping slowed down
+    (LOCAL_WORKER_CONFIG). process_files makes one when no scheduler is given;
+    make it yourself to reuse it across calls: process_files(..., scheduler=cluster)."""
+    import dask
+    from distributed import LocalCluster
+    with dask.config.set(LOCAL_WORKER_CONFIG):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                            dashboard_address=":0")
+
+
 def _client(scheduler, workers):
     """(client, things to close). scheduler: None, an address, a Client or a cluster."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
     if scheduler is None:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0")
+        cluster = local_cluster(workers)
         client = Client(cluster)
         return client, [client, cluster]
     if isinstance(scheduler, Client):
