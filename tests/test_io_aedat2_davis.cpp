@@ -15,6 +15,7 @@
 #include "cli_runner.h"
 #include "davis_aedat2_writer.h"
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -23,29 +24,10 @@ using evlife::Event;
 using evlife::test::DavisAedat2Writer;
 namespace io = evlife::io;
 
-struct ReadAll {
-  std::vector<Event> events;
-  std::optional<evlife::SensorSize> sensor;
-  std::uint64_t skipped = 0;
-  std::uint64_t triggers = 0;
-  std::vector<io::SkippedKindCount> kinds;
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
 ReadAll read_all(const std::string& path, std::size_t batch_size = 3) {
-  ReadAll r;
-  const auto reader = io::open_event_reader(path);
-  r.sensor = reader->sensor_size();
-  std::vector<Event> batch(batch_size);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  r.skipped = reader->skipped_record_count();
-  r.triggers = reader->trigger_count();
-  r.kinds = reader->skipped_record_kinds();
-  return r;
+  return evlife::test::read_all(path, {}, batch_size);
 }
 
 void expect_events(const std::vector<Event>& got, const std::vector<Event>& want) {

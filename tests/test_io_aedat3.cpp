@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -68,28 +69,15 @@ class IoAedat3 : public ::testing::Test {
   evlife::test::ScratchDir dir_{"test_io_aedat3"};
 };
 
-struct ReadAll {
-  std::string format;
-  std::vector<Event> events;
-  std::uint64_t skipped = 0;
-  std::string kinds;  // "kind=count " for every kind seen
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
-ReadAll read_all(const std::string& path) {
-  ReadAll r;
-  const auto reader = io::open_event_reader(path);
-  r.format = reader->format_name();
-  std::vector<Event> batch(2);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  r.skipped = reader->skipped_record_count();
-  for (const io::SkippedKindCount& k : reader->skipped_record_kinds())
-    r.kinds += std::string(k.kind) + "=" + std::to_string(k.count) + " ";
-  return r;
+ReadAll read_all(const std::string& path) { return evlife::test::read_all(path, {}, 2); }
+
+// "kind=count " for every kind seen.
+std::string kinds_text(const ReadAll& r) {
+  std::string text;
+  for (const io::SkippedKindCount& k : r.kinds) text += std::string(k.kind) + "=" + std::to_string(k.count) + " ";
+  return text;
 }
 
 Aedat3Writer sample() {
@@ -117,7 +105,7 @@ TEST_F(IoAedat3, PolarityPacketsWithOverflowOthersSkippedAndCounted) {
   }
   EXPECT_EQ(r.skipped, 1u + 2u + 1u + 1u);  // invalid event, 2 IMU, 1 frame, 1 special
   // Per kind, in the order of the specification's type ids (evlife's own last).
-  EXPECT_EQ(r.kinds, "special=1 frame=1 imu6=2 polarity-invalid=1 ");
+  EXPECT_EQ(kinds_text(r), "special=1 frame=1 imu6=2 polarity-invalid=1 ");
 }
 
 TEST_F(IoAedat3, EveryOtherPacketTypeIsCountedUnderItsName) {
@@ -128,7 +116,7 @@ TEST_F(IoAedat3, EveryOtherPacketTypeIsCountedUnderItsName) {
   const ReadAll r = read_all(save("kinds.aedat", w.bytes()));
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_TRUE(r.events.empty());
-  EXPECT_EQ(r.kinds,
+  EXPECT_EQ(kinds_text(r),
             "imu9=1 sample=2 ear=3 config=4 point1d=5 point2d=6 point3d=7 point4d=8 spike=9 matrix4x4=10 "
             "unknown-type=11 ");
   EXPECT_EQ(r.skipped, 66u);

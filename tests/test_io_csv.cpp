@@ -12,6 +12,7 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 
 namespace {
 
@@ -39,25 +40,12 @@ class TempDir {
   fs::path dir_;
 };
 
-struct ReadAll {
-  std::string format;
-  std::vector<Event> events;
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
 ReadAll read_all(const std::string& path, const std::string& time_unit = {}) {
   io::ReaderOptions options;
   options.time_unit = time_unit;
-  ReadAll r;
-  const auto reader = io::open_event_reader(path, options);
-  r.format = reader->format_name();
-  std::vector<Event> batch(7);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  return r;
+  return evlife::test::read_all(path, options, 7);
 }
 
 bool same(const std::vector<Event>& a, const std::vector<Event>& b) {

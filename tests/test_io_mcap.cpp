@@ -17,6 +17,7 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "mcap_messages.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
@@ -107,31 +108,12 @@ bool same(const std::vector<ros::RosEvent>& a, const std::vector<ros::RosEvent>&
          });
 }
 
-struct ReadAll {
-  std::string format;
-  std::optional<SensorSize> sensor;
-  std::vector<Event> events;
-  std::uint64_t triggers = 0;
-  std::vector<io::ContainerStream> streams;
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
 ReadAll read_all(const std::string& path, const std::string& topic = {}) {
-  ReadAll r;
   io::ReaderOptions options;
   options.topic = topic;
-  const auto reader = io::open_event_reader(path, options);
-  r.format = reader->format_name();
-  r.sensor = reader->sensor_size();
-  r.streams = reader->streams();
-  std::vector<Event> batch(777);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  r.triggers = reader->trigger_count();
-  return r;
+  return evlife::test::read_all(path, options, 777);
 }
 
 bool same_events(const std::vector<Event>& a, const std::vector<Event>& b) {

@@ -21,6 +21,7 @@
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "evlife/io/sensor_size_from_data.h"
 
 namespace fs = std::filesystem;
@@ -36,36 +37,19 @@ const std::string kGarfield = kData + "/reference/garfield.mat";
 const std::string kAedat2 = kData + "/aedat2/alex_walking_again.aedat";
 const std::string kRpg = kData + "/rpg_txt/slider_depth_events_chunk.txt";
 
-// Everything a reader delivers, and the error that ended it (if any).
-struct ReadAll {
-  std::vector<Event> events;
-  std::optional<ReadError> error;
-  std::string format;
-  std::optional<SensorSize> sensor;
-  std::uint64_t skipped = 0;
-};
+using evlife::test::ReadAll;
 
+// As evlife::test::read_all, and an error of opening the file is the result's
+// error too (the tests below check both kinds alike).
 ReadAll read_all(const std::string& path, const evlife::io::ReaderOptions& options = {},
                  std::size_t batch = 1000) {
-  ReadAll r;
-  std::unique_ptr<evlife::io::EventReader> reader;
   try {
-    reader = evlife::io::open_event_reader(path, options);
+    return evlife::test::read_all(path, options, batch);
   } catch (const ReadError& e) {
+    ReadAll r;
     r.error = e;
     return r;
   }
-  r.format = reader->format_name();
-  r.sensor = reader->sensor_size();
-  std::vector<Event> buffer(batch);
-  try {
-    while (const std::size_t n = reader->read(buffer))
-      r.events.insert(r.events.end(), buffer.begin(), buffer.begin() + static_cast<long>(n));
-  } catch (const ReadError& e) {
-    r.error = e;
-  }
-  r.skipped = reader->skipped_record_count();
-  return r;
 }
 
 std::vector<char> file_bytes(const std::string& path) {

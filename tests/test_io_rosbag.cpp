@@ -16,6 +16,7 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
 
@@ -177,29 +178,12 @@ TEST(RosPayloads, Evt3StateCarriesAcrossMessages) {
 
 // ---- through open_event_reader, as every command reads ----
 
-struct ReadAll {
-  std::string format;
-  std::optional<SensorSize> sensor;
-  std::vector<Event> events;
-  std::uint64_t skipped = 0;
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
 ReadAll read_all(const std::string& path, const std::string& topic = {}) {
-  ReadAll r;
   io::ReaderOptions options;
   options.topic = topic;
-  const auto reader = io::open_event_reader(path, options);
-  r.format = reader->format_name();
-  r.sensor = reader->sensor_size();
-  std::vector<Event> batch(1000);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  r.skipped = reader->skipped_record_count();
-  return r;
+  return evlife::test::read_all(path, options, 1000);
 }
 
 Sums sums_xyp(const std::vector<Event>& events) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "read_all.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
 
@@ -28,28 +29,9 @@ namespace ros = evlife::io::ros;
 const std::string kBags = std::string(EVLIFE_SOURCE_DIR) + "/tests/data/ros1/";
 const std::string kShared = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/";
 
-struct ReadAll {
-  std::string format;
-  std::optional<SensorSize> sensor;
-  std::vector<Event> events;
-  std::vector<io::ContainerStream> streams;
-  std::optional<io::ReadError> error;
-};
+using evlife::test::ReadAll;
 
-ReadAll read_all(const std::string& path) {
-  ReadAll r;
-  const auto reader = io::open_event_reader(path);
-  r.format = reader->format_name();
-  r.sensor = reader->sensor_size();
-  r.streams = reader->streams();
-  std::vector<Event> batch(999);
-  try {
-    while (const std::size_t n = reader->read(batch)) r.events.insert(r.events.end(), batch.begin(), batch.begin() + n);
-  } catch (const io::ReadError& e) {
-    r.error = e;
-  }
-  return r;
-}
+ReadAll read_all(const std::string& path) { return evlife::test::read_all(path, {}, 999); }
 
 /// The events of the first `limit` messages of a ROS 2 bag, floored to µs.
 std::vector<Event> db3_events(const std::string& bag_path, std::size_t limit) {

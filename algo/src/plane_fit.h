@@ -12,18 +12,7 @@ namespace evlife::detail {
 
 class PlaneFit {
  public:
-  void add(double dx, double dy, double dt_us) noexcept {
-    n_ += 1.0;
-    sx_ += dx;
-    sy_ += dy;
-    st_ += dt_us;
-    sxx_ += dx * dx;
-    sxy_ += dx * dy;
-    syy_ += dy * dy;
-    sxt_ += dx * dt_us;
-    syt_ += dy * dt_us;
-    stt_ += dt_us * dt_us;
-  }
+  void add(double dx, double dy, double dt_us) noexcept { add_if(true, dx, dy, dt_us); }
 
   /// add(dx, dy, dt_us) when `take`, else adds +0 to every sum (which
   /// leaves them bit for bit as they are: none of them is ever -0).
