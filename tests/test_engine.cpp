@@ -460,6 +460,18 @@ TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
   EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
 }
 
+TEST(Engine, StatsGiveTheFirstAndLastEventTimeHandedOut) {
+  const auto& events = stripes(10'000);
+  ee::RunResult r;
+  run_threaded(events, kDvs128, engine_options(2, 1, 1, kDvs128), &r);
+  ASSERT_TRUE(r.stats.has_time_range);
+  EXPECT_EQ(r.stats.first_t_us, events.front().t_us);
+  EXPECT_EQ(r.stats.last_t_us, events.back().t_us);
+  ee::ReplaySource empty(std::vector<Event>{}, kDvs128);
+  ee::Engine engine(empty, nullptr, engine_options(2, 1, 1, kDvs128));
+  EXPECT_FALSE(engine.run().stats.has_time_range);
+}
+
 // ---- The pipeline in a host's scheduler: run_for() and PacketSource ---------
 
 TEST(PacketSource, RefusesAndCountsWhatDoesNotFitThenEndsAfterClose) {
@@ -922,6 +934,14 @@ TEST(RunCommand, SummaryStatesTheRealtimeSettingsApplied) {
   const auto plain = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0", kCliLog);
   EXPECT_EQ(plain.exit_code, 0);
   EXPECT_NE(plain.output.find("realtime: none (default scheduling"), std::string::npos) << plain.output;
+  // The recording's time range, as `evlife process` states it for the same file.
+  const auto processed = std::filesystem::temp_directory_path() / "evlife_test_engine_range.bin";
+  const auto process = evlife::test::run_cli(EVLIFE_CLI_PATH, "process " + in + " -o " + processed.string(), kCliLog);
+  std::filesystem::remove(processed);
+  const auto range_at = process.output.find("t = ");
+  ASSERT_NE(range_at, std::string::npos) << process.output;
+  const std::string range = process.output.substr(range_at, process.output.find('\n', range_at) - range_at);
+  EXPECT_NE(plain.output.find("time   : " + range + "\n"), std::string::npos) << range << "\n" << plain.output;
   if (!realtime_permitted()) GTEST_SKIP() << "no CAP_SYS_NICE / RLIMIT_RTPRIO here";
   const auto rt = evlife::test::run_cli(
       EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 0 --cpus 0 --rt-priority 5 --lock-memory", kCliLog);

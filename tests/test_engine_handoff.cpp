@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <atomic>
@@ -18,10 +19,14 @@
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/engine/replay_source.h"
+#include "evlife/io/estimating_reader.h"
 
 namespace ee = evlife::engine;
 using evlife::Event;
 using evlife::SensorSize;
+using evlife::AugmentedEvent;
+using evlife::LifetimeEstimator;
+using evlife::LifetimeOptions;
 
 TEST(MergeRole, EveryRequestedItemIsMergedByOneThreadAtATime) {
   // Each round, every thread produces one item and asks for a merge, as a
@@ -239,4 +244,50 @@ TEST(PrefetchReader, PacedFileReplayReportsTheReadErrorAfterItsEvents) {
   EXPECT_NE(r.message.find("fake.bin"), std::string::npos) << r.message;
   EXPECT_EQ(r.stats.events_in, 5'000u);
   EXPECT_EQ(r.stats.events_out, 5'000u);
+}
+
+// ---- io::EstimatingReader: the read -> estimate step of process and render ----
+
+namespace {
+bool same_bits(const AugmentedEvent& a, const AugmentedEvent& b) {
+  const float fa[] = {a.lifetime_us, a.vx_px_s, a.vy_px_s, a.prediction_error_us};
+  const float fb[] = {b.lifetime_us, b.vx_px_s, b.vy_px_s, b.prediction_error_us};
+  return same(a.event, b.event) && std::memcmp(fa, fb, sizeof fa) == 0;
+}
+}  // namespace
+
+TEST(EstimatingReader, EqualsTheBareEstimatorWhateverTheBatchesThenTheErrorAfterThem) {
+  LifetimeOptions options;
+  options.sensor = SensorSize{32, 32};
+  const std::vector<Event> events = FakeReader(10'007, false).events();
+  std::vector<AugmentedEvent> expected(events.size());
+  LifetimeEstimator bare(options);
+  bare.process(std::span<const Event>(events), std::span<AugmentedEvent>(expected));
+  std::size_t edges = 0;
+  for (const AugmentedEvent& a : expected) edges += a.is_noise() ? 0 : 1;
+  ASSERT_GT(edges, 0u) << "the ramp should give some edges";
+  // The reader's, the step's and the caller's batch sizes all differ.
+  for (const auto& [batch, out_size] : std::vector<std::pair<std::size_t, std::size_t>>{{500, 300}, {256, 1000}}) {
+    for (const bool fail : {false, true}) {
+      FakeReader reader(events.size(), fail);
+      LifetimeEstimator estimator(options);
+      evlife::io::EstimatingReader step(reader, estimator, batch);
+      std::vector<AugmentedEvent> out(out_size), got;
+      bool threw = false;
+      try {
+        while (const std::size_t n = step.read(out)) {
+          EXPECT_LE(n, std::min(batch, out_size));
+          got.insert(got.end(), out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
+        }
+      } catch (const evlife::io::ReadError& e) {
+        threw = true;
+        EXPECT_NE(std::string(e.what()).find("fake.bin"), std::string::npos) << e.what();
+      }
+      EXPECT_EQ(threw, fail);
+      ASSERT_EQ(got.size(), expected.size());
+      for (std::size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(same_bits(got[i], expected[i])) << "event " << i;
+      EXPECT_EQ(estimator.stats().events, events.size());
+      EXPECT_GE(step.estimator_s(), 0.0);
+    }
+  }
 }

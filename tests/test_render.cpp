@@ -399,6 +399,37 @@ TEST(Histogram, BinsQuantilesAndCdf) {
   EXPECT_THROW(evlife::render::Histogram(0.0, 0.0, 3), std::invalid_argument);
 }
 
+TEST(Histogram, LogBinsPercentilesAndShares) {
+  // 10 bins per decade over [1, 1e6): a bin spans a factor 10^0.1.
+  auto h = evlife::render::Histogram::log_bins(1.0, 1e6, 10);
+  EXPECT_TRUE(h.is_log());
+  EXPECT_EQ(h.bins(), 60u);
+  const std::vector<double> values{0.5, 1.5, 15.0, 150.0, 1500.0, 2e6};  // sorted
+  for (double v : values) h.add(v);
+  h.add(std::numeric_limits<double>::quiet_NaN());  // ignored
+  EXPECT_EQ(h.total(), 6u);
+  EXPECT_EQ(h.below(), 1u);
+  EXPECT_EQ(h.above(), 1u);
+  // Nearest rank: rank ceil(q * 6); the outer counts give the range's ends.
+  EXPECT_DOUBLE_EQ(h.percentile(0.0), 1.0);   // rank 1: 0.5, below the range
+  EXPECT_DOUBLE_EQ(h.percentile(1.0), 1e6);   // rank 6: 2e6, above it
+  for (const auto& [q, v] : std::vector<std::pair<double, double>>{{0.3, 1.5}, {0.5, 15.0}, {0.6, 150.0}, {0.8, 1500.0}}) {
+    const double p = h.percentile(q);
+    EXPECT_GT(p, v / std::pow(10.0, 0.1)) << q;  // the centre of v's bin: within one bin of v
+    EXPECT_LT(p, v * std::pow(10.0, 0.1)) << q;
+  }
+  const std::size_t k = static_cast<std::size_t>(std::floor(std::log10(15.0) * 10));  // 15's bin
+  EXPECT_EQ(h.count(k), 1u);
+  EXPECT_NEAR(h.bin_centre(k), std::sqrt(h.bin_start(k) * h.bin_start(k + 1)), 1e-9);
+  EXPECT_DOUBLE_EQ(h.percentile(0.5), h.bin_centre(k));
+  EXPECT_DOUBLE_EQ(h.share_below(1000.0), 4.0 / 6.0);  // 0.5, 1.5, 15, 150
+  EXPECT_DOUBLE_EQ(h.share_below(0.9), 0.0);           // below lo: nothing counted yet
+  EXPECT_DOUBLE_EQ(h.share_below(1e7), 5.0 / 6.0);     // all but the overflow
+  EXPECT_THROW(evlife::render::Histogram::log_bins(0.0, 10.0, 10), std::invalid_argument);
+  EXPECT_THROW(evlife::render::Histogram::log_bins(10.0, 1.0, 10), std::invalid_argument);
+  EXPECT_THROW(evlife::render::Histogram::log_bins(1.0, 10.0, 0), std::invalid_argument);
+}
+
 TEST(Plot, DrawsTheRequestedSizeAndRejectsMismatchedSeries) {
   evlife::render::PlotOptions o;
   o.title = "t";

@@ -34,6 +34,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
 #include "exit_code.h"
+#include "lifetime_summary.h"
 #include "window_frame_sink.h"
 
 namespace evlife::cli {
@@ -282,6 +283,9 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
   std::fprintf(stdout, "evlife run: %s -> %s\n%s\n", src.describe().c_str(),
                args.output.empty() ? "(discarded)" : args.output.c_str(),
                result.stats.summary().c_str());
+  if (result.stats.has_time_range)
+    std::fprintf(stdout, "time   : %s\n",
+                 format_time_range(result.stats.first_t_us, result.stats.last_t_us).c_str());
   if (render_stage)
     std::fprintf(stdout, "frames : %llu %s %s\n",
                  static_cast<unsigned long long>(render_stage->frames_written()),

@@ -7,8 +7,8 @@
 namespace evlife::cli {
 
 LifetimeSummary::LifetimeSummary()
-    : lifetime_us_(0.1, 1e9, 100),  // covers every allowed max_lifetime_us
-      abs_error_us_(0.1, 1e10, 100) {}
+    : lifetime_us_(render::Histogram::log_bins(0.1, 1e9, 100)),  // covers every allowed max_lifetime_us
+      abs_error_us_(render::Histogram::log_bins(0.1, 1e10, 100)) {}
 
 void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
   if (!events.empty()) {
@@ -71,7 +71,7 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
   if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
   std::fprintf(out, "  labelled noise      %.1f %% (%llu events)\n", share(noise_, events_),
                static_cast<unsigned long long>(noise_));
-  if (lifetime_us_.count() > 0) {
+  if (lifetime_us_.total() > 0) {
     std::fprintf(out, "  lifetime (edges)    p10 %s   p50 %s   p90 %s   p99 %s\n",
                  format_duration_us(lifetime_us_.percentile(0.10)).c_str(),
                  format_duration_us(lifetime_us_.percentile(0.50)).c_str(),
@@ -79,7 +79,7 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
                  format_duration_us(lifetime_us_.percentile(0.99)).c_str());
   }
   std::fprintf(out, "  with a prediction   %.1f %% of events\n", share(predictions_, events_));
-  if (abs_error_us_.count() > 0) {
+  if (abs_error_us_.total() > 0) {
     std::fprintf(out, "  |prediction error|  median %s, %.1f %% below 10 ms\n",
                  format_duration_us(abs_error_us_.percentile(0.5)).c_str(),
                  100.0 * abs_error_us_.share_below(1e4));

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "evlife/algo/event.h"
-#include "log_histogram.h"
+#include "evlife/render/histogram.h"
 
 namespace evlife::cli {
 
@@ -22,8 +22,8 @@ class LifetimeSummary {
   std::uint64_t events() const noexcept { return events_; }
   std::uint64_t noise() const noexcept { return noise_; }
   std::uint64_t predictions() const noexcept { return predictions_; }
-  const LogHistogram& lifetime_us() const noexcept { return lifetime_us_; }
-  const LogHistogram& abs_prediction_error_us() const noexcept { return abs_error_us_; }
+  const render::Histogram& lifetime_us() const noexcept { return lifetime_us_; }
+  const render::Histogram& abs_prediction_error_us() const noexcept { return abs_error_us_; }
 
   /// Multi-line report; `wall_s` is the run's wall time, `estimator_s` the
   /// time spent inside the estimator (both in seconds).
@@ -35,8 +35,8 @@ class LifetimeSummary {
   std::uint64_t predictions_ = 0;
   std::int64_t first_t_us_ = 0;
   std::int64_t last_t_us_ = 0;
-  LogHistogram lifetime_us_;
-  LogHistogram abs_error_us_;
+  render::Histogram lifetime_us_;
+  render::Histogram abs_error_us_;
 };
 
 /// The recording's time range as every summary states it:

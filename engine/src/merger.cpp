@@ -119,6 +119,7 @@ bool Merger::deliver(std::int64_t now_ns) noexcept {
   }
   counters.latency_ns.record(now_ns - order_->arrival_ns, merged_count_);
   counters.age_ns.record(now_ns - order_->oldest_ns, merged_count_);
+  counters.event_t_us.extend(merged.front().event.t_us, merged.back().event.t_us);
   counters.events_out.add(merged_count_);
   merged_count_ = 0;
   return true;

@@ -38,6 +38,11 @@ EngineStats Pipeline::stats() const {
   st.order_in_flight_hwm = s.router_counters.order_in_flight_hwm.get();
   st.source_blocked_s = static_cast<double>(s.router_counters.blocked_ns.get()) * 1e-9;
   st.events_out = s.merger_counters.events_out.get();
+  if (s.merger_counters.event_t_us.seen()) {
+    st.has_time_range = true;
+    st.first_t_us = s.merger_counters.event_t_us.first();
+    st.last_t_us = s.merger_counters.event_t_us.last();
+  }
   if (s.render_tap) {
     st.render_offered = s.render_tap->offered_events.get();
     st.render_dropped = s.render_tap->dropped_events.get();

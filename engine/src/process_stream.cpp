@@ -1,7 +1,8 @@
 #include "evlife/engine/process_stream.h"
 
-#include <chrono>
 #include <vector>
+
+#include "evlife/io/estimating_reader.h"
 
 namespace evlife::engine {
 
@@ -10,20 +11,17 @@ ProcessStreamResult process_stream(io::EventReader& reader, LifetimeEstimator& e
                                    const std::function<void(std::span<const AugmentedEvent>)>& on_batch,
                                    const std::atomic<bool>* stop, std::size_t batch_events) {
   ProcessStreamResult r;
-  std::vector<Event> in(batch_events);
+  io::EstimatingReader estimating(reader, estimator, batch_events);
   std::vector<AugmentedEvent> out(batch_events);
   while (!(stop && stop->load(std::memory_order_relaxed))) {
     std::size_t n = 0;
     try {
-      n = reader.read(in);
+      n = estimating.read(out);
     } catch (const io::ReadError& e) {
       r.input_fault = e.what();
       break;
     }
     if (n == 0) break;
-    const auto t0 = std::chrono::steady_clock::now();
-    estimator.process(std::span<const Event>(in.data(), n), std::span(out.data(), n));
-    r.estimator_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::span<const AugmentedEvent> batch(out.data(), n);
     try {
       writer.write(batch);
@@ -34,6 +32,7 @@ ProcessStreamResult process_stream(io::EventReader& reader, LifetimeEstimator& e
     r.events_written += n;
     if (on_batch) on_batch(batch);
   }
+  r.estimator_s = estimating.estimator_s();
   r.stopped = stop && stop->load(std::memory_order_relaxed);
   try {
     writer.close();  // flushes: everything before a fault reaches the disk

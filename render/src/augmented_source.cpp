@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/estimating_reader.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
 
@@ -37,12 +38,8 @@ class AugmentedFileSource final : public AugmentedSource {
 class EstimatingSource final : public AugmentedSource {
  public:
   EstimatingSource(std::unique_ptr<io::EventReader> reader, const LifetimeOptions& options)
-      : reader_(std::move(reader)), estimator_(options), raw_(4096) {}
-  std::size_t read(std::span<AugmentedEvent> out) override {
-    const std::size_t want = std::min(out.size(), raw_.size());
-    const std::size_t n = reader_->read(std::span<Event>(raw_.data(), want));
-    return estimator_.process(std::span<const Event>(raw_.data(), n), out.first(n));
-  }
+      : reader_(std::move(reader)), estimator_(options), estimating_(*reader_, estimator_, 4096) {}
+  std::size_t read(std::span<AugmentedEvent> out) override { return estimating_.read(out); }
   SensorSize sensor() const override { return estimator_.options().sensor; }
   std::string description() const override {
     const auto& o = estimator_.options();
@@ -56,7 +53,7 @@ class EstimatingSource final : public AugmentedSource {
  private:
   std::unique_ptr<io::EventReader> reader_;
   LifetimeEstimator estimator_;
-  std::vector<Event> raw_;
+  io::EstimatingReader estimating_;  // after the two it refers to
 };
 
 }  // namespace

@@ -24,6 +24,11 @@ struct EngineStats {
   std::uint64_t source_lost = 0;   ///< lost inside the source (device overflow)
   std::uint64_t events_in = 0;     ///< accepted from the source
   std::uint64_t events_out = 0;    ///< handed to the sink
+  /// Recording time of the first and last event handed to the sink (us);
+  /// meaningful when has_time_range (some event was handed out).
+  bool has_time_range = false;
+  std::int64_t first_t_us = 0;
+  std::int64_t last_t_us = 0;
   std::uint64_t events_dropped = 0;
   std::uint64_t dropped_no_order = 0;
   std::uint64_t sink_failed = 0;

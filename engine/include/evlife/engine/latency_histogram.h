@@ -1,8 +1,8 @@
 // Constant-memory latency histogram: log-linear buckets (16 per power of two,
 // so a percentile is exact to within 1/16 = 6 %), exact max. One writer at a
 // time (the merge role's holder) records; any thread may read percentiles.
-// Why not render::Histogram or the CLI's LogHistogram (value histograms for
-// reports, single-threaded, bins set at run time, allocated once): this one
+// Why not render::Histogram (the value histogram, linear or log bins, for
+// reports: single-threaded, bins set at run time, allocated once): this one
 // lives in the per-event path of a running engine, so it is atomic, integer
 // nanoseconds, a fixed std::array with no constructor work, and read by
 // another thread while it is written.

@@ -27,6 +27,25 @@ class Counter {
   std::atomic<std::uint64_t> v_{0};
 };
 
+/// First and last event time (us) handed out: extended once per delivered
+/// batch (never per event), one writer; readable while the run goes on.
+class TimeRange {
+ public:
+  void extend(std::int64_t first_t_us, std::int64_t last_t_us) noexcept {
+    if (!seen_.load(std::memory_order_relaxed)) first_.store(first_t_us, std::memory_order_relaxed);
+    last_.store(last_t_us, std::memory_order_relaxed);
+    seen_.store(true, std::memory_order_release);
+  }
+  bool seen() const noexcept { return seen_.load(std::memory_order_acquire); }
+  std::int64_t first() const noexcept { return first_.load(std::memory_order_relaxed); }
+  std::int64_t last() const noexcept { return last_.load(std::memory_order_relaxed); }
+
+ private:
+  std::atomic<std::int64_t> first_{0};
+  std::atomic<std::int64_t> last_{0};
+  std::atomic<bool> seen_{false};
+};
+
 struct RouterCounters {
   Counter events_in;        ///< events accepted from the source
   Counter chunks;           ///< source chunks routed
@@ -51,6 +70,7 @@ struct MergerCounters {
   Counter sink_failed_events;  ///< of which the sink threw on
   LatencyHistogram latency_ns; ///< source arrival -> handed to the sink
   LatencyHistogram age_ns;     ///< the chunk's oldest event happened -> handed to the sink
+  TimeRange event_t_us;        ///< first .. last event time handed to the sink
 };
 
 }  // namespace evlife::engine
