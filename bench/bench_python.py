@@ -83,7 +83,7 @@ def make_recordings(cli, folder, count):
     return paths
 
 
-def compare_batch(paths, out_dir, repetitions):
+def compare_batch(paths, out_dir, repetitions, dask_defaults=False):
     """Wall seconds of process_files on 1 and on 2 workers, alternating, and
     each cluster's start-up time."""
     from distributed import Client
@@ -91,7 +91,13 @@ def compare_batch(paths, out_dir, repetitions):
     try:
         for workers in (1, 2):
             t0 = time.perf_counter()
-            clients[workers] = Client(batch.local_cluster(workers))  # as process_files makes it
+            if dask_defaults:  # Dask's own worker housekeeping, for comparison
+                from distributed import LocalCluster
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=":0")
+            else:
+                cluster = batch.local_cluster(workers)  # as process_files makes it
+            clients[workers] = Client(cluster)
             clients[workers].run(lambda: __import__("evlife"))  # workers import the module once
             startup[workers] = time.perf_counter() - t0
         for _ in range(repetitions):
@@ -155,6 +161,8 @@ def main():
     ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data"))
     ap.add_argument("--repetitions", type=int, default=5)
     ap.add_argument("--files", type=int, default=6)
+    ap.add_argument("--dask-defaults", action="store_true",
+                    help="batch on a LocalCluster with Dask's default housekeeping (profiler, monitors)")
     args = ap.parse_args()
 
     print("load average at the start: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
@@ -176,7 +184,8 @@ def main():
 
         cli = os.path.join(args.build, "engine", "evlife")
         paths = make_recordings(cli, tmp, args.files)
-        runs, startup, events = compare_batch(paths, os.path.join(tmp, "out"), args.repetitions)
+        runs, startup, events = compare_batch(paths, os.path.join(tmp, "out"), args.repetitions,
+                                              args.dask_defaults)
         cli_runs = {1: [], 2: []}
         for _ in range(args.repetitions):
             for parallel in (1, 2):

@@ -5,7 +5,6 @@
 // bags and reproduce their checksums (../shared/data/PROVENANCE.md); topics
 // and counts for `evlife info`; faults keep the events before them.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -18,6 +17,7 @@
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
+#include "scratch_dir.h"
 #include "mcap_messages.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
@@ -208,25 +208,12 @@ TEST(McapReader, TopicThatIsNotEventsIsRefused) {
 
 // ---- CLI: info and convert (the registry sniffs .mcap) ----
 
-class TempDir {
- public:
-  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_mcap_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  fs::path dir_;
-};
+using TempDir = evlife::test::ScratchDir;
 
 TEST(McapCli, InfoListsTopicsAndConvertMatchesTheDb3) {
-  const TempDir dir;
+  const TempDir dir{"test_io_mcap"};
   const auto run = [&](const std::string& args) {
-    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
   const auto info = run("info '" + kMcap + "mono_zstd.mcap'");
   ASSERT_EQ(info.exit_code, 0) << info.output;
@@ -235,13 +222,13 @@ TEST(McapCli, InfoListsTopicsAndConvertMatchesTheDb3) {
   EXPECT_NE(info.output.find("std_msgs/msg/String"), std::string::npos) << info.output;
   EXPECT_NE(info.output.find("event_array_msgs/msg/EventArray"), std::string::npos) << info.output;
   EXPECT_NE(info.output.find("640x480"), std::string::npos) << info.output;
-  const auto a = run("convert '" + kMcap + "libcaer_lz4.mcap' '" + dir.path("a.txt") + "'");
+  const auto a = run("convert '" + kMcap + "libcaer_lz4.mcap' '" + dir.file("a.txt") + "'");
   ASSERT_EQ(a.exit_code, 0) << a.output;
-  const auto b = run("convert '" + kDb3.at("libcaer") + "' '" + dir.path("b.txt") + "'");
+  const auto b = run("convert '" + kDb3.at("libcaer") + "' '" + dir.file("b.txt") + "'");
   ASSERT_EQ(b.exit_code, 0) << b.output;
-  const std::string text = evlife::test::read_text_file(dir.path("a.txt"));
+  const std::string text = evlife::test::read_text_file(dir.file("a.txt"));
   EXPECT_GT(text.size(), 334331u);
-  EXPECT_EQ(text, evlife::test::read_text_file(dir.path("b.txt")));
+  EXPECT_EQ(text, evlife::test::read_text_file(dir.file("b.txt")));
 }
 
 // ---- faults: file, byte offset and message index named; events before kept ----
@@ -295,7 +282,7 @@ Faulty read_damaged(const TempDir& dir, const std::string& source, const std::st
   Faulty f;
   f.chunk_at = damage(b, chunks);
   f.expected_events = events_before(kMcap + source, f.chunk_at);
-  const std::string path = dir.path(name);
+  const std::string path = dir.file(name);
   write_bytes(path, b);
   f.r = read_all(path);
   return f;
@@ -314,7 +301,7 @@ void expect_fault(const Faulty& f, const std::vector<Event>& full, const std::st
 }
 
 TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
-  const TempDir dir;
+  const TempDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "libcaer_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "libcaer_zstd.mcap", "cut.mcap", [](std::vector<char>& b, const auto& chunks) {
     b.resize(chunks[3] + 100);  // inside the fourth chunk
@@ -324,7 +311,7 @@ TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
 }
 
 TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
-  const TempDir dir;
+  const TempDir dir{"test_io_mcap"};
   for (const char* how : kCompressions) {
     const std::string source = std::string("evt3_") + how + ".mcap";
     const std::vector<Event> full = read_all(kMcap + source).events;
@@ -339,7 +326,7 @@ TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
 }
 
 TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
-  const TempDir dir;
+  const TempDir dir{"test_io_mcap"};
   const std::string source = "evt3_none.mcap";
   const std::vector<Event> full = read_all(kMcap + source).events;
   std::vector<char> b = bytes_of(kMcap + source);
@@ -354,7 +341,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
   const std::uint64_t second = first + 9 + len;
   const std::uint64_t huge = ~std::uint64_t{0};
   std::memcpy(b.data() + second + 1, &huge, 8);
-  const std::string path = dir.path("record.mcap");
+  const std::string path = dir.file("record.mcap");
   write_bytes(path, b);
   std::vector<std::uint64_t> at;
   const PerMessage messages = decode_mcap(kMcap + source, &at);
@@ -375,7 +362,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
 }
 
 TEST(McapFaults, UnknownCompressionIsNamed) {
-  const TempDir dir;
+  const TempDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "evt3_zstd.mcap", "brotli.mcap", [](std::vector<char>& b, const auto& chunks) {
     // Chunk content: 3 u64 + u32 CRC, then the compression string (u32 length + "zstd").
@@ -387,8 +374,8 @@ TEST(McapFaults, UnknownCompressionIsNamed) {
 }
 
 TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
-  const TempDir dir;
-  const std::string path = dir.path("text.mcap");
+  const TempDir dir{"test_io_mcap"};
+  const std::string path = dir.file("text.mcap");
   write_bytes(path, {'h', 'e', 'l', 'l', 'o', '\n'});
   try {
     (void)io::open_event_reader(path);
@@ -396,7 +383,7 @@ TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
   } catch (const io::ReadError& e) {
     EXPECT_NE(std::string(e.what()).find("not an MCAP file"), std::string::npos) << e.what();
   }
-  const std::string magic_only = dir.path("magic.mcap");
+  const std::string magic_only = dir.file("magic.mcap");
   write_bytes(magic_only, {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n', '\x01'});
   try {
     (void)io::open_event_reader(magic_only);

@@ -5,7 +5,6 @@
 // choice; faults (events before them kept, file + message index named).
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -17,6 +16,7 @@
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
+#include "scratch_dir.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
 
@@ -228,20 +228,7 @@ TEST(Rosbag2Reader, LibcaerAndMonoTimesFlooredToMicroseconds) {
 
 // ---- bags written here (independent CDR writer, sqlite3 directly) ----
 
-class TempDir {
- public:
-  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_rosbag_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  fs::path dir_;
-};
+using TempDir = evlife::test::ScratchDir;
 
 void exec(sqlite3* db, const std::string& sql) {
   char* err = nullptr;
@@ -319,9 +306,9 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
   const BagDecode mono = decode_bag(kMonoBag);
   const ReadAll reference = read_all(kMonoBag);
   ASSERT_FALSE(reference.error);
-  const TempDir dir;
+  const TempDir dir{"test_io_rosbag"};
   for (const std::string type : {"dvs_msgs/msg/EventArray", "prophesee_event_msgs/msg/EventArray"}) {
-    const std::string path = dir.path(type.substr(0, type.find('/')) + ".db3");
+    const std::string path = dir.file(type.substr(0, type.find('/')) + ".db3");
     {
       Db db(path);
       create_tables(db.db);
@@ -340,8 +327,8 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
 }
 
 TEST(Rosbag2Reader, TopicChoice) {
-  const TempDir dir;
-  const std::string path = dir.path("two.db3");
+  const TempDir dir{"test_io_rosbag"};
+  const std::string path = dir.file("two.db3");
   const BagDecode mono = decode_bag(kMonoBag);
   {
     Db db(path);
@@ -385,16 +372,16 @@ std::size_t count_lines(const std::string& text) {
 }
 
 TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
-  const TempDir dir;
+  const TempDir dir{"test_io_rosbag"};
   const auto run = [&](const std::string& args) {
-    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
-  const std::string out = dir.path("mono.txt");
+  const std::string out = dir.file("mono.txt");
   const auto ok = run("convert '" + kMonoBag + "' '" + out + "'");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_EQ(count_lines(evlife::test::read_text_file(out)), 100u);
   // Two event topics: refused with the list, then chosen with --topic.
-  const std::string two = dir.path("two.db3");
+  const std::string two = dir.file("two.db3");
   const BagDecode mono = decode_bag(kMonoBag);
   {
     Db db(two);
@@ -404,29 +391,29 @@ TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
     db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
     db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
   }
-  const auto refused = run("convert '" + two + "' '" + dir.path("x.txt") + "'");
+  const auto refused = run("convert '" + two + "' '" + dir.file("x.txt") + "'");
   EXPECT_EQ(refused.exit_code, 3) << refused.output;
   EXPECT_NE(refused.output.find("/a/events"), std::string::npos) << refused.output;
   EXPECT_NE(refused.output.find("/b/events"), std::string::npos) << refused.output;
-  const auto chosen = run("convert '" + two + "' '" + dir.path("b.txt") + "' --topic /b/events");
+  const auto chosen = run("convert '" + two + "' '" + dir.file("b.txt") + "' --topic /b/events");
   ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
-  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.path("b.txt"))), 50u);
-  const auto processed = run("process '" + two + "' --topic /a/events -q -o '" + dir.path("a.csv") + "'");
+  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.file("b.txt"))), 50u);
+  const auto processed = run("process '" + two + "' --topic /a/events -q -o '" + dir.file("a.csv") + "'");
   ASSERT_EQ(processed.exit_code, 0) << processed.output;
-  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.path("a.csv"))), 50u + 1u) << "header + 50 rows";
+  EXPECT_EQ(count_lines(evlife::test::read_text_file(dir.file("a.csv"))), 50u + 1u) << "header + 50 rows";
 }
 
 // ---- faults: events before them kept; the file and message index named ----
 
 std::string copy_bag(const TempDir& dir, const std::string& db3, const std::string& name) {
-  const std::string path = dir.path(name);
+  const std::string path = dir.file(name);
   fs::copy_file(db3, path, fs::copy_options::overwrite_existing);
   fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write);
   return path;
 }
 
 TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
-  const TempDir dir;
+  const TempDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kLibcaerBag + "/libcaer_rollover_0.db3", "cut.db3");
   std::uint64_t before = 0;
   {
@@ -455,7 +442,7 @@ TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
 }
 
 TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
-  const TempDir dir;
+  const TempDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kMonoBag + "/test_data_mono_cd_0.db3", "enc.db3");
   {
     Db db(path);
@@ -468,15 +455,15 @@ TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
   EXPECT_NE(std::string(r.error->what()).find("unsupported event encoding 'mpeg'"), std::string::npos)
       << r.error->what();
   // An SQLite file that is not a bag.
-  const std::string other = dir.path("other.db3");
+  const std::string other = dir.file("other.db3");
   {
     Db db(other);
     exec(db.db, "CREATE TABLE t(a INTEGER)");
   }
   EXPECT_THROW((void)io::open_event_reader(other), io::ReadError);
   // A directory that is no bag.
-  fs::create_directories(dir.path("empty"));
-  EXPECT_THROW((void)io::open_event_reader(dir.path("empty")), io::ReadError);
+  fs::create_directories(dir.file("empty"));
+  EXPECT_THROW((void)io::open_event_reader(dir.file("empty")), io::ReadError);
 }
 
 }  // namespace

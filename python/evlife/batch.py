@@ -94,8 +94,8 @@ def _process_one(path, output, sensor, config, options):
 # each: the statistical profiler samples every worker's Python stacks each
 # 10 ms (nothing to see inside process_file) and the nanny and system monitors
 # poll psutil each 100 / 500 ms. On 2 cores that CPU is taken from the tasks:
-# 2 workers ran 1.58x one worker with Dask's defaults, 1.91x with these
-# (bench/bench_python.py, 6 files, idle machine).
+# 2 workers ran 1.58-1.69x one worker with Dask's defaults, 1.78-1.91x with
+# these (bench/bench_python.py [--dask-defaults], 6 files, idle machine).
 LOCAL_WORKER_CONFIG = {
     "distributed.worker.profile.enabled": False,
     "distributed.worker.memory.monitor-interval": "1s",

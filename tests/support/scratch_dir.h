@@ -17,6 +17,8 @@ class ScratchDir {
   ScratchDir& operator=(const ScratchDir&) = delete;
 
   const std::filesystem::path& path() const { return dir_; }
+  /// The path of the file `name` in the folder (not created).
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
   /// Writes `bytes` to the file `name` in the folder; returns its path.
   std::string save(const std::string& name, const std::vector<char>& bytes) const;
 
