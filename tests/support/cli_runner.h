@@ -12,8 +12,8 @@ struct CliRun {
 };
 
 /// Runs `'cli' args` through the shell with no stdin, capturing both streams
-/// in `log` (overwritten) and returning them.
-CliRun run_cli(const std::string& cli, const std::string& args, const std::filesystem::path& log);
+/// in `log_stem`.<pid> (removed afterwards) and returning them.
+CliRun run_cli(const std::string& cli, const std::string& args, const std::filesystem::path& log_stem);
 
 /// The whole file, or "" when it cannot be read.
 std::string read_text_file(const std::filesystem::path& path);
