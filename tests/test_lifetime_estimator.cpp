@@ -242,6 +242,42 @@ TEST(LifetimeEstimator, ConstantVelocityEdgeIsPredictedWell) {
   EXPECT_EQ(est.stats().predictions, static_cast<std::uint64_t>(with_prediction));
 }
 
+// A prediction is for the edge that made it. Column 20 misses the edge (its
+// pixels do not fire); their next events, 30 ms later, belong to another
+// edge: no prediction with the default expiry, a 30 ms "error" without it.
+// Events just behind the predicted time (half a lifetime late) keep theirs.
+TEST(LifetimeEstimator, PredictionsExpireWhenTheEdgeMissedThePixel) {
+  const SensorSize s{40, 30};
+  const double speed_px_s = 1000.0;  // lifetime 1 ms, moving along +x
+  std::vector<Event> edge;
+  for (const Event& e : straight_edge(s, 0.0, speed_px_s))
+    if (e.x != 20) edge.push_back(e);
+  auto late_events_at_column_20 = [&](std::int64_t delay_us) {
+    std::vector<Event> late;
+    const std::int64_t t_col20 = 1000 + 20 * 1000;  // when the edge passed column 20
+    for (std::uint16_t y = 5; y < 25; ++y) late.push_back({t_col20 + delay_us, 20, y, 1});
+    return late;
+  };
+  for (const double expiry : {0.0, 2.0}) {
+    for (const std::int64_t delay_us : {std::int64_t{500}, std::int64_t{30000}}) {
+      LifetimeOptions o = options_for(s);
+      o.prediction_expiry_lifetimes = expiry;
+      LifetimeEstimator est(o);
+      std::vector<Event> events = edge;
+      const auto late = late_events_at_column_20(delay_us);
+      events.insert(events.end(), late.begin(), late.end());
+      std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+      int predicted = 0;
+      for (const Event& e : events) {
+        const AugmentedEvent out = est.process(e);
+        if (e.x == 20) predicted += out.has_prediction();
+      }
+      const bool expect_predictions = expiry == 0.0 || delay_us == 500;
+      EXPECT_EQ(predicted, expect_predictions ? 20 : 0) << "expiry " << expiry << ", delay " << delay_us << " us";
+    }
+  }
+}
+
 TEST(LifetimeEstimator, DeterministicAndBatchEqualsPerEvent) {
   const SensorSize s{48, 36};
   auto events = straight_edge(s, 1.0, 3000.0);

@@ -161,9 +161,10 @@ TEST(RealRecordings, SupportCriterionHoldsForEveryWindowSize) {
   }
 }
 
-// Paper Fig. 9 on garfield.mat. Issue 11 asks > 90 %; reached 88.6 % (the
-// share with a prediction grew from 42 % to 54 % of events, and the added
-// ones, continuing sparse edges, err more). This floor guards the figure.
+// Paper Fig. 9 on garfield.mat: > 90 % of predictions err by less than
+// 10 ms (issue 11). Fails with estimator.prediction_expiry_lifetimes = 0
+// (88.6 %): most misses were predictions for pixels the edge passed without
+// firing, answered by the next edge tens of ms later.
 TEST(RealRecordings, GarfieldPredictionErrorsMostlyBelow10ms) {
   const auto out = run_default("garfield.mat");
   if (out.empty()) GTEST_SKIP() << "shared data not found";
@@ -174,7 +175,7 @@ TEST(RealRecordings, GarfieldPredictionErrorsMostlyBelow10ms) {
     below_10ms += std::fabs(a.prediction_error_us) < 10000.0f;
   }
   EXPECT_GT(predictions, out.size() / 3);
-  EXPECT_GT(static_cast<double>(below_10ms) / static_cast<double>(predictions), 0.87);
+  EXPECT_GT(static_cast<double>(below_10ms) / static_cast<double>(predictions), 0.90);
 }
 
 // Today's sensors (shared samples). Issue 11 floors: slider >= 0.70 and

@@ -122,6 +122,17 @@ double LifetimeEstimator::prior_weight(double err_us) const noexcept {
          (options_.lambda_offset + options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * err_us));
 }
 
+// True when the event at a pixel comes too early or too late for the edge
+// whose prediction waits there: it passed without firing here.
+bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept {
+  if (options_.prediction_expiry_lifetimes <= 0.0) return false;
+  const double err_us = std::fabs(static_cast<double>(t_us - state.prediction_t_us));
+  const double gx = static_cast<double>(state.prediction_gx_us_px);
+  const double gy = static_cast<double>(state.prediction_gy_us_px);
+  const double lifetime_us = std::sqrt(gx * gx + gy * gy);
+  return err_us > std::max(options_.inlier_tolerance_us, options_.prediction_expiry_lifetimes * lifetime_us);
+}
+
 bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                                           EdgePrior& prior) const noexcept {
   const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
@@ -194,6 +205,9 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // Prediction for this pixel made by an earlier event (paper III-B.2).
   float prior_gx = 0.0f, prior_gy = 0.0f;
   double lambda = 0.0;  // 0: no prior
+  if (state.prediction_t_us != kNoPrediction && prediction_expired(state, e.t_us)) {
+    state.prediction_t_us = kNoPrediction;
+  }
   if (state.prediction_t_us != kNoPrediction) {
     const double err_us = static_cast<double>(e.t_us - state.prediction_t_us);
     out.prediction_error_us = static_cast<float>(err_us);

@@ -79,6 +79,7 @@ class LifetimeEstimator {
     double err_us = 0.0;
   };
   double prior_weight(double err_us) const noexcept;
+  bool prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                          EdgePrior& prior) const noexcept;
 

@@ -80,6 +80,14 @@ struct LifetimeOptions {
   /// (the paper's last-event surface). In [0, 10].
   double burst_window_lifetimes = 2.0;
 
+  /// A prediction (paper III-B.2) is for the edge that made it: if the
+  /// predicted pixel's next event comes more than this many of the predicted
+  /// lifetimes early or late (at least inlier_tolerance_us), the edge passed
+  /// without firing there (a pixel that missed its threshold) and the event
+  /// belongs to another edge: it gets no prediction and no prior. 0 = a
+  /// prediction waits for the next event however late (the paper). In [0, 100].
+  double prediction_expiry_lifetimes = 2.0;
+
   /// Lifetimes below inlier_tolerance_us / (window_size / 2) are treated as
   /// noise: a plane that rises less than the timestamp jitter across the
   /// window's half-width is not resolved by the timestamps (a blob whose
@@ -136,6 +144,9 @@ void for_each_lifetime_option(F&& f) {
   f(OptionInfo{"burst_window_lifetimes", "", 0.0, 10.0, false, false, false, false,
                "burst followers within this many lifetimes; 0 = none"},
     [](auto& o) -> auto& { return o.burst_window_lifetimes; });
+  f(OptionInfo{"prediction_expiry_lifetimes", "", 0.0, 100.0, false, false, false, false,
+               "a prediction missed by more lifetimes is void; 0 = never"},
+    [](auto& o) -> auto& { return o.prediction_expiry_lifetimes; });
   f(OptionInfo{"max_lifetime_us", "", 0.0, 1e9, true, false, false, false,
                "longer lifetimes are noise, us"}, [](auto& o) -> auto& { return o.max_lifetime_us; });
   f(OptionInfo{"seed", "", 0.0, 18446744073709551615.0, false, false, false, false,
