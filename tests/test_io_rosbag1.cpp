@@ -3,7 +3,6 @@
 // lz4 chunks decode to the same events as the .db3 they come from; topic
 // choice, `info` streams, corrupt chunks and unknown compression.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
@@ -17,6 +16,7 @@
 #include "read_all.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -83,25 +83,12 @@ TEST(Rosbag1, DvsEventArrayMatchesTheMonoDb3AndSkipsOtherTopics) {
 }
 
 class Rosbag1Faults : public ::testing::Test {
- public:
-  Rosbag1Faults() : dir_(fs::temp_directory_path() / ("evlife_test_io_rosbag1_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~Rosbag1Faults() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
  protected:
   static std::vector<char> load(const std::string& p) {
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
   }
-  std::string save(const std::string& name, const std::vector<char>& bytes) const {
-    const std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
+  std::string save(const std::string& name, const std::vector<char>& bytes) const { return dir_.save(name, bytes); }
   /// Offsets of `text` in `bytes`.
   static std::vector<std::size_t> find_all(const std::vector<char>& bytes, const std::string& text) {
     std::vector<std::size_t> at;
@@ -109,7 +96,7 @@ class Rosbag1Faults : public ::testing::Test {
       at.push_back(static_cast<std::size_t>(it - bytes.begin()));
     return at;
   }
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{"test_io_rosbag1"};
 };
 
 TEST_F(Rosbag1Faults, CorruptSecondChunkKeepsTheFirstChunksEvents) {
