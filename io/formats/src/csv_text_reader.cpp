@@ -324,15 +324,13 @@ class CsvTextReader final : public EventReader {
     while (n < out.size()) {
       std::string_view line;
       if (!next_line(line)) break;
-      const char* begin = line.data();
-      const char* newline = begin + line.size();
-      const std::uint64_t line_offset = lines_.offset();
+      const char* end = line.data() + line.size();
       ++line_number_;
-      if (!is_comment_or_blank(begin, newline)) {
+      if (!is_comment_or_blank(line.data(), end)) {
         if (skip_header_) {
           skip_header_ = false;
-        } else if (!parse(begin, newline, out[n])) {
-          fail(line_offset, std::string(begin, std::min<std::size_t>(static_cast<std::size_t>(newline - begin), 80)));
+        } else if (!parse(line.data(), end, out[n])) {
+          fail(lines_.offset(), std::string(line.substr(0, 80)));
           break;
         } else {
           ++n;

@@ -85,14 +85,11 @@ class RpgTextReader final : public EventReader {
     while (n < out.size()) {
       std::string_view line;
       if (!next_line(line)) break;
-      const char* begin = line.data();
-      const char* newline = begin + line.size();
       const std::uint64_t line_offset = lines_.offset();
-      const std::size_t line_bytes = line.size();
       Event e;
-      const LineKind kind = parse_line(begin, newline, e);
+      const LineKind kind = parse_line(line.data(), line.data() + line.size(), e);
       if (kind == LineKind::bad) {
-        fail(line_offset, std::string(begin, std::min<std::size_t>(line_bytes, 80)));
+        fail(line_offset, std::string(line.substr(0, 80)));
         break;
       }
       lines_.consume();
