@@ -208,10 +208,10 @@ TEST(McapReader, TopicThatIsNotEventsIsRefused) {
 
 // ---- CLI: info and convert (the registry sniffs .mcap) ----
 
-using TempDir = evlife::test::ScratchDir;
+using evlife::test::ScratchDir;
 
 TEST(McapCli, InfoListsTopicsAndConvertMatchesTheDb3) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const auto run = [&](const std::string& args) {
     return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
@@ -275,7 +275,7 @@ struct Faulty {
 /// Copies `source`, lets `damage` change the bytes given the chunk offsets
 /// (it returns the offset of the damaged chunk), and reads the copy.
 template <typename Damage>
-Faulty read_damaged(const TempDir& dir, const std::string& source, const std::string& name, Damage damage) {
+Faulty read_damaged(const ScratchDir& dir, const std::string& source, const std::string& name, Damage damage) {
   std::vector<char> b = bytes_of(kMcap + source);
   const std::vector<std::uint64_t> chunks = chunk_offsets(b);
   EXPECT_GE(chunks.size(), 4u);
@@ -301,7 +301,7 @@ void expect_fault(const Faulty& f, const std::vector<Event>& full, const std::st
 }
 
 TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "libcaer_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "libcaer_zstd.mcap", "cut.mcap", [](std::vector<char>& b, const auto& chunks) {
     b.resize(chunks[3] + 100);  // inside the fourth chunk
@@ -311,7 +311,7 @@ TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
 }
 
 TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   for (const char* how : kCompressions) {
     const std::string source = std::string("evt3_") + how + ".mcap";
     const std::vector<Event> full = read_all(kMcap + source).events;
@@ -326,7 +326,7 @@ TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
 }
 
 TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::string source = "evt3_none.mcap";
   const std::vector<Event> full = read_all(kMcap + source).events;
   std::vector<char> b = bytes_of(kMcap + source);
@@ -362,7 +362,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
 }
 
 TEST(McapFaults, UnknownCompressionIsNamed) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "evt3_zstd.mcap", "brotli.mcap", [](std::vector<char>& b, const auto& chunks) {
     // Chunk content: 3 u64 + u32 CRC, then the compression string (u32 length + "zstd").
@@ -374,7 +374,7 @@ TEST(McapFaults, UnknownCompressionIsNamed) {
 }
 
 TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::string path = dir.file("text.mcap");
   write_bytes(path, {'h', 'e', 'l', 'l', 'o', '\n'});
   try {

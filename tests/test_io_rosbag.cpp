@@ -228,7 +228,7 @@ TEST(Rosbag2Reader, LibcaerAndMonoTimesFlooredToMicroseconds) {
 
 // ---- bags written here (independent CDR writer, sqlite3 directly) ----
 
-using TempDir = evlife::test::ScratchDir;
+using evlife::test::ScratchDir;
 
 void exec(sqlite3* db, const std::string& sql) {
   char* err = nullptr;
@@ -306,7 +306,7 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
   const BagDecode mono = decode_bag(kMonoBag);
   const ReadAll reference = read_all(kMonoBag);
   ASSERT_FALSE(reference.error);
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   for (const std::string type : {"dvs_msgs/msg/EventArray", "prophesee_event_msgs/msg/EventArray"}) {
     const std::string path = dir.file(type.substr(0, type.find('/')) + ".db3");
     {
@@ -326,19 +326,23 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
   }
 }
 
-TEST(Rosbag2Reader, TopicChoice) {
-  const TempDir dir{"test_io_rosbag"};
-  const std::string path = dir.file("two.db3");
+// A bag of two dvs_msgs topics, `a` with the mono bag's first message and `b`
+// with its second (50 events each), and with `imu` a third, not-event topic.
+void write_two_event_topics(const std::string& path, const std::string& a, const std::string& b, bool imu) {
   const BagDecode mono = decode_bag(kMonoBag);
-  {
-    Db db(path);
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/left/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (2, '/right/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (3, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
-    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
-    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
-  }
+  Db db(path);
+  create_tables(db.db);
+  exec(db.db, "INSERT INTO topics VALUES (1, '" + a + "', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+  exec(db.db, "INSERT INTO topics VALUES (2, '" + b + "', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+  if (imu) exec(db.db, "INSERT INTO topics VALUES (3, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
+  db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
+  db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
+}
+
+TEST(Rosbag2Reader, TopicChoice) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const std::string path = dir.file("two.db3");
+  write_two_event_topics(path, "/left/events", "/right/events", true);
   try {
     (void)io::open_event_reader(path);
     ADD_FAILURE() << "several event topics must be refused";
@@ -372,7 +376,7 @@ std::size_t count_lines(const std::string& text) {
 }
 
 TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const auto run = [&](const std::string& args) {
     return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
@@ -382,15 +386,7 @@ TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
   EXPECT_EQ(count_lines(evlife::test::read_text_file(out)), 100u);
   // Two event topics: refused with the list, then chosen with --topic.
   const std::string two = dir.file("two.db3");
-  const BagDecode mono = decode_bag(kMonoBag);
-  {
-    Db db(two);
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/a/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (2, '/b/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
-    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
-  }
+  write_two_event_topics(two, "/a/events", "/b/events", false);
   const auto refused = run("convert '" + two + "' '" + dir.file("x.txt") + "'");
   EXPECT_EQ(refused.exit_code, 3) << refused.output;
   EXPECT_NE(refused.output.find("/a/events"), std::string::npos) << refused.output;
@@ -405,7 +401,7 @@ TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
 
 // ---- faults: events before them kept; the file and message index named ----
 
-std::string copy_bag(const TempDir& dir, const std::string& db3, const std::string& name) {
+std::string copy_bag(const ScratchDir& dir, const std::string& db3, const std::string& name) {
   const std::string path = dir.file(name);
   fs::copy_file(db3, path, fs::copy_options::overwrite_existing);
   fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write);
@@ -413,7 +409,7 @@ std::string copy_bag(const TempDir& dir, const std::string& db3, const std::stri
 }
 
 TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kLibcaerBag + "/libcaer_rollover_0.db3", "cut.db3");
   std::uint64_t before = 0;
   {
@@ -442,7 +438,7 @@ TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
 }
 
 TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kMonoBag + "/test_data_mono_cd_0.db3", "enc.db3");
   {
     Db db(path);
