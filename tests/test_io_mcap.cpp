@@ -16,11 +16,11 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
-#include "read_all.h"
-#include "scratch_dir.h"
 #include "mcap_messages.h"
+#include "read_all.h"
+#include "ros2_bag_reference.h"
 #include "ros_messages.h"
-#include "rosbag2_messages.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -29,6 +29,10 @@ using evlife::Event;
 using evlife::SensorSize;
 namespace io = evlife::io;
 namespace ros = evlife::io::ros;
+using evlife::test::decode_db3;
+using evlife::test::kRosBagSums;
+using evlife::test::ros_sums;
+using evlife::test::RosMessages;
 
 const std::string kMcap = std::string(EVLIFE_MCAP_TEST_DIR) + "/";
 const std::string kBags = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/";
@@ -37,34 +41,8 @@ const std::map<std::string, std::string> kDb3 = {{"evt3", kBags + "test_data_evt
                                                  {"mono", kBags + "test_data_mono_cd"}};
 const char* const kCompressions[] = {"none", "zstd", "lz4"};
 
-// PROVENANCE.md / event_camera_codecs' decoder_test.cpp: Σt (ns, u64 wrapping), Σx, Σy, Σp, count.
-struct Sums {
-  std::uint64_t t = 0, x = 0, y = 0, p = 0, events = 0;
-  bool operator==(const Sums&) const = default;
-};
-const std::map<std::string, Sums> kProvenance = {
-    {"evt3", {1222326831810000u, 42078718u, 31656267u, 41439u, 82469u}},
-    {"libcaer", {15762826572202229126u, 111651612u, 82801007u, 181908u, 334331u}},
-    {"mono", {4950000u, 34450u, 26450u, 50u, 100u}}};
-
-using PerMessage = std::vector<std::vector<ros::RosEvent>>;
-
-Sums sums(const PerMessage& messages) {
-  Sums s;
-  for (const auto& m : messages) {
-    for (const ros::RosEvent& e : m) {
-      s.t += static_cast<std::uint64_t>(e.t_ns);
-      s.x += e.x;
-      s.y += e.y;
-      s.p += e.p > 0 ? 1u : 0u;
-      ++s.events;
-    }
-  }
-  return s;
-}
-
 /// The event topic's messages decoded, through the MCAP container (white box).
-PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* record_at = nullptr) {
+RosMessages decode_mcap(const std::string& path, std::vector<std::uint64_t>* record_at = nullptr) {
   io::mcap::McapMessages bag(path);
   const ros::TopicInfo* topic = nullptr;
   for (const ros::TopicInfo& t : bag.topics())
@@ -72,7 +50,7 @@ PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* reco
   EXPECT_NE(topic, nullptr);
   ros::MessageDecoder decoder(ros::message_kind(topic->type));
   bag.select(topic->name);
-  PerMessage r;
+  RosMessages r;
   io::mcap::McapMessages::Message m;
   std::vector<ros::RosEvent> events;
   while (bag.next(m)) {
@@ -81,22 +59,6 @@ PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* reco
     EXPECT_FALSE(fault) << path << " message " << m.index << ": " << fault->what;
     r.push_back(events);
     if (record_at != nullptr) record_at->push_back(m.record_at);
-  }
-  return r;
-}
-
-/// The same through the rosbag2 container.
-PerMessage decode_db3(const std::string& bag_path) {
-  ros::Rosbag2Messages bag(bag_path);
-  const ros::TopicInfo topic = bag.topics().at(0);
-  ros::MessageDecoder decoder(ros::message_kind(topic.type));
-  bag.select(topic.name);
-  PerMessage r;
-  ros::Rosbag2Messages::Message m;
-  std::vector<ros::RosEvent> events;
-  while (bag.next(m)) {
-    EXPECT_FALSE(decoder.decode(m.data, events));
-    r.push_back(events);
   }
   return r;
 }
@@ -122,12 +84,12 @@ bool same_events(const std::vector<Event>& a, const std::vector<Event>& b) {
 
 TEST(McapContainer, EveryCompressionDecodesToTheDb3MessagesAndItsChecksums) {
   for (const auto& [bag, db3] : kDb3) {
-    const PerMessage expected = decode_db3(db3);
-    ASSERT_EQ(sums(expected), kProvenance.at(bag)) << bag;
+    const RosMessages expected = decode_db3(db3);
+    ASSERT_EQ(ros_sums(expected), kRosBagSums.at(bag)) << bag;
     for (const char* how : kCompressions) {
       const std::string path = kMcap + bag + "_" + how + ".mcap";
-      const PerMessage got = decode_mcap(path);
-      EXPECT_EQ(sums(got), kProvenance.at(bag)) << path;
+      const RosMessages got = decode_mcap(path);
+      EXPECT_EQ(ros_sums(got), kRosBagSums.at(bag)) << path;
       ASSERT_EQ(got.size(), expected.size()) << path;
       for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << path << " message " << i;
     }
@@ -135,8 +97,8 @@ TEST(McapContainer, EveryCompressionDecodesToTheDb3MessagesAndItsChecksums) {
 }
 
 TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
-  const PerMessage expected = decode_db3(kDb3.at("evt3"));
-  const PerMessage got = decode_mcap(kMcap + "evt3_reversed.mcap");
+  const RosMessages expected = decode_db3(kDb3.at("evt3"));
+  const RosMessages got = decode_mcap(kMcap + "evt3_reversed.mcap");
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << "message " << i;
 }
@@ -144,7 +106,7 @@ TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
 // Chunks are read in file order and not merged: events going backwards stop
 // the read with the time-order error, after the events before them.
 TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {
-  const PerMessage db3 = decode_db3(kDb3.at("libcaer"));
+  const RosMessages db3 = decode_db3(kDb3.at("libcaer"));
   std::vector<Event> first;  // messages 20-39, written first
   for (std::size_t i = 20; i < 40; ++i)
     for (const ros::RosEvent& e : db3[i]) first.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
@@ -259,7 +221,7 @@ std::vector<std::uint64_t> chunk_offsets(const std::vector<char>& b) {
 /// Events (µs) of the messages stored in chunks before file offset `limit`.
 std::size_t events_before(const std::string& path, std::uint64_t limit) {
   std::vector<std::uint64_t> at;
-  const PerMessage all = decode_mcap(path, &at);
+  const RosMessages all = decode_mcap(path, &at);
   std::size_t n = 0;
   for (std::size_t i = 0; i < all.size(); ++i)
     if (at[i] < limit) n += all[i].size();
@@ -344,7 +306,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
   const std::string path = dir.file("record.mcap");
   write_bytes(path, b);
   std::vector<std::uint64_t> at;
-  const PerMessage messages = decode_mcap(kMcap + source, &at);
+  const RosMessages messages = decode_mcap(kMcap + source, &at);
   std::size_t expected = 0;
   bool first_of_chunk = true;
   for (std::size_t i = 0; i < messages.size(); ++i) {

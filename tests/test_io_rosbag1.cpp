@@ -14,8 +14,8 @@
 
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
+#include "ros2_bag_reference.h"
 #include "ros_messages.h"
-#include "rosbag2_messages.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -35,17 +35,10 @@ ReadAll read_all(const std::string& path) { return evlife::test::read_all(path, 
 
 /// The events of the first `limit` messages of a ROS 2 bag, floored to µs.
 std::vector<Event> db3_events(const std::string& bag_path, std::size_t limit) {
-  ros::Rosbag2Messages bag(bag_path);
-  const ros::TopicInfo topic = bag.topics().at(0);
-  ros::MessageDecoder decoder(ros::message_kind(topic.type));
-  bag.select(topic.name);
+  const evlife::test::RosMessages messages = evlife::test::decode_db3(bag_path);
   std::vector<Event> all;
-  std::vector<ros::RosEvent> events;
-  ros::Rosbag2Messages::Message m;
-  for (std::size_t i = 0; i < limit && bag.next(m); ++i) {
-    EXPECT_FALSE(decoder.decode(m.data, events));
-    for (const ros::RosEvent& e : events) all.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
-  }
+  for (std::size_t i = 0; i < limit && i < messages.size(); ++i)
+    for (const ros::RosEvent& e : messages[i]) all.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
   return all;
 }
 
