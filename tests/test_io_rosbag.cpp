@@ -312,16 +312,11 @@ TEST(Rosbag2Reader, TopicChoice) {
   const ScratchDir dir{"test_io_rosbag"};
   const std::string path = dir.file("two.db3");
   write_two_event_topics(path, "/left/events", "/right/events", true);
-  try {
-    (void)io::open_event_reader(path);
-    ADD_FAILURE() << "several event topics must be refused";
-  } catch (const io::ReadError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("--topic"), std::string::npos) << what;
-    EXPECT_NE(what.find("/left/events"), std::string::npos) << what;
-    EXPECT_NE(what.find("/right/events"), std::string::npos) << what;
-    EXPECT_EQ(what.find("/imu"), std::string::npos) << what;
-  }
+  const std::string what = evlife::test::open_error(path);  // several event topics: refused
+  EXPECT_NE(what.find("--topic"), std::string::npos) << what;
+  EXPECT_NE(what.find("/left/events"), std::string::npos) << what;
+  EXPECT_NE(what.find("/right/events"), std::string::npos) << what;
+  EXPECT_EQ(what.find("/imu"), std::string::npos) << what;
   const ReadAll right = read_all(path, "/right/events");
   ASSERT_FALSE(right.error);
   ASSERT_EQ(right.events.size(), 50u);

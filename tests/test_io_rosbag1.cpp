@@ -118,12 +118,8 @@ TEST_F(Rosbag1Faults, UnknownCompressionTruncatedAndNotIndexed) {
   // Cut in half: the index at the end is gone.
   const std::vector<char> full = load(kBags + "evt3_none.bag");
   const std::string cut = save("cut.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(full.size() / 2)));
-  try {
-    (void)io::open_event_reader(cut);
-    ADD_FAILURE() << "a bag without its index must be refused";
-  } catch (const io::ReadError& e) {
-    EXPECT_NE(std::string(e.what()).find("not indexed"), std::string::npos) << e.what();
-  }
+  const std::string cut_error = evlife::test::open_error(cut);
+  EXPECT_NE(cut_error.find("not indexed"), std::string::npos) << cut_error;
 }
 
 }  // namespace
