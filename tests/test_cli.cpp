@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -30,19 +31,12 @@ std::string read_file(const fs::path& path) { return evlife::test::read_text_fil
 
 class CliTest : public testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(testing::TempDir()) / "evlife_test_cli" / info->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-
   // Runs `evlife <args>` through the shell, capturing both streams.
-  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_ / "cli.log"); }
+  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_.path() / "cli.log"); }
 
-  fs::path path(const std::string& name) const { return dir_ / name; }
+  fs::path path(const std::string& name) const { return dir_.path() / name; }
 
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{"test_cli"};
 };
 
 // Data rows of a CSV written by evlife (all lines but the header).

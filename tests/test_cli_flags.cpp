@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -20,16 +21,10 @@ using RunResult = evlife::test::CliRun;
 
 class CliFlags : public testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(testing::TempDir()) / "evlife_test_cli_flags" / info->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
   RunResult run(const std::string& args) const {
-    return evlife::test::run_cli(kCli, args, dir_ / "cli.log");
+    return evlife::test::run_cli(kCli, args, dir_.path() / "cli.log");
   }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.file(name); }
   // A 0.3 s synthetic recording (the synth command itself is tested elsewhere).
   std::string sample() const {
     const std::string p = path("s.txt");
@@ -38,7 +33,7 @@ class CliFlags : public testing::Test {
     }
     return p;
   }
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{"test_cli_flags"};
 };
 
 bool has(const RunResult& r, const std::string& text) { return r.output.find(text) != std::string::npos; }

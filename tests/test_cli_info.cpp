@@ -2,13 +2,13 @@
 // the ones ../shared/data/PROVENANCE.md states for each file (decoded by
 // others), the sensor sizes the ones the files state.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "cli_runner.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -24,20 +24,11 @@ struct Case {
 };
 
 class CliInfo : public ::testing::Test {
- public:
-  CliInfo() : dir_(fs::temp_directory_path() / ("evlife_test_cli_info_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~CliInfo() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
  protected:
   evlife::test::CliRun run(const std::string& args) const {
-    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_ / "cli.log");
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_.path() / "cli.log");
   }
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{"test_cli_info"};
 };
 
 TEST_F(CliInfo, DescribesEverySharedSample) {
@@ -77,7 +68,7 @@ TEST_F(CliInfo, BagTopicsTriggersAndDuration) {
 }
 
 TEST_F(CliInfo, CsvAndHdf5AndErrors) {
-  const fs::path csv = dir_ / "mv.csv";
+  const fs::path csv = dir_.path() / "mv.csv";
   std::ofstream(csv) << "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n";
   auto r = run("info '" + csv.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -85,7 +76,7 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_NE(r.output.find("events     3 (2 ON, 1 OFF)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("the events span 640x480"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1000 .. 2250 us"), std::string::npos) << r.output;
-  const fs::path h5 = dir_ / "mv.h5";
+  const fs::path h5 = dir_.path() / "mv.h5";
   ASSERT_EQ(run("convert '" + csv.string() + "' '" + h5.string() + "' -q").exit_code, 0);
   r = run("info '" + h5.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -98,7 +89,7 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_NE(r.output.find("events     2 (1 ON, 1 OFF)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
   EXPECT_EQ(run("info").exit_code, 2);
-  EXPECT_EQ(run("info '" + (dir_ / "missing.raw").string() + "'").exit_code, 3);
+  EXPECT_EQ(run("info '" + dir_.file("missing.raw") + "'").exit_code, 3);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "evlife/algo/lifetime_estimator.h"
+#include "scratch_dir.h"
 
 extern char** environ;
 
@@ -36,26 +37,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-// ---- a scratch directory per test ----
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string templ = (fs::temp_directory_path() / "evlife_faults_XXXXXX").string();
-    if (mkdtemp(templ.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = templ;
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
+using evlife::test::ScratchDir;
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -73,8 +55,8 @@ struct Child {
 
 Child spawn_cli(const std::vector<std::string>& args, const ScratchDir& dir, const std::string& tag) {
   Child c;
-  c.out_log = dir / (tag + ".stdout");
-  c.err_log = dir / (tag + ".stderr");
+  c.out_log = dir.path() / (tag + ".stdout");
+  c.err_log = dir.path() / (tag + ".stderr");
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
@@ -199,10 +181,10 @@ std::int64_t check_csv_prefix(const fs::path& path, std::int64_t max_rows) {
 // full swing), sends `sig`, and checks the stop: exit 130 (documented), a
 // summary, a message, and an output that is a valid prefix of the input.
 void interrupt_mid_run(const std::vector<std::string>& command, int sig, const std::string& tag) {
-  ScratchDir dir;
+  const ScratchDir dir("test_faults");
   constexpr std::int64_t kEvents = 3'000'000;  // seconds of work, even in a Release build
-  const fs::path input = dir / "long.aedat";
-  const fs::path output = dir / "out.csv";
+  const fs::path input = dir.path() / "long.aedat";
+  const fs::path output = dir.path() / "out.csv";
   write_aedat2(input, kEvents);
   std::vector<std::string> args = command;
   for (auto& a : args) {
@@ -237,12 +219,12 @@ void interrupt_mid_run(const std::vector<std::string>& command, int sig, const s
 // ---- output faults ----
 
 TEST(Faults, ProcessToFullDiskFailsClearlyAndNonZero) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 200'000);  // several MB of CSV: more than any buffer
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 200'000);  // several MB of CSV: more than any buffer
   for (const std::string ext : {".csv", ".bin"}) {
-    const fs::path out = dir / ("full" + ext);
+    const fs::path out = dir.path() / ("full" + ext);
     fs::create_symlink("/dev/full", out);
-    const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o", out.string()}, dir);
+    const Finished f = run_cli({"process", (dir.path() / "in.aedat").string(), "-o", out.string()}, dir);
     ASSERT_TRUE(f.exited) << describe(f);
     EXPECT_NE(f.code, 0) << describe(f);
     EXPECT_TRUE(contains(f.err, out.string())) << "error does not name the output\n" << describe(f);
@@ -251,12 +233,12 @@ TEST(Faults, ProcessToFullDiskFailsClearlyAndNonZero) {
 }
 
 TEST(Faults, RunToFullDiskFailsClearlyAndNonZero) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 200'000);
-  const fs::path out = dir / "full.csv";
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 200'000);
+  const fs::path out = dir.path() / "full.csv";
   fs::create_symlink("/dev/full", out);
   const Finished f = run_cli(
-      {"run", "--source", "file:" + (dir / "in.aedat").string(), "-o", out.string(), "-q"}, dir);
+      {"run", "--source", "file:" + (dir.path() / "in.aedat").string(), "-o", out.string(), "-q"}, dir);
   ASSERT_TRUE(f.exited) << describe(f);
   EXPECT_NE(f.code, 0) << describe(f);
   EXPECT_TRUE(contains(f.err, out.string())) << describe(f);
@@ -264,17 +246,17 @@ TEST(Faults, RunToFullDiskFailsClearlyAndNonZero) {
 }
 
 TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 1000);
-  std::ofstream(dir / "a_file") << "x";  // a regular file used as a directory: ENOTDIR, even for root
-  const std::vector<std::string> outputs{(dir / "a_file" / "out.csv").string(),
-                                         (dir / "no_such_dir" / "out.csv").string()};
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  std::ofstream(dir.path() / "a_file") << "x";  // a regular file used as a directory: ENOTDIR, even for root
+  const std::vector<std::string> outputs{(dir.path() / "a_file" / "out.csv").string(),
+                                         (dir.path() / "no_such_dir" / "out.csv").string()};
   for (const auto& out : outputs) {
     for (const std::string cmd : {"process", "run"}) {
       const std::vector<std::string> args =
           cmd == "process"
-              ? std::vector<std::string>{"process", (dir / "in.aedat").string(), "-o", out}
-              : std::vector<std::string>{"run", "--source", "file:" + (dir / "in.aedat").string(),
+              ? std::vector<std::string>{"process", (dir.path() / "in.aedat").string(), "-o", out}
+              : std::vector<std::string>{"run", "--source", "file:" + (dir.path() / "in.aedat").string(),
                                          "-o", out, "-q"};
       const Finished f = run_cli(args, dir);
       ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
@@ -305,12 +287,12 @@ TEST(Faults, RunSigtermLeavesValidPrefixAndSummary) {
 // ---- configuration ----
 
 TEST(Faults, ConfigUnknownKeyIsNamed) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 1000);
-  const fs::path cfg = dir / "bad.yaml";
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  const fs::path cfg = dir.path() / "bad.yaml";
   std::ofstream(cfg) << "estimator:\n  window_size: 5\n  windw_size: 7\n";
-  const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o",
-                              (dir / "out.csv").string(), "--config", cfg.string()},
+  const Finished f = run_cli({"process", (dir.path() / "in.aedat").string(), "-o",
+                              (dir.path() / "out.csv").string(), "--config", cfg.string()},
                              dir);
   ASSERT_TRUE(f.exited) << describe(f);
   EXPECT_NE(f.code, 0) << describe(f);
@@ -319,12 +301,12 @@ TEST(Faults, ConfigUnknownKeyIsNamed) {
 }
 
 TEST(Faults, ConfigValueOutOfRangeNamesKeyAndRange) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 1000);
-  const fs::path cfg = dir / "bad.yaml";
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  const fs::path cfg = dir.path() / "bad.yaml";
   std::ofstream(cfg) << "estimator:\n  outlier_fraction: 1.5\n";
-  const Finished f = run_cli({"process", (dir / "in.aedat").string(), "-o",
-                              (dir / "out.csv").string(), "--config", cfg.string()},
+  const Finished f = run_cli({"process", (dir.path() / "in.aedat").string(), "-o",
+                              (dir.path() / "out.csv").string(), "--config", cfg.string()},
                              dir);
   ASSERT_TRUE(f.exited) << describe(f);
   EXPECT_NE(f.code, 0) << describe(f);
@@ -335,34 +317,34 @@ TEST(Faults, ConfigValueOutOfRangeNamesKeyAndRange) {
 // ---- absurd sizes: refused up front with a message, not an allocation failure ----
 
 TEST(Faults, WindowSize99IsRefusedWithItsRange) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 1000);
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
   for (const std::string cmd : {"process", "run"}) {
     const std::vector<std::string> args =
-        cmd == "process" ? std::vector<std::string>{"process", (dir / "in.aedat").string(), "-o",
-                                                    (dir / "out.csv").string(), "--set",
+        cmd == "process" ? std::vector<std::string>{"process", (dir.path() / "in.aedat").string(), "-o",
+                                                    (dir.path() / "out.csv").string(), "--set",
                                                     "estimator.window_size=99"}
                          : std::vector<std::string>{"run", "--source",
-                                                    "file:" + (dir / "in.aedat").string(), "--set",
+                                                    "file:" + (dir.path() / "in.aedat").string(), "--set",
                                                     "estimator.window_size=99"};
     const Finished f = run_cli(args, dir);
     ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
     EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
     EXPECT_TRUE(contains(f.err, "window_size")) << cmd << ": " << describe(f);
     EXPECT_TRUE(contains(f.err, "15")) << cmd << ": range not stated\n" << describe(f);
-    EXPECT_FALSE(fs::exists(dir / "out.csv")) << cmd << ": output created before validation";
+    EXPECT_FALSE(fs::exists(dir.path() / "out.csv")) << cmd << ": output created before validation";
   }
 }
 
 TEST(Faults, HugeSensorIsRefusedWithItsRange) {
-  ScratchDir dir;
-  write_aedat2(dir / "in.aedat", 1000);
-  const fs::path txt = dir / "in.txt";  // a format that does not state its sensor
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  const fs::path txt = dir.path() / "in.txt";  // a format that does not state its sensor
   std::ofstream(txt) << "0.001 1 2 1\n0.002 3 4 0\n";
   for (const std::string cmd : {"process", "run"}) {
     const std::vector<std::string> args =
         cmd == "process" ? std::vector<std::string>{"process", txt.string(), "-o",
-                                                    (dir / "out.csv").string(), "--sensor",
+                                                    (dir.path() / "out.csv").string(), "--sensor",
                                                     "100000x100000"}
                          : std::vector<std::string>{"run", "--source", "file:" + txt.string(),
                                                     "--sensor", "100000x100000"};

@@ -1,7 +1,6 @@
 // Cropping and filtering at the source (ReaderOptions from_us / to_us /
 // polarity; --from --to --polarity of every command reading events).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "scratch_dir.h"
 #include "evlife/io/event_reader.h"
 
 namespace {
@@ -19,20 +19,15 @@ namespace io = evlife::io;
 
 class IoCrop : public ::testing::Test {
  public:
-  IoCrop() : dir_(fs::temp_directory_path() / ("evlife_test_io_crop_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
+  IoCrop() {
     // 10 events, t = 5000 + 1000 i µs, p alternating ON/OFF, x = i.
     std::ofstream out(csv());
     out << "x,y,t,p\n";
     for (int i = 0; i < 10; ++i) out << i << ",3," << 5000 + 1000 * i << "," << (i % 2 == 0 ? 1 : 0) << "\n";
   }
-  ~IoCrop() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
 
  protected:
-  std::string csv() const { return (dir_ / "ten.csv").string(); }
+  std::string csv() const { return dir_.file("ten.csv"); }
   std::vector<int> xs(const io::ReaderOptions& options, bool checked = true) const {
     const auto reader = checked ? io::open_event_reader(csv(), options)
                                 : io::open_unchecked_event_reader(csv(), options);
@@ -43,9 +38,9 @@ class IoCrop : public ::testing::Test {
     return x;
   }
   evlife::test::CliRun run(const std::string& args) const {
-    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_ / "cli.log");
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_.path() / "cli.log");
   }
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{"test_io_crop"};
 };
 
 TEST_F(IoCrop, FromToRelativeToTheFirstEvent) {
@@ -78,7 +73,7 @@ TEST_F(IoCrop, EveryCommandTakesTheFlags) {
   auto r = run("info '" + bag + "' --polarity on --from 10us --to 60us");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("events     25 (25 ON, 0 OFF)"), std::string::npos) << r.output;
-  const std::string txt = (dir_ / "off.txt").string();
+  const std::string txt = dir_.file("off.txt");
   r = run("convert '" + bag + "' '" + txt + "' --polarity off -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(txt);
@@ -88,16 +83,16 @@ TEST_F(IoCrop, EveryCommandTakesTheFlags) {
     EXPECT_EQ(line.back(), '0') << line;  // RPG text: p 0 = OFF
   }
   EXPECT_EQ(lines, 50);
-  const std::string out = (dir_ / "p.csv").string();
+  const std::string out = dir_.file("p.csv");
   r = run("process '" + csv() + "' --sensor 16x16 --from 0.002 --to 0.005 -q -o '" + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream rows(out);
   int n = 0;
   for (std::string line; std::getline(rows, line);) ++n;
   EXPECT_EQ(n, 1 + 3);  // header + x = 2, 3, 4
-  EXPECT_EQ(run("eval '" + csv() + "' --polarity sideways -o '" + (dir_ / "e").string() + "'").exit_code, 2);
+  EXPECT_EQ(run("eval '" + csv() + "' --polarity sideways -o '" + dir_.file("e") + "'").exit_code, 2);
   EXPECT_EQ(run("run --source 'file:" + csv() + "' --from 5ms --to 1ms").exit_code, 2);
-  EXPECT_EQ(run("render '" + csv() + "' --polarity up -o '" + (dir_ / "r").string() + "'").exit_code, 2);
+  EXPECT_EQ(run("render '" + csv() + "' --polarity up -o '" + dir_.file("r") + "'").exit_code, 2);
 }
 
 }  // namespace

@@ -2,45 +2,22 @@
 // separator, header or not, time unit from header / values / --time-unit,
 // faults, and a CSV written by `evlife convert` read back.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
+#include "scratch_dir.h"
 
 namespace {
 
-namespace fs = std::filesystem;
 using evlife::Event;
 namespace io = evlife::io;
-
-class TempDir {
- public:
-  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_csv_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    const std::string p = path(name);
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  fs::path dir_;
-};
-
 using evlife::test::ReadAll;
+using evlife::test::ScratchDir;
 
 ReadAll read_all(const std::string& path, const std::string& time_unit = {}) {
   io::ReaderOptions options;
@@ -60,43 +37,43 @@ bool same(const std::vector<Event>& a, const std::vector<Event>& b) {
 const std::vector<Event> kExpected = {{1000, 10, 20, 1}, {1500, 11, 21, -1}, {2250, 639, 479, 1}};
 
 TEST(IoCsv, MetavisionXypt) {
-  const TempDir dir;
-  const ReadAll r = read_all(dir.write("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n"));
+  const ScratchDir dir("test_io_csv");
+  const ReadAll r = read_all(dir.save("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n"));
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_EQ(r.format, "csv");
   EXPECT_TRUE(same(r.events, kExpected));
 }
 
 TEST(IoCsv, XytpWithHeaderTabSeparated) {
-  const TempDir dir;
-  const ReadAll r = read_all(dir.write("a.tsv", "x\ty\tt\tp\n10\t20\t1000\t1\n11\t21\t1500\t0\n639\t479\t2250\t1\n"));
+  const ScratchDir dir("test_io_csv");
+  const ReadAll r = read_all(dir.save("a.tsv", "x\ty\tt\tp\n10\t20\t1000\t1\n11\t21\t1500\t0\n639\t479\t2250\t1\n"));
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_TRUE(same(r.events, kExpected));
 }
 
 TEST(IoCsv, TxypSecondsFromHeaderAndFromValues) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_csv");
   // Header with a unit, space separated, any extension.
-  const ReadAll a = read_all(dir.write("a.dat.txt", "timestamp(s) x y polarity\n0.001 10 20 1\n0.0015 11 21 -1\n0.00225 639 479 1\n"));
+  const ReadAll a = read_all(dir.save("a.dat.txt", "timestamp(s) x y polarity\n0.001 10 20 1\n0.0015 11 21 -1\n0.00225 639 479 1\n"));
   ASSERT_FALSE(a.error) << a.error->what();
   EXPECT_EQ(a.format, "csv");
   EXPECT_TRUE(same(a.events, kExpected));
   // No header, comma separated: the decimal point says seconds.
-  const ReadAll b = read_all(dir.write("b.csv", "0.001000,10,20,1\n0.001500,11,21,0\n0.002250,639,479,1\n"));
+  const ReadAll b = read_all(dir.save("b.csv", "0.001000,10,20,1\n0.001500,11,21,0\n0.002250,639,479,1\n"));
   ASSERT_FALSE(b.error) << b.error->what();
   EXPECT_TRUE(same(b.events, kExpected));
   // Header naming µs, integer values.
-  const ReadAll c = read_all(dir.write("c.csv", "t_us,x,y,p\n1000,10,20,1\n1500,11,21,0\n2250,639,479,1\n"));
+  const ReadAll c = read_all(dir.save("c.csv", "t_us,x,y,p\n1000,10,20,1\n1500,11,21,0\n2250,639,479,1\n"));
   ASSERT_FALSE(c.error) << c.error->what();
   EXPECT_TRUE(same(c.events, kExpected));
 }
 
 TEST(IoCsv, TimeUnitOptionOverrides) {
-  const TempDir dir;
-  const ReadAll r = read_all(dir.write("ms.csv", "x,y,p,t\n10,20,1,1\n11,21,0,1.5\n639,479,1,2.25\n"), "ms");
+  const ScratchDir dir("test_io_csv");
+  const ReadAll r = read_all(dir.save("ms.csv", "x,y,p,t\n10,20,1,1\n11,21,0,1.5\n639,479,1,2.25\n"), "ms");
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_TRUE(same(r.events, kExpected));
-  const ReadAll ns = read_all(dir.write("ns.csv", "10,20,1,1000000\n11,21,0,1500000\n639,479,1,2250000\n"), "ns");
+  const ReadAll ns = read_all(dir.save("ns.csv", "10,20,1,1000000\n11,21,0,1500000\n639,479,1,2250000\n"), "ns");
   ASSERT_FALSE(ns.error) << ns.error->what();
   EXPECT_TRUE(same(ns.events, kExpected));
 }
@@ -109,10 +86,10 @@ TEST(IoCsv, SpaceSeparatedSecondsStayRpgText) {
 }
 
 TEST(IoCsv, UnreadableFileNamesTheLayouts) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_csv");
   for (const std::string text : {"a,b,c,d\n1,2,3,4\n", "1,2,3\n4,5,6\n", "5,5,5,5\n"}) {
     try {
-      (void)read_all(dir.write("bad.csv", text));
+      (void)read_all(dir.save("bad.csv", text));
       ADD_FAILURE() << text;
     } catch (const io::ReadError& e) {
       EXPECT_NE(std::string(e.what()).find("x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p"),
@@ -123,8 +100,8 @@ TEST(IoCsv, UnreadableFileNamesTheLayouts) {
 }
 
 TEST(IoCsv, BadLineStopsWithItsLineEventsBeforeKept) {
-  const TempDir dir;
-  const std::string path = dir.write("cut.csv", "x,y,t,p\n10,20,1000,1\n11,21,1500,0\n639,479,22x0,1\n1,1,3000,1\n");
+  const ScratchDir dir("test_io_csv");
+  const std::string path = dir.save("cut.csv", "x,y,t,p\n10,20,1000,1\n11,21,1500,0\n639,479,22x0,1\n1,1,3000,1\n");
   const ReadAll r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 2u);
@@ -135,29 +112,44 @@ TEST(IoCsv, BadLineStopsWithItsLineEventsBeforeKept) {
   EXPECT_EQ(r.error->byte_offset(), 8 + 13 + 13);  // the lines before
 }
 
+// A line longer than the reader's 1 MiB buffer stops the file there, the
+// events before it kept.
+TEST(IoCsv, LineLongerThanTheBufferStopsAtItsOffset) {
+  const ScratchDir dir("test_io_csv");
+  const std::string head = "x,y,t,p\n10,20,1000,1\n";
+  const std::string path = dir.save("long.csv", head + "11,21," + std::string(2 << 20, '5') + ",1\n");
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.error->event_index(), 1);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(head.size()));
+  EXPECT_NE(std::string(r.error->what()).find("got '(line longer than 1048576 bytes)'"), std::string::npos)
+      << r.error->what();
+}
+
 // evlife's own CSV (process -> .bin, convert .bin -> .csv) reads back as the
 // recording's events (the x, y, t, p columns; the others are ignored).
 TEST(IoCsv, CsvWrittenByEvlifeConvertReadsBack) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_csv");
   const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/aedat2/alex_walking_again.aedat";
   const auto run = [&](const std::string& args) {
-    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.path("cli.log"));
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
-  const auto processed = run("process '" + input + "' -q -o '" + dir.path("a.bin") + "'");
+  const auto processed = run("process '" + input + "' -q -o '" + dir.file("a.bin") + "'");
   ASSERT_EQ(processed.exit_code, 0) << processed.output;
-  const auto converted = run("convert '" + dir.path("a.bin") + "' '" + dir.path("a.csv") + "' -q");
+  const auto converted = run("convert '" + dir.file("a.bin") + "' '" + dir.file("a.csv") + "' -q");
   ASSERT_EQ(converted.exit_code, 0) << converted.output;
   const ReadAll original = read_all(input);
-  const ReadAll back = read_all(dir.path("a.csv"));
+  const ReadAll back = read_all(dir.file("a.csv"));
   ASSERT_FALSE(back.error) << back.error->what();
   EXPECT_EQ(back.format, "csv");
   ASSERT_EQ(back.events.size(), 19'182u);
   EXPECT_TRUE(same(back.events, original.events));
   // And a CSV of another tool converts to RPG text.
-  const std::string mv = dir.write("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n");
-  const auto to_txt = run("convert '" + mv + "' '" + dir.path("mv.txt") + "' -q");
+  const std::string mv = dir.save("mv.csv", "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n");
+  const auto to_txt = run("convert '" + mv + "' '" + dir.file("mv.txt") + "' -q");
   ASSERT_EQ(to_txt.exit_code, 0) << to_txt.output;
-  const ReadAll txt = read_all(dir.path("mv.txt"));
+  const ReadAll txt = read_all(dir.file("mv.txt"));
   EXPECT_TRUE(same(txt.events, kExpected));
 }
 

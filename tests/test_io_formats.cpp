@@ -6,7 +6,6 @@
 // AEDAT 4.0 files built here byte by byte cover the uncompressed and Zstd
 // variants. Truncated and bit-flipped copies must end in a clean ReadError.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 using evlife::Event;
 using evlife::SensorSize;
 using evlife::io::ReadError;
+using evlife::test::ScratchDir;
 
 const std::string kData = EVLIFE_SHARED_DATA_DIR;
 const std::string kAedat4 = kData + "/aedat4/sample.aedat4";
@@ -72,26 +73,6 @@ std::vector<std::uint8_t> load(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
-
-class TempDir {
- public:
-  TempDir() : dir_(fs::temp_directory_path() / ("evlife_test_io_formats_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
-    const std::string path = (dir_ / name).string();
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    return path;
-  }
-
- private:
-  fs::path dir_;
-};
 
 // True if `part` equals the first part.size() events of `full`.
 bool is_prefix(const std::vector<Event>& part, const std::vector<Event>& full) {
@@ -258,7 +239,7 @@ std::vector<std::uint8_t> with_words(const std::string& header, const std::vecto
 }
 
 TEST(IoFormatsWordStreams, Evt2TimeHighWrapsTo64BitsAndTriggersAreCounted) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const auto cd = [](std::uint32_t type, std::uint32_t t_low, std::uint32_t x, std::uint32_t y) {
     return (type << 28) | (t_low << 22) | (x << 11) | y;
   };
@@ -269,7 +250,7 @@ TEST(IoFormatsWordStreams, Evt2TimeHighWrapsTo64BitsAndTriggersAreCounted) {
       0x80000000u | 0x00000001u,  // TIME_HIGH wraps around
       cd(0, 63, 0, 0),
   };
-  const ReadResult r = read_all(dir.write("wrap.raw", with_words("% evt 2.0\n% geometry 640x480\n", words)));
+  const ReadResult r = read_all(dir.save("wrap.raw", with_words("% evt 2.0\n% geometry 640x480\n", words)));
   ASSERT_FALSE(r.error) << r.error->what();
   ASSERT_EQ(r.events.size(), 2u);
   EXPECT_EQ(*r.sensor, (SensorSize{640, 480}));
@@ -281,7 +262,7 @@ TEST(IoFormatsWordStreams, Evt2TimeHighWrapsTo64BitsAndTriggersAreCounted) {
 }
 
 TEST(IoFormatsWordStreams, Evt3TimeWrapsVectorsAndGeometryFromFormatLine) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<std::uint16_t> words = {
       0x8FFF,           // TIME_HIGH = 4095
       0x6ABC,           // TIME_LOW: t = 4095 << 12 | 0xABC
@@ -295,7 +276,7 @@ TEST(IoFormatsWordStreams, Evt3TimeWrapsVectorsAndGeometryFromFormatLine) {
       0x2000 | 1279,    // ADDR_X: x = 1279, OFF
   };
   const ReadResult r = read_all(
-      dir.write("wrap3.raw", with_words("% format EVT3;height=720;width=1280\n", words)), 2);
+      dir.save("wrap3.raw", with_words("% format EVT3;height=720;width=1280\n", words)), 2);
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_EQ(*r.sensor, (SensorSize{1280, 720}));
   const std::int64_t t1 = (std::int64_t{4095} << 12) | 0xABC;
@@ -309,10 +290,10 @@ TEST(IoFormatsWordStreams, Evt3TimeWrapsVectorsAndGeometryFromFormatLine) {
 
 TEST(IoFormatsWordStreams, RawWithoutEvtLineIsKnownByItsCameraPlugin) {
   // Older RAW headers name only the plugin: Gen3 cameras write EVT 2.0 at 640x480.
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<std::uint32_t> words = {0x80000010u, (1u << 28) | (3u << 11) | 4u};
   const ReadResult r = read_all(
-      dir.write("old.raw", with_words("% plugin_name hal_plugin_gen3_fx3\n% system_ID 21\n", words)));
+      dir.save("old.raw", with_words("% plugin_name hal_plugin_gen3_fx3\n% system_ID 21\n", words)));
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_EQ(r.format, "evt2");
   EXPECT_EQ(*r.sensor, (SensorSize{640, 480}));
@@ -321,7 +302,7 @@ TEST(IoFormatsWordStreams, RawWithoutEvtLineIsKnownByItsCameraPlugin) {
 }
 
 TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes;
   const std::string header = "% Width 304\n% Height 240\n";
   bytes.assign(header.begin(), header.end());
@@ -334,7 +315,7 @@ TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {
   };
   record(0xFFFFFFF0u, 303, 239, 1);
   record(5, 1, 2, 0);
-  const ReadResult r = read_all(dir.write("wrap.dat", bytes));
+  const ReadResult r = read_all(dir.save("wrap.dat", bytes));
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_EQ(*r.sensor, (SensorSize{304, 240}));
   ASSERT_EQ(r.events.size(), 2u);
@@ -426,7 +407,7 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
 }
 
 TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<std::vector<Event>> packets(3);
   std::int64_t t_us = 1'700'000'000'000'000;
   for (std::size_t k = 0; k < packets.size(); ++k) {
@@ -439,7 +420,7 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
   std::vector<Event> expected;
   for (const auto& p : packets) expected.insert(expected.end(), p.begin(), p.end());
   for (const std::int32_t compression : {0, 3}) {  // NONE, ZSTD
-    const ReadResult r = read_all(dir.write("synthetic.aedat4", aedat4_file(compression, packets)), 500, true);
+    const ReadResult r = read_all(dir.save("synthetic.aedat4", aedat4_file(compression, packets)), 500, true);
     ASSERT_FALSE(r.error) << "compression " << compression << ": " << r.error->what();
     EXPECT_EQ(r.format, "aedat4");
     ASSERT_TRUE(r.sensor.has_value());
@@ -451,11 +432,11 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
 }
 
 TEST(IoFormatsAedat4Synthetic, EventOutsideTheStatedSensorIsReported) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<Event> good(300, Event{10, 345, 259, 1});
   std::vector<Event> second(200, Event{20, 3, 4, -1});
   second[123].x = 346;  // sensor is 346 wide: x must be < 346
-  const ReadResult r = read_all(dir.write("outside.aedat4", aedat4_file(0, {good, second})), 64);
+  const ReadResult r = read_all(dir.save("outside.aedat4", aedat4_file(0, {good, second})), 64);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->event_index(), 300 + 123) << r.error->what();
   EXPECT_NE(std::string(r.error->what()).find("x=346"), std::string::npos) << r.error->what();
@@ -464,7 +445,7 @@ TEST(IoFormatsAedat4Synthetic, EventOutsideTheStatedSensorIsReported) {
 }
 
 TEST(IoFormatsAedat4Synthetic, CorruptZstdPacketIsReported) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<Event> events(500, Event{5, 1, 2, 1});
   std::vector<std::uint8_t> bytes = aedat4_file(3, {events, events});
   // Break the zstd magic of the last packet (the file ends with it).
@@ -481,7 +462,7 @@ TEST(IoFormatsAedat4Synthetic, CorruptZstdPacketIsReported) {
   }
   ASSERT_EQ(offset, bytes.size());
   bytes[last_event_packet + 8] ^= 0xFF;
-  const ReadResult r = read_all(dir.write("bad_zstd.aedat4", bytes));
+  const ReadResult r = read_all(dir.save("bad_zstd.aedat4", bytes));
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(last_event_packet)) << r.error->what();
   EXPECT_NE(std::string(r.error->what()).find("Zstd"), std::string::npos) << r.error->what();
@@ -493,11 +474,11 @@ TEST(IoFormatsAedat4Synthetic, CorruptZstdPacketIsReported) {
 // Word-stream formats: cutting inside a word must name that word's offset;
 // the events before are exactly those of the complete decode.
 void expect_truncation_error(const std::string& name, const std::string& sample, std::size_t cut,
-                             std::size_t expected_offset, const TempDir& dir,
+                             std::size_t expected_offset, const ScratchDir& dir,
                              const std::vector<Event>& full) {
   std::vector<std::uint8_t> bytes = load(sample);
   bytes.resize(cut);
-  const ReadResult r = read_all(dir.write(name, bytes), 1000);
+  const ReadResult r = read_all(dir.save(name, bytes), 1000);
   ASSERT_TRUE(r.error) << name << " cut at " << cut;
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(expected_offset)) << r.error->what();
   EXPECT_NE(std::string(r.error->what()).find("truncated"), std::string::npos) << r.error->what();
@@ -507,7 +488,7 @@ void expect_truncation_error(const std::string& name, const std::string& sample,
 }
 
 TEST(IoFormatsTruncation, Evt2CutInsideAWord) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kEvt2).events;
   const std::vector<std::uint8_t> bytes = load(kEvt2);
   const std::size_t data = prophesee_header_end(bytes);
@@ -516,7 +497,7 @@ TEST(IoFormatsTruncation, Evt2CutInsideAWord) {
     std::size_t cd = 0;
     for (std::size_t k = 0; k < words; ++k) cd += (bytes[data + 4 * k + 3] >> 4) <= 1;
     expect_truncation_error("evt2_cut.raw", kEvt2, data + 4 * words + 3, data + 4 * words, dir, full);
-    EXPECT_EQ(read_all(dir.write("evt2_cut2.raw", std::vector<std::uint8_t>(bytes.begin(),
+    EXPECT_EQ(read_all(dir.save("evt2_cut2.raw", std::vector<std::uint8_t>(bytes.begin(),
                                  bytes.begin() + static_cast<std::ptrdiff_t>(data + 4 * words + 1))))
                   .events.size(),
               cd);
@@ -524,7 +505,7 @@ TEST(IoFormatsTruncation, Evt2CutInsideAWord) {
 }
 
 TEST(IoFormatsTruncation, Evt3CutInsideAWord) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kEvt3).events;
   const std::size_t data = prophesee_header_end(load(kEvt3));
   for (const std::size_t words : {0u, 7u, 50'001u, 308'000u}) {
@@ -533,7 +514,7 @@ TEST(IoFormatsTruncation, Evt3CutInsideAWord) {
 }
 
 TEST(IoFormatsTruncation, DatCutInsideARecord) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kDat).events;
   const std::size_t data = prophesee_header_end(load(kDat)) + 2;  // + type and size bytes
   for (const std::size_t records : {0u, 1u, 2000u, 4406u}) {
@@ -545,13 +526,13 @@ TEST(IoFormatsTruncation, DatCutInsideARecord) {
 }
 
 TEST(IoFormatsTruncation, Aedat4CutAnywhere) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kAedat4).events;
   const std::vector<std::uint8_t> bytes = load(kAedat4);
   // Inside the magic, the header size, the header, packets, the last packet.
   for (const std::size_t cut : {5u, 16u, 1000u, 2334u + 4u, 2334u + 8u + 100u, 300'001u, 945'000u}) {
     std::vector<std::uint8_t> cut_bytes(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut));
-    const ReadResult r = read_all(dir.write("cut.aedat4", cut_bytes), 1000);
+    const ReadResult r = read_all(dir.save("cut.aedat4", cut_bytes), 1000);
     ASSERT_TRUE(r.error) << "cut at " << cut;
     EXPECT_LE(r.error->byte_offset(), static_cast<std::int64_t>(cut)) << r.error->what();
     ASSERT_LE(r.events.size(), full.size());
@@ -563,11 +544,11 @@ TEST(IoFormatsTruncation, Aedat4CutAnywhere) {
 }
 
 TEST(IoFormatsTruncation, HeaderOnlyOrEmptyFilesFailCleanly) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   for (const std::string& sample : {kEvt2, kEvt3, kDat}) {
     std::vector<std::uint8_t> bytes = load(sample);
     bytes.resize(prophesee_header_end(bytes) - 3);  // inside the last header line
-    const ReadResult r = read_all(dir.write("header_cut" + fs::path(sample).extension().string(), bytes));
+    const ReadResult r = read_all(dir.save("header_cut" + fs::path(sample).extension().string(), bytes));
     EXPECT_TRUE(r.error) << sample;
   }
 }
@@ -581,7 +562,7 @@ void set_type(std::vector<std::uint8_t>& bytes, std::size_t offset, std::size_t 
 }
 
 TEST(IoFormatsCorruption, UnknownWordTypesAreReportedAtTheirOffset) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   struct Case {
     std::string sample;
     std::size_t word_bytes;
@@ -592,7 +573,7 @@ TEST(IoFormatsCorruption, UnknownWordTypesAreReportedAtTheirOffset) {
     std::vector<std::uint8_t> bytes = load(c.sample);
     const std::size_t at = prophesee_header_end(bytes) + c.word_bytes * 40'000;
     set_type(bytes, at, c.word_bytes, c.bad_type);
-    const ReadResult r = read_all(dir.write("bad_type.raw", bytes), 999);
+    const ReadResult r = read_all(dir.save("bad_type.raw", bytes), 999);
     ASSERT_TRUE(r.error) << c.sample;
     EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
     EXPECT_NE(std::string(r.error->what()).find("unknown"), std::string::npos) << r.error->what();
@@ -602,33 +583,33 @@ TEST(IoFormatsCorruption, UnknownWordTypesAreReportedAtTheirOffset) {
 }
 
 TEST(IoFormatsCorruption, DatPolarityOutOfRangeIsReported) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kDat);
   const std::size_t data = prophesee_header_end(bytes) + 2;
   bytes[data + 8 * 100 + 7] |= 0x50;  // p = w >> 28 becomes >= 5
-  const ReadResult r = read_all(dir.write("bad_p.dat", bytes));
+  const ReadResult r = read_all(dir.save("bad_p.dat", bytes));
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(data + 800)) << r.error->what();
   EXPECT_EQ(r.events.size(), 100u);
 }
 
 TEST(IoFormatsCorruption, Aedat4BadPacketSizeIsReported) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kAedat4);
   const std::size_t first_packet = 14 + 4 + 2316;  // magic + header size + header
   bytes[first_packet + 7] = 0x7F;                  // size field -> ~2 GB
-  const ReadResult r = read_all(dir.write("bad_size.aedat4", bytes));
+  const ReadResult r = read_all(dir.save("bad_size.aedat4", bytes));
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(first_packet)) << r.error->what();
   EXPECT_TRUE(r.events.empty());
 }
 
 TEST(IoFormatsCorruption, Aedat4CorruptHeaderIsRejectedAtOpen) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kAedat4);
   bytes[18 + 0] = 0xFF;  // root table offset of the IOHeader FlatBuffer
   bytes[18 + 1] = 0xFF;
-  const ReadResult r = read_all(dir.write("bad_header.aedat4", bytes));
+  const ReadResult r = read_all(dir.save("bad_header.aedat4", bytes));
   ASSERT_TRUE(r.error);
   EXPECT_NE(std::string(r.error->what()).find("header"), std::string::npos) << r.error->what();
 }
@@ -638,7 +619,7 @@ TEST(IoFormatsCorruption, Aedat4CorruptHeaderIsRejectedAtOpen) {
 // AddressSanitizer to prove the decoders never read out of bounds
 // (EVLIFE_BITFLIP_TRIALS=N for more trials per sample than the default 30).
 TEST(IoFormatsCorruption, RandomBitFlipsNeverCrash) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats");
   std::mt19937_64 rng(20261121);
   const char* env = std::getenv("EVLIFE_BITFLIP_TRIALS");
   const int trials = env != nullptr ? std::max(1, std::atoi(env)) : 30;
@@ -651,7 +632,7 @@ TEST(IoFormatsCorruption, RandomBitFlipsNeverCrash) {
       const std::size_t range = trial % 2 == 0 ? std::min<std::size_t>(4096, bytes.size()) : bytes.size();
       const std::size_t at = std::uniform_int_distribution<std::size_t>(0, range - 1)(rng);
       bytes[at] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
-      const std::string path = dir.write("flip" + fs::path(sample).extension().string(), bytes);
+      const std::string path = dir.save("flip" + fs::path(sample).extension().string(), bytes);
       ReadResult r;
       ASSERT_NO_THROW(r = read_all(path, 1000, /*checked=*/true)) << sample << " flip at " << at;
       errors += r.error.has_value();

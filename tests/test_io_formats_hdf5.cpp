@@ -3,7 +3,6 @@
 // (so the expected values do not come from the code under test).
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +21,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -30,22 +30,7 @@ using evlife::AugmentedEvent;
 using evlife::Event;
 using evlife::SensorSize;
 using evlife::io::ReadError;
-
-class TempDir {
- public:
-  TempDir()
-      : dir_(fs::temp_directory_path() / ("evlife_test_io_formats_hdf5_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  fs::path dir_;
-};
+using evlife::test::ScratchDir;
 
 struct ReadResult {
   std::vector<Event> events;
@@ -124,10 +109,10 @@ std::string string_attribute(hid_t file, const char* object, const char* name) {
 }
 
 TEST(IoFormatsHdf5, AugmentedRoundTripThroughWriterAndReader) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats_hdf5");
   const SensorSize sensor{346, 260};
   const std::vector<AugmentedEvent> written = make_events(150'001, sensor);
-  const std::string path = dir.path("augmented.h5");
+  const std::string path = dir.file("augmented.h5");
   {
     auto writer = evlife::io::open_augmented_writer(path, sensor);
     // Uneven batches, as the engine hands them over.
@@ -178,8 +163,8 @@ TEST(IoFormatsHdf5, AugmentedRoundTripThroughWriterAndReader) {
 }
 
 TEST(IoFormatsHdf5, PlainEventWriterRoundTrip) {
-  const TempDir dir;
-  const std::string path = dir.path("events.hdf5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("events.hdf5");
   const std::vector<AugmentedEvent> augmented = make_events(1'000, {128, 128});
   std::vector<Event> written;
   for (const auto& a : augmented) written.push_back(a.event);
@@ -217,8 +202,8 @@ void write_dataset(hid_t where, const char* name, hid_t file_type, hid_t memory_
 }
 
 TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
-  const TempDir dir;
-  const std::string path = dir.path("dsec_events.h5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_events.h5");
   const std::size_t count = 100'003;  // > one reader chunk
   std::vector<std::uint16_t> x(count), y(count);
   std::vector<std::uint32_t> t(count);
@@ -261,8 +246,8 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
     std::int16_t p;
     std::int64_t t;
   };
-  const TempDir dir;
-  const std::string path = dir.path("prophesee_cd.hdf5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("prophesee_cd.hdf5");
   std::vector<Record> records(70'000);
   for (std::size_t i = 0; i < records.size(); ++i) {
     records[i] = {static_cast<std::uint16_t>(i % 1280), static_cast<std::uint16_t>(i % 720),
@@ -291,8 +276,8 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
 }
 
 TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {
-  const TempDir dir;
-  const std::string path = dir.path("other.h5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("other.h5");
   {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     write_dataset(file, "images", H5T_STD_U8LE, H5T_NATIVE_UINT8, std::vector<std::uint8_t>(10));
@@ -307,8 +292,8 @@ TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {
 }
 
 TEST(IoFormatsHdf5, MissingDsecDatasetIsNamed) {
-  const TempDir dir;
-  const std::string path = dir.path("dsec_no_p.h5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_no_p.h5");
   {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -326,8 +311,8 @@ TEST(IoFormatsHdf5, MissingDsecDatasetIsNamed) {
 }
 
 TEST(IoFormatsHdf5, TruncatedFilesFailCleanly) {
-  const TempDir dir;
-  const std::string path = dir.path("full.h5");
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("full.h5");
   {
     auto writer = evlife::io::open_hdf5_augmented_writer(path, SensorSize{64, 64});
     writer->write(make_events(200'000, {64, 64}));
@@ -336,7 +321,7 @@ TEST(IoFormatsHdf5, TruncatedFilesFailCleanly) {
   std::ifstream in(path, std::ios::binary);
   const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   for (const double fraction : {0.001, 0.1, 0.5, 0.9, 0.999}) {
-    const std::string cut = dir.path("cut.h5");
+    const std::string cut = dir.file("cut.h5");
     std::ofstream out(cut, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(static_cast<double>(bytes.size()) * fraction));
     out.close();
@@ -394,9 +379,9 @@ std::vector<Event> decode(const std::string& path) {
 }
 
 TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats_hdf5");
   const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/evt3/evt3_sample.raw";
-  const std::string output = dir.path("evt3.h5");
+  const std::string output = dir.file("evt3.h5");
   ASSERT_EQ(run_cli("convert " + input + " " + output), 0);
   const std::vector<Event> expected = decode(input);
   const hid_t file = H5Fopen(output.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -411,7 +396,7 @@ TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {
     ASSERT_TRUE(same(Event{t[i], x[i], y[i], p[i]}, expected[i])) << i;
   }
   // And back to RPG text, then read as events again.
-  const std::string text = dir.path("evt3.txt");
+  const std::string text = dir.file("evt3.txt");
   ASSERT_EQ(run_cli("convert " + output + " " + text), 0);
   const std::vector<Event> from_text = decode(text);
   ASSERT_EQ(from_text.size(), expected.size());
@@ -419,14 +404,14 @@ TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {
 }
 
 TEST(IoFormatsConvertCli, TruncatedInputWritesTheGoodEventsAndExits3) {
-  const TempDir dir;
+  const ScratchDir dir("test_io_formats_hdf5");
   const std::string input = std::string(EVLIFE_SHARED_DATA_DIR) + "/evt2/evt2_sample.raw";
   std::ifstream in(input, std::ios::binary);
   std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   bytes.resize(bytes.size() / 2 + 1);  // inside a word
-  const std::string cut = dir.path("cut.raw");
+  const std::string cut = dir.file("cut.raw");
   std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  const std::string output = dir.path("cut.h5");
+  const std::string output = dir.file("cut.h5");
   EXPECT_EQ(run_cli("convert " + cut + " " + output), 3);
   const ReadResult r = read_all(output);
   ASSERT_FALSE(r.error) << r.error->what();

@@ -16,11 +16,11 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
-#include "read_all.h"
-#include "scratch_dir.h"
 #include "mcap_messages.h"
+#include "read_all.h"
+#include "ros2_bag_reference.h"
 #include "ros_messages.h"
-#include "rosbag2_messages.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -29,6 +29,10 @@ using evlife::Event;
 using evlife::SensorSize;
 namespace io = evlife::io;
 namespace ros = evlife::io::ros;
+using evlife::test::decode_db3;
+using evlife::test::kRosBagSums;
+using evlife::test::ros_sums;
+using evlife::test::RosMessages;
 
 const std::string kMcap = std::string(EVLIFE_MCAP_TEST_DIR) + "/";
 const std::string kBags = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag/";
@@ -37,34 +41,8 @@ const std::map<std::string, std::string> kDb3 = {{"evt3", kBags + "test_data_evt
                                                  {"mono", kBags + "test_data_mono_cd"}};
 const char* const kCompressions[] = {"none", "zstd", "lz4"};
 
-// PROVENANCE.md / event_camera_codecs' decoder_test.cpp: Σt (ns, u64 wrapping), Σx, Σy, Σp, count.
-struct Sums {
-  std::uint64_t t = 0, x = 0, y = 0, p = 0, events = 0;
-  bool operator==(const Sums&) const = default;
-};
-const std::map<std::string, Sums> kProvenance = {
-    {"evt3", {1222326831810000u, 42078718u, 31656267u, 41439u, 82469u}},
-    {"libcaer", {15762826572202229126u, 111651612u, 82801007u, 181908u, 334331u}},
-    {"mono", {4950000u, 34450u, 26450u, 50u, 100u}}};
-
-using PerMessage = std::vector<std::vector<ros::RosEvent>>;
-
-Sums sums(const PerMessage& messages) {
-  Sums s;
-  for (const auto& m : messages) {
-    for (const ros::RosEvent& e : m) {
-      s.t += static_cast<std::uint64_t>(e.t_ns);
-      s.x += e.x;
-      s.y += e.y;
-      s.p += e.p > 0 ? 1u : 0u;
-      ++s.events;
-    }
-  }
-  return s;
-}
-
 /// The event topic's messages decoded, through the MCAP container (white box).
-PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* record_at = nullptr) {
+RosMessages decode_mcap(const std::string& path, std::vector<std::uint64_t>* record_at = nullptr) {
   io::mcap::McapMessages bag(path);
   const ros::TopicInfo* topic = nullptr;
   for (const ros::TopicInfo& t : bag.topics())
@@ -72,7 +50,7 @@ PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* reco
   EXPECT_NE(topic, nullptr);
   ros::MessageDecoder decoder(ros::message_kind(topic->type));
   bag.select(topic->name);
-  PerMessage r;
+  RosMessages r;
   io::mcap::McapMessages::Message m;
   std::vector<ros::RosEvent> events;
   while (bag.next(m)) {
@@ -81,22 +59,6 @@ PerMessage decode_mcap(const std::string& path, std::vector<std::uint64_t>* reco
     EXPECT_FALSE(fault) << path << " message " << m.index << ": " << fault->what;
     r.push_back(events);
     if (record_at != nullptr) record_at->push_back(m.record_at);
-  }
-  return r;
-}
-
-/// The same through the rosbag2 container.
-PerMessage decode_db3(const std::string& bag_path) {
-  ros::Rosbag2Messages bag(bag_path);
-  const ros::TopicInfo topic = bag.topics().at(0);
-  ros::MessageDecoder decoder(ros::message_kind(topic.type));
-  bag.select(topic.name);
-  PerMessage r;
-  ros::Rosbag2Messages::Message m;
-  std::vector<ros::RosEvent> events;
-  while (bag.next(m)) {
-    EXPECT_FALSE(decoder.decode(m.data, events));
-    r.push_back(events);
   }
   return r;
 }
@@ -122,12 +84,12 @@ bool same_events(const std::vector<Event>& a, const std::vector<Event>& b) {
 
 TEST(McapContainer, EveryCompressionDecodesToTheDb3MessagesAndItsChecksums) {
   for (const auto& [bag, db3] : kDb3) {
-    const PerMessage expected = decode_db3(db3);
-    ASSERT_EQ(sums(expected), kProvenance.at(bag)) << bag;
+    const RosMessages expected = decode_db3(db3);
+    ASSERT_EQ(ros_sums(expected), kRosBagSums.at(bag)) << bag;
     for (const char* how : kCompressions) {
       const std::string path = kMcap + bag + "_" + how + ".mcap";
-      const PerMessage got = decode_mcap(path);
-      EXPECT_EQ(sums(got), kProvenance.at(bag)) << path;
+      const RosMessages got = decode_mcap(path);
+      EXPECT_EQ(ros_sums(got), kRosBagSums.at(bag)) << path;
       ASSERT_EQ(got.size(), expected.size()) << path;
       for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << path << " message " << i;
     }
@@ -135,8 +97,8 @@ TEST(McapContainer, EveryCompressionDecodesToTheDb3MessagesAndItsChecksums) {
 }
 
 TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
-  const PerMessage expected = decode_db3(kDb3.at("evt3"));
-  const PerMessage got = decode_mcap(kMcap + "evt3_reversed.mcap");
+  const RosMessages expected = decode_db3(kDb3.at("evt3"));
+  const RosMessages got = decode_mcap(kMcap + "evt3_reversed.mcap");
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << "message " << i;
 }
@@ -144,7 +106,7 @@ TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
 // Chunks are read in file order and not merged: events going backwards stop
 // the read with the time-order error, after the events before them.
 TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {
-  const PerMessage db3 = decode_db3(kDb3.at("libcaer"));
+  const RosMessages db3 = decode_db3(kDb3.at("libcaer"));
   std::vector<Event> first;  // messages 20-39, written first
   for (std::size_t i = 20; i < 40; ++i)
     for (const ros::RosEvent& e : db3[i]) first.push_back(Event{e.t_ns / 1000, e.x, e.y, e.p});
@@ -208,10 +170,10 @@ TEST(McapReader, TopicThatIsNotEventsIsRefused) {
 
 // ---- CLI: info and convert (the registry sniffs .mcap) ----
 
-using TempDir = evlife::test::ScratchDir;
+using evlife::test::ScratchDir;
 
 TEST(McapCli, InfoListsTopicsAndConvertMatchesTheDb3) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const auto run = [&](const std::string& args) {
     return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
@@ -259,7 +221,7 @@ std::vector<std::uint64_t> chunk_offsets(const std::vector<char>& b) {
 /// Events (µs) of the messages stored in chunks before file offset `limit`.
 std::size_t events_before(const std::string& path, std::uint64_t limit) {
   std::vector<std::uint64_t> at;
-  const PerMessage all = decode_mcap(path, &at);
+  const RosMessages all = decode_mcap(path, &at);
   std::size_t n = 0;
   for (std::size_t i = 0; i < all.size(); ++i)
     if (at[i] < limit) n += all[i].size();
@@ -275,7 +237,7 @@ struct Faulty {
 /// Copies `source`, lets `damage` change the bytes given the chunk offsets
 /// (it returns the offset of the damaged chunk), and reads the copy.
 template <typename Damage>
-Faulty read_damaged(const TempDir& dir, const std::string& source, const std::string& name, Damage damage) {
+Faulty read_damaged(const ScratchDir& dir, const std::string& source, const std::string& name, Damage damage) {
   std::vector<char> b = bytes_of(kMcap + source);
   const std::vector<std::uint64_t> chunks = chunk_offsets(b);
   EXPECT_GE(chunks.size(), 4u);
@@ -301,7 +263,7 @@ void expect_fault(const Faulty& f, const std::vector<Event>& full, const std::st
 }
 
 TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "libcaer_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "libcaer_zstd.mcap", "cut.mcap", [](std::vector<char>& b, const auto& chunks) {
     b.resize(chunks[3] + 100);  // inside the fourth chunk
@@ -311,7 +273,7 @@ TEST(McapFaults, TruncatedFileKeepsTheEventsOfTheWholeChunksBefore) {
 }
 
 TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   for (const char* how : kCompressions) {
     const std::string source = std::string("evt3_") + how + ".mcap";
     const std::vector<Event> full = read_all(kMcap + source).events;
@@ -326,7 +288,7 @@ TEST(McapFaults, CorruptChunkFailsItsCrcOrDecompression) {
 }
 
 TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::string source = "evt3_none.mcap";
   const std::vector<Event> full = read_all(kMcap + source).events;
   std::vector<char> b = bytes_of(kMcap + source);
@@ -344,7 +306,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
   const std::string path = dir.file("record.mcap");
   write_bytes(path, b);
   std::vector<std::uint64_t> at;
-  const PerMessage messages = decode_mcap(kMcap + source, &at);
+  const RosMessages messages = decode_mcap(kMcap + source, &at);
   std::size_t expected = 0;
   bool first_of_chunk = true;
   for (std::size_t i = 0; i < messages.size(); ++i) {
@@ -362,7 +324,7 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
 }
 
 TEST(McapFaults, UnknownCompressionIsNamed) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;
   const Faulty f = read_damaged(dir, "evt3_zstd.mcap", "brotli.mcap", [](std::vector<char>& b, const auto& chunks) {
     // Chunk content: 3 u64 + u32 CRC, then the compression string (u32 length + "zstd").
@@ -374,23 +336,15 @@ TEST(McapFaults, UnknownCompressionIsNamed) {
 }
 
 TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
-  const TempDir dir{"test_io_mcap"};
+  const ScratchDir dir{"test_io_mcap"};
   const std::string path = dir.file("text.mcap");
   write_bytes(path, {'h', 'e', 'l', 'l', 'o', '\n'});
-  try {
-    (void)io::open_event_reader(path);
-    FAIL() << "read a text file as MCAP";
-  } catch (const io::ReadError& e) {
-    EXPECT_NE(std::string(e.what()).find("not an MCAP file"), std::string::npos) << e.what();
-  }
+  const std::string text_error = evlife::test::open_error(path);
+  EXPECT_NE(text_error.find("not an MCAP file"), std::string::npos) << text_error;
   const std::string magic_only = dir.file("magic.mcap");
   write_bytes(magic_only, {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n', '\x01'});
-  try {
-    (void)io::open_event_reader(magic_only);
-    FAIL() << "read a cut MCAP header";
-  } catch (const io::ReadError& e) {
-    EXPECT_NE(std::string(e.what()).find("truncated inside its Header record"), std::string::npos) << e.what();
-  }
+  const std::string cut_error = evlife::test::open_error(magic_only);
+  EXPECT_NE(cut_error.find("truncated inside its Header record"), std::string::npos) << cut_error;
 }
 
 }  // namespace

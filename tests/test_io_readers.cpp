@@ -4,7 +4,6 @@
 // the event index / byte offset, after delivering the events before it.
 #include <gtest/gtest.h>
 #include <matio.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -22,6 +21,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
+#include "scratch_dir.h"
 #include "evlife/io/sensor_size_from_data.h"
 
 namespace fs = std::filesystem;
@@ -64,24 +64,13 @@ bool same(const Event& a, const Event& b) {
   return a.t_us == b.t_us && a.x == b.x && a.y == b.y && a.p == b.p;
 }
 
-class TempDir : public ::testing::Test {
+// A scratch folder per test, for the tests that write files.
+class ScratchFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("evlife_test_io_readers_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::vector<char>& bytes) const {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<long>(bytes.size()));
-    return path;
-  }
-  std::string write_text(const std::string& name, const std::string& text) const {
-    return write(name, std::vector<char>(text.begin(), text.end()));
-  }
-  fs::path dir_;
+  std::string write(const std::string& name, const std::vector<char>& bytes) const { return dir_.save(name, bytes); }
+  std::string write_text(const std::string& name, const std::string& text) const { return dir_.save(name, text); }
+  const evlife::test::ScratchDir dir_{std::string("test_io_readers_") +
+                                      ::testing::UnitTest::GetInstance()->current_test_info()->name()};
 };
 
 // ---------------------------------------------------------------- .mat ----
@@ -185,7 +174,7 @@ std::vector<Event> some_events(std::size_t n, int width = 128, int height = 128)
   return events;
 }
 
-class MatFiles : public TempDir {};
+class MatFiles : public ScratchFiles {};
 
 TEST_F(MatFiles, ReadsUncompressedAndCompressedDoubleInt16Single) {
   const std::vector<Event> events = some_events(70001);
@@ -210,7 +199,7 @@ TEST_F(MatFiles, ReadsUncompressedAndCompressedDoubleInt16Single) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::string path = (dir_ / c.name).string();
+    const std::string path = dir_.file(c.name);
     c.write(path);
     const ReadAll r = read_all(path, {}, 777);
     ASSERT_FALSE(r.error) << r.error->what();
@@ -300,7 +289,7 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   EXPECT_EQ(r.error->path(), path);
   // A double x = 2.5 at row 2 (index 1).
   std::vector<Event> ev = some_events(2);
-  path = (dir_ / "frac.mat").string();
+  path = dir_.file("frac.mat");
   {
     std::vector<double> data = {1, 2.5, 1, 1, 1, -1, 10, 20};
     mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
@@ -344,7 +333,7 @@ TEST_F(MatFiles, TruncatedCompressedFileDeliversAnExactPrefixThenNamesTheFile) {
 
 TEST_F(MatFiles, TruncatedUncompressedFileGivesIndexAndByteOffset) {
   const std::vector<Event> events = some_events(1000);
-  const std::string full = (dir_ / "full.mat").string();
+  const std::string full = dir_.file("full.mat");
   matio_write<std::int32_t>(full, events, MAT_C_INT32, MAT_T_INT32, MAT_COMPRESSION_NONE);
   std::vector<char> bytes = file_bytes(full);
   // t column = last 4000 data bytes (no padding: 16000 bytes of data). Cut 10 t values short.
@@ -408,7 +397,7 @@ TEST(Aedat2Reader, AlexWalkingMatchesIndependentDecoding) {
   for (std::size_t i = 1; i < r.events.size(); ++i) ASSERT_LE(r.events[i - 1].t_us, r.events[i].t_us);
 }
 
-class Aedat2Files : public TempDir {
+class Aedat2Files : public ScratchFiles {
  protected:
   static std::vector<char> header() {
     const std::string h = "#!AER-DAT2.0\r\n# test file\r\n# AEChip: ch.unizh.ini.jaer.chip.retina.DVS128\r\n";
@@ -533,7 +522,7 @@ TEST(RpgTextReader, SliderDepthMatchesIndependentDecoding) {
   EXPECT_NEAR((r.events.back().t_us - r.events.front().t_us) * 1e-6, 0.17, 0.01);
 }
 
-class RpgFiles : public TempDir {};
+class RpgFiles : public ScratchFiles {};
 
 TEST_F(RpgFiles, CommentsBlankLinesCrlfSensorLineAndExactRounding) {
   const std::string path = write_text("a.txt",
@@ -574,6 +563,21 @@ TEST_F(RpgFiles, BadLineStopsWithLineOffsetAndIndex) {
   }
 }
 
+// A line longer than the reader's 1 MiB buffer stops the file there.
+TEST_F(RpgFiles, LineLongerThanTheBufferStopsAtItsOffset) {
+  const std::string head = "0.1 1 1 1\n";
+  const std::string path = write_text("long.txt", head + "0.2 2 2 " + std::string(2 << 20, '1') + "\n");
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.error->event_index(), 1);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(head.size()));
+  EXPECT_NE(std::string(r.error->what()).find("line 2: expected 't x y p' (t seconds, x y integers, p 0 or 1), "
+                                              "got '(line longer than 1048576 bytes)'"),
+            std::string::npos)
+      << r.error->what();
+}
+
 TEST_F(RpgFiles, CoordinateOutsideTheSensorAndTimeGoingBackwards) {
   const std::string text = "0.1 1 1 1\n0.2 99 2 0\n0.3 100 5 1\n0.4 4 4 1\n";
   const std::string path = write_text("out.txt", text);
@@ -606,16 +610,16 @@ TEST_F(RpgFiles, CoordinateOutsideTheSensorAndTimeGoingBackwards) {
 
 // ------------------------------------------------------- open / sniffing ----
 
-class Sniffing : public TempDir {};
+class Sniffing : public ScratchFiles {};
 
 TEST_F(Sniffing, MissingFileIsNamed) {
-  const std::string path = (dir_ / "does_not_exist.aedat").string();
+  const std::string path = dir_.file("does_not_exist.aedat");
   const ReadAll r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->path(), path);
   EXPECT_NE(std::string(r.error->what()).find(path), std::string::npos);
   EXPECT_NE(std::string(r.error->what()).find("No such file"), std::string::npos);
-  EXPECT_THROW(evlife::io::open_event_reader(dir_.string()), ReadError);  // a directory
+  EXPECT_THROW(evlife::io::open_event_reader(dir_.path().string()), ReadError);  // a directory
 }
 
 TEST_F(Sniffing, UnknownFormatListsKnownOnes) {
@@ -658,7 +662,7 @@ TEST(SensorSize, FromFormatUserOrData) {
 // One rule for a size from the data: a fault after some events ends the scan
 // (the processing pass reports it after those events); no event is an error.
 // Augmented files: the stated size, else the same max + 1 rule.
-class SensorSizeFiles : public TempDir {};
+class SensorSizeFiles : public ScratchFiles {};
 TEST_F(SensorSizeFiles, FromDataStopsAtAFaultAndAugmentedFilesFollowTheSameRule) {
   const std::string faulty = write_text("faulty.txt", "0.1 5 7 1\n0.2 9 3 0\n0.3 x 1 1\n0.4 50 60 1\n");
   const ReadAll all = read_all(faulty);
@@ -670,7 +674,7 @@ TEST_F(SensorSizeFiles, FromDataStopsAtAFaultAndAugmentedFilesFollowTheSameRule)
   const std::vector<evlife::AugmentedEvent> events{
       {evlife::Event{10, 3, 4, 1}, 500.0f, 1.0f, 0.0f}, {evlife::Event{20, 11, 2, -1}, 0.0f, 0.0f, 0.0f}};
   for (const char* name : {"a.csv", "a.bin"}) {
-    const std::string path = (dir_ / name).string();
+    const std::string path = dir_.file(name);
     auto writer = evlife::io::open_augmented_writer(path, SensorSize{64, 48});
     writer->write(events);
     writer->close();
@@ -713,7 +717,7 @@ TEST(Readers, ProgressReachesTheFileSize) {
 
 namespace {
 
-class RealFilesCut : public TempDir {};
+class RealFilesCut : public ScratchFiles {};
 
 // Cutting a real recording anywhere gives an exact prefix of its events and,
 // unless the cut falls on a record boundary, an error at the next index.

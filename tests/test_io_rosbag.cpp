@@ -16,9 +16,10 @@
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
 #include "read_all.h"
-#include "scratch_dir.h"
+#include "ros2_bag_reference.h"
 #include "ros_messages.h"
 #include "rosbag2_messages.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -27,22 +28,16 @@ using evlife::Event;
 using evlife::SensorSize;
 namespace io = evlife::io;
 namespace ros = evlife::io::ros;
+using evlife::test::decode_db3;
+using evlife::test::kRosBagSums;
+using evlife::test::ros_sums;
+using evlife::test::RosMessages;
+using evlife::test::RosSums;
 
 const std::string kData = std::string(EVLIFE_SHARED_DATA_DIR) + "/rosbag";
 const std::string kEvt3Bag = kData + "/test_data_evt3_trigger";
 const std::string kLibcaerBag = kData + "/test_data_libcaer_rollover";
 const std::string kMonoBag = kData + "/test_data_mono_cd";
-
-// The checksums of event_camera_codecs' test/decoder_test.cpp: Σt (ns, u64
-// wrapping), Σx, Σy, Σp (p in {0, 1}).
-struct Sums {
-  std::uint64_t t = 0;
-  std::uint64_t x = 0;
-  std::uint64_t y = 0;
-  std::uint64_t p = 0;
-  std::uint64_t events = 0;
-  bool operator==(const Sums&) const = default;
-};
 
 struct TriggerSums final : io::Evt3TriggerSink {
   std::uint64_t count = 0, t_ns = 0, edge = 0, id = 0;
@@ -54,43 +49,11 @@ struct TriggerSums final : io::Evt3TriggerSink {
   }
 };
 
-struct BagDecode {
-  Sums sums;
-  std::uint64_t messages = 0;
-  std::vector<std::vector<ros::RosEvent>> per_message;
-};
-
-BagDecode decode_bag(const std::string& path, io::Evt3TriggerSink* triggers = nullptr) {
-  ros::Rosbag2Messages bag(path);
-  EXPECT_EQ(bag.topics().size(), 1u);
-  const ros::TopicInfo topic = bag.topics().at(0);
-  ros::MessageDecoder decoder(ros::message_kind(topic.type));
-  decoder.set_trigger_sink(triggers);
-  bag.select(topic.name);
-  BagDecode r;
-  ros::Rosbag2Messages::Message m;
-  std::vector<ros::RosEvent> events;
-  while (bag.next(m)) {
-    const auto fault = decoder.decode(m.data, events);
-    EXPECT_FALSE(fault) << "message " << m.index << ": " << fault->what;
-    for (const ros::RosEvent& e : events) {
-      r.sums.t += static_cast<std::uint64_t>(e.t_ns);
-      r.sums.x += e.x;
-      r.sums.y += e.y;
-      r.sums.p += e.p > 0 ? 1u : 0u;
-    }
-    r.sums.events += events.size();
-    r.per_message.push_back(events);
-    ++r.messages;
-  }
-  return r;
-}
-
 TEST(Rosbag2Checksums, Evt3WithTriggers) {
   TriggerSums triggers;
-  const BagDecode r = decode_bag(kEvt3Bag, &triggers);
-  EXPECT_EQ(r.messages, 105u);
-  EXPECT_EQ(r.sums, (Sums{1222326831810000u, 42078718u, 31656267u, 41439u, 82469u}));
+  const RosMessages r = decode_db3(kEvt3Bag, &triggers);
+  EXPECT_EQ(r.size(), 105u);
+  EXPECT_EQ(ros_sums(r), kRosBagSums.at("evt3"));
   EXPECT_EQ(triggers.count, 2u);
   EXPECT_EQ(triggers.t_ns, 29096982000u);
   EXPECT_EQ(triggers.edge, 1u);
@@ -98,11 +61,11 @@ TEST(Rosbag2Checksums, Evt3WithTriggers) {
 }
 
 TEST(Rosbag2Checksums, LibcaerWithClockRollover) {
-  const BagDecode r = decode_bag(kLibcaerBag);
-  EXPECT_EQ(r.messages, 201u);
-  EXPECT_EQ(r.sums, (Sums{15762826572202229126u, 111651612u, 82801007u, 181908u, 334331u}));
+  const RosMessages r = decode_db3(kLibcaerBag);
+  EXPECT_EQ(r.size(), 201u);
+  EXPECT_EQ(ros_sums(r), kRosBagSums.at("libcaer"));
   // libcaer_summarize, first message: first/last time, OFF and ON counts.
-  const std::vector<ros::RosEvent>& first = r.per_message.at(0);
+  const std::vector<ros::RosEvent>& first = r.at(0);
   ASSERT_EQ(first.size(), 1613u);
   EXPECT_EQ(first.front().t_ns, 1702309120762236018);
   EXPECT_EQ(first.back().t_ns, 1702309120772213018);
@@ -111,13 +74,13 @@ TEST(Rosbag2Checksums, LibcaerWithClockRollover) {
   EXPECT_EQ(on, 872u);
   EXPECT_EQ(first.size() - on, 741u);
   // libcaer_find_first: the second message's first time.
-  EXPECT_EQ(r.per_message.at(1).front().t_ns, 1702309120772229018);
+  EXPECT_EQ(r.at(1).front().t_ns, 1702309120772229018);
 }
 
 TEST(Rosbag2Checksums, Mono) {
-  const BagDecode r = decode_bag(kMonoBag);
-  EXPECT_EQ(r.messages, 2u);
-  EXPECT_EQ(r.sums, (Sums{4950000u, 34450u, 26450u, 50u, 100u}));
+  const RosMessages r = decode_db3(kMonoBag);
+  EXPECT_EQ(r.size(), 2u);
+  EXPECT_EQ(ros_sums(r), kRosBagSums.at("mono"));
 }
 
 // The shared libcaer bag wraps its clock between messages (time_base moves);
@@ -186,8 +149,9 @@ ReadAll read_all(const std::string& path, const std::string& topic = {}) {
   return evlife::test::read_all(path, options, 1000);
 }
 
-Sums sums_xyp(const std::vector<Event>& events) {
-  Sums s;
+// The checksums but Σt (µs here, not ns).
+RosSums sums_xyp(const std::vector<Event>& events) {
+  RosSums s;
   for (const Event& e : events) {
     s.x += e.x;
     s.y += e.y;
@@ -197,12 +161,17 @@ Sums sums_xyp(const std::vector<Event>& events) {
   return s;
 }
 
+RosSums without_t(RosSums s) {
+  s.t = 0;
+  return s;
+}
+
 TEST(Rosbag2Reader, FolderAndDb3FileReadAlike) {
   const ReadAll folder = read_all(kEvt3Bag);
   ASSERT_FALSE(folder.error) << folder.error->what();
   EXPECT_EQ(folder.format, "rosbag2");
   EXPECT_EQ(folder.sensor, (SensorSize{1280, 720}));
-  EXPECT_EQ(sums_xyp(folder.events), (Sums{0, 42078718u, 31656267u, 41439u, 82469u}));
+  EXPECT_EQ(sums_xyp(folder.events), without_t(kRosBagSums.at("evt3")));
   // Skipped: 2 triggers + the OTHERS / CONTINUED words (PROVENANCE.md word counts).
   EXPECT_EQ(folder.skipped, 2u + 15688u + 12512u + 25024u);
   const ReadAll file = read_all(kEvt3Bag + "/test_data_evt3_trigger_0.db3");
@@ -215,7 +184,7 @@ TEST(Rosbag2Reader, LibcaerAndMonoTimesFlooredToMicroseconds) {
   const ReadAll caer = read_all(kLibcaerBag);
   ASSERT_FALSE(caer.error) << caer.error->what();
   EXPECT_EQ(caer.sensor, (SensorSize{640, 480}));
-  EXPECT_EQ(sums_xyp(caer.events), (Sums{0, 111651612u, 82801007u, 181908u, 334331u}));
+  EXPECT_EQ(sums_xyp(caer.events), without_t(kRosBagSums.at("libcaer")));
   EXPECT_EQ(caer.events.front().t_us, 1702309120762236);  // ...762236018 ns
   const ReadAll mono = read_all(kMonoBag);
   ASSERT_FALSE(mono.error) << mono.error->what();
@@ -228,7 +197,7 @@ TEST(Rosbag2Reader, LibcaerAndMonoTimesFlooredToMicroseconds) {
 
 // ---- bags written here (independent CDR writer, sqlite3 directly) ----
 
-using TempDir = evlife::test::ScratchDir;
+using evlife::test::ScratchDir;
 
 void exec(sqlite3* db, const std::string& sql) {
   char* err = nullptr;
@@ -303,10 +272,10 @@ std::vector<std::uint8_t> event_array(const std::vector<ros::RosEvent>& events, 
 
 TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
   // The mono bag's events, re-encoded as per-event stamps, must read back the same.
-  const BagDecode mono = decode_bag(kMonoBag);
+  const RosMessages mono = decode_db3(kMonoBag);
   const ReadAll reference = read_all(kMonoBag);
   ASSERT_FALSE(reference.error);
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   for (const std::string type : {"dvs_msgs/msg/EventArray", "prophesee_event_msgs/msg/EventArray"}) {
     const std::string path = dir.file(type.substr(0, type.find('/')) + ".db3");
     {
@@ -314,8 +283,8 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
       create_tables(db.db);
       exec(db.db, "INSERT INTO topics VALUES (1, '/events', '" + type + "', 'cdr', '')");
       exec(db.db, "INSERT INTO topics VALUES (2, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
-      for (std::size_t i = 0; i < mono.per_message.size(); ++i)
-        db.insert(static_cast<int>(i + 1), 1, static_cast<std::int64_t>(i), event_array(mono.per_message[i], 640, 480));
+      for (std::size_t i = 0; i < mono.size(); ++i)
+        db.insert(static_cast<int>(i + 1), 1, static_cast<std::int64_t>(i), event_array(mono[i], 640, 480));
     }
     const ReadAll r = read_all(path);
     ASSERT_FALSE(r.error) << r.error->what();
@@ -326,29 +295,28 @@ TEST(Rosbag2Reader, DvsAndPropheseeArraysDecodeToTheMonoBagEvents) {
   }
 }
 
+// A bag of two dvs_msgs topics, `a` with the mono bag's first message and `b`
+// with its second (50 events each), and with `imu` a third, not-event topic.
+void write_two_event_topics(const std::string& path, const std::string& a, const std::string& b, bool imu) {
+  const RosMessages mono = decode_db3(kMonoBag);
+  Db db(path);
+  create_tables(db.db);
+  exec(db.db, "INSERT INTO topics VALUES (1, '" + a + "', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+  exec(db.db, "INSERT INTO topics VALUES (2, '" + b + "', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+  if (imu) exec(db.db, "INSERT INTO topics VALUES (3, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
+  db.insert(1, 1, 0, event_array(mono[0], 640, 480));
+  db.insert(2, 2, 1, event_array(mono[1], 640, 480));
+}
+
 TEST(Rosbag2Reader, TopicChoice) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const std::string path = dir.file("two.db3");
-  const BagDecode mono = decode_bag(kMonoBag);
-  {
-    Db db(path);
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/left/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (2, '/right/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (3, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')");
-    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
-    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
-  }
-  try {
-    (void)io::open_event_reader(path);
-    ADD_FAILURE() << "several event topics must be refused";
-  } catch (const io::ReadError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("--topic"), std::string::npos) << what;
-    EXPECT_NE(what.find("/left/events"), std::string::npos) << what;
-    EXPECT_NE(what.find("/right/events"), std::string::npos) << what;
-    EXPECT_EQ(what.find("/imu"), std::string::npos) << what;
-  }
+  write_two_event_topics(path, "/left/events", "/right/events", true);
+  const std::string what = evlife::test::open_error(path);  // several event topics: refused
+  EXPECT_NE(what.find("--topic"), std::string::npos) << what;
+  EXPECT_NE(what.find("/left/events"), std::string::npos) << what;
+  EXPECT_NE(what.find("/right/events"), std::string::npos) << what;
+  EXPECT_EQ(what.find("/imu"), std::string::npos) << what;
   const ReadAll right = read_all(path, "/right/events");
   ASSERT_FALSE(right.error);
   ASSERT_EQ(right.events.size(), 50u);
@@ -372,7 +340,7 @@ std::size_t count_lines(const std::string& text) {
 }
 
 TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const auto run = [&](const std::string& args) {
     return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir.file("cli.log"));
   };
@@ -382,15 +350,7 @@ TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
   EXPECT_EQ(count_lines(evlife::test::read_text_file(out)), 100u);
   // Two event topics: refused with the list, then chosen with --topic.
   const std::string two = dir.file("two.db3");
-  const BagDecode mono = decode_bag(kMonoBag);
-  {
-    Db db(two);
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/a/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    exec(db.db, "INSERT INTO topics VALUES (2, '/b/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    db.insert(1, 1, 0, event_array(mono.per_message[0], 640, 480));
-    db.insert(2, 2, 1, event_array(mono.per_message[1], 640, 480));
-  }
+  write_two_event_topics(two, "/a/events", "/b/events", false);
   const auto refused = run("convert '" + two + "' '" + dir.file("x.txt") + "'");
   EXPECT_EQ(refused.exit_code, 3) << refused.output;
   EXPECT_NE(refused.output.find("/a/events"), std::string::npos) << refused.output;
@@ -405,7 +365,7 @@ TEST(Rosbag2Cli, ConvertReadsABagFolderAndTakesTopic) {
 
 // ---- faults: events before them kept; the file and message index named ----
 
-std::string copy_bag(const TempDir& dir, const std::string& db3, const std::string& name) {
+std::string copy_bag(const ScratchDir& dir, const std::string& db3, const std::string& name) {
   const std::string path = dir.file(name);
   fs::copy_file(db3, path, fs::copy_options::overwrite_existing);
   fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write);
@@ -413,7 +373,7 @@ std::string copy_bag(const TempDir& dir, const std::string& db3, const std::stri
 }
 
 TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kLibcaerBag + "/libcaer_rollover_0.db3", "cut.db3");
   std::uint64_t before = 0;
   {
@@ -442,7 +402,7 @@ TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
 }
 
 TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
-  const TempDir dir{"test_io_rosbag"};
+  const ScratchDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kMonoBag + "/test_data_mono_cd_0.db3", "enc.db3");
   {
     Db db(path);

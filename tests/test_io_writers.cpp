@@ -2,7 +2,6 @@
 // where the format is specified, bit-exact round trips through the readers,
 // WriteError on a full disk, and the readers' error rules on malformed files.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cmath>
@@ -21,6 +20,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 using evlife::AugmentedEvent;
@@ -86,14 +86,7 @@ std::vector<AugmentedEvent> tricky_events(std::size_t n) {
 
 class Writers : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("evlife_test_io_writers_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.file(name); }
 
   struct Readback {
     std::vector<AugmentedEvent> events;
@@ -120,7 +113,8 @@ class Writers : public ::testing::Test {
       writer->write(std::span(events).subspan(i, std::min<std::size_t>(333, events.size() - i)));
     writer->close();
   }
-  fs::path dir_;
+  const evlife::test::ScratchDir dir_{std::string("test_io_writers_") +
+                                      ::testing::UnitTest::GetInstance()->current_test_info()->name()};
 };
 
 TEST_F(Writers, CsvHasTheExactHeaderAndRows) {
@@ -333,6 +327,19 @@ TEST_F(Writers, CsvBadRowOrHeaderIsReportedWithLine) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(std::string(r.error->what()).find(p), std::string::npos);
   EXPECT_TRUE(read_back(path("missing.csv")).error);
+}
+
+
+// A line longer than the reader's 1 MiB buffer: an error at its offset.
+TEST_F(Writers, CsvLineLongerThanTheBufferIsReportedAtItsOffset) {
+  const std::string head = "x,y,t,p,lifetime,vx,vy,prediction_error\n1,2,10,1,5,0,0,\n";
+  const std::string p = path("long.csv");
+  std::ofstream(p, std::ios::binary) << head << "3,4,20,1,5,0,0," << std::string(2 << 20, '7') << "\n";
+  const Readback r = read_back(p);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->event_index(), 1);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(head.size()));
+  EXPECT_NE(std::string(r.error->what()).find(": line too long"), std::string::npos) << r.error->what();
 }
 
 }  // namespace

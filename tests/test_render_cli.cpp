@@ -17,6 +17,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "cli_runner.h"
+#include "scratch_dir.h"
 
 namespace {
 
@@ -31,15 +32,9 @@ using RunResult = evlife::test::CliRun;
 
 class RenderCliTest : public testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(testing::TempDir()) / "evlife_test_render_cli" / info->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_ / "cli.log"); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_.path() / "cli.log"); }
+  std::string path(const std::string& name) const { return dir_.file(name); }
+  const evlife::test::ScratchDir dir_{"test_render_cli"};
 };
 
 TEST_F(RenderCliTest, HelpExplainsTheOptions) {
@@ -58,10 +53,10 @@ TEST_F(RenderCliTest, HelpExplainsTheOptions) {
 TEST_F(RenderCliTest, OnlyCommandsThatDrawLoadTheMediaPlugin) {
   const std::string missing = "EVLIFE_MEDIA_PLUGIN='" + path("none/libevlife_media.so") + "' ";
   auto r = evlife::test::run_cli("/usr/bin/env", missing + "'" + kCli + "' process '" + kGarfield + "' -o '" +
-                                                     path("g.bin") + "' -q", dir_ / "cli.log");
+                                                     path("g.bin") + "' -q", dir_.path() / "cli.log");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   r = evlife::test::run_cli("/usr/bin/env", missing + "'" + kCli + "' render '" + kGarfield + "' -o '" +
-                                                path("g.png") + "' --at 0.5 -q", dir_ / "cli.log");
+                                                path("g.png") + "' --at 0.5 -q", dir_.path() / "cli.log");
   EXPECT_EQ(r.exit_code, 4) << r.output;
   EXPECT_NE(r.output.find("cannot load libevlife_media.so"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(path("none/libevlife_media.so")), std::string::npos) << r.output;

@@ -75,3 +75,14 @@ def assert_same_events(actual, expected, fields=None):
         diff = np.flatnonzero(bits(actual[f]) != bits(expected[f]))
         assert diff.size == 0, "field %s differs at %d rows, first at %d: %r vs %r" % (
             f, diff.size, diff[0], actual[diff[0]], expected[diff[0]])
+
+
+def big_events(n, sensor):
+    """n events on `sensor` in time order, mostly noise (test_zero_copy's input)."""
+    rng = np.random.default_rng(3)
+    e = np.empty(n, dtype=evlife.EVENT_DTYPE)
+    e["t"] = np.arange(n, dtype=np.int64) // 4
+    e["x"] = (np.arange(n) // 7) % sensor[0]
+    e["y"] = rng.integers(0, sensor[1], n, dtype=np.uint16)
+    e["p"] = np.where(rng.random(n) < 0.5, 1, -1).astype(np.int8)
+    return e

@@ -1,13 +1,14 @@
 """No copy of the input, no per-event Python object, the GIL released (10 M events)."""
 import json
+import os
 import subprocess
 import sys
 import threading
 
-import numpy as np
 import pytest
 
 import evlife
+from conftest import big_events
 
 N = 10_000_000
 SENSOR = (640, 480)
@@ -15,14 +16,8 @@ SENSOR = (640, 480)
 
 @pytest.fixture(scope="module")
 def big():
-    """10 M events on a 640x480 sensor in time order (mostly noise: about 1 s to estimate)."""
-    rng = np.random.default_rng(3)
-    e = np.empty(N, dtype=evlife.EVENT_DTYPE)
-    e["t"] = np.arange(N, dtype=np.int64) // 4
-    e["x"] = (np.arange(N) // 7) % SENSOR[0]
-    e["y"] = rng.integers(0, SENSOR[1], N, dtype=np.uint16)
-    e["p"] = np.where(rng.random(N) < 0.5, 1, -1).astype(np.int8)
-    return e
+    """10 M events on a 640x480 sensor (about 1 s to estimate)."""
+    return big_events(N, SENSOR)
 
 
 # Run in a fresh interpreter: tracemalloc and gc count every thread of the
@@ -31,13 +26,10 @@ MEASURE = r"""
 import gc, json, sys, tracemalloc
 import numpy as np
 import evlife
+sys.path.insert(0, sys.argv[2])
+from conftest import big_events
 N, SENSOR = int(sys.argv[1]), (640, 480)
-rng = np.random.default_rng(3)
-big = np.empty(N, dtype=evlife.EVENT_DTYPE)
-big["t"] = np.arange(N, dtype=np.int64) // 4
-big["x"] = (np.arange(N) // 7) % SENSOR[0]
-big["y"] = rng.integers(0, SENSOR[1], N, dtype=np.uint16)
-big["p"] = np.where(rng.random(N) < 0.5, 1, -1).astype(np.int8)
+big = big_events(N, SENSOR)
 evlife.LifetimeEstimator(sensor=SENSOR).process(big[:10])  # warm-up: one-time allocations
 est = evlife.LifetimeEstimator(sensor=SENSOR)
 gc.collect()
@@ -53,8 +45,8 @@ print(json.dumps({"peak": peak, "objects": len(gc.get_objects()) - objects_befor
 
 
 def test_ten_million_events_allocate_only_the_output():
-    r = subprocess.run([sys.executable, "-c", MEASURE, str(N)], capture_output=True, text=True,
-                       check=True)
+    r = subprocess.run([sys.executable, "-c", MEASURE, str(N), os.path.dirname(__file__)],
+                       capture_output=True, text=True, check=True)
     m = json.loads(r.stdout)
     output_bytes = N * evlife.AUGMENTED_DTYPE.itemsize  # 320 MB
     # NumPy reports its buffers to tracemalloc: a copy of the input (160 MB)

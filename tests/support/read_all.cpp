@@ -21,4 +21,13 @@ ReadAll read_all(const std::string& path, const io::ReaderOptions& options, std:
   return r;
 }
 
+std::string open_error(const std::string& path, const io::ReaderOptions& options) {
+  try {
+    (void)io::open_event_reader(path, options);
+  } catch (const io::ReadError& e) {
+    return e.what();
+  }
+  return "opened without error";
+}
+
 }  // namespace evlife::test

@@ -28,4 +28,8 @@ struct ReadAll {
 /// batch size that divides nothing exercises the readers' carry-over.
 ReadAll read_all(const std::string& path, const io::ReaderOptions& options = {}, std::size_t batch = 1000);
 
+/// What the ReadError that opening `path` throws says ("opened without error"
+/// when it opens).
+std::string open_error(const std::string& path, const io::ReaderOptions& options = {});
+
 }  // namespace evlife::test

@@ -17,7 +17,7 @@ ScratchDir::~ScratchDir() {
   std::filesystem::remove_all(dir_, ec);
 }
 
-std::string ScratchDir::save(const std::string& name, const std::vector<char>& bytes) const {
+std::string ScratchDir::save(const std::string& name, std::string_view bytes) const {
   const std::string p = (dir_ / name).string();
   std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return p;

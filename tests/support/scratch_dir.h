@@ -2,8 +2,10 @@
 // test writes the files it then reads.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace evlife::test {
@@ -20,7 +22,13 @@ class ScratchDir {
   /// The path of the file `name` in the folder (not created).
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
   /// Writes `bytes` to the file `name` in the folder; returns its path.
-  std::string save(const std::string& name, const std::vector<char>& bytes) const;
+  std::string save(const std::string& name, std::string_view bytes) const;
+  std::string save(const std::string& name, const std::vector<char>& bytes) const {
+    return save(name, std::string_view(bytes.data(), bytes.size()));
+  }
+  std::string save(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
+    return save(name, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  }
 
  private:
   std::filesystem::path dir_;

@@ -2,21 +2,17 @@
 // `x,y,t,p,lifetime,vx,vy,prediction_error` rows (empty prediction_error = NaN).
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <vector>
 
 #include "augmented_formats.h"
-#include "input_file.h"
+#include "line_reader.h"
 
 namespace evlife::io::detail {
 namespace {
 
-constexpr std::size_t kBufferBytes = 1 << 20;
-
 class AugmentedCsvReader final : public AugmentedEventReader {
  public:
-  explicit AugmentedCsvReader(const std::string& path) : file_(path), buffer_(kBufferBytes) {
+  explicit AugmentedCsvReader(const std::string& path) : lines_(path) {
     std::string_view line;
     if (!next_line(line) || strip_cr(line) != kAugmentedCsvHeader)
       throw ReadError(path, 0, -1,
@@ -29,7 +25,7 @@ class AugmentedCsvReader final : public AugmentedEventReader {
     std::size_t n = 0;
     std::string_view line;
     while (n < out.size()) {
-      const std::uint64_t line_offset = offset_;
+      const std::uint64_t line_offset = lines_.offset();
       if (!next_line(line)) break;
       line = strip_cr(line);
       if (line.empty()) continue;
@@ -37,7 +33,7 @@ class AugmentedCsvReader final : public AugmentedEventReader {
       const char* error = parse(line, a);
       if (error == nullptr && a.event.t_us < last_t_us_) error = "timestamp goes backwards";
       if (error != nullptr) {
-        pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset),
+        pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset),
                          static_cast<std::int64_t>(index_),
                          "line " + std::to_string(line_number_) + ": " + error + ": '" +
                              std::string(line.substr(0, 100)) + "'");
@@ -53,7 +49,7 @@ class AugmentedCsvReader final : public AugmentedEventReader {
 
   std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
   std::string_view format_name() const override { return "augmented-csv"; }
-  const std::string& path() const override { return file_.path(); }
+  const std::string& path() const override { return lines_.path(); }
 
  private:
   static std::string_view strip_cr(std::string_view s) {
@@ -94,43 +90,19 @@ class AugmentedCsvReader final : public AugmentedEventReader {
 
   // Next line without its '\n' (valid until the next call); false at end.
   bool next_line(std::string_view& line) {
-    for (;;) {
-      const char* begin = buffer_.data() + pos_;
-      if (const void* nl = std::memchr(begin, '\n', end_ - pos_)) {
-        const auto len = static_cast<std::size_t>(static_cast<const char*>(nl) - begin);
-        line = std::string_view(begin, len);
-        pos_ += len + 1;
-        offset_ += len + 1;
-        ++line_number_;
-        return true;
-      }
-      const std::size_t leftover = end_ - pos_;
-      if (leftover == buffer_.size()) {
-        throw ReadError(file_.path(), static_cast<std::int64_t>(offset_),
-                        static_cast<std::int64_t>(index_), "line too long");
-      }
-      std::memmove(buffer_.data(), begin, leftover);
-      pos_ = 0;
-      end_ = leftover;
-      const std::size_t got =
-          file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
-      file_pos_ += got;
-      end_ += got;
-      if (got == 0) {
-        if (leftover == 0) return false;
-        line = std::string_view(buffer_.data(), leftover);  // last line without '\n'
-        pos_ = end_;
-        offset_ += leftover;
-        ++line_number_;
-        return true;
-      }
+    const LineReader::Next next = lines_.peek(line);
+    if (next == LineReader::Next::too_long) {
+      throw ReadError(lines_.path(), static_cast<std::int64_t>(lines_.offset()),
+                      static_cast<std::int64_t>(index_), "line too long");
     }
+    if (next == LineReader::Next::end_of_file) return false;
+    lines_.consume();
+    ++line_number_;
+    return true;
   }
 
-  InputFile file_;
-  std::vector<char> buffer_;
-  std::size_t pos_ = 0, end_ = 0;
-  std::uint64_t file_pos_ = 0, offset_ = 0, line_number_ = 0, index_ = 0;
+  LineReader lines_;
+  std::uint64_t line_number_ = 0, index_ = 0;
   std::int64_t last_t_us_ = INT64_MIN;
   std::optional<ReadError> pending_;
 };

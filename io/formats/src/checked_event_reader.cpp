@@ -7,7 +7,7 @@ namespace evlife::io::detail {
 CheckedEventReader::CheckedEventReader(std::unique_ptr<EventReader> inner,
                                        std::optional<SensorSize> sensor,
                                        bool require_time_order)
-    : inner_(std::move(inner)), sensor_(sensor), require_time_order_(require_time_order) {}
+    : WrappingEventReader(std::move(inner)), sensor_(sensor), require_time_order_(require_time_order) {}
 
 std::size_t CheckedEventReader::read(std::span<Event> out) {
   if (pending_) throw *pending_;

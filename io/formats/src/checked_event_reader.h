@@ -7,14 +7,12 @@
 #include <memory>
 #include <optional>
 #include <span>
-#include <string>
-#include <string_view>
 
-#include "evlife/io/event_reader.h"
+#include "wrapping_event_reader.h"
 
 namespace evlife::io::detail {
 
-class CheckedEventReader final : public EventReader {
+class CheckedEventReader final : public WrappingEventReader {
  public:
   /// `sensor`: bounds to check (nullopt: none); `require_time_order`: error
   /// when t decreases.
@@ -23,21 +21,11 @@ class CheckedEventReader final : public EventReader {
 
   std::size_t read(std::span<Event> out) override;
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
-  std::string_view format_name() const override { return inner_->format_name(); }
-  const std::string& path() const override { return inner_->path(); }
-  std::uint64_t skipped_record_count() const override { return inner_->skipped_record_count(); }
-  std::uint64_t trigger_count() const override { return inner_->trigger_count(); }
-  std::vector<SkippedKindCount> skipped_record_kinds() const override {
-    return inner_->skipped_record_kinds();
-  }
-  std::vector<ContainerStream> streams() const override { return inner_->streams(); }
-  std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return inner_->byte_offset_of_event(event_index);
   }
 
  private:
-  std::unique_ptr<EventReader> inner_;
   std::optional<SensorSize> sensor_;
   bool require_time_order_;
   std::int64_t delivered_ = 0;  // events returned so far

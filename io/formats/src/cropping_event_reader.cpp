@@ -3,7 +3,7 @@
 namespace evlife::io::detail {
 
 CroppingEventReader::CroppingEventReader(std::unique_ptr<EventReader> inner, const ReaderOptions& options)
-    : inner_(std::move(inner)), from_us_(options.from_us), to_us_(options.to_us), polarity_(options.polarity) {}
+    : WrappingEventReader(std::move(inner)), from_us_(options.from_us), to_us_(options.to_us), polarity_(options.polarity) {}
 
 std::size_t CroppingEventReader::read(std::span<Event> out) {
   if (done_ || out.empty()) return 0;

@@ -19,13 +19,12 @@
 #include <cstring>
 #include <vector>
 
-#include "input_file.h"
+#include "line_reader.h"
 #include "reader_registry.h"
 
 namespace evlife::io::detail {
 namespace {
 
-constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
 constexpr std::size_t kSampleLines = 1000;     // lines looked at to tell the layout
 
 constexpr const char* kLayouts =
@@ -301,9 +300,9 @@ Detection detect(const char* p, const char* end) {
 class CsvTextReader final : public EventReader {
  public:
   CsvTextReader(const std::string& path, const ReaderOptions& options)
-      : file_(path), buffer_(kBufferBytes) {
-    refill();
-    const Detection d = detect(buffer_.data(), buffer_.data() + end_);
+      : lines_(path) {
+    const std::string_view head = lines_.buffered();
+    const Detection d = detect(head.data(), head.data() + head.size());
     if (!d.ok) throw ReadError(path, 0, -1, "not a readable CSV/text event file: " + d.why + "; " + kLayouts);
     sep_ = d.sep;
     layout_ = d.layout;
@@ -323,33 +322,22 @@ class CsvTextReader final : public EventReader {
     if (pending_) throw *pending_;
     std::size_t n = 0;
     while (n < out.size()) {
-      const char* begin = buffer_.data() + pos_;
-      const char* newline = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
-      if (newline == nullptr) {
-        if (!refill()) {
-          if (pending_ || pos_ == end_) break;
-          newline = buffer_.data() + end_;
-          begin = buffer_.data() + pos_;
-        } else {
-          continue;
-        }
-      }
-      const std::uint64_t line_offset = offset_;
-      const std::size_t consumed = std::min<std::size_t>(static_cast<std::size_t>(newline - begin) + 1, end_ - pos_);
+      std::string_view line;
+      if (!next_line(line)) break;
+      const char* end = line.data() + line.size();
       ++line_number_;
-      if (!is_comment_or_blank(begin, newline)) {
+      if (!is_comment_or_blank(line.data(), end)) {
         if (skip_header_) {
           skip_header_ = false;
-        } else if (!parse(begin, newline, out[n])) {
-          fail(line_offset, std::string(begin, std::min<std::size_t>(static_cast<std::size_t>(newline - begin), 80)));
+        } else if (!parse(line.data(), end, out[n])) {
+          fail(lines_.offset(), std::string(line.substr(0, 80)));
           break;
         } else {
           ++n;
           ++next_index_;
         }
       }
-      pos_ += consumed;
-      offset_ += consumed;
+      lines_.consume();
     }
     if (n == 0 && pending_) throw *pending_;
     return n;
@@ -357,14 +345,15 @@ class CsvTextReader final : public EventReader {
 
   std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
   std::string_view format_name() const override { return "csv"; }
-  const std::string& path() const override { return file_.path(); }
-  std::uint64_t bytes_consumed() const override { return offset_; }
+  const std::string& path() const override { return lines_.path(); }
+  std::uint64_t bytes_consumed() const override { return lines_.offset(); }
 
  private:
   bool time_has_point(const Detection& d) const {
     // Any time value with a decimal point among the sampled lines.
-    const char* p = buffer_.data();
-    const char* end = p + end_;
+    const std::string_view head = lines_.buffered();
+    const char* p = head.data();
+    const char* end = p + head.size();
     bool header = d.header;
     std::size_t lines = 0;
     while (p < end && lines < kSampleLines) {
@@ -404,6 +393,14 @@ class CsvTextReader final : public EventReader {
     return true;
   }
 
+  // The next line, not consumed yet; false at end of file or when it is
+  // longer than the buffer (then a pending error is set).
+  bool next_line(std::string_view& line) {
+    const LineReader::Next next = lines_.peek(line);
+    if (next == LineReader::Next::too_long) fail(lines_.offset(), LineReader::too_long_note());
+    return next == LineReader::Next::line;
+  }
+
   void fail(std::uint64_t line_offset, const std::string& text) {
     static constexpr const char* kRole = "xytp";
     std::string layout;
@@ -414,32 +411,12 @@ class CsvTextReader final : public EventReader {
       if (c > 0) layout += ',';
       layout += names[static_cast<std::size_t>(c)] != 0 ? std::string(1, names[static_cast<std::size_t>(c)]) : "_";
     }
-    pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
+    pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
                      "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
                          " fields '" + layout + "' (x y integers, p 0/1/-1, t a number), got '" + text + "'");
   }
 
-  bool refill() {
-    const std::size_t leftover = end_ - pos_;
-    if (leftover == buffer_.size()) {
-      fail(offset_, "(line longer than " + std::to_string(kBufferBytes) + " bytes)");
-      return false;
-    }
-    std::memmove(buffer_.data(), buffer_.data() + pos_, leftover);
-    pos_ = 0;
-    end_ = leftover;
-    const std::size_t got =
-        file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
-    file_pos_ += got;
-    end_ += got;
-    return got > 0;
-  }
-
-  InputFile file_;
-  std::vector<char> buffer_;
-  std::size_t pos_ = 0, end_ = 0;
-  std::uint64_t file_pos_ = 0;
-  std::uint64_t offset_ = 0;
+  LineReader lines_;
   std::uint64_t line_number_ = 0;
   std::uint64_t next_index_ = 0;
   char sep_ = ',';

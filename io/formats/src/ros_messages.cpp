@@ -73,6 +73,30 @@ std::string_view strip_msg(std::string_view type, std::string& buffer) {
   return buffer;
 }
 
+// The payloads of one 8-byte word per event (libcaer, mono): `one(word, at,
+// event)` decodes the word at byte `at`, or returns the fault that stops the
+// message there; the events before a fault stay in `out`.
+template <typename DecodeOne>
+std::optional<MessageFault> decode_words(const char* encoding, std::span<const std::uint8_t> payload,
+                                         std::vector<RosEvent>& out, DecodeOne one) {
+  constexpr std::size_t kBytes = 8;
+  const std::size_t n = payload.size() / kBytes;
+  const std::size_t first = out.size();
+  out.resize(first + n);
+  RosEvent* dst = out.data() + first;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::optional<MessageFault> fault = one(payload.data() + i * kBytes, i * kBytes, dst[i])) {
+      out.resize(first + i);
+      return fault;
+    }
+  }
+  if (payload.size() % kBytes != 0) {
+    return MessageFault{n * kBytes, std::string(encoding) + " payload of " + std::to_string(payload.size()) +
+                                        " bytes, not a multiple of 8"};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 MessageKind message_kind(std::string_view type) {
@@ -93,72 +117,46 @@ std::string_view known_message_types() {
 std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload,
                                            std::uint64_t time_base, std::uint32_t width,
                                            std::uint32_t height, std::vector<RosEvent>& out) {
-  constexpr std::size_t kBytes = 8;
-  const std::size_t n = payload.size() / kBytes;
-  const std::size_t first = out.size();
-  out.resize(first + n);
-  RosEvent* dst = out.data() + first;
   std::uint64_t high = time_base;
   std::int32_t last = 0;  // only rollovers inside one message are seen
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto one = [&](const std::uint8_t* word, std::size_t at, RosEvent& e) -> std::optional<MessageFault> {
     std::uint32_t data;
     std::int32_t ts;
-    std::memcpy(&data, payload.data() + i * kBytes, 4);
-    std::memcpy(&ts, payload.data() + i * kBytes + 4, 4);
+    std::memcpy(&data, word, 4);
+    std::memcpy(&ts, word + 4, 4);
     const std::uint32_t x = (data >> 17) & 0x7FFFu;
     const std::uint32_t y = (data >> 2) & 0x7FFFu;
-    if (ts < 0 || !inside(x, y, width, height)) {
-      out.resize(first + i);
-      if (ts < 0) return MessageFault{i * kBytes, "libcaer event with a negative timestamp"};
-      return outside(i * kBytes, x, y, width, height);
-    }
+    if (ts < 0) return MessageFault{at, "libcaer event with a negative timestamp"};
+    if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
     if (ts < last) high += (std::uint64_t{1} << 31) * 1000u;  // the 32-bit clock wrapped
     last = ts;
     const std::uint64_t t = high + static_cast<std::uint64_t>(ts) * 1000u;
-    if (t > kMaxTimeNs || t < high) {
-      out.resize(first + i);
-      return MessageFault{i * kBytes, "libcaer event time beyond the 64-bit ns range"};
-    }
-    dst[i] = RosEvent{static_cast<std::int64_t>(t), static_cast<std::uint16_t>(x),
-                      static_cast<std::uint16_t>(y), (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
-  }
-  if (payload.size() % kBytes != 0) {
-    return MessageFault{n * kBytes, "libcaer payload of " + std::to_string(payload.size()) +
-                                        " bytes, not a multiple of 8"};
-  }
-  return std::nullopt;
+    if (t > kMaxTimeNs || t < high)
+      return MessageFault{at, "libcaer event time beyond the 64-bit ns range"};
+    e = RosEvent{static_cast<std::int64_t>(t), static_cast<std::uint16_t>(x),
+                 static_cast<std::uint16_t>(y),
+                 (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
+    return std::nullopt;
+  };
+  return decode_words("libcaer", payload, out, one);
 }
 
 std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
                                         std::uint64_t time_base, std::uint32_t width,
                                         std::uint32_t height, std::vector<RosEvent>& out) {
-  constexpr std::size_t kBytes = 8;
-  const std::size_t n = payload.size() / kBytes;
-  const std::size_t first = out.size();
-  out.resize(first + n);
-  RosEvent* dst = out.data() + first;
-  if (time_base > kMaxTimeNs - 0xFFFFFFFFu) {
-    out.resize(first);
-    return MessageFault{0, "mono time_base beyond the 64-bit ns range"};
-  }
-  for (std::size_t i = 0; i < n; ++i) {
+  if (time_base > kMaxTimeNs - 0xFFFFFFFFu) return MessageFault{0, "mono time_base beyond the 64-bit ns range"};
+  const auto one = [&](const std::uint8_t* word, std::size_t at, RosEvent& e) -> std::optional<MessageFault> {
     std::uint64_t w;
-    std::memcpy(&w, payload.data() + i * kBytes, kBytes);
+    std::memcpy(&w, word, 8);
     const auto x = static_cast<std::uint32_t>((w >> 32) & 0xFFFFu);
     const auto y = static_cast<std::uint32_t>((w >> 48) & 0x7FFFu);
-    if (!inside(x, y, width, height)) {
-      out.resize(first + i);
-      return outside(i * kBytes, x, y, width, height);
-    }
-    dst[i] = RosEvent{static_cast<std::int64_t>(time_base + (w & 0xFFFFFFFFu)),
-                      static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
-                      (w >> 63) != 0 ? std::int8_t{1} : std::int8_t{-1}};
-  }
-  if (payload.size() % kBytes != 0) {
-    return MessageFault{n * kBytes, "mono payload of " + std::to_string(payload.size()) +
-                                        " bytes, not a multiple of 8"};
-  }
-  return std::nullopt;
+    if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
+    e = RosEvent{static_cast<std::int64_t>(time_base + (w & 0xFFFFFFFFu)),
+                 static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                 (w >> 63) != 0 ? std::int8_t{1} : std::int8_t{-1}};
+    return std::nullopt;
+  };
+  return decode_words("mono", payload, out, one);
 }
 
 std::optional<MessageFault> decode_evt3(std::span<const std::uint8_t> payload, Evt3Decoder& decoder,

@@ -9,13 +9,11 @@
 #include <cstring>
 #include <vector>
 
-#include "input_file.h"
+#include "line_reader.h"
 #include "reader_registry.h"
 
 namespace evlife::io::detail {
 namespace {
-
-constexpr std::size_t kBufferBytes = 1 << 20;  // also the longest line accepted
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r'; }
 bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
@@ -75,7 +73,7 @@ bool parse_seconds(const char*& p, const char* end, std::int64_t& t_us) noexcept
 
 class RpgTextReader final : public EventReader {
  public:
-  explicit RpgTextReader(const std::string& path) : file_(path), buffer_(kBufferBytes) {
+  explicit RpgTextReader(const std::string& path) : lines_(path) {
     read_sensor_line();
   }
 
@@ -85,28 +83,16 @@ class RpgTextReader final : public EventReader {
     line_offsets_.resize(out.size());  // no-op after the first batch of this size
     std::size_t n = 0;
     while (n < out.size()) {
-      const char* begin = buffer_.data() + pos_;
-      const char* newline = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
-      if (newline == nullptr) {
-        if (!refill()) {
-          if (pending_ || pos_ == end_) break;  // line too long, or clean end of file
-          newline = buffer_.data() + end_;  // last line without '\n'
-          begin = buffer_.data() + pos_;
-        } else {
-          continue;
-        }
-      }
-      const std::uint64_t line_offset = offset_;
-      const std::size_t line_bytes = static_cast<std::size_t>(newline - begin);
-      const std::size_t consumed = std::min(line_bytes + 1, end_ - pos_);
+      std::string_view line;
+      if (!next_line(line)) break;
+      const std::uint64_t line_offset = lines_.offset();
       Event e;
-      const LineKind kind = parse_line(begin, newline, e);
+      const LineKind kind = parse_line(line.data(), line.data() + line.size(), e);
       if (kind == LineKind::bad) {
-        fail(line_offset, std::string(begin, std::min<std::size_t>(line_bytes, 80)));
+        fail(line_offset, std::string(line.substr(0, 80)));
         break;
       }
-      pos_ += consumed;
-      offset_ += consumed;
+      lines_.consume();
       ++line_number_;
       if (kind == LineKind::event) {
         line_offsets_[n] = line_offset;
@@ -120,8 +106,8 @@ class RpgTextReader final : public EventReader {
 
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "rpg-text"; }
-  const std::string& path() const override { return file_.path(); }
-  std::uint64_t bytes_consumed() const override { return offset_; }
+  const std::string& path() const override { return lines_.path(); }
+  std::uint64_t bytes_consumed() const override { return lines_.offset(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     const std::int64_t i = event_index - static_cast<std::int64_t>(batch_first_index_);
     if (i >= 0 && i < static_cast<std::int64_t>(next_index_ - batch_first_index_))
@@ -159,49 +145,32 @@ class RpgTextReader final : public EventReader {
     return LineKind::event;
   }
 
+  // The next line, not consumed yet; false at end of file or when it is
+  // longer than the buffer (then a pending error is set).
+  bool next_line(std::string_view& line) {
+    const LineReader::Next next = lines_.peek(line);
+    if (next == LineReader::Next::too_long) fail(lines_.offset(), LineReader::too_long_note());
+    return next == LineReader::Next::line;
+  }
+
   void fail(std::uint64_t line_offset, const std::string& text) {
-    pending_.emplace(file_.path(), static_cast<std::int64_t>(line_offset),
+    pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset),
                      static_cast<std::int64_t>(next_index_),
                      "line " + std::to_string(line_number_ + 1) +
                          ": expected 't x y p' (t seconds, x y integers, p 0 or 1), got '" + text +
                          "'");
   }
 
-  // Keeps the unparsed tail, reads more; false at end of file or when a
-  // line does not fit in the buffer (then a pending error is set).
-  bool refill() {
-    const std::size_t leftover = end_ - pos_;
-    if (leftover == buffer_.size()) {
-      fail(offset_, "(line longer than " + std::to_string(kBufferBytes) + " bytes)");
-      return false;
-    }
-    std::memmove(buffer_.data(), buffer_.data() + pos_, leftover);
-    pos_ = 0;
-    end_ = leftover;
-    const std::size_t got = file_.read_at(
-        file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
-    file_pos_ += got;
-    end_ += got;
-    return got > 0;
-  }
-
   // Optional "width height" first data line.
   void read_sensor_line() {
     while (true) {
-      const char* begin = buffer_.data() + pos_;
-      const char* nl = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
-      if (nl == nullptr) {
-        if (refill()) continue;
-        if (pending_ || pos_ == end_) return;
-        nl = buffer_.data() + end_;
-        begin = buffer_.data() + pos_;
-      }
-      const char* p = begin;
+      std::string_view line;
+      if (!next_line(line)) return;
+      const char* p = line.data();
+      const char* nl = p + line.size();
       skip_spaces(p, nl);
       if (p == nl || *p == '#') {  // comment or blank: consume it
-        const std::size_t consumed = std::min<std::size_t>(nl - begin + 1, end_ - pos_);
-        pos_ += consumed;
-        offset_ += consumed;
+        lines_.consume();
         ++line_number_;
         continue;
       }
@@ -212,9 +181,7 @@ class RpgTextReader final : public EventReader {
           skip_spaces(p, nl);
           if (p == nl && w > 0 && h > 0) {
             sensor_ = SensorSize{static_cast<int>(w), static_cast<int>(h)};
-            const std::size_t consumed = std::min<std::size_t>(nl - begin + 1, end_ - pos_);
-            pos_ += consumed;
-            offset_ += consumed;
+            lines_.consume();
             ++line_number_;
           }
         }
@@ -223,11 +190,7 @@ class RpgTextReader final : public EventReader {
     }
   }
 
-  InputFile file_;
-  std::vector<char> buffer_;
-  std::size_t pos_ = 0, end_ = 0;  // unparsed bytes: buffer_[pos_, end_)
-  std::uint64_t file_pos_ = 0;     // file offset of buffer_[end_]
-  std::uint64_t offset_ = 0;       // file offset of buffer_[pos_]
+  LineReader lines_;
   std::uint64_t line_number_ = 0;  // lines consumed
   std::uint64_t next_index_ = 0;
   std::uint64_t batch_first_index_ = 0;

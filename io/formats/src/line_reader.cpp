@@ -1,0 +1,26 @@
+#include "line_reader.h"
+
+#include <span>
+
+namespace evlife::io::detail {
+
+LineReader::LineReader(const std::string& path) : file_(path), buffer_(kBufferBytes) { refill(); }
+
+std::string LineReader::too_long_note() {
+  return "(line longer than " + std::to_string(kBufferBytes) + " bytes)";
+}
+
+LineReader::Next LineReader::refill() {
+  const std::size_t leftover = end_ - pos_;
+  if (leftover == buffer_.size()) return Next::too_long;
+  std::memmove(buffer_.data(), buffer_.data() + pos_, leftover);
+  pos_ = 0;
+  end_ = leftover;
+  const std::size_t got =
+      file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
+  file_pos_ += got;
+  end_ += got;
+  return got > 0 ? Next::line : Next::end_of_file;
+}
+
+}  // namespace evlife::io::detail
