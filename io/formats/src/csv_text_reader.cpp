@@ -397,7 +397,10 @@ class CsvTextReader final : public EventReader {
   // longer than the buffer (then a pending error is set).
   bool next_line(std::string_view& line) {
     const LineReader::Next next = lines_.peek(line);
-    if (next == LineReader::Next::too_long) fail(lines_.offset(), LineReader::too_long_note());
+    if (next == LineReader::Next::too_long) {
+      ++line_number_;  // the too-long line is the one named
+      fail(lines_.offset(), LineReader::too_long_note());
+    }
     return next == LineReader::Next::line;
   }
 
