@@ -13,7 +13,9 @@
 
 namespace {
 
+using evlife::for_each_lifetime_option;
 using evlife::LifetimeOptions;
+using evlife::OptionInfo;
 using evlife::config::Config;
 using evlife::config::ConfigBuilder;
 using evlife::config::ConfigError;
@@ -39,6 +41,30 @@ std::string error_of(Fn fn) {
   }
   ADD_FAILURE() << "expected a ConfigError";
   return {};
+}
+
+// Every estimator key of the table: the shipped file states the defaults.
+TEST(Config, ShippedYamlStatesEveryEstimatorDefault) {
+  ConfigBuilder b;
+  b.load_file(kShippedYaml);
+  const Config c = b.build();
+  const LifetimeOptions d;
+  for_each_lifetime_option([&](const OptionInfo& info, auto access) {
+    if (info.key.starts_with("sensor.")) return;  // stated by the data, not the file
+    EXPECT_EQ(access(c.estimator), access(d)) << info.key;
+  });
+}
+
+// The dim-light preset: valid, and it changes only what it says.
+TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
+  ConfigBuilder b;
+  b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/dim-light.yaml");
+  const Config c = b.build();
+  LifetimeOptions expected;
+  expected.max_lifetime_standard_error = 0.25;
+  for_each_lifetime_option([&](const OptionInfo& info, auto access) {
+    EXPECT_EQ(access(c.estimator), access(expected)) << info.key;
+  });
 }
 
 TEST(Config, ShippedYamlEqualsStructDefaults) {

@@ -35,6 +35,16 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
   return std::max(1, static_cast<int>(std::ceil(k)));
 }
 
+// True unless max_standard_error (a share of the lifetime; 0 = no check) is
+// set and the fit's lifetime is less certain than that. Fits of <= 3 samples,
+// whose residuals say nothing, pass: they continue an edge upstream.
+bool lifetime_resolved(const detail::PlaneFit& fit, const Eigen::Vector2d& g, double lambda,
+                       double max_standard_error) noexcept {
+  if (max_standard_error <= 0.0) return true;
+  const double se_us = fit.lifetime_standard_error(g, lambda);
+  return se_us < 0.0 || se_us <= max_standard_error * g.norm();
+}
+
 }  // namespace
 
 // RANSAC iterations that draw an all-inlier pair with ransac_confidence when
@@ -349,7 +359,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const double g2 = gx * gx + gy * gy;
   const double lifetime_us = std::sqrt(g2);
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
-      lifetime_us > options_.max_lifetime_us) {
+      lifetime_us > options_.max_lifetime_us || !lifetime_resolved(fit, g, lambda, options_.max_lifetime_standard_error)) {
     ++stats_.noise;
     stage_end(Stage::refit);
     return out;

@@ -45,6 +45,21 @@ class PlaneFit {
     return std::sqrt(std::max(sse, 0.0) / (n_ - 3.0));
   }
 
+  /// Standard error of the lifetime |g| of a solve()d gradient g, from the
+  /// residuals about the fit (per degree of freedom) and the samples' spread
+  /// along g (u^T A^-1 u, A: the centred scatter matrix + lambda I, u = g/|g|).
+  /// -1 when the residuals cannot be estimated (n <= 3) or g = 0.
+  double lifetime_standard_error(const Eigen::Vector2d& g, double lambda) const noexcept {
+    const double rms = residual_rms(g);
+    const double norm = g.norm();
+    if (rms < 0.0 || !(norm > 0.0)) return -1.0;
+    Eigen::Matrix2d a;
+    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
+        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    const Eigen::Vector2d u = g / norm;
+    return rms * std::sqrt(std::max(u.dot(a.inverse() * u), 0.0));
+  }
+
   /// Minimizes sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over (c, g).
   /// Returns false when the samples do not determine g (collinear, no prior).
   bool solve(double lambda, const Eigen::Vector2d& prior, Eigen::Vector2d& g) const noexcept {
