@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
+#include "evlife/engine/pipeline_state.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/tile_layout.h"
 #include "evlife/io/event_reader.h"
@@ -311,6 +313,21 @@ TEST(Pipeline, RouterBlocksWhenAWorkersPoolIsFullThenResumes) {
   EXPECT_EQ(pipeline.merger().step(), ee::StepResult::finished);
 }
 
+TEST(PipelineState, BlockedRouterIsWokenOnceHalfAPoolIsFreeDropAtOnce) {
+  auto options = tight_options(ee::OverloadPolicy::block);
+  options.batches_per_worker = 8;
+  ee::PipelineState block(options, kDvs128, ee::OverloadPolicy::block);
+  block.room_returned(3, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 0);
+  block.room_returned(4, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 1);
+  block.room_returned(8, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 1);  // wake-ups do not pile up
+  ee::PipelineState drop(options, kDvs128, ee::OverloadPolicy::drop);
+  drop.room_returned(1, 8);
+  EXPECT_EQ(drop.wake_router.availableApprox(), 1);
+}
+
 TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
   std::vector<Event> events;
   for (int i = 0; i < 64 * 10; ++i)
@@ -458,6 +475,21 @@ TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
   EXPECT_GT(r.stats.latency_max_us, 0.0);
   EXPECT_LE(r.stats.latency_p50_us, r.stats.latency_p99_us);
   EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
+}
+
+TEST(Engine, ReportsTheCpuTimeOfEachThread) {
+  const auto& events = stripes(10'000);
+  ee::ReplaySource source(events, kDvs128);
+  ee::Engine engine(source, nullptr, engine_options(2, 1, 1, kDvs128));
+  const ee::RunResult r = engine.run();
+  std::vector<std::string> names;
+  for (const auto& [name, cpu_s] : r.thread_cpu_s) {
+    names.push_back(name);
+    EXPECT_GE(cpu_s, 0.0) << name;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"source", "worker0", "worker1", "merger"}));
+  EXPECT_GT(r.thread_cpu_s[1].second, 0.0);  // the workers estimated 10,000 events
+  EXPECT_GT(r.thread_cpu_s[2].second, 0.0);
 }
 
 TEST(Engine, StatsGiveTheFirstAndLastEventTimeHandedOut) {

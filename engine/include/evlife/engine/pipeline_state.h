@@ -65,6 +65,17 @@ struct PipelineState {
   std::unique_ptr<RenderTap> render_tap;  // null unless options.render_batches > 0
   RouterCounters router_counters;
   MergerCounters merger_counters;
+
+  /// A batch or merge order went back to its pool (`pool_size` items, about
+  /// `free_now` free). Policy block: the router, blocked on a full pool,
+  /// is woken once half the pool is free and refills it in a burst, rather
+  /// than woken per returned batch (a futex wake and two context switches
+  /// per 1024 events, on the cores the workers need). The workers still
+  /// hold the other half queued, so none runs dry. Policy drop: at once
+  /// (the router does not wait for room there; kept as it was).
+  void room_returned(std::size_t free_now, std::size_t pool_size) noexcept {
+    if (policy == OverloadPolicy::drop || 2 * free_now >= pool_size) wake(wake_router);
+  }
 };
 
 }  // namespace evlife::engine
