@@ -185,6 +185,27 @@ TEST(TileLayout, WholePolaritiesGoToDifferentWorkers) {
   }
   EXPECT_EQ(layout.owner(Event{0, 128, 0, 1}), ee::TileLayout::kNoOwner);
   EXPECT_EQ(layout.owner(Event{0, 0, 0, 0}), ee::TileLayout::kNoOwner);
+  EXPECT_TRUE(layout.owner_only());
+  EXPECT_TRUE(ee::TileLayout(kDvs128, 2, 1, 1, 20).owner_only());  // one tile: no one else to feed
+  EXPECT_TRUE(ee::TileLayout(kDvs128, 4, 2, 2, 0).owner_only());
+  EXPECT_FALSE(ee::TileLayout(kDvs128, 4, 2, 2, 1).owner_only());
+}
+
+TEST(Pipeline, OwnerOnlyRoutingKeepsOffSensorEventsInPlace) {
+  // Owner-only routing (1x1 tiles): an off-sensor event and one of polarity
+  // 0 go to worker 0, are counted and come out in their input positions.
+  std::vector<Event> events;
+  for (int i = 0; i < 300; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 7, static_cast<std::int8_t>(i % 3 ? 1 : -1)});
+  events[100].x = 500;
+  events[201].p = 0;
+  const auto out = run_inline(events, kDvs128, engine_options(2, 1, 1, kDvs128));
+  ASSERT_EQ(out.size(), events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    ASSERT_EQ(out[i].event.t_us, events[i].t_us) << i;
+    ASSERT_EQ(out[i].event.x, events[i].x) << i;
+    ASSERT_EQ(out[i].event.p, events[i].p) << i;
+  }
 }
 
 TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
@@ -193,6 +214,7 @@ TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
   const SensorSize sensor{100, 60};
   const int margin = 6;
   const ee::TileLayout layout(sensor, 4, 3, 2, margin);
+  EXPECT_FALSE(layout.owner_only());
   for (int p : {1, -1}) {
     const int pi = p > 0 ? 0 : 1;
     for (int y = 0; y < sensor.height; ++y) {
