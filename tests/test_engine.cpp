@@ -335,19 +335,41 @@ TEST(Pipeline, RouterBlocksWhenAWorkersPoolIsFullThenResumes) {
   EXPECT_EQ(pipeline.merger().step(), ee::StepResult::finished);
 }
 
-TEST(PipelineState, BlockedRouterIsWokenOnceHalfAPoolIsFreeDropAtOnce) {
+TEST(PipelineState, BlockedRouterIsWokenOnceHalfThePoolItWaitsOnIsFree) {
   auto options = tight_options(ee::OverloadPolicy::block);
   options.batches_per_worker = 8;
   ee::PipelineState block(options, kDvs128, ee::OverloadPolicy::block);
-  block.room_returned(3, 8);
+  const std::uint64_t worker1 = 2;
+  block.room_returned(worker1, 8, 8);  // the router waits on nothing
   EXPECT_EQ(block.wake_router.availableApprox(), 0);
-  block.room_returned(4, 8);
+  block.router_waiting.store(worker1);
+  block.room_returned(1, 8, 8);  // worker 0's pool: not the one it waits on
+  block.room_returned(ee::PipelineState::kOrderPoolBit, 16, 16);
+  block.room_returned(worker1, 3, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 0);
+  block.room_returned(worker1, 4, 8);
   EXPECT_EQ(block.wake_router.availableApprox(), 1);
-  block.room_returned(8, 8);
+  block.room_returned(worker1, 8, 8);
   EXPECT_EQ(block.wake_router.availableApprox(), 1);  // wake-ups do not pile up
   ee::PipelineState drop(options, kDvs128, ee::OverloadPolicy::drop);
-  drop.room_returned(1, 8);
+  drop.room_returned(worker1, 1, 8);
   EXPECT_EQ(drop.wake_router.availableApprox(), 1);
+}
+
+TEST(Pipeline, BlockedRouterMarksThePoolsItWaitsOn) {
+  std::vector<Event> events;
+  for (int i = 0; i < 64 * 10; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5, 1});  // all ON -> worker 0
+  ee::ReplaySource source(events, kDvs128);
+  Collector out;
+  ee::Pipeline pipeline(source, &out.sink, tight_options(ee::OverloadPolicy::block));
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.state().router_waiting.load(), 0u);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::blocked);  // worker 0's 2 batches in use
+  EXPECT_EQ(pipeline.state().router_waiting.load(), 1u);
+  pipeline.run_inline();
+  EXPECT_EQ(out.events.size(), events.size());
 }
 
 TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {

@@ -117,12 +117,27 @@ void Router::drop_for_worker(int w) noexcept {
   }
 }
 
+// Takes an item of `pool`; if it is empty and `wait_bit` != 0 (policy
+// block), marks the router as waiting on it (PipelineState::room_returned
+// then wakes it when half the pool is back) and looks once more, so that a
+// return racing with the mark is not missed.
+template <class Pool, class Item>
+bool Router::take_or_wait(Pool& pool, Item*& item, std::uint64_t wait_bit) noexcept {
+  if (pool.try_dequeue(item)) return true;
+  if (wait_bit == 0) return false;
+  state_.router_waiting.fetch_or(wait_bit, std::memory_order_seq_cst);
+  std::atomic_thread_fence(std::memory_order_seq_cst);
+  return pool.try_dequeue(item);
+}
+
 bool Router::dispatch_pending() noexcept {
   RouterCounters& counters = state_.router_counters;
   const bool drop = state_.policy == OverloadPolicy::drop;
   bool waited = false;
 
-  if (order_ == nullptr && !state_.order_free.try_dequeue(order_)) {
+  if (!drop) state_.router_waiting.store(0, std::memory_order_relaxed);  // marked again below if so
+  if (order_ == nullptr &&
+      !take_or_wait(state_.order_free, order_, drop ? 0 : PipelineState::kOrderPoolBit)) {
     order_ = nullptr;
     if (drop) {  // nothing dispatched yet: the whole chunk goes
       counters.dropped.add(chunk_count_);
@@ -141,7 +156,8 @@ bool Router::dispatch_pending() noexcept {
       const int w = std::countr_zero(todo);
       todo &= todo - 1;
       WorkBatch* batch = nullptr;
-      if (state_.workers[static_cast<std::size_t>(w)]->free.try_dequeue(batch)) {
+      if (take_or_wait(state_.workers[static_cast<std::size_t>(w)]->free, batch,
+                       drop ? 0 : std::uint64_t{1} << w)) {
         reserved_[static_cast<std::size_t>(w)] = batch;
         reserved_mask_ |= 1u << w;
       } else if (drop) {

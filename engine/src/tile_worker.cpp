@@ -46,7 +46,8 @@ StepResult TileWorker::step() noexcept {
   channel_.counters.events_owned.add(kept);
   if (kept == 0) {  // margin only: the merger will never ask for it
     if (!channel_.free.try_enqueue(*free_token_, batch)) channel_.free.enqueue(*free_token_, batch);
-    state_.room_returned(channel_.free.size_approx(), channel_.pool.size());
+    state_.room_returned(std::uint64_t{1} << batch->worker, channel_.free.size_approx(),
+                         channel_.pool.size());
   } else {
     // No wake-up: the engine has this thread merge next (Engine::run).
     if (!channel_.out.try_enqueue(*out_token_, batch)) channel_.out.enqueue(*out_token_, batch);

@@ -27,6 +27,8 @@ class Router {
   bool source_failed() const noexcept { return source_failed_; }
 
  private:
+  template <class Pool, class Item>
+  bool take_or_wait(Pool& pool, Item*& item, std::uint64_t wait_bit) noexcept;
   void stage_chunk(std::size_t n) noexcept;  // split chunk_ into per-worker staging
   void stage_owner_only(std::size_t n) noexcept;    // layout.owner_only()
   void stage_with_margins(std::size_t n) noexcept;  // the general case
