@@ -114,18 +114,23 @@ RunResult Engine::run() {
       TileWorker& worker = pipeline_.worker(w);
       WorkerChannel& channel = *state.workers[static_cast<std::size_t>(w)];
       const std::int64_t spin_ns = std::int64_t{idle_spin_us} * 1000;
-      // Offline (policy block) throughput counts: a worker with more input
-      // waiting leaves the merge to a less loaded one (the busiest worker sets
-      // the pace; 2 workers: 1.57x -> 1.62x on the recordings), or to itself
-      // once it runs dry. Live (drop), latency counts: merge at once, else a
-      // burst holds merged output and batches back (p99 x5, drops: tried).
+      // Offline (policy block) throughput counts: a worker with more than
+      // half its pool of input waiting leaves the merge to a less loaded one
+      // (the busiest worker sets the pace; 2 workers: 1.57x -> 1.62x on the
+      // recordings). At half, it merges: the router, blocked until half a
+      // pool is free (PipelineState::room_returned), then refills the queues
+      // before they run dry; merging only when dry left one worker idle while
+      // the other merged half a pool. Live (drop), latency counts: merge at
+      // once, else a burst holds merged output and batches back (p99 x5,
+      // drops: tried).
       const bool defer_merge_when_busy =
           state.policy == OverloadPolicy::block && pipeline_.worker_count() > 1;
+      const std::size_t merge_below = channel.pool.size() / 2 + 1;
       for (;;) {
         const StepResult r = worker.step();
         if (r == StepResult::finished) break;
         if (r == StepResult::progressed) {
-          if (!defer_merge_when_busy || channel.in.size_approx() == 0) pipeline_.drain_merger();
+          if (!defer_merge_when_busy || channel.in.size_approx() < merge_below) pipeline_.drain_merger();
         } else {
           pipeline_.drain_merger();
           park(channel.wake_worker, spin_ns);
