@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
+#include "evlife/engine/pipeline_state.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/tile_layout.h"
 #include "evlife/io/event_reader.h"
@@ -183,6 +185,27 @@ TEST(TileLayout, WholePolaritiesGoToDifferentWorkers) {
   }
   EXPECT_EQ(layout.owner(Event{0, 128, 0, 1}), ee::TileLayout::kNoOwner);
   EXPECT_EQ(layout.owner(Event{0, 0, 0, 0}), ee::TileLayout::kNoOwner);
+  EXPECT_TRUE(layout.owner_only());
+  EXPECT_TRUE(ee::TileLayout(kDvs128, 2, 1, 1, 20).owner_only());  // one tile: no one else to feed
+  EXPECT_TRUE(ee::TileLayout(kDvs128, 4, 2, 2, 0).owner_only());
+  EXPECT_FALSE(ee::TileLayout(kDvs128, 4, 2, 2, 1).owner_only());
+}
+
+TEST(Pipeline, OwnerOnlyRoutingKeepsOffSensorEventsInPlace) {
+  // Owner-only routing (1x1 tiles): an off-sensor event and one of polarity
+  // 0 go to worker 0, are counted and come out in their input positions.
+  std::vector<Event> events;
+  for (int i = 0; i < 300; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 7, static_cast<std::int8_t>(i % 3 ? 1 : -1)});
+  events[100].x = 500;
+  events[201].p = 0;
+  const auto out = run_inline(events, kDvs128, engine_options(2, 1, 1, kDvs128));
+  ASSERT_EQ(out.size(), events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    ASSERT_EQ(out[i].event.t_us, events[i].t_us) << i;
+    ASSERT_EQ(out[i].event.x, events[i].x) << i;
+    ASSERT_EQ(out[i].event.p, events[i].p) << i;
+  }
 }
 
 TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
@@ -191,6 +214,7 @@ TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
   const SensorSize sensor{100, 60};
   const int margin = 6;
   const ee::TileLayout layout(sensor, 4, 3, 2, margin);
+  EXPECT_FALSE(layout.owner_only());
   for (int p : {1, -1}) {
     const int pi = p > 0 ? 0 : 1;
     for (int y = 0; y < sensor.height; ++y) {
@@ -309,6 +333,43 @@ TEST(Pipeline, RouterBlocksWhenAWorkersPoolIsFullThenResumes) {
   EXPECT_EQ(out.events.size(), events.size());
   EXPECT_EQ(st.workers[0].in_flight_hwm, 2u);
   EXPECT_EQ(pipeline.merger().step(), ee::StepResult::finished);
+}
+
+TEST(PipelineState, BlockedRouterIsWokenOnceHalfThePoolItWaitsOnIsFree) {
+  auto options = tight_options(ee::OverloadPolicy::block);
+  options.batches_per_worker = 8;
+  ee::PipelineState block(options, kDvs128, ee::OverloadPolicy::block);
+  const std::uint64_t worker1 = 2;
+  block.room_returned(worker1, 8, 8);  // the router waits on nothing
+  EXPECT_EQ(block.wake_router.availableApprox(), 0);
+  block.router_waiting.store(worker1);
+  block.room_returned(1, 8, 8);  // worker 0's pool: not the one it waits on
+  block.room_returned(ee::PipelineState::kOrderPoolBit, 16, 16);
+  block.room_returned(worker1, 3, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 0);
+  block.room_returned(worker1, 4, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 1);
+  block.room_returned(worker1, 8, 8);
+  EXPECT_EQ(block.wake_router.availableApprox(), 1);  // wake-ups do not pile up
+  ee::PipelineState drop(options, kDvs128, ee::OverloadPolicy::drop);
+  drop.room_returned(worker1, 1, 8);
+  EXPECT_EQ(drop.wake_router.availableApprox(), 1);
+}
+
+TEST(Pipeline, BlockedRouterMarksThePoolsItWaitsOn) {
+  std::vector<Event> events;
+  for (int i = 0; i < 64 * 10; ++i)
+    events.push_back(Event{i, static_cast<std::uint16_t>(i % 128), 5, 1});  // all ON -> worker 0
+  ee::ReplaySource source(events, kDvs128);
+  Collector out;
+  ee::Pipeline pipeline(source, &out.sink, tight_options(ee::OverloadPolicy::block));
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.state().router_waiting.load(), 0u);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::progressed);
+  EXPECT_EQ(pipeline.router().step(), ee::StepResult::blocked);  // worker 0's 2 batches in use
+  EXPECT_EQ(pipeline.state().router_waiting.load(), 1u);
+  pipeline.run_inline();
+  EXPECT_EQ(out.events.size(), events.size());
 }
 
 TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
@@ -458,6 +519,21 @@ TEST(Engine, NoSinkStillCountsAndMeasuresLatency) {
   EXPECT_GT(r.stats.latency_max_us, 0.0);
   EXPECT_LE(r.stats.latency_p50_us, r.stats.latency_p99_us);
   EXPECT_LE(r.stats.latency_p99_us, r.stats.latency_max_us);
+}
+
+TEST(Engine, ReportsTheCpuTimeOfEachThread) {
+  const auto& events = stripes(10'000);
+  ee::ReplaySource source(events, kDvs128);
+  ee::Engine engine(source, nullptr, engine_options(2, 1, 1, kDvs128));
+  const ee::RunResult r = engine.run();
+  std::vector<std::string> names;
+  for (const auto& [name, cpu_s] : r.thread_cpu_s) {
+    names.push_back(name);
+    EXPECT_GE(cpu_s, 0.0) << name;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"source", "worker0", "worker1", "merger"}));
+  EXPECT_GT(r.thread_cpu_s[1].second, 0.0);  // the workers estimated 10,000 events
+  EXPECT_GT(r.thread_cpu_s[2].second, 0.0);
 }
 
 TEST(Engine, StatsGiveTheFirstAndLastEventTimeHandedOut) {

@@ -18,6 +18,9 @@
 #include <string_view>
 #include <vector>
 
+#include <sys/resource.h>
+
+#include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -293,6 +296,18 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  args.window ? "a window" :
                  args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
   std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
+  std::string cpu;
+  double threads_s = 0.0;
+  for (const auto& [name, s] : result.thread_cpu_s) {
+    cpu += (cpu.empty() ? "" : ", ") + name + " " + fmt::format("{:.3f}", s);
+    threads_s += s;
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double process_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                           static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
+  std::fprintf(stdout, "cpu    : %s; other (start-up, main) %.3f; process %.3f s\n", cpu.c_str(),
+               process_s - threads_s, process_s);
   std::fprintf(stdout, "wall   : %.3f s, %.0f events/s\n", wall_s,
                wall_s > 0 ? static_cast<double>(result.stats.events_out) / wall_s : 0.0);
   std::fflush(stdout);

@@ -14,6 +14,7 @@
 
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/realtime_thread.h"
+#include "evlife/engine/thread_cpu_clock.h"
 
 namespace evlife::engine {
 
@@ -34,6 +35,10 @@ Engine::Engine(EventSource& source, AugmentedSink* sink, const EngineOptions& op
 namespace {
 constexpr std::int64_t kIdleWaitUs = 1000;  // re-check stop/done flags at least this often
 constexpr std::int64_t kBackstopWaitUs = 100'000;  // the merger backstop is signalled when needed
+// A router blocked on a full pool is signalled when half of it is free
+// (PipelineState::room_returned); a timeout shorter than draining half a
+// pool would wake it early for a few batches at a time.
+constexpr std::int64_t kBlockedWaitUs = 20'000;
 
 // Polls `wake` for up to spin_ns (work signalled) before sleeping on it.
 // Polling yields the core between looks: with more busy threads than cores
@@ -80,6 +85,10 @@ RunResult Engine::run() {
   };
   std::vector<std::thread> threads;
   std::vector<std::string> thread_names;
+  // Each thread's CPU time at its end, by index in `threads` (read after join).
+  std::vector<std::int64_t> thread_cpu(2 + static_cast<std::size_t>(pipeline_.worker_count()) +
+                                       pipeline_.aux_stages().size(), 0);
+  const auto record_cpu = [&thread_cpu](std::size_t index) noexcept { thread_cpu[index] = thread_cpu_ns(); };
   if (!rt_error.empty()) gate.store(2, std::memory_order_release);  // before any thread: no notify needed
   threads.emplace_back([&] {
     if (!pass_gate()) return;
@@ -92,9 +101,10 @@ RunResult Engine::run() {
     for (;;) {
       const StepResult r = router.step();
       if (r == StepResult::finished) break;
-      if (r == StepResult::blocked) state.wake_router.wait(kIdleWaitUs);
+      if (r == StepResult::blocked) state.wake_router.wait(kBlockedWaitUs);
       else if (r == StepResult::idle) std::this_thread::yield();  // pull() paces itself
     }
+    record_cpu(0);
   });
   thread_names.emplace_back("source");
   for (int w = 0; w < pipeline_.worker_count(); ++w) {
@@ -104,23 +114,29 @@ RunResult Engine::run() {
       TileWorker& worker = pipeline_.worker(w);
       WorkerChannel& channel = *state.workers[static_cast<std::size_t>(w)];
       const std::int64_t spin_ns = std::int64_t{idle_spin_us} * 1000;
-      // Offline (policy block) throughput counts: a worker with more input
-      // waiting leaves the merge to a less loaded one (the busiest worker sets
-      // the pace; 2 workers: 1.57x -> 1.62x on the recordings), or to itself
-      // once it runs dry. Live (drop), latency counts: merge at once, else a
-      // burst holds merged output and batches back (p99 x5, drops: tried).
+      // Offline (policy block) throughput counts: a worker with more than
+      // half its pool of input waiting leaves the merge to a less loaded one
+      // (the busiest worker sets the pace; 2 workers: 1.57x -> 1.62x on the
+      // recordings). At half, it merges: the router, blocked until half a
+      // pool is free (PipelineState::room_returned), then refills the queues
+      // before they run dry; merging only when dry left one worker idle while
+      // the other merged half a pool. Live (drop), latency counts: merge at
+      // once, else a burst holds merged output and batches back (p99 x5,
+      // drops: tried).
       const bool defer_merge_when_busy =
           state.policy == OverloadPolicy::block && pipeline_.worker_count() > 1;
+      const std::size_t merge_below = channel.pool.size() / 2 + 1;
       for (;;) {
         const StepResult r = worker.step();
         if (r == StepResult::finished) break;
         if (r == StepResult::progressed) {
-          if (!defer_merge_when_busy || channel.in.size_approx() == 0) pipeline_.drain_merger();
+          if (!defer_merge_when_busy || channel.in.size_approx() < merge_below) pipeline_.drain_merger();
         } else {
           pipeline_.drain_merger();
           park(channel.wake_worker, spin_ns);
         }
       }
+      record_cpu(1 + static_cast<std::size_t>(w));
     });
   }
   thread_names.emplace_back("merger");
@@ -138,13 +154,15 @@ RunResult Engine::run() {
       if (pipeline_.drain_merger() == StepResult::finished) break;
       state.wake_merger.wait(kBackstopWaitUs);
     }
+    record_cpu(1 + static_cast<std::size_t>(pipeline_.worker_count()));
     merger_done.store(true, std::memory_order_release);
     monitor_wake.signal();
   });
   std::atomic<int> aux_running{static_cast<int>(pipeline_.aux_stages().size())};
   for (AuxStage* aux : pipeline_.aux_stages()) {
     thread_names.emplace_back("render");
-    threads.emplace_back([&, aux] {
+    const std::size_t cpu_index = threads.size();
+    threads.emplace_back([&, aux, cpu_index] {
       if (!pass_gate()) {
         aux_running.fetch_sub(1, std::memory_order_release);
         return;
@@ -154,6 +172,7 @@ RunResult Engine::run() {
         if (r == StepResult::finished) break;
         if (r != StepResult::progressed) aux->wake().wait(kIdleWaitUs);
       }
+      record_cpu(cpu_index);
       aux_running.fetch_sub(1, std::memory_order_release);
       monitor_wake.signal();
     });
@@ -223,6 +242,8 @@ RunResult Engine::run() {
 
   RunResult result;
   result.realtime = applied;
+  for (std::size_t i = 0; i < threads.size(); ++i)
+    result.thread_cpu_s.emplace_back(thread_names[i], static_cast<double>(thread_cpu[i]) * 1e-9);
   result.stats = pipeline_.stats();
   if (pipeline_.router().source_failed()) {
     result.status = RunStatus::source_error;

@@ -18,7 +18,7 @@ void Merger::release(WorkBatch* batch) noexcept {
   const auto w = static_cast<std::size_t>(batch->worker);
   WorkerChannel& ch = *state_.workers[w];
   if (!ch.free.try_enqueue(*free_tokens_[w], batch)) ch.free.enqueue(*free_tokens_[w], batch);
-  wake(state_.wake_router);
+  state_.room_returned(std::uint64_t{1} << w, ch.free.size_approx(), ch.pool.size());
 }
 
 void Merger::complete_order() noexcept {
@@ -26,7 +26,8 @@ void Merger::complete_order() noexcept {
     state_.order_free.enqueue(*order_free_token_, order_);
   order_ = nullptr;
   delivery_pending_ = false;
-  wake(state_.wake_router);
+  state_.room_returned(PipelineState::kOrderPoolBit, state_.order_free.size_approx(),
+                       state_.order_pool.size());
 }
 
 StepResult Merger::step() noexcept {

@@ -49,6 +49,10 @@ TileLayout::TileLayout(SensorSize sensor, int workers, int tiles_x, int tiles_y,
   tile_worker_.resize(2 * static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
   for (std::size_t i = 0; i < tile_worker_.size(); ++i)
     tile_worker_[i] = static_cast<std::uint8_t>(i % static_cast<std::size_t>(workers));
+  const auto one_tile = [](const auto& spans) {
+    return std::all_of(spans.begin(), spans.end(), [](const Span& s) { return s.first == s.last; });
+  };
+  owner_only_ = one_tile(feed_cols_) && one_tile(feed_rows_);
 }
 
 }  // namespace evlife::engine

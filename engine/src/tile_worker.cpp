@@ -1,17 +1,10 @@
 #include "evlife/engine/tile_worker.h"
 
-#include <ctime>
-
 #include "evlife/engine/monotonic_clock.h"
+#include "evlife/engine/thread_cpu_clock.h"
 
 namespace evlife::engine {
 namespace {
-// CPU time of the calling thread (vDSO on Linux: no system call).
-std::int64_t thread_cpu_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 // Events ahead whose memory the estimator starts loading (as its own
 // process(span) does): hides the cache misses of large sensors.
 constexpr std::size_t kPrefetchDistance = 4;
@@ -53,7 +46,8 @@ StepResult TileWorker::step() noexcept {
   channel_.counters.events_owned.add(kept);
   if (kept == 0) {  // margin only: the merger will never ask for it
     if (!channel_.free.try_enqueue(*free_token_, batch)) channel_.free.enqueue(*free_token_, batch);
-    wake(state_.wake_router);
+    state_.room_returned(std::uint64_t{1} << batch->worker, channel_.free.size_approx(),
+                         channel_.pool.size());
   } else {
     // No wake-up: the engine has this thread merge next (Engine::run).
     if (!channel_.out.try_enqueue(*out_token_, batch)) channel_.out.enqueue(*out_token_, batch);

@@ -8,6 +8,8 @@
 
 #include <atomic>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "evlife/engine/augmented_sink.h"
 #include "evlife/engine/engine_options.h"
@@ -33,6 +35,9 @@ struct RunResult {
   /// What options.realtime applied, for the summary ("none" when off), e.g.
   /// "cpus source:0 worker0:1 worker1:0 merger:1; SCHED_FIFO 50 (source, workers, merger); memory locked (41.2 MiB)".
   std::string realtime;
+  /// CPU seconds each engine thread used over the whole run, by thread name
+  /// ("source", "worker0", ..., "merger", "render"): where the CPU goes.
+  std::vector<std::pair<std::string, double>> thread_cpu_s;
   /// The exit code of `evlife run` for this result (evlife/engine/exit_code.h):
   /// 0 completed, 3 source error, 4 sink error, 5 real-time setting refused,
   /// 130 interrupted (128 + SIGINT).

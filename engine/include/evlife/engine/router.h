@@ -27,7 +27,11 @@ class Router {
   bool source_failed() const noexcept { return source_failed_; }
 
  private:
+  template <class Pool, class Item>
+  bool take_or_wait(Pool& pool, Item*& item, std::uint64_t wait_bit) noexcept;
   void stage_chunk(std::size_t n) noexcept;  // split chunk_ into per-worker staging
+  void stage_owner_only(std::size_t n) noexcept;    // layout.owner_only()
+  void stage_with_margins(std::size_t n) noexcept;  // the general case
   bool dispatch_pending() noexcept;           // true when the chunk is fully handed on
   void drop_for_worker(int w) noexcept;
   void finish() noexcept;
@@ -51,6 +55,7 @@ class Router {
   // Per worker staging of the current chunk (copied into a pool batch when
   // one is free, so a blocked chunk can be retried).
   std::vector<std::vector<Event>> stage_events_;
+  std::vector<Event*> stage_event_ptr_;  // stage_events_[w].data()
   std::vector<std::vector<std::uint8_t>> stage_owned_;
   std::vector<std::size_t> stage_count_;
   std::vector<std::size_t> stage_owned_count_;

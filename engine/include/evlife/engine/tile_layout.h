@@ -37,6 +37,9 @@ class TileLayout {
     return mask;
   }
 
+  /// True when every event is fed to its owner only (one tile per polarity,
+  /// or no margin): routing then needs owner() alone.
+  bool owner_only() const noexcept { return owner_only_; }
   int workers() const noexcept { return workers_; }
   int tiles_x() const noexcept { return tiles_x_; }
   int tiles_y() const noexcept { return tiles_y_; }
@@ -74,6 +77,7 @@ class TileLayout {
   std::vector<Span> feed_cols_;
   std::vector<Span> feed_rows_;
   std::vector<std::uint8_t> tile_worker_;  // [polarity][row][col]
+  bool owner_only_ = false;
 };
 
 }  // namespace evlife::engine
