@@ -111,6 +111,8 @@ RunResult Engine::run() {
       // burst holds merged output and batches back (p99 x5, drops: tried).
       const bool defer_merge_when_busy =
           state.policy == OverloadPolicy::block && pipeline_.worker_count() > 1;
+      // Live: outputs published (and merged) every few events of a batch.
+      if (state.policy == OverloadPolicy::drop) worker.publish_every(TileWorker::kLiveStepEvents);
       for (;;) {
         const StepResult r = worker.step();
         if (r == StepResult::finished) break;
