@@ -44,6 +44,8 @@ void expect_no_allocation(ee::OverloadPolicy policy, int tiles, bool render_tap)
   o.policy = policy;
   o.render_batches = render_tap ? 2 : 0;
   ee::Pipeline pipeline(source, nullptr, o);
+  if (policy == ee::OverloadPolicy::drop)  // as Engine::run's live workers: outputs published every few events
+    for (int w = 0; w < pipeline.worker_count(); ++w) pipeline.worker(w).publish_every(ee::TileWorker::kLiveStepEvents);
   evlife::test::AllocationProbe probe;
   // The order in which threads would interleave does not matter; starve the
   // merger now and then so that pools fill and the overload paths run too.

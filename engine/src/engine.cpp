@@ -126,6 +126,8 @@ RunResult Engine::run() {
       const bool defer_merge_when_busy =
           state.policy == OverloadPolicy::block && pipeline_.worker_count() > 1;
       const std::size_t merge_below = channel.pool.size() / 2 + 1;
+      // Live: outputs published (and merged) every few events of a batch.
+      if (state.policy == OverloadPolicy::drop) worker.publish_every(TileWorker::kLiveStepEvents);
       for (;;) {
         const StepResult r = worker.step();
         if (r == StepResult::finished) break;

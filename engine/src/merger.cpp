@@ -8,7 +8,7 @@ namespace evlife::engine {
 
 Merger::Merger(PipelineState& state, AugmentedSink* sink)
     : state_(state), sink_(sink), current_(state.workers.size(), nullptr),
-      cursor_(state.workers.size(), 0), merged_(state.options.batch_events) {
+      cursor_(state.workers.size(), 0), ready_(state.workers.size(), 0), merged_(state.options.batch_events) {
   for (auto& ch : state.workers)
     free_tokens_.push_back(std::make_unique<moodycamel::ProducerToken>(ch->free));
   order_free_token_ = std::make_unique<moodycamel::ProducerToken>(state.order_free);
@@ -77,6 +77,14 @@ StepResult Merger::step() noexcept {
         return progressed ? StepResult::progressed : StepResult::idle;
       }
       cursor_[owner] = 0;
+      ready_[owner] = batch->ready.load(std::memory_order_acquire);
+    }
+    if (cursor_[owner] == ready_[owner]) {
+      ready_[owner] = batch->ready.load(std::memory_order_acquire);
+      if (cursor_[owner] == ready_[owner]) {  // its worker is still estimating the rest
+        if (merged_count_ != 0) deliver(monotonic_ns());
+        return progressed ? StepResult::progressed : StepResult::idle;
+      }
     }
     merged_[merged_count_++] = batch->out[cursor_[owner]++];
     progressed = true;

@@ -19,37 +19,63 @@ TileWorker::TileWorker(PipelineState& state, int worker)
 
 StepResult TileWorker::step() noexcept {
   if (finished_) return StepResult::finished;
-  WorkBatch* batch = nullptr;
-  if (!channel_.in.try_dequeue(batch)) {
-    // The router's last enqueue happens before input_done is set, so a
-    // second look after seeing the flag cannot miss a batch.
-    if (!state_.input_done.load(std::memory_order_acquire)) return StepResult::idle;
+  if (batch_ == nullptr) {
+    WorkBatch* batch = nullptr;
     if (!channel_.in.try_dequeue(batch)) {
-      finished_ = true;
-      channel_.done.store(true, std::memory_order_release);
-      state_.wake_merger.signal();
-      return StepResult::finished;
+      // The router's last enqueue happens before input_done is set, so a
+      // second look after seeing the flag cannot miss a batch.
+      if (!state_.input_done.load(std::memory_order_acquire)) return StepResult::idle;
+      if (!channel_.in.try_dequeue(batch)) {
+        finished_ = true;
+        channel_.done.store(true, std::memory_order_release);
+        state_.wake_merger.signal();
+        return StepResult::finished;
+      }
     }
+    batch_ = batch;
+    pos_ = 0;
+    kept_ = 0;
+    // A batch of several steps goes to the merger now, its outputs
+    // published as they come (a margin-only batch is never merged).
+    published_early_ = batch->count > step_events_ && batch->owned_count != 0;
+    batch->ready.store(0, std::memory_order_relaxed);
+    if (published_early_ && !channel_.out.try_enqueue(*out_token_, batch))
+      channel_.out.enqueue(*out_token_, batch);
   }
+  WorkBatch* const batch = batch_;
+  const std::size_t count = batch->count;
+  const std::size_t end = count - pos_ > step_events_ ? pos_ + step_events_ : count;
   const std::int64_t t0 = monotonic_ns();
   const std::int64_t cpu0 = thread_cpu_ns();
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < batch->count; ++i) {
-    if (i + kPrefetchDistance < batch->count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
+  std::size_t kept = kept_;
+  for (std::size_t i = pos_; i < end; ++i) {
+    if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
     const AugmentedEvent a = estimator_.process(batch->events[i]);
     if (batch->owned[i] != 0) batch->out[kept++] = a;
   }
   channel_.counters.busy_cpu_ns.add(static_cast<std::uint64_t>(thread_cpu_ns() - cpu0));
   channel_.counters.busy_ns.add(static_cast<std::uint64_t>(monotonic_ns() - t0));
+  pos_ = end;
+  kept_ = kept;
+  if (end < count) {
+    // All outputs but the last are published here; the last one only with
+    // the batch's end (below), after which the merger may recycle it.
+    if (published_early_ && kept < batch->owned_count) batch->ready.store(kept, std::memory_order_release);
+    return StepResult::progressed;
+  }
+  batch_ = nullptr;
   channel_.counters.batches.add();
-  channel_.counters.events_fed.add(batch->count);
+  channel_.counters.events_fed.add(count);
   channel_.counters.events_owned.add(kept);
   if (kept == 0) {  // margin only: the merger will never ask for it
     if (!channel_.free.try_enqueue(*free_token_, batch)) channel_.free.enqueue(*free_token_, batch);
     state_.room_returned(std::uint64_t{1} << batch->worker, channel_.free.size_approx(),
                          channel_.pool.size());
+  } else if (published_early_) {
+    batch->ready.store(kept, std::memory_order_release);  // the batch is the merger's now
   } else {
     // No wake-up: the engine has this thread merge next (Engine::run).
+    batch->ready.store(kept, std::memory_order_relaxed);  // the enqueue releases it
     if (!channel_.out.try_enqueue(*out_token_, batch)) channel_.out.enqueue(*out_token_, batch);
   }
   return StepResult::progressed;

@@ -2,6 +2,7 @@
 // in fixed pools at start and recycled; a batch is never copied.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -29,6 +30,12 @@ struct WorkBatch {
   std::size_t owned_count = 0;  // outputs in `out` once processed
   std::uint64_t chunk_seq = 0;  // source chunk it came from (checks order)
   int worker = 0;
+  /// Outputs in `out` the merger may take (written by the worker with
+  /// release, read with acquire). A worker may hand a batch on before it is
+  /// processed and publish its outputs as they come (TileWorker); it stores
+  /// owned_count only once it is done with the batch, which the merger may
+  /// then recycle.
+  std::atomic<std::size_t> ready{0};
 };
 
 /// The merge order of one source chunk: for each accepted event, the worker

@@ -42,6 +42,7 @@ class Merger {
   std::size_t order_pos_ = 0;
   std::vector<WorkBatch*> current_;     // per worker: batch being consumed
   std::vector<std::size_t> cursor_;     // per worker: next output in it
+  std::vector<std::size_t> ready_;      // per worker: outputs of it published (last look)
   std::vector<AugmentedEvent> merged_;  // one chunk's worth
   std::size_t merged_count_ = 0;
   std::vector<std::unique_ptr<moodycamel::ProducerToken>> free_tokens_;
