@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "time_plane.h"
+
 namespace evlife::detail {
 
 constexpr int kMaxWindowSide = 15;
@@ -21,6 +23,37 @@ struct WindowSamples {
   float dt_us[kSampleCapacity];  // <= 0: past events only
   int rank_[kSampleCapacity];    // scratch of keep_newest()
   int count = 0;
+
+  /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
+  /// (`rows` points at row 0; `width` pixels a row): the pixels that have
+  /// fired at or before now_rel become the samples, in row-major order. Also
+  /// sums the timing noise of every window pixel (noise_sum_us, in row-major
+  /// order) and counts the pixels that have one.
+  template <class Pixel>
+  void gather(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
+              std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {
+    float noise_sum = 0.0f;
+    int noisy = 0;
+    int gathered = 0;
+    for (int yy = y0; yy <= y1; ++yy) {
+      const Pixel* row = rows + static_cast<std::size_t>(yy) * width;
+      const auto ddy = static_cast<float>(yy - y);
+      for (int xx = x0; xx <= x1; ++xx) {
+        noise_sum += row[xx].timing_noise_us;
+        noisy += row[xx].timing_noise_us > 0.0f;
+        // Written unconditionally, kept by advancing the count (no branch to
+        // mispredict): a past event that has fired.
+        const std::int32_t t = row[xx].t_rel;
+        dx[gathered] = static_cast<float>(xx - x);
+        dy[gathered] = ddy;
+        dt_us[gathered] = static_cast<float>(static_cast<std::int64_t>(t) - now_rel);
+        gathered += static_cast<int>((t != kNeverRel) & (t <= now_rel));
+      }
+    }
+    count = gathered;
+    noise_sum_us = noise_sum;
+    noise_count = noisy;
+  }
 
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
   /// in gather order; ties go to the earlier-gathered sample.
