@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "evlife/algo/detail/large_page_allocator.h"
 #include "evlife/algo/event.h"
 #include "evlife/algo/lifetime_options.h"
 
@@ -97,9 +98,9 @@ class LifetimeEstimator {
     std::int32_t t_rel;      // arrival of the edge (burst) here - epoch_us_; kNeverRel if none
     float timing_noise_us;   // residual rms of the last accepted fit here; 0 = none
   };
-  std::vector<SurfacePixel> surface_;
+  std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
   std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
-  std::vector<PixelState> pixel_state_;
+  std::vector<PixelState, detail::LargePageAllocator<PixelState>> pixel_state_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
