@@ -67,35 +67,11 @@ struct WindowSamples {
   }
 
   /// Rank counting, O(count^2) but branch-free: faster than a selection
-  /// algorithm for the windows of N <= 5.
+  /// algorithm for the windows of N <= 5. Defined in window_samples.cpp
+  /// (on x86-64 also compiled for AVX2, chosen at load time: the ranks are
+  /// integers, the same whichever version runs).
   static constexpr int kRankCountingMax = 32;
-  void keep_newest_by_rank(int keep) noexcept {
-    const int end = (count + kLanes - 1) / kLanes * kLanes;
-    for (int k = count; k < end; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
-    // Four samples' ranks at once (lanes k..k+3), against every sample j:
-    // samples before them count when as new or newer, after them when newer,
-    // and among the four themselves by index (ties: gather order).
-    for (int k = 0; k < count; k += kLanes) {
-      Lanes4f t;
-      __builtin_memcpy(&t, dt_us + k, sizeof t);
-      Lanes4i rank = {0, 0, 0, 0};
-      for (int j = 0; j < k; ++j) rank -= (dt_us[j] >= t);
-      const Lanes4i index = Lanes4i{0, 1, 2, 3} + k;
-      for (int j = k; j < k + kLanes; ++j) rank -= (dt_us[j] > t) | ((dt_us[j] == t) & (j < index));
-      for (int j = k + kLanes; j < end; ++j) rank -= (dt_us[j] > t);
-      __builtin_memcpy(rank_ + k, &rank, sizeof rank);
-    }
-    // Compaction without a branch to mispredict: every sample is copied
-    // (out <= k, so nothing unread is overwritten), the kept ones advance.
-    int out = 0;
-    for (int k = 0; k < count; ++k) {
-      dx[out] = dx[k];
-      dy[out] = dy[k];
-      dt_us[out] = dt_us[k];
-      out += static_cast<int>(rank_[k] < keep);
-    }
-    count = out;
-  }
+  void keep_newest_by_rank(int keep) noexcept;
 
   /// The same selection in O(count) for large windows.
   void keep_newest_by_selection(int keep) noexcept {
