@@ -308,13 +308,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // regularized towards the predicted gradient (eq. 12).
   detail::PlaneFit fit;
   fit.add(0.0, 0.0, 0.0);  // the new event
-  for (int k = 0; k < count; ++k) {
-    const float r = nb.dt_us[k] - best_gx * nb.dx[k] - best_gy * nb.dy[k];
-    // An outlier adds zeros (no branch to mispredict); the same sums as
-    // skipping it, since a sum that starts at +0 is never -0.
-    fit.add_if(r * r <= best_tol2, static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
-               static_cast<double>(nb.dt_us[k]));
-  }
+  fit.add_inliers(nb, best_gx, best_gy, best_tol2);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
   const double gx = g.x(), gy = g.y();
