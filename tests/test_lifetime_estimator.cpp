@@ -132,6 +132,39 @@ TEST(LifetimeEstimator, ExactPlaneGivesAnalyticLifetimeAndVelocity) {
   }
 }
 
+// The surface holds times relative to an epoch in 32 bits (algo/src/
+// time_plane.h); the epoch moves when a time leaves the range. An edge swept
+// at large, negative, or epoch-crossing times (2^31 us after the first
+// event, mid-sweep) gets the estimates it gets at t0 = 1000 us: only the
+// RANSAC draws (seeded by the timestamp) differ, which on an exact plane
+// changes the fit by rounding at most.
+TEST(LifetimeEstimator, EpochMovesKeepTheEstimates) {
+  const SensorSize s{24, 20};
+  LifetimeOptions o = options_for(s);
+  const auto reference_events = straight_edge(s, 0.5, 200.0, 1, 1000);
+  LifetimeEstimator reference(o);
+  std::vector<AugmentedEvent> expected;
+  for (const Event& e : reference_events) expected.push_back(reference.process(e));
+  const std::int64_t crossing = (std::int64_t{1} << 31) - 60'000;  // the sweep lasts ~120 ms
+  for (const std::int64_t t0 : {std::int64_t{1} << 40, -(std::int64_t{1} << 40), crossing}) {
+    LifetimeEstimator est(o);
+    est.process(Event{0, 0, 0, -1});  // the other polarity: sets the epoch at t = 0
+    int compared = 0;
+    for (std::size_t i = 0; i < reference_events.size(); ++i) {
+      Event e = reference_events[i];
+      e.t_us += t0 - 1000;
+      const AugmentedEvent out = est.process(e);
+      const AugmentedEvent& want = expected[i];
+      ASSERT_EQ(out.is_noise(), want.is_noise()) << "t0 " << t0 << " event " << i;
+      if (want.is_noise()) continue;
+      EXPECT_NEAR(out.lifetime_us, want.lifetime_us, 1e-3f * want.lifetime_us) << "t0 " << t0 << " event " << i;
+      EXPECT_NEAR(out.vx_px_s, want.vx_px_s, 1e-3f * std::fabs(want.vx_px_s) + 1e-3f) << "t0 " << t0 << " event " << i;
+      ++compared;
+    }
+    EXPECT_GT(compared, 200) << "t0 " << t0;
+  }
+}
+
 TEST(LifetimeEstimator, IsolatedEventIsNoise) {
   LifetimeEstimator est(options_for({64, 64}));
   const AugmentedEvent out = est.process({5000, 30, 30, 1});

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 #include <random>
 #include <vector>
 
+#include "plane_fit.h"
 #include "window_samples.h"
 
 namespace evlife::detail {
@@ -76,6 +78,48 @@ TEST(WindowSamples, SupportCountsSamplesWithinTolerance) {
   EXPECT_EQ(w.support(100.0f, 0.0f, 10.0f * 10.0f), 2);
   EXPECT_EQ(w.support(100.0f, 0.0f, 110.0f * 110.0f), 3);
   EXPECT_EQ(w.support(100.0f, 0.0f, 1000.0f * 1000.0f), 5);  // padding never counts
+}
+
+// PlaneFit::add_inliers() (four samples at a time when the sums are exact)
+// must give the refit the same sums bit for bit as add_if() sample by
+// sample, with small and large (> 2^21 us: the scalar path) time offsets.
+TEST(WindowSamples, RefitInliersSumLikeSampleBySample) {
+  std::mt19937 rng(7);
+  int fast = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    WindowSamples w;
+    w.count = 1 + static_cast<int>(rng() % 24);
+    const bool large = trial % 3 == 0;
+    for (int k = 0; k < w.count; ++k) {
+      w.dx[k] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
+      w.dy[k] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
+      const auto age = static_cast<std::int64_t>(rng() % (large && k % 2 == 0 ? 2'000'000'000u : 3000u));
+      w.dt_us[k] = static_cast<float>(-age);
+    }
+    w.pad();
+    const float gx = static_cast<float>(static_cast<int>(rng() % 400) - 200);
+    const float gy = static_cast<float>(static_cast<int>(rng() % 400) - 200);
+    // Every other trial with large offsets takes them all as inliers.
+    const float tol2 = large && trial % 2 == 0 ? 1e30f : static_cast<float>(rng() % 300) * static_cast<float>(rng() % 300);
+    PlaneFit a, b;
+    a.add(0.0, 0.0, 0.0);
+    b.add(0.0, 0.0, 0.0);
+    a.add_inliers(w, gx, gy, tol2);
+    for (int k = 0; k < w.count; ++k) {
+      const float r = w.dt_us[k] - gx * w.dx[k] - gy * w.dy[k];
+      b.add_if(r * r <= tol2, w.dx[k], w.dy[k], w.dt_us[k]);
+    }
+    Eigen::Vector2d ga = Eigen::Vector2d::Zero(), gb = Eigen::Vector2d::Zero();
+    const Eigen::Vector2d prior(3.0, -4.0);
+    const double lambda = trial % 2 == 0 ? 0.0 : 2.5;
+    ASSERT_EQ(a.solve(lambda, prior, ga), b.solve(lambda, prior, gb)) << "trial " << trial;
+    ASSERT_EQ(ga, gb) << "trial " << trial;
+    const Eigen::Vector2d probe(17.0, -9.0);  // every sum enters the rms
+    const double ra = a.residual_rms(probe), rb = b.residual_rms(probe);
+    ASSERT_EQ(std::memcmp(&ra, &rb, sizeof ra), 0) << "trial " << trial << ": " << ra << " vs " << rb;
+    fast += !large;
+  }
+  EXPECT_GT(fast, 1000);
 }
 
 }  // namespace

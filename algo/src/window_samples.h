@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "time_plane.h"
+
 namespace evlife::detail {
 
 constexpr int kMaxWindowSide = 15;
@@ -22,6 +24,37 @@ struct WindowSamples {
   int rank_[kSampleCapacity];    // scratch of keep_newest()
   int count = 0;
 
+  /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
+  /// (`rows` points at row 0; `width` pixels a row): the pixels that have
+  /// fired at or before now_rel become the samples, in row-major order. Also
+  /// sums the timing noise of every window pixel (noise_sum_us, in row-major
+  /// order) and counts the pixels that have one.
+  template <class Pixel>
+  void gather(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
+              std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {
+    float noise_sum = 0.0f;
+    int noisy = 0;
+    int gathered = 0;
+    for (int yy = y0; yy <= y1; ++yy) {
+      const Pixel* row = rows + static_cast<std::size_t>(yy) * width;
+      const auto ddy = static_cast<float>(yy - y);
+      for (int xx = x0; xx <= x1; ++xx) {
+        noise_sum += row[xx].timing_noise_us;
+        noisy += row[xx].timing_noise_us > 0.0f;
+        // Written unconditionally, kept by advancing the count (no branch to
+        // mispredict): a past event that has fired.
+        const std::int32_t t = row[xx].t_rel;
+        dx[gathered] = static_cast<float>(xx - x);
+        dy[gathered] = ddy;
+        dt_us[gathered] = static_cast<float>(static_cast<std::int64_t>(t) - now_rel);
+        gathered += static_cast<int>((t != kNeverRel) & (t <= now_rel));
+      }
+    }
+    count = gathered;
+    noise_sum_us = noise_sum;
+    noise_count = noisy;
+  }
+
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
   /// in gather order; ties go to the earlier-gathered sample.
   void keep_newest(int keep) noexcept {
@@ -34,35 +67,11 @@ struct WindowSamples {
   }
 
   /// Rank counting, O(count^2) but branch-free: faster than a selection
-  /// algorithm for the windows of N <= 5.
+  /// algorithm for the windows of N <= 5. Defined in window_samples.cpp
+  /// (on x86-64 also compiled for AVX2, chosen at load time: the ranks are
+  /// integers, the same whichever version runs).
   static constexpr int kRankCountingMax = 32;
-  void keep_newest_by_rank(int keep) noexcept {
-    const int end = (count + kLanes - 1) / kLanes * kLanes;
-    for (int k = count; k < end; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
-    // Four samples' ranks at once (lanes k..k+3), against every sample j:
-    // samples before them count when as new or newer, after them when newer,
-    // and among the four themselves by index (ties: gather order).
-    for (int k = 0; k < count; k += kLanes) {
-      Lanes4f t;
-      __builtin_memcpy(&t, dt_us + k, sizeof t);
-      Lanes4i rank = {0, 0, 0, 0};
-      for (int j = 0; j < k; ++j) rank -= (dt_us[j] >= t);
-      const Lanes4i index = Lanes4i{0, 1, 2, 3} + k;
-      for (int j = k; j < k + kLanes; ++j) rank -= (dt_us[j] > t) | ((dt_us[j] == t) & (j < index));
-      for (int j = k + kLanes; j < end; ++j) rank -= (dt_us[j] > t);
-      __builtin_memcpy(rank_ + k, &rank, sizeof rank);
-    }
-    // Compaction without a branch to mispredict: every sample is copied
-    // (out <= k, so nothing unread is overwritten), the kept ones advance.
-    int out = 0;
-    for (int k = 0; k < count; ++k) {
-      dx[out] = dx[k];
-      dy[out] = dy[k];
-      dt_us[out] = dt_us[k];
-      out += static_cast<int>(rank_[k] < keep);
-    }
-    count = out;
-  }
+  void keep_newest_by_rank(int keep) noexcept;
 
   /// The same selection in O(count) for large windows.
   void keep_newest_by_selection(int keep) noexcept {

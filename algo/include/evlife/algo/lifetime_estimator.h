@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "evlife/algo/detail/large_page_allocator.h"
 #include "evlife/algo/event.h"
 #include "evlife/algo/lifetime_options.h"
 
@@ -57,13 +58,15 @@ class LifetimeEstimator {
   // What process() reads and writes at the new event's own pixel only, in
   // one cache line (32 bytes, aligned): the prediction made for it by a
   // neighbour's event (time and gradient of the predicted plane;
-  // t_us == kNoPrediction: none) and the velocity of the burst now here.
+  // t_us == kNoPrediction: none) and the estimate of the burst now here
+  // (inherited by its followers; lifetime 0 = none).
   struct alignas(32) PixelState {
     std::int64_t prediction_t_us;
     float prediction_gx_us_px;
     float prediction_gy_us_px;
     float burst_vx_px_s;
     float burst_vy_px_s;
+    float burst_lifetime_us;
   };
   std::size_t pixel_index(int polarity_index, int x, int y) const noexcept {
     return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(options_.sensor.height) +
@@ -89,16 +92,16 @@ class LifetimeEstimator {
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
   double min_lifetime_us_ = 0.0;  // see the constructor
-  // [polarity][y][x]. What the window gather reads for every pixel, in 16
-  // bytes (a window row of 5 pixels is one or two cache lines; on a 1280x720
-  // sensor the gather is bound by cache misses); the rest apart.
+  // [polarity][y][x]. What the window gather reads for every pixel, in 8
+  // bytes (algo/src/time_plane.h: on a 1280x720 sensor the gather is bound
+  // by cache misses); the rest apart.
   struct SurfacePixel {
-    std::int64_t t_us;            // arrival of the edge (burst) here; kNeverFired if none
-    float timing_noise_us;        // residual rms of the last accepted fit here; 0 = none
-    float burst_lifetime_us;      // estimate of the burst now here, inherited by its followers; 0 = none
+    std::int32_t t_rel;      // arrival of the edge (burst) here - epoch_us_; kNeverRel if none
+    float timing_noise_us;   // residual rms of the last accepted fit here; 0 = none
   };
-  std::vector<SurfacePixel> surface_;
-  std::vector<PixelState> pixel_state_;
+  std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
+  std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
+  std::vector<PixelState, detail::LargePageAllocator<PixelState>> pixel_state_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
