@@ -123,9 +123,7 @@ class PlaneFit {
     const double rms = residual_rms(g);
     const double norm = g.norm();
     if (rms < 0.0 || !(norm > 0.0)) return -1.0;
-    Eigen::Matrix2d a;
-    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
-        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    const Eigen::Matrix2d a = centred_scatter(lambda);
     const Eigen::Vector2d u = g / norm;
     return rms * std::sqrt(std::max(u.dot(a.inverse() * u), 0.0));
   }
@@ -134,9 +132,7 @@ class PlaneFit {
   /// Returns false when the samples do not determine g (collinear, no prior).
   bool solve(double lambda, const Eigen::Vector2d& prior, Eigen::Vector2d& g) const noexcept {
     if (n_ < 1.0) return false;
-    Eigen::Matrix2d a;
-    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
-        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    const Eigen::Matrix2d a = centred_scatter(lambda);
     const Eigen::Vector2d b(sxt_ - sx_ * st_ / n_ + lambda * prior.x(),
                             syt_ - sy_ * st_ / n_ + lambda * prior.y());
     const double det = a.determinant();
@@ -147,6 +143,14 @@ class PlaneFit {
   }
 
  private:
+  // The samples' spatial scatter about their mean, plus lambda I (the prior).
+  Eigen::Matrix2d centred_scatter(double lambda) const noexcept {
+    Eigen::Matrix2d a;
+    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
+        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    return a;
+  }
+
   // By reference: 32-byte vectors by value would change the ABI with AVX.
   template <class D, class M>
   static void mask(D& v, const M& keep) noexcept {
