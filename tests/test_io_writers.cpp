@@ -330,7 +330,8 @@ TEST_F(Writers, CsvBadRowOrHeaderIsReportedWithLine) {
 }
 
 
-// A line longer than the reader's 1 MiB buffer: an error at its offset.
+// A line longer than the reader's 1 MiB buffer: an error at its offset, the
+// event before it kept (it was lost when the error was thrown at once).
 TEST_F(Writers, CsvLineLongerThanTheBufferIsReportedAtItsOffset) {
   const std::string head = "x,y,t,p,lifetime,vx,vy,prediction_error\n1,2,10,1,5,0,0,\n";
   const std::string p = path("long.csv");
@@ -340,6 +341,8 @@ TEST_F(Writers, CsvLineLongerThanTheBufferIsReportedAtItsOffset) {
   EXPECT_EQ(r.error->event_index(), 1);
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(head.size()));
   EXPECT_NE(std::string(r.error->what()).find(": line too long"), std::string::npos) << r.error->what();
+  ASSERT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.events[0].event.t_us, 10);
 }
 
 }  // namespace

@@ -14,7 +14,9 @@ class AugmentedCsvReader final : public AugmentedEventReader {
  public:
   explicit AugmentedCsvReader(const std::string& path) : lines_(path) {
     std::string_view line;
-    if (!next_line(line) || strip_cr(line) != kAugmentedCsvHeader)
+    const bool has_line = next_line(line);
+    if (pending_) throw *pending_;
+    if (!has_line || strip_cr(line) != kAugmentedCsvHeader)
       throw ReadError(path, 0, -1,
                       "not an augmented CSV: the first line must be '" +
                           std::string(kAugmentedCsvHeader) + "'");
@@ -91,9 +93,10 @@ class AugmentedCsvReader final : public AugmentedEventReader {
   // Next line without its '\n' (valid until the next call); false at end.
   bool next_line(std::string_view& line) {
     const LineReader::Next next = lines_.peek(line);
-    if (next == LineReader::Next::too_long) {
-      throw ReadError(lines_.path(), static_cast<std::int64_t>(lines_.offset()),
-                      static_cast<std::int64_t>(index_), "line too long");
+    if (next == LineReader::Next::too_long) {  // pending: the events read before it are kept
+      pending_.emplace(lines_.path(), static_cast<std::int64_t>(lines_.offset()), static_cast<std::int64_t>(index_),
+                       "line too long");
+      return false;
     }
     if (next == LineReader::Next::end_of_file) return false;
     lines_.consume();
