@@ -107,7 +107,7 @@ TEST(WindowSamples, RefitInliersSumLikeSampleBySample) {
     a.add_inliers(w, gx, gy, tol2);
     for (int k = 0; k < w.count; ++k) {
       const float r = w.dt_us[k] - gx * w.dx[k] - gy * w.dy[k];
-      b.add_if(r * r <= tol2, w.dx[k], w.dy[k], w.dt_us[k]);
+      b.add_if(r * r <= tol2, static_cast<double>(w.dx[k]), static_cast<double>(w.dy[k]), static_cast<double>(w.dt_us[k]));
     }
     Eigen::Vector2d ga = Eigen::Vector2d::Zero(), gb = Eigen::Vector2d::Zero();
     const Eigen::Vector2d prior(3.0, -4.0);
