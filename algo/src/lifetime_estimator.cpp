@@ -36,10 +36,10 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
 // True unless max_standard_error (a share of the lifetime; 0 = no check) is
 // set and the fit's lifetime is less certain than that. Fits of <= 3 samples,
 // whose residuals say nothing, pass: they continue an edge upstream.
-bool lifetime_resolved(const detail::PlaneFit& fit, const Eigen::Vector2d& g, double lambda,
+bool lifetime_resolved(const detail::PlaneFit& fit, const Eigen::Vector2d& g, double lambda, double rms,
                        double max_standard_error) noexcept {
   if (max_standard_error <= 0.0) return true;
-  const double se_us = fit.lifetime_standard_error(g, lambda);
+  const double se_us = fit.lifetime_standard_error(g, lambda, rms);
   return se_us < 0.0 || se_us <= max_standard_error * g.norm();
 }
 
@@ -348,8 +348,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const double gx = g.x(), gy = g.y();
   const double g2 = gx * gx + gy * gy;
   const double lifetime_us = std::sqrt(g2);
+  const double rms_us = fit.residual_rms(g);  // -1: too few samples to tell
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
-      lifetime_us > options_.max_lifetime_us || !lifetime_resolved(fit, g, lambda, options_.max_lifetime_standard_error)) {
+      lifetime_us > options_.max_lifetime_us ||
+      !lifetime_resolved(fit, g, lambda, rms_us, options_.max_lifetime_standard_error)) {
     ++stats_.noise;
     stage_end(Stage::refit);
     return out;
@@ -362,7 +364,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   state.burst_lifetime_us = out.lifetime_us;
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;
-  if (const double rms = fit.residual_rms(g); rms >= 0.0) here.timing_noise_us = static_cast<float>(rms);
+  if (rms_us >= 0.0) here.timing_noise_us = static_cast<float>(rms_us);
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).

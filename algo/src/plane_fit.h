@@ -116,11 +116,10 @@ class PlaneFit {
   }
 
   /// Standard error of the lifetime |g| of a solve()d gradient g, from the
-  /// residuals about the fit (per degree of freedom) and the samples' spread
+  /// residual RMS about the fit (residual_rms(g)) and the samples' spread
   /// along g (u^T A^-1 u, A: the centred scatter matrix + lambda I, u = g/|g|).
-  /// -1 when the residuals cannot be estimated (n <= 3) or g = 0.
-  double lifetime_standard_error(const Eigen::Vector2d& g, double lambda) const noexcept {
-    const double rms = residual_rms(g);
+  /// -1 when the residuals cannot be estimated (rms < 0: n <= 3) or g = 0.
+  double lifetime_standard_error(const Eigen::Vector2d& g, double lambda, double rms) const noexcept {
     const double norm = g.norm();
     if (rms < 0.0 || !(norm > 0.0)) return -1.0;
     const Eigen::Matrix2d a = centred_scatter(lambda);

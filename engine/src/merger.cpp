@@ -15,10 +15,7 @@ Merger::Merger(PipelineState& state, AugmentedSink* sink)
 }
 
 void Merger::release(WorkBatch* batch) noexcept {
-  const auto w = static_cast<std::size_t>(batch->worker);
-  WorkerChannel& ch = *state_.workers[w];
-  if (!ch.free.try_enqueue(*free_tokens_[w], batch)) ch.free.enqueue(*free_tokens_[w], batch);
-  state_.room_returned(std::uint64_t{1} << w, ch.free.size_approx(), ch.pool.size());
+  state_.return_batch(batch, *free_tokens_[static_cast<std::size_t>(batch->worker)]);
 }
 
 void Merger::complete_order() noexcept {

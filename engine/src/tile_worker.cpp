@@ -68,9 +68,7 @@ StepResult TileWorker::step() noexcept {
   channel_.counters.events_fed.add(count);
   channel_.counters.events_owned.add(kept);
   if (kept == 0) {  // margin only: the merger will never ask for it
-    if (!channel_.free.try_enqueue(*free_token_, batch)) channel_.free.enqueue(*free_token_, batch);
-    state_.room_returned(std::uint64_t{1} << batch->worker, channel_.free.size_approx(),
-                         channel_.pool.size());
+    state_.return_batch(batch, *free_token_);
   } else if (published_early_) {
     batch->ready.store(kept, std::memory_order_release);  // the batch is the merger's now
   } else {

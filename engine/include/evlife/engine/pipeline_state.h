@@ -79,6 +79,14 @@ struct PipelineState {
   /// switches per 1024 events, on the cores the workers need); the workers
   /// still hold the other half queued, so none runs dry. Policy drop: at
   /// once (the router does not wait for room there; kept as it was).
+  /// Puts `batch` back in its worker's free pool (`token`: the caller's
+  /// producer token of that pool) and tells the router (room_returned).
+  void return_batch(WorkBatch* batch, moodycamel::ProducerToken& token) noexcept {
+    WorkerChannel& ch = *workers[static_cast<std::size_t>(batch->worker)];
+    if (!ch.free.try_enqueue(token, batch)) ch.free.enqueue(token, batch);
+    room_returned(std::uint64_t{1} << batch->worker, ch.free.size_approx(), ch.pool.size());
+  }
+
   void room_returned(std::uint64_t pool_bit, std::size_t free_now, std::size_t pool_size) noexcept {
     if (policy == OverloadPolicy::drop) {
       wake(wake_router);
