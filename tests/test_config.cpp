@@ -61,7 +61,7 @@ TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
   b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/dim-light.yaml");
   const Config c = b.build();
   LifetimeOptions expected;
-  expected.max_lifetime_standard_error = 0.25;
+  expected.max_lifetime_standard_error = 0.5;
   for_each_lifetime_option([&](const OptionInfo& info, auto access) {
     EXPECT_EQ(access(c.estimator), access(expected)) << info.key;
   });

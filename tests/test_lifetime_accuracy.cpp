@@ -375,12 +375,13 @@ struct PixelFloors {
   double lifetime_share, median_rel_error, p90_rel_error, median_dir_error_deg, noise_share;
 };
 constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
-// Issue 11 asks 0.85 / 10 % / 30 % / 5 deg / 97 % in dim light. Reached: share,
-// direction. Not reached: with latency jitter of 500 +- 300 us, edges whose
-// lifetime is below ~500 us are not resolved by the timestamps (median error
-// 30-50 % there, 5-7 % above 1 ms), and noise labelled 96.2-96.6 %. These
-// floors hold today's figures against regressions; they are not the issue's.
-constexpr PixelFloors kDimLightFloors{0.85, 0.15, 0.50, 5.0, 0.955};
+// Issue 11's dim-light floors: 0.85 / 10 % / 30 % / 5 deg / 97 %.
+constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
+// With the defaults the rotating bar's p90 is 33 %, not 30 %: with latency
+// jitter of 500 +- 300 us the fastest part of its sweep (lifetimes below
+// 400 us) is barely resolved (p90 57 % there). This floor holds that figure
+// against regressions; config/dim-light.yaml meets the issue's (below).
+constexpr PixelFloors kDimLightBarFloors{0.85, 0.10, 0.35, 5.0, 0.97};
 
 void expect_pixel_floors(const std::string& title, SceneSpec spec, std::string_view setting,
                          const PixelFloors& floors, const evlife::LifetimeOptions& options = {}) {
@@ -412,21 +413,20 @@ TEST(PixelModelAccuracy, RotatingBarDavis346NormalLight) {
 
 TEST(PixelModelAccuracy, EdgesDavis346DimLight) {
   expect_pixel_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 13, 4),
-                      "dvs-dim", kDimLightFloors);
+                      "dvs-dim", kIssueDimLightFloors);
 }
 
 TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) {
   expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
-                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kDimLightFloors);
+                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kDimLightBarFloors);
 }
 
-// Issue 11's dim-light floors, met with config/dim-light.yaml (only lifetimes
-// the timestamps resolve: standard error <= 25 % of the lifetime; the preset's
-// content is checked by Config.DimLightPresetSetsTheStandardErrorCheck).
-constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
+// Issue 11's dim-light floors, all met with config/dim-light.yaml (lifetimes
+// at least two standard errors from zero; the preset's content is checked by
+// Config.DimLightPresetSetsTheStandardErrorCheck).
 evlife::LifetimeOptions dim_light_preset() {
   evlife::LifetimeOptions o;
-  o.max_lifetime_standard_error = 0.25;
+  o.max_lifetime_standard_error = 0.5;
   return o;
 }
 

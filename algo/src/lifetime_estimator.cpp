@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "censored_refit.h"
 #include "event_rng.h"
 #include "plane_fit.h"
 #include "stage_clock.h"
@@ -288,9 +289,9 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // The floor: the sensor's timing noise, at least inlier_tolerance_us, else
   // a multiple of the residual scale the fits around this pixel observed
   // (latency jitter grows to hundreds of us in dim light).
-  const double observed_noise_us =
-      noise_count > 0 ? options_.inlier_tolerance_residual_factor * static_cast<double>(noise_sum_us) / noise_count : 0.0;
-  const double tol_floor_us = std::max(options_.inlier_tolerance_us, observed_noise_us);
+  const double timing_noise_us = noise_count > 0 ? static_cast<double>(noise_sum_us) / noise_count : 0.0;
+  const double tol_floor_us =
+      std::max(options_.inlier_tolerance_us, options_.inlier_tolerance_residual_factor * timing_noise_us);
   const auto tol_floor2 = static_cast<float>(tol_floor_us * tol_floor_us);
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
                                                  options_.inlier_tolerance_lifetime_fraction);
@@ -345,17 +346,40 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add_inliers(nb, best_gx, best_gy, best_tol2);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
-  const double gx = g.x(), gy = g.y();
-  const double g2 = gx * gx + gy * gy;
-  const double lifetime_us = std::sqrt(g2);
+  double lifetime_us = g.norm();
   const double rms_us = fit.residual_rms(g);  // -1: too few samples to tell
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
-      lifetime_us > options_.max_lifetime_us ||
-      !lifetime_resolved(fit, g, lambda, rms_us, options_.max_lifetime_standard_error)) {
+      lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
     stage_end(Stage::refit);
     return out;
   }
+  // The lifetime along the plane's direction without the samples causality
+  // censors (censored_refit.h); it must be resolved as the plane fit's is.
+  const Eigen::Vector2d u = g * (1.0 / lifetime_us);
+  detail::CensoredRefit censored;
+  if (options_.skip_censored_samples && timing_noise_us > 0.0) {
+    censored = detail::refit_without_censored(
+        nb, best_gx, best_gy, best_tol2, u.x(), u.y(), lifetime_us, options_.censoring_noise_factor * timing_noise_us,
+        lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy));
+  }
+  const double max_se = options_.max_lifetime_standard_error;
+  const bool resolved =
+      censored.refitted
+          ? max_se <= 0.0 || censored.variance_us2 <= max_se * max_se * censored.lifetime_us * censored.lifetime_us
+          : lifetime_resolved(fit, g, lambda, rms_us, max_se);
+  if (!resolved) {
+    ++stats_.noise;
+    stage_end(Stage::refit);
+    return out;
+  }
+  if (censored.refitted && std::isfinite(censored.lifetime_us) && censored.lifetime_us >= min_lifetime_us_ &&
+      censored.lifetime_us <= options_.max_lifetime_us) {
+    lifetime_us = censored.lifetime_us;
+    g = u * lifetime_us;
+  }
+  const double gx = g.x(), gy = g.y();
+  const double g2 = lifetime_us * lifetime_us;
 
   stage_end(Stage::refit);
   out.lifetime_us = static_cast<float>(lifetime_us);
