@@ -37,6 +37,19 @@ class Aedat3Writer {
       put<std::int32_t>(e.ts);
     }
   }
+  struct Special {
+    std::uint32_t type;  // libcaer's special event type (bits 1-7)
+    bool valid = true;
+  };
+  /// A special packet (type 0): libcaer's caer_special_event layout.
+  void special(const std::vector<Special>& events) {
+    packet(0, 8, 0, static_cast<std::int32_t>(events.size()));
+    std::int32_t ts = 1000;
+    for (const Special& e : events) {
+      put<std::uint32_t>((0xABCDu << 8) | (e.type << 1) | (e.valid ? 1u : 0u));
+      put<std::int32_t>(ts++);
+    }
+  }
   /// A packet of another type with `n` events of `size` zero bytes.
   void other(std::int16_t type, std::int32_t size, std::int32_t n) {
     packet(type, size, 0, n);
@@ -85,7 +98,7 @@ Aedat3Writer sample() {
   w.polarity(0, {{10, 20, true, 100}, {11, 21, false, 200, false}, {345, 259, false, 2'147'483'000}});
   w.other(3, 36, 2);    // IMU6
   w.other(2, 64, 1);    // a (tiny) frame
-  w.other(0, 8, 1);     // special (e.g. a timestamp wrap marker)
+  w.special({{0}});     // a timestamp wrap marker
   w.polarity(1, {{1, 2, true, 5}});  // after the 31-bit overflow
   return w;
 }
@@ -106,6 +119,48 @@ TEST_F(IoAedat3, PolarityPacketsWithOverflowOthersSkippedAndCounted) {
   EXPECT_EQ(r.skipped, 1u + 2u + 1u + 1u);  // invalid event, 2 IMU, 1 frame, 1 special
   // Per kind, in the order of the specification's type ids (evlife's own last).
   EXPECT_EQ(kinds_text(r), "special=1 frame=1 imu6=2 polarity-invalid=1 ");
+}
+
+TEST_F(IoAedat3, ExternalInputSpecialEventsAreTheTriggers) {
+  Aedat3Writer w;
+  w.polarity(0, {{1, 1, true, 10}});
+  // libcaer events/special.h: 2-4 EXTERNAL_INPUT_{RISING_EDGE,FALLING_EDGE,PULSE},
+  // 6-8 EXTERNAL_INPUT1_..., 9-11 EXTERNAL_INPUT2_... are triggers; 0 wrap,
+  // 1 reset, 5 row only, 12/13 the generator's edges, 14-18 APS/readout are not.
+  std::vector<Aedat3Writer::Special> specials;
+  for (std::uint32_t type = 0; type <= 18; ++type) specials.push_back({type});
+  specials.push_back({2, false});  // no valid mark: neither
+  w.special(specials);
+  w.polarity(0, {{2, 2, false, 20}});
+  w.special({{4}, {4}});
+  const ReadAll r = read_all(save("special.aedat", w.bytes()));
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 2u);  // never mixed into the events
+  EXPECT_EQ(r.triggers, 9u + 2u);
+  EXPECT_EQ(kinds_text(r), "special=10 trigger=11 special-invalid=1 ");
+  EXPECT_EQ(r.skipped, 22u);
+}
+
+TEST_F(IoAedat3, SpecialPacketFaultsKeepTheEventsBefore) {
+  Aedat3Writer w;
+  w.polarity(0, {{1, 1, true, 10}});
+  w.special({{2}, {3}});
+  std::vector<char> cut = w.bytes();
+  cut.resize(cut.size() - 5);  // inside the second special event
+  ReadAll r = read_all(save("cut_special.aedat", cut));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.triggers, 1u);
+  EXPECT_NE(std::string(r.error->what()).find("truncated AEDAT 3.1 special packet"), std::string::npos)
+      << r.error->what();
+  Aedat3Writer bad;
+  bad.polarity(0, {{1, 1, true, 10}});
+  bad.other(0, 12, 1);  // special events are 8 bytes
+  r = read_all(save("wide_special.aedat", bad.bytes()));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_NE(std::string(r.error->what()).find("special packet with 12-byte events"), std::string::npos)
+      << r.error->what();
 }
 
 TEST_F(IoAedat3, EveryOtherPacketTypeIsCountedUnderItsName) {

@@ -1,9 +1,10 @@
 // ROS 2 MCAP files (io/formats/src/mcap_*): the shared rosbag2 bags' CDR messages,
 // repackaged by the independent test-only writer tests/data/mcap/make_mcap.py
-// (chunks uncompressed / zstd / lz4, with and without summary, unchunked,
-// messages reversed inside chunks), decode to the same events as the .db3
+// (chunks uncompressed / zstd / lz4, single or several frames, with and
+// without summary, unchunked, messages reversed inside chunks), decode to the same events as the .db3
 // bags and reproduce their checksums (../shared/data/PROVENANCE.md); topics
-// and counts for `evlife info`; faults keep the events before them.
+// and counts for `evlife info`; faults (chunk, data-section and summary CRCs
+// among them) keep the events before them.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -101,6 +102,26 @@ TEST(McapContainer, MessagesReversedInsideChunksComeOutInLogTimeOrder) {
   const RosMessages got = decode_mcap(kMcap + "evt3_reversed.mcap");
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << "message " << i;
+}
+
+// A zstd or lz4 stream may hold several frames (one without its content
+// size, a skippable frame between): the same messages as one frame.
+TEST(McapContainer, ChunksOfSeveralFramesDecodeAsOneFrame) {
+  for (const char* bag : {"evt3", "mono"}) {
+    const RosMessages expected = decode_db3(kDb3.at(bag));
+    const ReadAll single = read_all(kMcap + bag + "_none.mcap");
+    ASSERT_FALSE(single.error) << single.error->what();
+    for (const char* how : {"zstd", "lz4"}) {
+      const std::string path = kMcap + bag + "_" + how + "_frames.mcap";
+      const RosMessages got = decode_mcap(path);
+      EXPECT_EQ(ros_sums(got), kRosBagSums.at(bag)) << path;
+      ASSERT_EQ(got.size(), expected.size()) << path;
+      for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same(got[i], expected[i])) << path << " message " << i;
+      const ReadAll r = read_all(path);
+      ASSERT_FALSE(r.error) << r.error->what();
+      EXPECT_TRUE(same_events(r.events, single.events)) << path;
+    }
+  }
 }
 
 // Chunks are read in file order and not merged: events going backwards stop
@@ -333,6 +354,97 @@ TEST(McapFaults, UnknownCompressionIsNamed) {
     return chunks[1];
   });
   expect_fault(f, full, "brotli.mcap", "chunk compressed with 'zbr1' (readable: none, zstd, lz4)");
+}
+
+/// The Footer's summary_start (the spec's layout: Footer = u8 op, u64 length,
+/// u64 summary_start, u64 summary_offset_start, u32 summary CRC; then magic).
+std::uint64_t summary_start(const std::vector<char>& b) {
+  std::uint64_t v = 0;
+  std::memcpy(&v, b.data() + b.size() - 8 - 29 + 9, 8);
+  return v;
+}
+
+// One byte of the Header changed after the writer computed the CRCs: no chunk
+// CRC covers it; the DataEnd's data-section CRC does. Every event is kept
+// (the fault is found at the end of the data section); a CRC of 0 is not checked.
+TEST(McapFaults, DataSectionCrcMismatchIsReportedAtTheDataEndAfterEveryEvent) {
+  const ScratchDir dir{"test_io_mcap"};
+  for (const char* bag : {"evt3", "mono"}) {
+    const ReadAll intact = read_all(kMcap + bag + "_zstd.mcap");
+    ASSERT_FALSE(intact.error) << intact.error->what();
+    const std::string path = kMcap + bag + "_zstd_datacrc.mcap";
+    const ReadAll r = read_all(path);
+    ASSERT_TRUE(r.error) << path;
+    const std::string what = r.error->what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("MCAP data section CRC mismatch"), std::string::npos) << what;
+    std::vector<char> b = bytes_of(path);
+    const std::uint64_t data_end = summary_start(b) - 13;  // DataEnd: 9-byte prefix + u32 CRC
+    ASSERT_EQ(b[data_end], 0x0F);
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(data_end)) << what;
+    EXPECT_TRUE(same_events(r.events, intact.events)) << r.events.size() << " of " << intact.events.size();
+    std::memset(b.data() + data_end + 9, 0, 4);  // CRC 0: not given
+    const std::string unchecked = dir.file(std::string(bag) + "_datacrc0.mcap");
+    write_bytes(unchecked, b);
+    const ReadAll plain = read_all(unchecked);
+    EXPECT_FALSE(plain.error) << plain.error->what();
+    EXPECT_TRUE(same_events(plain.events, intact.events));
+  }
+}
+
+// One byte of the summary (the last ChunkIndex) changed after the CRCs: the
+// summary is not trusted (topics come from a scan of the data section), every
+// event is read, then the fault names the summary's offset; CRC 0: not checked.
+TEST(McapFaults, SummaryCrcMismatchIsReportedAfterEveryEvent) {
+  const ScratchDir dir{"test_io_mcap"};
+  for (const char* bag : {"evt3", "mono"}) {
+    const ReadAll intact = read_all(kMcap + bag + "_zstd.mcap");
+    const std::string path = kMcap + bag + "_zstd_summarycrc.mcap";
+    const ReadAll r = read_all(path);
+    ASSERT_TRUE(r.error) << path;
+    const std::string what = r.error->what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("MCAP summary CRC mismatch"), std::string::npos) << what;
+    std::vector<char> b = bytes_of(path);
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(summary_start(b))) << what;
+    EXPECT_TRUE(same_events(r.events, intact.events)) << r.events.size() << " of " << intact.events.size();
+    ASSERT_EQ(r.streams.size(), intact.streams.size());  // from the scan, with the same counts
+    for (std::size_t i = 0; i < r.streams.size(); ++i) {
+      EXPECT_EQ(r.streams[i].name, intact.streams[i].name);
+      EXPECT_EQ(r.streams[i].messages, intact.streams[i].messages) << r.streams[i].name;
+    }
+    std::memset(b.data() + b.size() - 8 - 4, 0, 4);  // the Footer's summary CRC 0: not given
+    const std::string unchecked = dir.file(std::string(bag) + "_summarycrc0.mcap");
+    write_bytes(unchecked, b);
+    const ReadAll plain = read_all(unchecked);
+    EXPECT_FALSE(plain.error) << plain.error->what();
+    EXPECT_TRUE(same_events(plain.events, intact.events));
+  }
+}
+
+// A frame cut short inside a several-frame chunk is a corrupt chunk (the
+// events of the chunks before it kept), not a short read.
+TEST(McapFaults, CutFrameOfASeveralFrameChunkIsCorrupt) {
+  const ScratchDir dir{"test_io_mcap"};
+  for (const char* how : {"zstd", "lz4"}) {
+    const std::string source = std::string("evt3_") + how + "_frames.mcap";
+    const std::vector<Event> full = read_all(kMcap + source).events;
+    const std::string name = std::string("cutframe_") + how + ".mcap";
+    const Faulty f = read_damaged(dir, source, name, [](std::vector<char>& b, const auto& chunks) {
+      // Chunk content: 3 u64, u32 CRC, compression string (u32 length + chars), u64 length, frames.
+      std::uint32_t name_len = 0;
+      std::memcpy(&name_len, b.data() + chunks[2] + 9 + 28, 4);
+      const std::uint64_t length_at = chunks[2] + 9 + 28 + 4 + name_len;
+      std::uint64_t len = 0;
+      std::memcpy(&len, b.data() + length_at, 8);
+      // 8 bytes fewer: the last frame loses its end (the chunk record keeps
+      // its length; the 8 bytes become trailing content, ignored).
+      len -= 8;
+      std::memcpy(b.data() + length_at, &len, 8);
+      return chunks[2];
+    });
+    expect_fault(f, full, name, "corrupt " + std::string(how) + " chunk");
+  }
 }
 
 TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "inlier_sums.h"
 #include "window_samples.h"
 
 namespace evlife::detail {
@@ -44,20 +45,8 @@ class PlaneFit {
   /// double, so the sums can be taken four samples at a time in any order
   /// (and an exact sum is never -0, as add_if()'s never are).
   void add_inliers(const WindowSamples& nb, float gx, float gy, float tol2_us2) noexcept {
-    using L4f = WindowSamples::Lanes4f;
-    using L4i = WindowSamples::Lanes4i;
-    using L4d = double __attribute__((vector_size(32)));
-    using L4l = std::int64_t __attribute__((vector_size(32)));
-    constexpr float kExactDt = 2097152.0f;  // 2^21
-    const int end = nb.padded_count();
-    L4i small = {-1, -1, -1, -1};
-    for (int k = 0; k < end; k += WindowSamples::kLanes) {
-      L4f vt;
-      __builtin_memcpy(&vt, nb.dt_us + k, sizeof vt);
-      const L4i in_window = L4i{0, 1, 2, 3} + k < nb.count;
-      small &= (vt >= -kExactDt) | ~in_window;  // dt <= 0 always
-    }
-    if ((small[0] & small[1] & small[2] & small[3]) == 0) {
+    InlierSums s;
+    if (!exact_inlier_sums(nb, gx, gy, tol2_us2, s)) {
       for (int k = 0; k < nb.count; ++k) {
         const float r = nb.dt_us[k] - gx * nb.dx[k] - gy * nb.dy[k];
         add_if(r * r <= tol2_us2, static_cast<double>(nb.dx[k]), static_cast<double>(nb.dy[k]),
@@ -65,42 +54,16 @@ class PlaneFit {
       }
       return;
     }
-    L4d n{}, sx{}, sy{}, st{}, sxx{}, sxy{}, syy{}, sxt{}, syt{}, stt{};
-    for (int k = 0; k < end; k += WindowSamples::kLanes) {
-      L4f vx, vy, vt;
-      __builtin_memcpy(&vx, nb.dx + k, sizeof vx);
-      __builtin_memcpy(&vy, nb.dy + k, sizeof vy);
-      __builtin_memcpy(&vt, nb.dt_us + k, sizeof vt);
-      const L4f r = vt - gx * vx - gy * vy;
-      const L4i take = (r * r <= tol2_us2) & (L4i{0, 1, 2, 3} + k < nb.count);
-      const L4l keep = __builtin_convertvector(take, L4l);
-      L4d x = __builtin_convertvector(vx, L4d);
-      L4d y = __builtin_convertvector(vy, L4d);
-      L4d t = __builtin_convertvector(vt, L4d);
-      mask(x, keep);
-      mask(y, keep);
-      mask(t, keep);
-      n -= __builtin_convertvector(keep, L4d);
-      sx += x;
-      sy += y;
-      st += t;
-      sxx += x * x;
-      sxy += x * y;
-      syy += y * y;
-      sxt += x * t;
-      syt += y * t;
-      stt += t * t;
-    }
-    n_ += hsum(n);
-    sx_ += hsum(sx);
-    sy_ += hsum(sy);
-    st_ += hsum(st);
-    sxx_ += hsum(sxx);
-    sxy_ += hsum(sxy);
-    syy_ += hsum(syy);
-    sxt_ += hsum(sxt);
-    syt_ += hsum(syt);
-    stt_ += hsum(stt);
+    n_ += s.n;
+    sx_ += s.sx;
+    sy_ += s.sy;
+    st_ += s.st;
+    sxx_ += s.sxx;
+    sxy_ += s.sxy;
+    syy_ += s.syy;
+    sxt_ += s.sxt;
+    syt_ += s.syt;
+    stt_ += s.stt;
   }
 
   /// Root mean square residual of the samples about dt = c + g . dp, with c
@@ -149,17 +112,6 @@ class PlaneFit {
         sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
     return a;
   }
-
-  // By reference: 32-byte vectors by value would change the ABI with AVX.
-  template <class D, class M>
-  static void mask(D& v, const M& keep) noexcept {
-    M bits;
-    __builtin_memcpy(&bits, &v, sizeof bits);
-    bits &= keep;
-    __builtin_memcpy(&v, &bits, sizeof v);
-  }
-  template <class D>
-  static double hsum(const D& v) noexcept { return (v[0] + v[1]) + (v[2] + v[3]); }
 
   double n_ = 0, sx_ = 0, sy_ = 0, st_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0, sxt_ = 0, syt_ = 0, stt_ = 0;
 };

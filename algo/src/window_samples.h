@@ -68,8 +68,8 @@ struct WindowSamples {
 
   /// Rank counting, O(count^2) but branch-free: faster than a selection
   /// algorithm for the windows of N <= 5. Defined in window_samples.cpp
-  /// (on x86-64 also compiled for AVX2, chosen at load time: the ranks are
-  /// integers, the same whichever version runs).
+  /// (on x86-64 also an AVX2 version, chosen at load time: the ranks are
+  /// integers and the kept samples move unchanged, the same whichever runs).
   static constexpr int kRankCountingMax = 32;
   void keep_newest_by_rank(int keep) noexcept;
 

@@ -38,6 +38,7 @@
 #include "evlife/io/synthetic_scene.h"
 #include "exit_code.h"
 #include "lifetime_summary.h"
+#include "skipped_kinds_text.h"
 #include "window_frame_sink.h"
 
 namespace evlife::cli {
@@ -289,6 +290,15 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
   if (result.stats.has_time_range)
     std::fprintf(stdout, "time   : %s\n",
                  format_time_range(result.stats.first_t_us, result.stats.last_t_us).c_str());
+  // Records of the file that are not events, as `evlife process` shows them.
+  const auto* replay = dynamic_cast<const engine::ReplaySource*>(&src);
+  if (const io::EventReader* reader = replay ? replay->reader() : nullptr;
+      reader && reader->skipped_record_count() > 0) {
+    const std::string kinds = skipped_kinds_text(*reader);
+    std::fprintf(stdout, "skipped: %llu records (non-event records of the format%s%s)\n",
+                 static_cast<unsigned long long>(reader->skipped_record_count()),
+                 kinds.empty() ? "" : ": ", kinds.c_str());
+  }
   if (render_stage)
     std::fprintf(stdout, "frames : %llu %s %s\n",
                  static_cast<unsigned long long>(render_stage->frames_written()),

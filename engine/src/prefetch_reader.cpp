@@ -10,14 +10,17 @@ PrefetchReader::PrefetchReader(std::unique_ptr<io::EventReader> inner, std::size
       sensor_(inner_->sensor_size()),
       format_(inner_->format_name()),
       path_(inner_->path()),
+      streams_(inner_->streams()),
       free_(blocks, 1, 0),
       full_(blocks, 1, 0) {
   pool_.reserve(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
     pool_.push_back(std::make_unique<Block>());
     pool_.back()->events.resize(block_events);
+    pool_.back()->kinds.reserve(kMaxSkippedKinds);
     free_.enqueue(free_token_, pool_.back().get());
   }
+  kinds_.reserve(kMaxSkippedKinds);
   thread_ = std::thread([this] { run(); });
 }
 
@@ -41,6 +44,12 @@ void PrefetchReader::run() noexcept {
       b->error = std::current_exception();
     }
     b->skipped = inner_->skipped_record_count();
+    b->triggers = inner_->trigger_count();
+    if (b->skipped != inner_skipped_) {
+      inner_skipped_ = b->skipped;
+      inner_kinds_ = inner_->skipped_record_kinds();
+    }
+    b->kinds.assign(inner_kinds_.begin(), inner_kinds_.end());
     b->bytes = inner_->bytes_consumed();
     const bool last = b->count == 0;
     if (!full_.try_enqueue(full_token_, b)) full_.enqueue(full_token_, b);
@@ -61,6 +70,8 @@ std::size_t PrefetchReader::read(std::span<Event> out) {
       }
       pos_ = 0;
       skipped_ = current_->skipped;
+      triggers_ = current_->triggers;
+      kinds_.assign(current_->kinds.begin(), current_->kinds.end());
       bytes_ = current_->bytes;
     }
     if (current_->count == 0) {  // the last block, kept: every later call ends the same way

@@ -1,5 +1,6 @@
 // libFuzzer target: the MCAP reader (magic, Header, Footer and summary,
-// records, none/zstd/lz4 chunks and their CRC, CDR message decoding),
+// records, none/zstd/lz4 chunks of one or several frames, the chunk,
+// data-section and summary CRCs, CDR message decoding),
 // through open_event_reader (extension .mcap). See fuzz_event_reader.h for
 // what counts as a finding.
 #include <cstddef>

@@ -237,6 +237,13 @@ a3 += aedat3_packet(3, 36, 0, [bytes(36)] * 2)
 a3 += aedat3_packet(0, 8, 0, [struct.pack('<Ii', 0, 2000)])
 a3 += aedat3_packet(1, 8, 1, [aedat3_polarity(3, 4, True, 7)])
 put('aedat3', 'synthetic_packets.aedat', a3)
+# Special events of every type (2-4, 6-11: external inputs = triggers), one invalid.
+a3s = b'#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS346\r\n#!END-HEADER\r\n'
+a3s += aedat3_packet(1, 8, 0, [aedat3_polarity(5 + i, 6, i % 2 == 0, 100 + i) for i in range(8)])
+a3s += aedat3_packet(0, 8, 0, [struct.pack('<Ii', (0x123 << 8) | (t << 1) | 1, 200 + t) for t in range(19)] +
+                     [struct.pack('<Ii', 2 << 1, 300)])
+a3s += aedat3_packet(1, 8, 0, [aedat3_polarity(7, 8, True, 400)])
+put('aedat3', 'synthetic_special.aedat', a3s)
 
 # ---- AEDAT 2.0 from DAVIS cameras (fuzz_aedat2): DAVIS240C and DAVIS346
 # headers, DVS events (jAER packing: raw x = W-1-column, raw y = H-1-row), an

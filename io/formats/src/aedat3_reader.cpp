@@ -11,6 +11,15 @@
 // events/common.h): 0 special, 2 frame, 3 imu6, 4 imu9, 5 sample, 6 ear,
 // 7 config, 8-11 point1d-point4d, 12 spike, 13 matrix4x4; any other id is
 // counted as "unknown-type".
+// Special packets (type 0, 8-byte events: u32 data with bit 0 valid, bits
+// 1-7 the special type, bits 8-31 its data; i32 timestamp) are decoded: the
+// external-input kinds of libcaer's events/special.h are the triggers,
+// counted as "trigger" (trigger_count(), as AEDAT 2.0 external events and the
+// ROS payloads' trigger events): 2/3/4 EXTERNAL_INPUT_RISING_EDGE /
+// FALLING_EDGE / PULSE, 6/7/8 EXTERNAL_INPUT1_..., 9/10/11 EXTERNAL_INPUT2_...
+// Every other valid special event (timestamp wrap and reset, DVS row only,
+// the generator's own edges 12/13, APS frame and exposure markers, ...) is
+// counted as "special", events without the valid bit as "special-invalid".
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -26,15 +35,25 @@ namespace {
 constexpr std::string_view kMagic = "#!AER-DAT3.1";
 constexpr std::string_view kEndHeader = "#!END-HEADER";
 constexpr std::size_t kPacketHeader = 28;
+constexpr std::int16_t kSpecial = 0;
 constexpr std::int16_t kPolarity = 1;
 constexpr std::uint64_t kMaxPacketBytes = std::uint64_t{64} << 20;
 
-// Skipped kinds: index = event type id for 0..13; then two of evlife's own.
+// Skipped kinds: index = event type id for 0..13 (0: the special events that
+// are not triggers); then evlife's own.
 constexpr std::size_t kInvalidPolarity = 14;
 constexpr std::size_t kUnknownType = 15;
-constexpr std::array<std::string_view, 16> kSkippedNames{
+constexpr std::size_t kTrigger = 16;
+constexpr std::size_t kInvalidSpecial = 17;
+constexpr std::array<std::string_view, 18> kSkippedNames{
     "special", "polarity", "frame", "imu6", "imu9", "sample", "ear", "config", "point1d", "point2d",
-    "point3d", "point4d", "spike", "matrix4x4", "polarity-invalid", "unknown-type"};
+    "point3d", "point4d", "spike", "matrix4x4", "polarity-invalid", "unknown-type", "trigger",
+    "special-invalid"};
+
+/// libcaer's special event types of an external input (a trigger).
+constexpr bool is_external_input(std::uint32_t type) {
+  return (type >= 2 && type <= 4) || (type >= 6 && type <= 11);
+}
 
 class Aedat3Reader final : public EventReader {
  public:
@@ -62,6 +81,7 @@ class Aedat3Reader final : public EventReader {
   std::string_view format_name() const override { return "aedat3"; }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t skipped_record_count() const override { return skipped_.total(); }
+  std::uint64_t trigger_count() const override { return skipped_.count(kTrigger); }
   std::vector<SkippedKindCount> skipped_record_kinds() const override { return skipped_.seen(); }
   std::uint64_t bytes_consumed() const override { return offset_; }
 
@@ -107,6 +127,7 @@ class Aedat3Reader final : public EventReader {
     const std::uint64_t bytes = static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number);
     const std::uint64_t body = at + kPacketHeader;
     const std::uint64_t available = std::min<std::uint64_t>(bytes, file_.size_bytes() - std::min(body, file_.size_bytes()));
+    if (type == kSpecial) return load_special(at, size, available, bytes);
     if (type != kPolarity) {
       const bool known = type >= 0 && static_cast<std::size_t>(type) < kInvalidPolarity;
       skipped_.add(known ? static_cast<std::size_t>(type) : kUnknownType, static_cast<std::uint64_t>(number));
@@ -139,6 +160,23 @@ class Aedat3Reader final : public EventReader {
     offset_ = body + bytes;
   }
 
+  /// A special packet: every event counted as trigger, special or invalid.
+  void load_special(std::uint64_t at, std::int32_t size, std::uint64_t available, std::uint64_t bytes) {
+    if (size != 8) return fault(at, "AEDAT 3.1 special packet with " + std::to_string(size) + "-byte events (8 expected)");
+    const std::uint64_t body = at + kPacketHeader;
+    raw_.resize(available);
+    file_.read_at(body, std::as_writable_bytes(std::span(raw_)));
+    const std::size_t whole = available / 8;
+    for (std::size_t i = 0; i < whole; ++i) {
+      std::uint32_t data = 0;
+      std::memcpy(&data, raw_.data() + 8 * i, 4);
+      if ((data & 1u) == 0) skipped_.add(kInvalidSpecial);
+      else skipped_.add(is_external_input((data >> 1) & 0x7Fu) ? kTrigger : 0);
+    }
+    if (available < bytes) return fault(body + whole * 8, "truncated AEDAT 3.1 special packet");
+    offset_ = body + bytes;
+  }
+
   InputFile file_;
   std::uint64_t offset_ = 0;
   std::vector<std::uint8_t> raw_;
@@ -161,8 +199,9 @@ std::unique_ptr<EventReader> open_aedat3(const std::string& path) { return std::
 }  // namespace
 
 const ReaderFormat aedat3_format{"aedat3",
-                                 "iniVation cAER AEDAT 3.1 ('#!AER-DAT3.1'): polarity packets; frames, "
-                                 "IMU, special and other packets skipped and counted per kind",
+                                 "iniVation cAER AEDAT 3.1 ('#!AER-DAT3.1'): polarity packets; external-input "
+                                 "special events counted as triggers; frames, IMU, other special events "
+                                 "and other packets skipped and counted per kind",
                                  &sniff_aedat3, &open_aedat3};
 
 }  // namespace evlife::io::detail

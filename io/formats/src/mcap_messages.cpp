@@ -54,13 +54,54 @@ McapMessages::McapMessages(const std::string& path) : file_(path) {
     if (len == kFooterContent && parse_footer(std::span(tail).subspan(kRecordPrefix, kFooterContent), footer)) {
       has_footer_ = true;
       data_limit_ = footer_at;
+      const bool summary_ok = summary_crc_matches(footer, footer_at);
       if (footer.summary_start >= data_start_ && footer.summary_start < footer_at) {
         data_limit_ = footer.summary_start;
-        read_summary(footer, footer_at);
+        if (summary_ok) read_summary(footer, footer_at);
       }
     }
   }
+  // The DataEnd record ends the data section: no CRC to compute when it says 0.
+  std::array<std::uint8_t, kRecordPrefix + kDataEndContent> end{};
+  if (has_footer_ && data_limit_ >= data_start_ + end.size() &&
+      file_.read_at(data_limit_ - end.size(), std::as_writable_bytes(std::span(end))) == end.size() &&
+      end[0] == kDataEnd) {
+    std::uint64_t len = 0;
+    std::uint32_t crc = 0;
+    std::memcpy(&len, end.data() + 1, 8);
+    std::memcpy(&crc, end.data() + kRecordPrefix, 4);
+    if (len == kDataEndContent && crc == 0) data_crc_wanted_ = false;
+  }
   if (topics_.empty()) scan_data_section();
+}
+
+std::uint32_t McapMessages::crc_of_file(std::uint64_t from, std::uint64_t to, std::uint32_t crc) {
+  scratch_.resize(1 << 16);
+  while (from < to) {
+    const std::size_t k = static_cast<std::size_t>(std::min<std::uint64_t>(to - from, scratch_.size()));
+    const auto piece = std::span(scratch_).first(k);
+    if (file_.read_at(from, std::as_writable_bytes(piece)) != k) fail(from, "MCAP file truncated");
+    crc = crc32_update(crc, piece);
+    from += k;
+  }
+  return crc;
+}
+
+bool McapMessages::summary_crc_matches(const Footer& footer, std::uint64_t footer_at) {
+  if (footer.summary_crc == 0) return true;
+  // From the summary's start (the Footer's when there is none) through the
+  // Footer's summary_offset_start field.
+  const std::uint64_t from = footer.summary_start != 0 ? footer.summary_start : footer_at;
+  if (from < data_start_ || from > footer_at) return true;  // no summary to trust anyway
+  const std::uint32_t crc = crc_of_file(from, footer_at + kFooterCrcCovered, 0);
+  if (crc == footer.summary_crc) return true;
+  summary_fault_.emplace(file_.path(), static_cast<std::int64_t>(from),
+                         "MCAP summary CRC mismatch (CRC-32 of bytes " + std::to_string(from) + ".." +
+                             std::to_string(footer_at + kFooterCrcCovered) + " is " + std::to_string(crc) +
+                             ", the Footer says " + std::to_string(footer.summary_crc) +
+                             "): the summary section at this offset is corrupt; its topics and counts "
+                             "were not used");
+  return false;
 }
 
 void McapMessages::read_summary(const Footer& footer, std::uint64_t footer_at) {
@@ -145,7 +186,7 @@ void McapMessages::build_topics(const std::map<std::uint16_t, std::uint64_t>& co
   }
 }
 
-bool McapMessages::next_unit(std::uint64_t& pos, Unit& u) {
+bool McapMessages::next_unit(std::uint64_t& pos, Unit& u, std::uint32_t* crc) {
   if (pos >= data_limit_) {
     if (!has_footer_) fail(pos, "MCAP file ends without its DataEnd and Footer records (truncated)");
     return false;
@@ -162,14 +203,30 @@ bool McapMessages::next_unit(std::uint64_t& pos, Unit& u) {
   if (len > data_limit_ - pos - kRecordPrefix)
     fail(pos, "MCAP record (opcode " + hex(u.op) + ") of " + std::to_string(len) + " bytes runs past the " +
                   (has_footer_ ? "data section" : "end of the file (truncated)"));
+  if (u.op == kDataEnd && crc != nullptr) {
+    std::array<std::uint8_t, kDataEndContent> content{};
+    if (len < content.size() ||
+        file_.read_at(pos + kRecordPrefix, std::as_writable_bytes(std::span(content))) != content.size())
+      fail(u.at, "corrupt MCAP DataEnd record");
+    std::uint32_t expected = 0;
+    std::memcpy(&expected, content.data(), 4);
+    if (expected != 0 && expected != *crc)
+      fail(u.at, "MCAP data section CRC mismatch (CRC-32 of bytes 0.." + std::to_string(u.at) + " is " +
+                     std::to_string(*crc) + ", the DataEnd record at this offset says " +
+                     std::to_string(expected) + "): the data section is corrupt");
+  }
   pos += kRecordPrefix + len;
   if (u.op == kDataEnd || u.op == kFooter) return false;
-  if (u.op != kSchema && u.op != kChannel && u.op != kMessage && u.op != kChunk) return true;  // skipped
+  if (u.op != kSchema && u.op != kChannel && u.op != kMessage && u.op != kChunk) {  // skipped
+    if (crc != nullptr) *crc = crc_of_file(u.at, pos, *crc);
+    return true;
+  }
   if (len > kMaxRecordBytes)
     fail(u.at, "MCAP record of " + std::to_string(len) + " bytes, over this reader's limit");
   record_.resize(static_cast<std::size_t>(len));
   if (file_.read_at(u.at + kRecordPrefix, std::as_writable_bytes(std::span(record_))) != record_.size())
     fail(u.at, "MCAP file truncated inside a record");
+  if (crc != nullptr) *crc = crc32_update(crc32_update(*crc, prefix), record_);
   u.content = record_;
   if (u.op == kChunk) {
     Chunk c;
@@ -189,6 +246,7 @@ void McapMessages::select(const std::string& name) {
   pending_next_ = 0;
   chunk_fault_.reset();
   next_index_ = 0;
+  if (data_crc_wanted_) data_crc_ = crc_of_file(0, data_start_, 0);  // magic and Header
 }
 
 bool McapMessages::wanted(std::uint16_t channel_id) const {
@@ -231,8 +289,9 @@ bool McapMessages::next(Message& m) {
     }
     if (chunk_fault_) throw *chunk_fault_;
     Unit u;
-    if (!next_unit(pos_, u)) {
+    if (!next_unit(pos_, u, data_crc_wanted_ ? &data_crc_ : nullptr)) {
       ended_ = true;
+      if (summary_fault_) throw *summary_fault_;  // after every event
       return false;
     }
     if (u.op == kChunk) {

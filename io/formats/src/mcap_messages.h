@@ -4,6 +4,12 @@
 // one; otherwise (no summary, no statistics, or a truncated file) from a scan
 // of the data section at open that stops quietly at the first fault, which
 // next() reports in its turn.
+// CRCs: a chunk's records CRC (when non-zero) as each chunk is read; the
+// DataEnd record's data-section CRC (when non-zero) as the stream reaches it,
+// over every byte read before it; the Footer's summary CRC (when non-zero) at
+// open: on a mismatch the summary is not used (the data section is scanned)
+// and the fault is raised at the end of the stream. Each fault names the file
+// and the byte offset of the record at fault; the events before it are kept.
 // ORDER: chunks and unchunked messages in file order (writers append chunks
 // as time advances); inside a chunk, the topic's messages in log-time order
 // (stable sort). Overlapping chunks are not merged: events that then go
@@ -59,7 +65,13 @@ class McapMessages {
     std::span<const std::uint8_t> content;  ///< a chunk's decompressed records
   };
   /// The next unit from `pos`; false at DataEnd / the summary / the Footer.
-  bool next_unit(std::uint64_t& pos, Unit& u);
+  /// With `crc`: every byte passed is added to it, and a non-zero DataEnd
+  /// CRC is checked against it.
+  bool next_unit(std::uint64_t& pos, Unit& u, std::uint32_t* crc = nullptr);
+  /// `crc` continued over the file's bytes [from, to).
+  std::uint32_t crc_of_file(std::uint64_t from, std::uint64_t to, std::uint32_t crc);
+  /// False when the Footer states a summary CRC that the bytes do not match.
+  bool summary_crc_matches(const Footer& footer, std::uint64_t footer_at);
   [[noreturn]] void fail(std::uint64_t at, const std::string& what) const;
   void read_summary(const Footer& footer, std::uint64_t footer_at);
   void scan_data_section();
@@ -91,6 +103,10 @@ class McapMessages {
   std::size_t pending_next_ = 0;
   std::uint64_t chunk_at_ = 0;
   std::optional<ros::ContainerFault> chunk_fault_;  ///< raised once pending_ is delivered
+  std::optional<ros::ContainerFault> summary_fault_;  ///< raised at the end of the stream
+  bool data_crc_wanted_ = true;  ///< false when the DataEnd found at open says 0
+  std::uint32_t data_crc_ = 0;   ///< of the bytes streamed so far
+  std::vector<std::uint8_t> scratch_;  ///< for CRCs of records not otherwise read
   std::uint64_t next_index_ = 0;
 };
 

@@ -58,7 +58,7 @@ std::unique_ptr<EventReader> open_mcap(const std::string& path, const ReaderOpti
 
 const ReaderFormat mcap_format{
     "mcap",
-    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CDR messages): event_camera_msgs/EventPacket "
+    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages): event_camera_msgs/EventPacket "
     "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
     &sniff_mcap, nullptr, &open_mcap};
 

@@ -4,6 +4,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -125,11 +126,25 @@ std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uin
     if (c.records.size() != n)
       return "uncompressed chunk holds " + std::to_string(c.records.size()) + " bytes, its header says " + size;
     out.assign(c.records.begin(), c.records.end());
+  } else if (c.records.empty()) {  // no frame at all: nothing inside
+    if (n != 0) return "corrupt " + c.compression + " chunk (no data for its " + size + " bytes)";
+    out.clear();
   } else if (c.compression == "zstd") {
-    const unsigned long long declared = ZSTD_getFrameContentSize(c.records.data(), c.records.size());
-    if (declared == ZSTD_CONTENTSIZE_ERROR) return "corrupt zstd chunk (not a zstd frame)";
-    if (declared != ZSTD_CONTENTSIZE_UNKNOWN && declared != c.uncompressed_size)
-      return "corrupt zstd chunk (frame of " + std::to_string(declared) + " bytes, header says " + size + ")";
+    // A zstd stream may hold several frames (and skippable frames): their
+    // declared sizes must add up to the chunk's, when every frame states one.
+    std::uint64_t declared = 0;
+    bool all_declared = true;
+    for (std::size_t at = 0; at < c.records.size();) {
+      const std::size_t frame = ZSTD_findFrameCompressedSize(c.records.data() + at, c.records.size() - at);
+      const unsigned long long content = ZSTD_getFrameContentSize(c.records.data() + at, c.records.size() - at);
+      if (ZSTD_isError(frame) || content == ZSTD_CONTENTSIZE_ERROR)
+        return "corrupt zstd chunk (no valid zstd frame at byte " + std::to_string(at) + " of its data)";
+      if (content == ZSTD_CONTENTSIZE_UNKNOWN) all_declared = false;
+      else declared += std::min<unsigned long long>(content, kMaxChunkBytes + 1);  // no overflow
+      at += frame;
+    }
+    if (all_declared && declared != c.uncompressed_size)
+      return "corrupt zstd chunk (frames of " + std::to_string(declared) + " bytes, header says " + size + ")";
     out.resize(n);
     const std::size_t r = ZSTD_decompress(out.data(), n, c.records.data(), c.records.size());
     if (ZSTD_isError(r) || r != n)
@@ -141,25 +156,38 @@ std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uin
     out.resize(n);
     LZ4F_dctx* ctx = nullptr;
     if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) return "lz4: out of memory";
-    std::size_t out_len = n;
-    std::size_t in_len = c.records.size();
-    const std::size_t r = LZ4F_decompress(ctx, out.data(), &out_len, c.records.data(), &in_len, nullptr);
+    // An LZ4 frame stream may hold several frames (and skippable frames):
+    // after a frame ends (LZ4F_decompress returns 0) the context starts the next.
+    std::size_t in_at = 0, out_at = 0, r = 0;
+    while (in_at < c.records.size()) {
+      std::size_t out_len = n - out_at;
+      std::size_t in_len = c.records.size() - in_at;
+      r = LZ4F_decompress(ctx, out.data() + out_at, &out_len, c.records.data() + in_at, &in_len, nullptr);
+      if (LZ4F_isError(r) || (in_len == 0 && out_len == 0)) break;  // an error, or the output is full
+      in_at += in_len;
+      out_at += out_len;
+    }
     LZ4F_freeDecompressionContext(ctx);
-    if (LZ4F_isError(r) || r != 0 || out_len != n)
+    if (LZ4F_isError(r) || r != 0 || in_at != c.records.size() || out_at != n)
       return "corrupt lz4 chunk (does not decompress to its " + size + " bytes)";
   }
   if (c.uncompressed_crc != 0) {
-    uLong crc = crc32(0L, Z_NULL, 0);
-    for (std::size_t at = 0; at < out.size();) {  // crc32 takes uInt lengths
-      const std::size_t k = std::min<std::size_t>(out.size() - at, std::numeric_limits<uInt>::max());
-      crc = crc32(crc, out.data() + at, static_cast<uInt>(k));
-      at += k;
-    }
-    if (static_cast<std::uint32_t>(crc) != c.uncompressed_crc)
+    const std::uint32_t crc = crc32_update(0, out);
+    if (crc != c.uncompressed_crc)
       return "chunk CRC mismatch (records CRC-32 " + std::to_string(crc) + ", header says " +
              std::to_string(c.uncompressed_crc) + ")";
   }
   return std::nullopt;
+}
+
+std::uint32_t crc32_update(std::uint32_t crc, std::span<const std::uint8_t> bytes) {
+  uLong c = crc;
+  for (std::size_t at = 0; at < bytes.size();) {  // crc32 takes uInt lengths
+    const std::size_t k = std::min<std::size_t>(bytes.size() - at, std::numeric_limits<uInt>::max());
+    c = crc32(c, bytes.data() + at, static_cast<uInt>(k));
+    at += k;
+  }
+  return static_cast<std::uint32_t>(c);
 }
 
 }  // namespace evlife::io::mcap

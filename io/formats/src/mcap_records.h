@@ -94,7 +94,18 @@ struct Record {
 std::optional<Record> record_at(std::span<const std::uint8_t> bytes, std::size_t pos);
 
 /// Decompresses a chunk's records into `out` (resized to uncompressed_size)
-/// and checks the CRC when given. Returns what is wrong, or nullopt.
+/// and checks the CRC when given. Returns what is wrong, or nullopt. A zstd
+/// or lz4 chunk may hold several concatenated frames (and skippable frames).
 std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uint8_t>& out);
+
+/// The CRC-32 (zlib's, as MCAP uses) of `bytes` continued from `crc` (0 to start).
+std::uint32_t crc32_update(std::uint32_t crc, std::span<const std::uint8_t> bytes);
+
+/// The record sizes of the CRC-checked ends of a file: DataEnd (u32 data
+/// section CRC: of every byte from the file's start to the DataEnd record;
+/// 0 = not given) and the Footer's fields the summary CRC covers (from the
+/// summary's start through summary_offset_start; 0 = not given).
+inline constexpr std::size_t kDataEndContent = 4;
+inline constexpr std::size_t kFooterCrcCovered = kRecordPrefix + 16;
 
 }  // namespace evlife::io::mcap

@@ -11,9 +11,17 @@ Writes into OUT_DIR:
       records after each chunk, DataEnd, a summary (Schema, Channel, Statistics, ChunkIndex) and
       the Footer; small chunks so that each file has several. The mono files also carry a
       std_msgs/msg/String topic (/chatter) that is not events, interleaved with the events.
-  mono_unchunked.mcap  messages as top-level records, no summary (Footer summary_start = 0).
+  mono_unchunked.mcap  messages as top-level records, no summary (Footer summary_start = 0), and
+      no data-section or summary CRC (0: not given); every other file states both.
   evt3_reversed.mcap   zstd; inside each chunk the messages are written in reverse log-time order.
   libcaer_swapped.mcap zstd; messages 20-39 written before messages 0-19 (chunks out of time order).
+  {evt3,mono}_{zstd,lz4}_frames.mcap  each chunk compressed as three concatenated frames (the
+      second without its content size; lz4: no stored size), with a skippable frame between
+      the second and the third.
+  {evt3,mono}_zstd_datacrc.mcap  one byte of the Header's library string changed after the CRCs
+      were computed: only the DataEnd's data-section CRC can tell.
+  {evt3,mono}_zstd_summarycrc.mcap  one byte of the last ChunkIndex record (in the summary)
+      changed: only the Footer's summary CRC can tell.
 Deterministic. Needs Debian's python3-zstandard and python3-lz4.
 """
 import os
@@ -69,7 +77,17 @@ def with_chatter(messages):
     return out
 
 
-def compress(data, how):
+def compress(data, how, frames=False):
+    if frames:  # three frames, a skippable frame before the third
+        a, b = len(data) // 3, 2 * len(data) // 3
+        parts = [data[:a], data[a:b], data[b:]]
+        skippable = struct.pack('<II', 0x184D2A50, 5) + b'skip!'  # the same magic range in zstd and lz4
+        if how == 'zstd':
+            return (zstandard.ZstdCompressor(level=3).compress(parts[0]) +
+                    zstandard.ZstdCompressor(level=3, write_content_size=False).compress(parts[1]) +
+                    skippable + zstandard.ZstdCompressor(level=3).compress(parts[2]))
+        return (lz4.frame.compress(parts[0]) + lz4.frame.compress(parts[1], store_size=False) +
+                skippable + lz4.frame.compress(parts[2]))
     if how == 'zstd':
         return zstandard.ZstdCompressor(level=3).compress(data)
     if how == 'lz4':
@@ -78,9 +96,11 @@ def compress(data, how):
 
 
 class Writer:
-    def __init__(self, compression, chunk_size, chunked=True, summary=True, reverse=False):
+    def __init__(self, compression, chunk_size, chunked=True, summary=True, reverse=False, crc=True,
+                 frames=False):
         self.compression, self.chunk_size = compression, chunk_size
         self.chunked, self.summary, self.reverse = chunked, summary, reverse
+        self.crc, self.frames = crc, frames
         self.out = bytearray(MAGIC + record(HEADER, string('ros2') + string('evlife make_mcap.py')))
         self.schemas, self.channels = {}, {}  # type -> schema id, topic -> (channel id, schema id)
         self.counts, self.chunk_indexes = {}, []
@@ -129,7 +149,7 @@ class Writer:
                 index.setdefault(cid, []).append((t, len(records)))
             records += r
         times = [t for t, _, _ in msgs]
-        body = compress(bytes(records), self.compression)
+        body = compress(bytes(records), self.compression, self.frames)
         chunk_at = len(self.out)
         self.out += record(CHUNK, struct.pack('<QQQI', min(times), max(times), len(records),
                                               zlib.crc32(records)) + string(self.compression) +
@@ -147,7 +167,9 @@ class Writer:
 
     def finish(self):
         self.flush()
-        self.out += record(DATA_END, struct.pack('<I', 0))
+        # Data section CRC: every byte from the file's start to the DataEnd record.
+        self.data_end_at = len(self.out)
+        self.out += record(DATA_END, struct.pack('<I', zlib.crc32(self.out) if self.crc else 0))
         summary_start = 0
         if self.summary:
             summary_start = len(self.out)
@@ -161,16 +183,33 @@ class Writer:
                                                        min(self.times), max(self.times)) + prefixed(counts))
             for ci in self.chunk_indexes:
                 self.out += ci
-        self.out += record(FOOTER, struct.pack('<QQI', summary_start, 0, 0)) + MAGIC
+        # Summary CRC: from the summary's start (the Footer's without one) through the Footer's
+        # summary_offset_start field.
+        self.footer_at = len(self.out)
+        footer = struct.pack('<BQQQ', FOOTER, 20, summary_start, 0)
+        covered = self.out[summary_start if summary_start else self.footer_at:] + footer
+        self.out += footer + struct.pack('<I', zlib.crc32(covered) if self.crc else 0) + MAGIC
         return bytes(self.out)
 
 
-def write(path, messages, **options):
+def write(path, messages, flip=None, **options):
+    """flip(writer) -> offset of one byte to invert after the CRCs were computed."""
     w = Writer(**options)
     for m in messages:
         w.add(*m)
+    data = bytearray(w.finish())
+    if flip:
+        data[flip(w)] ^= 0xFF
     with open(path, 'wb') as f:
-        f.write(w.finish())
+        f.write(data)
+
+
+def header_byte(w):
+    return len(MAGIC) + 9 + 4 + 4 + 4 + 3  # inside the library string 'evlife make_mcap.py'
+
+
+def last_chunk_index_byte(w):
+    return w.footer_at - 1  # the high byte of the last ChunkIndex's uncompressed_size
 
 
 def main():
@@ -184,9 +223,17 @@ def main():
         for how in ('none', 'zstd', 'lz4'):
             write(os.path.join(out_dir, '%s_%s.mcap' % (name, how)), messages,
                   compression='' if how == 'none' else how, chunk_size=chunk_size)
+        if name in ('evt3', 'mono'):
+            for how in ('zstd', 'lz4'):
+                write(os.path.join(out_dir, '%s_%s_frames.mcap' % (name, how)), messages, compression=how,
+                      chunk_size=chunk_size, frames=True)
+            write(os.path.join(out_dir, '%s_zstd_datacrc.mcap' % name), messages, flip=header_byte,
+                  compression='zstd', chunk_size=chunk_size)
+            write(os.path.join(out_dir, '%s_zstd_summarycrc.mcap' % name), messages, flip=last_chunk_index_byte,
+                  compression='zstd', chunk_size=chunk_size)
         if name == 'mono':
             write(os.path.join(out_dir, 'mono_unchunked.mcap'), messages, compression='', chunk_size=0,
-                  chunked=False, summary=False)
+                  chunked=False, summary=False, crc=False)
         if name == 'libcaer':
             write(os.path.join(out_dir, 'libcaer_swapped.mcap'), messages[20:40] + messages[:20] + messages[40:],
                   compression='zstd', chunk_size=chunk_size)

@@ -12,6 +12,11 @@ endforeach()
 foreach(f mono_unchunked evt3_reversed libcaer_swapped)
   list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${f}.mcap)
 endforeach()
+foreach(bag evt3 mono)
+  foreach(f zstd_frames lz4_frames zstd_datacrc zstd_summarycrc)
+    list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${bag}_${f}.mcap)
+  endforeach()
+endforeach()
 add_custom_command(
   OUTPUT ${outputs}
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/make_mcap.py ${EVLIFE_MCAP_TEST_DIR} ${EVLIFE_SHARED_DATA_DIR}

@@ -36,9 +36,18 @@ class PrefetchReader final : public io::EventReader {
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return format_; }
   const std::string& path() const override { return path_; }
-  /// As of the events returned so far.
+  /// The inner reader's counters as of the events returned so far (every
+  /// skipped record is shown, whichever reader wraps it).
   std::uint64_t skipped_record_count() const override { return skipped_; }
+  std::uint64_t trigger_count() const override { return triggers_; }
+  std::vector<io::SkippedKindCount> skipped_record_kinds() const override { return kinds_; }
+  /// As the inner reader stated them when this was built.
+  std::vector<io::ContainerStream> streams() const override { return streams_; }
   std::uint64_t bytes_consumed() const override { return bytes_; }
+
+  /// Kinds of skipped records a block carries without allocating (the
+  /// formats have at most 16; more are still carried, allocating).
+  static constexpr std::size_t kMaxSkippedKinds = 32;
 
  private:
   struct Block {
@@ -46,6 +55,8 @@ class PrefetchReader final : public io::EventReader {
     std::size_t count = 0;        // 0: end of stream or error, nothing follows
     std::exception_ptr error;     // the inner reader's, when it threw
     std::uint64_t skipped = 0;    // inner counters after this block
+    std::uint64_t triggers = 0;
+    std::vector<io::SkippedKindCount> kinds;  // capacity kMaxSkippedKinds, reserved once
     std::uint64_t bytes = 0;
   };
   void run() noexcept;  // the read-ahead thread
@@ -54,6 +65,7 @@ class PrefetchReader final : public io::EventReader {
   std::optional<SensorSize> sensor_;
   std::string format_;
   std::string path_;
+  std::vector<io::ContainerStream> streams_;
   std::vector<std::unique_ptr<Block>> pool_;
   moodycamel::ConcurrentQueue<Block*> free_;  // consumer -> read-ahead thread
   moodycamel::ConcurrentQueue<Block*> full_;  // read-ahead thread -> consumer
@@ -66,7 +78,13 @@ class PrefetchReader final : public io::EventReader {
   Block* current_ = nullptr;
   std::size_t pos_ = 0;
   std::uint64_t skipped_ = 0;
+  std::uint64_t triggers_ = 0;
+  std::vector<io::SkippedKindCount> kinds_;  // reserved: copying a block's never allocates
   std::uint64_t bytes_ = 0;
+  // The read-ahead thread's: the inner reader's kinds, asked again only when
+  // its skipped count changed (the one allocation, on that thread).
+  std::uint64_t inner_skipped_ = 0;
+  std::vector<io::SkippedKindCount> inner_kinds_;
   std::thread thread_;  // last: starts after everything above exists
 };
 

@@ -62,6 +62,10 @@ class ReplaySource final : public EventSource {
   /// the first pull().
   void set_packet_us(std::int64_t packet_us) noexcept { packet_ns_ = packet_us * 1000; }
 
+  /// The reader replayed (its skipped-record counts for the summary); null
+  /// for a memory replay. Not to be read while the engine runs.
+  const io::EventReader* reader() const noexcept { return reader_.get(); }
+
  private:
   ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize sensor, double speed,
                SourceKind kind);
