@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -138,6 +139,7 @@ TEST(RealRecordings, StripesFarNearLifetimeRatioIsTheDepthRatio) {
   if (out.empty()) GTEST_SKIP() << "shared data not found";
   const auto [far, near] = stripes_depth_bands(out);
   const double ratio = median(far) / median(near);
+  std::cout << "stripes.mat: far " << median(far) << " us, near " << median(near) << " us, ratio " << ratio << "\n";
   EXPECT_GE(ratio, 1.8);
   EXPECT_LE(ratio, 2.2);
 }
@@ -156,6 +158,7 @@ TEST(RealRecordings, SupportCriterionHoldsForEveryWindowSize) {
     EXPECT_LE(share, 0.92) << "N = " << n << ": noise passes as edges";  // measured 0.87 / 0.80 / 0.77
     const auto [far, near] = stripes_depth_bands(out);
     const double ratio = median(far) / median(near);
+    std::cout << "stripes.mat, N = " << n << ": far/near " << ratio << "\n";
     EXPECT_GE(ratio, 1.7) << "N = " << n;
     EXPECT_LE(ratio, 2.2) << "N = " << n;
   }
@@ -206,6 +209,7 @@ TEST(RealRecordings, Evt2SpotLifetimeIsResolvedNotCollapsed) {
   const int half_window_px = defaults.window_size / 2;  // integer: the window's half-width
   const double resolvable_us = defaults.inlier_tolerance_us / half_window_px;
   EXPECT_GE(*std::min_element(lifetimes.begin(), lifetimes.end()), resolvable_us);
+  std::cout << "evt2_sample.raw: median lifetime " << median(lifetimes) << " us\n";
   EXPECT_GE(median(lifetimes), 45.0);
   EXPECT_LE(median(lifetimes), 180.0);
 }

@@ -147,12 +147,12 @@ TEST(CensoredRefit, TakesTheUncensoredInliersLikeAPlainLoop) {
     if (lifetime == 0.0) continue;
     const double ux = static_cast<double>(gx) / lifetime, uy = static_cast<double>(gy) / lifetime, censor = static_cast<double>(rng() % 300);
     const double lambda = trial % 2 == 0 ? 0.0 : 3.0, prior = 250.0;
-    const CensoredRefit got = refit_without_censored(w, gx, gy, tol2, ux, uy, lifetime, censor, lambda, prior);
+    const CensoredRefit got = refit_without_censored(w, gx, gy, tol2, ux, uy, lifetime, censor, lambda, prior, 0.0);
     double n = 1, ss = 0, st = 0, sss = 0, sst = 0, stt = 0;
     for (int k = 0; k < w.count; ++k) {
       const float r = w.dt_us[k] - gx * w.dx[k] - gy * w.dy[k];
       const float s = static_cast<float>(ux) * w.dx[k] + static_cast<float>(uy) * w.dy[k];
-      if (!(r * r <= tol2) || s > static_cast<float>(-censor / lifetime)) continue;
+      if (!(r * r <= tol2) || s * static_cast<float>(lifetime) > static_cast<float>(-censor)) continue;
       const double sd = s, t = w.dt_us[k];
       n += 1;
       ss += sd;
@@ -162,7 +162,7 @@ TEST(CensoredRefit, TakesTheUncensoredInliersLikeAPlainLoop) {
       stt += t * t;
     }
     const double spread = sss - ss * ss / n;
-    ASSERT_EQ(got.refitted, spread >= 1.0) << "trial " << trial;
+    ASSERT_EQ(got.refitted, n * sss - ss * ss >= n) << "trial " << trial;
     if (!got.refitted) continue;
     ++refitted;
     const double want = (sst - ss * st / n + lambda * prior) / (spread + lambda);
@@ -206,7 +206,7 @@ TEST(CensoredRefit, RemovesMostOfTheBiasThatCausalityCausesInDimLight) {
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
     if (!fit.solve(0.0, Eigen::Vector2d::Zero(), g)) continue;
     const CensoredRefit c = refit_without_censored(w, static_cast<float>(kLifetimeUs), 0.0f, 1e12f, 1.0, 0.0,
-                                                   g.x(), 300.0, 0.0, 0.0);
+                                                   g.x(), 300.0, 0.0, 0.0, 0.0);
     if (!c.refitted) continue;
     plane_sum += g.x() - kLifetimeUs;
     censored_sum += c.lifetime_us - kLifetimeUs;

@@ -8,8 +8,8 @@ namespace evlife::detail {
 __attribute__((target_clones("avx2", "default")))
 #endif
 CensoredRefit refit_without_censored(const WindowSamples& nb, float gx, float gy, float tol2_us2, double ux, double uy,
-                                     double lifetime_us, double censor_us, double lambda,
-                                     double prior_lifetime_us) noexcept {
+                                     double lifetime_us, double censor_us, double lambda, double prior_lifetime_us,
+                                     double max_share) noexcept {
   // Less than this sum of squares, px^2, along the motion: the samples left
   // do not determine the slope (one row across the motion, or none).
   constexpr double kMinSpreadPx2 = 1.0;
@@ -22,7 +22,7 @@ CensoredRefit refit_without_censored(const WindowSamples& nb, float gx, float gy
   // sums in double. The new event is s = 0, dt = 0.
   L4d n{1.0, 0.0, 0.0, 0.0}, ss{}, st{}, sss{}, sst{}, stt{};
   const auto fux = static_cast<float>(ux), fuy = static_cast<float>(uy);
-  const auto limit = static_cast<float>(-censor_us / lifetime_us);  // s at most this: censor_us before the new event
+  const auto tau = static_cast<float>(lifetime_us), limit = static_cast<float>(-censor_us);
   const L4f zero = {}, one = {1.0f, 1.0f, 1.0f, 1.0f};
   for (int k = 0; k < nb.padded_count(); k += WindowSamples::kLanes) {
     L4f vx, vy, vt;
@@ -31,7 +31,7 @@ CensoredRefit refit_without_censored(const WindowSamples& nb, float gx, float gy
     __builtin_memcpy(&vt, nb.dt_us + k, sizeof vt);
     const L4f r = vt - gx * vx - gy * vy;  // the test of WindowSamples::support()
     const L4f s_all = fux * vx + fuy * vy;
-    const L4i take = (r * r <= tol2_us2) & (s_all <= limit) & (L4i{0, 1, 2, 3} + k < nb.count);
+    const L4i take = (r * r <= tol2_us2) & (s_all * tau <= limit) & (L4i{0, 1, 2, 3} + k < nb.count);
     // Selected: the padding's dt is +inf, and 0 * inf is no zero.
     const L4d s = __builtin_convertvector(take ? s_all : zero, L4d);
     const L4d t = __builtin_convertvector(take ? vt : zero, L4d);
@@ -44,7 +44,7 @@ CensoredRefit refit_without_censored(const WindowSamples& nb, float gx, float gy
   }
   const auto sum = [](const L4d& v) { return (v[0] + v[1]) + (v[2] + v[3]); };
   return finish_censored_refit(sum(n), sum(ss), sum(st), sum(sss), sum(sst), sum(stt), lambda, prior_lifetime_us,
-                               kMinSpreadPx2);
+                               kMinSpreadPx2, max_share);
 }
 
 }  // namespace evlife::detail

@@ -24,24 +24,28 @@ namespace evlife::detail {
 
 struct CensoredRefit {
   bool refitted = false;  ///< false: too few uncensored samples along the motion
+  bool resolved = true;   ///< the lifetime's standard error is at most max_share of it (or cannot be told)
   double lifetime_us = 0.0;
-  double variance_us2 = -1.0;  ///< the lifetime's squared standard error; -1: too few samples to tell
 };
 
-// The least-squares slope of dt over s from the sums, with the prior.
+// The least-squares slope of dt over s from the sums, with the prior; the
+// sums of squares multiplied by n so that one division remains.
 inline CensoredRefit finish_censored_refit(double n, double ss, double st, double sss, double sst, double stt,
-                                           double lambda, double prior_lifetime_us, double min_spread_px2) noexcept {
-  const double inv_n = 1.0 / n;
-  const double spread = sss - ss * ss * inv_n;
-  if (!(spread >= min_spread_px2)) return {};
-  const double cov = sst - ss * st * inv_n;
-  const double inv_weight = 1.0 / (spread + lambda);
+                                           double lambda, double prior_lifetime_us, double min_spread_px2,
+                                           double max_share) noexcept {
+  const double spread_n = n * sss - ss * ss;  // n x the spread along the motion, px^2
+  if (!(spread_n >= min_spread_px2 * n)) return {};
+  const double cov_n = n * sst - ss * st;
+  const double weight_n = spread_n + n * lambda;
   CensoredRefit out;
   out.refitted = true;
-  out.lifetime_us = (cov + lambda * prior_lifetime_us) * inv_weight;
-  if (n > 2.0) {
-    const double sse = (stt - st * st * inv_n) - 2.0 * out.lifetime_us * cov + out.lifetime_us * out.lifetime_us * spread;
-    out.variance_us2 = std::max(sse, 0.0) / (n - 2.0) * inv_weight;
+  const double tau = (cov_n + n * lambda * prior_lifetime_us) / weight_n;
+  out.lifetime_us = tau;
+  if (n > 2.0 && max_share > 0.0) {
+    // variance = sse / (n - 2) / (spread + lambda) <= (max_share tau)^2, with
+    // sse = (n stt - st^2 - 2 tau cov_n + tau^2 spread_n) / n.
+    const double sse_n = std::max((n * stt - st * st) - 2.0 * tau * cov_n + tau * tau * spread_n, 0.0);
+    out.resolved = sse_n <= max_share * max_share * tau * tau * (n - 2.0) * weight_n;
   }
   return out;
 }
@@ -52,11 +56,12 @@ inline CensoredRefit finish_censored_refit(double n, double ss, double st, doubl
 /// them) that the plane (lifetime_us along (ux, uy)) puts more than censor_us
 /// before the new event. The prior lifetime (the predicted gradient along
 /// the motion) enters with weight lambda as in the plane fit (eq. 12).
+/// `resolved`: its standard error is at most max_share of it (0: no check).
 /// Not refitted when the samples spread less than 1 px^2 along the motion.
 /// Defined in censored_refit.cpp (on x86-64 also compiled for AVX2, chosen
 /// at load time: the same operations in the same order, the same bits).
 CensoredRefit refit_without_censored(const WindowSamples& nb, float gx, float gy, float tol2_us2, double ux, double uy,
-                                     double lifetime_us, double censor_us, double lambda,
-                                     double prior_lifetime_us) noexcept;
+                                     double lifetime_us, double censor_us, double lambda, double prior_lifetime_us,
+                                     double max_share) noexcept;
 
 }  // namespace evlife::detail

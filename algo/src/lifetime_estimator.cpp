@@ -39,9 +39,7 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
 // whose residuals say nothing, pass: they continue an edge upstream.
 bool lifetime_resolved(const detail::PlaneFit& fit, const Eigen::Vector2d& g, double lambda, double rms,
                        double max_standard_error) noexcept {
-  if (max_standard_error <= 0.0) return true;
-  const double se_us = fit.lifetime_standard_error(g, lambda, rms);
-  return se_us < 0.0 || se_us <= max_standard_error * g.norm();
+  return max_standard_error <= 0.0 || fit.lifetime_within(g, lambda, rms, max_standard_error);
 }
 
 }  // namespace
@@ -355,20 +353,17 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     return out;
   }
   // The lifetime along the plane's direction without the samples causality
-  // censors (censored_refit.h); it must be resolved as the plane fit's is.
+  // censors (censored_refit.h); both must be resolved.
   const Eigen::Vector2d u = g * (1.0 / lifetime_us);
   detail::CensoredRefit censored;
   if (options_.skip_censored_samples && timing_noise_us > 0.0) {
     censored = detail::refit_without_censored(
         nb, best_gx, best_gy, best_tol2, u.x(), u.y(), lifetime_us, options_.censoring_noise_factor * timing_noise_us,
-        lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy));
+        lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
+        options_.max_lifetime_standard_error);
   }
-  const double max_se = options_.max_lifetime_standard_error;
-  const bool resolved =
-      censored.refitted
-          ? max_se <= 0.0 || censored.variance_us2 <= max_se * max_se * censored.lifetime_us * censored.lifetime_us
-          : lifetime_resolved(fit, g, lambda, rms_us, max_se);
-  if (!resolved) {
+  if (!lifetime_resolved(fit, g, lambda, rms_us, options_.max_lifetime_standard_error) ||
+      (censored.refitted && !censored.resolved)) {
     ++stats_.noise;
     stage_end(Stage::refit);
     return out;

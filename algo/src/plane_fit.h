@@ -78,16 +78,20 @@ class PlaneFit {
     return std::sqrt(std::max(sse, 0.0) / (n_ - 3.0));
   }
 
-  /// Standard error of the lifetime |g| of a solve()d gradient g, from the
-  /// residual RMS about the fit (residual_rms(g)) and the samples' spread
-  /// along g (u^T A^-1 u, A: the centred scatter matrix + lambda I, u = g/|g|).
-  /// -1 when the residuals cannot be estimated (rms < 0: n <= 3) or g = 0.
-  double lifetime_standard_error(const Eigen::Vector2d& g, double lambda, double rms) const noexcept {
-    const double norm = g.norm();
-    if (rms < 0.0 || !(norm > 0.0)) return -1.0;
+  /// True when the standard error of the lifetime |g| of a solve()d gradient
+  /// g is at most max_share x |g|, or cannot be told (rms < 0: n <= 3). The
+  /// standard error is rms x sqrt(u^T A^-1 u), from the residual RMS about
+  /// the fit (residual_rms(g)) and the samples' spread along g (A: the
+  /// centred scatter matrix + lambda I, u = g / |g|); compared squared and
+  /// multiplied out (A^-1 = adj(A) / det(A), det(A) > 0 after solve()): no
+  /// root or division per event.
+  bool lifetime_within(const Eigen::Vector2d& g, double lambda, double rms, double max_share) const noexcept {
+    if (rms < 0.0) return true;
     const Eigen::Matrix2d a = centred_scatter(lambda);
-    const Eigen::Vector2d u = g / norm;
-    return rms * std::sqrt(std::max(u.dot(a.inverse() * u), 0.0));
+    const double gx = g.x(), gy = g.y();
+    const double g_adj_g = gx * gx * a(1, 1) - 2.0 * gx * gy * a(0, 1) + gy * gy * a(0, 0);
+    const double g2 = gx * gx + gy * gy;
+    return rms * rms * g_adj_g <= max_share * max_share * g2 * g2 * a.determinant();
   }
 
   /// Minimizes sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over (c, g).
