@@ -536,6 +536,36 @@ TEST(Engine, ReportsTheCpuTimeOfEachThread) {
   EXPECT_GT(r.thread_cpu_s[2].second, 0.0);
 }
 
+TEST(Engine, LiveRunsHaveTheSourceThreadRunTheLastWorker) {
+  // Live (policy drop, live source): the source thread steps the last
+  // worker itself; no thread of its own. Same bits as the bare estimator.
+  const auto& events = stripes(10'000);
+  const auto expect = bare_estimator(events, kDvs128);
+  for (const int workers : {1, 2}) {
+    ee::ReplaySource source(events, kDvs128, 0.0, ee::SourceKind::live);
+    auto options = engine_options(workers, 1, 1, kDvs128);
+    options.batches_per_worker = 64;  // 40 chunks: room for all, nothing dropped
+    Collector out;
+    ee::Engine engine(source, &out.sink, options);
+    const ee::RunResult r = engine.run();
+    ASSERT_EQ(r.stats.events_dropped, 0u);
+    std::vector<std::string> names;
+    for (const auto& [name, cpu_s] : r.thread_cpu_s) names.push_back(name);
+    if (workers == 1) {
+      EXPECT_EQ(names, (std::vector<std::string>{"source+worker0", "merger"}));
+    } else {
+      EXPECT_EQ(names, (std::vector<std::string>{"source+worker1", "worker0", "merger"}));
+    }
+    EXPECT_GT(r.thread_cpu_s[0].second, 0.0);  // it estimated its worker's events
+    ASSERT_EQ(out.events.size(), expect.size());
+    for (std::size_t i = 0; i < expect.size(); ++i)
+      ASSERT_TRUE(same_bits(out.events[i], expect[i])) << workers << " workers, event " << i;
+  }
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::drop, ee::SourceKind::live, 3), 2);
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::block, ee::SourceKind::live, 3), -1);
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::drop, ee::SourceKind::offline, 3), -1);
+}
+
 TEST(Engine, StatsGiveTheFirstAndLastEventTimeHandedOut) {
   const auto& events = stripes(10'000);
   ee::RunResult r;

@@ -54,6 +54,10 @@ void park(Semaphore& wake, std::int64_t spin_ns) noexcept {
 }
 }  // namespace
 
+int live_hosted_worker(OverloadPolicy policy, SourceKind kind, int workers) noexcept {
+  return policy == OverloadPolicy::drop && kind == SourceKind::live ? workers - 1 : -1;
+}
+
 RunResult Engine::run() {
   PipelineState& state = pipeline_.state();
   EventSource& source = pipeline_.source();
@@ -88,6 +92,13 @@ RunResult Engine::run() {
   // Each thread's CPU time at its end, by index in `threads` (read after join).
   std::vector<std::int64_t> thread_cpu(2 + static_cast<std::size_t>(pipeline_.worker_count()) +
                                        pipeline_.aux_stages().size(), 0);
+  // Live runs (policy drop): the source thread runs the last worker's steps
+  // itself between packets, so that worker costs no hand-off (no thread to
+  // wake, no queue wait) and the engine has one runnable thread fewer than
+  // workers + 1. Offline runs keep a thread per worker (throughput).
+  const int hosted = live_hosted_worker(state.policy, source.kind(), pipeline_.worker_count());
+  TileWorker* const hosted_worker = hosted >= 0 ? &pipeline_.worker(hosted) : nullptr;
+  if (hosted_worker != nullptr) hosted_worker->publish_every(TileWorker::kLiveStepEvents);
   const auto record_cpu = [&thread_cpu](std::size_t index) noexcept { thread_cpu[index] = thread_cpu_ns(); };
   if (!rt_error.empty()) gate.store(2, std::memory_order_release);  // before any thread: no notify needed
   threads.emplace_back([&] {
@@ -98,18 +109,30 @@ RunResult Engine::run() {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
 #endif
     Router& router = pipeline_.router();
+    // The hosted worker's queue is emptied after each pull (the next pull
+    // may sleep until the next packet is due), merging as it goes.
+    const auto run_hosted = [&]() noexcept {
+      while (hosted_worker->step() == StepResult::progressed) pipeline_.drain_merger();
+    };
     for (;;) {
       const StepResult r = router.step();
       if (r == StepResult::finished) break;
+      if (hosted_worker != nullptr) run_hosted();
       if (r == StepResult::blocked) state.wake_router.wait(kBlockedWaitUs);
       else if (r == StepResult::idle) std::this_thread::yield();  // pull() paces itself
     }
+    if (hosted_worker != nullptr) {
+      run_hosted();  // to its end (the router has finished: its queue is final)
+      pipeline_.drain_merger();
+    }
     record_cpu(0);
   });
-  thread_names.emplace_back("source");
+  thread_names.emplace_back(hosted >= 0 ? "source+worker" + std::to_string(hosted) : "source");
   for (int w = 0; w < pipeline_.worker_count(); ++w) {
+    if (w == hosted) continue;
     thread_names.push_back("worker" + std::to_string(w));
-    threads.emplace_back([&, w] {
+    const std::size_t cpu_index = threads.size();
+    threads.emplace_back([&, w, cpu_index] {
       if (!pass_gate()) return;
       TileWorker& worker = pipeline_.worker(w);
       WorkerChannel& channel = *state.workers[static_cast<std::size_t>(w)];
@@ -138,11 +161,12 @@ RunResult Engine::run() {
           park(channel.wake_worker, spin_ns);
         }
       }
-      record_cpu(1 + static_cast<std::size_t>(w));
+      record_cpu(cpu_index);
     });
   }
   thread_names.emplace_back("merger");
-  threads.emplace_back([&] {
+  const std::size_t merger_cpu_index = threads.size();
+  threads.emplace_back([&, merger_cpu_index] {
     if (!pass_gate()) {
       merger_done.store(true, std::memory_order_release);
       return;
@@ -156,7 +180,7 @@ RunResult Engine::run() {
       if (pipeline_.drain_merger() == StepResult::finished) break;
       state.wake_merger.wait(kBackstopWaitUs);
     }
-    record_cpu(1 + static_cast<std::size_t>(pipeline_.worker_count()));
+    record_cpu(merger_cpu_index);
     merger_done.store(true, std::memory_order_release);
     monitor_wake.signal();
   });
