@@ -12,6 +12,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "evlife/engine/idle_poll.h"
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/thread_cpu_clock.h"
@@ -44,12 +45,10 @@ constexpr std::int64_t kBlockedWaitUs = 20'000;
 // Polling yields the core between looks: with more busy threads than cores
 // (2 workers + the source thread on 2), a pause-only spin starved the source
 // thread (p50 latency 400 us); yielding keeps the vCPU awake for the next
-// batch without taking it from anyone.
+// batch without taking it from anyone, and once another thread takes the
+// core the worker sleeps instead (idle_poll.h).
 void park(Semaphore& wake, std::int64_t spin_ns) noexcept {
-  if (spin_ns > 0) {
-    const std::int64_t until = monotonic_ns() + spin_ns;
-    while (wake.availableApprox() <= 0 && monotonic_ns() < until) std::this_thread::yield();
-  }
+  if (spin_ns > 0) poll_until([&wake]() noexcept { return wake.availableApprox() > 0; }, monotonic_ns() + spin_ns);
   wake.wait(kIdleWaitUs);
 }
 }  // namespace
@@ -66,6 +65,11 @@ RunResult Engine::run() {
 
   const int idle_spin_us =
       effective_idle_spin_us(options_, source.kind() == SourceKind::live);
+  // The source polls as long as idle workers do (a paced replay: through a
+  // whole packet period, rather than sleeping and waking late). Not under
+  // SCHED_FIFO: a real-time thread polling a whole core hits the kernel's
+  // real-time throttling (95 % of each second) and stalls for 50 ms.
+  source.set_idle_poll_ns(options_.realtime.rt_priority > 0 ? 0 : std::int64_t{idle_spin_us} * 1000);
   spdlog::info("engine: {} -> {} workers, tiles {}x{} per polarity, margin {} px, policy {}, "
                "{} batches x {} events per worker, idle spin {} us",
                source.describe(), options_.workers, options_.tiles_x, options_.tiles_y,

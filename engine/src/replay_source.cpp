@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "evlife/engine/idle_poll.h"
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
@@ -114,12 +115,20 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
     }
     if (arrival_ns > now_ns) {  // not arrived yet: sleep towards it
       const std::int64_t wait_ns = arrival_ns - now_ns;
-      const std::int64_t poll_ns = std::min(kMaxPollNs, packet_ns_ / 2);
+      // With idle polling on (the engine's idle_spin_us), as long as that
+      // (at most kMaxSleepNs, for request_stop()): a whole packet period
+      // polled, so no packet waits for a late wake-up of this thread.
+      const std::int64_t poll_ns =
+          std::max(std::min(kMaxPollNs, packet_ns_ / 2), std::min(idle_poll_ns_, kMaxSleepNs));
       if (wait_ns > poll_ns) {
         std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(wait_ns - poll_ns, kMaxSleepNs)));
         return 0;
       }
-      while (monotonic_ns() < arrival_ns) std::this_thread::yield();  // others may run
+      // Others may run: under load, sleep the rest (idle_poll.h).
+      if (!poll_until([]() noexcept { return false; }, arrival_ns)) {
+        const std::int64_t rest_ns = arrival_ns - monotonic_ns();
+        if (rest_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(rest_ns));
+      }
     }
     // Events are time-ordered: release the prefix that is due by the
     // arrival (one packet at a time, so a late engine sees each packet's own
