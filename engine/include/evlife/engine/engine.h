@@ -1,6 +1,6 @@
 // The real-time engine: the Pipeline's stages on their own threads — one
-// source/router thread, `workers` estimator threads (live runs: one fewer,
-// the source thread runs the last worker; live_hosted_worker()), one
+// source/router thread, `workers` estimator threads (live runs with 2+: one
+// fewer, the source thread runs the last worker; live_hosted_worker()), one
 // merger/output backstop thread — and the calling thread as monitor
 // (progress line, stop requests).
 // run() returns when the stream has ended or a stop was requested, after
@@ -48,11 +48,15 @@ struct RunResult {
 };
 
 /// The worker whose steps the source thread runs itself (-1: none). Live
-/// runs (policy drop, live source), where latency counts: the last worker,
-/// so its batches need no hand-off to another thread and, with idle polling
-/// on, the engine keeps no more polling threads than workers (2 workers on
-/// 2 cores: source+worker1 and worker0). Offline runs keep a thread per
-/// worker: the source stays free to refill every queue (throughput).
+/// runs (policy drop, live source) with 2+ workers, where latency counts:
+/// the last worker, so its batches need no hand-off to another thread and,
+/// with idle polling on, the engine keeps no more polling threads than
+/// workers (2 workers on 2 cores: source+worker1 and worker0). The source
+/// thread works it off for at most 200 us between pulls and never merges
+/// (worker 0 merges its outputs): a camera's transfers and the drop policy
+/// do not wait on the estimator or the sink. One worker, and offline runs,
+/// keep a thread per worker (the 1-worker merge would land on the source).
+/// Offline, the source stays free to refill every queue (throughput).
 int live_hosted_worker(OverloadPolicy policy, SourceKind kind, int workers) noexcept;
 
 class Engine {
