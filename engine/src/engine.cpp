@@ -69,11 +69,6 @@ RunResult Engine::run() {
 
   const int idle_spin_us =
       effective_idle_spin_us(options_, source.kind() == SourceKind::live);
-  // The source polls as long as idle workers do (a paced replay: through a
-  // whole packet period, rather than sleeping and waking late). Not under
-  // SCHED_FIFO: a real-time thread polling a whole core hits the kernel's
-  // real-time throttling (95 % of each second) and stalls for 50 ms.
-  source.set_idle_poll_ns(options_.realtime.rt_priority > 0 ? 0 : std::int64_t{idle_spin_us} * 1000);
   spdlog::info("engine: {} -> {} workers, tiles {}x{} per polarity, margin {} px, policy {}, "
                "{} batches x {} events per worker, idle spin {} us",
                source.describe(), options_.workers, options_.tiles_x, options_.tiles_y,

@@ -115,11 +115,7 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
     }
     if (arrival_ns > now_ns) {  // not arrived yet: sleep towards it
       const std::int64_t wait_ns = arrival_ns - now_ns;
-      // With idle polling on (the engine's idle_spin_us), as long as that
-      // (at most kMaxSleepNs, for request_stop()): a whole packet period
-      // polled, so no packet waits for a late wake-up of this thread.
-      const std::int64_t poll_ns =
-          std::max(std::min(kMaxPollNs, packet_ns_ / 2), std::min(idle_poll_ns_, kMaxSleepNs));
+      const std::int64_t poll_ns = std::min(kMaxPollNs, packet_ns_ / 2);
       if (wait_ns > poll_ns) {
         std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(wait_ns - poll_ns, kMaxSleepNs)));
         return 0;

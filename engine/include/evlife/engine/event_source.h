@@ -97,12 +97,6 @@ class EventSource {
   /// source to finish with end_of_stream. Thread-safe; idempotent.
   virtual void request_stop() noexcept = 0;
 
-  /// The engine's idle polling (EngineOptions::idle_spin_us, in ns), told
-  /// before the first pull(): a source that waits for its next events may
-  /// poll the clock or device this long (yielding the core) instead of
-  /// sleeping, as the engine's idle workers do. Default: ignored.
-  virtual void set_idle_poll_ns(std::int64_t /*poll_ns*/) noexcept {}
-
  protected:
   EventSource() = default;
   EventSource(const EventSource&) = default;

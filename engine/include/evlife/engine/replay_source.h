@@ -62,11 +62,6 @@ class ReplaySource final : public EventSource {
   /// the first pull().
   void set_packet_us(std::int64_t packet_us) noexcept { packet_ns_ = packet_us * 1000; }
 
-  /// Paced: wait for a packet by polling the clock (yielding) for up to
-  /// this long rather than sleeping (a sleep ends 30-90 us late here); at
-  /// least min(60 us, half a packet period).
-  void set_idle_poll_ns(std::int64_t poll_ns) noexcept override { idle_poll_ns_ = poll_ns; }
-
  private:
   ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize sensor, double speed,
                SourceKind kind);
@@ -85,7 +80,6 @@ class ReplaySource final : public EventSource {
   std::int64_t last_arrival_ns_ = 0;
   std::int64_t last_oldest_ns_ = 0;
   std::int64_t packet_ns_ = kDefaultPacketUs * 1000;
-  std::int64_t idle_poll_ns_ = 0;
   std::atomic<bool> stop_{false};
 };
 
