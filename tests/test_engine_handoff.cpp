@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "evlife/engine/engine.h"
-#include "evlife/engine/idle_poll.h"
 #include "evlife/engine/merge_role.h"
 #include "evlife/engine/pipeline.h"
 #include "evlife/engine/monotonic_clock.h"
@@ -417,18 +416,4 @@ TEST(PublishEvery, ThreadedLiveRunWithMarginsSameBitsAsHandStepped) {
     ASSERT_EQ(got.size(), expect.out.size());
     for (std::size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(same_bits(got[i], expect.out[i])) << "run " << run << ", event " << i;
   }
-}
-
-// ---- Idle polling -----------------------------------------------------------
-
-TEST(PollUntil, ReturnsTrueOnceDoneHoldsAndFalseAtTheDeadline) {
-  int looks = 0;
-  // No deadline in reach of the test: only done() can end the poll with true
-  // (a preempted look returns done()'s answer, false here until the 3rd).
-  bool got = false;
-  while (!got) got = ee::poll_until([&]() noexcept { return ++looks >= 3; }, INT64_MAX);
-  EXPECT_GE(looks, 3);
-  int never = 0;
-  EXPECT_FALSE(ee::poll_until([&]() noexcept { return ++never < 0; }, ee::monotonic_ns() - 1));
-  EXPECT_EQ(never, 1) << "a deadline already passed: one look, no poll";
 }

@@ -13,7 +13,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "evlife/engine/idle_poll.h"
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/thread_cpu_clock.h"
@@ -49,10 +48,12 @@ constexpr std::int64_t kHostedBudgetNs = 200'000;
 // Polling yields the core between looks: with more busy threads than cores
 // (2 workers + the source thread on 2), a pause-only spin starved the source
 // thread (p50 latency 400 us); yielding keeps the vCPU awake for the next
-// batch without taking it from anyone, and once another thread takes the
-// core the worker sleeps instead (idle_poll.h).
+// batch without taking it from anyone.
 void park(Semaphore& wake, std::int64_t spin_ns) noexcept {
-  if (spin_ns > 0) poll_until([&wake]() noexcept { return wake.availableApprox() > 0; }, monotonic_ns() + spin_ns);
+  if (spin_ns > 0) {
+    const std::int64_t until = monotonic_ns() + spin_ns;
+    while (wake.availableApprox() <= 0 && monotonic_ns() < until) std::this_thread::yield();
+  }
   wake.wait(kIdleWaitUs);
 }
 }  // namespace

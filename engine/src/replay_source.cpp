@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "evlife/engine/idle_poll.h"
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
@@ -120,11 +119,7 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
         std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(wait_ns - poll_ns, kMaxSleepNs)));
         return 0;
       }
-      // Others may run: under load, sleep the rest (idle_poll.h).
-      if (!poll_until([]() noexcept { return false; }, arrival_ns)) {
-        const std::int64_t rest_ns = arrival_ns - monotonic_ns();
-        if (rest_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(rest_ns));
-      }
+      while (monotonic_ns() < arrival_ns) std::this_thread::yield();  // others may run
     }
     // Events are time-ordered: release the prefix that is due by the
     // arrival (one packet at a time, so a late engine sees each packet's own
