@@ -397,31 +397,40 @@ TEST(Pipeline, DropPolicyCountsEveryDroppedEvent) {
 // ---- Overload with threads --------------------------------------------------
 
 TEST(Engine, SlowSinkWithDropPolicyBalancesInOutDropped) {
-  const auto& events = stripes(20'000);
-  ee::ReplaySource source(events, kDvs128);
-  const auto options = tight_options(ee::OverloadPolicy::drop);
-  std::size_t received = 0;
-  std::int64_t last_t = -1;
-  bool ordered = true;
-  ee::CallbackSink slow([&](std::span<const AugmentedEvent> s) {
-    std::this_thread::sleep_for(std::chrono::microseconds(300));  // a disk that cannot keep up
-    for (const auto& a : s) {
-      ordered = ordered && a.event.t_us >= last_t;
-      last_t = a.event.t_us;
+  // Offline and live: live, the source thread runs worker 1 itself and
+  // must still read everything, the slow sink showing as counted drops.
+  for (const ee::SourceKind kind : {ee::SourceKind::offline, ee::SourceKind::live}) {
+    SCOPED_TRACE(kind == ee::SourceKind::live ? "live" : "offline");
+    const auto& events = stripes(20'000);
+    ee::ReplaySource source(events, kDvs128, 0.0, kind);
+    const auto options = tight_options(ee::OverloadPolicy::drop);
+    std::size_t received = 0;
+    std::int64_t last_t = -1;
+    bool ordered = true;
+    ee::CallbackSink slow([&](std::span<const AugmentedEvent> s) {
+      std::this_thread::sleep_for(std::chrono::microseconds(300));  // a disk that cannot keep up
+      for (const auto& a : s) {
+        ordered = ordered && a.event.t_us >= last_t;
+        last_t = a.event.t_us;
+      }
+      received += s.size();
+    });
+    ee::Engine engine(source, &slow, options);
+    const ee::RunResult r = engine.run();
+    EXPECT_EQ(r.status, ee::RunStatus::completed);
+    EXPECT_EQ(r.stats.events_in, events.size());
+    EXPECT_GT(r.stats.events_dropped, 0u) << "the sink was not slow enough to overload";
+    EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
+    EXPECT_EQ(received, r.stats.events_out);
+    std::uint64_t per_worker = r.stats.dropped_no_order;
+    for (const auto& w : r.stats.workers) per_worker += w.dropped;
+    EXPECT_EQ(per_worker, r.stats.events_dropped);
+    EXPECT_TRUE(ordered);
+    if (kind == ee::SourceKind::live) {
+      EXPECT_EQ(r.thread_cpu_s.front().first, "source+worker1");
+      EXPECT_GT(r.stats.workers[1].dropped, 0u) << "the hosted worker's pool ran out too";
     }
-    received += s.size();
-  });
-  ee::Engine engine(source, &slow, options);
-  const ee::RunResult r = engine.run();
-  EXPECT_EQ(r.status, ee::RunStatus::completed);
-  EXPECT_EQ(r.stats.events_in, events.size());
-  EXPECT_GT(r.stats.events_dropped, 0u) << "the sink was not slow enough to overload";
-  EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
-  EXPECT_EQ(received, r.stats.events_out);
-  std::uint64_t per_worker = r.stats.dropped_no_order;
-  for (const auto& w : r.stats.workers) per_worker += w.dropped;
-  EXPECT_EQ(per_worker, r.stats.events_dropped);
-  EXPECT_TRUE(ordered);
+  }
 }
 
 TEST(Engine, SlowSinkWithBlockPolicyLosesNothing) {
@@ -534,6 +543,40 @@ TEST(Engine, ReportsTheCpuTimeOfEachThread) {
   EXPECT_EQ(names, (std::vector<std::string>{"source", "worker0", "worker1", "merger"}));
   EXPECT_GT(r.thread_cpu_s[1].second, 0.0);  // the workers estimated 10,000 events
   EXPECT_GT(r.thread_cpu_s[2].second, 0.0);
+}
+
+TEST(Engine, LiveRunsHaveTheSourceThreadRunTheLastWorker) {
+  // Live (policy drop, live source), 2+ workers: the source thread steps
+  // the last worker itself; no thread of its own. Same bits as the bare
+  // estimator.
+  const auto& events = stripes(10'000);
+  const auto expect = bare_estimator(events, kDvs128);
+  for (const int workers : {1, 2}) {
+    ee::ReplaySource source(events, kDvs128, 0.0, ee::SourceKind::live);
+    auto options = engine_options(workers, 1, 1, kDvs128);
+    options.batches_per_worker = 64;  // 40 chunks: room for all, nothing dropped
+    Collector out;
+    ee::Engine engine(source, &out.sink, options);
+    const ee::RunResult r = engine.run();
+    ASSERT_EQ(r.stats.events_dropped, 0u);
+    std::vector<std::string> names;
+    for (const auto& [name, cpu_s] : r.thread_cpu_s) names.push_back(name);
+    if (workers == 1) {
+      EXPECT_EQ(names, (std::vector<std::string>{"source", "worker0", "merger"}));
+    } else {
+      EXPECT_EQ(names, (std::vector<std::string>{"source+worker1", "worker0", "merger"}));
+    }
+    if (workers == 2) {
+      EXPECT_GT(r.thread_cpu_s[0].second, 0.0);  // it estimated worker 1's events
+    }
+    ASSERT_EQ(out.events.size(), expect.size());
+    for (std::size_t i = 0; i < expect.size(); ++i)
+      ASSERT_TRUE(same_bits(out.events[i], expect[i])) << workers << " workers, event " << i;
+  }
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::drop, ee::SourceKind::live, 3), 2);
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::block, ee::SourceKind::live, 3), -1);
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::drop, ee::SourceKind::offline, 3), -1);
+  EXPECT_EQ(ee::live_hosted_worker(ee::OverloadPolicy::drop, ee::SourceKind::live, 1), -1);
 }
 
 TEST(Engine, StatsGiveTheFirstAndLastEventTimeHandedOut) {

@@ -1,6 +1,7 @@
 #include "evlife/engine/engine.h"
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <thread>
@@ -39,6 +40,9 @@ constexpr std::int64_t kBackstopWaitUs = 100'000;  // the merger backstop is sig
 // (PipelineState::room_returned); a timeout shorter than draining half a
 // pool would wake it early for a few batches at a time.
 constexpr std::int64_t kBlockedWaitUs = 20'000;
+// Longest stretch of the hosted worker's steps between two pulls: a few
+// packet periods' worth of its work at camera rates.
+constexpr std::int64_t kHostedBudgetNs = 200'000;
 
 // Polls `wake` for up to spin_ns (work signalled) before sleeping on it.
 // Polling yields the core between looks: with more busy threads than cores
@@ -53,6 +57,10 @@ void park(Semaphore& wake, std::int64_t spin_ns) noexcept {
   wake.wait(kIdleWaitUs);
 }
 }  // namespace
+
+int live_hosted_worker(OverloadPolicy policy, SourceKind kind, int workers) noexcept {
+  return policy == OverloadPolicy::drop && kind == SourceKind::live && workers >= 2 ? workers - 1 : -1;
+}
 
 RunResult Engine::run() {
   PipelineState& state = pipeline_.state();
@@ -88,6 +96,14 @@ RunResult Engine::run() {
   // Each thread's CPU time at its end, by index in `threads` (read after join).
   std::vector<std::int64_t> thread_cpu(2 + static_cast<std::size_t>(pipeline_.worker_count()) +
                                        pipeline_.aux_stages().size(), 0);
+  // Live runs with 2+ workers: the source thread runs the last worker's
+  // steps itself between pulls (live_hosted_worker()); worker 0's thread
+  // merges its outputs (the source thread never calls the sink, whose
+  // speed is not ours to bound).
+  const int hosted = live_hosted_worker(state.policy, source.kind(), pipeline_.worker_count());
+  TileWorker* const hosted_worker = hosted >= 0 ? &pipeline_.worker(hosted) : nullptr;
+  if (hosted_worker != nullptr) hosted_worker->publish_every(TileWorker::kLiveStepEvents);
+  Semaphore& merge_helper = state.workers.front()->wake_worker;
   const auto record_cpu = [&thread_cpu](std::size_t index) noexcept { thread_cpu[index] = thread_cpu_ns(); };
   if (!rt_error.empty()) gate.store(2, std::memory_order_release);  // before any thread: no notify needed
   threads.emplace_back([&] {
@@ -98,18 +114,35 @@ RunResult Engine::run() {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
 #endif
     Router& router = pipeline_.router();
+    // The hosted worker's queue is worked off after each pull, for at most
+    // kHostedBudgetNs before the next pull: the source is never held up
+    // longer (a camera's transfers are reaped by pull(); overload shows as
+    // counted drops when the hosted worker's pool runs out, as for the
+    // others). Each step's outputs are handed to worker 0 to merge.
+    const auto run_hosted = [&](std::int64_t until) noexcept {
+      while (hosted_worker->step() == StepResult::progressed) {
+        wake(merge_helper);
+        if (monotonic_ns() >= until) break;
+      }
+    };
     for (;;) {
       const StepResult r = router.step();
       if (r == StepResult::finished) break;
+      if (hosted_worker != nullptr) run_hosted(monotonic_ns() + kHostedBudgetNs);
       if (r == StepResult::blocked) state.wake_router.wait(kBlockedWaitUs);
       else if (r == StepResult::idle) std::this_thread::yield();  // pull() paces itself
     }
+    // To its end (the router has finished: its queue is final); its last
+    // step wakes the merger backstop, which merges what worker 0 left.
+    if (hosted_worker != nullptr) run_hosted(INT64_MAX);
     record_cpu(0);
   });
-  thread_names.emplace_back("source");
+  thread_names.emplace_back(hosted >= 0 ? "source+worker" + std::to_string(hosted) : "source");
   for (int w = 0; w < pipeline_.worker_count(); ++w) {
+    if (w == hosted) continue;
     thread_names.push_back("worker" + std::to_string(w));
-    threads.emplace_back([&, w] {
+    const std::size_t cpu_index = threads.size();
+    threads.emplace_back([&, w, cpu_index] {
       if (!pass_gate()) return;
       TileWorker& worker = pipeline_.worker(w);
       WorkerChannel& channel = *state.workers[static_cast<std::size_t>(w)];
@@ -138,11 +171,12 @@ RunResult Engine::run() {
           park(channel.wake_worker, spin_ns);
         }
       }
-      record_cpu(1 + static_cast<std::size_t>(w));
+      record_cpu(cpu_index);
     });
   }
   thread_names.emplace_back("merger");
-  threads.emplace_back([&] {
+  const std::size_t merger_cpu_index = threads.size();
+  threads.emplace_back([&, merger_cpu_index] {
     if (!pass_gate()) {
       merger_done.store(true, std::memory_order_release);
       return;
@@ -156,7 +190,7 @@ RunResult Engine::run() {
       if (pipeline_.drain_merger() == StepResult::finished) break;
       state.wake_merger.wait(kBackstopWaitUs);
     }
-    record_cpu(1 + static_cast<std::size_t>(pipeline_.worker_count()));
+    record_cpu(merger_cpu_index);
     merger_done.store(true, std::memory_order_release);
     monitor_wake.signal();
   });

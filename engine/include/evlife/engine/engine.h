@@ -1,6 +1,8 @@
 // The real-time engine: the Pipeline's stages on their own threads — one
-// source/router thread, `workers` estimator threads, one merger/output
-// thread — and the calling thread as monitor (progress line, stop requests).
+// source/router thread, `workers` estimator threads (live runs with 2+: one
+// fewer, the source thread runs the last worker; live_hosted_worker()), one
+// merger/output backstop thread — and the calling thread as monitor
+// (progress line, stop requests).
 // run() returns when the stream has ended or a stop was requested, after
 // everything accepted has been processed and handed to the sink and every
 // thread has been joined.
@@ -36,13 +38,26 @@ struct RunResult {
   /// "cpus source:0 worker0:1 worker1:0 merger:1; SCHED_FIFO 50 (source, workers, merger); memory locked (41.2 MiB)".
   std::string realtime;
   /// CPU seconds each engine thread used over the whole run, by thread name
-  /// ("source", "worker0", ..., "merger", "render"): where the CPU goes.
+  /// ("source", "worker0", ..., "merger", "render"; live runs:
+  /// "source+workerN" for the source thread running worker N): where the CPU goes.
   std::vector<std::pair<std::string, double>> thread_cpu_s;
   /// The exit code of `evlife run` for this result (evlife/engine/exit_code.h):
   /// 0 completed, 3 source error, 4 sink error, 5 real-time setting refused,
   /// 130 interrupted (128 + SIGINT).
   int exit_code() const noexcept;
 };
+
+/// The worker whose steps the source thread runs itself (-1: none). Live
+/// runs (policy drop, live source) with 2+ workers, where latency counts:
+/// the last worker, so its batches need no hand-off to another thread and,
+/// with idle polling on, the engine keeps no more polling threads than
+/// workers (2 workers on 2 cores: source+worker1 and worker0). The source
+/// thread works it off for at most 200 us between pulls and never merges
+/// (worker 0 merges its outputs): a camera's transfers and the drop policy
+/// do not wait on the estimator or the sink. One worker, and offline runs,
+/// keep a thread per worker (the 1-worker merge would land on the source).
+/// Offline, the source stays free to refill every queue (throughput).
+int live_hosted_worker(OverloadPolicy policy, SourceKind kind, int workers) noexcept;
 
 class Engine {
  public:
