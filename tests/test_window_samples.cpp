@@ -148,18 +148,17 @@ TEST(CensoredRefit, TakesTheUncensoredInliersLikeAPlainLoop) {
     const double ux = static_cast<double>(gx) / lifetime, uy = static_cast<double>(gy) / lifetime, censor = static_cast<double>(rng() % 300);
     const double lambda = trial % 2 == 0 ? 0.0 : 3.0, prior = 250.0;
     const CensoredRefit got = refit_without_censored(w, gx, gy, tol2, ux, uy, lifetime, censor, lambda, prior, 0.0);
-    double n = 1, ss = 0, st = 0, sss = 0, sst = 0, stt = 0;
+    double n = 1, ss = 0, st = 0, sss = 0, sst = 0;
     for (int k = 0; k < w.count; ++k) {
       const float r = w.dt_us[k] - gx * w.dx[k] - gy * w.dy[k];
       const float s = static_cast<float>(ux) * w.dx[k] + static_cast<float>(uy) * w.dy[k];
       if (!(r * r <= tol2) || s * static_cast<float>(lifetime) > static_cast<float>(-censor)) continue;
-      const double sd = s, t = w.dt_us[k];
+      const auto sd = static_cast<double>(s), t = static_cast<double>(w.dt_us[k]);
       n += 1;
       ss += sd;
       st += t;
       sss += sd * sd;
       sst += sd * t;
-      stt += t * t;
     }
     const double spread = sss - ss * ss / n;
     ASSERT_EQ(got.refitted, n * sss - ss * ss >= n) << "trial " << trial;
