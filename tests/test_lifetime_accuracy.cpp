@@ -379,7 +379,7 @@ constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
 constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
 // With the defaults the rotating bar's p90 is 33 %, not 30 %: with latency
 // jitter of 500 +- 300 us the fastest part of its sweep (lifetimes below
-// 400 us) is barely resolved (p90 57 % there). This floor holds that figure
+// 500 us) is barely resolved (p90 49 % there). This floor holds that figure
 // against regressions; config/dim-light.yaml meets the issue's (below).
 constexpr PixelFloors kDimLightBarFloors{0.85, 0.10, 0.35, 5.0, 0.97};
 

@@ -8,8 +8,8 @@
 // early; the late ones are not in the window yet, or not among the newer
 // half. The samples that are there pull the plane flat: where the jitter
 // approaches the lifetime (dim light, fast edges) the plane fit's lifetime is
-// biased short (pixel model, dim light, lifetimes below 400 us: median
-// -30 %; test CensoredRefit.RemovesMostOfTheBiasThatCausalityCausesInDimLight).
+// biased short (pixel model, dim light, lifetimes below 500 us: median
+// -24 %; test CensoredRefit.RemovesMostOfTheBiasThatCausalityCausesInDimLight).
 // Leaving them out of a 2-D refit leaves the rest on a line across the motion
 // too often (the along-edge gradient is then free), so the direction stays
 // the plane fit's and only the slope along it is refitted.

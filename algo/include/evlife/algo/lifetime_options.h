@@ -61,7 +61,7 @@ struct LifetimeOptions {
   /// (the mean residual RMS of the last fits in the window) before it. Of the
   /// pixels the edge reaches about now, only those whose latency jitter was
   /// early have fired; they pull the plane flat and the lifetime short (dim
-  /// light, lifetimes below 400 us: median -30 %). No effect where no timing
+  /// light, lifetimes below 500 us: median -24 %). No effect where no timing
   /// noise was observed. false = the plane fit's lifetime (the paper). Factor
   /// in [0, 10].
   bool skip_censored_samples = true;
