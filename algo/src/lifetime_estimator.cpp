@@ -34,14 +34,6 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
   return std::max(1, static_cast<int>(std::ceil(k)));
 }
 
-// True unless max_standard_error (a share of the lifetime; 0 = no check) is
-// set and the fit's lifetime is less certain than that. Fits of <= 3 samples,
-// whose residuals say nothing, pass: they continue an edge upstream.
-bool lifetime_resolved(const detail::PlaneFit& fit, const Eigen::Vector2d& g, double lambda, double rms,
-                       double max_standard_error) noexcept {
-  return max_standard_error <= 0.0 || fit.lifetime_within(g, lambda, rms, max_standard_error);
-}
-
 }  // namespace
 
 // RANSAC iterations that draw an all-inlier pair with ransac_confidence when
@@ -362,7 +354,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
         lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
         options_.max_lifetime_standard_error);
   }
-  if (!lifetime_resolved(fit, g, lambda, rms_us, options_.max_lifetime_standard_error) ||
+  if (!fit.lifetime_within(g, lambda, rms_us, options_.max_lifetime_standard_error) ||
       (censored.refitted && !censored.resolved)) {
     ++stats_.noise;
     stage_end(Stage::refit);

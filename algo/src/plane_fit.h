@@ -79,14 +79,15 @@ class PlaneFit {
   }
 
   /// True when the standard error of the lifetime |g| of a solve()d gradient
-  /// g is at most max_share x |g|, or cannot be told (rms < 0: n <= 3). The
+  /// g is at most max_share x |g|, when max_share <= 0 (no check), or when it
+  /// cannot be told (rms < 0: n <= 3; such fits continue an edge upstream). The
   /// standard error is rms x sqrt(u^T A^-1 u), from the residual RMS about
   /// the fit (residual_rms(g)) and the samples' spread along g (A: the
   /// centred scatter matrix + lambda I, u = g / |g|); compared squared and
   /// multiplied out (A^-1 = adj(A) / det(A), det(A) > 0 after solve()): no
   /// root or division per event.
   bool lifetime_within(const Eigen::Vector2d& g, double lambda, double rms, double max_share) const noexcept {
-    if (rms < 0.0) return true;
+    if (max_share <= 0.0 || rms < 0.0) return true;
     const Eigen::Matrix2d a = centred_scatter(lambda);
     const double gx = g.x(), gy = g.y();
     const double g_adj_g = gx * gx * a(1, 1) - 2.0 * gx * gy * a(0, 1) + gy * gy * a(0, 0);
