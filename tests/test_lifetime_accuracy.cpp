@@ -377,11 +377,6 @@ struct PixelFloors {
 constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
 // Issue 11's dim-light floors: 0.85 / 10 % / 30 % / 5 deg / 97 %.
 constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
-// With the defaults the rotating bar's p90 is 33 %, not 30 %: with latency
-// jitter of 500 +- 300 us the fastest part of its sweep (lifetimes below
-// 500 us) is barely resolved (p90 49 % there). This floor holds that figure
-// against regressions; config/dim-light.yaml meets the issue's (below).
-constexpr PixelFloors kDimLightBarFloors{0.85, 0.10, 0.35, 5.0, 0.97};
 
 void expect_pixel_floors(const std::string& title, SceneSpec spec, std::string_view setting,
                          const PixelFloors& floors, const evlife::LifetimeOptions& options = {}) {
@@ -418,7 +413,7 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLight) {
 
 TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) {
   expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
-                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kDimLightBarFloors);
+                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kIssueDimLightFloors);
 }
 
 // Issue 11's dim-light floors, all met with config/dim-light.yaml (lifetimes

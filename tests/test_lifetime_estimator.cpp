@@ -259,6 +259,38 @@ TEST(LifetimeEstimator, OutOfSensorAndBadPolarityAreCountedNotRead) {
   EXPECT_EQ(est.stats().events, 4u);
 }
 
+// Every event labelled noise is counted under one reason (evlife process
+// prints them): too few past events, no supported plane, an unresolved fit.
+TEST(LifetimeEstimator, EveryNoiseEventIsCountedUnderOneReason) {
+  const SensorSize s{40, 40};
+  LifetimeEstimator est(options_for(s));
+  EXPECT_TRUE(est.process({1000, 30, 30, -1}).is_noise());  // nothing around it
+  EXPECT_EQ(est.stats().noise_few_samples, 1u);
+
+  // A readout that stamps a whole block with one timestamp: a flat plane,
+  // whose lifetime the timestamps cannot resolve.
+  for (std::uint16_t y = 2; y < 12; ++y)
+    for (std::uint16_t x = 2; x < 12; ++x) est.process({2000, x, y, -1});
+  const std::uint64_t unresolved = est.stats().noise_unresolved;
+  EXPECT_GT(unresolved, 20u);
+
+  // Events long after an edge passed: samples enough, no plane through them.
+  const auto edge = straight_edge(s, 0.0, 1000.0, 1, 5000);
+  for (const Event& e : edge) est.process(e);
+  const std::uint64_t unsupported = est.stats().noise_unsupported;
+  for (int k = 0; k < 20; ++k) {
+    est.process({edge.back().t_us + 20000 + 997 * k, static_cast<std::uint16_t>(5 + (k * 7) % 30),
+                 static_cast<std::uint16_t>(5 + (k * 13) % 30), 1});
+  }
+  EXPECT_EQ(est.stats().noise_unsupported, unsupported + 20);
+  EXPECT_EQ(est.stats().noise_unresolved, unresolved);
+  est.process({9, 50, 0, 1});  // outside the sensor
+
+  const LifetimeStats& st = est.stats();
+  EXPECT_EQ(st.noise, st.noise_few_samples + st.noise_unsupported + st.noise_unresolved + st.out_of_sensor +
+                          st.bad_polarity);
+}
+
 TEST(LifetimeEstimator, ConstantVelocityEdgeIsPredictedWell) {
   const SensorSize s{48, 36};
   LifetimeEstimator est(options_for(s));

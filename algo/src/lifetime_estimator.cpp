@@ -268,6 +268,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       options_.continuation_min_support > 0 ? std::min(min_support, options_.continuation_min_support + 1) : min_support;
   if (count + 1 < min_continuation_support) {
     ++stats_.noise;
+    ++stats_.noise_few_samples;
     return out;
   }
 
@@ -318,6 +319,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     EdgePrior upstream;
     if (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream)) {
       ++stats_.noise;
+      ++stats_.noise_unsupported;
       stage_end(Stage::continuation);
       return out;
     }
@@ -341,6 +343,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
+    ++stats_.noise_unresolved;
     stage_end(Stage::refit);
     return out;
   }
@@ -357,6 +360,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   if (!fit.lifetime_within(g, lambda, rms_us, options_.max_lifetime_standard_error) ||
       (censored.refitted && !censored.resolved)) {
     ++stats_.noise;
+    ++stats_.noise_unresolved;
     stage_end(Stage::refit);
     return out;
   }

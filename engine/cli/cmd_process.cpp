@@ -194,6 +194,12 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
                  static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
   }
   const LifetimeStats& st = estimator.stats();
+  if (st.noise > st.out_of_sensor + st.bad_polarity) {
+    std::fprintf(stdout, "  why noise           %llu few past events, %llu no plane with support, %llu fit unresolved\n",
+                 static_cast<unsigned long long>(st.noise_few_samples),
+                 static_cast<unsigned long long>(st.noise_unsupported),
+                 static_cast<unsigned long long>(st.noise_unresolved));
+  }
   if (st.out_of_sensor + st.bad_polarity > 0) {
     std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity\n",
                  static_cast<unsigned long long>(st.out_of_sensor),

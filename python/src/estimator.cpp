@@ -84,6 +84,9 @@ class Estimator {
     py::dict d;
     d["events"] = s.events;
     d["noise"] = s.noise;
+    d["noise_few_samples"] = s.noise_few_samples;
+    d["noise_unsupported"] = s.noise_unsupported;
+    d["noise_unresolved"] = s.noise_unresolved;
     d["predictions"] = s.predictions;
     d["followers"] = s.followers;
     d["out_of_sensor"] = s.out_of_sensor;
@@ -328,7 +331,8 @@ then nothing of this call is processed and the state is unchanged.)")
           "options", [](const Estimator& e) { return options_dict(e.config()); },
           "The effective options, {keyword: value}.")
       .def_property_readonly("stats", &Estimator::stats,
-                             "Counters: events, noise, predictions, followers, out_of_sensor, bad_polarity.");
+                             "Counters: events, noise (and why: noise_few_samples, noise_unsupported, noise_unresolved), predictions, "
+                             "followers, out_of_sensor, bad_polarity.");
 
   m.def(
       "process",

@@ -22,7 +22,10 @@ namespace evlife {
 /// Counters of what process() has seen (cheap, updated per event).
 struct LifetimeStats {
   std::uint64_t events = 0;
-  std::uint64_t noise = 0;             ///< events given lifetime 0
+  std::uint64_t noise = 0;             ///< events given lifetime 0: the reasons below, out_of_sensor, bad_polarity
+  std::uint64_t noise_few_samples = 0; ///< noise: too few past events in the window to test a plane
+  std::uint64_t noise_unsupported = 0; ///< noise: no plane with enough support, no edge to continue
+  std::uint64_t noise_unresolved = 0;  ///< noise: the fitted lifetime is implausible or too uncertain
   std::uint64_t predictions = 0;       ///< events that had a prediction
   std::uint64_t followers = 0;         ///< events that inherited their burst's estimate
   std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
