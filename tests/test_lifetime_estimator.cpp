@@ -259,6 +259,46 @@ TEST(LifetimeEstimator, OutOfSensorAndBadPolarityAreCountedNotRead) {
   EXPECT_EQ(est.stats().events, 4u);
 }
 
+// A burst whose first event came as the edge started, before its neighbours
+// fired (too few samples then), gets its estimate at a follower: the plane
+// through the burst's arrival with the samples there are now. Not after the
+// burst window, and not with followers switched off.
+TEST(LifetimeEstimator, FollowerOfAnUnestimatedArrivalGetsThePlaneThroughThatArrival) {
+  const SensorSize s{40, 40};
+  auto follower_lifetime = [&](double burst_window_lifetimes, std::int64_t follower_delay_us) {
+    LifetimeOptions o = options_for(s);
+    o.burst_window_lifetimes = burst_window_lifetimes;
+    LifetimeEstimator est(o);
+    // An edge entering at column 10, moving +x at 1000 px/s (lifetime 1 ms).
+    std::vector<Event> edge;
+    for (const Event& e : straight_edge(s, 0.0, 1000.0)) {
+      if (e.x >= 10) edge.push_back({e.t_us - 10'000, e.x, e.y, e.p});
+    }
+    const Event arrival = *std::find_if(edge.begin(), edge.end(), [](const Event& e) { return e.x == 10 && e.y == 20; });
+    bool arrival_was_noise = false;
+    AugmentedEvent follower;
+    const Event late{arrival.t_us + follower_delay_us, arrival.x, arrival.y, arrival.p};
+    bool sent = false;
+    for (const Event& e : edge) {
+      if (!sent && e.t_us > late.t_us) {
+        follower = est.process(late);
+        sent = true;
+      }
+      const AugmentedEvent out = est.process(e);
+      if (e.x == arrival.x && e.y == arrival.y) arrival_was_noise = out.is_noise();
+    }
+    EXPECT_TRUE(arrival_was_noise);  // the edge had just begun: nothing behind it
+    EXPECT_TRUE(sent);
+    return follower;
+  };
+  const AugmentedEvent f = follower_lifetime(2.0, 1500);
+  EXPECT_NEAR(f.lifetime_us, 1000.0f, 50.0f);
+  EXPECT_GT(f.vx_px_s, 900.0f);
+  EXPECT_NEAR(f.vy_px_s, 0.0f, 100.0f);
+  EXPECT_TRUE(follower_lifetime(2.0, 2500).is_noise());  // after 2 lifetimes: not a follower
+  EXPECT_TRUE(follower_lifetime(0.0, 1500).is_noise());  // followers off: the paper
+}
+
 // Every event labelled noise is counted under one reason (evlife process
 // prints them): too few past events, no supported plane, an unresolved fit.
 TEST(LifetimeEstimator, EveryNoiseEventIsCountedUnderOneReason) {

@@ -123,6 +123,37 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
   }
 }
 
+// RANSAC: candidate planes dt = gx*dx + gy*dy through the origin and two
+// sampled past events; support = past events within the time tolerance.
+// Tolerance = max(floor, fraction of the candidate's lifetime): timing noise
+// of real sensors grows with the lifetime, a fixed floor covers jitter.
+// Compared squared: no square root per candidate. Adaptive: the iteration
+// budget starts at the count for the expected outlier fraction and shrinks as
+// better support is found.
+LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
+                                                           float tol_floor2, float tol_fraction2) const noexcept {
+  const int count = nb.count;
+  Candidate best;
+  int iterations = ransac_iterations_;
+  for (int it = 0; it < iterations; ++it) {
+    const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
+    std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
+    if (j >= i) ++j;
+    const float det = nb.dx[i] * nb.dy[j] - nb.dx[j] * nb.dy[i];
+    if (std::fabs(det) < 0.5f) continue;  // collinear with the origin
+    const float inv_det = 1.0f / det;
+    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) * inv_det;
+    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) * inv_det;
+    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
+    const int support = 1 + nb.support(gx, gy, tol2);  // + the origin
+    if (support > best.support) {
+      best = {support, gx, gy, tol2};
+      iterations = std::min(iterations, iterations_needed(support - 1, count));
+    }
+  }
+  return best;
+}
+
 // True when an edge estimated at a neighbour predicts this event: its plane
 // (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
 // Weight of a prior plane that predicted this event with error err_us
@@ -212,6 +243,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     stage_end(Stage::head);
     return out;
   }
+  // The last burst here got no estimate (its followers may yet, below).
+  const bool last_burst_unestimated = state.burst_lifetime_us <= 0.0f;
   state.burst_lifetime_us = 0.0f;
 
   // Prediction for this pixel made by an earlier event (paper III-B.2).
@@ -241,6 +274,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   detail::WindowSamples nb;
   float noise_sum_us = 0.0f;
   int noise_count = 0;
+  const std::int32_t previous_rel = here.t_rel;  // the last burst's arrival here
   here.t_rel = detail::kNeverRel;  // the new event's own pixel is not a sample
   nb.gather(&surface_[pixel_index(pol, 0, 0)], static_cast<std::size_t>(W), x, y, x0, x1, y0, y1, now_rel,
             noise_sum_us, noise_count);
@@ -272,12 +306,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     return out;
   }
 
-  // RANSAC: candidate planes dt = gx*dx + gy*dy through the new event and two
-  // sampled past events; support = past events within the time tolerance.
-  // Tolerance = max(floor, fraction of the candidate's lifetime): timing noise
-  // of real sensors grows with the lifetime, a fixed floor covers jitter.
-  // Compared squared: no square root per candidate.
-  // The floor: the sensor's timing noise, at least inlier_tolerance_us, else
+  // The RANSAC tolerance's floor: the sensor's timing noise, at least inlier_tolerance_us, else
   // a multiple of the residual scale the fits around this pixel observed
   // (latency jitter grows to hundreds of us in dim light).
   const double timing_noise_us = noise_count > 0 ? static_cast<double>(noise_sum_us) / noise_count : 0.0;
@@ -287,43 +316,34 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
                                                  options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
-  int best_support = 0;
-  float best_gx = 0.0f, best_gy = 0.0f, best_tol2 = 0.0f;
-  // Adaptive RANSAC: the iteration budget starts at the count for the
-  // expected outlier fraction and shrinks as better support is found.
-  int iterations = ransac_iterations_;
-  for (int it = 0; it < iterations; ++it) {
-    const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
-    std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
-    if (j >= i) ++j;
-    const float det = nb.dx[i] * nb.dy[j] - nb.dx[j] * nb.dy[i];
-    if (std::fabs(det) < 0.5f) continue;  // collinear with the new event
-    const float inv_det = 1.0f / det;
-    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) * inv_det;
-    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) * inv_det;
-    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
-    const int support = 1 + nb.support(gx, gy, tol2);  // + the new event
-    if (support > best_support) {
-      best_support = support;
-      best_gx = gx;
-      best_gy = gy;
-      best_tol2 = tol2;
-      iterations = std::min(iterations, iterations_needed(best_support - 1, count));
-    }
-  }
+  Candidate best = best_plane(nb, rng, tol_floor2, tol_fraction2);
   stage_end(Stage::ransac);
-  if (best_support < min_support) {
+  // Where the plane passes at this pixel: the new event, or the arrival of
+  // the burst it follows (below).
+  std::int32_t anchor_rel = now_rel;
+  if (best.support < min_support) {
     // Too little support to start an edge: accept the event only where an
     // edge upstream predicts it, and let that edge's plane regularize the
     // fit of the few samples (as a prediction does, eq. 12-13).
     EdgePrior upstream;
-    if (best_support < min_continuation_support || !continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream)) {
+    const bool continued =
+        best.support >= min_continuation_support && continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream);
+    // Else it may follow a burst here whose first event came too early in
+    // the edge's passage to be estimated (its neighbours had not fired yet):
+    // the plane through that arrival, with the samples there are now.
+    if (!continued && last_burst_unestimated && options_.burst_window_lifetimes > 0.0 &&
+        previous_rel != detail::kNeverRel && previous_rel < now_rel) {
+      nb.shift_times(static_cast<float>(now_rel - previous_rel));
+      best = best_plane(nb, rng, tol_floor2, tol_fraction2);
+      anchor_rel = previous_rel;
+    }
+    if (!continued && best.support < min_support) {
       ++stats_.noise;
       ++stats_.noise_unsupported;
       stage_end(Stage::continuation);
       return out;
     }
-    if (lambda == 0.0) {
+    if (continued && lambda == 0.0) {
       prior_gx = static_cast<float>(upstream.gx_us_px);
       prior_gy = static_cast<float>(upstream.gy_us_px);
       lambda = prior_weight(upstream.err_us);
@@ -331,15 +351,23 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     stage_end(Stage::continuation);
   }
 
-  // Least-squares refit on the inliers and the new event: dt = c + g . dp,
+  // Least-squares refit on the inliers and the anchor: dt = c + g . dp,
   // regularized towards the predicted gradient (eq. 12).
   detail::PlaneFit fit;
-  fit.add(0.0, 0.0, 0.0);  // the new event
-  fit.add_inliers(nb, best_gx, best_gy, best_tol2);
+  fit.add(0.0, 0.0, 0.0);  // the anchor: the new event or its burst's arrival
+  fit.add_inliers(nb, best.gx_us_px, best.gy_us_px, best.tol2_us2);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
   double lifetime_us = g.norm();
   const double rms_us = fit.residual_rms(g);  // -1: too few samples to tell
+  // A follower comes at most burst_window_lifetimes after its burst's arrival.
+  if (anchor_rel != now_rel &&
+      !(static_cast<double>(now_rel - anchor_rel) <= options_.burst_window_lifetimes * lifetime_us)) {
+    ++stats_.noise;
+    ++stats_.noise_unsupported;
+    stage_end(Stage::refit);
+    return out;
+  }
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
     ++stats_.noise;
@@ -351,9 +379,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // censors (censored_refit.h); both must be resolved.
   const Eigen::Vector2d u = g * (1.0 / lifetime_us);
   detail::CensoredRefit censored;
-  if (options_.skip_censored_samples && timing_noise_us > 0.0) {
+  // (Censoring is relative to the new event: not for a burst's arrival.)
+  if (options_.skip_censored_samples && timing_noise_us > 0.0 && anchor_rel == now_rel) {
     censored = detail::refit_without_censored(
-        nb, best_gx, best_gy, best_tol2, u.x(), u.y(), lifetime_us, options_.censoring_noise_factor * timing_noise_us,
+        nb, best.gx_us_px, best.gy_us_px, best.tol2_us2, u.x(), u.y(), lifetime_us, options_.censoring_noise_factor * timing_noise_us,
         lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
         options_.max_lifetime_standard_error);
   }
@@ -380,6 +409,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;
   if (rms_us >= 0.0) here.timing_noise_us = static_cast<float>(rms_us);
+  here.t_rel = anchor_rel;  // a follower keeps its burst's arrival
 
   // Predict the next event at the neighbour in the direction of motion (the
   // SAE rises along the motion, so along +grad).
@@ -387,7 +417,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int qy = y + round_unit(gy / lifetime_us);
   if (qx >= 0 && qy >= 0 && qx < W && qy < H && (qx != x || qy != y)) {
     PixelState& next = pixel_state_[pixel_index(pol, qx, qy)];
-    next.prediction_t_us = e.t_us + round_to_int64(gx * (qx - x) + gy * (qy - y));
+    next.prediction_t_us = epoch_us_ + anchor_rel + round_to_int64(gx * (qx - x) + gy * (qy - y));
     next.prediction_gx_us_px = static_cast<float>(gx);
     next.prediction_gy_us_px = static_cast<float>(gy);
   }

@@ -93,6 +93,12 @@ struct WindowSamples {
     count = out;
   }
 
+  /// Moves the time origin later by shift_us: the samples' times relative to
+  /// an event shift_us earlier at the same pixel.
+  void shift_times(float shift_us) noexcept {
+    for (int k = 0; k < count; ++k) dt_us[k] += shift_us;
+  }
+
   /// Pads the arrays to a multiple of kLanes with samples that support no
   /// plane (dt = +inf), so support() runs whole vector lanes.
   void pad() noexcept {

@@ -18,6 +18,10 @@
 #include "evlife/algo/lifetime_options.h"
 
 namespace evlife {
+namespace detail {
+struct WindowSamples;
+class EventRng;
+}  // namespace detail
 
 /// Counters of what process() has seen (cheap, updated per event).
 struct LifetimeStats {
@@ -84,6 +88,14 @@ class LifetimeEstimator {
     double gy_us_px = 0.0;
     double err_us = 0.0;
   };
+  // The RANSAC plane dt = gx*dx + gy*dy through the origin with the most
+  // supporters (the origin included), and its squared inlier tolerance.
+  struct Candidate {
+    int support = 0;
+    float gx_us_px = 0.0f, gy_us_px = 0.0f, tol2_us2 = 0.0f;
+  };
+  Candidate best_plane(const detail::WindowSamples& nb, detail::EventRng& rng, float tol_floor2,
+                       float tol_fraction2) const noexcept;
   double prior_weight(double err_us) const noexcept;
   bool prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
