@@ -176,23 +176,28 @@ bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t
 
 bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                                           EdgePrior& prior) const noexcept {
+  // Every window pixel is evaluated without a branch on its state (the
+  // loads then overlap; "burst here" and "ahead" were branches that
+  // mispredicted): a pixel without a burst (lifetime 0) has a zero gradient,
+  // so ahead_us is 0 (or NaN) and it never matches, nor does the new event's
+  // own pixel (dx = dy = 0).
   const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(options_.sensor.height - 1, y + half_window_);
+  const double tol_fraction = options_.inlier_tolerance_lifetime_fraction;
+  const auto t = static_cast<double>(t_us);
   for (int yy = y0; yy <= y1; ++yy) {
     for (int xx = x0; xx <= x1; ++xx) {
-      if (xx == x && yy == y) continue;
       const std::size_t q = pixel_index(pol, xx, yy);
       const PixelState& s = pixel_state_[q];
-      if (s.burst_lifetime_us <= 0.0f) continue;
       const double tau_us = static_cast<double>(s.burst_lifetime_us);
       const double tau2_s = tau_us * tau_us * 1e-6;
       const double gx = static_cast<double>(s.burst_vx_px_s) * tau2_s;  // us/px
       const double gy = static_cast<double>(s.burst_vy_px_s) * tau2_s;
-      const double ahead_us = gx * (x - xx) + gy * (y - yy);
-      if (ahead_us <= 0.0) continue;  // the edge moves from the neighbour to this pixel
+      const double ahead_us = gx * (x - xx) + gy * (y - yy);  // > 0: the edge moves from the neighbour here
       const double predicted = static_cast<double>(epoch_us_ + surface_[q].t_rel) + ahead_us;
-      const double tol = std::max(tol_floor_us, options_.inlier_tolerance_lifetime_fraction * tau_us);
-      if (const double err_us = std::fabs(static_cast<double>(t_us) - predicted); err_us <= tol) {
+      const double tol = std::max(tol_floor_us, tol_fraction * tau_us);
+      const double err_us = std::fabs(t - predicted);
+      if ((ahead_us > 0.0) & (err_us <= tol)) {
         prior = {gx, gy, err_us};
         return true;
       }
