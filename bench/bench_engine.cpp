@@ -263,6 +263,8 @@ void engine_latency(benchmark::State& state, const ee::RealtimeOptions& realtime
     started = std::max(started, w.started_p99_us);
     estimated = std::max(estimated, w.estimated_p99_us);
   }
+  state.counters["over_1ms_pct"] =
+      st.latency_count > 0 ? 100.0 * static_cast<double>(st.latency_over_1ms) / static_cast<double>(st.latency_count) : 0.0;
   state.counters["pulled_p99_us"] = st.pulled_p99_us;
   state.counters["started_p99_us"] = started;
   state.counters["estimated_p99_us"] = estimated;

@@ -53,6 +53,7 @@ EngineStats Pipeline::stats() const {
   st.latency_p50_us = static_cast<double>(h.percentile_ns(0.50)) * 1e-3;
   st.latency_p99_us = static_cast<double>(h.percentile_ns(0.99)) * 1e-3;
   st.latency_max_us = static_cast<double>(h.max_ns()) * 1e-3;
+  st.latency_over_1ms = h.count_above(1'000'000);
   const LatencyHistogram& age = s.merger_counters.age_ns;
   st.age_p50_us = static_cast<double>(age.percentile_ns(0.50)) * 1e-3;
   st.age_p99_us = static_cast<double>(age.percentile_ns(0.99)) * 1e-3;
