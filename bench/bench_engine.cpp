@@ -268,6 +268,8 @@ void engine_latency(benchmark::State& state, const ee::RealtimeOptions& realtime
   state.counters["pulled_p99_us"] = st.pulled_p99_us;
   state.counters["started_p99_us"] = started;
   state.counters["estimated_p99_us"] = estimated;
+  static const char* const kStarted[] = {"w0_started_p99_us", "w1_started_p99_us"};
+  for (std::size_t w = 0; w < st.workers.size() && w < 2; ++w) state.counters[kStarted[w]] = st.workers[w].started_p99_us;
   state.counters["dropped_pct"] =
       100.0 * static_cast<double>(st.events_dropped) / static_cast<double>(st.events_in);
   state.counters["speedup"] = speed;
