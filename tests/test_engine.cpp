@@ -821,6 +821,17 @@ TEST(LatencyHistogram, PercentilesWithinBucketResolution) {
     ASSERT_EQ(ee::LatencyHistogram::bucket_of(ee::LatencyHistogram::bucket_upper(i)), i);
 }
 
+TEST(LatencyHistogram, CountAboveCountsFromTheBucketOfTheBound) {
+  ee::LatencyHistogram h;
+  h.record(500'000, 7);    // 0.5 ms
+  h.record(2'000'000, 3);  // 2 ms
+  h.record(-5);            // clamps to 0
+  EXPECT_EQ(h.count_above(1'000'000), 3u);
+  EXPECT_EQ(h.count_above(0), 11u);
+  EXPECT_EQ(h.count_above(3'000'000), 0u);
+  EXPECT_EQ(h.count_above(500'000), 10u);  // the bound's own bucket counts as above
+}
+
 // ---- Configuration (not in a core-only build: no config component) -------------
 
 #if __has_include("evlife/config/config.h")

@@ -38,6 +38,17 @@ std::string EngineStats::summary() const {
   s += fmt::format("         age of each chunk's oldest event at output (latency + wait for its "
                    "packet) p50 {:.1f} us p99 {:.1f} us max {:.1f} us\n",
                    age_p50_us, age_p99_us, age_max_us);
+  if (latency_count > 0) {
+    std::string started, estimated;
+    for (const auto& w : workers) {
+      started += fmt::format("{}{:.1f}/{:.1f}", started.empty() ? "" : " ", w.started_p50_us, w.started_p99_us);
+      estimated += fmt::format("{}{:.1f}/{:.1f}", estimated.empty() ? "" : " ", w.estimated_p50_us, w.estimated_p99_us);
+    }
+    s += fmt::format("         latency by stage, p50/p99 us from arrival: pulled by the source {:.1f}/{:.1f}"
+                     " (sources with arrival times), worker started [{}], estimated [{}], output "
+                     "{:.1f}/{:.1f}\n",
+                     pulled_p50_us, pulled_p99_us, started, estimated, latency_p50_us, latency_p99_us);
+  }
   if (render_offered > 0)
     s += fmt::format("render : offered {} events, skipped {} (render thread behind)\n",
                      render_offered, render_dropped);

@@ -53,10 +53,16 @@ EngineStats Pipeline::stats() const {
   st.latency_p50_us = static_cast<double>(h.percentile_ns(0.50)) * 1e-3;
   st.latency_p99_us = static_cast<double>(h.percentile_ns(0.99)) * 1e-3;
   st.latency_max_us = static_cast<double>(h.max_ns()) * 1e-3;
+  st.latency_over_1ms = h.count_above(1'000'000);
   const LatencyHistogram& age = s.merger_counters.age_ns;
   st.age_p50_us = static_cast<double>(age.percentile_ns(0.50)) * 1e-3;
   st.age_p99_us = static_cast<double>(age.percentile_ns(0.99)) * 1e-3;
   st.age_max_us = static_cast<double>(age.max_ns()) * 1e-3;
+  const auto us = [](const LatencyHistogram& hist, double q) {
+    return static_cast<double>(hist.percentile_ns(q)) * 1e-3;
+  };
+  st.pulled_p50_us = us(s.router_counters.pulled_ns, 0.50);
+  st.pulled_p99_us = us(s.router_counters.pulled_ns, 0.99);
   for (std::size_t w = 0; w < s.workers.size(); ++w) {
     const WorkerChannel& ch = *s.workers[w];
     WorkerStats ws;
@@ -68,6 +74,10 @@ EngineStats Pipeline::stats() const {
     ws.dropped = s.router_counters.dropped_for_worker[w].get();
     ws.in_flight_hwm = s.router_counters.in_flight_hwm[w].get();
     ws.pool_batches = ch.pool.size();
+    ws.started_p50_us = us(ch.counters.started_ns, 0.50);
+    ws.started_p99_us = us(ch.counters.started_ns, 0.99);
+    ws.estimated_p50_us = us(ch.counters.estimated_ns, 0.50);
+    ws.estimated_p99_us = us(ch.counters.estimated_ns, 0.99);
     st.workers.push_back(ws);
   }
   return st;

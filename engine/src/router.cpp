@@ -39,7 +39,9 @@ StepResult Router::step() noexcept {
     return StepResult::finished;
   }
   const std::int64_t stated_ns = source_.last_arrival_ns();
-  arrival_ns_ = stated_ns != 0 ? stated_ns : monotonic_ns();
+  const std::int64_t pulled_ns = monotonic_ns();
+  arrival_ns_ = stated_ns != 0 ? stated_ns : pulled_ns;
+  if (stated_ns != 0) state_.router_counters.pulled_ns.record(pulled_ns - stated_ns, n);
   const std::int64_t oldest_ns = source_.last_oldest_ns();
   oldest_ns_ = oldest_ns != 0 ? std::min(oldest_ns, arrival_ns_) : arrival_ns_;
   state_.router_counters.events_in.add(n);
@@ -201,6 +203,7 @@ bool Router::dispatch_pending() noexcept {
     batch->count = n;
     batch->owned_count = stage_owned_count_[wi];
     batch->chunk_seq = chunk_seq_;
+    batch->arrival_ns = arrival_ns_;
     if (!ch.in.try_enqueue(*in_tokens_[wi], batch)) ch.in.enqueue(*in_tokens_[wi], batch);
     counters.in_flight_hwm[wi].raise_to(ch.pool.size() - ch.free.size_approx());
     wake(ch.wake_worker);

@@ -47,6 +47,7 @@ StepResult TileWorker::step() noexcept {
   const std::size_t end = count - pos_ > step_events_ ? pos_ + step_events_ : count;
   const std::int64_t t0 = monotonic_ns();
   const std::int64_t cpu0 = thread_cpu_ns();
+  if (pos_ == 0) channel_.counters.started_ns.record(t0 - batch->arrival_ns, count);
   std::size_t kept = kept_;
   for (std::size_t i = pos_; i < end; ++i) {
     if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
@@ -54,7 +55,9 @@ StepResult TileWorker::step() noexcept {
     if (batch->owned[i] != 0) batch->out[kept++] = a;
   }
   channel_.counters.busy_cpu_ns.add(static_cast<std::uint64_t>(thread_cpu_ns() - cpu0));
-  channel_.counters.busy_ns.add(static_cast<std::uint64_t>(monotonic_ns() - t0));
+  const std::int64_t t1 = monotonic_ns();
+  channel_.counters.busy_ns.add(static_cast<std::uint64_t>(t1 - t0));
+  channel_.counters.estimated_ns.record(t1 - batch->arrival_ns, end - pos_);
   pos_ = end;
   kept_ = kept;
   if (end < count) {

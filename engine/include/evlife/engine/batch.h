@@ -30,6 +30,7 @@ struct WorkBatch {
   std::size_t owned_count = 0;  // outputs in `out` once processed
   std::uint64_t chunk_seq = 0;  // source chunk it came from (checks order)
   int worker = 0;
+  std::int64_t arrival_ns = 0;  // steady clock: when its chunk arrived at the source
   /// Outputs in `out` the merger may take (written by the worker with
   /// release, read with acquire). A worker may hand a batch on before it is
   /// processed and publish its outputs as they come (TileWorker); it stores

@@ -18,6 +18,12 @@ struct WorkerStats {
   std::uint64_t pool_batches = 0;  ///< its pool size (the bound of the above)
   double busy_s = 0.0;
   double busy_cpu_s = 0.0;  ///< CPU time of busy_s: per-event cost even on a loaded machine
+  /// Latency's worker stages (from the chunk's arrival, per event): batch
+  /// started, event estimated.
+  double started_p50_us = 0.0;
+  double started_p99_us = 0.0;
+  double estimated_p50_us = 0.0;
+  double estimated_p99_us = 0.0;
 };
 
 struct EngineStats {
@@ -41,11 +47,19 @@ struct EngineStats {
   double latency_p50_us = 0.0;
   double latency_p99_us = 0.0;
   double latency_max_us = 0.0;
+  /// Events output more than 1 ms after their arrival: a stall of the
+  /// engine's threads (another task holding a core for a scheduler tick)
+  /// rather than its processing; p99 goes to ms once they pass 1 %.
+  std::uint64_t latency_over_1ms = 0;
   /// Age at output of each chunk's oldest event (latency + its wait for the
   /// packet); equals the latency when the source does not know event times.
   double age_p50_us = 0.0;
   double age_p99_us = 0.0;
   double age_max_us = 0.0;
+  /// Latency's first stage, sources that state arrival times: arrival ->
+  /// pulled by the source thread (a late source thread shows here).
+  double pulled_p50_us = 0.0;
+  double pulled_p99_us = 0.0;
   std::vector<WorkerStats> workers;
 
   /// One line: in/out/dropped, queue high-water marks, latency percentiles.

@@ -53,6 +53,13 @@ class LatencyHistogram {
     return max_ns();
   }
 
+  /// Samples above `ns` (to within the bucket holding it: those of that
+  /// bucket count as above).
+  std::uint64_t count_above(std::uint64_t ns) const noexcept {
+    std::uint64_t n = 0;
+    for (int i = bucket_of(ns); i < kBuckets; ++i) n += buckets_[static_cast<std::size_t>(i)].load(std::memory_order_relaxed);
+    return n;
+  }
   void reset() noexcept {
     for (auto& b : buckets_) b.store(0, std::memory_order_relaxed);
     total_.store(0, std::memory_order_relaxed);

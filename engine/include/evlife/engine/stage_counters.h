@@ -53,6 +53,9 @@ struct RouterCounters {
   Counter dropped_no_order; ///< of which: whole chunks, merge-order pool empty
   Counter blocked_ns;       ///< time the source waited for room (policy block)
   Counter order_in_flight_hwm;  ///< merge-order batches in flight, high-water mark
+  /// Sources that state arrival times (paced replays, cameras): arrival of
+  /// a chunk -> pulled by the source thread, per event (latency's first stage).
+  LatencyHistogram pulled_ns;
   std::array<Counter, TileLayout::kMaxWorkers> dropped_for_worker;
   std::array<Counter, TileLayout::kMaxWorkers> in_flight_hwm;  ///< batches queued or held, per worker
 };
@@ -63,6 +66,11 @@ struct WorkerCounters {
   Counter events_owned;  ///< events whose output was kept
   Counter busy_ns;       ///< time spent processing
   Counter busy_cpu_ns;   ///< of which on a CPU (thread CPU time: without preemption)
+  /// Latency's worker stages, from the chunk's arrival at the source, per
+  /// event: the worker starts its batch; the event is estimated (end of its
+  /// step). Merge-order wait and delivery follow (MergerCounters::latency_ns).
+  LatencyHistogram started_ns;
+  LatencyHistogram estimated_ns;
 };
 
 struct MergerCounters {
