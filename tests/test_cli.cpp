@@ -202,6 +202,17 @@ TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
   std::snprintf(share, sizeof share, "%.1f %%", 100.0 * static_cast<double>(noise) / rows.size());
   EXPECT_NE(r.output.find(std::string("labelled noise      ") + share), std::string::npos)
       << share << "\n" << r.output;
+  // Why: the three reasons add up to the noise (no event is outside the sensor).
+  unsigned long long few = 0, unsupported = 0, unresolved = 0;
+  const std::size_t why = r.output.find("why noise");
+  ASSERT_NE(why, std::string::npos) << r.output;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + why,
+                        "why noise %llu few past events, %llu no plane with support, %llu fit unresolved", &few,
+                        &unsupported, &unresolved),
+            3)
+      << r.output;
+  EXPECT_EQ(few + unsupported + unresolved, noise) << r.output;
+  EXPECT_GT(unsupported, 0u);
 }
 
 TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
