@@ -274,7 +274,8 @@ TEST(LifetimeEstimator, FollowerOfAnUnestimatedArrivalGetsThePlaneThroughThatArr
     for (const Event& e : straight_edge(s, 0.0, 1000.0)) {
       if (e.x >= 10) edge.push_back({e.t_us - 10'000, e.x, e.y, e.p});
     }
-    const Event arrival = *std::find_if(edge.begin(), edge.end(), [](const Event& e) { return e.x == 10 && e.y == 20; });
+    const Event arrival =
+        *std::find_if(edge.begin(), edge.end(), [](const Event& e) { return e.x == 10 && e.y == 20; });
     bool arrival_was_noise = false;
     AugmentedEvent follower;
     const Event late{arrival.t_us + follower_delay_us, arrival.x, arrival.y, arrival.p};

@@ -387,8 +387,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // (Censoring is relative to the new event: not for a burst's arrival.)
   if (options_.skip_censored_samples && timing_noise_us > 0.0 && anchor_rel == now_rel) {
     censored = detail::refit_without_censored(
-        nb, best.gx_us_px, best.gy_us_px, best.tol2_us2, u.x(), u.y(), lifetime_us, options_.censoring_noise_factor * timing_noise_us,
-        lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
+        nb, best.gx_us_px, best.gy_us_px, best.tol2_us2, u.x(), u.y(), lifetime_us,
+        options_.censoring_noise_factor * timing_noise_us, lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
         options_.max_lifetime_standard_error);
   }
   if (!fit.lifetime_within(g, lambda, rms_us, options_.max_lifetime_standard_error) ||
