@@ -129,12 +129,21 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
 // of real sensors grows with the lifetime, a fixed floor covers jitter.
 // Compared squared: no square root per candidate. Adaptive: the iteration
 // budget starts at the count for the expected outlier fraction and shrinks as
-// better support is found.
+// better support is found. (first_gx, first_gy): a candidate to try first,
+// (0, 0) for none.
 LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
-                                                           float tol_floor2, float tol_fraction2) const noexcept {
+                                                           float tol_floor2, float tol_fraction2, float first_gx,
+                                                           float first_gy) const noexcept {
   const int count = nb.count;
   Candidate best;
   int iterations = ransac_iterations_;
+  // The predicted plane, when there is one, is the first candidate: where
+  // the edge kept its course it holds every sample, and no pair is drawn.
+  if (first_gx != 0.0f || first_gy != 0.0f) {
+    const float tol2 = std::max(tol_floor2, tol_fraction2 * (first_gx * first_gx + first_gy * first_gy));
+    best = {1 + nb.support(first_gx, first_gy, tol2), first_gx, first_gy, tol2};
+    iterations = best.support > count ? 0 : std::min(iterations, iterations_needed(best.support - 1, count));
+  }
   for (int it = 0; it < iterations; ++it) {
     const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
     std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
@@ -321,7 +330,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
                                                  options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
-  Candidate best = best_plane(nb, rng, tol_floor2, tol_fraction2);
+  Candidate best = best_plane(nb, rng, tol_floor2, tol_fraction2, prior_gx, prior_gy);
   stage_end(Stage::ransac);
   // Where the plane passes at this pixel: the new event, or the arrival of
   // the burst it follows (below).

@@ -95,7 +95,7 @@ class LifetimeEstimator {
     float gx_us_px = 0.0f, gy_us_px = 0.0f, tol2_us2 = 0.0f;
   };
   Candidate best_plane(const detail::WindowSamples& nb, detail::EventRng& rng, float tol_floor2,
-                       float tol_fraction2) const noexcept;
+                       float tol_fraction2, float first_gx = 0.0f, float first_gy = 0.0f) const noexcept;
   double prior_weight(double err_us) const noexcept;
   bool prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
