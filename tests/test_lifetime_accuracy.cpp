@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "accuracy_metrics.h"
+#include "accuracy_scenes.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/synthetic_scene.h"
 
@@ -330,7 +331,8 @@ evlife::test::AccuracyReport run_estimator(const SyntheticScene& scene, evlife::
   return evlife::test::evaluate_accuracy(scene, out, metric);
 }
 
-void expect_floors(const std::string& title, const SceneSpec& spec) {
+void expect_floors(std::size_t index) {
+  const auto [title, spec] = evlife::test::ideal_accuracy_scenes()[index];
   const SyntheticScene scene = evlife::io::generate_scene(spec);
   const auto report = run_estimator(scene, evlife::LifetimeOptions{});  // defaults but the sensor
   std::cout << evlife::test::format_accuracy_table(
@@ -346,27 +348,12 @@ void expect_floors(const std::string& title, const SceneSpec& spec) {
   EXPECT_GE(o.noise_share, 0.97) << title;
 }
 
-TEST(LifetimeAccuracy, EdgesDavis240) {
-  expect_floors("edges 240x180, 0.8 s", evlife::io::edges_scene({240, 180}, 800'000, 1));
-}
-
-TEST(LifetimeAccuracy, EdgesDavis346) {
-  expect_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 2, 4));
-}
-
-TEST(LifetimeAccuracy, RotatingBarDavis240) {
-  expect_floors("rotating bar 240x180, 150->1200 deg/s in 1 s",
-                evlife::io::rotating_bar_scene({240, 180}, 1'000'000, 3));
-}
-
-TEST(LifetimeAccuracy, RotatingBarDavis346) {
-  expect_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
-                evlife::io::rotating_bar_scene({346, 260}, 600'000, 4));
-}
-
-TEST(LifetimeAccuracy, MixedDvs128) {
-  expect_floors("mixed 128x128, 2 s", evlife::io::mixed_scene({128, 128}, 2'000'000, 5));
-}
+// Indices into evlife::test::ideal_accuracy_scenes().
+TEST(LifetimeAccuracy, EdgesDavis240) { expect_floors(0); }
+TEST(LifetimeAccuracy, EdgesDavis346) { expect_floors(1); }
+TEST(LifetimeAccuracy, RotatingBarDavis240) { expect_floors(2); }
+TEST(LifetimeAccuracy, RotatingBarDavis346) { expect_floors(3); }
+TEST(LifetimeAccuracy, MixedDvs128) { expect_floors(4); }
 
 // ---- Realistic pixels (issue 11): bursts, threshold mismatch, latency
 // jitter, refractory period, background activity, hot pixels ----
@@ -378,43 +365,33 @@ constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
 // Issue 11's dim-light floors: 0.85 / 10 % / 30 % / 5 deg / 97 %.
 constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
 
-void expect_pixel_floors(const std::string& title, SceneSpec spec, std::string_view setting,
-                         const PixelFloors& floors, const evlife::LifetimeOptions& options = {}) {
-  ASSERT_TRUE(evlife::io::apply_pixel_setting(spec, setting));
+// Indices into evlife::test::pixel_model_accuracy_scenes().
+enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
+
+void expect_pixel_floors(PixelScene index, const std::string& setting, const PixelFloors& floors,
+                         const evlife::LifetimeOptions& options = {}) {
+  const auto [scene_title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
+  const std::string title = scene_title + setting;
   const SyntheticScene scene = evlife::io::generate_scene(spec);
   const auto report = run_estimator(scene, options);
-  std::cout << evlife::test::format_accuracy_table(
-      title + ", " + std::string(setting) + " pixels (" + std::to_string(scene.events.size()) + " events)",
-      report);
+  std::cout << evlife::test::format_accuracy_table(title + " (" + std::to_string(scene.events.size()) + " events)",
+                                                   report);
   const auto& o = report.overall;
   ASSERT_GT(o.edge_events, 20000u);
   ASSERT_GT(o.noise_events, 500u);
-  EXPECT_GE(o.lifetime_share, floors.lifetime_share) << title << " " << setting;
-  EXPECT_LE(o.median_rel_error, floors.median_rel_error) << title << " " << setting;
-  EXPECT_LE(o.p90_rel_error, floors.p90_rel_error) << title << " " << setting;
-  EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << title << " " << setting;
-  EXPECT_GE(o.noise_share, floors.noise_share) << title << " " << setting;
+  EXPECT_GE(o.lifetime_share, floors.lifetime_share) << title;
+  EXPECT_LE(o.median_rel_error, floors.median_rel_error) << title;
+  EXPECT_LE(o.p90_rel_error, floors.p90_rel_error) << title;
+  EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << title;
+  EXPECT_GE(o.noise_share, floors.noise_share) << title;
 }
 
-TEST(PixelModelAccuracy, EdgesDavis346NormalLight) {
-  expect_pixel_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 11, 4), "dvs",
-                      kNormalLightFloors);
-}
-
+TEST(PixelModelAccuracy, EdgesDavis346NormalLight) { expect_pixel_floors(kEdgesNormal, "", kNormalLightFloors); }
 TEST(PixelModelAccuracy, RotatingBarDavis346NormalLight) {
-  expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
-                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 12), "dvs", kNormalLightFloors);
+  expect_pixel_floors(kBarNormal, "", kNormalLightFloors);
 }
-
-TEST(PixelModelAccuracy, EdgesDavis346DimLight) {
-  expect_pixel_floors("edges 346x260, 0.6 s", evlife::io::edges_scene({346, 260}, 600'000, 13, 4),
-                      "dvs-dim", kIssueDimLightFloors);
-}
-
-TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) {
-  expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s",
-                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kIssueDimLightFloors);
-}
+TEST(PixelModelAccuracy, EdgesDavis346DimLight) { expect_pixel_floors(kEdgesDim, "", kIssueDimLightFloors); }
+TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) { expect_pixel_floors(kBarDim, "", kIssueDimLightFloors); }
 
 // Issue 11's dim-light floors, all met with config/dim-light.yaml (lifetimes
 // at least two standard errors from zero; the preset's content is checked by
@@ -426,20 +403,16 @@ evlife::LifetimeOptions dim_light_preset() {
 }
 
 TEST(PixelModelAccuracy, EdgesDavis346DimLightWithDimLightPreset) {
-  expect_pixel_floors("edges 346x260, 0.6 s, dim-light preset", evlife::io::edges_scene({346, 260}, 600'000, 13, 4),
-                      "dvs-dim", kIssueDimLightFloors, dim_light_preset());
+  expect_pixel_floors(kEdgesDim, ", dim-light preset", kIssueDimLightFloors, dim_light_preset());
 }
 
 TEST(PixelModelAccuracy, RotatingBarDavis346DimLightWithDimLightPreset) {
-  expect_pixel_floors("rotating bar 346x260, 150->1200 deg/s in 0.6 s, dim-light preset",
-                      evlife::io::rotating_bar_scene({346, 260}, 600'000, 14), "dvs-dim", kIssueDimLightFloors,
-                      dim_light_preset());
+  expect_pixel_floors(kBarDim, ", dim-light preset", kIssueDimLightFloors, dim_light_preset());
 }
 
 // The preset in normal light still meets the normal-light floors.
 TEST(PixelModelAccuracy, EdgesDavis346NormalLightWithDimLightPreset) {
-  expect_pixel_floors("edges 346x260, 0.6 s, dim-light preset", evlife::io::edges_scene({346, 260}, 600'000, 11, 4),
-                      "dvs", kNormalLightFloors, dim_light_preset());
+  expect_pixel_floors(kEdgesNormal, ", dim-light preset", kNormalLightFloors, dim_light_preset());
 }
 
 // Beyond the floors: where does the estimator stop working? Not a pass/fail
@@ -516,16 +489,14 @@ TEST(LifetimeAccuracy, DISABLED_StressSweep) {
 // data noisy: the same scenes with the prior ignored (regularization off) get
 // worse lifetimes and directions. Fails if the prior is not used.
 TEST(PixelModelAccuracy, RegularizationImprovesEstimatesOnRealisticPixels) {
-  for (const auto& [title, spec] : {std::pair{"edges", evlife::io::edges_scene({346, 260}, 600'000, 11, 4)},
-                                    std::pair{"bar", evlife::io::rotating_bar_scene({346, 260}, 600'000, 12)}}) {
-    SceneSpec s = spec;
-    ASSERT_TRUE(evlife::io::apply_pixel_setting(s, "dvs"));
-    const SyntheticScene scene = evlife::io::generate_scene(s);
+  for (const PixelScene index : {kEdgesNormal, kBarNormal}) {
+    const auto [title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
+    const SyntheticScene scene = evlife::io::generate_scene(spec);
     evlife::LifetimeOptions off;
     off.regularization = false;
     const auto with = run_estimator(scene, evlife::LifetimeOptions{}).overall;
     const auto without = run_estimator(scene, off).overall;
-    std::cout << title << ", dvs pixels: median / p90 lifetime error, median direction error: regularized "
+    std::cout << title << ": median / p90 lifetime error, median direction error: regularized "
               << with.median_rel_error << " / " << with.p90_rel_error << " / " << with.median_dir_error_deg
               << " deg, not regularized " << without.median_rel_error << " / " << without.p90_rel_error << " / "
               << without.median_dir_error_deg << " deg\n";

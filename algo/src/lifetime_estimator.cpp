@@ -225,14 +225,12 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int W = options_.sensor.width;
   const int H = options_.sensor.height;
   if (e.x >= W || e.y >= H) {
-    ++stats_.out_of_sensor;
-    ++stats_.noise;
+    count_noise(stats_.out_of_sensor);
     stage_end(Stage::head);
     return out;
   }
   if (e.p != 1 && e.p != -1) {
-    ++stats_.bad_polarity;
-    ++stats_.noise;
+    count_noise(stats_.bad_polarity);
     stage_end(Stage::head);
     return out;
   }
@@ -315,8 +313,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int min_continuation_support =
       options_.continuation_min_support > 0 ? std::min(min_support, options_.continuation_min_support + 1) : min_support;
   if (count + 1 < min_continuation_support) {
-    ++stats_.noise;
-    ++stats_.noise_few_samples;
+    count_noise(stats_.noise_few_samples);
     return out;
   }
 
@@ -352,8 +349,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       anchor_rel = previous_rel;
     }
     if (!continued && best.support < min_support) {
-      ++stats_.noise;
-      ++stats_.noise_unsupported;
+      count_noise(stats_.noise_unsupported);
       stage_end(Stage::continuation);
       return out;
     }
@@ -377,15 +373,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // A follower comes at most burst_window_lifetimes after its burst's arrival.
   if (anchor_rel != now_rel &&
       !(static_cast<double>(now_rel - anchor_rel) <= options_.burst_window_lifetimes * lifetime_us)) {
-    ++stats_.noise;
-    ++stats_.noise_unsupported;
+    count_noise(stats_.noise_unsupported);
     stage_end(Stage::refit);
     return out;
   }
   if (!solved || !std::isfinite(lifetime_us) || lifetime_us < min_lifetime_us_ ||
       lifetime_us > options_.max_lifetime_us) {
-    ++stats_.noise;
-    ++stats_.noise_unresolved;
+    count_noise(stats_.noise_unresolved);
     stage_end(Stage::refit);
     return out;
   }
@@ -402,8 +396,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   }
   if (!fit.lifetime_within(g, lambda, rms_us, options_.max_lifetime_standard_error) ||
       (censored.refitted && !censored.resolved)) {
-    ++stats_.noise;
-    ++stats_.noise_unresolved;
+    count_noise(stats_.noise_unresolved);
     stage_end(Stage::refit);
     return out;
   }

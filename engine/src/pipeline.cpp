@@ -48,19 +48,20 @@ EngineStats Pipeline::stats() const {
     st.render_dropped = s.render_tap->dropped_events.get();
   }
   st.sink_failed = s.merger_counters.sink_failed_events.get();
-  const LatencyHistogram& h = s.merger_counters.latency_ns;
-  st.latency_count = h.count();
-  st.latency_p50_us = static_cast<double>(h.percentile_ns(0.50)) * 1e-3;
-  st.latency_p99_us = static_cast<double>(h.percentile_ns(0.99)) * 1e-3;
-  st.latency_max_us = static_cast<double>(h.max_ns()) * 1e-3;
-  st.latency_over_1ms = h.count_above(1'000'000);
-  const LatencyHistogram& age = s.merger_counters.age_ns;
-  st.age_p50_us = static_cast<double>(age.percentile_ns(0.50)) * 1e-3;
-  st.age_p99_us = static_cast<double>(age.percentile_ns(0.99)) * 1e-3;
-  st.age_max_us = static_cast<double>(age.max_ns()) * 1e-3;
   const auto us = [](const LatencyHistogram& hist, double q) {
     return static_cast<double>(hist.percentile_ns(q)) * 1e-3;
   };
+  const auto max_us = [](const LatencyHistogram& hist) { return static_cast<double>(hist.max_ns()) * 1e-3; };
+  const LatencyHistogram& h = s.merger_counters.latency_ns;
+  st.latency_count = h.count();
+  st.latency_p50_us = us(h, 0.50);
+  st.latency_p99_us = us(h, 0.99);
+  st.latency_max_us = max_us(h);
+  st.latency_over_1ms = h.count_above(1'000'000);
+  const LatencyHistogram& age = s.merger_counters.age_ns;
+  st.age_p50_us = us(age, 0.50);
+  st.age_p99_us = us(age, 0.99);
+  st.age_max_us = max_us(age);
   st.pulled_p50_us = us(s.router_counters.pulled_ns, 0.50);
   st.pulled_p99_us = us(s.router_counters.pulled_ns, 0.99);
   for (std::size_t w = 0; w < s.workers.size(); ++w) {

@@ -96,6 +96,11 @@ class LifetimeEstimator {
   };
   Candidate best_plane(const detail::WindowSamples& nb, detail::EventRng& rng, float tol_floor2,
                        float tol_fraction2, float first_gx = 0.0f, float first_gy = 0.0f) const noexcept;
+  // An event labelled noise, counted with its reason (a LifetimeStats field).
+  void count_noise(std::uint64_t& reason) noexcept {
+    ++stats_.noise;
+    ++reason;
+  }
   double prior_weight(double err_us) const noexcept;
   bool prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,

@@ -1,0 +1,37 @@
+#include "accuracy_scenes.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace evlife::test {
+namespace {
+
+AccuracyScene with_pixels(std::string title, io::SceneSpec spec, const char* setting) {
+  if (!io::apply_pixel_setting(spec, setting)) {  // a name in this file, not input
+    std::fprintf(stderr, "accuracy_scenes: no pixel setting %s\n", setting);
+    std::abort();
+  }
+  return {std::move(title) + ", " + setting + " pixels", spec};
+}
+
+}  // namespace
+
+std::vector<AccuracyScene> ideal_accuracy_scenes(unsigned seed_offset) {
+  const unsigned s = seed_offset;
+  return {{"edges 240x180, 0.8 s", io::edges_scene({240, 180}, 800'000, 1 + s)},
+          {"edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 2 + s, 4)},
+          {"rotating bar 240x180, 150->1200 deg/s in 1 s", io::rotating_bar_scene({240, 180}, 1'000'000, 3 + s)},
+          {"rotating bar 346x260, 150->1200 deg/s in 0.6 s", io::rotating_bar_scene({346, 260}, 600'000, 4 + s)},
+          {"mixed 128x128, 2 s", io::mixed_scene({128, 128}, 2'000'000, 5 + s)}};
+}
+
+std::vector<AccuracyScene> pixel_model_accuracy_scenes(unsigned seed_offset) {
+  const unsigned s = seed_offset;
+  const char* const bar = "rotating bar 346x260, 150->1200 deg/s in 0.6 s";
+  return {with_pixels("edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 11 + s, 4), "dvs"),
+          with_pixels(bar, io::rotating_bar_scene({346, 260}, 600'000, 12 + s), "dvs"),
+          with_pixels("edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 13 + s, 4), "dvs-dim"),
+          with_pixels(bar, io::rotating_bar_scene({346, 260}, 600'000, 14 + s), "dvs-dim")};
+}
+
+}  // namespace evlife::test

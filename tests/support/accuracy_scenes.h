@@ -1,0 +1,26 @@
+// The synthetic scenes whose accuracy the README quotes, defined once:
+// test_lifetime_accuracy asserts the floors on them, bench/accuracy_sweep
+// prints the same figures for other options or seeds.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "evlife/io/synthetic_scene.h"
+
+namespace evlife::test {
+
+struct AccuracyScene {
+  std::string title;
+  io::SceneSpec spec;  ///< with the pixel setting applied
+};
+
+/// Ideal pixels: edges 240x180 and 346x260, rotating bar 240x180 and
+/// 346x260, mixed 128x128. `seed_offset` is added to every scene's seed.
+std::vector<AccuracyScene> ideal_accuracy_scenes(unsigned seed_offset = 0);
+
+/// Realistic DVS pixels, DAVIS346: edges and rotating bar in normal light
+/// (`dvs`), then the same in dim light (`dvs-dim`).
+std::vector<AccuracyScene> pixel_model_accuracy_scenes(unsigned seed_offset = 0);
+
+}  // namespace evlife::test
