@@ -14,6 +14,11 @@
 3. Prediction misses on garfield.mat with predictions that never expire
    (estimator.prediction_expiry_lifetimes = 0): how many predictions err by
    more than 10 ms, how many of those came late, and the median lateness.
+4. Warm-up: the share of events with a lifetime in each tenth of a
+   recording, default options. The surface starts empty, and eq. 8 asks a
+   new edge for 7 past supporters in its window, so the share rises over the
+   first lifetimes of each region; a recording only a few lifetimes long is
+   mostly warm-up.
 """
 import sys
 
@@ -74,6 +79,16 @@ def main():
     print(f"garfield.mat, predictions never expiring: {len(err)} predictions, "
           f"{1 - len(miss) / len(err):.3f} below 10 ms; of the {len(miss)} misses "
           f"{np.mean(miss > 0):.2f} came late, by a median {np.median(miss[miss > 0]) / 1000:.1f} ms")
+
+    for name in ("rpg_txt/slider_depth_events_chunk.txt", "evt3/evt3_sample.raw", "aedat4/sample.aedat4",
+                 "reference/stripes.mat"):
+        out = evlife.process(f"{DATA}/{name}")
+        t = out["t"].astype(np.int64)
+        tenth = np.minimum((t - t[0]) * 10 // max(1, t[-1] - t[0] + 1), 9)
+        shares = [np.mean(out["lifetime"][tenth == k] > 0) for k in range(10)]
+        print(f"{name.split('/')[-1]}: share with a lifetime by tenth of its {(t[-1] - t[0]) / 1000:.1f} ms: "
+              + " ".join(f"{v:.2f}" for v in shares) + f"; whole file {np.mean(out['lifetime'] > 0):.3f}, "
+              f"last 70 % {np.mean(out['lifetime'][tenth >= 3] > 0):.3f}")
 
 
 if __name__ == "__main__":
