@@ -1,6 +1,6 @@
 """Issue-11 figures on the shared recordings that no evlife command prints.
 
-  PYTHONPATH=build/python /usr/bin/python3 bench/real_data_figures.py [../shared/data]
+  PYTHONPATH=build/python /usr/bin/python3 bench/real_data_figures.py [../shared/data] [--plot FILE.png]
 
 1. Past support on evt3_sample.raw: the share of events with at least 3 / 7
    earlier same-polarity events (within 100 ms) at other pixels of their 5x5
@@ -18,7 +18,8 @@
    recording, default options. The surface starts empty, and eq. 8 asks a
    new edge for 7 past supporters in its window, so the share rises over the
    first lifetimes of each region; a recording only a few lifetimes long is
-   mostly warm-up.
+   mostly warm-up. --plot draws the share against time in median lifetimes
+   (bench/doc/warmup.png).
 """
 import sys
 
@@ -26,7 +27,11 @@ import numpy as np
 
 import evlife
 
-DATA = sys.argv[1] if len(sys.argv) > 1 else "../shared/data"
+ARGS = [a for a in sys.argv[1:]]
+PLOT = ARGS[ARGS.index("--plot") + 1] if "--plot" in ARGS else None
+if PLOT:
+    del ARGS[ARGS.index("--plot"):ARGS.index("--plot") + 2]
+DATA = ARGS[0] if ARGS else "../shared/data"
 
 
 def past_support(path, width, height, half_window=2, horizon_us=100_000):
@@ -80,15 +85,44 @@ def main():
           f"{1 - len(miss) / len(err):.3f} below 10 ms; of the {len(miss)} misses "
           f"{np.mean(miss > 0):.2f} came late, by a median {np.median(miss[miss > 0]) / 1000:.1f} ms")
 
+    curves = []
     for name in ("rpg_txt/slider_depth_events_chunk.txt", "evt3/evt3_sample.raw", "aedat4/sample.aedat4",
                  "reference/stripes.mat"):
         out = evlife.process(f"{DATA}/{name}")
         t = out["t"].astype(np.int64)
+        curves.append((name.split("/")[-1], t - t[0], out["lifetime"]))
         tenth = np.minimum((t - t[0]) * 10 // max(1, t[-1] - t[0] + 1), 9)
         shares = [np.mean(out["lifetime"][tenth == k] > 0) for k in range(10)]
         print(f"{name.split('/')[-1]}: share with a lifetime by tenth of its {(t[-1] - t[0]) / 1000:.1f} ms: "
               + " ".join(f"{v:.2f}" for v in shares) + f"; whole file {np.mean(out['lifetime'] > 0):.3f}, "
               f"last 70 % {np.mean(out['lifetime'][tenth >= 3] > 0):.3f}")
+    if PLOT:
+        plot_warmup(curves, PLOT)
+
+
+def plot_warmup(curves, path):
+    """Share with a lifetime in 20 bins of each recording, against the time
+    since its first event in median lifetimes."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 3.6), dpi=110)
+    for name, t, lifetime in curves:
+        tau = np.median(lifetime[lifetime > 0])
+        edges = np.linspace(0, t[-1] + 1, 21)
+        k = np.digitize(t, edges) - 1
+        share = [np.mean(lifetime[k == b] > 0) for b in range(20)]
+        ax.plot((edges[:-1] + edges[1:]) / 2 / tau, share, marker=".", label=f"{name} ({t[-1] / 1000:.0f} ms)")
+    ax.set_xscale("log")
+    ax.set_xlabel("time since the first event, in median lifetimes")
+    ax.set_ylabel("share with a lifetime")
+    ax.set_ylim(0, 1)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("Warm-up: the surface starts empty", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
