@@ -14,6 +14,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "cli_runner.h"
@@ -88,6 +89,31 @@ TEST_F(RenderCliTest, CompareFramesAtChosenInstantsSameFromRawAndFromAugmented) 
   ASSERT_EQ(a.size(), b.size());
   // The caption differs in nothing but both are drawn the same: images equal.
   EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+}
+
+// The README's frames are what the estimator draws now: regenerate them
+// (the command in the README's caption) when a change moves them. A change
+// of the estimator moved 1.3 % (stripes) and 2.3 % (garfield) of their
+// pixels; the allowance covers only rounding differences between compilers.
+TEST_F(RenderCliTest, ReadmeFramesAreTheCurrentEstimatorsOutput) {
+  for (const std::string name : {"stripes", "garfield"}) {
+    const std::string input = name == "stripes" ? kStripes : kGarfield;
+    const std::string drawn = path(name + ".png");
+    const auto r = run("render '" + input + "' -o '" + drawn + "' --at 0.5 --mode compare -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string readme_frame = std::string(EVLIFE_SOURCE_DIR) + "/render/doc/" + name + "_compare.png";
+    const cv::Mat a = cv::imread(drawn);
+    const cv::Mat b = cv::imread(readme_frame);
+    ASSERT_FALSE(b.empty()) << readme_frame;
+    ASSERT_EQ(a.size(), b.size()) << readme_frame;
+    cv::Mat diff;
+    cv::absdiff(a, b, diff);
+    cv::Mat changed;
+    cv::cvtColor(diff, changed, cv::COLOR_BGR2GRAY);
+    const double share = cv::countNonZero(changed) / static_cast<double>(changed.total());
+    EXPECT_LE(share, 0.001) << readme_frame << " is stale: regenerate it with `evlife render " << input << " -o "
+                            << readme_frame << " --at 0.5 --mode compare`";
+  }
 }
 
 TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
