@@ -119,7 +119,9 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
   int out = 0;
   if (count <= 32) {
     const int groups = (count + kRankLanes - 1) / kRankLanes;
-    for (int k = count; k < groups * kRankLanes; ++k) dt_us[k] = -std::numeric_limits<float>::infinity();
+    // -inf after the samples, to the end of the last group (one store, no
+    // loop to mispredict; count <= 32 leaves room).
+    _mm256_storeu_ps(dt_us + count, _mm256_set1_ps(-std::numeric_limits<float>::infinity()));
     unsigned take = 0;
     switch (groups) {
       case 1: take = fewer_newer_than<1>(dt_us, keep); break;
@@ -129,13 +131,29 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
     }
     take &= count == 32 ? ~0U : (1U << count) - 1U;  // (the -inf padding is never kept anyway)
     if (int excess = __builtin_popcount(take) - keep; excess > 0) {
-      float oldest = std::numeric_limits<float>::infinity();
-      for (unsigned m = take; m != 0; m &= m - 1) oldest = std::min(oldest, dt_us[__builtin_ctz(m)]);
-      for (int k = count - 1; excess > 0; --k) {
-        if (((take >> k) & 1U) != 0 && dt_us[k] == oldest) {
-          take &= ~(1U << k);
-          --excess;
-        }
+      // The oldest kept time (a minimum over the groups, the others +inf),
+      // then the last `excess` samples of that time in gather order dropped.
+      const __m256 none = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+      __m256 oldest = none;
+      for (int i = 0; i < groups; ++i) {
+        const __m256i bits = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(take >> (8 * i))),
+                                              _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
+        const __m256 kept = _mm256_castsi256_ps(_mm256_cmpeq_epi32(bits, _mm256_setzero_si256()));
+        oldest = _mm256_min_ps(oldest, _mm256_blendv_ps(_mm256_loadu_ps(dt_us + 8 * i), none, kept));
+      }
+      oldest = _mm256_min_ps(oldest, _mm256_permute2f128_ps(oldest, oldest, 1));
+      oldest = _mm256_min_ps(oldest, _mm256_shuffle_ps(oldest, oldest, _MM_SHUFFLE(1, 0, 3, 2)));
+      oldest = _mm256_min_ps(oldest, _mm256_shuffle_ps(oldest, oldest, _MM_SHUFFLE(2, 3, 0, 1)));
+      unsigned ties = 0;
+      for (int i = 0; i < groups; ++i) {
+        ties |= static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(dt_us + 8 * i), oldest, _CMP_EQ_OQ)))
+                << (8 * i);
+      }
+      ties &= take;
+      for (; excess > 0; --excess) {
+        const unsigned last = 1U << (31 - __builtin_clz(ties));
+        ties &= ~last;
+        take &= ~last;
       }
     }
     // Eight samples at a time: the kept ones packed to the front of the

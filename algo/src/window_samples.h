@@ -131,7 +131,9 @@ struct WindowSamples {
   /// Pads the arrays to a multiple of kLanes with samples that support no
   /// plane (dt = +inf), so support() runs whole vector lanes.
   void pad() noexcept {
-    for (int k = count; k < padded_count(); ++k) {
+    // kLanes samples after the last, whatever count is: no loop to mispredict.
+    static_assert(kSampleCapacity >= kMaxNeighbours + kLanes);
+    for (int k = count; k < count + kLanes; ++k) {
       dx[k] = 0.0f;
       dy[k] = 0.0f;
       dt_us[k] = std::numeric_limits<float>::infinity();
