@@ -20,8 +20,8 @@ namespace {
 
 using evlife::detail::Stage;
 constexpr int kStages = static_cast<int>(Stage::count);
-constexpr const char* kNames[kStages] = {"head (checks, follower, prediction)", "gather (window read)",
-                                         "select (newer half)", "ransac", "continuation",
+constexpr const char* kNames[kStages] = {"head (checks, follower, prediction)", "gather (window, newer half)",
+                                         "select (padding)", "ransac", "continuation",
                                          "refit (least squares)", "tail (burst state, rms, next prediction)"};
 
 double cpu_ns() {

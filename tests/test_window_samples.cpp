@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -65,6 +67,62 @@ TEST(WindowSamples, BothSelectionsKeepTheNewestInGatherOrder) {
     ASSERT_EQ(kept(a), expected) << "rank, count " << count << " keep " << keep;
     ASSERT_EQ(kept(b), expected) << "selection, count " << count << " keep " << keep;
   }
+}
+
+// gather_newest() (on x86-64 with AVX2 a row at a time in SIMD lanes) must
+// keep the samples a plain loop over the window keeps, in the same order,
+// and sum the timing noise one pixel after the other: windows clipped at
+// every border, unfired and future pixels, ties, and times far enough apart
+// that t - now leaves 32 bits.
+TEST(WindowSamples, GatherNewestKeepsWhatAPlainLoopKeeps) {
+  struct Pixel {
+    std::int32_t t_rel;
+    float timing_noise_us;
+  };
+  std::mt19937 rng(11);
+  int full = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int width = 1 + static_cast<int>(rng() % 12), height = 1 + static_cast<int>(rng() % 9);
+    const std::int32_t now = trial % 4 == 0 ? std::numeric_limits<std::int32_t>::max() - 5 : 1000;
+    std::vector<Pixel> plane(static_cast<std::size_t>(width * height + kGatherOverreadPixels));
+    for (Pixel& p : plane) {
+      const unsigned kind = rng() % 8;
+      p.t_rel = kind == 0   ? kNeverRel
+                : kind == 1 ? now + 1 + static_cast<std::int32_t>(rng() % 50)  // not fired yet
+                : kind == 2 ? kOldestRel
+                            : now - static_cast<std::int32_t>(rng() % 12) * 50;  // few times: ties
+      p.timing_noise_us = rng() % 3 == 0 ? 0.0f : static_cast<float>(rng() % 1000) * 0.37f;
+    }
+    const int half = trial % 3 == 0 ? 1 : 2;
+    const int x = static_cast<int>(rng() % static_cast<unsigned>(width));
+    const int y = static_cast<int>(rng() % static_cast<unsigned>(height));
+    const int x0 = std::max(0, x - half), x1 = std::min(width - 1, x + half);
+    const int y0 = std::max(0, y - half), y1 = std::min(height - 1, y + half);
+    const int keep = ((x1 - x0 + 1) * (y1 - y0 + 1) - 1) / 2;
+    std::vector<Sample> in;
+    float noise = 0.0f;
+    int noisy = 0;
+    for (int yy = y0; yy <= y1; ++yy) {
+      for (int xx = x0; xx <= x1; ++xx) {
+        const Pixel& p = plane[static_cast<std::size_t>(yy * width + xx)];
+        noise += p.timing_noise_us;
+        noisy += p.timing_noise_us > 0.0f;
+        if ((xx == x && yy == y) || p.t_rel == kNeverRel || p.t_rel > now) continue;
+        in.push_back({static_cast<float>(xx - x), static_cast<float>(yy - y),
+                      static_cast<float>(static_cast<std::int64_t>(p.t_rel) - now)});
+      }
+    }
+    WindowSamples w;
+    float got_noise = -1.0f;
+    int got_noisy = -1;
+    w.gather_newest(plane.data(), static_cast<std::size_t>(width), x, y, x0, x1, y0, y1, now, keep, got_noise,
+                    got_noisy);
+    ASSERT_EQ(kept(w), reference_keep(in, keep)) << "trial " << trial;
+    ASSERT_EQ(std::memcmp(&got_noise, &noise, sizeof noise), 0) << "trial " << trial;
+    ASSERT_EQ(got_noisy, noisy) << "trial " << trial;
+    full += (x1 - x0 == 4) && (y1 - y0 == 4);
+  }
+  EXPECT_GT(full, 100);  // the whole 5 x 5 window, not only clipped ones
 }
 
 TEST(WindowSamples, SupportCountsSamplesWithinTolerance) {

@@ -58,8 +58,8 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   // fits a flat surface as well, e.g. a blob whose pixels fire within a few
   // us, or a readout that stamps a row of events with one timestamp.
   min_lifetime_us_ = std::max(options_.inlier_tolerance_us / half_window_, 1.0);
-  surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
-  pixel_state_.resize(surface_.size());
+  surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()) + detail::kGatherOverreadPixels);
+  pixel_state_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -287,15 +287,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   float noise_sum_us = 0.0f;
   int noise_count = 0;
   const std::int32_t previous_rel = here.t_rel;  // the last burst's arrival here
-  here.t_rel = detail::kNeverRel;  // the new event's own pixel is not a sample
-  nb.gather(&surface_[pixel_index(pol, 0, 0)], static_cast<std::size_t>(W), x, y, x0, x1, y0, y1, now_rel,
-            noise_sum_us, noise_count);
+  // The window's pixels but the new event's own, and of them only the newer
+  // half (paper Fig. 6): older events belong to an earlier edge, newer ones
+  // do not exist yet.
+  nb.gather_newest(&surface_[pixel_index(pol, 0, 0)], static_cast<std::size_t>(W), x, y, x0, x1, y0, y1, now_rel,
+                   (window_pixels - 1) / 2, noise_sum_us, noise_count);
   here.t_rel = now_rel;
   stage_end(Stage::gather);
-
-  // Only the newer half of the window (paper Fig. 6): older events belong to
-  // an earlier edge, newer ones do not exist yet.
-  nb.keep_newest((window_pixels - 1) / 2);
   nb.pad();
   stage_end(Stage::select);
   const int count = nb.count;

@@ -81,20 +81,104 @@ void select_newest(WindowSamples& w, int keep) noexcept {
 }
 
 #if defined(EVLIFE_RANK_AVX2)
+// Up to 32 samples (G groups of eight, padded with -inf): bit k set when
+// fewer than `keep` samples are newer than sample k (ties not counted). Every
+// sample is compared with every other: one broadcast, then G compares.
+template <int G>
+__attribute__((target("avx2"), always_inline)) inline unsigned fewer_newer_than(const float* dt_us, int keep) noexcept {
+  __m256 t[G];
+  __m256i newer[G];
+  for (int i = 0; i < G; ++i) {
+    t[i] = _mm256_loadu_ps(dt_us + 8 * i);
+    newer[i] = _mm256_setzero_si256();
+  }
+  for (int j = 0; j < 8 * G; ++j) {
+    const __m256 v = _mm256_broadcast_ss(dt_us + j);
+    for (int i = 0; i < G; ++i) {
+      newer[i] = _mm256_sub_epi32(newer[i], _mm256_castps_si256(_mm256_cmp_ps(v, t[i], _CMP_GT_OQ)));
+    }
+  }
+  const __m256i keep_v = _mm256_set1_epi32(keep);
+  unsigned mask = 0;
+  for (int i = 0; i < G; ++i) {
+    mask |= static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(keep_v, newer[i]))))
+            << (8 * i);
+  }
+  return mask;
+}
+
+// The same samples as the rank counting of the default version: a sample
+// with fewer than `keep` newer ones is kept, except where the samples as new
+// as the oldest of those (a tie) straddle the limit: then only the first of
+// them in gather order fill it. Above 32 samples, rank_samples().
 __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) noexcept {
   float* dx = w.dx;
   float* dy = w.dy;
   float* dt_us = w.dt_us;
   const int count = w.count;
+  int out = 0;
+  if (count <= 32) {
+    const int groups = (count + kRankLanes - 1) / kRankLanes;
+    // -inf after the samples, to the end of the last group (one store, no
+    // loop to mispredict; count <= 32 leaves room).
+    _mm256_storeu_ps(dt_us + count, _mm256_set1_ps(-std::numeric_limits<float>::infinity()));
+    unsigned take = 0;
+    switch (groups) {
+      case 1: take = fewer_newer_than<1>(dt_us, keep); break;
+      case 2: take = fewer_newer_than<2>(dt_us, keep); break;
+      case 3: take = fewer_newer_than<3>(dt_us, keep); break;
+      default: take = fewer_newer_than<4>(dt_us, keep); break;
+    }
+    take &= count == 32 ? ~0U : (1U << count) - 1U;  // (the -inf padding is never kept anyway)
+    if (int excess = __builtin_popcount(take) - keep; excess > 0) {
+      // The oldest kept time (a minimum over the groups, the others +inf),
+      // then the last `excess` samples of that time in gather order dropped.
+      const __m256 none = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+      __m256 oldest = none;
+      for (int i = 0; i < groups; ++i) {
+        const __m256i bits = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(take >> (8 * i))),
+                                              _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
+        const __m256 kept = _mm256_castsi256_ps(_mm256_cmpeq_epi32(bits, _mm256_setzero_si256()));
+        oldest = _mm256_min_ps(oldest, _mm256_blendv_ps(_mm256_loadu_ps(dt_us + 8 * i), none, kept));
+      }
+      oldest = _mm256_min_ps(oldest, _mm256_permute2f128_ps(oldest, oldest, 1));
+      oldest = _mm256_min_ps(oldest, _mm256_shuffle_ps(oldest, oldest, _MM_SHUFFLE(1, 0, 3, 2)));
+      oldest = _mm256_min_ps(oldest, _mm256_shuffle_ps(oldest, oldest, _MM_SHUFFLE(2, 3, 0, 1)));
+      unsigned ties = 0;
+      for (int i = 0; i < groups; ++i) {
+        ties |= static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(dt_us + 8 * i), oldest, _CMP_EQ_OQ)))
+                << (8 * i);
+      }
+      ties &= take;
+      for (; excess > 0; --excess) {
+        const unsigned last = 1U << (31 - __builtin_clz(ties));
+        ties &= ~last;
+        take &= ~last;
+      }
+    }
+    // Eight samples at a time: the kept ones packed to the front of the
+    // lanes, stored at `out`. The stores reach at most k + 8 (out <= k):
+    // lanes already read.
+    for (int k = 0; k < count; k += kRankLanes) {
+      const unsigned mask = (take >> k) & 0xffU;
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kPackTable[mask])));
+      const __m256 vx = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dx + k), perm);
+      const __m256 vy = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dy + k), perm);
+      const __m256 vt = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dt_us + k), perm);
+      _mm256_storeu_ps(dx + out, vx);
+      _mm256_storeu_ps(dy + out, vy);
+      _mm256_storeu_ps(dt_us + out, vt);
+      out += __builtin_popcount(mask);
+    }
+    w.count = out;
+    return;
+  }
   rank_samples(dt_us, w.rank_, count);
   const int* rank_ = w.rank_;
-  // Eight samples at a time: the kept ones packed to the front of the lanes,
-  // stored at `out`. The stores reach at most k + 8 (out <= k): lanes already
-  // read. Lanes past count are never kept.
+  // As above, by rank. Lanes past count are never kept.
   const __m256i keep_v = _mm256_set1_epi32(keep);
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i count_v = _mm256_set1_epi32(count);
-  int out = 0;
   for (int k = 0; k < count; k += kRankLanes) {
     const __m256i rank = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rank_ + k));
     const __m256i index = _mm256_add_epi32(lane, _mm256_set1_epi32(k));
@@ -113,8 +197,90 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
 }
 #endif
 
+#if defined(EVLIFE_RANK_AVX2)
+__attribute__((target("default")))
+#endif
+bool gather_window_rows(WindowSamples&, const void*, std::size_t, int, int, int, int, int, int, std::int32_t, float&,
+                        int&) noexcept {
+  return false;
+}
+
+#if defined(EVLIFE_RANK_AVX2)
+// A window row of at most five 8-byte pixels (t_rel, timing_noise_us) in two
+// loads: pixels 0-3 and pixel 4 (read past the row where it is shorter; the
+// plane's kGatherOverreadPixels cover the last row), the times in lanes 0-4.
+// The kept lanes are packed to the front as select_newest() packs them. The
+// noise is summed one pixel after the other in row-major order, as gather()
+// sums it (float addition is not associative).
+__attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const void* plane, std::size_t width, int x,
+                                                         int y, int x0, int x1, int y0, int y1, std::int32_t now_rel,
+                                                         float& noise_sum_us, int& noise_count) noexcept {
+  const auto* base = static_cast<const unsigned char*>(plane);
+  const int cols = x1 - x0 + 1;
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i in_row = _mm256_cmpgt_epi32(_mm256_set1_epi32(cols), lane);
+  const __m256i own_lane = _mm256_cmpeq_epi32(lane, _mm256_set1_epi32(x - x0));
+  const __m256i never = _mm256_set1_epi32(kNeverRel);
+  const __m256i now = _mm256_set1_epi32(now_rel);
+  const __m256d now_d = _mm256_set1_pd(static_cast<double>(now_rel));
+  const __m256i t_of = _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0);
+  const __m256i noise_of = _mm256_setr_epi32(1, 3, 5, 7, 1, 1, 1, 1);
+  const __m256 dx = _mm256_cvtepi32_ps(_mm256_add_epi32(lane, _mm256_set1_epi32(x0 - x)));
+  float noise_sum = 0.0f;
+  int noisy = 0;
+  int out = 0;
+  for (int yy = y0; yy <= y1; ++yy) {
+    const unsigned char* row = base + (static_cast<std::size_t>(yy) * width + static_cast<std::size_t>(x0)) * 8;
+    const auto add_noise = [&](int c) {
+      float noise;
+      std::memcpy(&noise, row + 8 * c + 4, sizeof noise);
+      noise_sum += noise;
+    };
+    if (cols == WindowSamples::kRowLanes) {
+      for (int c = 0; c < WindowSamples::kRowLanes; ++c) add_noise(c);  // unrolled
+    } else {
+      for (int c = 0; c < cols; ++c) add_noise(c);
+    }
+    const __m256i four = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row));
+    long long fifth_bits;
+    std::memcpy(&fifth_bits, row + 32, sizeof fifth_bits);
+    const __m256i fifth = _mm256_set1_epi64x(fifth_bits);  // (t4, noise4) in every pair of lanes
+    const __m256i t = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(four, t_of), fifth, 0x10);
+    const __m256 noise = _mm256_castsi256_ps(
+        _mm256_blend_epi32(_mm256_permutevar8x32_epi32(four, noise_of), _mm256_srli_epi64(fifth, 32), 0x10));
+    const __m256 has_noise = _mm256_and_ps(_mm256_cmp_ps(noise, _mm256_setzero_ps(), _CMP_GT_OQ),
+                                           _mm256_castsi256_ps(in_row));
+    noisy += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(has_noise)));
+    // A past event that has fired (t_rel != kNeverRel, t_rel <= now_rel), not the own pixel.
+    __m256i take = _mm256_andnot_si256(_mm256_cmpgt_epi32(t, now), _mm256_and_si256(in_row, _mm256_cmpgt_epi32(t, never)));
+    take = _mm256_andnot_si256(_mm256_and_si256(own_lane, _mm256_set1_epi32(-static_cast<int>(yy == y))), take);
+    // dt = t_rel - now_rel rounded once to float, as gather()'s int64 -> float:
+    // the difference is exact in double.
+    const __m128 dt_lo = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(t)), now_d));
+    const __m128 dt_hi = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(t, 1)), now_d));
+    const __m256 dt = _mm256_set_m128(dt_hi, dt_lo);
+    const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(take)));
+    const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kPackTable[mask])));
+    _mm256_storeu_ps(w.dx + out, _mm256_permutevar8x32_ps(dx, perm));
+    _mm256_storeu_ps(w.dy + out, _mm256_set1_ps(static_cast<float>(yy - y)));
+    _mm256_storeu_ps(w.dt_us + out, _mm256_permutevar8x32_ps(dt, perm));
+    out += __builtin_popcount(mask);
+  }
+  w.count = out;
+  noise_sum_us = noise_sum;
+  noise_count = noisy;
+  return true;
+}
+#endif
+
 }  // namespace
 
 void WindowSamples::keep_newest_by_rank(int keep) noexcept { select_newest(*this, keep); }
+
+bool WindowSamples::gather_rows(const void* plane, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
+                                std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {
+  static_assert(kRowLanes <= 5, "gather_window_rows() reads five pixels a row");
+  return gather_window_rows(*this, plane, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count);
+}
 
 }  // namespace evlife::detail

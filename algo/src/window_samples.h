@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -16,6 +17,9 @@ constexpr int kMaxNeighbours = kMaxWindowSide * kMaxWindowSide - 1;  // 224
 // Room for every pixel of the largest window (the gather writes before it
 // decides to keep), rounded up to whole SIMD lanes.
 constexpr int kSampleCapacity = (kMaxWindowSide * kMaxWindowSide + 3) / 4 * 4;  // 228
+// Pixels past the last one of a time plane that WindowSamples::gather_rows()
+// may read (and ignore): a row's 8-byte pixels are read four and one at a time.
+constexpr int kGatherOverreadPixels = 8;
 
 struct WindowSamples {
   float dx[kSampleCapacity];     // px
@@ -26,7 +30,8 @@ struct WindowSamples {
 
   /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
   /// (`rows` points at row 0; `width` pixels a row): the pixels that have
-  /// fired at or before now_rel become the samples, in row-major order. Also
+  /// fired at or before now_rel, except (x, y) itself, become the samples, in
+  /// row-major order. Also
   /// sums the timing noise of every window pixel (noise_sum_us, in row-major
   /// order) and counts the pixels that have one.
   template <class Pixel>
@@ -47,13 +52,37 @@ struct WindowSamples {
         dx[gathered] = static_cast<float>(xx - x);
         dy[gathered] = ddy;
         dt_us[gathered] = static_cast<float>(static_cast<std::int64_t>(t) - now_rel);
-        gathered += static_cast<int>((t != kNeverRel) & (t <= now_rel));
+        gathered += static_cast<int>((t != kNeverRel) & (t <= now_rel) & ((xx != x) | (yy != y)));
       }
     }
     count = gathered;
     noise_sum_us = noise_sum;
     noise_count = noisy;
   }
+
+  /// gather() of every window pixel but (x, y) itself, then keep_newest(keep):
+  /// the same samples in the same order. Pixel: 8 bytes, the int32 t_rel
+  /// first, the float timing_noise_us second; the plane must hold
+  /// kGatherOverreadPixels readable pixels after its last one. Windows of at
+  /// most kRowLanes x kRowLanes pixels are read a row at a time with AVX2
+  /// where the CPU has it (gather_rows(), window_samples.cpp).
+  template <class Pixel>
+  void gather_newest(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
+                     std::int32_t now_rel, int keep, float& noise_sum_us, int& noise_count) noexcept {
+    static_assert(sizeof(Pixel) == 8 && offsetof(Pixel, t_rel) == 0 && offsetof(Pixel, timing_noise_us) == 4);
+    if (x1 - x0 >= kRowLanes || y1 - y0 >= kRowLanes ||
+        !gather_rows(rows, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count)) {
+      gather(rows, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count);
+    }
+    keep_newest(keep);
+  }
+  static constexpr int kRowLanes = 5;
+
+  /// The rows of gather_newest() (pixels as gather_newest() describes, at
+  /// `plane`), the own pixel left out; false when the CPU has no AVX2 (then
+  /// nothing is written).
+  bool gather_rows(const void* plane, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
+                   std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept;
 
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
   /// in gather order; ties go to the earlier-gathered sample.
@@ -102,7 +131,9 @@ struct WindowSamples {
   /// Pads the arrays to a multiple of kLanes with samples that support no
   /// plane (dt = +inf), so support() runs whole vector lanes.
   void pad() noexcept {
-    for (int k = count; k < padded_count(); ++k) {
+    // kLanes samples after the last, whatever count is: no loop to mispredict.
+    static_assert(kSampleCapacity >= kMaxNeighbours + kLanes);
+    for (int k = count; k < count + kLanes; ++k) {
       dx[k] = 0.0f;
       dy[k] = 0.0f;
       dt_us[k] = std::numeric_limits<float>::infinity();
