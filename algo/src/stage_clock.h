@@ -16,8 +16,9 @@
 namespace evlife::detail {
 
 /// head: checks, follower, prediction; gather: window read and the newer
-/// half (WindowSamples::gather_newest()); select: the padding; ransac; continuation: continues_an_edge(); refit: least squares and
-/// lifetime; tail: burst state, residual rms and the next prediction.
+/// half (WindowSamples::gather_newest()); select: the padding; ransac;
+/// continuation: continues_an_edge(); refit: least squares and lifetime;
+/// tail: burst state, residual rms and the next prediction.
 enum class Stage : int { head, gather, select, ransac, continuation, refit, tail, count };
 
 #if defined(EVLIFE_ESTIMATOR_STAGE_CLOCK)
