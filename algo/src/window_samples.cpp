@@ -53,6 +53,21 @@ constexpr std::array<std::uint64_t, 256> make_pack_table() {
   return table;
 }
 constexpr std::array<std::uint64_t, 256> kPackTable = make_pack_table();
+
+// The lanes of samples k..k+7 set in `mask` packed to the front and stored
+// at `out` (the stores reach at most out + 8 <= k + 8: lanes already read);
+// returns the new out.
+__attribute__((target("avx2"), always_inline)) inline int pack_samples(WindowSamples& w, int k, unsigned mask,
+                                                                      int out) noexcept {
+  const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kPackTable[mask])));
+  const __m256 vx = _mm256_permutevar8x32_ps(_mm256_loadu_ps(w.dx + k), perm);
+  const __m256 vy = _mm256_permutevar8x32_ps(_mm256_loadu_ps(w.dy + k), perm);
+  const __m256 vt = _mm256_permutevar8x32_ps(_mm256_loadu_ps(w.dt_us + k), perm);
+  _mm256_storeu_ps(w.dx + out, vx);
+  _mm256_storeu_ps(w.dy + out, vy);
+  _mm256_storeu_ps(w.dt_us + out, vt);
+  return out + __builtin_popcount(mask);
+}
 #endif
 
 #if defined(EVLIFE_RANK_AVX2)
@@ -112,8 +127,6 @@ __attribute__((target("avx2"), always_inline)) inline unsigned fewer_newer_than(
 // as the oldest of those (a tie) straddle the limit: then only the first of
 // them in gather order fill it. Above 32 samples, rank_samples().
 __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) noexcept {
-  float* dx = w.dx;
-  float* dy = w.dy;
   float* dt_us = w.dt_us;
   const int count = w.count;
   int out = 0;
@@ -156,20 +169,8 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
         take &= ~last;
       }
     }
-    // Eight samples at a time: the kept ones packed to the front of the
-    // lanes, stored at `out`. The stores reach at most k + 8 (out <= k):
-    // lanes already read.
-    for (int k = 0; k < count; k += kRankLanes) {
-      const unsigned mask = (take >> k) & 0xffU;
-      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kPackTable[mask])));
-      const __m256 vx = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dx + k), perm);
-      const __m256 vy = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dy + k), perm);
-      const __m256 vt = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dt_us + k), perm);
-      _mm256_storeu_ps(dx + out, vx);
-      _mm256_storeu_ps(dy + out, vy);
-      _mm256_storeu_ps(dt_us + out, vt);
-      out += __builtin_popcount(mask);
-    }
+    // Eight samples at a time: the kept ones packed to the front.
+    for (int k = 0; k < count; k += kRankLanes) out = pack_samples(w, k, (take >> k) & 0xffU, out);
     w.count = out;
     return;
   }
@@ -183,15 +184,7 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
     const __m256i rank = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rank_ + k));
     const __m256i index = _mm256_add_epi32(lane, _mm256_set1_epi32(k));
     const __m256i take = _mm256_and_si256(_mm256_cmpgt_epi32(keep_v, rank), _mm256_cmpgt_epi32(count_v, index));
-    const auto mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(take)));
-    const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(kPackTable[mask])));
-    const __m256 vx = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dx + k), perm);
-    const __m256 vy = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dy + k), perm);
-    const __m256 vt = _mm256_permutevar8x32_ps(_mm256_loadu_ps(dt_us + k), perm);
-    _mm256_storeu_ps(dx + out, vx);
-    _mm256_storeu_ps(dy + out, vy);
-    _mm256_storeu_ps(dt_us + out, vt);
-    out += __builtin_popcount(mask);
+    out = pack_samples(w, k, static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(take))), out);
   }
   w.count = out;
 }
