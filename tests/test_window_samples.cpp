@@ -88,7 +88,8 @@ TEST(WindowSamples, GatherNewestKeepsWhatAPlainLoopKeeps) {
     for (Pixel& p : plane) {
       const unsigned kind = rng() % 8;
       p.t_rel = kind == 0   ? kNeverRel
-                : kind == 1 ? now + 1 + static_cast<std::int32_t>(rng() % 50)  // not fired yet
+                : kind == 1 ? static_cast<std::int32_t>(std::min<std::int64_t>(  // not fired yet
+                                  std::int64_t{now} + 1 + rng() % 50, std::numeric_limits<std::int32_t>::max()))
                 : kind == 2 ? kOldestRel
                             : now - static_cast<std::int32_t>(rng() % 12) * 50;  // few times: ties
       p.timing_noise_us = rng() % 3 == 0 ? 0.0f : static_cast<float>(rng() % 1000) * 0.37f;
@@ -104,7 +105,8 @@ TEST(WindowSamples, GatherNewestKeepsWhatAPlainLoopKeeps) {
     int noisy = 0;
     for (int yy = y0; yy <= y1; ++yy) {
       for (int xx = x0; xx <= x1; ++xx) {
-        const Pixel& p = plane[static_cast<std::size_t>(yy * width + xx)];
+        const Pixel& p =
+            plane[static_cast<std::size_t>(yy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(xx)];
         noise += p.timing_noise_us;
         noisy += p.timing_noise_us > 0.0f;
         if ((xx == x && yy == y) || p.t_rel == kNeverRel || p.t_rel > now) continue;
