@@ -21,17 +21,11 @@
    mostly warm-up. --plot draws the share against time in median lifetimes
    (bench/doc/warmup.png).
 """
-import sys
+import argparse
 
 import numpy as np
 
 import evlife
-
-ARGS = [a for a in sys.argv[1:]]
-PLOT = ARGS[ARGS.index("--plot") + 1] if "--plot" in ARGS else None
-if PLOT:
-    del ARGS[ARGS.index("--plot"):ARGS.index("--plot") + 2]
-DATA = ARGS[0] if ARGS else "../shared/data"
 
 
 def past_support(path, width, height, half_window=2, horizon_us=100_000):
@@ -68,15 +62,27 @@ def local_time_quantum(path, block_px=4, neighbours=7, horizon_us=1000):
     return period, np.mean(phase <= 20), len(d)
 
 
+def share_by_bin(t, lifetime, bins):
+    """Each event's bin (equal spans of the recording, t from 0) and the
+    share with a lifetime in each bin."""
+    k = np.minimum(t * bins // max(1, t[-1] + 1), bins - 1)
+    return k, [np.mean(lifetime[k == b] > 0) for b in range(bins)]
+
+
 def main():
-    support = past_support(f"{DATA}/evt3/evt3_sample.raw", 1280, 720)
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("data", nargs="?", default="../shared/data", help="the shared data folder")
+    parser.add_argument("--plot", metavar="FILE.png", help="draw the warm-up figure (4) into FILE.png")
+    args = parser.parse_args()
+    data = args.data
+    support = past_support(f"{data}/evt3/evt3_sample.raw", 1280, 720)
     print(f"evt3_sample.raw: {np.mean(support >= 3):.3f} of events have >= 3 past same-polarity "
           f"events in their 5x5 window, {np.mean(support >= 7):.3f} have >= 7")
-    period, on_grid, pairs = local_time_quantum(f"{DATA}/evt3/evt3_sample.raw")
+    period, on_grid, pairs = local_time_quantum(f"{data}/evt3/evt3_sample.raw")
     print(f"evt3_sample.raw: of {pairs} time differences 50 us - 1 ms within 4x4-pixel blocks, "
           f"{on_grid:.3f} lie within 20 us of a multiple of {period:.1f} us")
 
-    path = f"{DATA}/reference/garfield.mat"
+    path = f"{data}/reference/garfield.mat"
     ev = evlife.read(path)
     out = evlife.LifetimeEstimator(evlife.open(path).sensor, prediction_expiry_lifetimes=0).process(ev)
     err = out["prediction_error"][np.isfinite(out["prediction_error"])]
@@ -88,16 +94,17 @@ def main():
     curves = []
     for name in ("rpg_txt/slider_depth_events_chunk.txt", "evt3/evt3_sample.raw", "aedat4/sample.aedat4",
                  "reference/stripes.mat"):
-        out = evlife.process(f"{DATA}/{name}")
+        out = evlife.process(f"{data}/{name}")
         t = out["t"].astype(np.int64)
-        curves.append((name.split("/")[-1], t - t[0], out["lifetime"]))
-        tenth = np.minimum((t - t[0]) * 10 // max(1, t[-1] - t[0] + 1), 9)
-        shares = [np.mean(out["lifetime"][tenth == k] > 0) for k in range(10)]
-        print(f"{name.split('/')[-1]}: share with a lifetime by tenth of its {(t[-1] - t[0]) / 1000:.1f} ms: "
-              + " ".join(f"{v:.2f}" for v in shares) + f"; whole file {np.mean(out['lifetime'] > 0):.3f}, "
-              f"last 70 % {np.mean(out['lifetime'][tenth >= 3] > 0):.3f}")
-    if PLOT:
-        plot_warmup(curves, PLOT)
+        t -= t[0]
+        lifetime = out["lifetime"]
+        curves.append((name.split("/")[-1], t, lifetime))
+        tenth, shares = share_by_bin(t, lifetime, 10)
+        print(f"{name.split('/')[-1]}: share with a lifetime by tenth of its {t[-1] / 1000:.1f} ms: "
+              + " ".join(f"{v:.2f}" for v in shares) + f"; whole file {np.mean(lifetime > 0):.3f}, "
+              f"last 70 % {np.mean(lifetime[tenth >= 3] > 0):.3f}")
+    if args.plot:
+        plot_warmup(curves, args.plot)
 
 
 def plot_warmup(curves, path):
@@ -109,10 +116,9 @@ def plot_warmup(curves, path):
     fig, ax = plt.subplots(figsize=(7, 3.6), dpi=110)
     for name, t, lifetime in curves:
         tau = np.median(lifetime[lifetime > 0])
-        edges = np.linspace(0, t[-1] + 1, 21)
-        k = np.digitize(t, edges) - 1
-        share = [np.mean(lifetime[k == b] > 0) for b in range(20)]
-        ax.plot((edges[:-1] + edges[1:]) / 2 / tau, share, marker=".", label=f"{name} ({t[-1] / 1000:.0f} ms)")
+        _, share = share_by_bin(t, lifetime, 20)
+        centres = (np.arange(20) + 0.5) * (t[-1] + 1) / 20
+        ax.plot(centres / tau, share, marker=".", label=f"{name} ({t[-1] / 1000:.0f} ms)")
     ax.set_xscale("log")
     ax.set_xlabel("time since the first event, in median lifetimes")
     ax.set_ylabel("share with a lifetime")

@@ -368,10 +368,11 @@ constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
 // Indices into evlife::test::pixel_model_accuracy_scenes().
 enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 
-void expect_pixel_floors(PixelScene index, const std::string& setting, const PixelFloors& floors,
+// `variant`: appended to the scene's title, e.g. ", dim-light preset".
+void expect_pixel_floors(PixelScene index, const std::string& variant, const PixelFloors& floors,
                          const evlife::LifetimeOptions& options = {}) {
   const auto [scene_title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
-  const std::string title = scene_title + setting;
+  const std::string title = scene_title + variant;
   const SyntheticScene scene = evlife::io::generate_scene(spec);
   const auto report = run_estimator(scene, options);
   std::cout << evlife::test::format_accuracy_table(title + " (" + std::to_string(scene.events.size()) + " events)",

@@ -163,8 +163,6 @@ LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowS
   return best;
 }
 
-// True when an edge estimated at a neighbour predicts this event: its plane
-// (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
 // Weight of a prior plane that predicted this event with error err_us
 // (paper eq. 13, in our units).
 double LifetimeEstimator::prior_weight(double err_us) const noexcept {
@@ -183,6 +181,8 @@ bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t
   return err_us > std::max(options_.inlier_tolerance_us, options_.prediction_expiry_lifetimes * lifetime_us);
 }
 
+// True when an edge estimated at a neighbour predicts this event: its plane
+// (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
 bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                                           EdgePrior& prior) const noexcept {
   // Every window pixel is evaluated without a branch on its state (the
@@ -387,10 +387,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   detail::CensoredRefit censored;
   // (Censoring is relative to the new event: not for a burst's arrival.)
   if (options_.skip_censored_samples && timing_noise_us > 0.0 && anchor_rel == now_rel) {
-    censored = detail::refit_without_censored(
-        nb, best.gx_us_px, best.gy_us_px, best.tol2_us2, u.x(), u.y(), lifetime_us,
-        options_.censoring_noise_factor * timing_noise_us, lambda, u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy),
-        options_.max_lifetime_standard_error);
+    const double prior_along_u = u.x() * static_cast<double>(prior_gx) + u.y() * static_cast<double>(prior_gy);
+    censored = detail::refit_without_censored(nb, best.gx_us_px, best.gy_us_px, best.tol2_us2, u.x(), u.y(),
+                                              lifetime_us, options_.censoring_noise_factor * timing_noise_us,
+                                              lambda, prior_along_u, options_.max_lifetime_standard_error);
   }
   if (!fit.lifetime_within(g, lambda, rms_us, options_.max_lifetime_standard_error) ||
       (censored.refitted && !censored.resolved)) {

@@ -31,9 +31,8 @@ struct WindowSamples {
   /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
   /// (`rows` points at row 0; `width` pixels a row): the pixels that have
   /// fired at or before now_rel, except (x, y) itself, become the samples, in
-  /// row-major order. Also
-  /// sums the timing noise of every window pixel (noise_sum_us, in row-major
-  /// order) and counts the pixels that have one.
+  /// row-major order. Also sums the timing noise of every window pixel
+  /// (noise_sum_us, in row-major order) and counts the pixels that have one.
   template <class Pixel>
   void gather(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
               std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {

@@ -57,7 +57,9 @@ class LatencyHistogram {
   /// bucket count as above).
   std::uint64_t count_above(std::uint64_t ns) const noexcept {
     std::uint64_t n = 0;
-    for (int i = bucket_of(ns); i < kBuckets; ++i) n += buckets_[static_cast<std::size_t>(i)].load(std::memory_order_relaxed);
+    for (int i = bucket_of(ns); i < kBuckets; ++i) {
+      n += buckets_[static_cast<std::size_t>(i)].load(std::memory_order_relaxed);
+    }
     return n;
   }
   void reset() noexcept {
