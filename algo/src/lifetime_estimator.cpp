@@ -284,14 +284,13 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
   const int window_pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
   detail::WindowSamples nb;
-  float noise_sum_us = 0.0f;
-  int noise_count = 0;
+  float window_noise_us = 0.0f;  // the timing noise the window's fits observed (window_noise.h)
   const std::int32_t previous_rel = here.t_rel;  // the last burst's arrival here
   // The window's pixels but the new event's own, and of them only the newer
   // half (paper Fig. 6): older events belong to an earlier edge, newer ones
   // do not exist yet.
-  nb.gather_newest(&surface_[pixel_index(pol, 0, 0)], static_cast<std::size_t>(W), x, y, x0, x1, y0, y1, now_rel,
-                   (window_pixels - 1) / 2, noise_sum_us, noise_count);
+  nb.gather_newest(&surface_[pixel_index(pol, 0, 0)], static_cast<std::size_t>(W), x, y, x0, x1, y0, y1,
+                   options_.window_size, now_rel, (window_pixels - 1) / 2, window_noise_us);
   here.t_rel = now_rel;
   stage_end(Stage::gather);
   nb.pad();
@@ -318,7 +317,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // The RANSAC tolerance's floor: the sensor's timing noise, at least inlier_tolerance_us, else
   // a multiple of the residual scale the fits around this pixel observed
   // (latency jitter grows to hundreds of us in dim light).
-  const double timing_noise_us = noise_count > 0 ? static_cast<double>(noise_sum_us) / noise_count : 0.0;
+  const auto timing_noise_us = static_cast<double>(window_noise_us);
   const double tol_floor_us =
       std::max(options_.inlier_tolerance_us, options_.inlier_tolerance_residual_factor * timing_noise_us);
   const auto tol_floor2 = static_cast<float>(tol_floor_us * tol_floor_us);

@@ -193,21 +193,53 @@ __attribute__((target("avx2"))) void select_newest(WindowSamples& w, int keep) n
 #if defined(EVLIFE_RANK_AVX2)
 __attribute__((target("default")))
 #endif
-bool gather_window_rows(WindowSamples&, const void*, std::size_t, int, int, int, int, int, int, std::int32_t, float&,
-                        int&) noexcept {
+bool gather_window_rows(WindowSamples&, const void*, std::size_t, int, int, int, int, int, int, int, std::int32_t,
+                        float&) noexcept {
   return false;
 }
 
 #if defined(EVLIFE_RANK_AVX2)
+__attribute__((target("avx2"), always_inline)) inline __m256 median3_lanes(__m256 a, __m256 b, __m256 c) noexcept {
+  return _mm256_max_ps(_mm256_min_ps(a, b), _mm256_min_ps(_mm256_max_ps(a, b), c));
+}
+
+// window_timing_noise() of the rows x cols pixels in the rows' lanes (0
+// past cols): for sides 3 and 5 the column medians lane by lane with
+// median3() / median5()'s network (exact selections: the same values), then
+// the median of those lanes.
+__attribute__((target("avx2"))) float window_timing_noise_rows(__m256* noise_rows, int rows, int cols,
+                                                               int side) noexcept {
+  alignas(32) float lanes[8];
+  if (side == 5) {
+    for (int r = rows; r < 5; ++r) noise_rows[r] = _mm256_setzero_ps();
+    const __m256* v = noise_rows;
+    const __m256 f = _mm256_max_ps(_mm256_min_ps(v[0], v[1]), _mm256_min_ps(v[2], v[3]));
+    const __m256 g = _mm256_min_ps(_mm256_max_ps(v[0], v[1]), _mm256_max_ps(v[2], v[3]));
+    _mm256_store_ps(lanes, median3_lanes(v[4], f, g));
+    return median5(lanes[0], lanes[1], lanes[2], lanes[3], lanes[4]);
+  }
+  if (side == 3) {
+    for (int r = rows; r < 3; ++r) noise_rows[r] = _mm256_setzero_ps();
+    _mm256_store_ps(lanes, median3_lanes(noise_rows[0], noise_rows[1], noise_rows[2]));
+    return median3(lanes[0], lanes[1], lanes[2]);
+  }
+  // A larger window clipped to at most 5 x 5 by the sensor's corner.
+  float noise[WindowSamples::kRowLanes * WindowSamples::kRowLanes];
+  for (int r = 0; r < rows; ++r) {
+    _mm256_store_ps(lanes, noise_rows[r]);
+    for (int c = 0; c < cols; ++c) noise[r * cols + c] = lanes[c];
+  }
+  return window_timing_noise<kMaxWindowSide>(noise, rows, cols, side);
+}
+
 // A window row of at most five 8-byte pixels (t_rel, timing_noise_us) in two
 // loads: pixels 0-3 and pixel 4 (read past the row where it is shorter; the
 // plane's kGatherOverreadPixels cover the last row), the times in lanes 0-4.
 // The kept lanes are packed to the front as select_newest() packs them. The
-// noise is summed one pixel after the other in row-major order, as gather()
-// sums it (float addition is not associative).
+// timing noise: window_timing_noise(), its medians lane by lane over the rows.
 __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const void* plane, std::size_t width, int x,
-                                                         int y, int x0, int x1, int y0, int y1, std::int32_t now_rel,
-                                                         float& noise_sum_us, int& noise_count) noexcept {
+                                                         int y, int x0, int x1, int y0, int y1, int side,
+                                                         std::int32_t now_rel, float& timing_noise_us) noexcept {
   const auto* base = static_cast<const unsigned char*>(plane);
   const int cols = x1 - x0 + 1;
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -219,21 +251,10 @@ __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const 
   const __m256i t_of = _mm256_setr_epi32(0, 2, 4, 6, 0, 0, 0, 0);
   const __m256i noise_of = _mm256_setr_epi32(1, 3, 5, 7, 1, 1, 1, 1);
   const __m256 dx = _mm256_cvtepi32_ps(_mm256_add_epi32(lane, _mm256_set1_epi32(x0 - x)));
-  float noise_sum = 0.0f;
-  int noisy = 0;
+  __m256 noise_rows[WindowSamples::kRowLanes];  // lanes past cols: 0
   int out = 0;
   for (int yy = y0; yy <= y1; ++yy) {
     const unsigned char* row = base + (static_cast<std::size_t>(yy) * width + static_cast<std::size_t>(x0)) * 8;
-    const auto add_noise = [&](int c) {
-      float noise;
-      std::memcpy(&noise, row + 8 * c + 4, sizeof noise);
-      noise_sum += noise;
-    };
-    if (cols == WindowSamples::kRowLanes) {
-      for (int c = 0; c < WindowSamples::kRowLanes; ++c) add_noise(c);  // unrolled
-    } else {
-      for (int c = 0; c < cols; ++c) add_noise(c);
-    }
     const __m256i four = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row));
     long long fifth_bits;
     std::memcpy(&fifth_bits, row + 32, sizeof fifth_bits);
@@ -241,9 +262,7 @@ __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const 
     const __m256i t = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(four, t_of), fifth, 0x10);
     const __m256 noise = _mm256_castsi256_ps(
         _mm256_blend_epi32(_mm256_permutevar8x32_epi32(four, noise_of), _mm256_srli_epi64(fifth, 32), 0x10));
-    const __m256 has_noise = _mm256_and_ps(_mm256_cmp_ps(noise, _mm256_setzero_ps(), _CMP_GT_OQ),
-                                           _mm256_castsi256_ps(in_row));
-    noisy += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(has_noise)));
+    noise_rows[yy - y0] = _mm256_and_ps(noise, _mm256_castsi256_ps(in_row));
     // A past event that has fired (t_rel != kNeverRel, t_rel <= now_rel), not the own pixel.
     __m256i take = _mm256_andnot_si256(_mm256_cmpgt_epi32(t, now), _mm256_and_si256(in_row, _mm256_cmpgt_epi32(t, never)));
     take = _mm256_andnot_si256(_mm256_and_si256(own_lane, _mm256_set1_epi32(-static_cast<int>(yy == y))), take);
@@ -260,8 +279,7 @@ __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const 
     out += __builtin_popcount(mask);
   }
   w.count = out;
-  noise_sum_us = noise_sum;
-  noise_count = noisy;
+  timing_noise_us = window_timing_noise_rows(noise_rows, y1 - y0 + 1, cols, side);
   return true;
 }
 #endif
@@ -271,9 +289,9 @@ __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const 
 void WindowSamples::keep_newest_by_rank(int keep) noexcept { select_newest(*this, keep); }
 
 bool WindowSamples::gather_rows(const void* plane, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
-                                std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {
+                                int side, std::int32_t now_rel, float& timing_noise_us) noexcept {
   static_assert(kRowLanes <= 5, "gather_window_rows() reads five pixels a row");
-  return gather_window_rows(*this, plane, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count);
+  return gather_window_rows(*this, plane, width, x, y, x0, x1, y0, y1, side, now_rel, timing_noise_us);
 }
 
 }  // namespace evlife::detail

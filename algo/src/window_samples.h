@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "time_plane.h"
+#include "window_noise.h"
 
 namespace evlife::detail {
 
@@ -31,20 +32,20 @@ struct WindowSamples {
   /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
   /// (`rows` points at row 0; `width` pixels a row): the pixels that have
   /// fired at or before now_rel, except (x, y) itself, become the samples, in
-  /// row-major order. Also sums the timing noise of every window pixel
-  /// (noise_sum_us, in row-major order) and counts the pixels that have one.
+  /// row-major order. Also returns the window's timing noise (window_noise.h)
+  /// for a window of side `side`, of which [x0, x1] x [y0, y1] is inside the
+  /// sensor.
   template <class Pixel>
-  void gather(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
-              std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept {
-    float noise_sum = 0.0f;
-    int noisy = 0;
+  void gather(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1, int side,
+              std::int32_t now_rel, float& timing_noise_us) noexcept {
+    float noise[kMaxWindowSide * kMaxWindowSide];
+    int pixel = 0;
     int gathered = 0;
     for (int yy = y0; yy <= y1; ++yy) {
       const Pixel* row = rows + static_cast<std::size_t>(yy) * width;
       const auto ddy = static_cast<float>(yy - y);
       for (int xx = x0; xx <= x1; ++xx) {
-        noise_sum += row[xx].timing_noise_us;
-        noisy += row[xx].timing_noise_us > 0.0f;
+        noise[pixel++] = row[xx].timing_noise_us;
         // Written unconditionally, kept by advancing the count (no branch to
         // mispredict): a past event that has fired.
         const std::int32_t t = row[xx].t_rel;
@@ -55,8 +56,7 @@ struct WindowSamples {
       }
     }
     count = gathered;
-    noise_sum_us = noise_sum;
-    noise_count = noisy;
+    timing_noise_us = window_timing_noise<kMaxWindowSide>(noise, y1 - y0 + 1, x1 - x0 + 1, side);
   }
 
   /// gather() of every window pixel but (x, y) itself, then keep_newest(keep):
@@ -66,12 +66,12 @@ struct WindowSamples {
   /// most kRowLanes x kRowLanes pixels are read a row at a time with AVX2
   /// where the CPU has it (gather_rows(), window_samples.cpp).
   template <class Pixel>
-  void gather_newest(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
-                     std::int32_t now_rel, int keep, float& noise_sum_us, int& noise_count) noexcept {
+  void gather_newest(const Pixel* rows, std::size_t width, int x, int y, int x0, int x1, int y0, int y1, int side,
+                     std::int32_t now_rel, int keep, float& timing_noise_us) noexcept {
     static_assert(sizeof(Pixel) == 8 && offsetof(Pixel, t_rel) == 0 && offsetof(Pixel, timing_noise_us) == 4);
     if (x1 - x0 >= kRowLanes || y1 - y0 >= kRowLanes ||
-        !gather_rows(rows, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count)) {
-      gather(rows, width, x, y, x0, x1, y0, y1, now_rel, noise_sum_us, noise_count);
+        !gather_rows(rows, width, x, y, x0, x1, y0, y1, side, now_rel, timing_noise_us)) {
+      gather(rows, width, x, y, x0, x1, y0, y1, side, now_rel, timing_noise_us);
     }
     keep_newest(keep);
   }
@@ -80,8 +80,8 @@ struct WindowSamples {
   /// The rows of gather_newest() (pixels as gather_newest() describes, at
   /// `plane`), the own pixel left out; false when the CPU has no AVX2 (then
   /// nothing is written).
-  bool gather_rows(const void* plane, std::size_t width, int x, int y, int x0, int x1, int y0, int y1,
-                   std::int32_t now_rel, float& noise_sum_us, int& noise_count) noexcept;
+  bool gather_rows(const void* plane, std::size_t width, int x, int y, int x0, int x1, int y0, int y1, int side,
+                   std::int32_t now_rel, float& timing_noise_us) noexcept;
 
   /// Keeps the `keep` most recent samples (paper Fig. 6: the newer half),
   /// in gather order; ties go to the earlier-gathered sample.
