@@ -78,8 +78,12 @@ float reference_window_noise(const std::vector<Pixel>& plane, int width, int x, 
   for (int xx = x - half; xx <= x + half; ++xx) {
     std::vector<float> column;
     for (int yy = y - half; yy <= y + half; ++yy) {
-      const bool inside = xx >= 0 && yy >= 0 && xx < width && yy < height;
-      column.push_back(inside ? plane[static_cast<std::size_t>(yy * width + xx)].timing_noise_us : 0.0f);
+      float noise = 0.0f;
+      if (xx >= 0 && yy >= 0 && xx < width && yy < height) {
+        noise = plane[static_cast<std::size_t>(yy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(xx)]
+                    .timing_noise_us;
+      }
+      column.push_back(noise);
     }
     std::sort(column.begin(), column.end());
     column_medians.push_back(column[column.size() / 2]);

@@ -49,16 +49,19 @@ struct LifetimeOptions {
   double inlier_tolerance_us = 60.0;
   double inlier_tolerance_lifetime_fraction = 0.3;
   /// The floor adapts to the timing noise actually observed: it is at least
-  /// this factor x the mean residual RMS (us) of the last accepted fits in the
-  /// window. Latency jitter grows from ~50 us in bright light to several
-  /// hundred us in dim light; a fixed floor either rejects dim edges or passes
-  /// noise in bright light. In [0, 10]; 0 = the fixed floor alone.
+  /// this factor x the window's median residual RMS (us) of the last accepted
+  /// fits (median over its columns of each column's median, a pixel without a
+  /// fit counting 0: algo/src/window_noise.h; a mean let fits through
+  /// background activity widen the floor until noise passed). Latency jitter
+  /// grows from ~50 us in bright light to several hundred us in dim light; a
+  /// fixed floor either rejects dim edges or passes noise in bright light.
+  /// In [0, 10]; 0 = the fixed floor alone.
   double inlier_tolerance_residual_factor = 2.0;
 
   /// After the plane fit, the lifetime is fitted again along its direction
   /// without the samples causality censors: those the plane puts after the
   /// new event or less than censoring_noise_factor x the observed timing noise
-  /// (the mean residual RMS of the last fits in the window) before it. Of the
+  /// (the window's median residual RMS of the last fits, as above) before it. Of the
   /// pixels the edge reaches about now, only those whose latency jitter was
   /// early have fired; they pull the plane flat and the lifetime short (dim
   /// light, lifetimes below 500 us: median -24 %). No effect where no timing
@@ -151,7 +154,7 @@ void for_each_lifetime_option(F&& f) {
                "inlier tolerance as a share of the candidate's lifetime"},
     [](auto& o) -> auto& { return o.inlier_tolerance_lifetime_fraction; });
   f(OptionInfo{"inlier_tolerance_residual_factor", "", 0.0, 10.0, false, false, false, false,
-               "floor >= this x the recent fits' residual RMS; 0 = fixed floor"},
+               "floor >= this x the window's median residual RMS of recent fits; 0 = fixed floor"},
     [](auto& o) -> auto& { return o.inlier_tolerance_residual_factor; });
   f(OptionInfo{"skip_censored_samples", "", 0, 1, false, false, false, false,
                "refit the lifetime without the samples causality censors"},
