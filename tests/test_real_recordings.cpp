@@ -157,7 +157,7 @@ TEST(RealRecordings, SupportCriterionHoldsForEveryWindowSize) {
     if (out.empty()) GTEST_SKIP() << "shared data not found";
     const double share = share_with_lifetime(out);
     EXPECT_GE(share, 0.74) << "N = " << n;
-    EXPECT_LE(share, 0.92) << "N = " << n << ": noise passes as edges";  // measured 0.85 / 0.78 / 0.75
+    EXPECT_LE(share, 0.92) << "N = " << n << ": noise passes as edges";  // measured 0.84 / 0.78 / 0.75
     const auto [far, near] = stripes_depth_bands(out);
     const double ratio = median(far) / median(near);
     std::cout << "stripes.mat, N = " << n << ": far/near " << ratio << "\n";

@@ -111,9 +111,15 @@ struct LifetimeOptions {
   /// noise: a plane that rises less than the timestamp jitter across the
   /// window's half-width is not resolved by the timestamps (a blob whose
   /// pixels fire within a few us, a readout that stamps a row with one time).
-  /// Lifetimes above this are treated as noise (a near-vertical plane fitted
-  /// through stale events is not an edge). Microseconds, > 0.
-  double max_lifetime_us = 1.0e6;
+  /// Lifetimes above this are treated as noise: a plane this steep cannot be
+  /// told from background activity. Its tolerance band (+-0.3 lifetime) holds
+  /// a pixel's noise event with probability ~0.6 x lifetime x rate: 0.18 at
+  /// 0.3 s and 1 Hz/px (the top of room-temperature DVS background activity),
+  /// so half a window of supporters comes by chance. With 1 s, a static scene
+  /// under 1 Hz/px passed 3-5 % of its noise once every pixel had fired
+  /// (tests/test_long_recordings.cpp); with 0.3 s, 0.1 %. Edges slower than
+  /// 3.3 px/s are labelled noise. Microseconds, > 0.
+  double max_lifetime_us = 3.0e5;
 
   /// Lifetimes whose standard error (from the fit's own residuals and the
   /// samples' spread along the motion) exceeds this share of the lifetime are
