@@ -97,4 +97,38 @@ TEST(LongRecordings, BackgroundActivityStaysNoiseAndEdgesAfterItKeepTheirAccurac
   EXPECT_GE(o.noise_share, 0.97);  // the noise floor
 }
 
+// Ten times the top of room-temperature background activity (a dark scene,
+// a hot sensor): the floor must not run away either. Without
+// kMinTimingNoiseSamples (lifetime_estimator.cpp), continuations of 4-5
+// samples stored residuals through noise, the window medians rose, and the
+// share labelled noise fell 96.0, 90.5, 75.4, 45.7, 25.5 % by second.
+TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
+  evlife::io::SceneSpec spec;
+  spec.sensor = {120, 90};
+  spec.duration_us = 6'000'000;
+  spec.noise_rate_hz_per_px = 10.0;
+  spec.seed = 9;
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  evlife::LifetimeOptions options;
+  options.sensor = spec.sensor;
+  evlife::LifetimeEstimator estimator(options);
+  std::vector<AugmentedEvent> out(scene.events.size());
+  ASSERT_EQ(estimator.process(scene.events, out), out.size());
+  for (std::int64_t second = 0; second < 6; ++second) {
+    std::size_t events = 0, labelled_noise = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (scene.events[i].t_us / 1'000'000 != second) continue;
+      ASSERT_TRUE(scene.truth[i].is_noise);
+      ++events;
+      labelled_noise += out[i].lifetime_us <= 0.0f;
+    }
+    ASSERT_GT(events, 50'000u);
+    const double share = static_cast<double>(labelled_noise) / static_cast<double>(events);
+    std::cout << "second " << second << ": " << 100.0 * share << " % labelled noise\n";
+    // 93.0-96.0 % measured; not the 99.9 % of 1 Hz/px: at 10 Hz/px a 0.3 s
+    // plane's +-0.09 s band holds 1.8 noise events per pixel on average.
+    EXPECT_GE(share, 0.90) << "second " << second;
+  }
+}
+
 }  // namespace

@@ -20,6 +20,14 @@ constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
 // Events ahead that process(span) prefetches: enough to overlap a DRAM
 // access (~100 ns) with the processing of the events before.
 constexpr std::size_t kPrefetchDistance = 4;
+// Fits of fewer samples (new event included) store no timing noise: their
+// residual RMS, with fewer than 3 degrees of freedom (n - 3), is too loose an
+// estimate (a variance from k degrees of freedom scatters by sqrt(2 / k):
+// 141 % at k = 1). Such fits are continuations of 4-5 samples; with them
+// storing, fits through 10 Hz/px of background activity widened the window
+// medians (window_noise.h) until 75 % of the noise passed in the 5th second
+// (LongRecordings.HeavyBackgroundActivityDoesNotRunAway).
+constexpr int kMinTimingNoiseSamples = 6;
 // std::lround of a value in [-1, 1], without the libm call.
 int round_unit(double u) noexcept { return static_cast<int>(u >= 0.5) - static_cast<int>(u <= -0.5); }
 
@@ -412,7 +420,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   state.burst_lifetime_us = out.lifetime_us;
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;
-  if (rms_us >= 0.0) here.timing_noise_us = static_cast<float>(rms_us);
+  here.timing_noise_us = best.support >= kMinTimingNoiseSamples ? static_cast<float>(rms_us) : 0.0f;
   here.t_rel = anchor_rel;  // a follower keeps its burst's arrival
 
   // Predict the next event at the neighbour in the direction of motion (the

@@ -117,7 +117,7 @@ class LifetimeEstimator {
   // by cache misses); the rest apart.
   struct SurfacePixel {
     std::int32_t t_rel;      // arrival of the edge (burst) here - epoch_us_; kNeverRel if none
-    float timing_noise_us;   // residual rms of the last accepted fit here; 0 = none
+    float timing_noise_us;   // residual rms of the last accepted fit here (of >= 6 samples); 0 = none
   };
   std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
   std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
