@@ -11,7 +11,8 @@
 // - max_lifetime_us = 0.3 s. With 1 s, planes through background activity
 //   pass once every pixel has fired (96.8 % labelled noise from 3 s on);
 // - only fits of >= 6 samples store their residual (second test).
-// Default options throughout.
+// And a scene that moves all along, in dim light, keeps the floors
+// second by second (third test). Default options throughout.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -127,6 +128,37 @@ TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
     // 93.0-96.0 % measured; not the 99.9 % of 1 Hz/px: at 10 Hz/px a 0.3 s
     // plane's +-0.09 s band holds 1.8 noise events per pixel on average.
     EXPECT_GE(share, 0.90) << "second " << second;
+  }
+}
+
+// Dim light (the pixel model's dvs-dim: latency jitter of hundreds of us,
+// 1 Hz/px of background activity) for 8 s of the mixed scene, which moves
+// all along: the accuracy scenes last 0.6 s, and a surface that has filled
+// with fits for seconds must keep the dim-light floors in every
+// second (noise near an edge event of its pixel not scored, as there).
+// Measured: 98.3-99.5 % of the noise labelled noise by second, 99.1-99.97 %
+// of edge events with a lifetime, p90 error 8.6-15.0 %. With max_lifetime_us
+// at 1 s the same scene of `evlife synth` (seed 1) has 96.9-97.7 % labelled
+// noise by tenth after the first.
+TEST(LongRecordings, DimLightKeepsItsFloorsSecondBySecond) {
+  constexpr std::int64_t kDurationUs = 8'000'000;
+  auto spec = evlife::io::mixed_scene({240, 180}, kDurationUs, 3);
+  ASSERT_TRUE(evlife::io::apply_pixel_setting(spec, "dvs-dim"));
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const std::vector<AugmentedEvent> out = estimate(scene);
+  for (std::int64_t second = 0; second < kDurationUs / 1'000'000; ++second) {
+    const auto [part, part_out] = slice(scene, out, second * 1'000'000, (second + 1) * 1'000'000);
+    const auto report = evlife::test::evaluate_accuracy(part, part_out);
+    const auto& o = report.overall;
+    std::cout << "second " << second << ": " << 100.0 * o.lifetime_share << " % of edge events with a lifetime, median error "
+              << 100.0 * o.median_rel_error << " %, p90 " << 100.0 * o.p90_rel_error << " %, noise labelled noise "
+              << 100.0 * o.noise_share << " % (" << o.noise_events << ")\n";
+    ASSERT_GT(o.edge_events, 50'000u);
+    ASSERT_GT(o.noise_events, 20'000u);
+    EXPECT_GE(o.lifetime_share, 0.85) << "second " << second;
+    EXPECT_LE(o.median_rel_error, 0.10) << "second " << second;
+    EXPECT_LE(o.p90_rel_error, 0.30) << "second " << second;
+    EXPECT_GE(o.noise_share, 0.97) << "second " << second;
   }
 }
 
