@@ -3,7 +3,11 @@
 // figures of the options and seeds that were measured and not adopted.
 //
 //   build/bench/accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]
+//                              [--pixel name=value ...] [--noise-rate R]
 //
+// --pixel and --noise-rate change the pixel-model scenes' sensor (names as
+// `evlife synth`'s pixel options, e.g. --pixel latency-jitter-us=1000): how
+// the estimator holds across the range real sensors span.
 // Prints one row per scene: share with a lifetime, median and p90 relative
 // lifetime error, median direction error, share of noise labelled noise.
 #include <cstdio>
@@ -23,9 +27,32 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]\n"
+               "                      [--pixel name=value ...] [--noise-rate R]\n"
                "  realistic DVS pixels (normal and dim light) by default, --ideal for the ideal scenes;\n"
-               "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005\n");
+               "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
+               "  --pixel changes the pixel model of both settings (names as evlife synth's pixel\n"
+               "  options: contrast threshold threshold-sigma edge-blur-px latency-us\n"
+               "  latency-jitter-us refractory-us hot-pixels hot-rate), --noise-rate their\n"
+               "  background activity (events per pixel per second)\n");
   return 2;
+}
+
+// Applies "name=value" to the pixel model; false for an unknown name or a
+// value outside the parameter's range.
+bool set_pixel_parameter(const std::string& assignment, evlife::io::PixelModel& pixel) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string name = assignment.substr(0, eq);
+  char* end = nullptr;
+  const double value = std::strtod(assignment.c_str() + eq + 1, &end);
+  if (end == assignment.c_str() + eq + 1 || *end != '\0') return false;
+  for (const evlife::io::PixelParameter& p : evlife::io::pixel_parameters()) {
+    if (name != p.name) continue;
+    if (!(value >= p.lo && value <= p.hi)) return false;
+    pixel.*p.field = value;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -34,6 +61,8 @@ int main(int argc, char** argv) try {
   evlife::config::ConfigBuilder builder;
   bool ideal = false;
   unsigned seed_offset = 0;
+  std::vector<std::string> pixel_assignments;
+  double noise_rate_hz_per_px = -1.0;  // < 0: each setting's own
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -45,13 +74,28 @@ int main(int argc, char** argv) try {
       builder.load_file(argv[++i]);
     } else if (arg == "--set" && has_value) {
       builder.set(argv[++i]);
+    } else if (arg == "--pixel" && has_value) {
+      pixel_assignments.emplace_back(argv[++i]);
+    } else if (arg == "--noise-rate" && has_value) {
+      noise_rate_hz_per_px = std::strtod(argv[++i], nullptr);
+      if (!(noise_rate_hz_per_px >= 0.0)) return usage();
     } else {
       return usage();
     }
   }
   const evlife::LifetimeOptions options = builder.build().estimator;
-  const auto scenes = ideal ? evlife::test::ideal_accuracy_scenes(seed_offset)
-                            : evlife::test::pixel_model_accuracy_scenes(seed_offset);
+  auto scenes = ideal ? evlife::test::ideal_accuracy_scenes(seed_offset)
+                      : evlife::test::pixel_model_accuracy_scenes(seed_offset);
+  if (ideal && (!pixel_assignments.empty() || noise_rate_hz_per_px >= 0.0)) return usage();
+  for (auto& scene : scenes) {
+    for (const std::string& a : pixel_assignments) {
+      if (!set_pixel_parameter(a, scene.spec.pixel)) {
+        std::fprintf(stderr, "accuracy_sweep: --pixel %s: unknown name or value out of range\n", a.c_str());
+        return 2;
+      }
+    }
+    if (noise_rate_hz_per_px >= 0.0) scene.spec.noise_rate_hz_per_px = noise_rate_hz_per_px;
+  }
   // One thread per scene: each generates, estimates and scores its own.
   std::vector<evlife::test::AccuracyMetrics> rows(scenes.size());
   std::vector<std::thread> threads;

@@ -121,23 +121,7 @@ std::uint64_t parse_seed(const std::string& text) {
 
 // The pixel options override the --pixel setting's values (dvs, dvs-dim only).
 void apply_pixel_options(const ParsedArgs& a, io::PixelModel& m) {
-  struct Flag {
-    const char* name;
-    double io::PixelModel::* field;
-    double lo, hi;
-  };
-  static constexpr Flag kFlags[] = {
-      {"contrast", &io::PixelModel::contrast_log, 1e-3, 10.0},
-      {"threshold", &io::PixelModel::threshold_log, 0.01, 5.0},
-      {"threshold-sigma", &io::PixelModel::threshold_mismatch_sigma, 0.0, 5.0},
-      {"edge-blur-px", &io::PixelModel::edge_blur_px, 0.0, 10.0},
-      {"latency-us", &io::PixelModel::latency_us, 0.0, 1e5},
-      {"latency-jitter-us", &io::PixelModel::latency_jitter_us, 0.0, 1e5},
-      {"refractory-us", &io::PixelModel::refractory_us, 0.0, 1e5},
-      {"hot-pixels", &io::PixelModel::hot_pixel_fraction, 0.0, 0.1},
-      {"hot-rate", &io::PixelModel::hot_pixel_rate_hz, 0.0, 1e5},
-  };
-  for (const Flag& f : kFlags) {
+  for (const io::PixelParameter& f : io::pixel_parameters()) {
     const auto v = a.value(f.name);
     if (!v) continue;
     if (!m.enabled) throw UsageError(std::string("--") + f.name + " needs --pixel dvs or dvs-dim");

@@ -164,6 +164,21 @@ PixelModel dvs_pixel_dim() {
   return m;
 }
 
+std::span<const PixelParameter> pixel_parameters() {
+  static constexpr PixelParameter kParameters[] = {
+      {"contrast", &PixelModel::contrast_log, 1e-3, 10.0},
+      {"threshold", &PixelModel::threshold_log, 0.01, 5.0},
+      {"threshold-sigma", &PixelModel::threshold_mismatch_sigma, 0.0, 5.0},
+      {"edge-blur-px", &PixelModel::edge_blur_px, 0.0, 10.0},
+      {"latency-us", &PixelModel::latency_us, 0.0, 1e5},
+      {"latency-jitter-us", &PixelModel::latency_jitter_us, 0.0, 1e5},
+      {"refractory-us", &PixelModel::refractory_us, 0.0, 1e5},
+      {"hot-pixels", &PixelModel::hot_pixel_fraction, 0.0, 0.1},
+      {"hot-rate", &PixelModel::hot_pixel_rate_hz, 0.0, 1e5},
+  };
+  return kParameters;
+}
+
 bool apply_pixel_setting(SceneSpec& spec, std::string_view name) {
   if (name == "ideal") return true;
   if (name == "dvs") {

@@ -214,6 +214,15 @@ PixelModel dvs_pixel_dim();
 inline constexpr double kDvsNormalNoiseRateHzPerPx = 0.2;
 inline constexpr double kDvsDimNoiseRateHzPerPx = 1.0;
 
+/// A pixel-model parameter set by name (`evlife synth --NAME V`,
+/// `accuracy_sweep --pixel NAME=V`) and the range it accepts.
+struct PixelParameter {
+  const char* name;
+  double PixelModel::* field;
+  double lo, hi;
+};
+std::span<const PixelParameter> pixel_parameters();
+
 /// Applies a pixel setting by name: "ideal" (leaves the spec as it is), "dvs"
 /// (dvs_pixel_normal + its background rate), "dvs-dim". False for an unknown name.
 bool apply_pixel_setting(SceneSpec& spec, std::string_view name);
