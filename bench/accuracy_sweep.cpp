@@ -3,11 +3,12 @@
 // figures of the options and seeds that were measured and not adopted.
 //
 //   build/bench/accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]
-//                              [--pixel name=value ...] [--noise-rate R]
+//                              [--pixel name=value ...] [--noise-rate R] [--bands]
 //
 // --pixel and --noise-rate change the pixel-model scenes' sensor (names as
 // `evlife synth`'s pixel options, e.g. --pixel latency-jitter-us=1000): how
-// the estimator holds across the range real sensors span.
+// the estimator holds across the range real sensors span. --bands adds each
+// scene's rows by true lifetime.
 // Prints one row per scene: share with a lifetime, median and p90 relative
 // lifetime error, median direction error, share of noise labelled noise.
 #include <cstdio>
@@ -27,13 +28,14 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]\n"
-               "                      [--pixel name=value ...] [--noise-rate R]\n"
+               "                      [--pixel name=value ...] [--noise-rate R] [--bands]\n"
                "  realistic DVS pixels (normal and dim light) by default, --ideal for the ideal scenes;\n"
                "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
                "  --pixel changes the pixel model of both settings (names as evlife synth's pixel\n"
                "  options: contrast threshold threshold-sigma edge-blur-px latency-us\n"
                "  latency-jitter-us refractory-us hot-pixels hot-rate), --noise-rate their\n"
-               "  background activity (events per pixel per second)\n");
+               "  background activity (events per pixel per second); --bands: also the rows by true\n"
+               "  lifetime\n");
   return 2;
 }
 
@@ -60,6 +62,7 @@ bool set_pixel_parameter(const std::string& assignment, evlife::io::PixelModel& 
 int main(int argc, char** argv) try {
   evlife::config::ConfigBuilder builder;
   bool ideal = false;
+  bool bands = false;
   unsigned seed_offset = 0;
   std::vector<std::string> pixel_assignments;
   double noise_rate_hz_per_px = -1.0;  // < 0: each setting's own
@@ -68,6 +71,8 @@ int main(int argc, char** argv) try {
     const bool has_value = i + 1 < argc;
     if (arg == "--ideal") {
       ideal = true;
+    } else if (arg == "--bands") {
+      bands = true;
     } else if (arg == "--seed-offset" && has_value) {
       seed_offset = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
     } else if (arg == "--config" && has_value) {
@@ -97,7 +102,7 @@ int main(int argc, char** argv) try {
     if (noise_rate_hz_per_px >= 0.0) scene.spec.noise_rate_hz_per_px = noise_rate_hz_per_px;
   }
   // One thread per scene: each generates, estimates and scores its own.
-  std::vector<evlife::test::AccuracyMetrics> rows(scenes.size());
+  std::vector<evlife::test::AccuracyReport> reports(scenes.size());
   std::vector<std::thread> threads;
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     threads.emplace_back([&, k] {
@@ -109,15 +114,27 @@ int main(int argc, char** argv) try {
       estimator.process(scene.events, out);
       evlife::test::AccuracyOptions metric;
       metric.window_size = o.window_size;
-      rows[k] = evlife::test::evaluate_accuracy(scene, out, metric).overall;
+      reports[k] = evlife::test::evaluate_accuracy(scene, out, metric);
     });
   }
   for (auto& t : threads) t.join();
-  std::printf("%-62s %8s %8s %8s %8s %8s\n", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
-  for (std::size_t k = 0; k < scenes.size(); ++k) {
-    const auto& r = rows[k];
-    std::printf("%-62s %8.2f %8.2f %8.2f %8.2f %8.2f\n", scenes[k].title.c_str(), 100.0 * r.lifetime_share,
+  const auto print_row = [](const std::string& title, const evlife::test::AccuracyMetrics& r) {
+    std::printf("%-62s %8.2f %8.2f %8.2f %8.2f %8.2f\n", title.c_str(), 100.0 * r.lifetime_share,
                 100.0 * r.median_rel_error, 100.0 * r.p90_rel_error, r.median_dir_error_deg, 100.0 * r.noise_share);
+  };
+  std::printf("%-62s %8s %8s %8s %8s %8s\n", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
+  for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall);
+  if (bands) {
+    for (std::size_t k = 0; k < scenes.size(); ++k) {
+      std::printf("\n%s, by true lifetime (share of events%% in the band first):\n", scenes[k].title.c_str());
+      for (const auto& band : reports[k].per_lifetime) {
+        char title[96];
+        std::snprintf(title, sizeof title, "  %-30s %5.1f%%", band.label.c_str(),
+                      100.0 * static_cast<double>(band.edge_events) /
+                          static_cast<double>(reports[k].overall.edge_events));
+        print_row(title, band);
+      }
+    }
   }
   return 0;
 } catch (const std::exception& e) {
