@@ -118,12 +118,18 @@ int main(int argc, char** argv) try {
     });
   }
   for (auto& t : threads) t.join();
-  const auto print_row = [](const std::string& title, const evlife::test::AccuracyMetrics& r) {
-    std::printf("%-62s %8.2f %8.2f %8.2f %8.2f %8.2f\n", title.c_str(), 100.0 * r.lifetime_share,
-                100.0 * r.median_rel_error, 100.0 * r.p90_rel_error, r.median_dir_error_deg, 100.0 * r.noise_share);
+  // Noise is scored per scene, not per band: a band row prints "-" there.
+  const auto print_row = [](const std::string& title, const evlife::test::AccuracyMetrics& r, bool with_noise) {
+    std::printf("%-62s %8.2f %8.2f %8.2f %8.2f", title.c_str(), 100.0 * r.lifetime_share, 100.0 * r.median_rel_error,
+                100.0 * r.p90_rel_error, r.median_dir_error_deg);
+    if (with_noise) {
+      std::printf(" %8.2f\n", 100.0 * r.noise_share);
+    } else {
+      std::printf(" %8s\n", "-");
+    }
   };
   std::printf("%-62s %8s %8s %8s %8s %8s\n", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
-  for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall);
+  for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall, true);
   if (bands) {
     for (std::size_t k = 0; k < scenes.size(); ++k) {
       std::printf("\n%s, by true lifetime (share of events%% in the band first):\n", scenes[k].title.c_str());
@@ -132,7 +138,7 @@ int main(int argc, char** argv) try {
         std::snprintf(title, sizeof title, "  %-30s %5.1f%%", band.label.c_str(),
                       100.0 * static_cast<double>(band.edge_events) /
                           static_cast<double>(reports[k].overall.edge_events));
-        print_row(title, band);
+        print_row(title, band, false);
       }
     }
   }
