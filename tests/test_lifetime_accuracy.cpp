@@ -442,6 +442,22 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLightHarderSensor) {
   expect_pixel_floors(kEdgesDim, ", harder sensor", kIssueDimLightFloors, {}, harder_sensor);
 }
 
+// Faint texture: contrast 0.35 against threshold 0.3 gives the burst
+// statistics of the slider recording (1.07 events per burst, 93 % single
+// events; README, *Across the sensor range*). A pixel then fires anywhere
+// within its edge's ramp (1.3 lifetimes wide), so the issue's normal-light
+// floors are out of reach at N = 5; these floors are today's figures (share
+// 94.7 %, median 8.1 %, p90 24.4 %, 3.7 deg, noise 96.9 %) less a margin: a
+// change that helps the settings must not give up the regime real scenes
+// are in.
+TEST(PixelModelAccuracy, EdgesDavis346NormalLightFaintTexture) {
+  constexpr PixelFloors kFaintTextureFloors{0.93, 0.09, 0.27, 4.2, 0.96};
+  expect_pixel_floors(kEdgesNormal, ", faint texture", kFaintTextureFloors, {}, [](SceneSpec& spec) {
+    spec.pixel.contrast_log = 0.35;
+    spec.pixel.threshold_log = 0.3;
+  });
+}
+
 // Beyond the floors: where does the estimator stop working? Not a pass/fail
 // test; run with --gtest_also_run_disabled_tests --gtest_filter=*Sweep* to
 // print one row per condition (faster edges, more noise, more jitter, dense
