@@ -259,6 +259,55 @@ TEST(LifetimeEstimator, OutOfSensorAndBadPolarityAreCountedNotRead) {
   EXPECT_EQ(est.stats().events, 4u);
 }
 
+// Followers chain: a burst that goes on firing keeps its followers past the
+// burst window (each within 2 lifetimes of the one before, all within
+// burst_span_lifetimes, 4, of the arrival: an edge blurred over 2.5 px takes
+// 2.5 lifetimes to cross a pixel), while an event as late after a single
+// event is not a follower.
+TEST(LifetimeEstimator, FollowersChainWithinTheBurstSpan) {
+  const SensorSize s{40, 40};
+  // An edge moving +x at 1000 px/s (lifetime 1 ms); the pixel (20, 20) fires
+  // its arrival with the edge and then the events at `delays_us` after it.
+  auto late_events = [&](std::vector<std::int64_t> delays_us, double span_lifetimes) {
+    LifetimeOptions o = options_for(s);
+    o.burst_span_lifetimes = span_lifetimes;
+    LifetimeEstimator est(o);
+    std::vector<Event> events = straight_edge(s, 0.0, 1000.0);
+    const Event arrival = *std::find_if(events.begin(), events.end(), [](const Event& e) { return e.x == 20 && e.y == 20; });
+    for (const std::int64_t d : delays_us) events.push_back({arrival.t_us + d, arrival.x, arrival.y, arrival.p});
+    std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+    std::vector<AugmentedEvent> late;
+    bool arrival_estimated = false;
+    for (const Event& e : events) {
+      const AugmentedEvent out = est.process(e);
+      if (e.x != arrival.x || e.y != arrival.y) continue;
+      if (e.t_us == arrival.t_us) {
+        arrival_estimated = !out.is_noise();
+        continue;
+      }
+      late.push_back(out);
+    }
+    EXPECT_TRUE(arrival_estimated);
+    EXPECT_EQ(late.size(), delays_us.size());
+    return late;
+  };
+  // A burst firing at 1.5 and 3.0 lifetimes: both follow (3.0 is 1.5 after
+  // the one before); 4.5 is past the span.
+  const auto chained = late_events({1500, 3000, 4500}, 4.0);
+  ASSERT_EQ(chained.size(), 3u);
+  EXPECT_NEAR(chained[0].lifetime_us, 1000.0f, 50.0f);
+  EXPECT_NEAR(chained[1].lifetime_us, chained[0].lifetime_us, 1e-3f);
+  EXPECT_GT(chained[1].vx_px_s, 900.0f);
+  EXPECT_TRUE(chained[2].is_noise());
+  // 3.0 lifetimes after a single event: 3.0 after the burst's latest, no follower.
+  EXPECT_TRUE(late_events({3000}, 4.0)[0].is_noise());
+  // A span no longer than the window: followers within 2 lifetimes of the
+  // arrival only (the rule before chaining).
+  const auto unchained = late_events({1500, 3000}, 2.0);
+  EXPECT_NEAR(unchained[0].lifetime_us, 1000.0f, 50.0f);
+  EXPECT_TRUE(unchained[1].is_noise());
+}
+
 // A burst whose first event came as the edge started, before its neighbours
 // fired (too few samples then), gets its estimate at a follower: the plane
 // through the burst's arrival with the samples there are now. Not after the

@@ -61,6 +61,8 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   half_window_ = options_.window_size / 2;
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
+  // A span below the window would cut followers the window allows.
+  burst_span_lifetimes_ = std::max(options_.burst_span_lifetimes, options_.burst_window_lifetimes);
   // The smallest lifetime the timestamps resolve: a plane rising less than
   // the timestamp jitter (inlier_tolerance_us) across the window's half-width
   // fits a flat surface as well, e.g. a blob whose pixels fire within a few
@@ -88,7 +90,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 void LifetimeEstimator::reset() noexcept {
   std::fill(surface_.begin(), surface_.end(), SurfacePixel{detail::kNeverRel, 0.0f});
   epoch_us_ = 0;
-  std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
   stats_ = LifetimeStats{};
 }
 
@@ -250,13 +252,18 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const auto now_rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
 
   // A follower of the burst at this pixel inherits its estimate; the surface
-  // keeps the burst's arrival time.
+  // keeps the burst's arrival time. Followers chain: each within the burst
+  // window of the burst's latest event, all within its span of the arrival.
   SurfacePixel& here = surface_[self];
   PixelState& state = pixel_state_[self];
+  const auto since_arrival_us = static_cast<double>(std::int64_t{now_rel} - here.t_rel);
+  const auto burst_lifetime_us = static_cast<double>(state.burst_lifetime_us);
   if (state.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
-      static_cast<double>(std::int64_t{now_rel} - here.t_rel) <=
-          options_.burst_window_lifetimes * static_cast<double>(state.burst_lifetime_us)) {
+      since_arrival_us - static_cast<double>(state.burst_latest_us) <=
+          options_.burst_window_lifetimes * burst_lifetime_us &&
+      since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us) {
     ++stats_.followers;
+    state.burst_latest_us = static_cast<float>(since_arrival_us);
     out.lifetime_us = state.burst_lifetime_us;
     out.vx_px_s = state.burst_vx_px_s;
     out.vy_px_s = state.burst_vy_px_s;
@@ -418,6 +425,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
   state.burst_lifetime_us = out.lifetime_us;
+  state.burst_latest_us = static_cast<float>(now_rel - anchor_rel);
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;
   here.timing_noise_us = best.support >= kMinTimingNoiseSamples ? static_cast<float>(rms_us) : 0.0f;

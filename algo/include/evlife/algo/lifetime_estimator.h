@@ -66,7 +66,7 @@ class LifetimeEstimator {
   // one cache line (32 bytes, aligned): the prediction made for it by a
   // neighbour's event (time and gradient of the predicted plane;
   // t_us == kNoPrediction: none) and the estimate of the burst now here
-  // (inherited by its followers; lifetime 0 = none).
+  // (inherited by its followers; lifetime 0 = none) with its latest event.
   struct alignas(32) PixelState {
     std::int64_t prediction_t_us;
     float prediction_gx_us_px;
@@ -74,6 +74,7 @@ class LifetimeEstimator {
     float burst_vx_px_s;
     float burst_vy_px_s;
     float burst_lifetime_us;
+    float burst_latest_us;  // the burst's latest event, us after its arrival
   };
   std::size_t pixel_index(int polarity_index, int x, int y) const noexcept {
     return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(options_.sensor.height) +
@@ -111,6 +112,7 @@ class LifetimeEstimator {
   int half_window_ = 2;
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
+  double burst_span_lifetimes_ = 0.0;  // options_.burst_span_lifetimes, at least the burst window
   double min_lifetime_us_ = 0.0;  // see the constructor
   // [polarity][y][x]. What the window gather reads for every pixel, in 8
   // bytes (algo/src/time_plane.h: on a 1280x720 sensor the gather is bound
