@@ -268,7 +268,7 @@ TEST(LifetimeEstimator, FollowersChainWithinTheBurstSpan) {
   const SensorSize s{40, 40};
   // An edge moving +x at 1000 px/s (lifetime 1 ms); the pixel (20, 20) fires
   // its arrival with the edge and then the events at `delays_us` after it.
-  auto late_events = [&](std::vector<std::int64_t> delays_us, double span_lifetimes) {
+  auto late_events = [&](const std::vector<std::int64_t>& delays_us, double span_lifetimes) {
     LifetimeOptions o = options_for(s);
     o.burst_span_lifetimes = span_lifetimes;
     LifetimeEstimator est(o);
