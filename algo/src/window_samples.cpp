@@ -284,7 +284,77 @@ __attribute__((target("avx2"))) bool gather_window_rows(WindowSamples& w, const 
 }
 #endif
 
+// best_of_draws() with `support(gx, gy, tol2)` counting the samples within
+// tolerance: the candidates of best_plane(), in its order.
+template <class Support>
+__attribute__((always_inline)) inline PlaneCandidate draw_planes(const WindowSamples& w, EventRng& rng, int iterations,
+                                                                 const int* budget, float tol_floor2,
+                                                                 float tol_fraction2, PlaneCandidate best,
+                                                                 Support support) noexcept {
+  const int count = w.count;
+  for (int it = 0; it < iterations; ++it) {
+    const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
+    std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
+    if (j >= i) ++j;
+    const float det = w.dx[i] * w.dy[j] - w.dx[j] * w.dy[i];
+    if (std::fabs(det) < 0.5f) continue;  // collinear with the origin
+    const float inv_det = 1.0f / det;
+    const float gx = (w.dt_us[i] * w.dy[j] - w.dt_us[j] * w.dy[i]) * inv_det;
+    const float gy = (w.dx[i] * w.dt_us[j] - w.dx[j] * w.dt_us[i]) * inv_det;
+    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
+    const int s = 1 + support(gx, gy, tol2);  // + the origin
+    if (s > best.support) {
+      best = {s, gx, gy, tol2};
+      iterations = std::min(iterations, budget[s - 1]);
+    }
+  }
+  return best;
+}
+
+#if defined(EVLIFE_RANK_AVX2)
+__attribute__((target("default")))
+#endif
+PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iterations, const int* budget,
+                             float tol_floor2, float tol_fraction2, PlaneCandidate best) noexcept {
+  return draw_planes(w, rng, iterations, budget, tol_floor2, tol_fraction2, best,
+                     [&w](float gx, float gy, float tol2) { return w.support(gx, gy, tol2); });
+}
+
+#if defined(EVLIFE_RANK_AVX2)
+// Up to 16 samples held in registers across the draws, eight to a lane
+// group; the count of a group's movemask instead of a sum over the lanes.
+__attribute__((target("avx2"))) PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iterations,
+                                                             const int* budget, float tol_floor2, float tol_fraction2,
+                                                             PlaneCandidate best) noexcept {
+  if (w.count > 16) {
+    return draw_planes(w, rng, iterations, budget, tol_floor2, tol_fraction2, best,
+                       [&w](float gx, float gy, float tol2) { return w.support(gx, gy, tol2); });
+  }
+  const __m256 x0 = _mm256_loadu_ps(w.dx), x1 = _mm256_loadu_ps(w.dx + 8);
+  const __m256 y0 = _mm256_loadu_ps(w.dy), y1 = _mm256_loadu_ps(w.dy + 8);
+  const __m256 t0 = _mm256_loadu_ps(w.dt_us), t1 = _mm256_loadu_ps(w.dt_us + 8);
+  const unsigned valid = (1U << w.count) - 1U;  // lanes past count: padding or stale
+  return draw_planes(w, rng, iterations, budget, tol_floor2, tol_fraction2, best,
+                     [&](float gx, float gy, float tol2) __attribute__((target("avx2"))) {
+                       const __m256 g = _mm256_set1_ps(gx), h = _mm256_set1_ps(gy), tol = _mm256_set1_ps(tol2);
+                       // r = dt - gx * dx - gy * dy, as support() rounds it.
+                       const __m256 r0 = _mm256_sub_ps(_mm256_sub_ps(t0, _mm256_mul_ps(g, x0)), _mm256_mul_ps(h, y0));
+                       const __m256 r1 = _mm256_sub_ps(_mm256_sub_ps(t1, _mm256_mul_ps(g, x1)), _mm256_mul_ps(h, y1));
+                       const auto m0 = static_cast<unsigned>(
+                           _mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(r0, r0), tol, _CMP_LE_OQ)));
+                       const auto m1 = static_cast<unsigned>(
+                           _mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(r1, r1), tol, _CMP_LE_OQ)));
+                       return __builtin_popcount((m0 | (m1 << 8)) & valid);
+                     });
+}
+#endif
+
 }  // namespace
+
+PlaneCandidate WindowSamples::best_of_draws(EventRng& rng, int iterations, const int* budget, float tol_floor2,
+                                            float tol_fraction2, PlaneCandidate best) const noexcept {
+  return evlife::detail::best_of_draws(*this, rng, iterations, budget, tol_floor2, tol_fraction2, best);
+}
 
 void WindowSamples::keep_newest_by_rank(int keep) noexcept { select_newest(*this, keep); }
 
