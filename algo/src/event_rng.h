@@ -17,6 +17,7 @@ constexpr std::uint64_t splitmix64(std::uint64_t z) noexcept {
 
 class EventRng {
  public:
+  EventRng() noexcept = default;  // state 0: a placeholder to copy into
   EventRng(std::uint64_t seed, const Event& e) noexcept
       : state_(splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(e.t_us) ^
                                             (static_cast<std::uint64_t>(e.x) << 40) ^
@@ -33,7 +34,7 @@ class EventRng {
   }
 
  private:
-  std::uint64_t state_;
+  std::uint64_t state_ = 0;
 };
 
 }  // namespace evlife::detail

@@ -321,31 +321,90 @@ PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iteratio
 }
 
 #if defined(EVLIFE_RANK_AVX2)
-// Up to 16 samples held in registers across the draws, eight to a lane
-// group; the count of a group's movemask instead of a sum over the lanes.
+// Up to 16 samples: the draws eight at a time, each candidate in a lane (the
+// same float operations as draw_planes() lane by lane), then the supports
+// replayed in draw order as draw_planes() takes them; the iterations past
+// the budget are drawn and scored but never taken. rng ends where
+// draw_planes() leaves it: two draws per iteration run.
 __attribute__((target("avx2"))) PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iterations,
                                                              const int* budget, float tol_floor2, float tol_fraction2,
                                                              PlaneCandidate best) noexcept {
-  if (w.count > 16) {
+  const int count = w.count;
+  if (count > 16) {
     return draw_planes(w, rng, iterations, budget, tol_floor2, tol_fraction2, best,
                        [&w](float gx, float gy, float tol2) { return w.support(gx, gy, tol2); });
   }
   const __m256 x0 = _mm256_loadu_ps(w.dx), x1 = _mm256_loadu_ps(w.dx + 8);
   const __m256 y0 = _mm256_loadu_ps(w.dy), y1 = _mm256_loadu_ps(w.dy + 8);
   const __m256 t0 = _mm256_loadu_ps(w.dt_us), t1 = _mm256_loadu_ps(w.dt_us + 8);
-  const unsigned valid = (1U << w.count) - 1U;  // lanes past count: padding or stale
-  return draw_planes(w, rng, iterations, budget, tol_floor2, tol_fraction2, best,
-                     [&](float gx, float gy, float tol2) __attribute__((target("avx2"))) {
-                       const __m256 g = _mm256_set1_ps(gx), h = _mm256_set1_ps(gy), tol = _mm256_set1_ps(tol2);
-                       // r = dt - gx * dx - gy * dy, as support() rounds it.
-                       const __m256 r0 = _mm256_sub_ps(_mm256_sub_ps(t0, _mm256_mul_ps(g, x0)), _mm256_mul_ps(h, y0));
-                       const __m256 r1 = _mm256_sub_ps(_mm256_sub_ps(t1, _mm256_mul_ps(g, x1)), _mm256_mul_ps(h, y1));
-                       const auto m0 = static_cast<unsigned>(
-                           _mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(r0, r0), tol, _CMP_LE_OQ)));
-                       const auto m1 = static_cast<unsigned>(
-                           _mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(r1, r1), tol, _CMP_LE_OQ)));
-                       return __builtin_popcount((m0 | (m1 << 8)) & valid);
-                     });
+  const bool upper = count > 8;  // samples 8..15 (an index <= count - 1, or 1 when count = 1)
+  const __m256i seven = _mm256_set1_epi32(7);
+  // Sample `index` of each lane from the two groups (lo: 0-7, hi: 8-15).
+  const auto pick = [&](__m256 lo, __m256 hi, __m256i index) __attribute__((target("avx2"), always_inline)) {
+    const __m256 a = _mm256_permutevar8x32_ps(lo, index);
+    if (!upper) return a;
+    return _mm256_blendv_ps(a, _mm256_permutevar8x32_ps(hi, index),
+                            _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, seven)));
+  };
+  const __m256 floor2 = _mm256_set1_ps(tol_floor2), fraction2 = _mm256_set1_ps(tol_fraction2);
+  const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  EventRng draws = rng;
+  int it = 0;
+  while (it < iterations) {
+    alignas(32) std::uint32_t first[8], second[8];
+    EventRng after[8];  // the generator after each lane's draws
+    for (int m = 0; m < 8; ++m) {
+      first[m] = draws.below(static_cast<std::uint32_t>(count));
+      const std::uint32_t j = draws.below(static_cast<std::uint32_t>(count - 1));
+      second[m] = j + static_cast<std::uint32_t>(j >= first[m]);
+      after[m] = draws;
+    }
+    const __m256i i_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(first));
+    const __m256i j_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(second));
+    const __m256 xi = pick(x0, x1, i_v), yi = pick(y0, y1, i_v), ti = pick(t0, t1, i_v);
+    const __m256 xj = pick(x0, x1, j_v), yj = pick(y0, y1, j_v), tj = pick(t0, t1, j_v);
+    const __m256 det = _mm256_sub_ps(_mm256_mul_ps(xi, yj), _mm256_mul_ps(xj, yi));
+    // Not collinear with the origin: !(|det| < 0.5).
+    const __m256 drawn = _mm256_cmp_ps(_mm256_and_ps(det, magnitude), half, _CMP_NLT_UQ);
+    const __m256 inv_det = _mm256_div_ps(one, det);
+    const __m256 gx = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(ti, yj), _mm256_mul_ps(tj, yi)), inv_det);
+    const __m256 gy = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(xi, tj), _mm256_mul_ps(xj, ti)), inv_det);
+    // std::max(floor, v): v where v > floor, else floor (also where v is NaN).
+    const __m256 tol2 = _mm256_max_ps(
+        _mm256_mul_ps(fraction2, _mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy))), floor2);
+    __m256i n = _mm256_setzero_si256();
+    for (int k = 0; k < count; ++k) {
+      const __m256 r = _mm256_sub_ps(_mm256_sub_ps(_mm256_set1_ps(w.dt_us[k]), _mm256_mul_ps(gx, _mm256_set1_ps(w.dx[k]))),
+                                     _mm256_mul_ps(gy, _mm256_set1_ps(w.dy[k])));
+      n = _mm256_sub_epi32(n, _mm256_castps_si256(_mm256_cmp_ps(_mm256_mul_ps(r, r), tol2, _CMP_LE_OQ)));
+    }
+    // Support with the origin; 0 (never taken) for a collinear draw.
+    alignas(32) int support[8];
+    alignas(32) float gx_l[8], gy_l[8], tol2_l[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(support),
+                       _mm256_and_si256(_mm256_sub_epi32(n, _mm256_set1_epi32(-1)), _mm256_castps_si256(drawn)));
+    _mm256_store_ps(gx_l, gx);
+    _mm256_store_ps(gy_l, gy);
+    _mm256_store_ps(tol2_l, tol2);
+    // draw_planes()'s loop without a branch: a lane runs while it < iterations.
+    int best_lane = -1;
+    for (int m = 0; m < 8; ++m) {
+      const bool runs = it < iterations;
+      const bool better = runs & (support[m] > best.support);
+      best.support = better ? support[m] : best.support;
+      best_lane = better ? m : best_lane;
+      iterations = better ? std::min(iterations, budget[std::max(support[m], 1) - 1]) : iterations;
+      rng = runs ? after[m] : rng;
+      it += static_cast<int>(runs);
+    }
+    if (best_lane >= 0) {
+      best.gx_us_px = gx_l[best_lane];
+      best.gy_us_px = gy_l[best_lane];
+      best.tol2_us2 = tol2_l[best_lane];
+    }
+  }
+  return best;
 }
 #endif
 
