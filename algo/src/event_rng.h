@@ -17,7 +17,6 @@ constexpr std::uint64_t splitmix64(std::uint64_t z) noexcept {
 
 class EventRng {
  public:
-  EventRng() noexcept = default;  // state 0: a placeholder to copy into
   EventRng(std::uint64_t seed, const Event& e) noexcept
       : state_(splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(e.t_us) ^
                                             (static_cast<std::uint64_t>(e.x) << 40) ^
@@ -28,13 +27,28 @@ class EventRng {
   /// One step of a 64-bit LCG; its high 32 bits are well mixed, which is
   /// all that picking one of <= 224 samples needs.
   std::uint32_t below(std::uint32_t n) noexcept {
-    state_ = state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+    state_ = state_ * kMultiplier + kIncrement;
     const std::uint64_t r = state_ >> 32;
     return static_cast<std::uint32_t>((r * n) >> 32);
   }
 
+  static constexpr std::uint64_t kMultiplier = 6364136223846793005ULL;
+  static constexpr std::uint64_t kIncrement = 1442695040888963407ULL;
+  /// `steps` steps of the LCG as one: state -> multiplier * state + increment
+  /// (for drawing several values at once; window_samples.cpp).
+  struct Jump {
+    std::uint64_t multiplier, increment;
+  };
+  static constexpr Jump jump(int steps) noexcept {
+    Jump j{1, 0};
+    for (int k = 0; k < steps; ++k) j = {j.multiplier * kMultiplier, j.increment * kMultiplier + kIncrement};
+    return j;
+  }
+  std::uint64_t state() const noexcept { return state_; }
+  void set_state(std::uint64_t state) noexcept { state_ = state; }
+
  private:
-  std::uint64_t state_ = 0;
+  std::uint64_t state_;
 };
 
 }  // namespace evlife::detail

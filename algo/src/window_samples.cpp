@@ -321,11 +321,47 @@ PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iteratio
 }
 
 #if defined(EVLIFE_RANK_AVX2)
+// The LCG jumps of draws 2m + 1 (lane m's first sample) and 2m + 2 (its
+// second) from the state before a group of eight lanes.
+struct LaneJumps {
+  std::uint64_t first_a[8], first_c[8], second_a[8], second_c[8];
+};
+constexpr LaneJumps make_lane_jumps() {
+  LaneJumps t{};
+  for (int m = 0; m < 8; ++m) {
+    t.first_a[m] = EventRng::jump(2 * m + 1).multiplier;
+    t.first_c[m] = EventRng::jump(2 * m + 1).increment;
+    t.second_a[m] = EventRng::jump(2 * m + 2).multiplier;
+    t.second_c[m] = EventRng::jump(2 * m + 2).increment;
+  }
+  return t;
+}
+constexpr LaneJumps kLaneJumps = make_lane_jumps();
+
+// a * s + c mod 2^64 in four 64-bit lanes (AVX2 multiplies 32 x 32 bits).
+__attribute__((target("avx2"), always_inline)) inline __m256i lcg_lanes(const std::uint64_t* a, const std::uint64_t* c,
+                                                                        __m256i s) noexcept {
+  const __m256i av = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a));
+  const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(av, 32), s),
+                                         _mm256_mul_epu32(av, _mm256_srli_epi64(s, 32)));
+  return _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epu32(av, s), _mm256_slli_epi64(cross, 32)),
+                          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c)));
+}
+
+// EventRng::below(n) of the states in lanes lo (lanes 0-3) and hi (4-7),
+// as eight 32-bit lanes.
+__attribute__((target("avx2"), always_inline)) inline __m256i below_lanes(__m256i lo, __m256i hi, __m256i n) noexcept {
+  const __m256i r_lo = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(lo, 32), n), 32);
+  const __m256i r_hi = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(hi, 32), n), 32);
+  return _mm256_permutevar8x32_epi32(_mm256_or_si256(r_lo, _mm256_slli_epi64(r_hi, 32)),
+                                     _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
+}
+
 // Up to 16 samples: the draws eight at a time, each candidate in a lane (the
-// same float operations as draw_planes() lane by lane), then the supports
-// replayed in draw order as draw_planes() takes them; the iterations past
-// the budget are drawn and scored but never taken. rng ends where
-// draw_planes() leaves it: two draws per iteration run.
+// same float operations as draw_planes() lane by lane), then draw_planes()'s
+// choice replayed over the lanes without a branch; the lanes past the budget
+// are drawn and scored but never taken. rng ends where draw_planes() leaves
+// it: two draws per iteration run.
 __attribute__((target("avx2"))) PlaneCandidate best_of_draws(const WindowSamples& w, EventRng& rng, int iterations,
                                                              const int* budget, float tol_floor2, float tol_fraction2,
                                                              PlaneCandidate best) noexcept {
@@ -349,19 +385,24 @@ __attribute__((target("avx2"))) PlaneCandidate best_of_draws(const WindowSamples
   const __m256 floor2 = _mm256_set1_ps(tol_floor2), fraction2 = _mm256_set1_ps(tol_fraction2);
   const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
   const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-  EventRng draws = rng;
+  const __m256i n_first = _mm256_set1_epi64x(count), n_second = _mm256_set1_epi64x(count - 1);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i from_previous = _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6);  // lane m - 1
   int it = 0;
   while (it < iterations) {
-    alignas(32) std::uint32_t first[8], second[8];
-    EventRng after[8];  // the generator after each lane's draws
-    for (int m = 0; m < 8; ++m) {
-      first[m] = draws.below(static_cast<std::uint32_t>(count));
-      const std::uint32_t j = draws.below(static_cast<std::uint32_t>(count - 1));
-      second[m] = j + static_cast<std::uint32_t>(j >= first[m]);
-      after[m] = draws;
-    }
-    const __m256i i_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(first));
-    const __m256i j_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(second));
+    // The draws: lane m's states 2m + 1 and 2m + 2 jumped to from the group's first.
+    const __m256i s = _mm256_set1_epi64x(static_cast<long long>(rng.state()));
+    const __m256i second_lo = lcg_lanes(kLaneJumps.second_a, kLaneJumps.second_c, s);
+    const __m256i second_hi = lcg_lanes(kLaneJumps.second_a + 4, kLaneJumps.second_c + 4, s);
+    const __m256i i_v = below_lanes(lcg_lanes(kLaneJumps.first_a, kLaneJumps.first_c, s),
+                                    lcg_lanes(kLaneJumps.first_a + 4, kLaneJumps.first_c + 4, s), n_first);
+    const __m256i j_drawn = below_lanes(second_lo, second_hi, n_second);
+    // j >= i: j + 1.
+    const __m256i j_v = _mm256_add_epi32(_mm256_add_epi32(j_drawn, _mm256_set1_epi32(1)), _mm256_cmpgt_epi32(i_v, j_drawn));
+    alignas(32) std::uint64_t after[8];  // the state after each lane's draws
+    _mm256_store_si256(reinterpret_cast<__m256i*>(after), second_lo);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(after + 4), second_hi);
+
     const __m256 xi = pick(x0, x1, i_v), yi = pick(y0, y1, i_v), ti = pick(t0, t1, i_v);
     const __m256 xj = pick(x0, x1, j_v), yj = pick(y0, y1, j_v), tj = pick(t0, t1, j_v);
     const __m256 det = _mm256_sub_ps(_mm256_mul_ps(xi, yj), _mm256_mul_ps(xj, yi));
@@ -380,29 +421,45 @@ __attribute__((target("avx2"))) PlaneCandidate best_of_draws(const WindowSamples
       n = _mm256_sub_epi32(n, _mm256_castps_si256(_mm256_cmp_ps(_mm256_mul_ps(r, r), tol2, _CMP_LE_OQ)));
     }
     // Support with the origin; 0 (never taken) for a collinear draw.
-    alignas(32) int support[8];
-    alignas(32) float gx_l[8], gy_l[8], tol2_l[8];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(support),
-                       _mm256_and_si256(_mm256_sub_epi32(n, _mm256_set1_epi32(-1)), _mm256_castps_si256(drawn)));
-    _mm256_store_ps(gx_l, gx);
-    _mm256_store_ps(gy_l, gy);
-    _mm256_store_ps(tol2_l, tol2);
-    // draw_planes()'s loop without a branch: a lane runs while it < iterations.
-    int best_lane = -1;
-    for (int m = 0; m < 8; ++m) {
-      const bool runs = it < iterations;
-      const bool better = runs & (support[m] > best.support);
-      best.support = better ? support[m] : best.support;
-      best_lane = better ? m : best_lane;
-      iterations = better ? std::min(iterations, budget[std::max(support[m], 1) - 1]) : iterations;
-      rng = runs ? after[m] : rng;
-      it += static_cast<int>(runs);
+    const __m256i support = _mm256_and_si256(_mm256_sub_epi32(n, _mm256_set1_epi32(-1)), _mm256_castps_si256(drawn));
+
+    // draw_planes()'s choice: lane m improves on the best of the lanes
+    // before it (and of `best`), each improvement cuts the iterations to
+    // its budget, and lane m runs while it + m < the iterations after lane
+    // m - 1 (the lanes that run: a prefix).
+    const __m256i best0 = _mm256_set1_epi32(best.support), iter0 = _mm256_set1_epi32(iterations);
+    __m256i most = _mm256_max_epi32(support, best0);  // the best support up to each lane
+    most = _mm256_max_epi32(most, _mm256_permutevar8x32_epi32(most, from_previous));
+    most = _mm256_max_epi32(most, _mm256_permutevar8x32_epi32(most, _mm256_setr_epi32(0, 0, 0, 1, 2, 3, 4, 5)));
+    most = _mm256_max_epi32(most, _mm256_permutevar8x32_epi32(most, _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 2, 3)));
+    const __m256i most_before = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(most, from_previous), best0, 0x01);
+    const __m256i improves = _mm256_cmpgt_epi32(support, most_before);
+    const __m256i cut = _mm256_i32gather_epi32(budget, _mm256_max_epi32(_mm256_sub_epi32(support, _mm256_set1_epi32(1)),
+                                                                      _mm256_setzero_si256()), 4);
+    __m256i after_lane = _mm256_blendv_epi8(iter0, _mm256_min_epi32(iter0, cut), improves);
+    after_lane = _mm256_min_epi32(after_lane, _mm256_permutevar8x32_epi32(after_lane, from_previous));
+    after_lane = _mm256_min_epi32(after_lane, _mm256_permutevar8x32_epi32(after_lane, _mm256_setr_epi32(0, 0, 0, 1, 2, 3, 4, 5)));
+    after_lane = _mm256_min_epi32(after_lane, _mm256_permutevar8x32_epi32(after_lane, _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 2, 3)));
+    const __m256i before_lane = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(after_lane, from_previous), iter0, 0x01);
+    const auto runs = static_cast<unsigned>(_mm256_movemask_ps(
+        _mm256_castsi256_ps(_mm256_cmpgt_epi32(before_lane, _mm256_add_epi32(lane, _mm256_set1_epi32(it))))));
+    const int ran = __builtin_popcount(runs);  // >= 1: it < iterations
+    alignas(32) int most_l[8], after_l[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(most_l), most);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(after_l), after_lane);
+    const unsigned improved =
+        static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(improves))) & runs;
+    if (improved != 0) {
+      const int m = 31 - __builtin_clz(improved);  // the last improvement
+      alignas(32) float gx_l[8], gy_l[8], tol2_l[8];
+      _mm256_store_ps(gx_l, gx);
+      _mm256_store_ps(gy_l, gy);
+      _mm256_store_ps(tol2_l, tol2);
+      best = {most_l[m], gx_l[m], gy_l[m], tol2_l[m]};
     }
-    if (best_lane >= 0) {
-      best.gx_us_px = gx_l[best_lane];
-      best.gy_us_px = gy_l[best_lane];
-      best.tol2_us2 = tol2_l[best_lane];
-    }
+    iterations = after_l[ran - 1];
+    rng.set_state(after[ran - 1]);
+    it += ran;
   }
   return best;
 }
