@@ -8,6 +8,7 @@
 
 #include "censored_refit.h"
 #include "event_rng.h"
+#include "plane_draws.h"
 #include "plane_fit.h"
 #include "stage_clock.h"
 #include "time_plane.h"
@@ -154,7 +155,7 @@ LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowS
     best = {1 + nb.support(first_gx, first_gy, tol2), first_gx, first_gy, tol2};
     iterations = best.support > count ? 0 : std::min(iterations, budget[best.support - 1]);
   }
-  best = nb.best_of_draws(rng, iterations, budget, tol_floor2, tol_fraction2, best);
+  best = detail::best_of_draws(nb, rng, iterations, budget, tol_floor2, tol_fraction2, best);
   return {best.support, best.gx_us_px, best.gy_us_px, best.tol2_us2};
 }
 

@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <limits>
 
-#include "event_rng.h"
 #include "time_plane.h"
 #include "window_noise.h"
 
@@ -22,13 +21,6 @@ constexpr int kSampleCapacity = (kMaxWindowSide * kMaxWindowSide + 3) / 4 * 4;  
 // Pixels past the last one of a time plane that WindowSamples::gather_rows()
 // may read (and ignore): a row's 8-byte pixels are read four and one at a time.
 constexpr int kGatherOverreadPixels = 8;
-
-/// A plane dt = gx*dx + gy*dy through the new event (the origin), the
-/// samples within sqrt(tol2_us2) of it and the origin its support.
-struct PlaneCandidate {
-  int support = 0;
-  float gx_us_px = 0.0f, gy_us_px = 0.0f, tol2_us2 = 0.0f;
-};
 
 struct WindowSamples {
   float dx[kSampleCapacity];     // px
@@ -163,17 +155,6 @@ struct WindowSamples {
     }
     return n[0] + n[1] + n[2] + n[3];
   }
-
-  /// RANSAC's draws (LifetimeEstimator::best_plane()): up to `iterations`
-  /// planes through the origin and two samples drawn with `rng` (none where
-  /// the two are collinear with it), tolerance max(tol_floor2, tol_fraction2 x
-  /// |g|^2); one with more support than `best` replaces it and cuts the
-  /// iterations to budget[its support - 1] (budget: iterations needed for
-  /// each number of inliers among `count`). Call pad() first. Defined in
-  /// window_samples.cpp, on x86-64 also for AVX2 (chosen at load time: the
-  /// same float operations in the same order; supports are integers).
-  PlaneCandidate best_of_draws(EventRng& rng, int iterations, const int* budget, float tol_floor2,
-                               float tol_fraction2, PlaneCandidate best) const noexcept;
 
   static constexpr int kLanes = 4;  // one SSE / NEON register of floats
   using Lanes4f = float __attribute__((vector_size(16)));
