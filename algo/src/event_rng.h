@@ -35,7 +35,7 @@ class EventRng {
   static constexpr std::uint64_t kMultiplier = 6364136223846793005ULL;
   static constexpr std::uint64_t kIncrement = 1442695040888963407ULL;
   /// `steps` steps of the LCG as one: state -> multiplier * state + increment
-  /// (for drawing several values at once; window_samples.cpp).
+  /// (for drawing several values at once; plane_draws.cpp).
   struct Jump {
     std::uint64_t multiplier, increment;
   };
