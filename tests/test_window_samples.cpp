@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "censored_refit.h"
+#include "plane_draws.h"
 #include "plane_fit.h"
 #include "window_samples.h"
 
@@ -202,6 +203,66 @@ TEST(WindowSamples, RefitInliersSumLikeSampleBySample) {
   EXPECT_GT(fast, 1000);
 }
 
+
+// best_of_draws() (on x86-64 with AVX2: eight candidates at a time, chosen
+// without a branch) picks the plane that one draw after the other picks and
+// leaves the generator where it leaves it: windows of 1-24 samples (few
+// distinct positions and times: collinear draws and tied supports), a budget
+// that may cut the iterations at any point, with and without a first plane.
+TEST(PlaneDraws, ChooseAsOneDrawAfterTheOther) {
+  std::mt19937 rng(5);
+  int cut_short = 0, replaced = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    WindowSamples w;
+    w.count = 1 + static_cast<int>(rng() % 24);
+    const int spread = 1 + static_cast<int>(rng() % 3);
+    for (int k = 0; k < w.count; ++k) {
+      w.dx[k] = static_cast<float>(static_cast<int>(rng() % (2 * spread + 1)) - spread);
+      w.dy[k] = static_cast<float>(static_cast<int>(rng() % (2 * spread + 1)) - spread);
+      w.dt_us[k] = -static_cast<float>(rng() % 8) * 150.0f - static_cast<float>(rng() % 3);
+    }
+    w.pad();
+    int budget[kMaxNeighbours + 1];
+    for (int& b : budget) b = 1 + static_cast<int>(rng() % 20);
+    const int iterations = static_cast<int>(rng() % 30);
+    const float floor2 = static_cast<float>(1 + rng() % 400), fraction2 = trial % 2 == 0 ? 0.0f : 0.25f;
+    PlaneCandidate first;
+    if (trial % 3 == 0) first = {1 + static_cast<int>(rng() % 6), 150.0f, -75.0f, floor2};
+    const Event e{static_cast<std::int64_t>(trial) * 1000, static_cast<std::uint16_t>(trial % 300), 7, 1, {0, 0, 0}};
+    EventRng got_rng(42, e), want_rng(42, e);
+    const PlaneCandidate got = best_of_draws(w, got_rng, iterations, budget, floor2, fraction2, first);
+    // The reference: the loop best_plane() ran before best_of_draws().
+    PlaneCandidate want = first;
+    int runs = iterations, ran = 0;
+    for (int it = 0; it < runs; ++it, ++ran) {
+      const std::uint32_t i = want_rng.below(static_cast<std::uint32_t>(w.count));
+      std::uint32_t j = want_rng.below(static_cast<std::uint32_t>(w.count - 1));
+      if (j >= i) ++j;
+      const float det = w.dx[i] * w.dy[j] - w.dx[j] * w.dy[i];
+      if (std::fabs(det) < 0.5f) continue;
+      const float inv_det = 1.0f / det;
+      const float gx = (w.dt_us[i] * w.dy[j] - w.dt_us[j] * w.dy[i]) * inv_det;
+      const float gy = (w.dx[i] * w.dt_us[j] - w.dx[j] * w.dt_us[i]) * inv_det;
+      const float tol2 = std::max(floor2, fraction2 * (gx * gx + gy * gy));
+      int support = 1;
+      for (int k = 0; k < w.count; ++k) {
+        const float r = w.dt_us[k] - gx * w.dx[k] - gy * w.dy[k];
+        support += r * r <= tol2;
+      }
+      if (support > want.support) {
+        want = {support, gx, gy, tol2};
+        runs = std::min(runs, budget[support - 1]);
+        ++replaced;
+      }
+    }
+    cut_short += ran < iterations;
+    ASSERT_EQ(got.support, want.support) << "trial " << trial;
+    ASSERT_EQ(std::memcmp(&got, &want, sizeof got), 0) << "trial " << trial;
+    ASSERT_EQ(got_rng.state(), want_rng.state()) << "trial " << trial;
+  }
+  EXPECT_GT(cut_short, 2000);
+  EXPECT_GT(replaced, 10000);
+}
 
 // refit_without_censored() takes the same samples as a plain loop that
 // skips the RANSAC outliers and the censored ones, and fits the same slope.

@@ -27,10 +27,25 @@ class EventRng {
   /// One step of a 64-bit LCG; its high 32 bits are well mixed, which is
   /// all that picking one of <= 224 samples needs.
   std::uint32_t below(std::uint32_t n) noexcept {
-    state_ = state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+    state_ = state_ * kMultiplier + kIncrement;
     const std::uint64_t r = state_ >> 32;
     return static_cast<std::uint32_t>((r * n) >> 32);
   }
+
+  static constexpr std::uint64_t kMultiplier = 6364136223846793005ULL;
+  static constexpr std::uint64_t kIncrement = 1442695040888963407ULL;
+  /// `steps` steps of the LCG as one: state -> multiplier * state + increment
+  /// (for drawing several values at once; plane_draws.cpp).
+  struct Jump {
+    std::uint64_t multiplier, increment;
+  };
+  static constexpr Jump jump(int steps) noexcept {
+    Jump j{1, 0};
+    for (int k = 0; k < steps; ++k) j = {j.multiplier * kMultiplier, j.increment * kMultiplier + kIncrement};
+    return j;
+  }
+  std::uint64_t state() const noexcept { return state_; }
+  void set_state(std::uint64_t state) noexcept { state_ = state; }
 
  private:
   std::uint64_t state_;

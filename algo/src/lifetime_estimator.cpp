@@ -8,6 +8,7 @@
 
 #include "censored_refit.h"
 #include "event_rng.h"
+#include "plane_draws.h"
 #include "plane_fit.h"
 #include "stage_clock.h"
 #include "time_plane.h"
@@ -145,32 +146,19 @@ LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowS
                                                            float tol_floor2, float tol_fraction2, float first_gx,
                                                            float first_gy) const noexcept {
   const int count = nb.count;
-  Candidate best;
+  // budget[inliers]: iterations_needed(inliers, count).
+  const int* budget = &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
+  detail::PlaneCandidate best;
   int iterations = ransac_iterations_;
   // The predicted plane, when there is one, is the first candidate: where
   // the edge kept its course it holds every sample, and no pair is drawn.
   if (first_gx != 0.0f || first_gy != 0.0f) {
     const float tol2 = std::max(tol_floor2, tol_fraction2 * (first_gx * first_gx + first_gy * first_gy));
     best = {1 + nb.support(first_gx, first_gy, tol2), first_gx, first_gy, tol2};
-    iterations = best.support > count ? 0 : std::min(iterations, iterations_needed(best.support - 1, count));
+    iterations = best.support > count ? 0 : std::min(iterations, budget[best.support - 1]);
   }
-  for (int it = 0; it < iterations; ++it) {
-    const std::uint32_t i = rng.below(static_cast<std::uint32_t>(count));
-    std::uint32_t j = rng.below(static_cast<std::uint32_t>(count - 1));
-    if (j >= i) ++j;
-    const float det = nb.dx[i] * nb.dy[j] - nb.dx[j] * nb.dy[i];
-    if (std::fabs(det) < 0.5f) continue;  // collinear with the origin
-    const float inv_det = 1.0f / det;
-    const float gx = (nb.dt_us[i] * nb.dy[j] - nb.dt_us[j] * nb.dy[i]) * inv_det;
-    const float gy = (nb.dx[i] * nb.dt_us[j] - nb.dx[j] * nb.dt_us[i]) * inv_det;
-    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
-    const int support = 1 + nb.support(gx, gy, tol2);  // + the origin
-    if (support > best.support) {
-      best = {support, gx, gy, tol2};
-      iterations = std::min(iterations, iterations_needed(support - 1, count));
-    }
-  }
-  return best;
+  best = detail::best_of_draws(nb, rng, iterations, budget, tol_floor2, tol_fraction2, best);
+  return {best.support, best.gx_us_px, best.gy_us_px, best.tol2_us2};
 }
 
 // Weight of a prior plane that predicted this event with error err_us
