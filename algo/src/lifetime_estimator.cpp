@@ -45,10 +45,11 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
 
 }  // namespace
 
-// RANSAC iterations that draw an all-inlier pair with ransac_confidence when
-// `inliers` of `count` past events are inliers (precomputed in the constructor).
-int LifetimeEstimator::iterations_needed(int inliers, int count) const noexcept {
-  return iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1) + inliers];
+// The RANSAC iterations that draw an all-inlier pair with ransac_confidence,
+// indexed by how many of `count` past events are inliers (precomputed in the
+// constructor).
+const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
+  return &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
 }
 
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
@@ -146,8 +147,7 @@ LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowS
                                                            float tol_floor2, float tol_fraction2, float first_gx,
                                                            float first_gy) const noexcept {
   const int count = nb.count;
-  // budget[inliers]: iterations_needed(inliers, count).
-  const int* budget = &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
+  const int* budget = iterations_needed(count);  // [inliers]
   detail::PlaneCandidate best;
   int iterations = ransac_iterations_;
   // The predicted plane, when there is one, is the first candidate: where

@@ -82,7 +82,7 @@ class LifetimeEstimator {
            static_cast<std::size_t>(x);
   }
 
-  int iterations_needed(int inliers, int count) const noexcept;
+  const int* iterations_needed(int count) const noexcept;
   // The plane of an edge upstream that predicted an event, and its error.
   struct EdgePrior {
     double gx_us_px = 0.0;
