@@ -20,6 +20,16 @@
    first lifetimes of each region; a recording only a few lifetimes long is
    mostly warm-up. --plot draws the share against time in median lifetimes
    (bench/doc/warmup.png).
+5. Bursts longer than the burst window: on stripes.mat, the events that
+   get a lifetime with followers chaining (the default) and not within 2
+   lifetimes of the arrival only (burst_span_lifetimes = 2, the rule before),
+   how many of them are followers (their pixel's previous lifetime, so more
+   than 2 lifetimes after their burst's arrival), and how many events lose
+   their lifetime. With --evlife PATH also
+   the pixel model's truth (`evlife synth --scene edges-bar --pixel dvs
+   --truth`): the share of its edge events that are burst events more than 2
+   lifetimes after their burst's first event, at the default 1.5 px blur and
+   at 2.5 px.
 """
 import argparse
 
@@ -62,6 +72,50 @@ def local_time_quantum(path, block_px=4, neighbours=7, horizon_us=1000):
     return period, np.mean(phase <= 20), len(d)
 
 
+def pixel_order(out, width):
+    """Indices that sort events by pixel and polarity, then time, and the sorted keys."""
+    key = (out["y"].astype(np.int64) * width + out["x"].astype(np.int64)) * 2 + (out["p"] > 0)
+    order = np.lexsort((out["t"].astype(np.int64), key))
+    return order, key[order]
+
+
+def chained_followers(chained, unchained, width):
+    """Events with a lifetime in `chained` and not in `unchained`, those of
+    them that inherit their pixel's previous event's lifetime (followers),
+    and the events that lose their lifetime."""
+    gained = (chained["lifetime"] > 0) & (unchained["lifetime"] <= 0)
+    lost = (chained["lifetime"] <= 0) & (unchained["lifetime"] > 0)
+    order, key = pixel_order(chained, width)
+    lifetime = chained["lifetime"][order]
+    inherits = np.concatenate([[False], (key[1:] == key[:-1]) & (lifetime[1:] == lifetime[:-1])]) & (lifetime > 0)
+    return gained.sum(), (gained[order] & inherits).sum(), lost.sum()
+
+
+def late_burst_share(truth_csv, width):
+    """Share of a synthetic scene's edge events that are burst events more than
+    2 true lifetimes after their burst's first event (`evlife synth --truth`)."""
+    tr = np.genfromtxt(truth_csv, delimiter=",", names=True)
+    edge = tr[tr["noise"] == 0]
+    order, key = pixel_order({"x": edge["x"], "y": edge["y"], "p": edge["p"], "t": edge["t_us"]}, width)
+    t, first, lifetime = edge["t_us"][order], edge["burst_index"][order] == 0, edge["lifetime_us"][order]
+    start = np.maximum.accumulate(np.where(first, np.arange(len(t)), 0))  # the burst's first event
+    late = ~first & (key[start] == key) & (t - t[start] > 2 * lifetime)
+    return np.mean(late)
+
+
+def synthetic_late_burst_share(evlife_cli, blur_px):
+    """late_burst_share() of `evlife synth --scene edges-bar --pixel dvs` (0.6 s, 346x260)."""
+    import os
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        events, truth = os.path.join(tmp, "scene.txt"), os.path.join(tmp, "truth.csv")
+        subprocess.run([evlife_cli, "synth", "-o", events, "--truth", truth, "--scene", "edges-bar", "--sensor",
+                        "346x260", "--duration", "0.6", "--pixel", "dvs", "--edge-blur-px", str(blur_px), "-q"],
+                       check=True)
+        return late_burst_share(truth, 346)
+
+
 def share_by_bin(t, lifetime, bins):
     """Each event's bin (equal spans of the recording, t from 0) and the
     share with a lifetime in each bin."""
@@ -73,6 +127,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("data", nargs="?", default="../shared/data", help="the shared data folder")
     parser.add_argument("--plot", metavar="FILE.png", help="draw the warm-up figure (4) into FILE.png")
+    parser.add_argument("--evlife", metavar="PATH", help="the evlife tool, for the pixel model's burst tails (5)")
     args = parser.parse_args()
     data = args.data
     support = past_support(f"{data}/evt3/evt3_sample.raw", 1280, 720)
@@ -106,6 +161,16 @@ def main():
     if args.plot:
         plot_warmup(curves, args.plot)
 
+    stripes = f"{data}/reference/stripes.mat"
+    gained, followers, lost = chained_followers(evlife.process(stripes),
+                                                evlife.process(stripes, burst_span_lifetimes=2), 128)
+    print(f"stripes.mat, followers chaining against burst_span_lifetimes 2: {gained} events gain a lifetime, "
+          f"{followers} of them as followers (their pixel's previous lifetime); {lost} lose theirs")
+    if args.evlife:
+        for blur in (1.5, 2.5):
+            share = synthetic_late_burst_share(args.evlife, blur)
+            print(f"pixel model (edges-bar, dvs, blur {blur} px): {100 * share:.4f} % of the edge events come "
+                  f"more than 2 lifetimes after their burst's first event")
 
 def plot_warmup(curves, path):
     """Share with a lifetime in 20 bins of each recording, against the time
