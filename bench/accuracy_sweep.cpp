@@ -82,8 +82,9 @@ int main(int argc, char** argv) try {
     } else if (arg == "--pixel" && has_value) {
       pixel_assignments.emplace_back(argv[++i]);
     } else if (arg == "--noise-rate" && has_value) {
-      noise_rate_hz_per_px = std::strtod(argv[++i], nullptr);
-      if (!(noise_rate_hz_per_px >= 0.0)) return usage();
+      char* end = nullptr;
+      noise_rate_hz_per_px = std::strtod(argv[++i], &end);
+      if (end == argv[i] || *end != '\0' || !(noise_rate_hz_per_px >= 0.0)) return usage();
     } else {
       return usage();
     }

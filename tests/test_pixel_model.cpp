@@ -400,6 +400,13 @@ TEST(PixelStatistics, RealAndModel) {
     EXPECT_LT(s.mean_burst_size(), 3.5);
     EXPECT_GE(s.interval_p10_us, spec.pixel.refractory_us);
   }
+  // Faint texture (README, *Across the sensor range*): contrast near the
+  // threshold, the slider recording's mostly single events.
+  SceneSpec faint = dvs_scene(false, 1'000'000, 1);
+  faint.pixel.contrast_log = 0.35;
+  faint.pixel.threshold_log = 0.3;
+  table += row("synth edges-bar 346x260 --pixel dvs --contrast 0.35 --threshold 0.3",
+               render::pixel_statistics(io::generate_scene(faint).events, faint.sensor));
   std::printf("%s", table.c_str());
 }
 

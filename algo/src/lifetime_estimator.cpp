@@ -143,9 +143,9 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
 // budget starts at the count for the expected outlier fraction and shrinks as
 // better support is found. (first_gx, first_gy): a candidate to try first,
 // (0, 0) for none.
-LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
-                                                           float tol_floor2, float tol_fraction2, float first_gx,
-                                                           float first_gy) const noexcept {
+detail::PlaneCandidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
+                                                     float tol_floor2, float tol_fraction2, float first_gx,
+                                                     float first_gy) const noexcept {
   const int count = nb.count;
   const int* budget = iterations_needed(count);  // [inliers]
   detail::PlaneCandidate best;
@@ -157,8 +157,7 @@ LifetimeEstimator::Candidate LifetimeEstimator::best_plane(const detail::WindowS
     best = {1 + nb.support(first_gx, first_gy, tol2), first_gx, first_gy, tol2};
     iterations = best.support > count ? 0 : std::min(iterations, budget[best.support - 1]);
   }
-  best = detail::best_of_draws(nb, rng, iterations, budget, tol_floor2, tol_fraction2, best);
-  return {best.support, best.gx_us_px, best.gy_us_px, best.tol2_us2};
+  return detail::best_of_draws(nb, rng, iterations, budget, tol_floor2, tol_fraction2, best);
 }
 
 // Weight of a prior plane that predicted this event with error err_us
@@ -327,7 +326,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const float tol_fraction2 = static_cast<float>(options_.inlier_tolerance_lifetime_fraction *
                                                  options_.inlier_tolerance_lifetime_fraction);
   detail::EventRng rng(options_.seed, e);
-  Candidate best = best_plane(nb, rng, tol_floor2, tol_fraction2, prior_gx, prior_gy);
+  detail::PlaneCandidate best = best_plane(nb, rng, tol_floor2, tol_fraction2, prior_gx, prior_gy);
   stage_end(Stage::ransac);
   // Where the plane passes at this pixel: the new event, or the arrival of
   // the burst it follows (below).

@@ -20,6 +20,7 @@
 namespace evlife {
 namespace detail {
 struct WindowSamples;
+struct PlaneCandidate;
 class EventRng;
 }  // namespace detail
 
@@ -91,12 +92,9 @@ class LifetimeEstimator {
   };
   // The RANSAC plane dt = gx*dx + gy*dy through the origin with the most
   // supporters (the origin included), and its squared inlier tolerance.
-  struct Candidate {
-    int support = 0;
-    float gx_us_px = 0.0f, gy_us_px = 0.0f, tol2_us2 = 0.0f;
-  };
-  Candidate best_plane(const detail::WindowSamples& nb, detail::EventRng& rng, float tol_floor2,
-                       float tol_fraction2, float first_gx = 0.0f, float first_gy = 0.0f) const noexcept;
+  detail::PlaneCandidate best_plane(const detail::WindowSamples& nb, detail::EventRng& rng, float tol_floor2,
+                                    float tol_fraction2, float first_gx = 0.0f,
+                                    float first_gy = 0.0f) const noexcept;
   // An event labelled noise, counted with its reason (a LifetimeStats field).
   void count_noise(std::uint64_t& reason) noexcept {
     ++stats_.noise;
