@@ -458,14 +458,13 @@ TEST(PixelModelAccuracy, EdgesDavis346NormalLightFaintTexture) {
   });
 }
 
-// The rotating bar in dim light with 600 us of latency jitter (the issue's
-// upper range): the fast part of its sweep is continued from upstream more
-// than started afresh. Where the upstream plane holds as many samples as
-// RANSAC's best draw its inliers are refitted; with the draw's inliers
-// instead the share was 83.3 % (now 84.9 %; accuracy_sweep --pixel
-// latency-jitter-us=600). Only the share is held: at this jitter the bar
-// misses the p90 and direction floors either way (README, *Across
-// the sensor range*).
+// A continuation refits the upstream plane's inliers where that plane holds
+// as many samples as RANSAC's best draw. On the rotating bar in dim light
+// with 600 us of latency jitter (the upper range) refitting the
+// draw's inliers instead gave a share of 83.3 % (now 84.9 %; accuracy_sweep
+// --pixel latency-jitter-us=600). Only the share is held: at this jitter the
+// bar misses the p90 and direction floors either way (README,
+// *Across the sensor range*).
 TEST(PixelModelAccuracy, FastBarInDimLightContinuesTheUpstreamPlane) {
   constexpr PixelFloors kShareOnly{0.845, 1.0, 100.0, 90.0, 0.97};
   expect_pixel_floors(kBarDim, ", 600 us jitter", kShareOnly, {},
