@@ -215,6 +215,40 @@ TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
   EXPECT_GT(unsupported, 0u);
 }
 
+// A recording short against its lifetimes is mostly warm-up (README,
+// *Warm-up*): the summary says how many median lifetimes long it is. The
+// slider chunk is 170 ms of ~9 ms lifetimes; stripes.mat (1.2 s of ~7 ms)
+// is long enough to say nothing.
+TEST_F(CliTest, ShortRecordingsSayHowManyLifetimesLongTheyAre) {
+  const fs::path out = path("slider_warmup.csv");
+  const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<double> lifetimes;
+  double first_t_us = 0, last_t_us = 0;
+  const auto rows = csv_rows(out);
+  ASSERT_FALSE(rows.empty());
+  for (const auto& row : rows) {
+    const auto f = split(row, ',');
+    last_t_us = std::stod(f.at(2));
+    if (&row == &rows.front()) first_t_us = last_t_us;
+    if (const double lifetime = std::stod(f.at(4)); lifetime > 0) lifetimes.push_back(lifetime);
+  }
+  ASSERT_GT(lifetimes.size(), 100u);
+  std::sort(lifetimes.begin(), lifetimes.end());
+  const double expected = (last_t_us - first_t_us) / lifetimes[(lifetimes.size() + 1) / 2 - 1];
+  const std::size_t at = r.output.find("warm-up             the recording is ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  double reported = 0;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + at, "warm-up the recording is %lf", &reported), 1) << r.output;
+  // The median from the summary's log histogram: one bin, 2.3 %.
+  EXPECT_NEAR(reported, expected, 0.03 * expected) << r.output;
+
+  const RunResult long_run =
+      run("process '" + kData + "/reference/stripes.mat' -o '" + path("stripes_warmup.bin").string() + "'");
+  ASSERT_EQ(long_run.exit_code, 0) << long_run.output;
+  EXPECT_EQ(long_run.output.find("warm-up"), std::string::npos) << long_run.output;
+}
+
 TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
   const fs::path out = path("slider.bin");
   const RunResult r = run("process '" + kRpgText + "' -o '" + out.string() + "' --quiet");

@@ -1,5 +1,6 @@
 #include "lifetime_summary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -92,6 +93,24 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
   }
   std::fprintf(out, ")\n");
   std::fprintf(out, "  (percentiles from a log histogram: ±1.2 %%)\n");
+  // A past-only estimator labels an edge's first passage through an empty
+  // surface worse than the later ones; recordings need about ten median
+  // lifetimes to reach their steady share (README, *Warm-up*). Say so when
+  // the whole recording is short on that scale, so that a low share is not
+  // read as the estimator's steady state. Last, so that the lines above
+  // keep their order for scripts.
+  constexpr double kWarmupNoticeLifetimes = 20.0;
+  if (lifetime_us_.total() > 0 && last_t_us_ > first_t_us_) {
+    const double lifetimes_long =
+        static_cast<double>(last_t_us_ - first_t_us_) / std::max(lifetime_us_.percentile(0.50), 1.0);
+    if (lifetimes_long < kWarmupNoticeLifetimes) {
+      std::fprintf(out,
+                   "  warm-up             the recording is %.1f median lifetimes long; in the first ~10 of\n"
+                   "                      each region the surface fills and fewer events get a lifetime\n"
+                   "                      (README, Warm-up)\n",
+                   lifetimes_long);
+    }
+  }
 }
 
 }  // namespace evlife::cli
