@@ -215,7 +215,7 @@ TEST_F(CliTest, SummaryPercentilesMatchTheOutput) {
   EXPECT_GT(unsupported, 0u);
 }
 
-// A recording short against its lifetimes is mostly warm-up (README,
+// A recording short against its lifetimes is partly warm-up (README,
 // *Warm-up*): the summary says how many median lifetimes long it is. The
 // slider chunk is 170 ms of ~9 ms lifetimes; stripes.mat (1.2 s of ~7 ms)
 // is long enough to say nothing.
