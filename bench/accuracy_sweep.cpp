@@ -14,13 +14,16 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "accuracy_metrics.h"
 #include "accuracy_scenes.h"
 #include "evlife/algo/lifetime_estimator.h"
+#include "evlife/algo/parse_text.h"
 #include "evlife/config/config.h"
 
 namespace {
@@ -45,13 +48,12 @@ bool set_pixel_parameter(const std::string& assignment, evlife::io::PixelModel& 
   const auto eq = assignment.find('=');
   if (eq == std::string::npos) return false;
   const std::string name = assignment.substr(0, eq);
-  char* end = nullptr;
-  const double value = std::strtod(assignment.c_str() + eq + 1, &end);
-  if (end == assignment.c_str() + eq + 1 || *end != '\0') return false;
+  const std::optional<double> value = evlife::parse_decimal(std::string_view(assignment).substr(eq + 1));
+  if (!value) return false;
   for (const evlife::io::PixelParameter& p : evlife::io::pixel_parameters()) {
     if (name != p.name) continue;
-    if (!(value >= p.lo && value <= p.hi)) return false;
-    pixel.*p.field = value;
+    if (!(*value >= p.lo && *value <= p.hi)) return false;
+    pixel.*p.field = *value;
     return true;
   }
   return false;
@@ -82,9 +84,9 @@ int main(int argc, char** argv) try {
     } else if (arg == "--pixel" && has_value) {
       pixel_assignments.emplace_back(argv[++i]);
     } else if (arg == "--noise-rate" && has_value) {
-      char* end = nullptr;
-      noise_rate_hz_per_px = std::strtod(argv[++i], &end);
-      if (end == argv[i] || *end != '\0' || !(noise_rate_hz_per_px >= 0.0)) return usage();
+      const std::optional<double> rate = evlife::parse_decimal(argv[++i]);
+      if (!rate || !(*rate >= 0.0)) return usage();
+      noise_rate_hz_per_px = *rate;
     } else {
       return usage();
     }

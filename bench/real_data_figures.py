@@ -32,6 +32,9 @@
    at 2.5 px.
 """
 import argparse
+import os
+import subprocess
+import tempfile
 
 import numpy as np
 
@@ -105,9 +108,6 @@ def late_burst_share(truth_csv, width):
 
 def synthetic_late_burst_share(evlife_cli, blur_px):
     """late_burst_share() of `evlife synth --scene edges-bar --pixel dvs` (0.6 s, 346x260)."""
-    import os
-    import subprocess
-    import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         events, truth = os.path.join(tmp, "scene.txt"), os.path.join(tmp, "truth.csv")
         subprocess.run([evlife_cli, "synth", "-o", events, "--truth", truth, "--scene", "edges-bar", "--sensor",

@@ -37,15 +37,6 @@ std::int64_t round_to_int64(double v) noexcept {
   return static_cast<std::int64_t>(v + (v >= 0.0 ? 0.5 : -0.5));
 }
 
-// The plane dt = gx*dx + gy*dy through the origin as a RANSAC candidate: its
-// tolerance max(floor, fraction of its lifetime), squared, and its support
-// (the origin included).
-detail::PlaneCandidate plane_candidate(const detail::WindowSamples& nb, float gx, float gy, float tol_floor2,
-                                       float tol_fraction2) noexcept {
-  const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
-  return {1 + nb.support(gx, gy, tol2), gx, gy, tol2};
-}
-
 int ransac_iterations_for(double outlier_fraction, double confidence) {
   const double inlier_pair = (1.0 - outlier_fraction) * (1.0 - outlier_fraction);
   const double k = std::log(1.0 - confidence) / std::log(1.0 - inlier_pair);
@@ -162,7 +153,7 @@ detail::PlaneCandidate LifetimeEstimator::best_plane(const detail::WindowSamples
   // The predicted plane, when there is one, is the first candidate: where
   // the edge kept its course it holds every sample, and no pair is drawn.
   if (first_gx != 0.0f || first_gy != 0.0f) {
-    best = plane_candidate(nb, first_gx, first_gy, tol_floor2, tol_fraction2);
+    best = detail::plane_candidate(nb, first_gx, first_gy, tol_floor2, tol_fraction2);
     iterations = best.support > count ? 0 : std::min(iterations, budget[best.support - 1]);
   }
   return detail::best_of_draws(nb, rng, iterations, budget, tol_floor2, tol_fraction2, best);
@@ -368,8 +359,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       // (pixel model: shares +0.0-1.5 points, p90 errors lower; garfield.mat
       // +1.1 points).
       const detail::PlaneCandidate along_upstream =
-          plane_candidate(nb, static_cast<float>(upstream.gx_us_px), static_cast<float>(upstream.gy_us_px),
-                          tol_floor2, tol_fraction2);
+          detail::plane_candidate(nb, static_cast<float>(upstream.gx_us_px),
+                                  static_cast<float>(upstream.gy_us_px), tol_floor2, tol_fraction2);
       if (along_upstream.support >= best.support) best = along_upstream;
       if (lambda == 0.0) {
         prior_gx = static_cast<float>(upstream.gx_us_px);

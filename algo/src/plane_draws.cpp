@@ -25,11 +25,10 @@ __attribute__((always_inline)) inline PlaneCandidate draw_planes(const WindowSam
     const float inv_det = 1.0f / det;
     const float gx = (w.dt_us[i] * w.dy[j] - w.dt_us[j] * w.dy[i]) * inv_det;
     const float gy = (w.dx[i] * w.dt_us[j] - w.dx[j] * w.dt_us[i]) * inv_det;
-    const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
-    const int s = 1 + w.support(gx, gy, tol2);  // + the origin
-    if (s > best.support) {
-      best = {s, gx, gy, tol2};
-      iterations = std::min(iterations, budget[s - 1]);
+    const PlaneCandidate c = plane_candidate(w, gx, gy, tol_floor2, tol_fraction2);
+    if (c.support > best.support) {
+      best = c;
+      iterations = std::min(iterations, budget[c.support - 1]);
     }
   }
   return best;

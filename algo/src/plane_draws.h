@@ -3,6 +3,8 @@
 // samples they hold.
 #pragma once
 
+#include <algorithm>
+
 #include "event_rng.h"
 #include "window_samples.h"
 
@@ -14,6 +16,14 @@ struct PlaneCandidate {
   int support = 0;
   float gx_us_px = 0.0f, gy_us_px = 0.0f, tol2_us2 = 0.0f;
 };
+
+/// The plane (gx, gy) as a candidate: its squared tolerance max(tol_floor2,
+/// tol_fraction2 x |g|^2) and its support in `w` (pad() called).
+inline PlaneCandidate plane_candidate(const WindowSamples& w, float gx, float gy, float tol_floor2,
+                                      float tol_fraction2) noexcept {
+  const float tol2 = std::max(tol_floor2, tol_fraction2 * (gx * gx + gy * gy));
+  return {1 + w.support(gx, gy, tol2), gx, gy, tol2};  // + the origin
+}
 
 /// Up to `iterations` planes through the origin and two samples of `w`
 /// (pad() called) drawn with `rng`, none where the two are collinear with
