@@ -67,6 +67,18 @@ TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
   });
 }
 
+TEST(Config, FaintTexturePresetWidensTheBandWithTheOffsetCheck) {
+  ConfigBuilder b;
+  b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/faint-texture.yaml");
+  const Config c = b.build();
+  LifetimeOptions expected;
+  expected.inlier_tolerance_lifetime_fraction = 0.4;
+  expected.max_event_offset_tolerances = 2.0;
+  for_each_lifetime_option([&](const OptionInfo& info, auto access) {
+    EXPECT_EQ(access(c.estimator), access(expected)) << info.key;
+  });
+}
+
 TEST(Config, ShippedYamlEqualsStructDefaults) {
   ConfigBuilder b;
   b.load_file(kShippedYaml);

@@ -371,9 +371,9 @@ enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 
 // `variant`: appended to the scene's title, e.g. ", dim-light preset".
 // `sensor`: changes the scene's pixel model (none: the setting as it is).
-void expect_pixel_floors(PixelScene index, const std::string& variant, const PixelFloors& floors,
-                         const evlife::LifetimeOptions& options = {},
-                         const std::function<void(SceneSpec&)>& sensor = {}) {
+evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
+                                                 const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
+                                                 const std::function<void(SceneSpec&)>& sensor = {}) {
   auto [scene_title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
   if (sensor) sensor(spec);
   const std::string title = scene_title + variant;
@@ -382,13 +382,14 @@ void expect_pixel_floors(PixelScene index, const std::string& variant, const Pix
   std::cout << evlife::test::format_accuracy_table(title + " (" + std::to_string(scene.events.size()) + " events)",
                                                    report);
   const auto& o = report.overall;
-  ASSERT_GT(o.edge_events, 20000u);
-  ASSERT_GT(o.noise_events, 500u);
+  EXPECT_GT(o.edge_events, 20000u);
+  EXPECT_GT(o.noise_events, 500u);
   EXPECT_GE(o.lifetime_share, floors.lifetime_share) << title;
   EXPECT_LE(o.median_rel_error, floors.median_rel_error) << title;
   EXPECT_LE(o.p90_rel_error, floors.p90_rel_error) << title;
   EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << title;
   EXPECT_GE(o.noise_share, floors.noise_share) << title;
+  return report;
 }
 
 TEST(PixelModelAccuracy, EdgesDavis346NormalLight) { expect_pixel_floors(kEdgesNormal, "", kNormalLightFloors); }
@@ -442,6 +443,12 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLightHarderSensor) {
   expect_pixel_floors(kEdgesDim, ", harder sensor", kIssueDimLightFloors, {}, harder_sensor);
 }
 
+// Contrast 0.35 against threshold 0.3 (below).
+void faint_texture(SceneSpec& spec) {
+  spec.pixel.contrast_log = 0.35;
+  spec.pixel.threshold_log = 0.3;
+}
+
 // Faint texture: contrast 0.35 against threshold 0.3 gives the burst
 // statistics of the slider recording (1.07 events per burst, 93 % single
 // events; README, *Across the sensor range*). A pixel then fires anywhere
@@ -452,10 +459,39 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLightHarderSensor) {
 // are in.
 TEST(PixelModelAccuracy, EdgesDavis346NormalLightFaintTexture) {
   constexpr PixelFloors kFaintTextureFloors{0.93, 0.09, 0.27, 4.2, 0.96};
-  expect_pixel_floors(kEdgesNormal, ", faint texture", kFaintTextureFloors, {}, [](SceneSpec& spec) {
-    spec.pixel.contrast_log = 0.35;
-    spec.pixel.threshold_log = 0.3;
-  });
+  expect_pixel_floors(kEdgesNormal, ", faint texture", kFaintTextureFloors, {}, faint_texture);
+}
+
+// config/faint-texture.yaml (its content: Config.FaintTexturePresetWidensTheBandWithTheOffsetCheck).
+evlife::LifetimeOptions faint_texture_preset() {
+  evlife::LifetimeOptions o;
+  o.inlier_tolerance_lifetime_fraction = 0.4;
+  o.max_event_offset_tolerances = 2.0;
+  return o;
+}
+
+// The preset in faint texture: more share than the defaults (95.3 %) and the
+// issue's noise floor, which the defaults miss there (96.7 %). The wide band
+// alone labels less noise noise (96.3 %): the offset check is what keeps it.
+TEST(PixelModelAccuracy, FaintTexturePresetKeepsTheNoiseFloorInFaintTexture) {
+  constexpr PixelFloors kPresetFloors{0.965, 0.09, 0.27, 4.2, 0.97};
+  const auto with_check = expect_pixel_floors(kEdgesNormal, ", faint texture, faint-texture preset", kPresetFloors,
+                                              faint_texture_preset(), faint_texture);
+  evlife::LifetimeOptions band_alone = faint_texture_preset();
+  band_alone.max_event_offset_tolerances = 0.0;
+  constexpr PixelFloors kAnything{0.0, 1.0, 100.0, 90.0, 0.0};
+  const auto without = expect_pixel_floors(kEdgesNormal, ", faint texture, wide band without the check", kAnything,
+                                           band_alone, faint_texture);
+  EXPECT_GE(with_check.overall.noise_share, without.overall.noise_share + 0.005);
+}
+
+// And it keeps the normal-light floors on the standard scenes.
+TEST(PixelModelAccuracy, EdgesDavis346NormalLightWithFaintTexturePreset) {
+  expect_pixel_floors(kEdgesNormal, ", faint-texture preset", kNormalLightFloors, faint_texture_preset());
+}
+
+TEST(PixelModelAccuracy, RotatingBarDavis346NormalLightWithFaintTexturePreset) {
+  expect_pixel_floors(kBarNormal, ", faint-texture preset", kNormalLightFloors, faint_texture_preset());
 }
 
 // A continuation refits the upstream plane's inliers where that plane holds

@@ -185,7 +185,7 @@ TEST(RealRecordings, GarfieldPredictionErrorsMostlyBelow10ms) {
 }
 
 // Today's sensors (shared samples). Issue 11 floors: slider >= 0.70, evt3
-// >= 0.60 and aedat4 >= 0.50 are NOT reached (0.544, 0.050 and 0.374: see
+// >= 0.60 and aedat4 >= 0.50 are NOT reached (0.560, 0.053 and 0.400: see
 // README, "Real recordings"; aedat4 had 0.541 while the tolerance floor
 // followed the mean residual, which ran away on long recordings). The
 // floors below hold today's figures.
@@ -197,6 +197,24 @@ TEST(RealRecordings, TodaysSensorsEventsGetALifetime) {
     const auto out = run_file(path);
     if (out.empty()) GTEST_SKIP() << "shared data not found: " << path;
     EXPECT_GE(share_with_lifetime(out), floor) << path;
+  }
+}
+
+// config/faint-texture.yaml (a wider band with the offset check, for scenes
+// with little background activity) on the same samples: 0.613, 0.091 and
+// 0.486, more than the defaults give each, still short of the issue's floors.
+TEST(RealRecordings, FaintTexturePresetGivesTodaysSensorsMoreLifetimes) {
+  LifetimeOptions preset;
+  preset.inlier_tolerance_lifetime_fraction = 0.4;
+  preset.max_event_offset_tolerances = 2.0;
+  const std::pair<const char*, double> cases[] = {{"rpg_txt/slider_depth_events_chunk.txt", 0.60},
+                                                  {"evt3/evt3_sample.raw", 0.085},
+                                                  {"aedat4/sample.aedat4", 0.47}};
+  for (const auto& [path, floor] : cases) {
+    const auto with_preset = run_file(path, preset);
+    if (with_preset.empty()) GTEST_SKIP() << "shared data not found: " << path;
+    EXPECT_GE(share_with_lifetime(with_preset), floor) << path;
+    EXPECT_GT(share_with_lifetime(with_preset), share_with_lifetime(run_file(path)) + 0.02) << path;
   }
 }
 

@@ -161,6 +161,54 @@ TEST(WindowSamples, SupportCountsSamplesWithinTolerance) {
   EXPECT_EQ(w.support(100.0f, 0.0f, 1000.0f * 1000.0f), 5);  // padding never counts
 }
 
+// PlaneFit::offset_without_anchor(): the plane of the samples but the first
+// (the anchor at the origin), evaluated there. Samples on dt = c + g . dp give
+// back c whatever the anchor; a plane through the origin that a band of stale
+// samples fits within the tolerance (max_event_offset_tolerances) misses it.
+TEST(PlaneFit, OffsetWithoutTheAnchorIsTheSamplesOwnPlaneAtTheOrigin) {
+  PlaneFit on_plane;
+  on_plane.add(0.0, 0.0, 0.0);  // the anchor, off the samples' plane
+  for (int dy = -2; dy <= 0; ++dy) {
+    for (int dx = -2; dx <= 2; ++dx) {
+      if (dy == 0 && dx >= 0) continue;
+      on_plane.add(dx, dy, -700.0 + 300.0 * dx + 500.0 * dy);
+    }
+  }
+  double c = 0.0;
+  ASSERT_TRUE(on_plane.offset_without_anchor(0.0, Eigen::Vector2d::Zero(), c));
+  EXPECT_NEAR(c, -700.0, 1e-9);
+  // A prior that agrees with the samples changes nothing.
+  ASSERT_TRUE(on_plane.offset_without_anchor(5.0, Eigen::Vector2d(300.0, 500.0), c));
+  EXPECT_NEAR(c, -700.0, 1e-9);
+
+  // Stale samples of one time on two diagonals (dx + dy = -1, -2), 50 ms
+  // before a noise event: the plane through the event rising 0.667 x 50 ms
+  // per diagonal step holds them all within 0.4 of its lifetime, but their
+  // own plane is flat at -50 ms.
+  PlaneFit stale;
+  stale.add(0.0, 0.0, 0.0);
+  for (int dy = -2; dy <= 2; ++dy) {
+    for (int dx = -2; dx <= 2; ++dx) {
+      if (dx + dy == -1 || dx + dy == -2) stale.add(dx, dy, -50'000.0);
+    }
+  }
+  const double step_us = 0.667 * 50'000.0;  // dt per unit of dx + dy
+  const double lifetime_us = step_us * std::sqrt(2.0);
+  for (const double k : {1.0, 2.0}) EXPECT_LE(std::fabs(-50'000.0 + k * step_us), 0.4 * lifetime_us);
+  ASSERT_TRUE(stale.offset_without_anchor(0.0, Eigen::Vector2d::Zero(), c));
+  EXPECT_NEAR(c, -50'000.0, 1e-6);
+  EXPECT_GT(std::fabs(c), 2.0 * 0.4 * lifetime_us);  // rejected at 2 tolerances
+
+  // Fewer than three samples, or all on a line: nothing to tell.
+  PlaneFit few;
+  few.add(0.0, 0.0, 0.0);
+  few.add(-1.0, 0.0, -10.0);
+  few.add(-2.0, 0.0, -20.0);
+  EXPECT_FALSE(few.offset_without_anchor(0.0, Eigen::Vector2d::Zero(), c));
+  few.add(-2.0, 0.0, -20.0);
+  EXPECT_FALSE(few.offset_without_anchor(0.0, Eigen::Vector2d::Zero(), c));
+}
+
 // PlaneFit::add_inliers() (four samples at a time when the sums are exact)
 // must give the refit the same sums bit for bit as add_if() sample by
 // sample, with small and large (> 2^21 us: the scalar path) time offsets.

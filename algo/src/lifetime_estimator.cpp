@@ -63,6 +63,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   half_window_ = options_.window_size / 2;
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
+  max_event_offset2_ = options_.max_event_offset_tolerances * options_.max_event_offset_tolerances;
   // A span below the window would cut followers the window allows.
   burst_span_lifetimes_ = std::max(options_.burst_span_lifetimes, options_.burst_window_lifetimes);
   // The smallest lifetime the timestamps resolve: a plane rising less than
@@ -378,6 +379,15 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add_inliers(nb, best.gx_us_px, best.gy_us_px, best.tol2_us2);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
+  // The inliers' own plane must hold the new event too (max_event_offset_tolerances).
+  if (double offset_us = 0.0;
+      solved && options_.max_event_offset_tolerances > 0.0 &&
+      fit.offset_without_anchor(lambda, Eigen::Vector2d(prior_gx, prior_gy), offset_us) &&
+      offset_us * offset_us > max_event_offset2_ * static_cast<double>(best.tol2_us2)) {
+    count_noise(stats_.noise_unsupported);
+    stage_end(Stage::refit);
+    return out;
+  }
   double lifetime_us = g.norm();
   const double rms_us = fit.residual_rms(g);  // -1: too few samples to tell
   // A follower comes at most burst_window_lifetimes after its burst's arrival.

@@ -88,20 +88,36 @@ class PlaneFit {
   /// root or division per event.
   bool lifetime_within(const Eigen::Vector2d& g, double lambda, double rms, double max_share) const noexcept {
     if (max_share <= 0.0 || rms < 0.0) return true;
-    const Eigen::Matrix2d a = centred_scatter(lambda);
+    const Eigen::Matrix2d a = centred_scatter(lambda, n_);
     const double gx = g.x(), gy = g.y();
     const double g_adj_g = gx * gx * a(1, 1) - 2.0 * gx * gy * a(0, 1) + gy * gy * a(0, 0);
     const double g2 = gx * gx + gy * gy;
     return rms * rms * g_adj_g <= max_share * max_share * g2 * g2 * a.determinant();
   }
 
+  /// The offset c at the first sample added (the anchor, add()ed at the
+  /// origin) of the plane fitted to the other samples alone: minimizes
+  /// sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over them. False when they
+  /// are fewer than 3 or do not determine g.
+  bool offset_without_anchor(double lambda, const Eigen::Vector2d& prior, double& c) const noexcept {
+    const double n = n_ - 1.0;  // the anchor adds 1 to n and 0 to every other sum
+    Eigen::Vector2d g;
+    if (n < 3.0 || !solve_over(n, lambda, prior, g)) return false;
+    c = (st_ - g.x() * sx_ - g.y() * sy_) / n;
+    return true;
+  }
+
   /// Minimizes sum (dt - c - g.dp)^2 + lambda |g - prior|^2 over (c, g).
   /// Returns false when the samples do not determine g (collinear, no prior).
   bool solve(double lambda, const Eigen::Vector2d& prior, Eigen::Vector2d& g) const noexcept {
-    if (n_ < 1.0) return false;
-    const Eigen::Matrix2d a = centred_scatter(lambda);
-    const Eigen::Vector2d b(sxt_ - sx_ * st_ / n_ + lambda * prior.x(),
-                            syt_ - sy_ * st_ / n_ + lambda * prior.y());
+    return n_ >= 1.0 && solve_over(n_, lambda, prior, g);
+  }
+
+ private:
+  // solve() over n of the samples: all (n_), or all but the anchor (n_ - 1).
+  bool solve_over(double n, double lambda, const Eigen::Vector2d& prior, Eigen::Vector2d& g) const noexcept {
+    const Eigen::Matrix2d a = centred_scatter(lambda, n);
+    const Eigen::Vector2d b(sxt_ - sx_ * st_ / n + lambda * prior.x(), syt_ - sy_ * st_ / n + lambda * prior.y());
     const double det = a.determinant();
     // Relative to the trace: below this the spatial spread is a line.
     if (!(det > 1e-9 * a.trace() * a.trace())) return false;
@@ -109,12 +125,11 @@ class PlaneFit {
     return true;
   }
 
- private:
   // The samples' spatial scatter about their mean, plus lambda I (the prior).
-  Eigen::Matrix2d centred_scatter(double lambda) const noexcept {
+  Eigen::Matrix2d centred_scatter(double lambda, double n) const noexcept {
     Eigen::Matrix2d a;
-    a << sxx_ - sx_ * sx_ / n_ + lambda, sxy_ - sx_ * sy_ / n_,  //
-        sxy_ - sx_ * sy_ / n_, syy_ - sy_ * sy_ / n_ + lambda;
+    a << sxx_ - sx_ * sx_ / n + lambda, sxy_ - sx_ * sy_ / n,  //
+        sxy_ - sx_ * sy_ / n, syy_ - sy_ * sy_ / n + lambda;
     return a;
   }
 

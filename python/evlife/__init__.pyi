@@ -60,7 +60,8 @@ class LifetimeEstimator:
                  continuation_min_support: int = ..., burst_window_lifetimes: float = ...,
                  burst_span_lifetimes: float = ...,
                  prediction_expiry_lifetimes: float = ...,
-                 max_lifetime_us: float = ..., max_lifetime_standard_error: float = ...,
+                 max_lifetime_us: float = ..., max_event_offset_tolerances: float = ...,
+                 max_lifetime_standard_error: float = ...,
                  seed: int = ..., **options: Any) -> None: ...
     def process(self, events: Any) -> npt.NDArray[np.void]: ...
     def reset(self) -> None: ...

@@ -45,7 +45,9 @@ struct LifetimeOptions {
   /// the fraction ((0, 0.5]) covers timing noise that grows with the lifetime
   /// (slow edges fire late and loosely). Above about a third of the lifetime,
   /// stale events fit steep planes through a noise event and noise passes as
-  /// an edge.
+  /// an edge (two rows of stale samples at one time fit a plane through it);
+  /// config/faint-texture.yaml takes 0.4 with max_event_offset_tolerances,
+  /// which rejects those planes, for scenes with little background activity.
   double inlier_tolerance_us = 60.0;
   double inlier_tolerance_lifetime_fraction = 0.3;
   /// The floor adapts to the timing noise actually observed: it is at least
@@ -135,6 +137,18 @@ struct LifetimeOptions {
   /// 3.3 px/s are labelled noise. Microseconds, > 0.
   double max_lifetime_us = 3.0e5;
 
+  /// The plane of the inliers alone (the least-squares plane with its own
+  /// offset, the new event left out, the prior as in the refit) must pass
+  /// within this many inlier tolerances of the new event (or of the arrival
+  /// of the burst it follows), else the event is labelled noise. RANSAC's
+  /// planes pass through the new event by construction; where the samples
+  /// only fit such a plane within the tolerance band (stale samples at one
+  /// time, two rows away, around a noise event), their own plane misses the
+  /// event by about their age. With the default tolerance it costs share
+  /// (garfield.mat 0.80 -> 0.76) for less noise; config/faint-texture.yaml
+  /// pairs 2 with a wider tolerance. 0 = no check (the default). In [0, 100].
+  double max_event_offset_tolerances = 0.0;
+
   /// Lifetimes whose standard error (from the fit's own residuals and the
   /// samples' spread along the motion) exceeds this share of the lifetime are
   /// not resolved by the timestamps and treated as noise: in dim light the
@@ -207,6 +221,9 @@ void for_each_lifetime_option(F&& f) {
     [](auto& o) -> auto& { return o.prediction_expiry_lifetimes; });
   f(OptionInfo{"max_lifetime_us", "", 0.0, 1e9, true, false, false, false,
                "longer lifetimes are noise, us"}, [](auto& o) -> auto& { return o.max_lifetime_us; });
+  f(OptionInfo{"max_event_offset_tolerances", "", 0.0, 100.0, false, false, false, false,
+               "noise when the inliers' own plane misses the event by more tolerances; 0 = off"},
+    [](auto& o) -> auto& { return o.max_event_offset_tolerances; });
   f(OptionInfo{"max_lifetime_standard_error", "", 0.0, 10.0, false, false, false, false,
                "noise when the lifetime's standard error exceeds this share of it; 0 = off"},
     [](auto& o) -> auto& { return o.max_lifetime_standard_error; });
