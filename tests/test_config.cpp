@@ -55,28 +55,28 @@ TEST(Config, ShippedYamlStatesEveryEstimatorDefault) {
   });
 }
 
-// The dim-light preset: valid, and it changes only what it says.
-TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
+// A preset in config/: valid, and it changes only what it says (`expected`:
+// the defaults with its keys set).
+void expect_preset(const std::string& file, const LifetimeOptions& expected) {
   ConfigBuilder b;
-  b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/dim-light.yaml");
+  b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/" + file);
   const Config c = b.build();
-  LifetimeOptions expected;
-  expected.max_lifetime_standard_error = 0.5;
   for_each_lifetime_option([&](const OptionInfo& info, auto access) {
-    EXPECT_EQ(access(c.estimator), access(expected)) << info.key;
+    EXPECT_EQ(access(c.estimator), access(expected)) << file << ": " << info.key;
   });
 }
 
+TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
+  LifetimeOptions expected;
+  expected.max_lifetime_standard_error = 0.5;
+  expect_preset("dim-light.yaml", expected);
+}
+
 TEST(Config, FaintTexturePresetWidensTheBandWithTheOffsetCheck) {
-  ConfigBuilder b;
-  b.load_file(std::string(EVLIFE_SOURCE_DIR) + "/config/faint-texture.yaml");
-  const Config c = b.build();
   LifetimeOptions expected;
   expected.inlier_tolerance_lifetime_fraction = 0.4;
   expected.max_event_offset_tolerances = 2.0;
-  for_each_lifetime_option([&](const OptionInfo& info, auto access) {
-    EXPECT_EQ(access(c.estimator), access(expected)) << info.key;
-  });
+  expect_preset("faint-texture.yaml", expected);
 }
 
 TEST(Config, ShippedYamlEqualsStructDefaults) {
