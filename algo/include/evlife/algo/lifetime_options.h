@@ -45,7 +45,8 @@ struct LifetimeOptions {
   /// the fraction ((0, 0.5]) covers timing noise that grows with the lifetime
   /// (slow edges fire late and loosely). Above about a third of the lifetime,
   /// stale events fit steep planes through a noise event and noise passes as
-  /// an edge (two rows of stale samples at one time fit a plane through it);
+  /// an edge (above 0.35, stale samples of one time on two neighbouring
+  /// diagonals of the window fit a steep plane through it);
   /// config/faint-texture.yaml takes 0.4 with max_event_offset_tolerances,
   /// which rejects those planes, for scenes with little background activity.
   double inlier_tolerance_us = 60.0;
@@ -142,8 +143,8 @@ struct LifetimeOptions {
   /// within this many inlier tolerances of the new event (or of the arrival
   /// of the burst it follows), else the event is labelled noise. RANSAC's
   /// planes pass through the new event by construction; where the samples
-  /// only fit such a plane within the tolerance band (stale samples at one
-  /// time, two rows away, around a noise event), their own plane misses the
+  /// only fit such a plane within the tolerance band (stale samples of one
+  /// time on two diagonals around a noise event), their own plane misses the
   /// event by about their age. With the default tolerance it costs share
   /// (garfield.mat 0.80 -> 0.76) for less noise; config/faint-texture.yaml
   /// pairs 2 with a wider tolerance. 0 = no check (the default). In [0, 100].
