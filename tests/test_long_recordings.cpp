@@ -29,9 +29,9 @@ namespace {
 using evlife::AugmentedEvent;
 using evlife::io::SyntheticScene;
 
-// The estimator's output for every event of the scene, default options.
-std::vector<AugmentedEvent> estimate(const SyntheticScene& scene) {
-  evlife::LifetimeOptions options;
+// The estimator's output for every event of the scene (default options
+// unless given).
+std::vector<AugmentedEvent> estimate(const SyntheticScene& scene, evlife::LifetimeOptions options = {}) {
   options.sensor = scene.spec.sensor;
   evlife::LifetimeEstimator estimator(options);
   std::vector<AugmentedEvent> out(scene.events.size());
@@ -129,6 +129,35 @@ TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
     // lifetime_options.h burst_span_lifetimes); not the 99.9 % of 1 Hz/px: at 10 Hz/px a 0.3 s
     // plane's +-0.09 s band holds 1.8 noise events per pixel on average.
     EXPECT_GE(share, 0.90) << "second " << second;
+  }
+}
+
+// config/faint-texture.yaml (a +-0.4 lifetime band with the offset check)
+// claims sensors with at most ~1 Hz/px of background activity (the top of
+// room temperature): there a static scene must stay noise second by second,
+// with no drift. Measured 99.5-99.9 % (defaults 99.8-99.95 %). Beyond, the
+// preset gives way: at 1.5 / 2 Hz/px 97.7-99.5 / 93.1-98.6 % (defaults
+// 99.3-99.9 / 98.3-99.6 %), at 10 Hz/px it runs away (84.5 % in the first
+// second, 26.5 % in the sixth; README, *Faint texture, little background
+// activity*).
+TEST(LongRecordings, FaintTexturePresetHoldsBackgroundActivityAtItsLimit) {
+  evlife::io::SceneSpec spec;
+  spec.sensor = {120, 90};
+  spec.duration_us = 6'000'000;
+  spec.noise_rate_hz_per_px = 1.0;
+  spec.seed = 9;
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  evlife::LifetimeOptions preset;
+  preset.inlier_tolerance_lifetime_fraction = 0.4;
+  preset.max_event_offset_tolerances = 2.0;
+  const std::vector<AugmentedEvent> out = estimate(scene, preset);
+  const std::vector<AugmentedEvent> with_defaults = estimate(scene);
+  for (std::int64_t second = 0; second < 6; ++second) {
+    const std::int64_t begin = second * 1'000'000, end = begin + 1'000'000;
+    const double share = labelled_noise_share(scene, out, begin, end, 10'000);
+    std::cout << "second " << second << ": " << 100.0 * share << " % labelled noise (defaults "
+              << 100.0 * labelled_noise_share(scene, with_defaults, begin, end, 10'000) << " %)\n";
+    EXPECT_GE(share, 0.99) << "second " << second;
   }
 }
 

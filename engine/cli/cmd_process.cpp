@@ -83,7 +83,7 @@ void print_help(std::FILE* out) {
       "                     built-in defaults (the same values). Presets beside it:\n"
       "                     dim-light.yaml (latency jitter of hundreds of us),\n"
       "                     faint-texture.yaml (faint texture on a quiet sensor: at most\n"
-      "                     ~2 Hz/px of background activity; README explains both).\n"
+      "                     ~1 Hz/px of background activity; README explains both).\n"
       "  --set KEY=VALUE    override one key after --config, repeatable, e.g.\n"
       "                     --set estimator.window_size=7 --set estimator.regularization=false\n"
       "  --print-config     print the effective configuration as YAML and exit.\n"
