@@ -109,18 +109,23 @@ TEST(LongRecordings, BackgroundActivityStaysNoiseAndEdgesAfterItKeepTheirAccurac
   EXPECT_GE(o.noise_share, 0.97);  // the noise floor
 }
 
+// 6 s of a static 120 x 90 scene: background activity alone.
+SyntheticScene static_background(double rate_hz_per_px) {
+  evlife::io::SceneSpec spec;
+  spec.sensor = {120, 90};
+  spec.duration_us = 6'000'000;
+  spec.noise_rate_hz_per_px = rate_hz_per_px;
+  spec.seed = 9;
+  return evlife::io::generate_scene(spec);
+}
+
 // Ten times the top of room-temperature background activity (a dark scene,
 // a hot sensor): the floor must not run away either. Without
 // kMinTimingNoiseSamples (lifetime_estimator.cpp), continuations of 4-5
 // samples stored residuals through noise, the window medians rose, and the
 // share labelled noise fell 96.0, 90.5, 75.4, 45.7, 25.5 % by second.
 TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
-  evlife::io::SceneSpec spec;
-  spec.sensor = {120, 90};
-  spec.duration_us = 6'000'000;
-  spec.noise_rate_hz_per_px = 10.0;
-  spec.seed = 9;
-  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const SyntheticScene scene = static_background(10.0);
   const std::vector<AugmentedEvent> out = estimate(scene);
   for (std::int64_t second = 0; second < 6; ++second) {
     const double share = labelled_noise_share(scene, out, second * 1'000'000, (second + 1) * 1'000'000, 50'000);
@@ -141,12 +146,7 @@ TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
 // second, 26.5 % in the sixth; README, *Faint texture, little background
 // activity*).
 TEST(LongRecordings, FaintTexturePresetHoldsBackgroundActivityAtItsLimit) {
-  evlife::io::SceneSpec spec;
-  spec.sensor = {120, 90};
-  spec.duration_us = 6'000'000;
-  spec.noise_rate_hz_per_px = 1.0;
-  spec.seed = 9;
-  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const SyntheticScene scene = static_background(1.0);
   evlife::LifetimeOptions preset;
   preset.inlier_tolerance_lifetime_fraction = 0.4;
   preset.max_event_offset_tolerances = 2.0;
