@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "config_presets.h"
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
 
@@ -67,16 +68,11 @@ void expect_preset(const std::string& file, const LifetimeOptions& expected) {
 }
 
 TEST(Config, DimLightPresetSetsTheStandardErrorCheck) {
-  LifetimeOptions expected;
-  expected.max_lifetime_standard_error = 0.5;
-  expect_preset("dim-light.yaml", expected);
+  expect_preset("dim-light.yaml", evlife::test::dim_light_preset());
 }
 
 TEST(Config, FaintTexturePresetWidensTheBandWithTheOffsetCheck) {
-  LifetimeOptions expected;
-  expected.inlier_tolerance_lifetime_fraction = 0.4;
-  expected.max_event_offset_tolerances = 2.0;
-  expect_preset("faint-texture.yaml", expected);
+  expect_preset("faint-texture.yaml", evlife::test::faint_texture_preset());
 }
 
 TEST(Config, ShippedYamlEqualsStructDefaults) {

@@ -16,6 +16,7 @@
 
 #include "accuracy_metrics.h"
 #include "accuracy_scenes.h"
+#include "config_presets.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/synthetic_scene.h"
 
@@ -400,13 +401,8 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLight) { expect_pixel_floors(kEdgesDim,
 TEST(PixelModelAccuracy, RotatingBarDavis346DimLight) { expect_pixel_floors(kBarDim, "", kIssueDimLightFloors); }
 
 // Issue 11's dim-light floors, all met with config/dim-light.yaml (lifetimes
-// at least two standard errors from zero; the preset's content is checked by
-// Config.DimLightPresetSetsTheStandardErrorCheck).
-evlife::LifetimeOptions dim_light_preset() {
-  evlife::LifetimeOptions o;
-  o.max_lifetime_standard_error = 0.5;
-  return o;
-}
+// at least two standard errors from zero).
+using evlife::test::dim_light_preset;
 
 TEST(PixelModelAccuracy, EdgesDavis346DimLightWithDimLightPreset) {
   expect_pixel_floors(kEdgesDim, ", dim-light preset", kIssueDimLightFloors, dim_light_preset());
@@ -462,13 +458,8 @@ TEST(PixelModelAccuracy, EdgesDavis346NormalLightFaintTexture) {
   expect_pixel_floors(kEdgesNormal, ", faint texture", kFaintTextureFloors, {}, faint_texture);
 }
 
-// config/faint-texture.yaml (its content: Config.FaintTexturePresetWidensTheBandWithTheOffsetCheck).
-evlife::LifetimeOptions faint_texture_preset() {
-  evlife::LifetimeOptions o;
-  o.inlier_tolerance_lifetime_fraction = 0.4;
-  o.max_event_offset_tolerances = 2.0;
-  return o;
-}
+// config/faint-texture.yaml.
+using evlife::test::faint_texture_preset;
 
 // The preset in faint texture: more share than the defaults (95.3 %) and the
 // issue's noise floor, which the defaults miss there (96.7 %). The wide band

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "accuracy_metrics.h"
+#include "config_presets.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/synthetic_scene.h"
 
@@ -147,10 +148,7 @@ TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
 // activity*).
 TEST(LongRecordings, FaintTexturePresetHoldsBackgroundActivityAtItsLimit) {
   const SyntheticScene scene = static_background(1.0);
-  evlife::LifetimeOptions preset;
-  preset.inlier_tolerance_lifetime_fraction = 0.4;
-  preset.max_event_offset_tolerances = 2.0;
-  const std::vector<AugmentedEvent> out = estimate(scene, preset);
+  const std::vector<AugmentedEvent> out = estimate(scene, evlife::test::faint_texture_preset());
   const std::vector<AugmentedEvent> with_defaults = estimate(scene);
   for (std::int64_t second = 0; second < 6; ++second) {
     const std::int64_t begin = second * 1'000'000, end = begin + 1'000'000;

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "config_presets.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
@@ -204,9 +205,7 @@ TEST(RealRecordings, TodaysSensorsEventsGetALifetime) {
 // with little background activity) on the same samples: 0.613, 0.091 and
 // 0.486, more than the defaults give each, still short of the floors.
 TEST(RealRecordings, FaintTexturePresetGivesTodaysSensorsMoreLifetimes) {
-  LifetimeOptions preset;
-  preset.inlier_tolerance_lifetime_fraction = 0.4;
-  preset.max_event_offset_tolerances = 2.0;
+  const LifetimeOptions preset = test::faint_texture_preset();
   const std::pair<const char*, double> cases[] = {{"rpg_txt/slider_depth_events_chunk.txt", 0.60},
                                                   {"evt3/evt3_sample.raw", 0.085},
                                                   {"aedat4/sample.aedat4", 0.47}};

@@ -185,19 +185,29 @@ TEST(PlaneFit, OffsetWithoutTheAnchorIsTheSamplesOwnPlaneAtTheOrigin) {
   // before a noise event: the plane through the event rising 0.667 x 50 ms
   // per diagonal step holds them all within 0.4 of its lifetime, but their
   // own plane is flat at -50 ms.
+  WindowSamples w;
   PlaneFit stale;
   stale.add(0.0, 0.0, 0.0);
   for (int dy = -2; dy <= 2; ++dy) {
     for (int dx = -2; dx <= 2; ++dx) {
-      if (dx + dy == -1 || dx + dy == -2) stale.add(dx, dy, -50'000.0);
+      if (dx + dy != -1 && dx + dy != -2) continue;
+      w.dx[w.count] = static_cast<float>(dx);
+      w.dy[w.count] = static_cast<float>(dy);
+      w.dt_us[w.count] = -50'000.0f;
+      ++w.count;
+      stale.add(dx, dy, -50'000.0);
     }
   }
-  const double step_us = 0.667 * 50'000.0;  // dt per unit of dx + dy
-  const double lifetime_us = step_us * std::sqrt(2.0);
-  for (const double k : {1.0, 2.0}) EXPECT_LE(std::fabs(-50'000.0 + k * step_us), 0.4 * lifetime_us);
+  w.pad();
+  const float step_us = 0.667f * 50'000.0f;  // dt per unit of dx + dy
+  const float lifetime_us = step_us * std::sqrt(2.0f);
+  // RANSAC's candidate holds all 7 samples (and the event) with a band of
+  // 0.4 lifetimes, none with the default 0.3.
+  EXPECT_EQ(plane_candidate(w, step_us, step_us, 60.0f * 60.0f, 0.4f * 0.4f).support, 8);
+  EXPECT_EQ(plane_candidate(w, step_us, step_us, 60.0f * 60.0f, 0.3f * 0.3f).support, 1);
   ASSERT_TRUE(stale.offset_without_anchor(0.0, Eigen::Vector2d::Zero(), c));
   EXPECT_NEAR(c, -50'000.0, 1e-6);
-  EXPECT_GT(std::fabs(c), 2.0 * 0.4 * lifetime_us);  // rejected at 2 tolerances
+  EXPECT_GT(std::fabs(c), 2.0 * 0.4 * static_cast<double>(lifetime_us));  // rejected at 2 tolerances
 
   // Fewer than three samples, or all on a line: nothing to tell.
   PlaneFit few;

@@ -381,7 +381,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
   // The inliers' own plane must hold the new event too (max_event_offset_tolerances).
   if (double offset_us = 0.0;
-      solved && options_.max_event_offset_tolerances > 0.0 &&
+      solved && max_event_offset2_ > 0.0 &&
       fit.offset_without_anchor(lambda, Eigen::Vector2d(prior_gx, prior_gy), offset_us) &&
       offset_us * offset_us > max_event_offset2_ * static_cast<double>(best.tol2_us2)) {
     count_noise(stats_.noise_unsupported);
