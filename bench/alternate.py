@@ -90,8 +90,8 @@ def collect(args):
 def fmt(v):
     for scale, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
         if abs(v) >= scale:
-            return f"{v / scale:.3g}{suffix}"
-    return f"{v:.3g}"
+            return f"{v / scale:#.4g}".rstrip(".") + suffix
+    return f"{v:#.4g}".rstrip(".")
 
 
 def report(args, results):

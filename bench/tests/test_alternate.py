@@ -58,8 +58,8 @@ def test_alternates_the_binaries_and_compares_medians_by_round(tmp_path):
     out = done.stdout
     assert "BM_x" in out
     # Medians of the repetitions (the aggregates' -1 ignored): a 110, b 200.
-    assert f"{a}: items_per_second median 110 over 9 runs; rounds 110 110 110" in out
-    assert f"{b}: items_per_second median 200 over 9 runs; rounds 200 200 200; ratio to the first by round 1.818 1.818 1.818" in out
+    assert f"{a}: items_per_second median 110.0 over 9 runs; rounds 110.0 110.0 110.0" in out
+    assert f"{b}: items_per_second median 200.0 over 9 runs; rounds 200.0 200.0 200.0; ratio to the first by round 1.818 1.818 1.818" in out
     assert "console output" not in out
 
 
@@ -68,8 +68,8 @@ def test_counts_the_runs_below_a_value(tmp_path):
     done = run(tmp_path, ["--counter", "p99_us", "--below", "100", "--rounds", "2", "--repetitions", "4", a],
                {"a": {"BM_lat": [50.0, 90.0, 120.0, 1500.0]}})
     assert done.returncode == 0, done.stderr
-    assert "p99_us median 105 over 8 runs" in done.stdout
-    assert "below 100 in 4 of 8" in done.stdout
+    assert "p99_us median 105.0 over 8 runs" in done.stdout
+    assert "below 100.0 in 4 of 8" in done.stdout
 
 
 def test_a_failing_binary_is_an_error_that_names_it(tmp_path):
