@@ -447,7 +447,7 @@ void faint_texture(SceneSpec& spec) {
 
 // Faint texture: contrast 0.35 against threshold 0.3 gives the burst
 // statistics of the slider recording (1.07 events per burst, 93 % single
-// events; README, *Across the sensor range*). A pixel then fires anywhere
+// events; algo/README.md, *Across the sensor range*). A pixel then fires anywhere
 // within its edge's ramp (1.3 lifetimes wide), so the normal-light
 // floors are out of reach at N = 5; these floors are today's figures (share
 // 94.7 %, median 8.1 %, p90 24.4 %, 3.7 deg, noise 96.9 %) less a margin: a

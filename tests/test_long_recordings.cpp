@@ -144,7 +144,7 @@ TEST(LongRecordings, HeavyBackgroundActivityDoesNotRunAway) {
 // with no drift. Measured 99.5-99.9 % (defaults 99.8-99.95 %). Beyond, the
 // preset gives way: at 1.5 / 2 Hz/px 97.7-99.5 / 93.1-98.6 % (defaults
 // 99.3-99.9 / 98.3-99.6 %), at 10 Hz/px it runs away (84.5 % in the first
-// second, 26.5 % in the sixth; README, *Faint texture, little background
+// second, 26.5 % in the sixth; algo/README.md, *Faint texture, little background
 // activity*).
 TEST(LongRecordings, FaintTexturePresetHoldsBackgroundActivityAtItsLimit) {
   const SyntheticScene scene = static_background(1.0);

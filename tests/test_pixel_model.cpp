@@ -400,7 +400,7 @@ TEST(PixelStatistics, RealAndModel) {
     EXPECT_LT(s.mean_burst_size(), 3.5);
     EXPECT_GE(s.interval_p10_us, spec.pixel.refractory_us);
   }
-  // Faint texture (README, *Across the sensor range*): contrast near the
+  // Faint texture (algo/README.md, *Across the sensor range*): contrast near the
   // threshold gives the slider recording's mostly single events (the README
   // cites 1.07 events per burst, 93 % single; the slider 1.07, 94 %).
   SceneSpec faint = dvs_scene(false, 1'000'000, 1);

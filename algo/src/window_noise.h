@@ -9,7 +9,7 @@
 // floor passed more noise, whose fits stored larger residuals. The floor ran
 // away: on a static scene with 1 Hz/px of background activity, 77 % of the
 // noise passed in the 7th second (tests/test_long_recordings.cpp), and on a
-// real 6.9 s DVS128 recording the floor grew to 215 ms (README, *Long
+// real 6.9 s DVS128 recording the floor grew to 215 ms (algo/README.md, *Long
 // recordings*). A median moves only when most of the window's pixels have
 // fits this wide: the edges' own fits, not a few passing noise events.
 // Medians of columns, then of those: min/max networks on whole rows

@@ -95,7 +95,7 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
   std::fprintf(out, "  (percentiles from a log histogram: ±1.2 %%)\n");
   // A past-only estimator labels an edge's first passage through an empty
   // surface worse than the later ones; recordings need about ten median
-  // lifetimes to reach their steady share (README, *Warm-up*). Say so when
+  // lifetimes to reach their steady share (algo/README.md, *Warm-up*). Say so when
   // the whole recording is short on that scale, so that a low share is not
   // read as the estimator's steady state. Last, so that the lines above
   // keep their order for scripts.
@@ -107,7 +107,7 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
       std::fprintf(out,
                    "  warm-up             the recording is %.1f median lifetimes long; in the first ~10 of\n"
                    "                      each region the surface fills and fewer events get a lifetime\n"
-                   "                      (README, Warm-up)\n",
+                   "                      (algo/README.md, Warm-up)\n",
                    lifetimes_long);
     }
   }
