@@ -3,9 +3,10 @@
 
 Round after round, each binary runs once (A B A B ...), so that every build
 sees the same machine load; the figures are then medians and per-round
-ratios, measured in one run. Each run writes its results to a JSON file and
-its console output to /dev/null: no pipe reader competes with the benchmark
-for the CPUs (on 2 vCPUs a `| grep` that wakes during a latency run shows).
+ratios, measured in one run. Each run writes its results to a JSON file,
+its console output to /dev/null and its stderr to a file: no pipe reader
+competes with the benchmark for the CPUs (on 2 vCPUs a `| grep` that wakes
+during a latency run shows).
 
   # estimator throughput, this build against another, three rounds:
   bench/alternate.py --filter N5_reg --repetitions 5 --rounds 3 \\
@@ -53,10 +54,14 @@ def run_once(binary, args, out_path):
     """One run of `binary`; returns {benchmark name: [counter of each repetition]}."""
     cmd = [binary, f"--benchmark_filter={args.filter}", f"--benchmark_repetitions={args.repetitions}",
            f"--benchmark_out={out_path}", "--benchmark_out_format=json"] + args.arg
-    with open(os.devnull, "wb") as null:
-        done = subprocess.run(cmd, stdout=null, stderr=subprocess.PIPE, check=False)
+    # stderr to a file too (the engine's bench logs there): read only after the run.
+    err_path = out_path + ".stderr"
+    with open(os.devnull, "wb") as null, open(err_path, "wb") as err:
+        done = subprocess.run(cmd, stdout=null, stderr=err, check=False)
     if done.returncode != 0:
-        raise RuntimeError(f"{binary} exited with status {done.returncode}: {done.stderr.decode(errors='replace')[-500:]}")
+        with open(err_path, "rb") as err:
+            tail = err.read()[-500:].decode(errors="replace")
+        raise RuntimeError(f"{binary} exited with status {done.returncode}: {tail}")
     with open(out_path, encoding="utf-8") as f:
         report = json.load(f)
     values = {}

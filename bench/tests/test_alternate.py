@@ -9,16 +9,17 @@ import textwrap
 SCRIPT = os.path.join(os.path.dirname(__file__), os.pardir, "alternate.py")
 
 # Writes --benchmark_out like Google Benchmark (runs and aggregates), its
-# counter values from FAKE_VALUES_<label>, appends "label stdout-is-devnull"
-# to FAKE_LOG, and exits with FAKE_STATUS.
+# counter values from FAKE_VALUES_<label>, appends "label stdout-is-devnull
+# stderr-is-a-pipe" to FAKE_LOG, and exits with FAKE_STATUS.
 FAKE = textwrap.dedent("""\
     #!{python}
-    import json, os, sys
+    import json, os, stat, sys
     label = {label!r}
     args = dict(a[2:].split("=", 1) for a in sys.argv[1:] if a.startswith("--") and "=" in a)
     reps = int(args["benchmark_repetitions"])
     with open(os.environ["FAKE_LOG"], "a") as log:
-        log.write(label + " " + str(os.path.samefile("/proc/self/fd/1", os.devnull)) + "\\n")
+        log.write(label + " " + str(os.path.samefile("/proc/self/fd/1", os.devnull))
+                  + " " + str(stat.S_ISFIFO(os.fstat(2).st_mode)) + "\\n")
     values = json.loads(os.environ["FAKE_VALUES_" + label])
     bench = []
     for name, per_rep in values.items():
@@ -53,8 +54,8 @@ def test_alternates_the_binaries_and_compares_medians_by_round(tmp_path):
     done = run(tmp_path, ["--rounds", "3", "--repetitions", "3", a, b],
                {"a": {"BM_x": [100.0, 110.0, 300.0]}, "b": {"BM_x": [220.0, 200.0, 100.0]}})
     assert done.returncode == 0, done.stderr
-    # A B A B A B, each with its console output on /dev/null.
-    assert (tmp_path / "log").read_text().split("\n")[:-1] == ["a True", "b True"] * 3
+    # A B A B A B, each with its console output on /dev/null and no pipe on stderr.
+    assert (tmp_path / "log").read_text().split("\n")[:-1] == ["a True False", "b True False"] * 3
     out = done.stdout
     assert "BM_x" in out
     # Medians of the repetitions (the aggregates' -1 ignored): a 110, b 200.
