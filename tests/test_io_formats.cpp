@@ -301,6 +301,24 @@ TEST(IoFormatsWordStreams, RawWithoutEvtLineIsKnownByItsCameraPlugin) {
   EXPECT_EQ(r.events[0].t_us, 16 * 64);
 }
 
+TEST(IoFormatsWordStreams, RawOfAnotherEvtVersionNamesItsVersion) {
+  // GenX320 cameras record EVT 2.1 (64-bit vectorized words), which no reader
+  // decodes: the error says which version and what to do, not "unknown format".
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::uint64_t> words = {std::uint64_t{0x8} << 60, std::uint64_t{0x1} << 60 | 0x5};
+  for (const char* header : {"% format EVT21;height=320;width=320\n", "% evt 2.1\n% geometry 320x320\n"}) {
+    const std::string path = dir.save("genx320.raw", with_words(header, words));
+    const ReadResult r = read_all(path);
+    ASSERT_TRUE(r.error) << header;
+    const std::string message = r.error->what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("Prophesee RAW EVT 2.1"), std::string::npos) << message;
+    EXPECT_NE(message.find("EVT 2.0 and 3.0 only"), std::string::npos) << message;
+    EXPECT_EQ(message.find("unknown event file format"), std::string::npos) << message;
+    EXPECT_TRUE(r.events.empty());
+  }
+}
+
 TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {
   const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes;

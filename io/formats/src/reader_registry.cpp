@@ -9,6 +9,7 @@
 #include "checked_event_reader.h"
 #include "cropping_event_reader.h"
 #include "input_file.h"
+#include "prophesee_header.h"
 
 namespace evlife::io {
 namespace detail {
@@ -89,6 +90,14 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
     if (r == detail::SniffResult::by_extension && by_extension == nullptr) by_extension = f;
   }
   if (by_extension != nullptr) return open_as(*by_extension, path, options);
+  // A Prophesee RAW file of an EVT version no reader decodes (2.1: GenX320's
+  // 64-bit vectorized words): say so rather than "unknown format".
+  if (const auto header = parse_prophesee_header(head_view); header && !header->evt_version().empty()) {
+    throw ReadError(path, -1, -1,
+                    "Prophesee RAW EVT " + header->evt_version() +
+                        ": evlife decodes EVT 2.0 and 3.0 only; record in EVT 3.0, or convert the file with "
+                        "Metavision's metavision_file_to_csv (evlife reads its x,y,p,t CSV)");
+  }
   std::string known;
   for (const detail::ReaderFormat* f : detail::reader_formats())
     known += "\n  " + std::string(f->name) + ": " + std::string(f->description);
