@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "evt21_reader.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -302,21 +303,137 @@ TEST(IoFormatsWordStreams, RawWithoutEvtLineIsKnownByItsCameraPlugin) {
 }
 
 TEST(IoFormatsWordStreams, RawOfAnotherEvtVersionNamesItsVersion) {
-  // GenX320 cameras record EVT 2.1 (64-bit vectorized words), which no reader
-  // decodes: the error says which version and what to do, not "unknown format".
+  // A RAW version no reader decodes: the error says which version and what to
+  // do, not "unknown format".
   const ScratchDir dir("test_io_formats");
   const std::vector<std::uint64_t> words = {std::uint64_t{0x8} << 60, std::uint64_t{0x1} << 60 | 0x5};
-  for (const char* header : {"% format EVT21;height=320;width=320\n", "% evt 2.1\n% geometry 320x320\n"}) {
-    const std::string path = dir.save("genx320.raw", with_words(header, words));
-    const ReadResult r = read_all(path);
-    ASSERT_TRUE(r.error) << header;
-    const std::string message = r.error->what();
-    EXPECT_NE(message.find(path), std::string::npos) << message;
-    EXPECT_NE(message.find("Prophesee RAW EVT 2.1"), std::string::npos) << message;
-    EXPECT_NE(message.find("EVT 2.0 and 3.0 only"), std::string::npos) << message;
-    EXPECT_EQ(message.find("unknown event file format"), std::string::npos) << message;
-    EXPECT_TRUE(r.events.empty());
+  const std::string path = dir.save("future.raw", with_words("% evt 4.0\n% geometry 320x320\n", words));
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string message = r.error->what();
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("Prophesee RAW EVT 4.0"), std::string::npos) << message;
+  EXPECT_NE(message.find("EVT 2.0, 2.1 and 3.0 only"), std::string::npos) << message;
+  EXPECT_EQ(message.find("unknown event file format"), std::string::npos) << message;
+  EXPECT_TRUE(r.events.empty());
+}
+
+// EVT 2.1 words as Prophesee's EVT 2.1 page lays them out (64 bits: type
+// 63-60, then t low 59-54, x 53-43, y 42-32, mask 31-0 for events; t >> 6 at
+// 59-32 for TIME_HIGH), written in either byte order the page names.
+std::uint64_t evt21_event(std::uint64_t type, std::uint64_t t_low, std::uint64_t x, std::uint64_t y,
+                          std::uint32_t mask) {
+  return (type << 60) | (t_low << 54) | (x << 43) | (y << 32) | mask;
+}
+std::uint64_t evt21_time_high(std::uint64_t t_high) { return (std::uint64_t{0x8} << 60) | (t_high << 32); }
+// IMX636: each word as two little-endian 32-bit halves, the upper half first.
+std::vector<std::uint32_t> upper_half_first(const std::vector<std::uint64_t>& words) {
+  std::vector<std::uint32_t> halves;
+  for (const std::uint64_t w : words) {
+    halves.push_back(static_cast<std::uint32_t>(w >> 32));
+    halves.push_back(static_cast<std::uint32_t>(w));
   }
+  return halves;
+}
+
+TEST(IoFormatsWordStreams, Evt21VectorsInEitherByteOrder) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::uint64_t> words = {
+      evt21_time_high(3),                       // t = 3 << 6 = 192
+      evt21_event(1, 5, 32, 7, 0b1001),         // ON at x 32 and 35, t 197
+      std::uint64_t{0xA} << 60,                 // EXT_TRIGGER: skipped, counted
+      evt21_event(0, 63, 288, 319, 1u << 31),   // OFF at x 319, t 255
+      evt21_time_high(0x0FFFFFFF),              // the last TIME_HIGH before the wrap
+      evt21_time_high(1),                       // wraps: t = (2^28 + 1) << 6
+      evt21_event(1, 0, 0, 0, 0xFFFFFFFFu),     // 32 events, x 0..31
+  };
+  const std::vector<std::pair<std::string, std::vector<std::uint8_t>>> files = {
+      {"genx320.raw", with_words("% format EVT21;height=320;width=320\n", words)},
+      {"imx636.raw", with_words("% evt 2.1\n% geometry 320x320\n", upper_half_first(words))},
+  };
+  for (const auto& [name, bytes] : files) {
+    const std::string path = dir.save(name, bytes);
+    const ReadResult r = read_all(path, 4096, /*checked=*/true);
+    ASSERT_FALSE(r.error) << name << ": " << r.error->what();
+    EXPECT_EQ(r.format, "evt21");
+    EXPECT_EQ(*r.sensor, (SensorSize{320, 320}));
+    ASSERT_EQ(r.events.size(), 35u) << name;
+    EXPECT_TRUE(r.events[0].x == 32 && r.events[0].y == 7 && r.events[0].p == 1 && r.events[0].t_us == 197);
+    EXPECT_TRUE(r.events[1].x == 35 && r.events[1].y == 7 && r.events[1].p == 1 && r.events[1].t_us == 197);
+    EXPECT_TRUE(r.events[2].x == 319 && r.events[2].y == 319 && r.events[2].p == -1 && r.events[2].t_us == 255);
+    const std::int64_t wrapped = ((std::int64_t{1} << 28) + 1) * 64;
+    for (int k = 0; k < 32; ++k) {
+      const Event& e = r.events[3 + static_cast<std::size_t>(k)];
+      EXPECT_TRUE(e.x == k && e.y == 0 && e.p == 1 && e.t_us == wrapped) << name << " event " << 3 + k;
+    }
+    EXPECT_EQ(r.skipped, 1u);
+    // Buffers smaller than a word's 32 events give the same events.
+    for (const std::size_t buffer : {1u, 7u, 31u, 33u}) {
+      const ReadResult small = read_all(path, buffer);
+      ASSERT_FALSE(small.error) << name << " buffer " << buffer;
+      ASSERT_EQ(small.events.size(), r.events.size()) << name << " buffer " << buffer;
+      EXPECT_TRUE(is_prefix(small.events, r.events)) << name << " buffer " << buffer;
+    }
+  }
+}
+
+TEST(IoFormatsWordStreams, Evt21BadWordsStopWithTheirOffset) {
+  const ScratchDir dir("test_io_formats");
+  const std::string header = "% format EVT21;height=320;width=320\n";
+  const std::size_t first_word = header.size();
+  // A group whose last pixel lies past the sensor's right edge (x 300 of a
+  // 300-wide sensor), and a group that starts there.
+  {
+    const ReadResult r = read_all(dir.save("outside.raw", with_words("% format EVT21;height=320;width=300\n",
+        std::vector<std::uint64_t>{evt21_time_high(1), evt21_event(1, 0, 0, 0, 1),
+                                   evt21_event(1, 0, 288, 0, (1u << 12) | 1u)})));
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 1u);  // the events before the fault are returned
+    const std::string message = r.error->what();
+    EXPECT_NE(message.find("x=300 y=0 outside the sensor"), std::string::npos) << message;
+  }
+  {
+    const ReadResult r = read_all(dir.save("outside2.raw", with_words(header, std::vector<std::uint64_t>{
+        evt21_event(1, 0, 320, 0, 1)})));
+    ASSERT_TRUE(r.error);
+    EXPECT_NE(std::string(r.error->what()).find("x=320 y=0 outside the sensor"), std::string::npos)
+        << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find(std::to_string(first_word)), std::string::npos) << r.error->what();
+  }
+  // A reserved word type, and a word cut short.
+  {
+    const ReadResult r = read_all(dir.save("reserved.raw", with_words(header, std::vector<std::uint64_t>{
+        evt21_event(0, 1, 0, 1, 1), std::uint64_t{0x5} << 60})));
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 1u);
+    EXPECT_NE(std::string(r.error->what()).find("unknown EVT 2.1 word type 5"), std::string::npos) << r.error->what();
+  }
+  {
+    std::vector<std::uint8_t> bytes = with_words(header, std::vector<std::uint64_t>{evt21_event(1, 2, 0, 3, 1)});
+    bytes.insert(bytes.end(), {1, 2, 3});
+    const ReadResult r = read_all(dir.save("cut.raw", bytes));
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 1u);
+    EXPECT_NE(std::string(r.error->what()).find("truncated EVT 2.1 word (3 trailing bytes)"), std::string::npos)
+        << r.error->what();
+  }
+}
+
+TEST(IoFormatsWordStreams, Evt21ByteOrderFromTheWordsThemselves) {
+  using evlife::io::Evt21Reader;
+  const std::vector<std::uint64_t> words = {evt21_time_high(7), evt21_event(1, 1, 64, 2, 0x00F0F00Fu),
+                                            evt21_event(0, 9, 96, 3, 0x80000001u), evt21_time_high(8)};
+  const auto bytes_of = [](const auto& ws) {
+    std::vector<std::uint8_t> b;
+    for (const auto w : ws) {
+      for (std::size_t k = 0; k < sizeof w; ++k) b.push_back(static_cast<std::uint8_t>(w >> (8 * k)));
+    }
+    return b;
+  };
+  EXPECT_EQ(Evt21Reader::detect_layout(bytes_of(words)), Evt21Reader::Layout::whole_word);
+  EXPECT_EQ(Evt21Reader::detect_layout(bytes_of(upper_half_first(words))), Evt21Reader::Layout::upper_half_first);
+  // Nothing to go by (no words): one 64-bit word, as GenX320 writes.
+  EXPECT_EQ(Evt21Reader::detect_layout({}), Evt21Reader::Layout::whole_word);
 }
 
 TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {

@@ -74,6 +74,28 @@ for what, rel, word in (('evt2', 'evt2/evt2_sample.raw', 4), ('evt3', 'evt3/evt3
     put(what, 'real_middle.raw', d[:h] + d[len(d) // 2 // word * word:len(d) // 2 // word * word + 2000])
     put(what, 'header_only.raw', d[:h])
 
+# ---- Prophesee RAW EVT 2.1: no shared recording; synthetic 64-bit words as
+# Prophesee's EVT 2.1 page lays them out, in both byte orders (GenX320: one
+# little-endian 64-bit word; IMX636: two 32-bit halves, the upper one first).
+def evt21_words():
+    r = random.Random(21)  # its own generator: the other seeds stay as they were
+    words = []
+    for th in range(1, 9):
+        words.append((0x8 << 60) | (th << 32))
+        for _ in range(6):
+            words.append((r.randrange(2) << 60) | (r.randrange(64) << 54) | (32 * r.randrange(10) << 43)
+                         | (r.randrange(320) << 32) | r.randrange(1, 1 << 32))
+    words.append(0xA << 60)  # EXT_TRIGGER
+    return words
+
+
+w21 = evt21_words()
+put('evt21', 'synthetic_genx320.raw', b'% format EVT21;height=320;width=320\n% end\n'
+    + b''.join(struct.pack('<Q', w) for w in w21))
+put('evt21', 'synthetic_imx636.raw', b'% evt 2.1\n% geometry 1280x720\n% end\n'
+    + b''.join(struct.pack('<II', w >> 32, w & 0xFFFFFFFF) for w in w21))
+put('evt21', 'header_only.raw', b'% format EVT21;height=320;width=320\n% end\n')
+
 # ---- Prophesee .dat: '%' header, event type and size bytes, 8-byte records.
 d = read('prophesee_dat/NCARS_obj_004397_td.dat')
 h = text_header_end(d, b'%') + 2

@@ -10,7 +10,6 @@
 namespace evlife::io {
 namespace {
 
-constexpr std::uint64_t kTimeHighRange = std::uint64_t{1} << 28;
 constexpr std::size_t kWordBytes = 4;
 
 }  // namespace
@@ -60,19 +59,13 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
           break;
         }
         Event& e = out[n++];
-        e.t_us = time_high_us_ | static_cast<std::int64_t>((w >> 22) & 0x3F);
+        e.t_us = time_high_.us() | static_cast<std::int64_t>((w >> 22) & 0x3F);
         e.x = static_cast<std::uint16_t>(x);
         e.y = static_cast<std::uint16_t>(y);
         e.p = type == 1 ? std::int8_t{1} : std::int8_t{-1};
         ++event_count_;
       } else if (type == 8) {  // EV_TIME_HIGH
-        const std::uint64_t raw = w & 0x0FFFFFFF;
-        // A drop by more than half the range is a wrap of the 28-bit counter.
-        if (raw < time_high_raw_ && time_high_raw_ - raw > kTimeHighRange / 2) {
-          wrap_us_ += static_cast<std::int64_t>(kTimeHighRange << 6);
-        }
-        time_high_raw_ = raw;
-        time_high_us_ = wrap_us_ + static_cast<std::int64_t>(raw << 6);
+        time_high_.update(w & 0x0FFFFFFF);
       } else if (type == 10) {  // EXT_TRIGGER
         ++trigger_count_;
       } else if (type == 14 || type == 15) {  // OTHERS, CONTINUED
@@ -94,8 +87,7 @@ namespace detail {
 namespace {
 
 SniffResult sniff_evt2(std::span<const std::byte> head, std::string_view /*path*/) {
-  const auto header = parse_prophesee_header(head);
-  return header && header->evt_version() == "2.0" ? SniffResult::by_content : SniffResult::no;
+  return is_prophesee_raw(head, "2.0") ? SniffResult::by_content : SniffResult::no;
 }
 
 std::unique_ptr<EventReader> open_evt2(const std::string& path) {

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "chunked_file.h"
+#include "prophesee_time_high.h"
 #include "evlife/io/event_reader.h"
 
 namespace evlife::io {
@@ -35,9 +36,7 @@ class Evt2Reader final : public EventReader {
   std::optional<SensorSize> sensor_;
   std::uint32_t max_x_ = 0x7FF;  // inclusive bounds: the sensor, else the field width
   std::uint32_t max_y_ = 0x7FF;
-  std::uint64_t time_high_raw_ = 0;   // last 28-bit TIME_HIGH
-  std::int64_t time_high_us_ = 0;     // unwrapped, already shifted by 6
-  std::int64_t wrap_us_ = 0;          // added per 28-bit wrap of TIME_HIGH
+  PropheseeTimeHigh time_high_;
   std::uint64_t trigger_count_ = 0;
   std::uint64_t other_count_ = 0;
   std::int64_t event_count_ = 0;

@@ -70,8 +70,7 @@ namespace detail {
 namespace {
 
 SniffResult sniff_evt3(std::span<const std::byte> head, std::string_view /*path*/) {
-  const auto header = parse_prophesee_header(head);
-  return header && header->evt_version() == "3.0" ? SniffResult::by_content : SniffResult::no;
+  return is_prophesee_raw(head, "3.0") ? SniffResult::by_content : SniffResult::no;
 }
 
 std::unique_ptr<EventReader> open_evt3(const std::string& path) {

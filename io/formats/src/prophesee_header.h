@@ -1,4 +1,4 @@
-// The `%` text header shared by Prophesee RAW (EVT 2.0 / 3.0) and DAT files:
+// The `%` text header shared by Prophesee RAW (EVT 2.0 / 2.1 / 3.0) and DAT files:
 // lines starting with '%', ending at `% end` or at the first line that does
 // not start with '%'. Keys are the first word after "% ".
 #pragma once
@@ -40,5 +40,11 @@ PropheseeHeader read_prophesee_header(ChunkedFile& file);
 /// Parses a header held in memory (for sniffing); nullopt if `head` does not
 /// start with '%'; a header longer than `head` gives the lines that fit.
 std::optional<PropheseeHeader> parse_prophesee_header(std::span<const std::byte> head);
+
+/// True when `head` starts a Prophesee RAW header of this EVT version ("2.0", ...).
+inline bool is_prophesee_raw(std::span<const std::byte> head, std::string_view evt_version) {
+  const auto header = parse_prophesee_header(head);
+  return header && header->evt_version() == evt_version;
+}
 
 }  // namespace evlife::io

@@ -90,12 +90,12 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
     if (r == detail::SniffResult::by_extension && by_extension == nullptr) by_extension = f;
   }
   if (by_extension != nullptr) return open_as(*by_extension, path, options);
-  // A Prophesee RAW file of an EVT version no reader decodes (2.1: GenX320's
-  // 64-bit vectorized words): say so rather than "unknown format".
+  // A Prophesee RAW file of an EVT version no reader decodes: say so rather
+  // than "unknown format".
   if (const auto header = parse_prophesee_header(head_view); header && !header->evt_version().empty()) {
     throw ReadError(path, -1, -1,
                     "Prophesee RAW EVT " + header->evt_version() +
-                        ": evlife decodes EVT 2.0 and 3.0 only; record in EVT 3.0, or convert the file with "
+                        ": evlife decodes EVT 2.0, 2.1 and 3.0 only; record in one of those, or convert the file with "
                         "Metavision's metavision_file_to_csv (evlife reads its x,y,p,t CSV)");
   }
   std::string known;

@@ -1,0 +1,160 @@
+#include "evt21_reader.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <memory>
+
+#include "prophesee_header.h"
+#include "reader_registry.h"
+
+namespace evlife::io {
+namespace {
+
+constexpr std::size_t kWordBytes = 8;
+// Words after the header that decide the byte order: 512 words, 4 KiB.
+constexpr std::size_t kLayoutProbeBytes = 512 * kWordBytes;
+
+constexpr std::uint32_t kTypeNeg = 0, kTypePos = 1, kTypeTimeHigh = 8, kTypeTrigger = 10, kTypeOthers = 14;
+
+std::uint32_t lower_half(std::uint64_t w) noexcept { return static_cast<std::uint32_t>(w); }
+
+}  // namespace
+
+std::uint64_t Evt21Reader::word_at(const std::uint8_t* bytes, Layout layout) noexcept {
+  if (layout == Layout::whole_word) {
+    std::uint64_t w;
+    std::memcpy(&w, bytes, sizeof w);
+    return w;
+  }
+  std::uint32_t upper, lower;
+  std::memcpy(&upper, bytes, sizeof upper);
+  std::memcpy(&lower, bytes + 4, sizeof lower);
+  return (std::uint64_t{upper} << 32) | lower;
+}
+
+Evt21Reader::Layout Evt21Reader::detect_layout(std::span<const std::uint8_t> words) noexcept {
+  // Read in the wrong order, an event word's mask bits land in the type
+  // field (11 of 16 values are reserved) and a TIME_HIGH word's zero half
+  // lands where the type, x and y are: an OFF event at (0, 0) with a zero
+  // time, which real streams rarely hold.
+  const auto misfits = [&](Layout layout) {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k + kWordBytes <= words.size(); k += kWordBytes) {
+      const std::uint64_t w = word_at(words.data() + k, layout);
+      const auto type = static_cast<std::uint32_t>(w >> 60);
+      const bool known = type == kTypeNeg || type == kTypePos || type == kTypeTimeHigh || type == kTypeTrigger ||
+                         type == kTypeOthers;
+      n += !known || (type == kTypeTimeHigh && lower_half(w) != 0) ||
+           (type <= kTypePos && (lower_half(w) == 0 || (w >> 32) == 0));
+    }
+    return n;
+  };
+  return misfits(Layout::upper_half_first) < misfits(Layout::whole_word) ? Layout::upper_half_first
+                                                                          : Layout::whole_word;
+}
+
+Evt21Reader::Evt21Reader(const std::string& path) : file_(path) {
+  const PropheseeHeader header = read_prophesee_header(file_);
+  const std::string version = header.evt_version();
+  if (version != "2.1") {
+    throw ReadError(path, 0, -1, "not a Prophesee EVT 2.1 RAW file (header says evt '" + version + "')");
+  }
+  sensor_ = header.sensor_size();
+  if (sensor_) {
+    max_x_ = static_cast<std::uint32_t>(std::min(sensor_->width, 2048) - 1);
+    max_y_ = static_cast<std::uint32_t>(std::min(sensor_->height, 2048) - 1);
+  }
+  const std::size_t probe = std::min(file_.fill(kLayoutProbeBytes), kLayoutProbeBytes);
+  layout_ = detect_layout(std::span(file_.data(), probe / kWordBytes * kWordBytes));
+}
+
+std::size_t Evt21Reader::read(std::span<Event> out) {
+  if (error_) throw *error_;
+  std::size_t n = 0;
+  // The events of an event word, in x order, as far as `out` has room.
+  const auto emit_pending = [&] {
+    while (pending_mask_ != 0 && n < out.size()) {
+      const int bit = std::countr_zero(pending_mask_);
+      pending_mask_ &= pending_mask_ - 1;
+      Event& e = out[n++];
+      e.t_us = pending_t_us_;
+      e.x = static_cast<std::uint16_t>(pending_x_ + static_cast<std::uint32_t>(bit));
+      e.y = static_cast<std::uint16_t>(pending_y_);
+      e.p = pending_p_;
+      ++event_count_;
+    }
+  };
+  emit_pending();
+  while (n < out.size()) {
+    if (file_.fill(kWordBytes) < kWordBytes) {
+      if (file_.available() != 0) {
+        error_.emplace(path(), file_.offset(), event_count_,
+                       "truncated EVT 2.1 word (" + std::to_string(file_.available()) + " trailing bytes)");
+      }
+      break;
+    }
+    const std::size_t words = file_.available() / kWordBytes;
+    const std::uint8_t* bytes = file_.data();
+    std::size_t i = 0;
+    for (; i < words && n < out.size(); ++i) {
+      const std::uint64_t w = word_at(bytes + i * kWordBytes, layout_);
+      const auto type = static_cast<std::uint32_t>(w >> 60);
+      if (type <= kTypePos) {
+        const std::uint32_t mask = lower_half(w);
+        const auto x = static_cast<std::uint32_t>((w >> 43) & 0x7FF);
+        const auto y = static_cast<std::uint32_t>((w >> 32) & 0x7FF);
+        if (mask == 0) {  // no pixel set: nothing to emit, counted
+          ++other_count_;
+          continue;
+        }
+        const std::uint32_t last_x = x + 31 - static_cast<std::uint32_t>(std::countl_zero(mask));
+        if (last_x > max_x_ || y > max_y_) {
+          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes), event_count_,
+                         "EVT 2.1 event at x=" + std::to_string(last_x) + " y=" + std::to_string(y) +
+                             " outside the sensor");
+          break;
+        }
+        pending_mask_ = mask;
+        pending_x_ = x;
+        pending_y_ = y;
+        pending_t_us_ = time_high_.us() | static_cast<std::int64_t>((w >> 54) & 0x3F);
+        pending_p_ = type == kTypePos ? std::int8_t{1} : std::int8_t{-1};
+        emit_pending();  // what does not fit stays pending for the next call
+      } else if (type == kTypeTimeHigh) {
+        time_high_.update((w >> 32) & 0x0FFFFFFF);
+      } else if (type == kTypeTrigger) {
+        ++trigger_count_;
+      } else if (type == kTypeOthers) {
+        ++other_count_;
+      } else {
+        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes), event_count_,
+                       "unknown EVT 2.1 word type " + std::to_string(type));
+        break;
+      }
+    }
+    file_.consume(i * kWordBytes);
+    if (error_) break;
+  }
+  if (error_ && n == 0) throw *error_;
+  return n;
+}
+
+namespace detail {
+namespace {
+
+SniffResult sniff_evt21(std::span<const std::byte> head, std::string_view /*path*/) {
+  return is_prophesee_raw(head, "2.1") ? SniffResult::by_content : SniffResult::no;
+}
+
+std::unique_ptr<EventReader> open_evt21(const std::string& path) { return std::make_unique<Evt21Reader>(path); }
+
+}  // namespace
+
+const ReaderFormat evt21_format{"evt21",
+                                "Prophesee RAW EVT 2.1 (.raw, '% evt 2.1' or '% format EVT21' header; GenX320, "
+                                "64-bit words of 32 pixels)",
+                                &sniff_evt21, &open_evt21};
+
+}  // namespace detail
+}  // namespace evlife::io
