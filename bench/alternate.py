@@ -68,7 +68,7 @@ def run_once(binary, args, out_path):
     for b in report.get("benchmarks", []):
         if b.get("run_type", "iteration") != "iteration":
             continue  # the aggregates: recomputed here from the runs
-        if "error_occurred" in b and b["error_occurred"]:
+        if b.get("error_occurred"):
             raise RuntimeError(f"{binary}: {b['name']}: {b.get('error_message', 'error')}")
         if args.counter not in b:
             raise RuntimeError(f"{binary}: {b['name']} has no counter '{args.counter}'")
@@ -116,7 +116,8 @@ def report(args, results):
             if args.below is not None:
                 text += f"; below {fmt(args.below)} in {sum(v < args.below for v in runs)} of {len(runs)}"
             if binary != args.binaries[0] and name in reference:
-                ratios = [m / statistics.median(ref) for m, ref in zip(medians, reference[name]) if statistics.median(ref)]
+                ref_medians = [statistics.median(rnd) for rnd in reference[name]]
+                ratios = [m / ref for m, ref in zip(medians, ref_medians) if ref]
                 text += "; ratio to the first by round " + " ".join(f"{x:.3f}" for x in ratios)
             lines.append(text)
     return "\n".join(lines)

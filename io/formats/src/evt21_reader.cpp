@@ -18,11 +18,12 @@ constexpr std::size_t kLayoutProbeBytes = 512 * kWordBytes;
 constexpr std::uint32_t kTypeNeg = 0, kTypePos = 1, kTypeTimeHigh = 8, kTypeTrigger = 10, kTypeOthers = 14;
 
 std::uint32_t lower_half(std::uint64_t w) noexcept { return static_cast<std::uint32_t>(w); }
+std::uint32_t x_of(std::uint64_t w) noexcept { return static_cast<std::uint32_t>((w >> 43) & 0x7FF); }
+std::uint32_t y_of(std::uint64_t w) noexcept { return static_cast<std::uint32_t>((w >> 32) & 0x7FF); }
 
-}  // namespace
-
-std::uint64_t Evt21Reader::word_at(const std::uint8_t* bytes, Layout layout) noexcept {
-  if (layout == Layout::whole_word) {
+// The word at `bytes` (8 bytes) in `layout`.
+std::uint64_t word_at(const std::uint8_t* bytes, Evt21Reader::Layout layout) noexcept {
+  if (layout == Evt21Reader::Layout::whole_word) {
     std::uint64_t w;
     std::memcpy(&w, bytes, sizeof w);
     return w;
@@ -32,6 +33,8 @@ std::uint64_t Evt21Reader::word_at(const std::uint8_t* bytes, Layout layout) noe
   std::memcpy(&lower, bytes + 4, sizeof lower);
   return (std::uint64_t{upper} << 32) | lower;
 }
+
+}  // namespace
 
 Evt21Reader::Layout Evt21Reader::detect_layout(std::span<const std::uint8_t> words) noexcept {
   // Read in the wrong order, an event word's mask bits land in the type
@@ -72,16 +75,18 @@ Evt21Reader::Evt21Reader(const std::string& path) : file_(path) {
 std::size_t Evt21Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
   std::size_t n = 0;
-  // The events of an event word, in x order, as far as `out` has room.
+  // The events of the pending word, in x order, as far as `out` has room.
   const auto emit_pending = [&] {
+    const std::int64_t t_us = time_high_.us() | static_cast<std::int64_t>((pending_word_ >> 54) & 0x3F);
+    const std::int8_t p = (pending_word_ >> 60) == kTypePos ? std::int8_t{1} : std::int8_t{-1};
     while (pending_mask_ != 0 && n < out.size()) {
       const int bit = std::countr_zero(pending_mask_);
       pending_mask_ &= pending_mask_ - 1;
       Event& e = out[n++];
-      e.t_us = pending_t_us_;
-      e.x = static_cast<std::uint16_t>(pending_x_ + static_cast<std::uint32_t>(bit));
-      e.y = static_cast<std::uint16_t>(pending_y_);
-      e.p = pending_p_;
+      e.t_us = t_us;
+      e.x = static_cast<std::uint16_t>(x_of(pending_word_) + static_cast<std::uint32_t>(bit));
+      e.y = static_cast<std::uint16_t>(y_of(pending_word_));
+      e.p = p;
       ++event_count_;
     }
   };
@@ -102,8 +107,7 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
       const auto type = static_cast<std::uint32_t>(w >> 60);
       if (type <= kTypePos) {
         const std::uint32_t mask = lower_half(w);
-        const auto x = static_cast<std::uint32_t>((w >> 43) & 0x7FF);
-        const auto y = static_cast<std::uint32_t>((w >> 32) & 0x7FF);
+        const std::uint32_t x = x_of(w), y = y_of(w);
         if (mask == 0) {  // no pixel set: nothing to emit, counted
           ++other_count_;
           continue;
@@ -115,11 +119,8 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
                              " outside the sensor");
           break;
         }
+        pending_word_ = w;
         pending_mask_ = mask;
-        pending_x_ = x;
-        pending_y_ = y;
-        pending_t_us_ = time_high_.us() | static_cast<std::int64_t>((w >> 54) & 0x3F);
-        pending_p_ = type == kTypePos ? std::int8_t{1} : std::int8_t{-1};
         emit_pending();  // what does not fit stays pending for the next call
       } else if (type == kTypeTimeHigh) {
         time_high_.update((w >> 32) & 0x0FFFFFFF);

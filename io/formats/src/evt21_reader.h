@@ -44,8 +44,6 @@ class Evt21Reader final : public EventReader {
   /// lower half, event words with a nonzero mask and a nonzero upper half.
   /// Ties: whole_word.
   static Layout detect_layout(std::span<const std::uint8_t> words) noexcept;
-  /// The word at `bytes` (8 bytes) in `layout`.
-  static std::uint64_t word_at(const std::uint8_t* bytes, Layout layout) noexcept;
 
  private:
   ChunkedFile file_;
@@ -54,11 +52,11 @@ class Evt21Reader final : public EventReader {
   std::uint32_t max_x_ = 0x7FF;  // inclusive bounds: the sensor, else the field width
   std::uint32_t max_y_ = 0x7FF;
   PropheseeTimeHigh time_high_;
-  // The events of the last event word that did not fit the caller's buffer.
+  // The last event word and the pixels of its mask not yet emitted (the
+  // caller's buffer was full). No word is read while any are left, so
+  // time_high_ is still the word's.
+  std::uint64_t pending_word_ = 0;
   std::uint32_t pending_mask_ = 0;
-  std::uint32_t pending_x_ = 0, pending_y_ = 0;
-  std::int64_t pending_t_us_ = 0;
-  std::int8_t pending_p_ = 1;
   std::uint64_t trigger_count_ = 0;
   std::uint64_t other_count_ = 0;
   std::int64_t event_count_ = 0;
