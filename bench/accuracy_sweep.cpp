@@ -35,10 +35,12 @@ int usage() {
                "  realistic DVS pixels (normal and dim light) by default, --ideal for the ideal scenes;\n"
                "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
                "  --pixel changes the pixel model of both settings (names as evlife synth's pixel\n"
-               "  options: contrast threshold threshold-sigma edge-blur-px latency-us\n"
-               "  latency-jitter-us refractory-us hot-pixels hot-rate), --noise-rate their\n"
-               "  background activity (events per pixel per second); --bands: also the rows by true\n"
-               "  lifetime\n");
+               "  options:");
+  for (const evlife::io::PixelParameter& p : evlife::io::pixel_parameters()) std::fprintf(stderr, " %s", p.name);
+  std::fprintf(stderr,
+               "),\n"
+               "  --noise-rate their background activity (events per pixel per second); --bands: also\n"
+               "  the rows by true lifetime\n");
   return 2;
 }
 

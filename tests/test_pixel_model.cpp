@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <numbers>
 #include <set>
 #include <string>
 #include <tuple>
@@ -262,6 +264,113 @@ TEST(PixelModel, RefractoryPeriodRespected) {
   }
 }
 
+// An edge's events by identity: pixel, polarity, crossing time, burst index.
+using EdgeEventKey = std::tuple<int, int, int, double, int>;
+std::map<EdgeEventKey, std::int64_t> edge_event_times(const SyntheticScene& scene) {
+  std::map<EdgeEventKey, std::int64_t> times;
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    const EventTruth& t = scene.truth[i];
+    if (t.is_noise) continue;
+    const Event& e = scene.events[i];
+    times[{e.x, e.y, e.p, t.t_true_us, t.burst_index}] = e.t_us;
+  }
+  return times;
+}
+
+// A step edge through the photoreceptor's first-order low-pass (time constant
+// T = 1 / (2 pi cutoff)): the level rises as C (1 - exp(-u / T)), so the k-th
+// event of a crossing fires at u_k = -T ln(1 - (k - r0) theta / C), r0 the
+// residual, uniform in [0, 1). The mean delays of the first and second events
+// against that law, integrated here over r0 (no latency, refractory period or
+// mismatch).
+TEST(PixelModel, PhotoreceptorLowPassSpreadsAStepOverItsTimeConstant) {
+  SceneSpec s = slow_grating(0.5, 0.2);
+  s.pixel.edge_blur_px = 0.0;
+  s.pixel.latency_us = s.pixel.latency_jitter_us = s.pixel.refractory_us = 0.0;
+  s.pixel.cutoff_hz = 200.0;
+  const double T = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
+  const double c = s.pixel.contrast_log, theta = s.pixel.threshold_log;
+  const SyntheticScene scene = io::generate_scene(s);
+  std::vector<double> sum(3, 0.0), n(3, 0.0);
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    const EventTruth& t = scene.truth[i];
+    if (t.is_noise || t.burst_index > 2) continue;
+    sum[t.burst_index] += static_cast<double>(scene.events[i].t_us) - t.t_true_us;
+    n[t.burst_index] += 1.0;
+  }
+  ASSERT_GT(n[0], 5000.0);
+  constexpr int kSteps = 20000;
+  for (int k = 1; k <= 2; ++k) {
+    double expected = 0.0;
+    for (int i = 0; i < kSteps; ++i) {
+      const double r0 = (i + 0.5) / kSteps;
+      expected += -T * std::log(1.0 - (k - r0) * theta / c);
+    }
+    expected /= kSteps;
+    const double got = sum[static_cast<std::size_t>(k - 1)] / n[static_cast<std::size_t>(k - 1)];
+    EXPECT_NEAR(got, expected, 0.02 * expected) << "event " << k << " of the burst";
+  }
+  // Every crossing fires the second event too ((2 - r0) theta < C); the
+  // third only where (3 - r0) theta < C, half of them: 2.5 per crossing.
+  EXPECT_NEAR(n[1] / n[0], 1.0, 1e-9);
+  EXPECT_NEAR(count_bursts(scene).mean(), c / theta, 0.02 * c / theta);
+}
+
+// A ramp slower than the time constant: the low-pass output follows it
+// delayed by T (a first-order filter's lag behind a ramp), so each event
+// fires T later than without the filter: less where the ramp has only just
+// begun, more where a target lies within ~T of the ramp's end (the output then
+// approaches the final level exponentially; ~0.2 % of the events here). The
+// same crossings, the same events, one by one.
+TEST(PixelModel, PhotoreceptorLowPassLagsASlowRampByItsTimeConstant) {
+  SceneSpec s = slow_grating(0.5, 0.2);  // ramp 1.5 x 10 ms
+  s.pixel.latency_us = s.pixel.latency_jitter_us = s.pixel.refractory_us = 0.0;
+  const auto without = edge_event_times(io::generate_scene(s));
+  s.pixel.cutoff_hz = 2000.0;
+  const double T = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
+  const auto with = edge_event_times(io::generate_scene(s));
+  ASSERT_GT(without.size(), 10000u);
+  ASSERT_EQ(with.size(), without.size());
+  std::vector<double> lag;
+  double earliest = std::numeric_limits<double>::infinity();
+  for (const auto& [key, t] : with) {
+    const auto it = without.find(key);
+    ASSERT_NE(it, without.end());
+    lag.push_back(static_cast<double>(t - it->second));
+    earliest = std::min(earliest, lag.back());
+  }
+  std::sort(lag.begin(), lag.end());
+  EXPECT_GE(earliest, -1.0);
+  EXPECT_LE(lag[lag.size() * 99 / 100], T + 1.0);
+  EXPECT_NEAR(lag[lag.size() / 2], T, 0.01 * T);
+}
+
+// The readout's timestamp quantum: every stamp a multiple of it (edges, hot
+// pixels, background activity alike), each edge event at most one quantum
+// earlier than the 1 us stamp and never later.
+TEST(PixelModel, TimestampsAreFlooredToTheQuantum) {
+  SceneSpec s = slow_grating(0.5, 0.2);
+  s.duration_us = 500'000;
+  s.noise_rate_hz_per_px = 2.0;
+  s.pixel.hot_pixel_fraction = 1e-3;
+  const auto fine = edge_event_times(io::generate_scene(s));
+  s.pixel.timestamp_quantum_us = 250.0;
+  const SyntheticScene scene = io::generate_scene(s);
+  std::size_t noise = 0;
+  for (std::size_t i = 0; i < scene.events.size(); ++i) {
+    ASSERT_EQ(scene.events[i].t_us % 250, 0) << i;
+    noise += scene.truth[i].is_noise ? 1 : 0;
+  }
+  EXPECT_GT(noise, 1000u);
+  const auto coarse = edge_event_times(scene);
+  ASSERT_EQ(coarse.size(), fine.size());
+  for (const auto& [key, t] : coarse) {
+    const std::int64_t t_fine = fine.at(key);
+    ASSERT_LE(t, t_fine);
+    ASSERT_GT(t, t_fine - 251);
+  }
+}
+
 TEST(PixelModel, HotPixelsFireAtTheirRate) {
   SceneSpec s;
   s.sensor = {346, 260};
@@ -325,6 +434,29 @@ TEST(PixelModel, SynthCommandLine) {
   std::size_t followers = 0;
   for (const EventTruth& t : expected.truth) followers += t.burst_index > 0 ? 1 : 0;
   ASSERT_GT(followers, 0u);
+
+  // The photoreceptor's bandwidth and the readout's quantum (every pixel
+  // option of io::pixel_parameters() is a flag).
+  const auto slow = run("synth -o '" + out + "' --scene edges --sensor 120x90 --duration 0.05 --pixel dvs "
+                        "--cutoff-hz 100 --timestamp-quantum-us 50");
+  ASSERT_EQ(slow.exit_code, 0) << slow.output;
+  EXPECT_NE(slow.output.find("photoreceptor 100 Hz, stamps in 50 us steps"), std::string::npos) << slow.output;
+  SceneSpec slow_spec = io::edges_scene({120, 90}, 50'000, 1);
+  ASSERT_TRUE(io::apply_pixel_setting(slow_spec, "dvs"));
+  slow_spec.pixel.cutoff_hz = 100.0;
+  slow_spec.pixel.timestamp_quantum_us = 50.0;
+  const SyntheticScene slow_expected = io::generate_scene(slow_spec);
+  auto slow_reader = io::open_event_reader(out);
+  std::vector<Event> slow_written(slow_expected.events.size() + 1);
+  n = 0;
+  while (const std::size_t k = slow_reader->read(std::span<Event>(slow_written).subspan(n))) n += k;
+  slow_written.resize(n);
+  EXPECT_TRUE(same_events(slow_written, slow_expected.events));
+  for (const io::PixelParameter& p : io::pixel_parameters()) {
+    const auto flag = run("synth -o '" + out + "' --duration 0.01 --pixel dvs --" + std::string(p.name) + " " +
+                          std::to_string(io::dvs_pixel_normal().*p.field));
+    EXPECT_EQ(flag.exit_code, 0) << p.name << ": " << flag.output;
+  }
 
   const auto no_model = run("synth -o '" + out + "' --latency-us 300");
   EXPECT_EQ(no_model.exit_code, 2);

@@ -212,6 +212,37 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
   return false;
 }
 
+// True when an event at (x, y) comes within the time the pixel's slow
+// response can spread its burst (burst_span_timing_noise x the residual RMS
+// of the burst's fit) and no pixel upstream of the burst's edge has had a
+// newer arrival than this pixel's since: no new edge has come this way.
+bool LifetimeEstimator::slow_response_follower(int pol, int x, int y, const PixelState& state,
+                                               double since_arrival_us) const noexcept {
+  const SurfacePixel& here = surface_[pixel_index(pol, x, y)];
+  const auto noise_us = static_cast<double>(here.timing_noise_us);
+  if (options_.burst_span_timing_noise <= 0.0 || !(noise_us > 0.0) ||
+      !(since_arrival_us <= options_.burst_span_timing_noise * noise_us)) {
+    return false;
+  }
+  const double newer_us = 2.0 * noise_us + options_.inlier_tolerance_us;
+  const auto vx = static_cast<double>(state.burst_vx_px_s);
+  const auto vy = static_cast<double>(state.burst_vy_px_s);
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
+      if (vx * dx + vy * dy >= 0.0) continue;
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= options_.sensor.width || qy >= options_.sensor.height) continue;
+      const std::int32_t q_rel = surface_[pixel_index(pol, qx, qy)].t_rel;
+      if (q_rel != detail::kNeverRel &&
+          static_cast<double>(std::int64_t{q_rel} - here.t_rel) > newer_us) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   using detail::Stage;
   using detail::stage_end;
@@ -246,9 +277,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const auto since_arrival_us = static_cast<double>(std::int64_t{now_rel} - here.t_rel);
   const auto burst_lifetime_us = static_cast<double>(state.burst_lifetime_us);
   if (state.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
-      since_arrival_us - static_cast<double>(state.burst_latest_us) <=
-          options_.burst_window_lifetimes * burst_lifetime_us &&
-      since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us) {
+      ((since_arrival_us - static_cast<double>(state.burst_latest_us) <=
+            options_.burst_window_lifetimes * burst_lifetime_us &&
+        since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us) ||
+       slow_response_follower(pol, x, y, state, since_arrival_us))) {
     ++stats_.followers;
     state.burst_latest_us = static_cast<float>(since_arrival_us);
     out.lifetime_us = state.burst_lifetime_us;

@@ -33,6 +33,7 @@ constexpr OptionSpec kOptions[] = {
     {"edge-blur-px", 0, true, false}, {"latency-us", 0, true, false},
     {"latency-jitter-us", 0, true, false}, {"refractory-us", 0, true, false},
     {"hot-pixels", 0, true, false},   {"hot-rate", 0, true, false},
+    {"cutoff-hz", 0, true, false},    {"timestamp-quantum-us", 0, true, false},
 };
 
 void print_help(std::FILE* out) {
@@ -92,6 +93,13 @@ void print_help(std::FILE* out) {
       "  --refractory-us R    refractory period (200 | 800).\n"
       "  --hot-pixels F       share of hot pixels, at least one when > 0 (0.0001).\n"
       "  --hot-rate H         events per second of a hot pixel (20).\n"
+      "  --cutoff-hz F        photoreceptor bandwidth at the scene's light, 3 dB, Hz\n"
+      "                       (0: unlimited). It falls with the light: ~300-3000 Hz\n"
+      "                       in office light, 10-300 Hz in dim light (v2e: 300 at\n"
+      "                       full white; its 'noisy' setting 30). The pixel then\n"
+      "                       follows each edge with time constant 1 / (2 pi F).\n"
+      "  --timestamp-quantum-us Q  stamps floored to multiples of Q us (0: 1 us): a\n"
+      "                       frame-based emulator's interval, a busy readout's steps.\n"
       "  --truth FILE         also write the ground truth as CSV, one row per event in\n"
       "                       the same order: t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n"
       "                       where (nx, ny) is the unit direction of motion of the edge,\n"
@@ -239,9 +247,12 @@ int synth(int argc, char** argv) {
       const io::PixelModel& m = spec.pixel;
       std::fprintf(stdout,
                    "%llu hot; pixels %s: contrast %g, threshold %g +- %g, blur %g px, latency %g +- %g us, "
-                   "refractory %g us)\n",
+                   "refractory %g us",
                    hot, pixel_name.c_str(), m.contrast_log, m.threshold_log, m.threshold_mismatch_sigma,
                    m.edge_blur_px, m.latency_us, m.latency_jitter_us, m.refractory_us);
+      if (m.cutoff_hz > 0.0) std::fprintf(stdout, ", photoreceptor %g Hz", m.cutoff_hz);
+      if (m.timestamp_quantum_us > 1.0) std::fprintf(stdout, ", stamps in %g us steps", m.timestamp_quantum_us);
+      std::fprintf(stdout, ")\n");
     } else {
       std::fprintf(stdout, "jitter sigma %g us)\n", spec.jitter_sigma_us);
     }

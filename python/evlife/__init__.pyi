@@ -58,7 +58,7 @@ class LifetimeEstimator:
                  lambda_offset: float = ..., lambda_gain: float = ...,
                  lambda_decay_per_us: float = ..., lambda_unit_px2: float = ...,
                  continuation_min_support: int = ..., burst_window_lifetimes: float = ...,
-                 burst_span_lifetimes: float = ...,
+                 burst_span_lifetimes: float = ..., burst_span_timing_noise: float = ...,
                  prediction_expiry_lifetimes: float = ...,
                  max_lifetime_us: float = ..., max_event_offset_tolerances: float = ...,
                  max_lifetime_standard_error: float = ...,

@@ -71,6 +71,58 @@ double PixelSampler::latency_us(std::uint64_t key) const {
   return mu;
 }
 
+namespace {
+
+// The log intensity a pixel's comparator sees during one crossing: the edge's
+// ramp (from L_a at t_a linearly to L_b at t_b; steady outside), through the
+// photoreceptor's first-order low-pass of time constant T (none when T = 0).
+// The pixel has settled at L_a before t_a (the scene was still there).
+class PixelResponse {
+ public:
+  PixelResponse(double t_a, double t_b, double l_a, double l_b, double time_constant_us)
+      : t_a_(t_a), t_b_(t_b), l_a_(l_a), l_b_(l_b), T_(time_constant_us) {
+    slope_ = t_b_ > t_a_ ? (l_b_ - l_a_) / (t_b_ - t_a_) : 0.0;
+    y_b_ = t_b_ > t_a_ ? on_ramp(t_b_ - t_a_) : l_a_;
+  }
+
+  double level(double t) const {
+    if (t <= t_a_) return l_a_;
+    if (t <= t_b_) return on_ramp(t - t_a_);
+    return l_b_ - (l_b_ - y_b_) * std::exp(-(t - t_b_) / T_);
+  }
+  /// The level approached as t grows (reached only in the limit).
+  double final_level() const { return l_b_; }
+
+  /// The first time the level reaches `target`, l_a < target < l_b.
+  double time_of(double target) const {
+    if (target > y_b_) return t_b_ - T_ * std::log((l_b_ - target) / (l_b_ - y_b_));
+    // On the ramp: u - T (1 - exp(-u / T)) = m, increasing and convex in u,
+    // so Newton's steps from the right end decrease monotonically to the root.
+    const double m = (target - l_a_) / slope_;
+    double u = t_b_ - t_a_;
+    for (int i = 0; i < 60; ++i) {
+      const double decay = -std::expm1(-u / T_);  // 1 - exp(-u / T)
+      const double step = (u - T_ * decay - m) / decay;
+      u -= step;
+      if (!(step > 1e-9 * (u + T_))) break;
+    }
+    return t_a_ + std::max(u, 0.0);
+  }
+
+ private:
+  double on_ramp(double u) const { return l_a_ + slope_ * (u + T_ * std::expm1(-u / T_)); }
+
+  double t_a_, t_b_, l_a_, l_b_, T_;
+  double slope_ = 0.0, y_b_ = 0.0;
+};
+
+}  // namespace
+
+double PixelSampler::stamp_us(double t_us) const {
+  const double q = m_.timestamp_quantum_us;
+  return q > 1.0 ? std::floor(t_us / q) * q : t_us;
+}
+
 void PixelSampler::burst(const Crossing& c, Burst& out) const {
   out.count = 0;
   const double contrast_log = contrast(c.feature);
@@ -82,22 +134,37 @@ void PixelSampler::burst(const Crossing& c, Burst& out) const {
     if (ramp <= 0.0) return t >= c.t_c_us ? contrast_log : 0.0;
     return contrast_log * std::clamp((t - start) / ramp, 0.0, 1.0);
   };
+  // With a limited photoreceptor bandwidth the comparator sees the ramp
+  // low-passed; without, the ramp itself (the formulas below, unchanged).
+  const bool low_pass = m_.cutoff_hz > 0.0;
+  const double ramp_from = ramp <= 0.0 ? c.t_c_us : start;
+  const PixelResponse response(std::clamp(ramp_from, c.t_from_us, c.t_to_us),
+                               std::clamp(ramp_from + std::max(ramp, 0.0), c.t_from_us, c.t_to_us),
+                               level_at(c.t_from_us), level_at(c.t_to_us),
+                               low_pass ? 1e6 / (2.0 * std::numbers::pi * m_.cutoff_hz) : 0.0);
+  const auto level = [&](double t) { return low_pass ? response.level(t) : level_at(t); };
   const std::uint64_t key = combine(seed_, static_cast<std::uint64_t>(c.feature), static_cast<std::uint64_t>(c.x),
                                     static_cast<std::uint64_t>(c.y), static_cast<std::uint64_t>(c.p > 0),
                                     static_cast<std::uint64_t>(c.index));
   // Residual already accumulated since the pixel's last reset: the reference
   // sits r0 below the current level.
-  double reference = level_at(c.t_from_us) - theta * uniform(combine(key, kResidual));
+  double reference = level(c.t_from_us) - theta * uniform(combine(key, kResidual));
   while (out.count < kMaxBurstEvents) {
     // Above the level at t_from: the reference starts less than theta below it.
     const double target = reference + theta;
-    if (target > level_at(c.t_to_us)) break;
-    const double t_fire = ramp <= 0.0 ? c.t_c_us : start + ramp * target / contrast_log;
+    double t_fire = 0.0;
+    if (low_pass) {
+      if (!(target < response.final_level())) break;  // approached, never reached
+      t_fire = response.time_of(target);
+    } else {
+      if (target > level_at(c.t_to_us)) break;
+      t_fire = ramp <= 0.0 ? c.t_c_us : start + ramp * target / contrast_log;
+    }
     const double t_stamp = t_fire + latency_us(combine(key, kLatency, out.count));
-    out.t_us[out.count++] = t_stamp;
+    out.t_us[out.count++] = stamp_us(t_stamp);
     // Reset at the timestamp, held in reset for the refractory period: the
     // new reference is the level at release.
-    reference = level_at(t_stamp + m_.refractory_us);
+    reference = level(t_stamp + m_.refractory_us);
   }
 }
 

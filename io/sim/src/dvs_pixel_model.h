@@ -57,6 +57,8 @@ class PixelSampler {
   double ramp_us(double lifetime_us) const;
   /// The events of one crossing (see PixelModel).
   void burst(const Crossing& c, Burst& out) const;
+  /// A time (us) as the readout stamps it: floored to the timestamp quantum.
+  double stamp_us(double t_us) const;
   /// The hot pixels (indices y * width + x), sorted, without repeats.
   std::vector<std::uint32_t> hot_pixels(SensorSize sensor) const;
 

@@ -214,6 +214,8 @@ std::string validate_pixel_model(const PixelModel& m) {
   if (!in(m.refractory_us, 0.0, 1e5)) return "refractory_us: must be in [0, 1e5]";
   if (!in(m.hot_pixel_fraction, 0.0, 0.1)) return "hot_pixel_fraction: must be in [0, 0.1]";
   if (!in(m.hot_pixel_rate_hz, 0.0, 1e5)) return "hot_pixel_rate_hz: must be in [0, 1e5]";
+  if (!in(m.cutoff_hz, 0.0, 1e6)) return "cutoff_hz: must be in [0, 1e6]";
+  if (!in(m.timestamp_quantum_us, 0.0, 1e5)) return "timestamp_quantum_us: must be in [0, 1e5]";
   return {};
 }
 
@@ -278,7 +280,9 @@ SyntheticSceneReader::SyntheticSceneReader(SceneSpec spec) : spec_(std::move(spe
   }
   slice_count_ = (spec_.duration_us + spec_.slice_us - 1) / spec_.slice_us;
   if (spec_.pixel.enabled) {
-    early_us_ = static_cast<std::int64_t>(std::ceil(detail::max_early_offset_us(spec_)));
+    // (Flooring to the timestamp quantum stamps an event up to a quantum earlier.)
+    early_us_ = static_cast<std::int64_t>(
+        std::ceil(detail::max_early_offset_us(spec_) + std::max(spec_.pixel.timestamp_quantum_us, 0.0)));
     hot_pixels_ = detail::PixelSampler(spec_.pixel, spec_.seed).hot_pixels(spec_.sensor);
   } else {
     early_us_ = static_cast<std::int64_t>(std::ceil(kJitterTruncationSigmas * spec_.jitter_sigma_us));
@@ -310,6 +314,10 @@ void SyntheticSceneReader::generate_next_slice() {
     push(std::llround(truth.t_true_us + jitter), x, y, p, truth);
   };
   const detail::PixelSampler sampler(spec_.pixel, spec_.seed);
+  // The readout's timestamp resolution (pixel model) for events stamped at a whole us.
+  const auto quantized = [&](std::int64_t t_us) {
+    return spec_.pixel.enabled ? static_cast<std::int64_t>(sampler.stamp_us(static_cast<double>(t_us))) : t_us;
+  };
   detail::Burst burst;
   auto emit_burst = [&](int x, int y, int p, const EventTruth& truth, long long crossing) {
     detail::Crossing c{truth.t_true_us, truth.lifetime_us, x, y, p, truth.feature, crossing};
@@ -345,7 +353,7 @@ void SyntheticSceneReader::generate_next_slice() {
   for (std::uint64_t i = 0; i < count; ++i) {
     const int x = static_cast<int>(rng.below(static_cast<std::uint64_t>(s.width)));
     const int y = static_cast<int>(rng.below(static_cast<std::uint64_t>(s.height)));
-    const auto t = a + static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(b - a)));
+    const auto t = quantized(a + static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(b - a))));
     Pending e;
     e.event = Event{t, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
                     static_cast<std::int8_t>(rng.uniform() < 0.5 ? 1 : -1)};
@@ -355,7 +363,9 @@ void SyntheticSceneReader::generate_next_slice() {
     e.sequence = sequence_++;
     slice_.push_back(e);
   }
-  hot_pixel_slice(spec_, hot_pixels_, rng, a, b, push);
+  hot_pixel_slice(spec_, hot_pixels_, rng, a, b, [&](std::int64_t t_us, int x, int y, int p, const EventTruth& truth) {
+    push(quantized(t_us), x, y, p, truth);
+  });
 
   const auto before = [](const Pending& l, const Pending& r) {
     return l.event.t_us != r.event.t_us ? l.event.t_us < r.event.t_us : l.sequence < r.sequence;

@@ -175,6 +175,8 @@ std::span<const PixelParameter> pixel_parameters() {
       {"refractory-us", &PixelModel::refractory_us, 0.0, 1e5},
       {"hot-pixels", &PixelModel::hot_pixel_fraction, 0.0, 0.1},
       {"hot-rate", &PixelModel::hot_pixel_rate_hz, 0.0, 1e5},
+      {"cutoff-hz", &PixelModel::cutoff_hz, 0.0, 1e6},
+      {"timestamp-quantum-us", &PixelModel::timestamp_quantum_us, 0.0, 1e5},
   };
   return kParameters;
 }

@@ -116,6 +116,24 @@ struct LifetimeOptions {
   /// In [0, 20].
   double burst_span_lifetimes = 4.0;
 
+  /// A burst lasts as long as the pixel's response takes, too: a photoreceptor
+  /// of limited bandwidth (dim light: 10-300 Hz, a time constant of 0.5-16 ms)
+  /// approaches each edge exponentially, and its threshold crossings follow
+  /// over about that time constant however fast the edge, many lifetimes of
+  /// a fast edge. The same slow response spreads the edge's arrivals at
+  /// neighbouring pixels, which the fit's residual RMS measures (~a sixth of
+  /// the time constant). So an event is a follower also up to this many x
+  /// the residual RMS of its burst's fit after the burst's arrival, as long
+  /// as no pixel upstream (where the edge came from) has had a newer arrival
+  /// since (by more than twice that RMS and the tolerance floor): a new edge
+  /// reaches them first. Without it, the late events of such bursts overwrote
+  /// their arrivals in the surface and every fit downstream came out short
+  /// (30 Hz photoreceptor, lifetimes 2-5 ms: median -21 %; -16 % at 10). Off
+  /// by default: background activity after an edge then passes as its
+  /// follower (faint texture: noise labelled noise 96.7 -> 95.5 % at 10;
+  /// algo/README.md, A photoreceptor of limited bandwidth). 0 = off. In [0, 100].
+  double burst_span_timing_noise = 0.0;
+
   /// A prediction (paper III-B.2) is for the edge that made it: if the
   /// predicted pixel's next event comes more than this many of the predicted
   /// lifetimes early or late (at least inlier_tolerance_us), the edge passed
@@ -217,6 +235,9 @@ void for_each_lifetime_option(F&& f) {
   f(OptionInfo{"burst_span_lifetimes", "", 0.0, 20.0, false, false, false, false,
                "chained followers at most this many lifetimes after the arrival"},
     [](auto& o) -> auto& { return o.burst_span_lifetimes; });
+  f(OptionInfo{"burst_span_timing_noise", "", 0.0, 100.0, false, false, false, false,
+               "followers also up to this many x the burst fit's residual RMS, none newer upstream; 0 = off"},
+    [](auto& o) -> auto& { return o.burst_span_timing_noise; });
   f(OptionInfo{"prediction_expiry_lifetimes", "", 0.0, 100.0, false, false, false, false,
                "a prediction missed by more lifetimes is void; 0 = never"},
     [](auto& o) -> auto& { return o.prediction_expiry_lifetimes; });

@@ -120,6 +120,25 @@ struct PixelModel {
   /// own at hot_pixel_rate_hz with random polarity (noise in the truth).
   double hot_pixel_fraction = 1e-4;
   double hot_pixel_rate_hz = 20.0;
+  /// Photoreceptor bandwidth (3 dB cutoff, Hz) at the scene's light level; 0 =
+  /// unlimited (the pixel follows the edge's log intensity at once). The
+  /// photoreceptor is a low-pass filter whose bandwidth grows with the
+  /// photocurrent (Lichtsteiner 2008; v2e's IIR filter: time constant
+  /// 1 / (2 pi cutoff_hz x relative intensity), default 300 Hz at full white,
+  /// `--dvs_params noisy` 30 Hz): in dim light it is ~10-300 Hz, a time
+  /// constant of 0.5-16 ms, so the pixel's log intensity approaches each edge
+  /// exponentially, the threshold crossings spread over that time constant
+  /// and a burst lasts far longer than its edge's transit. First order, as
+  /// v2e's; each crossing starts from a settled photoreceptor (the model holds
+  /// while the time constant is shorter than the time between two edges at a
+  /// pixel).
+  double cutoff_hz = 0.0;
+  /// Timestamp resolution (us) of the readout: stamps are floored to a
+  /// multiple (every event's: edges, hot pixels, background). 0 or 1 = 1 us,
+  /// as DVS128 / DAVIS. A frame-based emulator stamps at its frame interval
+  /// (v2e: the upsampled frame rate); an arbitrated readout under load groups
+  /// events in steps (evt3_sample.raw: ~101 us steps at ~25 M events/s).
+  double timestamp_quantum_us = 0.0;
 };
 
 struct SceneSpec {
