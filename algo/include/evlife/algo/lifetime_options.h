@@ -122,16 +122,17 @@ struct LifetimeOptions {
   /// over about that time constant however fast the edge, many lifetimes of
   /// a fast edge. The same slow response spreads the edge's arrivals at
   /// neighbouring pixels, which the fit's residual RMS measures (~a sixth of
-  /// the time constant). So an event is a follower also up to this many x
-  /// the residual RMS of its burst's fit after the burst's arrival, as long
-  /// as no pixel upstream (where the edge came from) has had a newer arrival
-  /// since (by more than twice that RMS and the tolerance floor): a new edge
-  /// reaches them first. Without it, the late events of such bursts overwrote
-  /// their arrivals in the surface and every fit downstream came out short
-  /// (30 Hz photoreceptor, lifetimes 2-5 ms: median -21 %; -16 % at 10). Off
-  /// by default: background activity after an edge then passes as its
-  /// follower (faint texture: noise labelled noise 96.7 -> 95.5 % at 10;
-  /// algo/README.md, A photoreceptor of limited bandwidth). 0 = off. In [0, 100].
+  /// the time constant). So where this many x the residual RMS of a burst's
+  /// fit exceeds burst_span_lifetimes, an event is a follower also up to that
+  /// time after the burst's arrival, as long as no pixel upstream (where the
+  /// edge came from) has had a newer arrival since (by more than twice that
+  /// RMS and the tolerance floor): a new edge reaches them first. Without it,
+  /// the late events of such bursts overwrote their arrivals in the surface
+  /// and every fit downstream came out short (30 Hz photoreceptor, lifetimes
+  /// 2-5 ms: median -21 %; -16 % at 10). Off by default: background activity
+  /// after an edge then passes as its follower (dim light: noise labelled
+  /// noise 97.9 -> 97.6 % at 10, faint texture 96.7 -> 96.3 %; algo/README.md,
+  /// A photoreceptor of limited bandwidth). 0 = off. In [0, 100].
   double burst_span_timing_noise = 0.0;
 
   /// A prediction (paper III-B.2) is for the edge that made it: if the
