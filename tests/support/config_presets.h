@@ -7,10 +7,12 @@
 
 namespace evlife::test {
 
-/// config/dim-light.yaml: lifetimes at least two standard errors from zero.
+/// config/dim-light.yaml: lifetimes at least two standard errors from zero,
+/// with the offset check.
 inline LifetimeOptions dim_light_preset() {
   LifetimeOptions o;
   o.max_lifetime_standard_error = 0.5;
+  o.max_event_offset_tolerances = 2.0;
   return o;
 }
 
