@@ -499,10 +499,10 @@ TEST(PixelModelAccuracy, FastBarInDimLightContinuesTheUpstreamPlane) {
                       [](SceneSpec& spec) { spec.pixel.latency_jitter_us = 600.0; });
 }
 
-// A dim scene: the photoreceptor at 30 Hz (T = 5.3 ms), threshold mismatch
-// 0.05, background activity 5 Hz/px, no latency jitter or refractory period
-// beyond the photoreceptor's (a slow, noisy pixel as v2e's 'noisy' setting
-// describes it: limited bandwidth, leak and shot noise). Edges faster than
+// A dim scene as v2e's `--dvs_params noisy` models it: threshold 0.2,
+// mismatch 0.05, the photoreceptor at 30 Hz (T = 5.3 ms), shot noise 5 Hz
+// (background activity 5 Hz/px here; its 0.1 Hz of leak events is left out),
+// no refractory period, no latency jitter beyond the photoreceptor's. Edges faster than
 // ~2 T are not resolved (below); with the defaults a tenth of the edge events
 // get lifetimes ten times too long (p90 1212 %) from steep planes through
 // stale and noise samples, and 94.8 % of the noise is labelled noise. The

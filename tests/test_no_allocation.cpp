@@ -60,6 +60,9 @@ TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
       o.sensor = s;
       o.window_size = window;
       o.regularization = reg;
+      // The opt-in checks too (their paths run only when on).
+      o.burst_span_timing_noise = reg ? 10.0 : 0.0;
+      o.max_event_offset_tolerances = reg ? 2.0 : 0.0;
       LifetimeEstimator est(o);  // allocates here, at construction
       std::vector<AugmentedEvent> out(events.size());
       long edges = 0;
@@ -69,8 +72,8 @@ TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
                   std::span<AugmentedEvent>(out).subspan(events.size() / 2));
       probe.disarm();
       for (const auto& a : out) edges += !a.is_noise();
-      EXPECT_EQ(probe.allocations(), 0) << "window " << window << " reg " << reg;
-      EXPECT_EQ(probe.locks(), 0) << "window " << window << " reg " << reg;
+      EXPECT_EQ(probe.allocations(), 0) << "window " << window << " reg and opt-in checks " << reg;
+      EXPECT_EQ(probe.locks(), 0) << "window " << window << " reg and opt-in checks " << reg;
       EXPECT_GT(edges, static_cast<long>(events.size()) / 4);  // the fit path did run
     }
   }
