@@ -278,71 +278,81 @@ std::map<EdgeEventKey, std::int64_t> edge_event_times(const SyntheticScene& scen
 }
 
 // A step edge through the photoreceptor's first-order low-pass (time constant
-// T = 1 / (2 pi cutoff)): the level rises as C (1 - exp(-u / T)), so the k-th
-// event of a crossing fires at u_k = -T ln(1 - (k - r0) theta / C), r0 the
-// residual, uniform in [0, 1). The mean delays of the first and second events
-// against that law, integrated here over r0 (no latency, refractory period or
-// mismatch).
+// T = 1 / (2 pi cutoff) for an ON edge, to the bright side; e^C T for an OFF
+// edge, to the dark side, where the photocurrent is e^C smaller): the level
+// moves as C (1 - exp(-u / T)), so the k-th event of a crossing fires at
+// u_k = -T ln(1 - (k - r0) theta / C), r0 the residual, uniform in [0, 1). The
+// mean delays of the first and second events of each polarity against that
+// law, integrated here over r0 (no latency, refractory period or mismatch).
 TEST(PixelModel, PhotoreceptorLowPassSpreadsAStepOverItsTimeConstant) {
   SceneSpec s = slow_grating(0.5, 0.2);
   s.pixel.edge_blur_px = 0.0;
   s.pixel.latency_us = s.pixel.latency_jitter_us = s.pixel.refractory_us = 0.0;
   s.pixel.cutoff_hz = 200.0;
-  const double T = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
   const double c = s.pixel.contrast_log, theta = s.pixel.threshold_log;
+  const double t_on = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
   const SyntheticScene scene = io::generate_scene(s);
-  std::vector<double> sum(3, 0.0), n(3, 0.0);
+  double sum[2][2] = {}, n[2][3] = {};  // [OFF, ON][burst index]
   for (std::size_t i = 0; i < scene.events.size(); ++i) {
     const EventTruth& t = scene.truth[i];
     if (t.is_noise || t.burst_index > 2) continue;
-    sum[t.burst_index] += static_cast<double>(scene.events[i].t_us) - t.t_true_us;
-    n[t.burst_index] += 1.0;
+    const int pol = scene.events[i].p > 0 ? 1 : 0;
+    if (t.burst_index < 2) sum[pol][t.burst_index] += static_cast<double>(scene.events[i].t_us) - t.t_true_us;
+    n[pol][t.burst_index] += 1.0;
   }
-  ASSERT_GT(n[0], 5000.0);
   constexpr int kSteps = 20000;
-  for (int k = 1; k <= 2; ++k) {
-    double expected = 0.0;
-    for (int i = 0; i < kSteps; ++i) {
-      const double r0 = (i + 0.5) / kSteps;
-      expected += -T * std::log(1.0 - (k - r0) * theta / c);
+  for (int pol = 0; pol <= 1; ++pol) {
+    ASSERT_GT(n[pol][0], 2000.0) << pol;
+    const double T = pol == 1 ? t_on : t_on * std::exp(c);
+    for (int k = 1; k <= 2; ++k) {
+      double expected = 0.0;
+      for (int i = 0; i < kSteps; ++i) {
+        const double r0 = (i + 0.5) / kSteps;
+        expected += -T * std::log(1.0 - (k - r0) * theta / c);
+      }
+      expected /= kSteps;
+      const double got = sum[pol][k - 1] / n[pol][k - 1];
+      EXPECT_NEAR(got, expected, 0.02 * expected) << "event " << k << " of the burst, polarity " << pol;
     }
-    expected /= kSteps;
-    const double got = sum[static_cast<std::size_t>(k - 1)] / n[static_cast<std::size_t>(k - 1)];
-    EXPECT_NEAR(got, expected, 0.02 * expected) << "event " << k << " of the burst";
+    // Every crossing fires the second event too ((2 - r0) theta < C); the
+    // third only where (3 - r0) theta < C, half of them: 2.5 per crossing.
+    EXPECT_NEAR(n[pol][1] / n[pol][0], 1.0, 1e-9);
+    EXPECT_NEAR(n[pol][2] / n[pol][0], 0.5, 0.02);
   }
-  // Every crossing fires the second event too ((2 - r0) theta < C); the
-  // third only where (3 - r0) theta < C, half of them: 2.5 per crossing.
-  EXPECT_NEAR(n[1] / n[0], 1.0, 1e-9);
-  EXPECT_NEAR(count_bursts(scene).mean(), c / theta, 0.02 * c / theta);
 }
 
 // A ramp slower than the time constant: the low-pass output follows it
 // delayed by T (a first-order filter's lag behind a ramp), so each event
-// fires T later than without the filter: less where the ramp has only just
-// begun, more where a target lies within ~T of the ramp's end (the output then
-// approaches the final level exponentially; ~0.2 % of the events here). The
-// same crossings, the same events, one by one.
+// fires T later than without the filter (e^C T for OFF edges): less where the
+// ramp has only just begun, more where a target lies within ~T of the ramp's
+// end (the output then approaches the final level exponentially; ~0.2 % of
+// the events here). The same crossings, the same events, one by one.
 TEST(PixelModel, PhotoreceptorLowPassLagsASlowRampByItsTimeConstant) {
   SceneSpec s = slow_grating(0.5, 0.2);  // ramp 1.5 x 10 ms
   s.pixel.latency_us = s.pixel.latency_jitter_us = s.pixel.refractory_us = 0.0;
   const auto without = edge_event_times(io::generate_scene(s));
   s.pixel.cutoff_hz = 2000.0;
-  const double T = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
+  const double t_on = 1e6 / (2.0 * std::numbers::pi * s.pixel.cutoff_hz);
   const auto with = edge_event_times(io::generate_scene(s));
   ASSERT_GT(without.size(), 10000u);
   ASSERT_EQ(with.size(), without.size());
-  std::vector<double> lag;
-  double earliest = std::numeric_limits<double>::infinity();
-  for (const auto& [key, t] : with) {
-    const auto it = without.find(key);
-    ASSERT_NE(it, without.end());
-    lag.push_back(static_cast<double>(t - it->second));
-    earliest = std::min(earliest, lag.back());
+  for (const int p : {1, -1}) {
+    const double T = p > 0 ? t_on : t_on * std::exp(s.pixel.contrast_log);
+    std::vector<double> lag;
+    double earliest = std::numeric_limits<double>::infinity();
+    for (const auto& [key, t] : with) {
+      if (std::get<2>(key) != p) continue;
+      const auto it = without.find(key);
+      ASSERT_NE(it, without.end());
+      lag.push_back(static_cast<double>(t - it->second));
+      earliest = std::min(earliest, lag.back());
+    }
+    ASSERT_GT(lag.size(), 5000u);
+    std::sort(lag.begin(), lag.end());
+    EXPECT_GE(earliest, -1.0) << p;
+    EXPECT_LE(lag[lag.size() * 99 / 100], T + 1.0) << p;
+    EXPECT_NEAR(lag[lag.size() / 2], T, 0.01 * T) << p;
   }
-  std::sort(lag.begin(), lag.end());
-  EXPECT_GE(earliest, -1.0);
-  EXPECT_LE(lag[lag.size() * 99 / 100], T + 1.0);
-  EXPECT_NEAR(lag[lag.size() / 2], T, 0.01 * T);
 }
 
 // The readout's timestamp quantum: every stamp a multiple of it (edges, hot

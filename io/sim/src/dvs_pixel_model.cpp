@@ -136,12 +136,18 @@ void PixelSampler::burst(const Crossing& c, Burst& out) const {
   };
   // With a limited photoreceptor bandwidth the comparator sees the ramp
   // low-passed; without, the ramp itself (the formulas below, unchanged).
+  // The bandwidth follows the photocurrent, so it is the level the edge
+  // brings that sets it: cutoff_hz on the bright side an ON edge brings, e^-C
+  // of it on the dark side an OFF edge brings (v2e: the filter's rate scales
+  // with the input's intensity).
   const bool low_pass = m_.cutoff_hz > 0.0;
+  const double time_constant_us =
+      low_pass ? (c.p > 0 ? 1.0 : std::exp(contrast_log)) * 1e6 / (2.0 * std::numbers::pi * m_.cutoff_hz) : 0.0;
   const double ramp_from = ramp <= 0.0 ? c.t_c_us : start;
   const PixelResponse response(std::clamp(ramp_from, c.t_from_us, c.t_to_us),
                                std::clamp(ramp_from + std::max(ramp, 0.0), c.t_from_us, c.t_to_us),
                                level_at(c.t_from_us), level_at(c.t_to_us),
-                               low_pass ? 1e6 / (2.0 * std::numbers::pi * m_.cutoff_hz) : 0.0);
+                               time_constant_us);
   const auto level = [&](double t) { return low_pass ? response.level(t) : level_at(t); };
   const std::uint64_t key = combine(seed_, static_cast<std::uint64_t>(c.feature), static_cast<std::uint64_t>(c.x),
                                     static_cast<std::uint64_t>(c.y), static_cast<std::uint64_t>(c.p > 0),

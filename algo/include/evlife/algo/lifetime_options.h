@@ -129,7 +129,7 @@ struct LifetimeOptions {
   /// RMS and the tolerance floor): a new edge reaches them first. Without it,
   /// the late events of such bursts overwrote their arrivals in the surface
   /// and every fit downstream came out short (30 Hz photoreceptor, lifetimes
-  /// 2-5 ms: median -21 %; -16 % at 10). Off by default: background activity
+  /// 2-5 ms: median -29 %; -25 % at 10). Off by default: background activity
   /// after an edge then passes as its follower (dim light: noise labelled
   /// noise 97.9 -> 97.6 % at 10, faint texture 96.7 -> 96.3 %; algo/README.md,
   /// A photoreceptor of limited bandwidth). 0 = off. In [0, 100].

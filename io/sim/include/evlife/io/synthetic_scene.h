@@ -120,12 +120,14 @@ struct PixelModel {
   /// own at hot_pixel_rate_hz with random polarity (noise in the truth).
   double hot_pixel_fraction = 1e-4;
   double hot_pixel_rate_hz = 20.0;
-  /// Photoreceptor bandwidth (3 dB cutoff, Hz) at the scene's light level; 0 =
-  /// unlimited (the pixel follows the edge's log intensity at once). The
+  /// Photoreceptor bandwidth (3 dB cutoff, Hz) on the bright side of an edge;
+  /// 0 = unlimited (the pixel follows the edge's log intensity at once). The
   /// photoreceptor is a low-pass filter whose bandwidth grows with the
   /// photocurrent (Lichtsteiner 2008; v2e's IIR filter: time constant
   /// 1 / (2 pi cutoff_hz x relative intensity), default 300 Hz at full white,
-  /// `--dvs_params noisy` 30 Hz): in dim light it is ~10-300 Hz, a time
+  /// `--dvs_params noisy` 30 Hz), so an ON edge (to the bright side) is
+  /// followed with time constant 1 / (2 pi cutoff_hz), an OFF edge (to the
+  /// dark side, e^-C as bright) e^C times slower. In dim light it is ~10-300 Hz, a time
   /// constant of 0.5-16 ms, so the pixel's log intensity approaches each edge
   /// exponentially, the threshold crossings spread over that time constant
   /// and a burst lasts far longer than its edge's transit. First order, as
