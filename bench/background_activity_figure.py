@@ -47,10 +47,8 @@ def main():
                   f"edge events with a lifetime {100 * min(share):.2f}-{100 * max(share):.2f} %")
     if not opts.plot:
         return
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (ax_noise, ax_share) = plt.subplots(1, 2, figsize=(10, 4))
+    import plotting  # bench/, beside this script
+    fig, (ax_noise, ax_share) = plotting.two_panels()
     for (label, points), colour in zip(curves.items(), ("tab:blue", "tab:orange")):
         rates = [p[0] for p in points]
         for scene in range(4):

@@ -81,10 +81,8 @@ def main():
                   f"{100 * share:6.2f} % with a lifetime, median error {100 * median:7.2f} %")
     if not opts.plot:
         return
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (ax_share, ax_error) = plt.subplots(1, 2, figsize=(10, 4))
+    import plotting  # bench/, beside this script
+    fig, (ax_share, ax_error) = plotting.two_panels()
     for cutoff, rows in curves.items():
         t_us = time_constant_us(cutoff)
         x = [band_centre_us(lo, hi) / t_us for lo, hi, _, _ in rows]
