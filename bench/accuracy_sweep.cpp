@@ -12,6 +12,7 @@
 // Prints one row per scene: share with a lifetime, median and p90 relative
 // lifetime error, median direction error, share of noise labelled noise.
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <exception>
 #include <optional>
@@ -36,7 +37,16 @@ int usage() {
                "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
                "  --pixel changes the pixel model of both settings (names as evlife synth's pixel\n"
                "  options:");
-  for (const evlife::io::PixelParameter& p : evlife::io::pixel_parameters()) std::fprintf(stderr, " %s", p.name);
+  int column = 10;
+  for (const evlife::io::PixelParameter& p : evlife::io::pixel_parameters()) {
+    const int width = 1 + static_cast<int>(std::strlen(p.name));
+    if (column + width > 86) {
+      std::fprintf(stderr, "\n ");
+      column = 2;
+    }
+    std::fprintf(stderr, " %s", p.name);
+    column += width;
+  }
   std::fprintf(stderr,
                "),\n"
                "  --noise-rate their background activity (events per pixel per second); --bands: also\n"

@@ -34,8 +34,8 @@ def parse_bands(text, scene):
         if not inside:
             continue
         fields = line.split()
-        if not fields or fields[0] != "lifetime":
-            inside = False if not fields else inside
+        if not fields or fields[0] != "lifetime":  # the band rows end
+            inside = False
             continue
         if fields[1] == ">=":
             lo, hi = float(fields[2]), math.inf

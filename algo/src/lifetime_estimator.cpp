@@ -283,10 +283,12 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   PixelState& state = pixel_state_[self];
   const auto since_arrival_us = static_cast<double>(std::int64_t{now_rel} - here.t_rel);
   const auto burst_lifetime_us = static_cast<double>(state.burst_lifetime_us);
+  const bool within_burst_span =
+      since_arrival_us - static_cast<double>(state.burst_latest_us) <=
+          options_.burst_window_lifetimes * burst_lifetime_us &&
+      since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us;
   if (state.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
-      ((since_arrival_us - static_cast<double>(state.burst_latest_us) <=
-            options_.burst_window_lifetimes * burst_lifetime_us &&
-        since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us) ||
+      (within_burst_span ||
        (options_.burst_span_timing_noise > 0.0 && slow_response_follower(pol, x, y, state, since_arrival_us)))) {
     ++stats_.followers;
     state.burst_latest_us = static_cast<float>(since_arrival_us);

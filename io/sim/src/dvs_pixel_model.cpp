@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace evlife::io::detail {
 namespace {
@@ -75,7 +76,7 @@ namespace {
 
 // The log intensity a pixel's comparator sees during one crossing: the edge's
 // ramp (from L_a at t_a linearly to L_b at t_b; steady outside), through the
-// photoreceptor's first-order low-pass of time constant T (none when T = 0).
+// photoreceptor's first-order low-pass of time constant T > 0.
 // The pixel has settled at L_a before t_a (the scene was still there).
 class PixelResponse {
  public:
@@ -140,15 +141,15 @@ void PixelSampler::burst(const Crossing& c, Burst& out) const {
   // brings that sets it: cutoff_hz on the bright side an ON edge brings, e^-C
   // of it on the dark side an OFF edge brings (v2e: the filter's rate scales
   // with the input's intensity).
-  const bool low_pass = m_.cutoff_hz > 0.0;
-  const double time_constant_us =
-      low_pass ? (c.p > 0 ? 1.0 : std::exp(contrast_log)) * 1e6 / (2.0 * std::numbers::pi * m_.cutoff_hz) : 0.0;
-  const double ramp_from = ramp <= 0.0 ? c.t_c_us : start;
-  const PixelResponse response(std::clamp(ramp_from, c.t_from_us, c.t_to_us),
-                               std::clamp(ramp_from + std::max(ramp, 0.0), c.t_from_us, c.t_to_us),
-                               level_at(c.t_from_us), level_at(c.t_to_us),
-                               time_constant_us);
-  const auto level = [&](double t) { return low_pass ? response.level(t) : level_at(t); };
+  std::optional<PixelResponse> response;
+  if (m_.cutoff_hz > 0.0) {
+    const double ramp_from = ramp <= 0.0 ? c.t_c_us : start;
+    response.emplace(std::clamp(ramp_from, c.t_from_us, c.t_to_us),
+                     std::clamp(ramp_from + std::max(ramp, 0.0), c.t_from_us, c.t_to_us), level_at(c.t_from_us),
+                     level_at(c.t_to_us),
+                     (c.p > 0 ? 1.0 : std::exp(contrast_log)) * 1e6 / (2.0 * std::numbers::pi * m_.cutoff_hz));
+  }
+  const auto level = [&](double t) { return response ? response->level(t) : level_at(t); };
   const std::uint64_t key = combine(seed_, static_cast<std::uint64_t>(c.feature), static_cast<std::uint64_t>(c.x),
                                     static_cast<std::uint64_t>(c.y), static_cast<std::uint64_t>(c.p > 0),
                                     static_cast<std::uint64_t>(c.index));
@@ -159,9 +160,9 @@ void PixelSampler::burst(const Crossing& c, Burst& out) const {
     // Above the level at t_from: the reference starts less than theta below it.
     const double target = reference + theta;
     double t_fire = 0.0;
-    if (low_pass) {
-      if (!(target < response.final_level())) break;  // approached, never reached
-      t_fire = response.time_of(target);
+    if (response) {
+      if (!(target < response->final_level())) break;  // approached, never reached
+      t_fire = response->time_of(target);
     } else {
       if (target > level_at(c.t_to_us)) break;
       t_fire = ramp <= 0.0 ? c.t_c_us : start + ramp * target / contrast_log;

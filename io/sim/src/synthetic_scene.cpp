@@ -282,7 +282,7 @@ SyntheticSceneReader::SyntheticSceneReader(SceneSpec spec) : spec_(std::move(spe
   if (spec_.pixel.enabled) {
     // (Flooring to the timestamp quantum stamps an event up to a quantum earlier.)
     early_us_ = static_cast<std::int64_t>(
-        std::ceil(detail::max_early_offset_us(spec_) + std::max(spec_.pixel.timestamp_quantum_us, 0.0)));
+        std::ceil(detail::max_early_offset_us(spec_) + spec_.pixel.timestamp_quantum_us));
     hot_pixels_ = detail::PixelSampler(spec_.pixel, spec_.seed).hot_pixels(spec_.sensor);
   } else {
     early_us_ = static_cast<std::int64_t>(std::ceil(kJitterTruncationSigmas * spec_.jitter_sigma_us));
