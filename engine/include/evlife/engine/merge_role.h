@@ -26,8 +26,12 @@ class MergeRole {
   template <class Step>
   StepResult drain(Step&& step) noexcept {
     // seq_cst throughout: the request (RMW) before the try (RMW) here, and
-    // the release (store) before the re-check (load) in the holder, must not
-    // both be missed (store-load ordering).
+    // the release before the re-check (load) in the holder, must not both be
+    // missed (store-load ordering). The release is an RMW, not a store: a
+    // seq_cst store then load is ordered on the hardware (aarch64 stlr, ldar)
+    // but not by every emulator of it (qemu-user on x86-64 let one in four
+    // runs of MergeRole's test leave a request behind); an RMW is a full
+    // barrier everywhere, and this runs once per drain, not per event.
     requests_.fetch_add(1);
     StepResult last = StepResult::idle;
     for (;;) {
@@ -38,7 +42,7 @@ class MergeRole {
         while ((last = step()) == StepResult::progressed) {
         }
       } while (requests_.load() != seen);
-      held_.store(false);
+      held_.exchange(false);
       if (requests_.load() == seen) return last;
       // A request arrived between our last look and the release: take the
       // role again (or leave it to whoever took it meanwhile).
