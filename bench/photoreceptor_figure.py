@@ -91,7 +91,7 @@ def main():
         ax_error.plot(x, [100 * r[3] for r in rows], "-o", markersize=3, label=label)
     for ax in (ax_share, ax_error):
         ax.set_xscale("log")
-        ax.set_xlabel("true lifetime / time constant of ON edges (band centres; OFF: e^C slower)")
+        ax.set_xlabel("true lifetime / time constant of ON edges\n(band centres; OFF edges: e^C slower)")
         ax.axvline(2.0, color="grey", linewidth=0.8)
     ax_share.axhline(95.0, color="grey", linewidth=0.8, linestyle="--")
     ax_share.set_ylabel("edge events with a lifetime, %")

@@ -64,6 +64,11 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
   max_event_offset2_ = options_.max_event_offset_tolerances * options_.max_event_offset_tolerances;
+  const double continuation_k = options_.continuation_max_event_offset_tolerances;
+  continuation_max_event_offset2_ =
+      continuation_k > 0.0 && (max_event_offset2_ == 0.0 || continuation_k * continuation_k < max_event_offset2_)
+          ? continuation_k * continuation_k
+          : max_event_offset2_;
   // A span below the window would cut followers the window allows.
   burst_span_lifetimes_ = std::max(options_.burst_span_lifetimes, options_.burst_window_lifetimes);
   // The smallest lifetime the timestamps resolve: a plane rising less than
@@ -372,6 +377,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // Where the plane passes at this pixel: the new event, or the arrival of
   // the burst it follows (below).
   std::int32_t anchor_rel = now_rel;
+  double max_offset2 = max_event_offset2_;  // in squared tolerances; 0: no check
   if (best.support < min_support) {
     // Too little support to start an edge: accept the event only where an
     // edge upstream predicts it, and let that edge's plane regularize the
@@ -394,6 +400,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       return out;
     }
     if (continued) {
+      max_offset2 = continuation_max_event_offset2_;
       // The upstream edge's plane predicted this event; the best draw had
       // too little support to start an edge. Where the upstream plane holds
       // as many samples as that draw, refit its inliers: one estimated edge
@@ -420,11 +427,12 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   fit.add_inliers(nb, best.gx_us_px, best.gy_us_px, best.tol2_us2);
   Eigen::Vector2d g = Eigen::Vector2d::Zero();  // set by solve(); zero keeps -Wmaybe-uninitialized quiet
   const bool solved = fit.solve(lambda, Eigen::Vector2d(prior_gx, prior_gy), g);
-  // The inliers' own plane must hold the new event too (max_event_offset_tolerances).
+  // The inliers' own plane must hold the new event too (max_event_offset_tolerances,
+  // continuation_max_event_offset_tolerances).
   if (double offset_us = 0.0;
-      solved && max_event_offset2_ > 0.0 &&
+      solved && max_offset2 > 0.0 &&
       fit.offset_without_anchor(lambda, Eigen::Vector2d(prior_gx, prior_gy), offset_us) &&
-      offset_us * offset_us > max_event_offset2_ * static_cast<double>(best.tol2_us2)) {
+      offset_us * offset_us > max_offset2 * static_cast<double>(best.tol2_us2)) {
     count_noise(stats_.noise_unsupported);
     stage_end(Stage::refit);
     return out;

@@ -61,6 +61,7 @@ class LifetimeEstimator:
                  burst_span_lifetimes: float = ..., burst_span_timing_noise: float = ...,
                  prediction_expiry_lifetimes: float = ...,
                  max_lifetime_us: float = ..., max_event_offset_tolerances: float = ...,
+                 continuation_max_event_offset_tolerances: float = ...,
                  max_lifetime_standard_error: float = ...,
                  seed: int = ..., **options: Any) -> None: ...
     def process(self, events: Any) -> npt.NDArray[np.void]: ...

@@ -113,6 +113,7 @@ class LifetimeEstimator {
   int ransac_iterations_ = 0;
   double min_support_fraction_ = 0.0;
   double max_event_offset2_ = 0.0;  // options_.max_event_offset_tolerances squared
+  double continuation_max_event_offset2_ = 0.0;  // the smaller positive of both, squared
   double burst_span_lifetimes_ = 0.0;  // options_.burst_span_lifetimes, at least the burst window
   double min_lifetime_us_ = 0.0;  // see the constructor
   // [polarity][y][x]. What the window gather reads for every pixel, in 8

@@ -169,6 +169,17 @@ struct LifetimeOptions {
   /// pairs 2 with a wider tolerance. 0 = no check (the default). In [0, 100].
   double max_event_offset_tolerances = 0.0;
 
+  /// The same check for continuations alone (events with less support than
+  /// eq. 8's, accepted because an edge upstream predicts them), which have
+  /// few samples and a wide band where the upstream plane is steep: there a
+  /// plane through stale and noise samples passes the band of its own long
+  /// lifetime and the predictions carry it on. 6 tolerances of the default
+  /// band (+-0.3 lifetimes) are 1.8 lifetimes: beyond the spread of a burst's
+  /// first event over an edge blurred across 1.5 px, which a real edge's
+  /// continuation may have. Where both are set, the smaller applies. 0 = off
+  /// (the output before it). In [0, 100].
+  double continuation_max_event_offset_tolerances = 6.0;
+
   /// Lifetimes whose standard error (from the fit's own residuals and the
   /// samples' spread along the motion) exceeds this share of the lifetime are
   /// not resolved by the timestamps and treated as noise: in dim light the
@@ -247,6 +258,9 @@ void for_each_lifetime_option(F&& f) {
   f(OptionInfo{"max_event_offset_tolerances", "", 0.0, 100.0, false, false, false, false,
                "noise when the inliers' own plane misses the event by more tolerances; 0 = off"},
     [](auto& o) -> auto& { return o.max_event_offset_tolerances; });
+  f(OptionInfo{"continuation_max_event_offset_tolerances", "", 0.0, 100.0, false, false, false, false,
+               "the same for continuations alone (the smaller applies); 0 = off"},
+    [](auto& o) -> auto& { return o.continuation_max_event_offset_tolerances; });
   f(OptionInfo{"max_lifetime_standard_error", "", 0.0, 10.0, false, false, false, false,
                "noise when the lifetime's standard error exceeds this share of it; 0 = off"},
     [](auto& o) -> auto& { return o.max_lifetime_standard_error; });
