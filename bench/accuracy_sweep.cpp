@@ -3,7 +3,7 @@
 // figures of the options and seeds that were measured and not adopted.
 //
 //   build/bench/accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]
-//                              [--pixel name=value ...] [--noise-rate R] [--bands]
+//                              [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares]
 //
 // --pixel and --noise-rate change the pixel-model scenes' sensor (names as
 // `evlife synth`'s pixel options, e.g. --pixel latency-jitter-us=1000): how
@@ -32,7 +32,7 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: accuracy_sweep [--ideal] [--seed-offset N] [--config FILE] [--set key=value ...]\n"
-               "                      [--pixel name=value ...] [--noise-rate R] [--bands]\n"
+               "                      [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares]\n"
                "  realistic DVS pixels (normal and dim light) by default, --ideal for the ideal scenes;\n"
                "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
                "  --pixel changes the pixel model of both settings (names as evlife synth's pixel\n"
@@ -50,7 +50,9 @@ int usage() {
   std::fprintf(stderr,
                "),\n"
                "  --noise-rate their background activity (events per pixel per second); --bands: also\n"
-               "  the rows by true lifetime\n");
+               "  the rows by true lifetime; --error-shares: two more columns, the shares of the edge\n"
+               "  events with a lifetime within 30 %% of the truth (w30%%) and more than 100 %% off\n"
+               "  (off100%%), which a share and a median hide\n");
   return 2;
 }
 
@@ -77,6 +79,7 @@ int main(int argc, char** argv) try {
   evlife::config::ConfigBuilder builder;
   bool ideal = false;
   bool bands = false;
+  bool error_shares = false;
   unsigned seed_offset = 0;
   std::vector<std::string> pixel_assignments;
   double noise_rate_hz_per_px = -1.0;  // < 0: each setting's own
@@ -87,6 +90,8 @@ int main(int argc, char** argv) try {
       ideal = true;
     } else if (arg == "--bands") {
       bands = true;
+    } else if (arg == "--error-shares") {
+      error_shares = true;
     } else if (arg == "--seed-offset" && has_value) {
       seed_offset = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
     } else if (arg == "--config" && has_value) {
@@ -134,16 +139,22 @@ int main(int argc, char** argv) try {
   }
   for (auto& t : threads) t.join();
   // Noise is scored per scene, not per band: a band row prints "-" there.
-  const auto print_row = [](const std::string& title, const evlife::test::AccuracyMetrics& r, bool with_noise) {
+  const auto print_row = [&](const std::string& title, const evlife::test::AccuracyMetrics& r, bool with_noise) {
     std::printf("%-62s %8.2f %8.2f %8.2f %8.2f", title.c_str(), 100.0 * r.lifetime_share, 100.0 * r.median_rel_error,
                 100.0 * r.p90_rel_error, r.median_dir_error_deg);
     if (with_noise) {
-      std::printf(" %8.2f\n", 100.0 * r.noise_share);
+      std::printf(" %8.2f", 100.0 * r.noise_share);
     } else {
-      std::printf(" %8s\n", "-");
+      std::printf(" %8s", "-");
     }
+    if (error_shares) {
+      std::printf(" %8.2f %8.2f", 100.0 * r.share_within_30_percent, 100.0 * r.share_off_by_over_100_percent);
+    }
+    std::printf("\n");
   };
-  std::printf("%-62s %8s %8s %8s %8s %8s\n", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
+  std::printf("%-62s %8s %8s %8s %8s %8s", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
+  if (error_shares) std::printf(" %8s %8s", "w30%", "off100%");
+  std::printf("\n");
   for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall, true);
   if (bands) {
     for (std::size_t k = 0; k < scenes.size(); ++k) {

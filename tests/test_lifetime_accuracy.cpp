@@ -309,6 +309,13 @@ TEST(AccuracyMetrics, OracleAndKnownPerturbations) {
     EXPECT_NEAR(r.overall.median_rel_error, 0.05, 1e-4);
     EXPECT_NEAR(r.overall.median_signed_rel_error, 0.05, 1e-4);
     EXPECT_NEAR(r.overall.median_dir_error_deg, 10.0, 0.05);
+    EXPECT_EQ(r.overall.share_within_30_percent, 1.0);
+    EXPECT_EQ(r.overall.share_off_by_over_100_percent, 0.0);
+  }
+  {  // lifetimes 2.5 times too long: none within 30 %, all more than 100 % off
+    const auto r = evlife::test::evaluate_accuracy(scene, oracle(scene, 2.5, 0.0));
+    EXPECT_EQ(r.overall.share_within_30_percent, 0.0);
+    EXPECT_EQ(r.overall.share_off_by_over_100_percent, 1.0);
   }
   {  // everything labelled noise / everything given a lifetime
     std::vector<AugmentedEvent> none = oracle(scene, 1.0, 0.0);

@@ -64,11 +64,11 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   ransac_iterations_ = ransac_iterations_for(options_.outlier_fraction, options_.ransac_confidence);
   min_support_fraction_ = 1.0 - options_.outlier_fraction;
   max_event_offset2_ = options_.max_event_offset_tolerances * options_.max_event_offset_tolerances;
+  // Continuations: the stricter of the two limits (0: none).
   const double continuation_k = options_.continuation_max_event_offset_tolerances;
   continuation_max_event_offset2_ =
-      continuation_k > 0.0 && (max_event_offset2_ == 0.0 || continuation_k * continuation_k < max_event_offset2_)
-          ? continuation_k * continuation_k
-          : max_event_offset2_;
+      max_event_offset2_ == 0.0 || continuation_k == 0.0 ? std::max(max_event_offset2_, continuation_k * continuation_k)
+                                                        : std::min(max_event_offset2_, continuation_k * continuation_k);
   // A span below the window would cut followers the window allows.
   burst_span_lifetimes_ = std::max(options_.burst_span_lifetimes, options_.burst_window_lifetimes);
   // The smallest lifetime the timestamps resolve: a plane rising less than

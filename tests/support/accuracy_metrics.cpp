@@ -47,6 +47,12 @@ AccuracyMetrics summarize(std::string label, Samples& s) {
   m.edge_events = s.edge_events;
   m.edge_with_lifetime = s.edge_with_lifetime;
   m.lifetime_share = s.edge_events ? double(s.edge_with_lifetime) / double(s.edge_events) : std::nan("");
+  const auto share_of_edges = [&](auto pred) {
+    return s.edge_events ? double(std::count_if(s.rel_error.begin(), s.rel_error.end(), pred)) / double(s.edge_events)
+                         : std::nan("");
+  };
+  m.share_within_30_percent = share_of_edges([](double e) { return e <= 0.3; });
+  m.share_off_by_over_100_percent = share_of_edges([](double e) { return e > 1.0; });
   m.median_rel_error = quantile(s.rel_error, 0.5);
   m.p90_rel_error = quantile(s.rel_error, 0.9);
   m.median_signed_rel_error = quantile(s.signed_rel_error, 0.5);

@@ -43,6 +43,9 @@ struct AccuracyMetrics {
   double median_signed_rel_error = 0.0;  ///< (tau - tau_true) / tau_true: the bias
   double median_dir_error_deg = 0.0;   ///< angle between velocity and true motion normal
   double p90_dir_error_deg = 0.0;
+  // Over all scored edge events (a share and a median hide far-off lifetimes):
+  double share_within_30_percent = 0.0;     ///< with a lifetime within 30 % of the truth
+  double share_off_by_over_100_percent = 0.0;  ///< with a lifetime more than twice off the truth
   // Noise (overall row only):
   std::size_t noise_events = 0;        ///< scored noise events (distinguishable ones)
   std::size_t noise_indistinguishable = 0;  ///< within the burst window of an edge event, same pixel+polarity
