@@ -255,6 +255,42 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
   return true;
 }
 
+// True when an event at (x, y), past its burst's follower window, comes
+// while the shading ramp of the burst's edge is still seen passing: a
+// neighbour upstream holds an estimated burst of the same edge (it arrived
+// before this pixel's) that has fired since this pixel's latest event and
+// within ramp_follower_upstream_lifetimes of now (ramp_follower_span_lifetimes).
+bool LifetimeEstimator::ramp_follower(int pol, int x, int y, const PixelState& state,
+                                      double since_arrival_us) const noexcept {
+  const SurfacePixel& here = surface_[pixel_index(pol, x, y)];
+  const auto arrival_rel = static_cast<double>(here.t_rel);
+  const double now_rel = arrival_rel + since_arrival_us;
+  const double latest_rel = arrival_rel + static_cast<double>(state.burst_latest_us);
+  const double live_us =
+      options_.ramp_follower_upstream_lifetimes * static_cast<double>(state.burst_lifetime_us);
+  const auto vx = static_cast<double>(state.burst_vx_px_s);
+  const auto vy = static_cast<double>(state.burst_vy_px_s);
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
+      if (vx * dx + vy * dy >= 0.0) continue;
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= options_.sensor.width || qy >= options_.sensor.height) continue;
+      const std::size_t q = pixel_index(pol, qx, qy);
+      const PixelState& upstream = pixel_state_[q];
+      const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
+      if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel ||
+          upstream_arrival_rel >= here.t_rel) {
+        continue;  // no estimated burst there, or a newer edge's
+      }
+      const double upstream_latest_rel =
+          static_cast<double>(upstream_arrival_rel) + static_cast<double>(upstream.burst_latest_us);
+      if (upstream_latest_rel > latest_rel && now_rel - upstream_latest_rel <= live_us) return true;
+    }
+  }
+  return false;
+}
+
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   using detail::Stage;
   using detail::stage_end;
@@ -294,7 +330,10 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       since_arrival_us <= burst_span_lifetimes_ * burst_lifetime_us;
   if (state.burst_lifetime_us > 0.0f && options_.burst_window_lifetimes > 0.0 &&
       (within_burst_span ||
-       (options_.burst_span_timing_noise > 0.0 && slow_response_follower(pol, x, y, state, since_arrival_us)))) {
+       (options_.burst_span_timing_noise > 0.0 && slow_response_follower(pol, x, y, state, since_arrival_us)) ||
+       (options_.ramp_follower_span_lifetimes > 0.0 &&
+        since_arrival_us <= options_.ramp_follower_span_lifetimes * burst_lifetime_us &&
+        ramp_follower(pol, x, y, state, since_arrival_us)))) {
     ++stats_.followers;
     state.burst_latest_us = static_cast<float>(since_arrival_us);
     out.lifetime_us = state.burst_lifetime_us;

@@ -59,6 +59,8 @@ class LifetimeEstimator:
                  lambda_decay_per_us: float = ..., lambda_unit_px2: float = ...,
                  continuation_min_support: int = ..., burst_window_lifetimes: float = ...,
                  burst_span_lifetimes: float = ..., burst_span_timing_noise: float = ...,
+                 ramp_follower_span_lifetimes: float = ...,
+                 ramp_follower_upstream_lifetimes: float = ...,
                  prediction_expiry_lifetimes: float = ...,
                  max_lifetime_us: float = ..., max_event_offset_tolerances: float = ...,
                  continuation_max_event_offset_tolerances: float = ...,

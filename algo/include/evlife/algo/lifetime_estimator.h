@@ -104,6 +104,7 @@ class LifetimeEstimator {
   bool prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept;
   bool slow_response_follower(int pol, int x, int y, const PixelState& state,
                               double since_arrival_us) const noexcept;
+  bool ramp_follower(int pol, int x, int y, const PixelState& state, double since_arrival_us) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                          EdgePrior& prior) const noexcept;
 

@@ -135,6 +135,30 @@ struct LifetimeOptions {
   /// A photoreceptor of limited bandwidth). 0 = off. In [0, 100].
   double burst_span_timing_noise = 0.0;
 
+  /// Shading: an edge spread over B px (a soft or defocused edge, a
+  /// luminance gradient) crosses a pixel in B lifetimes, and the pixel fires
+  /// once per threshold theta of the ramp's contrast C, every B x theta / C
+  /// lifetimes (2 at B = 5 px, theta = 0.2, C = 0.5). Those events come past
+  /// the follower window and the burst span; taken for new arrivals they
+  /// overwrote the arrival in the surface, and the fits downstream, which
+  /// saw the pixel reached late, came out flat (5 px: lifetimes 40 % short,
+  /// median error 36 %). Such an event is still a follower up to this many
+  /// lifetimes after its burst's arrival while the ramp is seen passing: a
+  /// neighbour upstream (where the edge came from) holds an estimated burst
+  /// that arrived before this one (the same edge, not a new one) and has
+  /// fired since this pixel's latest event, within
+  /// ramp_follower_upstream_lifetimes of now. After a sharp edge the upstream
+  /// burst ends before this pixel's, so background activity there stays
+  /// noise. 0 = off (the output before it). In [0, 20].
+  double ramp_follower_span_lifetimes = 6.0;
+
+  /// How recently (in the burst's lifetimes) the upstream neighbour must
+  /// have fired for the ramp to count as passing (ramp_follower_span_lifetimes).
+  /// At 2 (the follower window) more of a 5 px ramp's events are followers,
+  /// but faint texture's noise falls below 97 % with config/faint-texture.yaml.
+  /// In (0, 10].
+  double ramp_follower_upstream_lifetimes = 1.5;
+
   /// A prediction (paper III-B.2) is for the edge that made it: if the
   /// predicted pixel's next event comes more than this many of the predicted
   /// lifetimes early or late (at least inlier_tolerance_us), the edge passed
@@ -250,6 +274,12 @@ void for_each_lifetime_option(F&& f) {
   f(OptionInfo{"burst_span_timing_noise", "", 0.0, 100.0, false, false, false, false,
                "followers also up to this many x the burst fit's residual RMS, none newer upstream; 0 = off"},
     [](auto& o) -> auto& { return o.burst_span_timing_noise; });
+  f(OptionInfo{"ramp_follower_span_lifetimes", "", 0.0, 20.0, false, false, false, false,
+               "followers on a passing shading ramp up to this many lifetimes after the arrival; 0 = off"},
+    [](auto& o) -> auto& { return o.ramp_follower_span_lifetimes; });
+  f(OptionInfo{"ramp_follower_upstream_lifetimes", "", 0.0, 10.0, true, false, false, false,
+               "the ramp passes while an upstream neighbour fired within this many lifetimes"},
+    [](auto& o) -> auto& { return o.ramp_follower_upstream_lifetimes; });
   f(OptionInfo{"prediction_expiry_lifetimes", "", 0.0, 100.0, false, false, false, false,
                "a prediction missed by more lifetimes is void; 0 = never"},
     [](auto& o) -> auto& { return o.prediction_expiry_lifetimes; });
