@@ -260,7 +260,8 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
 // neighbour upstream holds an estimated burst of the same edge (it arrived
 // before this pixel's) that has fired since this pixel's latest event and
 // within ramp_follower_upstream_lifetimes of now (ramp_follower_span_lifetimes).
-bool LifetimeEstimator::ramp_follower(int pol, int x, int y, const PixelState& state,
+// Out of line: only events past their burst window reach it.
+[[gnu::noinline]] bool LifetimeEstimator::ramp_follower(int pol, int x, int y, const PixelState& state,
                                       double since_arrival_us) const noexcept {
   const SurfacePixel& here = surface_[pixel_index(pol, x, y)];
   const auto arrival_rel = static_cast<double>(here.t_rel);
