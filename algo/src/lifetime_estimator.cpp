@@ -217,6 +217,20 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
   return false;
 }
 
+template <typename Pred>
+bool LifetimeEstimator::any_upstream(int pol, int x, int y, double vx, double vy, Pred&& pred) const noexcept {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
+      if (vx * dx + vy * dy >= 0.0) continue;
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= options_.sensor.width || qy >= options_.sensor.height) continue;
+      if (pred(pixel_index(pol, qx, qy))) return true;
+    }
+  }
+  return false;
+}
+
 // True when an event at (x, y) comes within the time the pixel's slow
 // response can spread its burst (burst_span_timing_noise x the residual RMS
 // of the burst's fit) and no pixel upstream of the burst's edge has had a
@@ -237,22 +251,12 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
     return false;
   }
   const double newer_us = 2.0 * noise_us + options_.inlier_tolerance_us;
-  const auto vx = static_cast<double>(state.burst_vx_px_s);
-  const auto vy = static_cast<double>(state.burst_vy_px_s);
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
-      if (vx * dx + vy * dy >= 0.0) continue;
-      const int qx = x + dx, qy = y + dy;
-      if (qx < 0 || qy < 0 || qx >= options_.sensor.width || qy >= options_.sensor.height) continue;
-      const std::int32_t q_rel = surface_[pixel_index(pol, qx, qy)].t_rel;
-      if (q_rel != detail::kNeverRel &&
-          static_cast<double>(std::int64_t{q_rel} - here.t_rel) > newer_us) {
-        return false;
-      }
-    }
-  }
-  return true;
+  return !any_upstream(pol, x, y, static_cast<double>(state.burst_vx_px_s), static_cast<double>(state.burst_vy_px_s),
+                       [&](std::size_t q) {
+                         const std::int32_t q_rel = surface_[q].t_rel;
+                         return q_rel != detail::kNeverRel &&
+                                static_cast<double>(std::int64_t{q_rel} - here.t_rel) > newer_us;
+                       });
 }
 
 // True when an event at (x, y), past its burst's follower window, comes
@@ -269,27 +273,18 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
   const double latest_rel = arrival_rel + static_cast<double>(state.burst_latest_us);
   const double live_us =
       options_.ramp_follower_upstream_lifetimes * static_cast<double>(state.burst_lifetime_us);
-  const auto vx = static_cast<double>(state.burst_vx_px_s);
-  const auto vy = static_cast<double>(state.burst_vy_px_s);
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
-      if (vx * dx + vy * dy >= 0.0) continue;
-      const int qx = x + dx, qy = y + dy;
-      if (qx < 0 || qy < 0 || qx >= options_.sensor.width || qy >= options_.sensor.height) continue;
-      const std::size_t q = pixel_index(pol, qx, qy);
-      const PixelState& upstream = pixel_state_[q];
-      const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
-      if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel ||
-          upstream_arrival_rel >= here.t_rel) {
-        continue;  // no estimated burst there, or a newer edge's
-      }
-      const double upstream_latest_rel =
-          static_cast<double>(upstream_arrival_rel) + static_cast<double>(upstream.burst_latest_us);
-      if (upstream_latest_rel > latest_rel && now_rel - upstream_latest_rel <= live_us) return true;
-    }
-  }
-  return false;
+  return any_upstream(pol, x, y, static_cast<double>(state.burst_vx_px_s), static_cast<double>(state.burst_vy_px_s),
+                      [&](std::size_t q) {
+                        const PixelState& upstream = pixel_state_[q];
+                        const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
+                        if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel ||
+                            upstream_arrival_rel >= here.t_rel) {
+                          return false;  // no estimated burst there, or a newer edge's
+                        }
+                        const double upstream_latest_rel = static_cast<double>(upstream_arrival_rel) +
+                                                           static_cast<double>(upstream.burst_latest_us);
+                        return upstream_latest_rel > latest_rel && now_rel - upstream_latest_rel <= live_us;
+                      });
 }
 
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
