@@ -50,9 +50,10 @@ int usage() {
   std::fprintf(stderr,
                "),\n"
                "  --noise-rate their background activity (events per pixel per second); --bands: also\n"
-               "  the rows by true lifetime; --error-shares: two more columns, the shares of the edge\n"
+               "  the rows by true lifetime; --error-shares: three more columns, the shares of the edge\n"
                "  events with a lifetime within 30 %% of the truth (w30%%) and more than 100 %% off\n"
-               "  (off100%%), which a share and a median hide\n");
+               "  (off100%%), which a share and a median hide, and the median signed error (bias%%:\n"
+               "  < 0, lifetimes short)\n");
   return 2;
 }
 
@@ -148,12 +149,13 @@ int main(int argc, char** argv) try {
       std::printf(" %8s", "-");
     }
     if (error_shares) {
-      std::printf(" %8.2f %8.2f", 100.0 * r.share_within_30_percent, 100.0 * r.share_off_by_over_100_percent);
+      std::printf(" %8.2f %8.2f %8.2f", 100.0 * r.share_within_30_percent, 100.0 * r.share_off_by_over_100_percent,
+                  100.0 * r.median_signed_rel_error);
     }
     std::printf("\n");
   };
   std::printf("%-62s %8s %8s %8s %8s %8s", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
-  if (error_shares) std::printf(" %8s %8s", "w30%", "off100%");
+  if (error_shares) std::printf(" %8s %8s %8s", "w30%", "off100%", "bias%");
   std::printf("\n");
   for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall, true);
   if (bands) {

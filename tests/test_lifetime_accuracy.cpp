@@ -374,6 +374,8 @@ struct PixelFloors {
 constexpr PixelFloors kNormalLightFloors{0.95, 0.05, 0.15, 3.0, 0.97};
 // Issue 11's dim-light floors: 0.85 / 10 % / 30 % / 5 deg / 97 %.
 constexpr PixelFloors kIssueDimLightFloors{0.85, 0.10, 0.30, 5.0, 0.97};
+// No floor: for the variant a test compares against.
+constexpr PixelFloors kNoFloors{0.0, 1.0, 100.0, 90.0, 0.0};
 
 // Indices into evlife::test::pixel_model_accuracy_scenes().
 enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
@@ -480,8 +482,7 @@ TEST(PixelModelAccuracy, FaintTexturePresetKeepsTheNoiseFloorInFaintTexture) {
   evlife::LifetimeOptions band_alone = faint_texture_preset();
   band_alone.max_event_offset_tolerances = 0.0;
   band_alone.continuation_max_event_offset_tolerances = 0.0;
-  constexpr PixelFloors kAnything{0.0, 1.0, 100.0, 90.0, 0.0};
-  const auto without = expect_pixel_floors(kEdgesNormal, ", faint texture, wide band without the check", kAnything,
+  const auto without = expect_pixel_floors(kEdgesNormal, ", faint texture, wide band without the check", kNoFloors,
                                            band_alone, faint_texture);
   EXPECT_GE(with_check.overall.noise_share, without.overall.noise_share + 0.005);
 }
@@ -555,8 +556,7 @@ TEST(PixelModelAccuracy, RampFollowersKeepASoftEdgesLifetimes) {
   const auto on = expect_pixel_floors(kEdgesNormal, ", 3 px ramps", kSoftEdges, {}, soft);
   evlife::LifetimeOptions no_ramp;
   no_ramp.ramp_follower_span_lifetimes = 0.0;
-  constexpr PixelFloors kAnything{0.0, 1.0, 100.0, 90.0, 0.0};
-  const auto off = expect_pixel_floors(kEdgesNormal, ", 3 px ramps, no ramp followers", kAnything, no_ramp, soft);
+  const auto off = expect_pixel_floors(kEdgesNormal, ", 3 px ramps, no ramp followers", kNoFloors, no_ramp, soft);
   EXPECT_LE(on.overall.p90_rel_error, off.overall.p90_rel_error - 0.08);
   EXPECT_GT(on.overall.median_signed_rel_error, off.overall.median_signed_rel_error);  // less short
 }
@@ -585,8 +585,8 @@ const evlife::test::AccuracyMetrics& band_row(const evlife::test::AccuracyReport
 }
 
 TEST(PixelModelAccuracy, SlowPhotoreceptorResolvesEdgesSlowerThanItsTimeConstant) {
-  constexpr PixelFloors kAnything{0.0, 1.0, 100.0, 90.0, 0.97};
-  const auto report = expect_pixel_floors(kEdgesNormal, ", 100 Hz photoreceptor", kAnything, {},
+  constexpr PixelFloors kNoiseFloorOnly{0.0, 1.0, 100.0, 90.0, 0.97};
+  const auto report = expect_pixel_floors(kEdgesNormal, ", 100 Hz photoreceptor", kNoiseFloorOnly, {},
                                           [](SceneSpec& spec) { spec.pixel.cutoff_hz = 100.0; });
   for (const char* band : {"lifetime 5000..10000 us", "lifetime 10000..20000 us"}) {
     const auto& row = band_row(report, band);
@@ -604,12 +604,11 @@ TEST(PixelModelAccuracy, SlowPhotoreceptorResolvesEdgesSlowerThanItsTimeConstant
 // followers while no newer edge has come from upstream: the band's bias
 // shrinks (see config/evlife.yaml for why it is not on by default).
 TEST(PixelModelAccuracy, SlowPhotoreceptorFollowersKeepTheirBurstsArrival) {
-  constexpr PixelFloors kAnything{0.0, 1.0, 100.0, 90.0, 0.0};
   const auto slow = [](SceneSpec& spec) { spec.pixel.cutoff_hz = 30.0; };
-  const auto off = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor", kAnything, {}, slow);
+  const auto off = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor", kNoFloors, {}, slow);
   evlife::LifetimeOptions late;
   late.burst_span_timing_noise = 10.0;
-  const auto on = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor, late followers", kAnything, late, slow);
+  const auto on = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor, late followers", kNoFloors, late, slow);
   const auto& before = band_row(off, "lifetime 2000..5000 us");
   const auto& after = band_row(on, "lifetime 2000..5000 us");
   std::cout << "2-5 ms band, median signed error: " << before.median_signed_rel_error << " -> "

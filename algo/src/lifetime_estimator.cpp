@@ -218,7 +218,9 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
 }
 
 template <typename Pred>
-bool LifetimeEstimator::any_upstream(int pol, int x, int y, double vx, double vy, Pred&& pred) const noexcept {
+bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& state, Pred&& pred) const noexcept {
+  const auto vx = static_cast<double>(state.burst_vx_px_s);
+  const auto vy = static_cast<double>(state.burst_vy_px_s);
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       // Upstream: the edge, moving along v, reached (x + dx, y + dy) first.
@@ -251,12 +253,10 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, double vx, double vy
     return false;
   }
   const double newer_us = 2.0 * noise_us + options_.inlier_tolerance_us;
-  return !any_upstream(pol, x, y, static_cast<double>(state.burst_vx_px_s), static_cast<double>(state.burst_vy_px_s),
-                       [&](std::size_t q) {
-                         const std::int32_t q_rel = surface_[q].t_rel;
-                         return q_rel != detail::kNeverRel &&
-                                static_cast<double>(std::int64_t{q_rel} - here.t_rel) > newer_us;
-                       });
+  return !any_upstream(pol, x, y, state, [&](std::size_t q) {
+    const std::int32_t q_rel = surface_[q].t_rel;
+    return q_rel != detail::kNeverRel && static_cast<double>(std::int64_t{q_rel} - here.t_rel) > newer_us;
+  });
 }
 
 // True when an event at (x, y), past its burst's follower window, comes
@@ -266,25 +266,24 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, double vx, double vy
 // within ramp_follower_upstream_lifetimes of now (ramp_follower_span_lifetimes).
 // Out of line: only events past their burst window reach it.
 [[gnu::noinline]] bool LifetimeEstimator::ramp_follower(int pol, int x, int y, const PixelState& state,
-                                      double since_arrival_us) const noexcept {
+                                                       double since_arrival_us) const noexcept {
   const SurfacePixel& here = surface_[pixel_index(pol, x, y)];
   const auto arrival_rel = static_cast<double>(here.t_rel);
   const double now_rel = arrival_rel + since_arrival_us;
   const double latest_rel = arrival_rel + static_cast<double>(state.burst_latest_us);
   const double live_us =
       options_.ramp_follower_upstream_lifetimes * static_cast<double>(state.burst_lifetime_us);
-  return any_upstream(pol, x, y, static_cast<double>(state.burst_vx_px_s), static_cast<double>(state.burst_vy_px_s),
-                      [&](std::size_t q) {
-                        const PixelState& upstream = pixel_state_[q];
-                        const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
-                        if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel ||
-                            upstream_arrival_rel >= here.t_rel) {
-                          return false;  // no estimated burst there, or a newer edge's
-                        }
-                        const double upstream_latest_rel = static_cast<double>(upstream_arrival_rel) +
-                                                           static_cast<double>(upstream.burst_latest_us);
-                        return upstream_latest_rel > latest_rel && now_rel - upstream_latest_rel <= live_us;
-                      });
+  return any_upstream(pol, x, y, state, [&](std::size_t q) {
+    const PixelState& upstream = pixel_state_[q];
+    const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
+    if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel ||
+        upstream_arrival_rel >= here.t_rel) {
+      return false;  // no estimated burst there, or a newer edge's
+    }
+    const double upstream_latest_rel =
+        static_cast<double>(upstream_arrival_rel) + static_cast<double>(upstream.burst_latest_us);
+    return upstream_latest_rel > latest_rel && now_rel - upstream_latest_rel <= live_us;
+  });
 }
 
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {

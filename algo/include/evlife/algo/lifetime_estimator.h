@@ -106,9 +106,9 @@ class LifetimeEstimator {
                               double since_arrival_us) const noexcept;
   bool ramp_follower(int pol, int x, int y, const PixelState& state, double since_arrival_us) const noexcept;
   // True when pred(q) holds at a neighbour q (pixel index) of (x, y) upstream
-  // of the motion (vx, vy): where the edge came from.
+  // of the motion of the burst in `state`: where its edge came from.
   template <typename Pred>
-  bool any_upstream(int pol, int x, int y, double vx, double vy, Pred&& pred) const noexcept;
+  bool any_upstream(int pol, int x, int y, const PixelState& state, Pred&& pred) const noexcept;
   bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
                          EdgePrior& prior) const noexcept;
 

@@ -141,8 +141,8 @@ struct LifetimeOptions {
   /// lifetimes (2 at B = 5 px, theta = 0.2, C = 0.5). Those events come past
   /// the follower window and the burst span; taken for new arrivals they
   /// overwrote the arrival in the surface, and the fits downstream, which
-  /// saw the pixel reached late, came out flat (5 px: lifetimes 40 % short,
-  /// median error 36 %). Such an event is still a follower up to this many
+  /// saw the pixel reached late, came out flat (5 px: lifetimes a median
+  /// 34 % short, median error 36 %). Such an event is still a follower up to this many
   /// lifetimes after its burst's arrival while the ramp is seen passing: a
   /// neighbour upstream (where the edge came from) holds an estimated burst
   /// that arrived before this one (the same edge, not a new one) and has
