@@ -22,8 +22,9 @@ inline const Recording& recording(const std::string& name) {
   auto it = cache.find(name);
   if (it != cache.end()) return it->second;
   Recording r;
-  if (name == "synthetic_1280x720") {
-    r.sensor = {1280, 720};
+  if (name.rfind("synthetic_", 0) == 0) {  // synthetic_WxH: the `large` preset on a WxH sensor
+    const std::size_t by = name.find('x', 10);
+    r.sensor = {std::stoi(name.substr(10, by - 10)), std::stoi(name.substr(by + 1))};
     r.events = io::generate_scene(io::large_scene(r.sensor, 200'000, 1)).events;
   } else {
     const std::string path = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/" + name + ".mat";

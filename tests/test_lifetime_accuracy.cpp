@@ -342,7 +342,7 @@ evlife::test::AccuracyReport run_estimator(const SyntheticScene& scene, evlife::
 }
 
 void expect_floors(std::size_t index) {
-  const auto [title, spec] = evlife::test::ideal_accuracy_scenes()[index];
+  const auto [title, spec, textured] = evlife::test::ideal_accuracy_scenes()[index];
   const SyntheticScene scene = evlife::io::generate_scene(spec);
   const auto report = run_estimator(scene, evlife::LifetimeOptions{});  // defaults but the sensor
   std::cout << evlife::test::format_accuracy_table(
@@ -385,7 +385,7 @@ enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
                                                  const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
                                                  const std::function<void(SceneSpec&)>& sensor = {}) {
-  auto [scene_title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
+  auto [scene_title, spec, textured] = evlife::test::pixel_model_accuracy_scenes()[index];
   if (sensor) sensor(spec);
   const std::string title = scene_title + variant;
   const SyntheticScene scene = evlife::io::generate_scene(spec);
@@ -688,12 +688,44 @@ TEST(LifetimeAccuracy, DISABLED_StressSweep) {
 
 }  // namespace
 
+// ---- A natural texture through the same pixels (textured_scene.h: dead
+// leaves, edges of every contrast, orientation and curvature, occlusions) ----
+// No issue floor: regression floors a few points under today's figures
+// (README, *What it reaches*). Scored: edge events where the texture's
+// iso-line is straight over the window; the share of all events with a
+// lifetime (as on a recording: curved edges, junctions, onsets included) is
+// printed and floored too.
+void expect_textured_floors(std::size_t index, const PixelFloors& floors, double all_events_share) {
+  const evlife::test::AccuracyScene s = evlife::test::textured_accuracy_scenes()[index];
+  const SyntheticScene scene = s.generate();
+  const auto report = run_estimator(scene, evlife::LifetimeOptions{});
+  std::cout << evlife::test::format_accuracy_table(s.title + " (" + std::to_string(scene.events.size()) + " events)",
+                                                   report);
+  const auto& o = report.overall;
+  EXPECT_GT(o.edge_events, 20000u);
+  EXPECT_GT(o.noise_events, 500u);
+  EXPECT_GE(o.lifetime_share, floors.lifetime_share) << s.title;
+  EXPECT_LE(o.median_rel_error, floors.median_rel_error) << s.title;
+  EXPECT_LE(o.p90_rel_error, floors.p90_rel_error) << s.title;
+  EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << s.title;
+  EXPECT_GE(o.noise_share, floors.noise_share) << s.title;
+  std::cout << "  share of all events with a lifetime (after the warm-up): " << o.all_events_lifetime_share << "\n";
+  EXPECT_GE(o.all_events_lifetime_share, all_events_share) << s.title;
+}
+
+TEST(TexturedAccuracy, DeadLeavesDavis346NormalLight) {
+  expect_textured_floors(0, {0.86, 0.13, 0.42, 10.0, 0.97}, 0.65);
+}
+TEST(TexturedAccuracy, DeadLeavesDavis346DimLight) {
+  expect_textured_floors(1, {0.80, 0.13, 0.42, 10.0, 0.97}, 0.52);
+}
+
 // Regularization (paper eq. 12-13) must help where real pixels make the plane
 // data noisy: the same scenes with the prior ignored (regularization off) get
 // worse lifetimes and directions. Fails if the prior is not used.
 TEST(PixelModelAccuracy, RegularizationImprovesEstimatesOnRealisticPixels) {
   for (const PixelScene index : {kEdgesNormal, kBarNormal}) {
-    const auto [title, spec] = evlife::test::pixel_model_accuracy_scenes()[index];
+    const auto [title, spec, textured] = evlife::test::pixel_model_accuracy_scenes()[index];
     const SyntheticScene scene = evlife::io::generate_scene(spec);
     evlife::LifetimeOptions off;
     off.regularization = false;

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "command.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/synthetic_scene.h"
+#include "evlife/io/textured_scene.h"
 #include "evlife/io/write_error.h"
 #include "exit_code.h"
 
@@ -40,7 +43,7 @@ void print_help(std::FILE* out) {
   std::fprintf(out,
       "evlife synth — write a synthetic event recording with known ground truth\n"
       "\n"
-      "Usage: evlife synth -o FILE [--scene edges|bar|mixed|large|edges-bar] [--sensor WxH]\n"
+      "Usage: evlife synth -o FILE [--scene edges|bar|mixed|large|edges-bar|textured] [--sensor WxH]\n"
       "                    [--duration T] [--seed N] [--noise-rate R] [--jitter-us J]\n"
       "                    [--pixel ideal|dvs|dvs-dim] [pixel options] [--truth TRUTH.csv] [--quiet]\n"
       "\n"
@@ -58,6 +61,14 @@ void print_help(std::FILE* out) {
       "         throughput tests on big sensors (1280x720 gives ~40 M events/s).\n"
       "  edges-bar  the tiles of 'edges' on the left two thirds, the speeding bar on\n"
       "         the right third (e.g. --sensor 346x260 --pixel dvs).\n"
+      "  textured  not bars: a natural-looking texture ('dead leaves': overlapping\n"
+      "         discs of random grey, sharp and blurred edges of every contrast,\n"
+      "         orientation and curvature) in 60 px tiles, each translating 30 px\n"
+      "         with its own direction and lifetime (500 us .. 20 ms) at the end of\n"
+      "         the scene. Needs --pixel dvs or dvs-dim (default dvs): each pixel\n"
+      "         samples the moving texture and fires at its thresholds. An event's\n"
+      "         truth: 1 / the normal speed of the texture's iso-line through the\n"
+      "         pixel. Generated in memory (~70 bytes per event).\n"
       "\n"
       "Pixels: 'ideal' (default) fires one event per edge crossing, as above. 'dvs'\n"
       "models a real DVS pixel in normal light: the edge is a log-intensity step\n"
@@ -182,7 +193,8 @@ class TruthCsv {
 };
 
 int synth(int argc, char** argv) {
-  io::SceneSpec spec;
+  io::SceneSpec spec;                          // the scene, or what the summary prints of the textured one
+  std::optional<io::TexturedSceneSpec> textured;  // --scene textured
   std::string output, truth_path, scene_name = "mixed", pixel_name;
   bool quiet = false;
   if (const auto done = start_command("synth", argc, argv, print_help, [&] {
@@ -197,24 +209,59 @@ int synth(int argc, char** argv) {
     if (duration_us < 1000 || duration_us > 3600'000'000)
       throw UsageError("--duration " + *a.value("duration") + ": expected 1ms..3600s");
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
-    const auto preset = io::scene_preset(scene_name, sensor, duration_us, seed);
-    if (!preset) throw UsageError("--scene " + scene_name + ": expected edges, bar, mixed, large or edges-bar");
-    spec = *preset;
-    pixel_name = a.value("pixel").value_or("ideal");
+    if (scene_name == "textured") {
+      textured.emplace();
+      textured->sensor = sensor;
+      textured->duration_us = duration_us;
+      textured->seed = seed;
+      spec = {};
+      spec.sensor = sensor;
+      spec.duration_us = duration_us;
+      spec.seed = seed;
+    } else {
+      const auto preset = io::scene_preset(scene_name, sensor, duration_us, seed);
+      if (!preset) {
+        throw UsageError("--scene " + scene_name + ": expected edges, bar, mixed, large, edges-bar or textured");
+      }
+      spec = *preset;
+    }
+    pixel_name = a.value("pixel").value_or(textured ? "dvs" : "ideal");
     if (!io::apply_pixel_setting(spec, pixel_name)) {
       throw UsageError("--pixel " + pixel_name + ": expected ideal, dvs or dvs-dim");
     }
+    if (textured && !spec.pixel.enabled) throw UsageError("--scene textured: needs --pixel dvs or dvs-dim");
+    if (textured && a.has("contrast")) throw UsageError("--contrast: the textured scene's leaves set the contrasts");
     apply_pixel_options(a, spec.pixel);
     if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number<double>("noise-rate", *r, 0.0, 1e4);
     if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
-    if (const auto err = io::validate_scene_spec(spec); !err.empty()) throw UsageError(err);
+    if (textured) {
+      textured->pixel = spec.pixel;
+      textured->noise_rate_hz_per_px = spec.noise_rate_hz_per_px;
+      if (const auto err = io::validate_textured_scene_spec(*textured); !err.empty()) throw UsageError(err);
+    } else if (const auto err = io::validate_scene_spec(spec); !err.empty()) {
+      throw UsageError(err);
+    }
   })) {
     return *done;
   }
 
-  io::SyntheticSceneReader scene(spec);
+  // Bars stream slice by slice; the texture is generated whole.
+  std::optional<io::SyntheticSceneReader> bars;
+  std::optional<io::SceneMemoryReader> texture;
+  std::vector<std::string> names;
+  if (textured) {
+    texture.emplace(io::generate_textured_scene(*textured));
+    names = texture->scene().feature_names;
+  } else {
+    bars.emplace(spec);
+    names = io::scene_feature_names(spec);
+  }
+  const std::function<std::size_t(std::span<Event>, std::span<io::EventTruth>)> next =
+      [&](std::span<Event> e, std::span<io::EventTruth> t) {
+        return texture ? texture->read_with_truth(e, t) : bars->read_with_truth(e, t);
+      };
   std::vector<Event> events(kBatchEvents);
   std::vector<io::EventTruth> truth(kBatchEvents);
   unsigned long long written = 0, noise = 0, hot = 0;
@@ -222,7 +269,7 @@ int synth(int argc, char** argv) {
     auto writer = io::open_event_writer(output);
     std::unique_ptr<TruthCsv> truth_csv;
     if (!truth_path.empty()) truth_csv = std::make_unique<TruthCsv>(truth_path);
-    while (const std::size_t n = scene.read_with_truth(events, truth)) {
+    while (const std::size_t n = next(events, truth)) {
       writer->write(std::span<const Event>(events.data(), n));
       if (truth_csv) truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));
       for (std::size_t i = 0; i < n; ++i) {
@@ -247,9 +294,10 @@ int synth(int argc, char** argv) {
     if (spec.pixel.enabled) {
       const io::PixelModel& m = spec.pixel;
       std::fprintf(stdout,
-                   "%llu hot; pixels %s: contrast %g, threshold %g +- %g, blur %g px, latency %g +- %g us, "
+                   "%llu hot; pixels %s: %scontrast %g, threshold %g +- %g, blur %g px, latency %g +- %g us, "
                    "refractory %g us",
-                   hot, pixel_name.c_str(), m.contrast_log, m.threshold_log, m.threshold_mismatch_sigma,
+                   hot, pixel_name.c_str(), textured ? "texture " : "",
+                   textured ? textured->texture_contrast_log : m.contrast_log, m.threshold_log, m.threshold_mismatch_sigma,
                    m.edge_blur_px, m.latency_us, m.latency_jitter_us, m.refractory_us);
       if (m.cutoff_hz > 0.0) std::fprintf(stdout, ", photoreceptor %g Hz", m.cutoff_hz);
       if (m.timestamp_quantum_us > 1.0) std::fprintf(stdout, ", stamps in %g us steps", m.timestamp_quantum_us);
@@ -257,7 +305,6 @@ int synth(int argc, char** argv) {
     } else {
       std::fprintf(stdout, "jitter sigma %g us)\n", spec.jitter_sigma_us);
     }
-    const auto names = io::scene_feature_names(spec);
     for (std::size_t i = 0; i < names.size() && i < 8; ++i) std::fprintf(stdout, "  %s\n", names[i].c_str());
     if (names.size() > 8) std::fprintf(stdout, "  ... and %zu more patterns\n", names.size() - 8);
     if (!truth_path.empty()) std::fprintf(stdout, "  ground truth: %s\n", truth_path.c_str());

@@ -140,10 +140,15 @@ AccuracyReport evaluate_accuracy(const io::SyntheticScene& scene, std::span<cons
   AccuracyReport report;
   const EdgeIndex edges(scene, options.burst_window_lifetimes);
   std::size_t onset_skipped = 0;
+  std::size_t after_warmup = 0, after_warmup_with_lifetime = 0;
 
   for (std::size_t i = 0; i < scene.events.size(); ++i) {
     const Event& e = scene.events[i];
     const io::EventTruth& truth = scene.truth[i];
+    if (e.t_us >= options.warmup_us) {
+      ++after_warmup;
+      if (!out[i].is_noise()) ++after_warmup_with_lifetime;
+    }
     if (e.t_us < options.warmup_us || truth.margin_px < margin) continue;
     if (truth.is_noise) {
       if (edges.near_edge(e, scene.spec.sensor)) {
@@ -176,6 +181,8 @@ AccuracyReport evaluate_accuracy(const io::SyntheticScene& scene, std::span<cons
   report.overall.noise_labelled_noise = noise.noise_labelled_noise;
   report.overall.noise_share =
       noise.noise_events ? double(noise.noise_labelled_noise) / double(noise.noise_events) : std::nan("");
+  report.overall.all_events_lifetime_share =
+      after_warmup ? double(after_warmup_with_lifetime) / double(after_warmup) : std::nan("");
   for (std::size_t b = 0; b < per_band.size(); ++b) {
     if (per_band[b].edge_events) report.per_lifetime.push_back(summarize(band_label(b), per_band[b]));
   }

@@ -51,6 +51,10 @@ struct AccuracyMetrics {
   std::size_t noise_indistinguishable = 0;  ///< within the burst window of an edge event, same pixel+polarity
   std::size_t noise_labelled_noise = 0;
   double noise_share = 0.0;            ///< noise_labelled_noise / noise_events
+  /// Overall row only: the share of all events after the warm-up (edge,
+  /// noise, any margin or scorability) with a lifetime: what a recording's
+  /// "share with a lifetime" measures.
+  double all_events_lifetime_share = 0.0;
 };
 
 struct AccuracyReport {

@@ -6,23 +6,38 @@
 namespace evlife::test {
 namespace {
 
-AccuracyScene with_pixels(std::string title, io::SceneSpec spec, const char* setting) {
+template <typename Spec>
+Spec with_setting(Spec spec, const char* setting) {
   if (!io::apply_pixel_setting(spec, setting)) {  // a name in this file, not input
     std::fprintf(stderr, "accuracy_scenes: no pixel setting %s\n", setting);
     std::abort();
   }
-  return {std::move(title) + ", " + setting + " pixels", spec};
+  return spec;
+}
+
+AccuracyScene with_pixels(std::string title, io::SceneSpec spec, const char* setting) {
+  return {std::move(title) + ", " + setting + " pixels", with_setting(spec, setting), std::nullopt};
+}
+
+AccuracyScene textured(unsigned seed, const char* setting) {
+  io::TexturedSceneSpec t;
+  t.sensor = {346, 260};
+  t.duration_us = 600'000;
+  t.seed = seed;
+  return {std::string("dead leaves 346x260, 0.6 s, ") + setting + " pixels", {}, with_setting(t, setting)};
 }
 
 }  // namespace
 
 std::vector<AccuracyScene> ideal_accuracy_scenes(unsigned seed_offset) {
   const unsigned s = seed_offset;
-  return {{"edges 240x180, 0.8 s", io::edges_scene({240, 180}, 800'000, 1 + s)},
-          {"edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 2 + s, 4)},
-          {"rotating bar 240x180, 150->1200 deg/s in 1 s", io::rotating_bar_scene({240, 180}, 1'000'000, 3 + s)},
-          {"rotating bar 346x260, 150->1200 deg/s in 0.6 s", io::rotating_bar_scene({346, 260}, 600'000, 4 + s)},
-          {"mixed 128x128, 2 s", io::mixed_scene({128, 128}, 2'000'000, 5 + s)}};
+  return {{"edges 240x180, 0.8 s", io::edges_scene({240, 180}, 800'000, 1 + s), std::nullopt},
+          {"edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 2 + s, 4), std::nullopt},
+          {"rotating bar 240x180, 150->1200 deg/s in 1 s", io::rotating_bar_scene({240, 180}, 1'000'000, 3 + s),
+           std::nullopt},
+          {"rotating bar 346x260, 150->1200 deg/s in 0.6 s", io::rotating_bar_scene({346, 260}, 600'000, 4 + s),
+           std::nullopt},
+          {"mixed 128x128, 2 s", io::mixed_scene({128, 128}, 2'000'000, 5 + s), std::nullopt}};
 }
 
 std::vector<AccuracyScene> pixel_model_accuracy_scenes(unsigned seed_offset) {
@@ -32,6 +47,10 @@ std::vector<AccuracyScene> pixel_model_accuracy_scenes(unsigned seed_offset) {
           with_pixels(bar, io::rotating_bar_scene({346, 260}, 600'000, 12 + s), "dvs"),
           with_pixels("edges 346x260, 0.6 s", io::edges_scene({346, 260}, 600'000, 13 + s, 4), "dvs-dim"),
           with_pixels(bar, io::rotating_bar_scene({346, 260}, 600'000, 14 + s), "dvs-dim")};
+}
+
+std::vector<AccuracyScene> textured_accuracy_scenes(unsigned seed_offset) {
+  return {textured(21 + seed_offset, "dvs"), textured(22 + seed_offset, "dvs-dim")};
 }
 
 }  // namespace evlife::test

@@ -2,6 +2,8 @@
 // pixels (see dvs_pixel_model.h and PixelModel in synthetic_scene.h).
 #include "dvs_pixel_model.h"
 
+#include "hash_draws.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,31 +13,8 @@
 namespace evlife::io::detail {
 namespace {
 
-// splitmix64's finalizer: identical on every platform, well mixed.
-std::uint64_t mix(std::uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-std::uint64_t combine(std::uint64_t h, std::uint64_t v) { return mix(h ^ mix(v)); }
-
-template <typename... Rest>
-std::uint64_t combine(std::uint64_t h, std::uint64_t v, Rest... rest) {
-  return combine(combine(h, v), static_cast<std::uint64_t>(rest)...);
-}
-
 // What a draw is for: the same identity never feeds two draws.
 enum Tag : std::uint64_t { kContrast = 1, kThreshold, kResidual, kLatency, kHot };
-
-double uniform(std::uint64_t key) { return static_cast<double>(mix(key) >> 11) * 0x1.0p-53; }  // [0, 1)
-
-double gaussian(std::uint64_t key) {  // Box-Muller from two independent hashes
-  const double u1 = 1.0 - uniform(combine(key, 1));  // (0, 1]
-  const double u2 = uniform(combine(key, 2));
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-}
 
 constexpr double kLatencyTruncationSigmas = 4.0;
 constexpr int kLatencyDraws = 8;  // rejection tries before falling back to the mean

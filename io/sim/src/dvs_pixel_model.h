@@ -61,9 +61,11 @@ class PixelSampler {
   double stamp_us(double t_us) const;
   /// The hot pixels (indices y * width + x), sorted, without repeats.
   std::vector<std::uint32_t> hot_pixels(SensorSize sensor) const;
+  /// A pixel latency (us): mean and jitter of the model, Gaussian truncated
+  /// at 4 sigma and at 0, drawn from `key`.
+  double latency_us(std::uint64_t key) const;
 
  private:
-  double latency_us(std::uint64_t key) const;
 
   PixelModel m_;
   std::uint64_t seed_;
