@@ -12,6 +12,7 @@ Reading:    read, open (chunks of bounded size), read_augmented, formats
 Estimating: LifetimeEstimator (state across calls), process (path or array),
             process_file (`evlife process IN -o OUT`), scan, estimator_options
 Drawing:    frame (the image `evlife render` draws at an instant)
+Test data:  synth (the scenes of `evlife synth`, with ground truth per event)
 Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
 Many files: evlife.batch.process_files, process_slices (Dask distributed)
 Errors:     InputError (a ValueError; bad input, with file, event index and
@@ -25,6 +26,7 @@ import numpy as _np
 from ._evlife import (  # noqa: F401  (the public C++ API)
     AUGMENTED_DTYPE,
     EVENT_DTYPE,
+    TRUTH_DTYPE,
     InputError,
     LifetimeEstimator,
     Reader,
@@ -36,14 +38,15 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     read,
     read_augmented,
     scan,
+    synth,
     write,
 )
 from . import _evlife
 
 __all__ = [
-    "AUGMENTED_DTYPE", "EVENT_DTYPE", "InputError", "LifetimeEstimator", "Reader",
+    "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "LifetimeEstimator", "Reader",
     "estimator_options", "formats", "frame", "open", "process", "process_file", "read", "read_augmented",
-    "scan", "write", "batch",
+    "scan", "synth", "write", "batch",
 ]
 
 _FRAME_FIELDS = ("t", "x", "y", "p", "lifetime", "vx", "vy")

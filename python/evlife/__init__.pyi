@@ -12,6 +12,8 @@ Sensor = Tuple[int, int]
 
 EVENT_DTYPE: np.dtype[np.void]      # t int64 µs, x uint16, y uint16, p int8 (+1/-1); 16 bytes
 AUGMENTED_DTYPE: np.dtype[np.void]  # + lifetime, vx, vy, prediction_error float32; 32 bytes
+TRUTH_DTYPE: np.dtype[np.void]      # synth's ground truth: t_true, lifetime, nx, ny, travel_px float64,
+                                    # feature int16, margin_px uint16, burst_index uint8, noise, hot, scorable bool
 
 class InputError(ValueError):
     path: str
@@ -85,3 +87,7 @@ def frame(augmented: Any, t_us: int, sensor: Optional[Sensor] = None, mode: str 
           scale: Optional[int] = None, caption: bool = True, legend: bool = True,
           thinning: bool = True,
           lifetime_range_ms: Tuple[float, float] = (0.3, 30.0)) -> npt.NDArray[np.uint8]: ...
+def synth(scene: Literal["edges", "bar", "mixed", "large", "edges-bar", "textured"] = "mixed",
+          sensor: Optional[Sensor] = None, duration: float = 3.0, seed: int = 1,
+          pixel: Optional[Literal["ideal", "dvs", "dvs-dim"]] = None,
+          **options: float) -> Tuple[npt.NDArray[np.void], npt.NDArray[np.void], list[str]]: ...

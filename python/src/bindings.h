@@ -13,6 +13,7 @@ namespace py = pybind11;
 void bind_reader(py::module_& m);     // read, open, Reader, read_augmented, write
 void bind_estimator(py::module_& m);  // LifetimeEstimator, process
 void bind_frame(py::module_& m);      // frame
+void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 
 /// evlife.read's body (also used by process(path)).
 py::array read_events(const std::string& path, const py::object& sensor);

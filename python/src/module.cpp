@@ -18,6 +18,7 @@ PYBIND11_MODULE(_evlife, m) {
   bind_reader(m);
   bind_estimator(m);
   bind_frame(m);
+  bind_synth(m);
   m.def(
       "formats",
       [] {

@@ -1,0 +1,135 @@
+// evlife.synth: the synthetic scenes of `evlife synth` (bars, a texture;
+// ideal or DVS pixels) as NumPy arrays, with their ground truth per event.
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "dtypes.h"
+#include "evlife/io/synthetic_scene.h"
+#include "evlife/io/textured_scene.h"
+#include "options.h"
+
+namespace evlife::python {
+namespace {
+
+// Offsets from io::EventTruth itself: the layout is stated once.
+py::dtype make_truth_dtype() {
+  using io::EventTruth;
+  py::dict d;
+  d["names"] = py::make_tuple("t_true", "lifetime", "nx", "ny", "travel_px", "feature", "margin_px", "burst_index",
+                              "noise", "hot", "scorable");
+  d["formats"] = py::make_tuple("<f8", "<f8", "<f8", "<f8", "<f8", "<i2", "<u2", "u1", "?", "?", "?");
+  d["offsets"] = py::make_tuple(offsetof(EventTruth, t_true_us), offsetof(EventTruth, lifetime_us),
+                                offsetof(EventTruth, nx), offsetof(EventTruth, ny), offsetof(EventTruth, travel_px),
+                                offsetof(EventTruth, feature), offsetof(EventTruth, margin_px),
+                                offsetof(EventTruth, burst_index), offsetof(EventTruth, is_noise),
+                                offsetof(EventTruth, is_hot), offsetof(EventTruth, scorable));
+  d["itemsize"] = sizeof(EventTruth);
+  return py::dtype::from_args(d);
+}
+
+py::dtype truth_dtype() {
+  static auto* dtype = new py::dtype(make_truth_dtype());  // leaked: see dtypes.cpp
+  return *dtype;
+}
+
+template <typename T>
+py::array copy_to_array(const std::vector<T>& v, const py::dtype& dtype) {
+  py::array out(dtype, std::vector<py::ssize_t>{static_cast<py::ssize_t>(v.size())});
+  if (!v.empty()) std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(T));
+  return out;
+}
+
+py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, double duration_s, std::uint64_t seed,
+                const py::object& pixel_arg, const py::kwargs& pixel_options) {
+  const SensorSize sensor = sensor_arg.is_none() ? SensorSize{128, 128} : sensor_from_python(sensor_arg);
+  if (!(duration_s >= 1e-3 && duration_s <= 3600.0)) throw py::value_error("duration: expected 0.001 .. 3600 s");
+  const auto duration_us = static_cast<std::int64_t>(duration_s * 1e6 + 0.5);
+  io::SceneSpec spec;
+  const bool textured = scene_name == "textured";
+  // As `evlife synth`: DVS pixels for the texture, ideal ones for the bars.
+  const std::string pixel_name = pixel_arg.is_none() ? (textured ? "dvs" : "ideal") : pixel_arg.cast<std::string>();
+  if (!textured) {
+    const auto preset = io::scene_preset(scene_name, sensor, duration_us, seed);
+    if (!preset) {
+      throw py::value_error("scene '" + scene_name + "': expected edges, bar, mixed, large, edges-bar or textured");
+    }
+    spec = *preset;
+  }
+  if (!io::apply_pixel_setting(spec, pixel_name)) {
+    throw py::value_error("pixel '" + pixel_name + "': expected ideal, dvs or dvs-dim");
+  }
+  if (textured && !spec.pixel.enabled) throw py::value_error("scene 'textured': needs pixel='dvs' or 'dvs-dim'");
+  // Keyword options: the pixel parameters of `evlife synth` ('-' -> '_'),
+  // noise_rate, jitter_us.
+  for (const auto& [key, value] : pixel_options) {
+    const auto name = key.cast<std::string>();
+    const auto v = value.cast<double>();
+    if (name == "noise_rate") {
+      if (!(v >= 0.0 && v <= 1e4)) throw py::value_error("noise_rate: expected 0 .. 1e4 events per pixel per second");
+      spec.noise_rate_hz_per_px = v;
+      continue;
+    }
+    if (name == "jitter_us") {
+      if (!(v >= 0.0 && v <= 1e5)) throw py::value_error("jitter_us: expected 0 .. 1e5");
+      spec.jitter_sigma_us = v;
+      continue;
+    }
+    bool known = false;
+    for (const io::PixelParameter& p : io::pixel_parameters()) {
+      std::string py_name = p.name;
+      for (char& c : py_name) c = c == '-' ? '_' : c;
+      if (py_name != name) continue;
+      if (!spec.pixel.enabled) throw py::value_error(name + ": needs pixel='dvs' or 'dvs-dim'");
+      if (textured && name == "contrast") throw py::value_error("contrast: the textured scene's leaves set the contrasts");
+      if (!(v >= p.lo && v <= p.hi)) {
+        throw py::value_error(name + ": expected " + std::to_string(p.lo) + " .. " + std::to_string(p.hi));
+      }
+      spec.pixel.*p.field = v;
+      known = true;
+    }
+    if (!known) throw py::type_error("synth() got an unexpected keyword argument '" + name + "'");
+  }
+  io::TexturedSceneSpec texture;
+  spec.sensor = sensor;
+  if (textured) {
+    texture.sensor = sensor;
+    texture.duration_us = duration_us;
+    texture.seed = seed;
+    texture.pixel = spec.pixel;
+    texture.noise_rate_hz_per_px = spec.noise_rate_hz_per_px;
+  }
+  if (const std::string why = textured ? io::validate_textured_scene_spec(texture) : io::validate_scene_spec(spec);
+      !why.empty()) {
+    throw py::value_error(why);
+  }
+  io::SyntheticScene scene;
+  {
+    py::gil_scoped_release release;
+    scene = textured ? io::generate_textured_scene(texture) : io::generate_scene(spec);
+  }
+  py::list names;
+  for (const std::string& n : scene.feature_names) names.append(n);
+  return py::make_tuple(copy_to_array(scene.events, event_dtype()), copy_to_array(scene.truth, truth_dtype()), names);
+}
+
+}  // namespace
+
+void bind_synth(py::module_& m) {
+  m.attr("TRUTH_DTYPE") = truth_dtype();
+  m.def("synth", &synth, py::arg("scene") = "mixed", py::arg("sensor") = py::none(), py::arg("duration") = 3.0,
+        py::arg("seed") = 1, py::arg("pixel") = py::none(),
+        "A synthetic scene with known ground truth, as `evlife synth` writes it: (events, truth, "
+        "features). events: EVENT_DTYPE, time-ordered; truth: TRUTH_DTYPE, truth[i] for events[i] "
+        "(lifetime in us, 0 for noise; (nx, ny) the unit direction the edge moves; feature an index "
+        "into features; scorable False where no plane or no score applies); features: the "
+        "patterns' or tiles' names. scene: edges, bar, mixed, large, edges-bar, textured "
+        "(needs pixel='dvs' or 'dvs-dim'); duration in seconds; pixel: ideal, dvs, dvs-dim (default "
+        "dvs for textured, ideal for the bars); "
+        "keywords: the pixel options of `evlife synth` with '_' for '-' (latency_us=300, "
+        "cutoff_hz=100, ...), noise_rate, jitter_us. The same arguments give the same arrays.");
+}
+
+}  // namespace evlife::python

@@ -1,0 +1,75 @@
+"""evlife.synth: the scenes of `evlife synth` with their ground truth."""
+import numpy as np
+import pytest
+
+import evlife
+
+from conftest import cli
+
+
+def test_textured_equals_the_command_line(tmp_path):
+    out = tmp_path / "texture.txt"
+    cli("synth", "-o", out, "--scene", "textured", "--sensor", "120x120", "--duration", "0.2",
+        "--seed", "4", "--refractory-us", "400", "--quiet")
+    events, truth, features = evlife.synth("textured", sensor=(120, 120), duration=0.2, seed=4,
+                                           refractory_us=400)
+    assert events.dtype == evlife.EVENT_DTYPE and truth.dtype == evlife.TRUTH_DTYPE
+    assert len(events) == len(truth) > 1000
+    assert len(features) == 4 and features[0].startswith("texture tile 0")
+    written = evlife.read(str(out), sensor=(120, 120))
+    np.testing.assert_array_equal(written, events)
+
+
+def test_bars_with_dvs_pixels_equal_the_command_line(tmp_path):
+    out = tmp_path / "bars.txt"
+    cli("synth", "-o", out, "--scene", "edges-bar", "--sensor", "160x120", "--duration", "0.1",
+        "--pixel", "dvs-dim", "--latency-us", "300", "--quiet")
+    events, truth, _ = evlife.synth("edges-bar", sensor=(160, 120), duration=0.1, pixel="dvs-dim",
+                                    latency_us=300)
+    np.testing.assert_array_equal(evlife.read(str(out), sensor=(160, 120)), events)
+    assert (truth["burst_index"] > 0).any()
+
+
+def test_truth_is_consistent_and_deterministic():
+    events, truth, features = evlife.synth("mixed", sensor=(128, 128), duration=0.5, seed=3)
+    again, truth_again, _ = evlife.synth("mixed", sensor=(128, 128), duration=0.5, seed=3)
+    np.testing.assert_array_equal(events, again)
+    np.testing.assert_array_equal(truth, truth_again)
+    assert np.all(np.diff(events["t"]) >= 0)
+    noise = truth["noise"]
+    assert noise.any() and (~noise).any()
+    assert np.all(truth["lifetime"][noise] == 0)
+    assert np.all(truth["lifetime"][~noise] > 0)
+    edges = ~noise
+    np.testing.assert_allclose(np.hypot(truth["nx"][edges], truth["ny"][edges]), 1.0, atol=1e-9)
+    assert truth["feature"][edges].max() < len(features)
+    other, _, _ = evlife.synth("mixed", sensor=(128, 128), duration=0.5, seed=4)
+    assert len(other) != len(events) or not np.array_equal(other, events)
+
+
+def test_the_estimator_against_the_truth():
+    # The README's use: score your own pipeline (here the estimator) per event.
+    events, truth, _ = evlife.synth("edges", sensor=(240, 180), duration=0.4, pixel="dvs")
+    out = evlife.process(events, sensor=(240, 180))
+    scored = truth["scorable"] & ~truth["noise"] & (truth["margin_px"] >= 2) & (events["t"] > 50_000)
+    got = scored & (out["lifetime"] > 0)
+    assert got.sum() / scored.sum() > 0.9
+    rel = np.abs(out["lifetime"][got] - truth["lifetime"][got]) / truth["lifetime"][got]
+    assert np.median(rel) < 0.1
+
+
+def test_bad_arguments_raise():
+    with pytest.raises(ValueError, match="needs pixel='dvs' or 'dvs-dim'"):
+        evlife.synth("textured", pixel="ideal")
+    with pytest.raises(ValueError, match="expected edges, bar"):
+        evlife.synth("stripes")
+    with pytest.raises(ValueError, match="latency_us: needs pixel"):
+        evlife.synth("bar", latency_us=300)
+    with pytest.raises(ValueError, match="threshold"):
+        evlife.synth("bar", pixel="dvs", threshold=100)
+    with pytest.raises(ValueError, match="contrast"):
+        evlife.synth("textured", contrast=0.3)
+    with pytest.raises(ValueError, match="duration"):
+        evlife.synth("bar", duration=0)
+    with pytest.raises(TypeError, match="bogus"):
+        evlife.synth("bar", pixel="dvs", bogus=1)
