@@ -508,6 +508,17 @@ TEST(PixelModel, SynthCommandLineTextured) {
   const std::string csv = test::read_text_file(truth);
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), n + 1);
 
+  // `evlife run --source synth:textured` estimates the same scene (seed 1) as
+  // `evlife process` of the file synth writes.
+  const std::string seed1 = (dir / "seed1.txt").string(), ran = (dir / "run.bin").string(),
+                    processed = (dir / "processed.bin").string();
+  ASSERT_EQ(run("synth -o '" + seed1 + "' --scene textured --sensor 120x120 --duration 0.2 -q").exit_code, 0);
+  const auto by_run = run("run --source synth:textured --sensor 120x120 --duration 0.2 -o '" + ran + "'");
+  ASSERT_EQ(by_run.exit_code, 0) << by_run.output;
+  const auto by_process = run("process '" + seed1 + "' --sensor 120x120 -o '" + processed + "'");
+  ASSERT_EQ(by_process.exit_code, 0) << by_process.output;
+  EXPECT_TRUE(test::read_text_file(ran) == test::read_text_file(processed)) << "run and process differ";
+
   const auto ideal = run("synth -o '" + out + "' --scene textured --pixel ideal");
   EXPECT_EQ(ideal.exit_code, 2);
   EXPECT_NE(ideal.output.find("--scene textured: needs --pixel dvs or dvs-dim"), std::string::npos) << ideal.output;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -36,6 +37,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
+#include "evlife/io/textured_scene.h"
 #include "exit_code.h"
 #include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
@@ -95,9 +97,11 @@ void print_help(std::FILE* out) {
       "  dvs128[:SERIAL]      the DVS128 camera over USB (--biases FILE); a live\n"
       "                       source: runs until SIGINT; a vanished camera ends the\n"
       "                       run with exit status 3 after writing what arrived.\n"
-      "  synth:PRESET         a synthetic scene (edges, bar, mixed, large) of\n"
+      "  synth:PRESET         a synthetic scene (edges, bar, mixed, large, edges-bar) of\n"
       "                       --duration T (default 1s; 500ms ...) on --sensor (default\n"
-      "                       1280x720); live-like: paced with --realtime.\n"
+      "                       1280x720); live-like: paced with --realtime. synth:textured:\n"
+      "                       the texture of `evlife synth --scene textured` (dvs pixels,\n"
+      "                       default 346x260, generated whole before the run).\n"
       "\n"
       "Options:\n"
       "  --sensor WxH         sensor size when the format does not state one (else\n"
@@ -265,13 +269,25 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
   std::string_view spec = r.source;
   if (engine::is_dvs128_spec(spec)) return engine::make_dvs128_source(spec, r.biases);
   if (spec.starts_with("synth:")) {
-    const SensorSize sensor = r.sensor.value_or(SensorSize{1280, 720});
-    const auto preset = io::scene_preset(spec.substr(6), sensor,
-                                         static_cast<std::int64_t>(r.duration_s * 1e6), 1);
-    if (!preset) throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large)");
-    auto source = engine::ReplaySource::from_reader(
-        std::make_unique<io::SyntheticSceneReader>(*preset), sensor, r.speed,
-        r.speed > 0 ? engine::SourceKind::live : engine::SourceKind::offline);
+    const auto duration_us = std::llround(r.duration_s * 1e6);  // 0.2 s: 199999.99999999997 us
+    std::unique_ptr<io::EventReader> scene;
+    SensorSize sensor{};
+    if (spec == "synth:textured") {  // generated whole (~70 B per event): a DAVIS346 by default
+      io::TexturedSceneSpec texture;
+      texture.sensor = sensor = r.sensor.value_or(SensorSize{346, 260});
+      texture.duration_us = duration_us;
+      if (const std::string why = io::validate_textured_scene_spec(texture); !why.empty()) throw UsageError(why);
+      scene = std::make_unique<io::SceneMemoryReader>(io::generate_textured_scene(texture));
+    } else {
+      sensor = r.sensor.value_or(SensorSize{1280, 720});
+      const auto preset = io::scene_preset(spec.substr(6), sensor, duration_us, 1);
+      if (!preset) {
+        throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large, edges-bar, textured)");
+      }
+      scene = std::make_unique<io::SyntheticSceneReader>(*preset);
+    }
+    auto source = engine::ReplaySource::from_reader(std::move(scene), sensor, r.speed,
+                                                    r.speed > 0 ? engine::SourceKind::live : engine::SourceKind::offline);
     source->set_packet_us(r.engine.replay_packet_us);
     return source;
   }
