@@ -24,6 +24,8 @@
 #include "evlife/io/textured_scene.h"
 #include "evlife/render/pixel_statistics.h"
 #include "cli_runner.h"
+#include "read_all.h"
+#include "scratch_dir.h"
 
 namespace evlife {
 namespace {
@@ -421,11 +423,15 @@ TEST(PixelModel, BadParametersAreRejected) {
 
 // `evlife synth --pixel`: the file holds the generator's events, the truth
 // CSV the burst index and hot flag; pixel options need a pixel model.
+// `evlife ARGS` with its output logged in `dir`.
+test::CliRun run_in(const test::ScratchDir& dir, const std::string& args) {
+  return test::run_cli(EVLIFE_CLI_PATH, args, dir.path() / "cli.log");
+}
+
 TEST(PixelModel, SynthCommandLine) {
-  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "evlife_test_pixel_model";
-  std::filesystem::create_directories(dir);
-  const std::string out = (dir / "dvs.txt").string(), truth = (dir / "dvs_truth.csv").string();
-  const auto run = [&](const std::string& args) { return test::run_cli(EVLIFE_CLI_PATH, args, dir / "cli.log"); };
+  const test::ScratchDir dir("test_pixel_model_synth");
+  const std::string out = dir.file("dvs.txt"), truth = dir.file("dvs_truth.csv");
+  const auto run = [&](const std::string& args) { return run_in(dir, args); };
   const auto ok = run("synth -o '" + out + "' --scene edges-bar --sensor 346x260 --duration 0.1 --seed 3 "
                       "--pixel dvs-dim --latency-us 300 --truth '" + truth + "'");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
@@ -434,12 +440,7 @@ TEST(PixelModel, SynthCommandLine) {
   ASSERT_TRUE(io::apply_pixel_setting(spec, "dvs-dim"));
   spec.pixel.latency_us = 300.0;
   const SyntheticScene expected = io::generate_scene(spec);
-  auto reader = io::open_event_reader(out);
-  std::vector<Event> written(expected.events.size() + 1);
-  std::size_t n = 0;
-  while (const std::size_t k = reader->read(std::span<Event>(written).subspan(n))) n += k;
-  written.resize(n);
-  EXPECT_TRUE(same_events(written, expected.events));
+  EXPECT_TRUE(same_events(test::read_all(out).events, expected.events));
   const std::string csv = test::read_text_file(truth);
   EXPECT_EQ(csv.rfind("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n", 0), 0u);
   std::size_t followers = 0;
@@ -457,12 +458,7 @@ TEST(PixelModel, SynthCommandLine) {
   slow_spec.pixel.cutoff_hz = 100.0;
   slow_spec.pixel.timestamp_quantum_us = 50.0;
   const SyntheticScene slow_expected = io::generate_scene(slow_spec);
-  auto slow_reader = io::open_event_reader(out);
-  std::vector<Event> slow_written(slow_expected.events.size() + 1);
-  n = 0;
-  while (const std::size_t k = slow_reader->read(std::span<Event>(slow_written).subspan(n))) n += k;
-  slow_written.resize(n);
-  EXPECT_TRUE(same_events(slow_written, slow_expected.events));
+  EXPECT_TRUE(same_events(test::read_all(out).events, slow_expected.events));
   for (const io::PixelParameter& p : io::pixel_parameters()) {
     const auto flag = run("synth -o '" + out + "' --duration 0.01 --pixel dvs --" + std::string(p.name) + " " +
                           std::to_string(io::dvs_pixel_normal().*p.field));
@@ -483,10 +479,9 @@ TEST(PixelModel, SynthCommandLine) {
 // `evlife synth --scene textured`: the generator's events (dvs pixels by
 // default, flags as for the bars); no ideal pixels, no --contrast.
 TEST(PixelModel, SynthCommandLineTextured) {
-  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "evlife_test_pixel_model_textured";
-  std::filesystem::create_directories(dir);
-  const std::string out = (dir / "texture.txt").string(), truth = (dir / "texture_truth.csv").string();
-  const auto run = [&](const std::string& args) { return test::run_cli(EVLIFE_CLI_PATH, args, dir / "cli.log"); };
+  const test::ScratchDir dir("test_pixel_model_synth_textured");
+  const std::string out = dir.file("texture.txt"), truth = dir.file("texture_truth.csv");
+  const auto run = [&](const std::string& args) { return run_in(dir, args); };
   const auto ok = run("synth -o '" + out + "' --scene textured --sensor 120x120 --duration 0.2 --seed 4 "
                       "--refractory-us 400 --truth '" + truth + "'");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
@@ -498,11 +493,8 @@ TEST(PixelModel, SynthCommandLineTextured) {
   spec.seed = 4;
   spec.pixel.refractory_us = 400.0;
   const SyntheticScene expected = io::generate_textured_scene(spec);
-  auto reader = io::open_event_reader(out);
-  std::vector<Event> written(expected.events.size() + 1);
-  std::size_t n = 0;
-  while (const std::size_t k = reader->read(std::span<Event>(written).subspan(n))) n += k;
-  written.resize(n);
+  const std::vector<Event> written = test::read_all(out).events;
+  const std::size_t n = written.size();
   ASSERT_GT(n, 1000u);
   EXPECT_TRUE(same_events(written, expected.events));
   const std::string csv = test::read_text_file(truth);
@@ -510,8 +502,7 @@ TEST(PixelModel, SynthCommandLineTextured) {
 
   // `evlife run --source synth:textured` estimates the same scene (seed 1) as
   // `evlife process` of the file synth writes.
-  const std::string seed1 = (dir / "seed1.txt").string(), ran = (dir / "run.bin").string(),
-                    processed = (dir / "processed.bin").string();
+  const std::string seed1 = dir.file("seed1.txt"), ran = dir.file("run.bin"), processed = dir.file("processed.bin");
   ASSERT_EQ(run("synth -o '" + seed1 + "' --scene textured --sensor 120x120 --duration 0.2 -q").exit_code, 0);
   const auto by_run = run("run --source synth:textured --sensor 120x120 --duration 0.2 -o '" + ran + "'");
   ASSERT_EQ(by_run.exit_code, 0) << by_run.output;
