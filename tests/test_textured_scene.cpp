@@ -208,6 +208,10 @@ TEST(TexturedScene, BadSpecsNameTheField) {
   s.leaf_radius_min_px = 0.1;
   EXPECT_NE(message(s).find("leaf_radius"), std::string::npos);
   s = small_spec();
+  s.tile_px = 1000;
+  s.travel_px = 600.0;
+  EXPECT_NE(message(s).find("texture memory"), std::string::npos);
+  s = small_spec();
   s.texture_contrast_log = -1.0;
   EXPECT_NE(message(s).find("texture_contrast_log"), std::string::npos);
 }

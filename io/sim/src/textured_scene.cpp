@@ -358,6 +358,8 @@ std::string validate_textured_scene_spec(const TexturedSceneSpec& s) {
   if (!s.pixel.enabled) return "pixel: the textured scene needs the pixel model enabled";
   if (s.tile_px < 16 || s.tile_px > 4096) return "tile_px: must be in [16, 4096]";
   if (!(s.travel_px >= 1.0 && s.travel_px <= 1000.0)) return "travel_px: must be in [1, 1000]";
+  // A tile's texture is held at kSupersample^2 texels per px (8 bytes each).
+  if (s.tile_px + 2.0 * s.travel_px > 2000.0) return "tile_px + 2 x travel_px: must be at most 2000 (texture memory)";
   if (!(s.lifetime_min_us >= 1.0 && s.lifetime_max_us >= s.lifetime_min_us && s.lifetime_max_us <= 1e7))
     return "lifetime_min_us, lifetime_max_us: need 1 <= min <= max <= 1e7";
   if (!(s.texture_contrast_log > 0.0 && s.texture_contrast_log <= 10.0)) return "texture_contrast_log: must be in (0, 10]";
