@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 namespace evlife::test {
 namespace {
@@ -16,7 +17,7 @@ Spec with_setting(Spec spec, const char* setting) {
 }
 
 AccuracyScene with_pixels(std::string title, io::SceneSpec spec, const char* setting) {
-  return {std::move(title) + ", " + setting + " pixels", with_setting(spec, setting), std::nullopt};
+  return {std::move(title) + ", " + setting + " pixels", with_setting(std::move(spec), setting), std::nullopt};
 }
 
 AccuracyScene textured(unsigned seed, const char* setting) {

@@ -123,28 +123,31 @@ class Texture {
   void blur(double sigma) {
     if (!(sigma > 0.0)) return;
     const int radius = static_cast<int>(std::ceil(3.0 * sigma));
-    std::vector<double> k(static_cast<std::size_t>(2 * radius + 1));
+    const std::size_t taps = 2 * static_cast<std::size_t>(radius) + 1;  // offsets -radius .. radius
+    std::vector<double> k(taps);
     double sum = 0.0;
-    for (int i = -radius; i <= radius; ++i) {
-      k[static_cast<std::size_t>(i + radius)] = std::exp(-0.5 * i * i / (sigma * sigma));
-      sum += k[static_cast<std::size_t>(i + radius)];
+    for (std::size_t j = 0; j < taps; ++j) {
+      const double d = static_cast<double>(j) - radius;
+      k[j] = std::exp(-0.5 * d * d / (sigma * sigma));
+      sum += k[j];
     }
     for (double& v : k) v /= sum;
     std::vector<double> tmp(texels_.size());
     const auto idx = [&](int x, int y) {
       return static_cast<std::size_t>(y) * static_cast<std::size_t>(w_) + static_cast<std::size_t>(x);
     };
+    const auto offset = [&](std::size_t j) { return static_cast<int>(j) - radius; };
     for (int y = 0; y < h_; ++y) {
       for (int x = 0; x < w_; ++x) {
         double s = 0.0;
-        for (int i = -radius; i <= radius; ++i) s += k[static_cast<std::size_t>(i + radius)] * texels_[idx(std::clamp(x + i, 0, w_ - 1), y)];
+        for (std::size_t j = 0; j < taps; ++j) s += k[j] * texels_[idx(std::clamp(x + offset(j), 0, w_ - 1), y)];
         tmp[idx(x, y)] = s;
       }
     }
     for (int y = 0; y < h_; ++y) {
       for (int x = 0; x < w_; ++x) {
         double s = 0.0;
-        for (int i = -radius; i <= radius; ++i) s += k[static_cast<std::size_t>(i + radius)] * tmp[idx(x, std::clamp(y + i, 0, h_ - 1))];
+        for (std::size_t j = 0; j < taps; ++j) s += k[j] * tmp[idx(x, std::clamp(y + offset(j), 0, h_ - 1))];
         texels_[idx(x, y)] = s;
       }
     }
