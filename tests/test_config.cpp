@@ -229,6 +229,18 @@ TEST(Config, SyntaxErrorNamesFileAndLine) {
   EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
 }
 
+// YAML allows keys that are not names (empty, sequences, maps): a clear
+// error naming the line, not yaml-cpp's exception (a fuzzer found this:
+// tests/fuzz/regressions/config/non_scalar_key.yaml).
+TEST(Config, KeyThatIsNotANameIsAnError) {
+  for (const char* text : {"estimator:\n  ? [a, b]\n  : 1\n", "? {x: 1}\n: 2\n", "estimator:\n  ? \n  : 3\n"}) {
+    const auto path = write_temp("key.yaml", text);
+    const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+    EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("expected a key name"), std::string::npos) << msg;
+  }
+}
+
 TEST(Config, DumpReadsBackIdentically) {
   ConfigBuilder b;
   b.set("estimator.window_size=11");

@@ -119,6 +119,9 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   // Depth-first over maps; leaves are scalars named by their dotted path.
   auto walk = [&](auto&& self, const YAML::Node& map, const std::string& prefix) -> void {
     for (const auto& item : map) {
+      // A key must be a name: YAML also allows empty, sequence and map keys,
+      // which as<std::string>() would throw on (a fuzzer found one).
+      if (!item.first.IsScalar()) throw ConfigError(where(item.first) + ": expected a key name");
       const std::string name = item.first.as<std::string>();
       const std::string key = prefix.empty() ? name : prefix + "." + name;
       const YAML::Node& value = item.second;
