@@ -725,12 +725,7 @@ TEST(TexturedAccuracy, TruthAgreesWithTheEventsOnStraightLeaves) {
   evlife::io::TexturedSceneSpec spec = *evlife::test::textured_accuracy_scenes()[0].textured;
   spec.leaf_radius_min_px = 30.0;
   spec.leaf_radius_max_px = 40.0;
-  spec.noise_rate_hz_per_px = 0.0;
-  spec.pixel.hot_pixel_fraction = 0.0;
-  spec.pixel.latency_us = 0.0;
-  spec.pixel.latency_jitter_us = 0.0;
-  spec.pixel.refractory_us = 0.0;
-  spec.pixel.threshold_mismatch_sigma = 0.0;
+  evlife::test::make_pixels_near_ideal(spec);
   spec.pixel.threshold_log = 0.05;
   const SyntheticScene scene = evlife::io::generate_textured_scene(spec);
   const auto report = run_estimator(scene, evlife::LifetimeOptions{});

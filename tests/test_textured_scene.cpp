@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "accuracy_scenes.h"
 #include "evlife/io/textured_scene.h"
 
 namespace evlife {
@@ -107,12 +108,7 @@ TEST(TexturedScene, LatencyAndRefractoryPeriod) {
 // 2.5x).
 TEST(TexturedScene, EventsScaleWithTheInverseThreshold) {
   TexturedSceneSpec spec = small_spec();
-  spec.noise_rate_hz_per_px = 0.0;
-  spec.pixel.hot_pixel_fraction = 0.0;
-  spec.pixel.refractory_us = 0.0;
-  spec.pixel.latency_us = 0.0;
-  spec.pixel.latency_jitter_us = 0.0;
-  spec.pixel.threshold_mismatch_sigma = 0.0;
+  test::make_pixels_near_ideal(spec);
   spec.pixel.threshold_log = 0.2;
   const double at_02 = static_cast<double>(edge_events(io::generate_textured_scene(spec)));
   spec.pixel.threshold_log = 0.1;

@@ -54,4 +54,13 @@ std::vector<AccuracyScene> textured_accuracy_scenes(unsigned seed_offset) {
   return {textured(21 + seed_offset, "dvs"), textured(22 + seed_offset, "dvs-dim")};
 }
 
+void make_pixels_near_ideal(io::TexturedSceneSpec& spec) {
+  spec.noise_rate_hz_per_px = 0.0;
+  spec.pixel.hot_pixel_fraction = 0.0;
+  spec.pixel.latency_us = 0.0;
+  spec.pixel.latency_jitter_us = 0.0;
+  spec.pixel.refractory_us = 0.0;
+  spec.pixel.threshold_mismatch_sigma = 0.0;
+}
+
 }  // namespace evlife::test

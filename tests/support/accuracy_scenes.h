@@ -37,4 +37,9 @@ std::vector<AccuracyScene> pixel_model_accuracy_scenes(unsigned seed_offset = 0)
 /// (textured_scene.h): normal light, then dim light.
 std::vector<AccuracyScene> textured_accuracy_scenes(unsigned seed_offset = 0);
 
+/// The texture's pixels without the sensor's imperfections: no background
+/// activity, hot pixels, latency, jitter, refractory period or threshold
+/// mismatch (the threshold itself unchanged).
+void make_pixels_near_ideal(io::TexturedSceneSpec& spec);
+
 }  // namespace evlife::test
