@@ -342,7 +342,9 @@ evlife::test::AccuracyReport run_estimator(const SyntheticScene& scene, evlife::
 }
 
 void expect_floors(std::size_t index) {
-  const auto [title, spec, textured] = evlife::test::ideal_accuracy_scenes()[index];
+  const evlife::test::AccuracyScene scene_def = evlife::test::ideal_accuracy_scenes()[index];
+  const std::string& title = scene_def.title;
+  const SceneSpec& spec = scene_def.spec;
   const SyntheticScene scene = evlife::io::generate_scene(spec);
   const auto report = run_estimator(scene, evlife::LifetimeOptions{});  // defaults but the sensor
   std::cout << evlife::test::format_accuracy_table(
@@ -385,7 +387,9 @@ enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
                                                  const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
                                                  const std::function<void(SceneSpec&)>& sensor = {}) {
-  auto [scene_title, spec, textured] = evlife::test::pixel_model_accuracy_scenes()[index];
+  evlife::test::AccuracyScene scene_def = evlife::test::pixel_model_accuracy_scenes()[index];
+  const std::string& scene_title = scene_def.title;
+  SceneSpec& spec = scene_def.spec;
   if (sensor) sensor(spec);
   const std::string title = scene_title + variant;
   const SyntheticScene scene = evlife::io::generate_scene(spec);
@@ -752,7 +756,9 @@ TEST(TexturedAccuracy, DeadLeavesDavis346DimLight) {
 // worse lifetimes and directions. Fails if the prior is not used.
 TEST(PixelModelAccuracy, RegularizationImprovesEstimatesOnRealisticPixels) {
   for (const PixelScene index : {kEdgesNormal, kBarNormal}) {
-    const auto [title, spec, textured] = evlife::test::pixel_model_accuracy_scenes()[index];
+    const evlife::test::AccuracyScene scene_def = evlife::test::pixel_model_accuracy_scenes()[index];
+    const std::string& title = scene_def.title;
+    const SceneSpec& spec = scene_def.spec;
     const SyntheticScene scene = evlife::io::generate_scene(spec);
     evlife::LifetimeOptions off;
     off.regularization = false;
