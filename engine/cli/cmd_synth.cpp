@@ -210,10 +210,7 @@ int synth(int argc, char** argv) {
       throw UsageError("--duration " + *a.value("duration") + ": expected 1ms..3600s");
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
     if (scene_name == "textured") {
-      textured.emplace();
-      textured->sensor = sensor;
-      textured->duration_us = duration_us;
-      textured->seed = seed;
+      textured.emplace();  // filled from spec below, once its pixels are set
       spec = {};
       spec.sensor = sensor;
       spec.duration_us = duration_us;
@@ -237,8 +234,7 @@ int synth(int argc, char** argv) {
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
     if (textured) {
-      textured->pixel = spec.pixel;
-      textured->noise_rate_hz_per_px = spec.noise_rate_hz_per_px;
+      textured = io::textured_scene_like(spec);
       if (const auto err = io::validate_textured_scene_spec(*textured); !err.empty()) throw UsageError(err);
     } else if (const auto err = io::validate_scene_spec(spec); !err.empty()) {
       throw UsageError(err);
@@ -251,13 +247,6 @@ int synth(int argc, char** argv) {
   std::optional<io::SyntheticSceneReader> bars;
   std::optional<io::SceneMemoryReader> texture;
   std::vector<std::string> names;
-  if (textured) {
-    texture.emplace(io::generate_textured_scene(*textured));
-    names = texture->scene().feature_names;
-  } else {
-    bars.emplace(spec);
-    names = io::scene_feature_names(spec);
-  }
   const std::function<std::size_t(std::span<Event>, std::span<io::EventTruth>)> next =
       [&](std::span<Event> e, std::span<io::EventTruth> t) {
         return texture ? texture->read_with_truth(e, t) : bars->read_with_truth(e, t);
@@ -266,9 +255,17 @@ int synth(int argc, char** argv) {
   std::vector<io::EventTruth> truth(kBatchEvents);
   unsigned long long written = 0, noise = 0, hot = 0;
   try {
+    // The outputs open first: a bad file name is reported before seconds of generation.
     auto writer = io::open_event_writer(output);
     std::unique_ptr<TruthCsv> truth_csv;
     if (!truth_path.empty()) truth_csv = std::make_unique<TruthCsv>(truth_path);
+    if (textured) {
+      texture.emplace(io::generate_textured_scene(*textured));
+      names = texture->scene().feature_names;
+    } else {
+      bars.emplace(spec);
+      names = io::scene_feature_names(spec);
+    }
     while (const std::size_t n = next(events, truth)) {
       writer->write(std::span<const Event>(events.data(), n));
       if (truth_csv) truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));

@@ -57,6 +57,9 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
       throw py::value_error("scene '" + scene_name + "': expected edges, bar, mixed, large, edges-bar or textured");
     }
     spec = *preset;
+  } else {
+    spec.duration_us = duration_us;
+    spec.seed = seed;
   }
   if (!io::apply_pixel_setting(spec, pixel_name)) {
     throw py::value_error("pixel '" + pixel_name + "': expected ideal, dvs or dvs-dim");
@@ -92,15 +95,8 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
     }
     if (!known) throw py::type_error("synth() got an unexpected keyword argument '" + name + "'");
   }
-  io::TexturedSceneSpec texture;
   spec.sensor = sensor;
-  if (textured) {
-    texture.sensor = sensor;
-    texture.duration_us = duration_us;
-    texture.seed = seed;
-    texture.pixel = spec.pixel;
-    texture.noise_rate_hz_per_px = spec.noise_rate_hz_per_px;
-  }
+  const io::TexturedSceneSpec texture = io::textured_scene_like(spec);
   if (const std::string why = textured ? io::validate_textured_scene_spec(texture) : io::validate_scene_spec(spec);
       !why.empty()) {
     throw py::value_error(why);

@@ -371,6 +371,16 @@ std::string validate_textured_scene_spec(const TexturedSceneSpec& s) {
   return "";
 }
 
+TexturedSceneSpec textured_scene_like(const SceneSpec& scene) {
+  TexturedSceneSpec spec;
+  spec.sensor = scene.sensor;
+  spec.duration_us = scene.duration_us;
+  spec.seed = scene.seed;
+  spec.pixel = scene.pixel;
+  spec.noise_rate_hz_per_px = scene.noise_rate_hz_per_px;
+  return spec;
+}
+
 SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec) {
   if (std::string why = validate_textured_scene_spec(spec); !why.empty()) {
     throw std::invalid_argument("textured scene: " + why);

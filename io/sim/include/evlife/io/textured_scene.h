@@ -69,6 +69,11 @@ struct TexturedSceneSpec {
 /// Returns "" when the spec is usable, else a message naming the field.
 std::string validate_textured_scene_spec(const TexturedSceneSpec& spec);
 
+/// The textured scene with the sensor, duration, seed, pixels and background
+/// activity of `scene` (the fields the command line and Python parse into a
+/// SceneSpec for either scene); the texture's own fields keep their defaults.
+TexturedSceneSpec textured_scene_like(const SceneSpec& scene);
+
 /// The scene: events time-ordered, truth[i] for events[i] (feature = tile
 /// index, margin_px = distance to the tile's border, travel_px = distance the
 /// tile has moved, burst_index = events of the same polarity at the pixel
