@@ -3,12 +3,13 @@
 // figures of the options and seeds that were measured and not adopted.
 //
 //   build/bench/accuracy_sweep [--ideal | --textured] [--seed-offset N] [--config FILE] [--set key=value ...]
-//                              [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares]
+//                              [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares] [--why]
 //
 // --pixel and --noise-rate change the pixel-model scenes' sensor (names as
 // `evlife synth`'s pixel options, e.g. --pixel latency-jitter-us=1000): how
 // the estimator holds across the range real sensors span. --bands adds each
-// scene's rows by true lifetime.
+// scene's rows by true lifetime. --why adds, per scene, why events got no
+// lifetime by kind of event (tests/support/rejection_breakdown.h).
 // Prints one row per scene: share with a lifetime, median and p90 relative
 // lifetime error, median direction error, share of noise labelled noise.
 #include <cstdio>
@@ -23,6 +24,7 @@
 
 #include "accuracy_metrics.h"
 #include "accuracy_scenes.h"
+#include "rejection_breakdown.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/algo/parse_text.h"
 #include "evlife/config/config.h"
@@ -32,7 +34,7 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: accuracy_sweep [--ideal | --textured] [--seed-offset N] [--config FILE] [--set key=value ...]\n"
-               "                      [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares]\n"
+               "                      [--pixel name=value ...] [--noise-rate R] [--bands] [--error-shares] [--why]\n"
                "  realistic DVS pixels (normal and dim light) by default, --ideal for the ideal scenes,\n"
                "  --textured for a translating dead-leaves texture through those pixels;\n"
                "  keys as in config/evlife.yaml, e.g. --set estimator.lambda_decay_per_us=0.005;\n"
@@ -55,7 +57,10 @@ int usage() {
                "  events with a lifetime within 30 %% of the truth (w30%%) and more than 100 %% off\n"
                "  (off100%%), which a share and a median hide, the median signed error (bias%%:\n"
                "  < 0, lifetimes short) and the share of all events after the warm-up with a\n"
-               "  lifetime (all%%: edge and noise, any margin, as a recording's share)\n");
+               "  lifetime (all%%: edge and noise, any margin, as a recording's share); --why: per scene,\n"
+               "  what the estimator did with each kind of event after the warm-up (edge events past\n"
+               "  5 px of travel): fit%% its own plane, follow%% its burst's estimate, or noise for\n"
+               "  few%% too few past events, noplane%% no plane with support, unres%% an implausible fit\n");
   return 2;
 }
 
@@ -84,6 +89,7 @@ int main(int argc, char** argv) try {
   bool textured = false;
   bool bands = false;
   bool error_shares = false;
+  bool why = false;
   unsigned seed_offset = 0;
   std::vector<std::string> pixel_assignments;
   double noise_rate_hz_per_px = -1.0;  // < 0: each setting's own
@@ -98,6 +104,8 @@ int main(int argc, char** argv) try {
       bands = true;
     } else if (arg == "--error-shares") {
       error_shares = true;
+    } else if (arg == "--why") {
+      why = true;
     } else if (arg == "--seed-offset" && has_value) {
       seed_offset = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
     } else if (arg == "--config" && has_value) {
@@ -130,6 +138,7 @@ int main(int argc, char** argv) try {
   }
   // One thread per scene: each generates, estimates and scores its own.
   std::vector<evlife::test::AccuracyReport> reports(scenes.size());
+  std::vector<std::string> breakdowns(scenes.size());
   std::vector<std::thread> threads;
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     threads.emplace_back([&, k] {
@@ -142,6 +151,10 @@ int main(int argc, char** argv) try {
       evlife::test::AccuracyOptions metric;
       metric.window_size = o.window_size;
       reports[k] = evlife::test::evaluate_accuracy(scene, out, metric);
+      if (why) {
+        breakdowns[k] = evlife::test::format_breakdown(scenes[k].title,
+                                                       evlife::test::rejection_breakdown(scene, options));
+      }
     });
   }
   for (auto& t : threads) t.join();
@@ -180,6 +193,9 @@ int main(int argc, char** argv) try {
         print_row(title, band, false);
       }
     }
+  }
+  if (why) {
+    for (const std::string& b : breakdowns) std::printf("\n%s", b.c_str());
   }
   return 0;
 } catch (const std::exception& e) {

@@ -20,6 +20,7 @@
 #include "config_presets.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/synthetic_scene.h"
+#include "rejection_breakdown.h"
 
 namespace {
 
@@ -325,6 +326,39 @@ TEST(AccuracyMetrics, OracleAndKnownPerturbations) {
     for (auto& a : all) a.lifetime_us = std::max(a.lifetime_us, 1000.0f);
     EXPECT_EQ(evlife::test::evaluate_accuracy(scene, all).overall.noise_share, 0.0);
   }
+}
+
+// accuracy_sweep --why: each event's outcome read from the estimator's
+// counters. On DVS-pixel edges the followers inherit their burst's estimate,
+// the first events fit their own plane, background activity mostly finds no
+// plane; each row's outcomes add up to its events.
+TEST(RejectionBreakdown, OutcomesByKindOfEvent) {
+  SceneSpec spec = evlife::io::edges_scene({120, 90}, 400'000, 5);
+  ASSERT_TRUE(evlife::io::apply_pixel_setting(spec, "dvs"));
+  spec.noise_rate_hz_per_px = 2.0;  // enough background events to score
+  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  const auto rows = evlife::test::rejection_breakdown(scene, evlife::LifetimeOptions{});
+  ASSERT_EQ(rows.size(), 5u);
+  std::cout << evlife::test::format_breakdown("edges 120x90, dvs pixels", rows);
+  using evlife::test::Outcome;
+  const auto share = [&](std::size_t row, Outcome o) {
+    return static_cast<double>(rows[row].outcomes[static_cast<std::size_t>(o)]) / static_cast<double>(rows[row].events);
+  };
+  for (const auto& r : rows) {
+    std::size_t sum = 0;
+    for (const std::size_t n : r.outcomes) sum += n;
+    EXPECT_EQ(sum, r.events) << r.kind;
+  }
+  ASSERT_GT(rows[0].events, 5000u);  // first events on a plane
+  ASSERT_GT(rows[2].events, 2000u);  // followers
+  ASSERT_GT(rows[3].events, 500u);   // background activity
+  EXPECT_GT(share(0, Outcome::lifetime), 0.9);
+  EXPECT_GT(share(2, Outcome::follower), 0.6);
+  EXPECT_LT(share(2, Outcome::lifetime), 0.3);
+  // Every background event counts here, also those within an edge's burst
+  // window at their pixel (indistinguishable from followers: 5.6 % follow).
+  EXPECT_LT(share(3, Outcome::lifetime) + share(3, Outcome::follower), 0.10);
+  EXPECT_GT(share(3, Outcome::few_samples) + share(3, Outcome::unsupported), 0.88);
 }
 
 // ---------------------------------------------------------------------------
