@@ -6,9 +6,7 @@
 namespace evlife::config::detail {
 
 void add_engine_keys(std::vector<ConfigKey>& keys) {
-  engine::for_each_engine_option([&](const OptionInfo& info, auto field) {
-    keys.push_back(table_key("engine", info, [field](auto& c) -> auto& { return field(c.engine); }));
-  });
+  add_table_keys(keys, "engine", &Config::engine, [](auto&& f) { engine::for_each_engine_option(f); });
   ConfigKey policy;
   policy.name = "engine." + std::string(engine::kPolicyKey);
   policy.type = "string";

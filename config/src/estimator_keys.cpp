@@ -6,10 +6,7 @@
 namespace evlife::config::detail {
 
 void add_estimator_keys(std::vector<ConfigKey>& keys) {
-  for_each_lifetime_option([&](const OptionInfo& info, auto field) {
-    keys.push_back(table_key("estimator", info,
-                             [field](auto& c) -> auto& { return field(c.estimator); }));
-  });
+  add_table_keys(keys, "estimator", &Config::estimator, [](auto&& f) { for_each_lifetime_option(f); });
 }
 
 }  // namespace evlife::config::detail

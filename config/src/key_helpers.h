@@ -132,6 +132,35 @@ ConfigKey table_key(std::string_view section, const OptionInfo& info, Field fiel
   }
 }
 
+/// A field of a table's section in a Config, for table_key(): the tables'
+/// accessors are captureless generic lambdas, called here through function
+/// pointers, so that the keys' parse/format code is one instantiation per
+/// field type and section, not one per field (40 instantiations of it made
+/// the static analyzer take over a minute on estimator_keys.cpp).
+template <typename T, typename Section>
+struct SectionField {
+  Section Config::* section;
+  T& (*get)(Section&);
+  const T& (*get_const)(const Section&);
+  T& operator()(Config& c) const { return get(c.*section); }
+  const T& operator()(const Config& c) const { return get_const(c.*section); }
+};
+
+/// Appends a key per entry of an option table: `for_each(f)` calls
+/// f(info, accessor) per field (for_each_lifetime_option,
+/// for_each_engine_option), `member` is the section in Config.
+template <typename Section, typename ForEach>
+void add_table_keys(std::vector<ConfigKey>& keys, std::string_view section, Section Config::* member,
+                    ForEach for_each) {
+  for_each([&](const OptionInfo& info, auto field) {
+    using Field = decltype(field);  // captureless: default-constructible (C++20)
+    using T = std::remove_cvref_t<decltype(field(std::declval<Section&>()))>;
+    keys.push_back(table_key(section, info,
+                             SectionField<T, Section>{member, [](Section& s) -> T& { return Field{}(s); },
+                                                      [](const Section& s) -> const T& { return Field{}(s); }}));
+  });
+}
+
 // One function per section appends its keys (listed in config_key.cpp).
 void add_estimator_keys(std::vector<ConfigKey>& keys);
 void add_engine_keys(std::vector<ConfigKey>& keys);
