@@ -135,8 +135,11 @@ class Hdf5ColumnFile {
     const hsize_t chunk[1] = {kChunkEvents};
     const hid_t space = H5Screate_simple(1, initial, maximum);
     const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+    // No modification times (HDF5 stores them by default): the same events
+    // give the same file, byte for byte.
     const bool ok = space >= 0 && properties >= 0 && H5Pset_chunk(properties, 1, chunk) >= 0 &&
                     H5Pset_shuffle(properties) >= 0 && H5Pset_deflate(properties, kDeflateLevel) >= 0 &&
+                    H5Pset_obj_track_times(properties, 0) >= 0 &&
                     (datasets_[c] = H5Dcreate2(file_, spec.name, spec.file_type, space, H5P_DEFAULT,
                                                properties, H5P_DEFAULT)) >= 0;
     if (properties >= 0) H5Pclose(properties);
