@@ -262,6 +262,30 @@ TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
   EXPECT_EQ(read_file(h5).substr(0, 8), "\x89HDF\r\n\x1a\n");
 }
 
+// By default the input is decoded ahead and the output written behind on
+// threads of their own; --one-thread does all on one. The same bytes either
+// way, also when the input breaks off.
+TEST_F(CliTest, OneThreadAndOverlappedGiveTheSameBytes) {
+  for (const char* ext : {".csv", ".bin", ".h5"}) {
+    const fs::path threaded = path(std::string("threaded") + ext), one = path(std::string("one") + ext);
+    ASSERT_EQ(run("process '" + kRpgText + "' -o '" + threaded.string() + "' -q").exit_code, 0);
+    ASSERT_EQ(run("process '" + kRpgText + "' -o '" + one.string() + "' -q --one-thread").exit_code, 0);
+    EXPECT_GT(fs::file_size(one), 50000u) << ext;
+    EXPECT_TRUE(read_file(threaded) == read_file(one)) << ext;
+  }
+  const fs::path bad = path("corrupt.txt");
+  std::ofstream(bad) << rpg_lines(5000) << "not an event\n" << rpg_lines(100);
+  const RunResult threaded = run("process '" + bad.string() + "' -o '" + path("bad_threaded.bin").string() + "' -q");
+  const RunResult one = run("process '" + bad.string() + "' -o '" + path("bad_one.bin").string() + "' -q --one-thread");
+  EXPECT_EQ(threaded.exit_code, 3) << threaded.output;
+  EXPECT_EQ(one.exit_code, 3) << one.output;
+  std::string message = threaded.output;  // the same but for the output's name
+  message.replace(message.find("bad_threaded"), 12, "bad_one");
+  EXPECT_EQ(message, one.output);
+  EXPECT_EQ(fs::file_size(path("bad_one.bin")), 32u + 32u * 5000u);
+  EXPECT_TRUE(read_file(path("bad_threaded.bin")) == read_file(path("bad_one.bin")));
+}
+
 TEST_F(CliTest, TruncatedRpgTextKeepsEventsBeforeTheFault) {
   const std::size_t good = 1234;
   const fs::path bad = path("truncated.txt");

@@ -1,7 +1,9 @@
 // The engine's hand-offs that carry latency: the merge role (workers merge
 // what they complete, never two at once, nothing left behind), the paced
-// replay's packets (an event's arrival is its packet's due time) and its
-// read-ahead thread (nothing lost, errors after the events before them).
+// replay's packets (an event's arrival is its packet's due time), its
+// read-ahead thread (nothing lost, errors after the events before them) and
+// `evlife process`'s write-behind thread (the same events, in order; the
+// inner writer's error reaches the caller).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,6 +22,7 @@
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/engine/replay_source.h"
+#include "evlife/engine/write_behind_writer.h"
 #include "evlife/io/estimating_reader.h"
 #include "evlife/io/event_reader.h"
 
@@ -263,6 +266,103 @@ TEST(PrefetchReader, StopsCleanlyWhenDroppedMidStream) {
   // Joins the read-ahead thread while it waits for a free block; the test
   // fails by hanging (ctest's timeout) or under TSan if that goes wrong.
   reader.reset();
+}
+
+namespace {
+// Keeps what it is given; throws WriteError at its fail_at-th write() (from
+// 1; 0: never) or at close().
+class FakeWriter final : public evlife::io::AugmentedEventWriter {
+ public:
+  FakeWriter(std::vector<AugmentedEvent>& sink, int& closes, int fail_at = 0, bool fail_close = false)
+      : sink_(sink), closes_(closes), fail_at_(fail_at), fail_close_(fail_close) {}
+  void write(std::span<const AugmentedEvent> events) override {
+    if (++writes_ == fail_at_) throw evlife::io::WriteError(path_, "disk full");
+    sink_.insert(sink_.end(), events.begin(), events.end());
+  }
+  void close() override {
+    ++closes_;
+    if (fail_close_) throw evlife::io::WriteError(path_, "cannot flush");
+  }
+  const std::string& path() const override { return path_; }
+
+ private:
+  std::vector<AugmentedEvent>& sink_;
+  int& closes_;
+  int writes_ = 0;
+  int fail_at_;
+  bool fail_close_;
+  std::string path_ = "fake.out";
+};
+
+std::vector<AugmentedEvent> numbered_events(std::size_t n) {
+  std::vector<AugmentedEvent> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i].event = Event{static_cast<std::int64_t>(i), static_cast<std::uint16_t>(i % 640),
+                       static_cast<std::uint16_t>(i % 480), static_cast<std::int8_t>(i % 2 ? 1 : -1)};
+    v[i].lifetime_us = static_cast<float>(i % 1000);
+  }
+  return v;
+}
+
+// Hands `events` over in uneven batches; true when the writer threw.
+bool write_in_batches(evlife::io::AugmentedEventWriter& w, std::span<const AugmentedEvent> events) {
+  try {
+    for (std::size_t i = 0; i < events.size(); i += 777) w.write(events.subspan(i, std::min<std::size_t>(777, events.size() - i)));
+    w.close();
+  } catch (const evlife::io::WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find("fake.out"), std::string::npos) << e.what();
+    return true;
+  }
+  return false;
+}
+}  // namespace
+
+TEST(WriteBehindWriter, WritesEveryEventInOrderAndClosesOnce) {
+  const std::vector<AugmentedEvent> events = numbered_events(100'003);
+  std::vector<AugmentedEvent> sink;
+  int closes = 0;
+  {
+    ee::WriteBehindWriter w(std::make_unique<FakeWriter>(sink, closes), 1000, 2);  // small pool: the caller waits
+    EXPECT_EQ(w.path(), "fake.out");
+    EXPECT_FALSE(write_in_batches(w, events));
+    w.close();  // idempotent
+  }
+  EXPECT_EQ(closes, 1);
+  ASSERT_EQ(sink.size(), events.size());
+  for (std::size_t i = 0; i < sink.size(); ++i) ASSERT_EQ(std::memcmp(&sink[i], &events[i], sizeof(AugmentedEvent)), 0) << i;
+}
+
+TEST(WriteBehindWriter, DestructionWithoutCloseFlushesEverything) {
+  const std::vector<AugmentedEvent> events = numbered_events(5'001);
+  std::vector<AugmentedEvent> sink;
+  int closes = 0;
+  {
+    ee::WriteBehindWriter w(std::make_unique<FakeWriter>(sink, closes), 1000, 3);
+    w.write(events);
+  }
+  EXPECT_EQ(closes, 1);
+  EXPECT_EQ(sink.size(), events.size());
+}
+
+TEST(WriteBehindWriter, TheInnerWritersErrorReachesTheCaller) {
+  const std::vector<AugmentedEvent> events = numbered_events(50'000);
+  {  // the third block fails: the caller sees the error, the file ends before that block
+    std::vector<AugmentedEvent> sink;
+    int closes = 0;
+    ee::WriteBehindWriter w(std::make_unique<FakeWriter>(sink, closes, 3), 1000, 2);
+    EXPECT_TRUE(write_in_batches(w, events));
+    EXPECT_EQ(sink.size(), 2000u);
+    EXPECT_THROW(w.close(), evlife::io::WriteError);  // and again: the run reports it once, as it likes
+    EXPECT_EQ(closes, 0);  // nothing is written after the failure, not even the close
+  }
+  {  // the close fails
+    std::vector<AugmentedEvent> sink;
+    int closes = 0;
+    ee::WriteBehindWriter w(std::make_unique<FakeWriter>(sink, closes, 0, true), 1000, 2);
+    EXPECT_TRUE(write_in_batches(w, events));
+    EXPECT_EQ(sink.size(), events.size());
+    EXPECT_EQ(closes, 1);
+  }
 }
 
 TEST(PrefetchReader, PacedFileReplayReportsTheReadErrorAfterItsEvents) {
