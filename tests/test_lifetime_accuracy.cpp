@@ -13,6 +13,7 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "accuracy_metrics.h"
@@ -418,15 +419,16 @@ enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 
 // `variant`: appended to the scene's title, e.g. ", dim-light preset".
 // `sensor`: changes the scene's pixel model (none: the setting as it is).
-evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
-                                                 const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
-                                                 const std::function<void(SceneSpec&)>& sensor = {}) {
+// The scene of `index` with `sensor` applied, and its title.
+std::pair<SyntheticScene, std::string> pixel_scene(PixelScene index, const std::function<void(SceneSpec&)>& sensor) {
   evlife::test::AccuracyScene scene_def = evlife::test::pixel_model_accuracy_scenes()[index];
-  const std::string& scene_title = scene_def.title;
-  SceneSpec& spec = scene_def.spec;
-  if (sensor) sensor(spec);
-  const std::string title = scene_title + variant;
-  const SyntheticScene scene = evlife::io::generate_scene(spec);
+  if (sensor) sensor(scene_def.spec);
+  return {evlife::io::generate_scene(scene_def.spec), scene_def.title};
+}
+
+// The floors on a generated scene; `title` names it in the table and failures.
+evlife::test::AccuracyReport expect_pixel_floors(const SyntheticScene& scene, const std::string& title,
+                                                 const PixelFloors& floors, const evlife::LifetimeOptions& options) {
   const auto report = run_estimator(scene, options);
   std::cout << evlife::test::format_accuracy_table(title + " (" + std::to_string(scene.events.size()) + " events)",
                                                    report);
@@ -439,6 +441,13 @@ evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::st
   EXPECT_LE(o.median_dir_error_deg, floors.median_dir_error_deg) << title;
   EXPECT_GE(o.noise_share, floors.noise_share) << title;
   return report;
+}
+
+evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
+                                                 const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
+                                                 const std::function<void(SceneSpec&)>& sensor = {}) {
+  const auto [scene, title] = pixel_scene(index, sensor);
+  return expect_pixel_floors(scene, title + variant, floors, options);
 }
 
 TEST(PixelModelAccuracy, EdgesDavis346NormalLight) { expect_pixel_floors(kEdgesNormal, "", kNormalLightFloors); }
@@ -515,13 +524,14 @@ using evlife::test::faint_texture_preset;
 // offset check, labels less noise noise (96.3 %): the check is what keeps it.
 TEST(PixelModelAccuracy, FaintTexturePresetKeepsTheNoiseFloorInFaintTexture) {
   constexpr PixelFloors kPresetFloors{0.965, 0.09, 0.27, 4.2, 0.97};
-  const auto with_check = expect_pixel_floors(kEdgesNormal, ", faint texture, faint-texture preset", kPresetFloors,
-                                              faint_texture_preset(), faint_texture);
+  const auto [scene, title] = pixel_scene(kEdgesNormal, faint_texture);
+  const auto with_check =
+      expect_pixel_floors(scene, title + ", faint texture, faint-texture preset", kPresetFloors, faint_texture_preset());
   evlife::LifetimeOptions band_alone = faint_texture_preset();
   band_alone.max_event_offset_tolerances = 0.0;
   band_alone.continuation_max_event_offset_tolerances = 0.0;
-  const auto without = expect_pixel_floors(kEdgesNormal, ", faint texture, wide band without the check", kNoFloors,
-                                           band_alone, faint_texture);
+  const auto without =
+      expect_pixel_floors(scene, title + ", faint texture, wide band without the check", kNoFloors, band_alone);
   EXPECT_GE(with_check.overall.noise_share, without.overall.noise_share + 0.005);
 }
 
@@ -590,11 +600,11 @@ TEST(PixelModelAccuracy, DefaultsGiveFewFarOffLifetimesOnASlowNoisyPixel) {
 // without the rule.
 TEST(PixelModelAccuracy, RampFollowersKeepASoftEdgesLifetimes) {
   constexpr PixelFloors kSoftEdges{0.88, 0.11, 0.38, 4.5, 0.965};
-  const auto soft = [](SceneSpec& spec) { spec.pixel.edge_blur_px = 3.0; };
-  const auto on = expect_pixel_floors(kEdgesNormal, ", 3 px ramps", kSoftEdges, {}, soft);
+  const auto [scene, title] = pixel_scene(kEdgesNormal, [](SceneSpec& spec) { spec.pixel.edge_blur_px = 3.0; });
+  const auto on = expect_pixel_floors(scene, title + ", 3 px ramps", kSoftEdges, {});
   evlife::LifetimeOptions no_ramp;
   no_ramp.ramp_follower_span_lifetimes = 0.0;
-  const auto off = expect_pixel_floors(kEdgesNormal, ", 3 px ramps, no ramp followers", kNoFloors, no_ramp, soft);
+  const auto off = expect_pixel_floors(scene, title + ", 3 px ramps, no ramp followers", kNoFloors, no_ramp);
   EXPECT_LE(on.overall.p90_rel_error, off.overall.p90_rel_error - 0.08);
   EXPECT_GT(on.overall.median_signed_rel_error, off.overall.median_signed_rel_error);  // less short
 }
@@ -642,11 +652,11 @@ TEST(PixelModelAccuracy, SlowPhotoreceptorResolvesEdgesSlowerThanItsTimeConstant
 // followers while no newer edge has come from upstream: the band's bias
 // shrinks (see config/evlife.yaml for why it is not on by default).
 TEST(PixelModelAccuracy, SlowPhotoreceptorFollowersKeepTheirBurstsArrival) {
-  const auto slow = [](SceneSpec& spec) { spec.pixel.cutoff_hz = 30.0; };
-  const auto off = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor", kNoFloors, {}, slow);
+  const auto [scene, title] = pixel_scene(kEdgesNormal, [](SceneSpec& spec) { spec.pixel.cutoff_hz = 30.0; });
+  const auto off = expect_pixel_floors(scene, title + ", 30 Hz photoreceptor", kNoFloors, {});
   evlife::LifetimeOptions late;
   late.burst_span_timing_noise = 10.0;
-  const auto on = expect_pixel_floors(kEdgesNormal, ", 30 Hz photoreceptor, late followers", kNoFloors, late, slow);
+  const auto on = expect_pixel_floors(scene, title + ", 30 Hz photoreceptor, late followers", kNoFloors, late);
   const auto& before = band_row(off, "lifetime 2000..5000 us");
   const auto& after = band_row(on, "lifetime 2000..5000 us");
   std::cout << "2-5 ms band, median signed error: " << before.median_signed_rel_error << " -> "
