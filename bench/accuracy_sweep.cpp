@@ -59,7 +59,7 @@ int usage() {
                "  < 0, lifetimes short) and the share of all events after the warm-up with a\n"
                "  lifetime (all%%: edge and noise, any margin, as a recording's share); --why: per scene,\n"
                "  what the estimator did with each kind of event after the warm-up (edge events past\n"
-               "  5 px of travel): fit%% its own plane, follow%% its burst's estimate, or noise for\n"
+               "  a window's width of travel): fit%% its own plane, follow%% its burst's estimate, or noise for\n"
                "  few%% too few past events, noplane%% no plane with support, unres%% an implausible fit\n");
   return 2;
 }
@@ -153,7 +153,7 @@ int main(int argc, char** argv) try {
       reports[k] = evlife::test::evaluate_accuracy(scene, out, metric);
       if (why) {
         breakdowns[k] = evlife::test::format_breakdown(scenes[k].title,
-                                                       evlife::test::rejection_breakdown(scene, options));
+                                                       evlife::test::rejection_breakdown(scene, options, metric));
       }
     });
   }

@@ -417,9 +417,8 @@ constexpr PixelFloors kNoFloors{0.0, 1.0, 100.0, 90.0, 0.0};
 // Indices into evlife::test::pixel_model_accuracy_scenes().
 enum PixelScene : std::size_t { kEdgesNormal, kBarNormal, kEdgesDim, kBarDim };
 
-// `variant`: appended to the scene's title, e.g. ", dim-light preset".
-// `sensor`: changes the scene's pixel model (none: the setting as it is).
-// The scene of `index` with `sensor` applied, and its title.
+// The scene of `index` with `sensor` applied (it changes the scene's pixel
+// model; none: the setting as it is), and its title.
 std::pair<SyntheticScene, std::string> pixel_scene(PixelScene index, const std::function<void(SceneSpec&)>& sensor) {
   evlife::test::AccuracyScene scene_def = evlife::test::pixel_model_accuracy_scenes()[index];
   if (sensor) sensor(scene_def.spec);
@@ -443,6 +442,7 @@ evlife::test::AccuracyReport expect_pixel_floors(const SyntheticScene& scene, co
   return report;
 }
 
+// `variant`: appended to the scene's title, e.g. ", dim-light preset".
 evlife::test::AccuracyReport expect_pixel_floors(PixelScene index, const std::string& variant,
                                                  const PixelFloors& floors, const evlife::LifetimeOptions& options = {},
                                                  const std::function<void(SceneSpec&)>& sensor = {}) {

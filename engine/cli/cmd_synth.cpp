@@ -209,8 +209,8 @@ int synth(int argc, char** argv) {
     if (duration_us < 1000 || duration_us > 3600'000'000)
       throw UsageError("--duration " + *a.value("duration") + ": expected 1ms..3600s");
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
-    if (scene_name == "textured") {
-      textured.emplace();  // filled from spec below, once its pixels are set
+    const bool is_textured = scene_name == "textured";
+    if (is_textured) {  // its spec is filled from `spec` below, once the pixels are set
       spec = {};
       spec.sensor = sensor;
       spec.duration_us = duration_us;
@@ -222,18 +222,18 @@ int synth(int argc, char** argv) {
       }
       spec = *preset;
     }
-    pixel_name = a.value("pixel").value_or(textured ? "dvs" : "ideal");
+    pixel_name = a.value("pixel").value_or(is_textured ? "dvs" : "ideal");
     if (!io::apply_pixel_setting(spec, pixel_name)) {
       throw UsageError("--pixel " + pixel_name + ": expected ideal, dvs or dvs-dim");
     }
-    if (textured && !spec.pixel.enabled) throw UsageError("--scene textured: needs --pixel dvs or dvs-dim");
-    if (textured && a.has("contrast")) throw UsageError("--contrast: the textured scene's leaves set the contrasts");
+    if (is_textured && !spec.pixel.enabled) throw UsageError("--scene textured: needs --pixel dvs or dvs-dim");
+    if (is_textured && a.has("contrast")) throw UsageError("--contrast: the textured scene's leaves set the contrasts");
     apply_pixel_options(a, spec.pixel);
     if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number<double>("noise-rate", *r, 0.0, 1e4);
     if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
-    if (textured) {
+    if (is_textured) {
       textured = io::textured_scene_like(spec);
       if (const auto err = io::validate_textured_scene_spec(*textured); !err.empty()) throw UsageError(err);
     } else if (const auto err = io::validate_scene_spec(spec); !err.empty()) {

@@ -21,7 +21,7 @@ Outcome outcome_of(const LifetimeStats& before, const LifetimeStats& after, cons
 }  // namespace
 
 std::vector<BreakdownRow> rejection_breakdown(const io::SyntheticScene& scene, const LifetimeOptions& options,
-                                              double min_travel_px, std::int64_t warmup_us) {
+                                              const AccuracyOptions& metric) {
   LifetimeOptions o = options;
   o.sensor = scene.spec.sensor;
   LifetimeEstimator estimator(o);
@@ -32,11 +32,12 @@ std::vector<BreakdownRow> rejection_breakdown(const io::SyntheticScene& scene, c
   rows[kBackground].kind = "background activity";
   rows[kHot].kind = "hot pixel";
   const int margin = o.window_size / 2;
+  const double min_travel_px = metric.min_travel_windows * o.window_size;
   for (std::size_t i = 0; i < scene.events.size(); ++i) {
     const LifetimeStats before = estimator.stats();
     const AugmentedEvent out = estimator.process(scene.events[i]);
     const io::EventTruth& truth = scene.truth[i];
-    if (scene.events[i].t_us < warmup_us) continue;
+    if (scene.events[i].t_us < metric.warmup_us) continue;
     std::size_t kind = kKinds;
     if (truth.is_noise) {
       kind = truth.is_hot ? kHot : kBackground;

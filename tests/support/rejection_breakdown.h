@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy_metrics.h"
 #include "evlife/algo/lifetime_options.h"
 #include "evlife/io/synthetic_scene.h"
 
@@ -27,12 +28,14 @@ struct BreakdownRow {
 
 /// Rows: edge first events on a plane, first events off a plane (not
 /// scorable), burst followers (burst_index > 0), background activity, hot
-/// pixels. Edge events count once their edge has moved `min_travel_px` and
-/// their window lies in their feature's region (margin >= N/2); every event
-/// after `warmup_us`. A "lifetime" outcome is a fit of the event's own
-/// window; "follower" an estimate inherited from its burst.
+/// pixels. The events evaluate_accuracy() would look at: after
+/// metric.warmup_us; edge events once their edge has moved
+/// metric.min_travel_windows windows and where their window lies in their
+/// feature's region (the estimator's window_size sets both). A "lifetime"
+/// outcome is a fit of the event's own window; "follower" an estimate
+/// inherited from its burst.
 std::vector<BreakdownRow> rejection_breakdown(const io::SyntheticScene& scene, const LifetimeOptions& options,
-                                              double min_travel_px = 5.0, std::int64_t warmup_us = 50'000);
+                                              const AccuracyOptions& metric = {});
 
 /// The rows as a text table (shares of each row's events, in %).
 std::string format_breakdown(const std::string& title, const std::vector<BreakdownRow>& rows);
