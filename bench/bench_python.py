@@ -13,6 +13,12 @@
 3. evlife.batch.process_slices (4 time slices of one recording in parallel)
    against one pass: how many events change label (noise/edge) or lifetime,
    by warm-up length.
+4. evlife.process_file as it runs by default (decoded ahead, written behind,
+   each on a thread of its own) vs one_thread=True, per output format, on one
+   synthetic recording (`evlife synth --scene mixed`, 346x260, HDF5 input):
+   alternating runs, wall time, outputs compared byte for byte.
+
+--only N runs part N alone (e.g. --only 4: a minute).
 """
 import argparse
 import json
@@ -125,7 +131,7 @@ def cli_parallel_seconds(cli, paths, out_dir, parallel):
         while pending and len(running) < parallel:
             p = pending.pop(0)
             out = os.path.join(out_dir, os.path.basename(p) + ".bin")
-            running.append(subprocess.Popen([cli, "process", p, "-o", out, "-q"]))
+            running.append(subprocess.Popen([cli, "process", p, "-o", out, "-q", "--one-thread"]))
         running[0].wait()
         assert running.pop(0).returncode == 0
     return time.perf_counter() - t0
@@ -155,66 +161,106 @@ def slice_differences(data_dir, warmups_ms, slices=4):
     return rows
 
 
+def compare_process_file(cli, folder, repetitions, seconds=10):
+    """Rows: format, overlapped s, one-thread s (medians), median ratio (min..max), same bytes."""
+    scene = os.path.join(folder, "scene.h5")
+    subprocess.run([cli, "synth", "--scene", "mixed", "--sensor", "346x260", "--duration",
+                    str(seconds), "-o", scene, "--quiet"], check=True)
+    rows = []
+    for ext in ("bin", "csv", "h5"):
+        runs = {False: [], True: []}
+        for _ in range(repetitions):
+            for one_thread in (False, True):
+                out = os.path.join(folder, "%s.%s" % ("one" if one_thread else "over", ext))
+                t0 = time.perf_counter()
+                info = evlife.process_file(scene, out, one_thread=one_thread)
+                runs[one_thread].append(time.perf_counter() - t0)
+        with open(os.path.join(folder, "over." + ext), "rb") as a, \
+                open(os.path.join(folder, "one." + ext), "rb") as b:
+            same = a.read() == b.read()
+        ratios = [o / v for v, o in zip(runs[False], runs[True])]
+        rows.append((ext, statistics.median(runs[False]), statistics.median(runs[True]),
+                     statistics.median(ratios), min(ratios), max(ratios), same))
+    return rows, info["events"]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data"))
     ap.add_argument("--repetitions", type=int, default=5)
     ap.add_argument("--files", type=int, default=6)
+    ap.add_argument("--only", type=int, choices=(1, 2, 3, 4), help="run this part alone")
     ap.add_argument("--dask-defaults", action="store_true",
                     help="batch on a LocalCluster with Dask's default housekeeping (profiler, monitors)")
     args = ap.parse_args()
 
     print("load average at the start: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
+    run = (lambda part: args.only in (None, part))
+    cli = os.path.join(args.build, "engine", "evlife")
     with tempfile.TemporaryDirectory() as tmp:
-        empty = os.path.join(tmp, "struct_defaults.yaml")
-        open(empty, "w").close()
-        cpp, py = compare_estimators(args.build, args.data, args.repetitions, empty)
-        print("LifetimeEstimator.process vs the C++ estimator (N = 5, regularized, struct defaults; "
-              "CPU time; %d alternating rounds of best-of-3)" % args.repetitions)
-        print("| recording | C++ (bench_estimator), median of rounds | Python process(array) | "
-              "Python / C++, median of the rounds' ratios (min..max) |")
-        print("|---|---|---|---|")
-        for n in RECORDINGS:
-            ratios = [p / c for p, c in zip(py[n], cpp[n])]
-            print("| %s | %.2f M ev/s | %.2f M ev/s | %.3f (%.3f..%.3f) |" % (
-                n, statistics.median(cpp[n]) / 1e6, statistics.median(py[n]) / 1e6,
-                statistics.median(ratios), min(ratios), max(ratios)))
-        sys.stdout.flush()
+        if run(1):
+            empty = os.path.join(tmp, "struct_defaults.yaml")
+            open(empty, "w").close()
+            cpp, py = compare_estimators(args.build, args.data, args.repetitions, empty)
+            print("LifetimeEstimator.process vs the C++ estimator (N = 5, regularized, struct defaults; "
+                  "CPU time; %d alternating rounds of best-of-3)" % args.repetitions)
+            print("| recording | C++ (bench_estimator), median of rounds | Python process(array) | "
+                  "Python / C++, median of the rounds' ratios (min..max) |")
+            print("|---|---|---|---|")
+            for n in RECORDINGS:
+                ratios = [p / c for p, c in zip(py[n], cpp[n])]
+                print("| %s | %.2f M ev/s | %.2f M ev/s | %.3f (%.3f..%.3f) |" % (
+                    n, statistics.median(cpp[n]) / 1e6, statistics.median(py[n]) / 1e6,
+                    statistics.median(ratios), min(ratios), max(ratios)))
+            sys.stdout.flush()
 
-        cli = os.path.join(args.build, "engine", "evlife")
-        paths = make_recordings(cli, tmp, args.files)
-        runs, startup, events = compare_batch(paths, os.path.join(tmp, "out"), args.repetitions,
-                                              args.dask_defaults)
-        cli_runs = {1: [], 2: []}
-        for _ in range(args.repetitions):
-            for parallel in (1, 2):
-                cli_runs[parallel].append(cli_parallel_seconds(cli, paths, os.path.join(tmp, "cli"), parallel))
-        cli_ratios = [a / b for a, b in zip(cli_runs[1], cli_runs[2])]
-        one, two = statistics.median(runs[1]), statistics.median(runs[2])
-        ratios = [a / b for a, b in zip(runs[1], runs[2])]
-        print()
-        print("evlife.batch.process_files, %d files, %.1f M events (wall time, %d alternating runs)"
-              % (len(paths), events / 1e6, args.repetitions))
-        print("| workers | seconds (median) | M events/s | speed-up: median of the runs' ratios (min..max) | cluster start-up |")
-        print("|---|---|---|---|---|")
-        print("| 1 | %.2f | %.2f | 1 | %.1f s |" % (one, events / one / 1e6, startup[1]))
-        print("| 2 | %.2f | %.2f | %.2f (%.2f..%.2f) | %.1f s |" % (
-            two, events / two / 1e6, statistics.median(ratios), min(ratios), max(ratios), startup[2]))
-        print("| 2 vs 1, start-up included (one call) | | | %.2f | |" % (
-            (one + startup[1]) / (two + startup[2])))
-        print("| reference: `evlife process` on the same files, 2 at a time vs 1 (this machine's bound now) "
-              "| %.2f / %.2f | | %.2f (%.2f..%.2f) | |" % (
-                  statistics.median(cli_runs[1]), statistics.median(cli_runs[2]),
-                  statistics.median(cli_ratios), min(cli_ratios), max(cli_ratios)))
+        if run(2):
+            paths = make_recordings(cli, tmp, args.files)
+            runs, startup, events = compare_batch(paths, os.path.join(tmp, "out"), args.repetitions,
+                                                  args.dask_defaults)
+            cli_runs = {1: [], 2: []}
+            for _ in range(args.repetitions):
+                for parallel in (1, 2):
+                    cli_runs[parallel].append(cli_parallel_seconds(cli, paths, os.path.join(tmp, "cli"), parallel))
+            cli_ratios = [a / b for a, b in zip(cli_runs[1], cli_runs[2])]
+            one, two = statistics.median(runs[1]), statistics.median(runs[2])
+            ratios = [a / b for a, b in zip(runs[1], runs[2])]
+            print()
+            print("evlife.batch.process_files, %d files, %.1f M events (wall time, %d alternating runs)"
+                  % (len(paths), events / 1e6, args.repetitions))
+            print("| workers | seconds (median) | M events/s | speed-up: median of the runs' ratios (min..max) | cluster start-up |")
+            print("|---|---|---|---|---|")
+            print("| 1 | %.2f | %.2f | 1 | %.1f s |" % (one, events / one / 1e6, startup[1]))
+            print("| 2 | %.2f | %.2f | %.2f (%.2f..%.2f) | %.1f s |" % (
+                two, events / two / 1e6, statistics.median(ratios), min(ratios), max(ratios), startup[2]))
+            print("| 2 vs 1, start-up included (one call) | | | %.2f | |" % (
+                (one + startup[1]) / (two + startup[2])))
+            print("| reference: `evlife process` on the same files, 2 at a time vs 1 (this machine's bound now) "
+                  "| %.2f / %.2f | | %.2f (%.2f..%.2f) | |" % (
+                      statistics.median(cli_runs[1]), statistics.median(cli_runs[2]),
+                      statistics.median(cli_ratios), min(cli_ratios), max(cli_ratios)))
 
-        print()
-        print("evlife.batch.process_slices: 4 slices in parallel vs one pass (default options)")
-        print("| recording | length | warm-up | noise/edge label differs | lifetime off by > 1 % (edge events) |")
-        print("|---|---|---|---|---|")
-        for name, length, warm, label, off in slice_differences(args.data, (10, 100, 300)):
-            print("| %s | %.2f s | %d ms | %.2f %% | %.2f %% |" % (name, length, warm, label, off))
-        print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
+        if run(3):
+            print()
+            print("evlife.batch.process_slices: 4 slices in parallel vs one pass (default options)")
+            print("| recording | length | warm-up | noise/edge label differs | lifetime off by > 1 % (edge events) |")
+            print("|---|---|---|---|---|")
+            for name, length, warm, label, off in slice_differences(args.data, (10, 100, 300)):
+                print("| %s | %.2f s | %d ms | %.2f %% | %.2f %% |" % (name, length, warm, label, off))
+        if run(4):
+            rows, events = compare_process_file(cli, tmp, args.repetitions)
+            print()
+            print("evlife.process_file, overlapped (default) vs one_thread=True, %.2f M events "
+                  "(synth --scene mixed, 346x260, 10 s, .h5 input; wall time, %d alternating runs)"
+                  % (events / 1e6, args.repetitions))
+            print("| output | overlapped s | one_thread s | one_thread / overlapped, median (min..max) | same bytes |")
+            print("|---|---|---|---|---|")
+            for ext, over, one, ratio, lo, hi, same in rows:
+                print("| .%s | %.2f | %.2f | %.2f (%.2f..%.2f) | %s |" % (ext, over, one, ratio, lo, hi,
+                                                                         "yes" if same else "NO"))
+    print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
+
 
 if __name__ == "__main__":
     main()

@@ -286,6 +286,28 @@ TEST_F(CliTest, OneThreadAndOverlappedGiveTheSameBytes) {
   EXPECT_TRUE(read_file(path("bad_threaded.bin")) == read_file(path("bad_one.bin")));
 }
 
+TEST_F(CliTest, ConvertOnOneThreadWritesTheSameBytes) {
+  for (const char* ext : {".txt", ".h5"}) {
+    const fs::path ahead = path(std::string("ahead") + ext), one = path(std::string("one") + ext);
+    ASSERT_EQ(run("convert '" + kRpgText + "' '" + ahead.string() + "' -q").exit_code, 0);
+    ASSERT_EQ(run("convert '" + kRpgText + "' '" + one.string() + "' -q --one-thread").exit_code, 0);
+    EXPECT_GT(fs::file_size(one), 50000u) << ext;
+    EXPECT_TRUE(read_file(ahead) == read_file(one)) << ext;
+  }
+  // A fault read ahead reaches the writer after every event before it.
+  const fs::path bad = path("corrupt.txt");
+  std::ofstream(bad) << rpg_lines(5000) << "not an event\n" << rpg_lines(100);
+  const RunResult ahead = run("convert '" + bad.string() + "' '" + path("bad_ahead.txt").string() + "'");
+  const RunResult one = run("convert '" + bad.string() + "' '" + path("bad_one.txt").string() + "' --one-thread");
+  EXPECT_EQ(ahead.exit_code, 3) << ahead.output;
+  EXPECT_EQ(one.exit_code, 3) << one.output;
+  std::string message = ahead.output;  // the same but for the output's name
+  for (std::size_t at; (at = message.find("bad_ahead")) != std::string::npos;) message.replace(at, 9, "bad_one");
+  EXPECT_EQ(message, one.output);
+  EXPECT_NE(one.output.find("5000 events before the fault"), std::string::npos) << one.output;
+  EXPECT_TRUE(read_file(path("bad_ahead.txt")) == read_file(path("bad_one.txt")));
+}
+
 TEST_F(CliTest, TruncatedRpgTextKeepsEventsBeforeTheFault) {
   const std::size_t good = 1234;
   const fs::path bad = path("truncated.txt");

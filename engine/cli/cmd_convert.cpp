@@ -14,6 +14,7 @@
 
 #include "arg_parser.h"
 #include "command.h"
+#include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
@@ -33,6 +34,7 @@ constexpr OptionSpec kOptions[] = {
     kInputOptionSpec,
     {"unchecked", 0, false, false},
     {"quiet", 'q', false, false},
+    {"one-thread", 0, false, false},
     {"help", 'h', false, false},
     kTopicOptionSpec, kTimeUnitOptionSpec, kPolarityOptionSpec, kFromOptionSpec, kToOptionSpec,
 };
@@ -41,7 +43,7 @@ void print_help(std::FILE* out) {
   std::fprintf(out,
       "evlife convert — rewrite an event recording in another format\n"
       "\n"
-      "Usage: evlife convert INPUT OUTPUT [--sensor WxH] [--unchecked] [--quiet]\n"
+      "Usage: evlife convert INPUT OUTPUT [--sensor WxH] [--unchecked] [--quiet] [--one-thread]\n"
       "       evlife convert [-i] INPUT -o OUTPUT ...\n"
       "\n"
       "INPUT: any event recording evlife reads (sniffed from the content, else the\n"
@@ -71,6 +73,10 @@ void print_help(std::FILE* out) {
       "                 against the sensor or of time order.\n"
       "%s"
       "  -q, --quiet    no summary.\n"
+      "  --one-thread   decode and write on one thread. By default a recording is\n"
+      "                 decoded ahead on a thread of its own while the output is\n"
+      "                 written: the same file, sooner (decompressing AEDAT 4 or HDF5\n"
+      "                 and writing text or deflated HDF5 each take their time).\n"
       "  -h, --help     this text.\n"
       "\n"
       "Bad input (missing file, unknown format, truncated or corrupt data, and unless\n"
@@ -196,7 +202,7 @@ int convert_augmented(const std::string& input, const std::string& output, bool 
 
 int convert_events(const std::string& input, const std::string& output,
                    std::optional<SensorSize> sensor_arg, const io::ReaderOptions& input_options,
-                   bool unchecked, bool quiet) {
+                   bool unchecked, bool one_thread, bool quiet) {
   if (has_ext(output, {".csv", ".bin"})) {
     std::fprintf(stderr,
                  "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
@@ -230,6 +236,7 @@ int convert_events(const std::string& input, const std::string& output,
     std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
     return kExitOutput;
   }
+  if (!one_thread) reader = std::make_unique<engine::PrefetchReader>(std::move(reader));
   const Outcome o = copy_all<Event>(*reader, *writer);
   const std::string format(reader->format_name());
   std::string what = "events (" + format;
@@ -257,6 +264,7 @@ int convert(int argc, char** argv) {
   std::optional<SensorSize> sensor;
   bool unchecked = false;
   bool quiet = false;
+  bool one_thread = false;
   io::ReaderOptions input_options;
   try {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
@@ -269,6 +277,7 @@ int convert(int argc, char** argv) {
     unchecked = a.has("unchecked");
     input_options = parse_input_options(a);
     quiet = a.has("quiet");
+    one_thread = a.has("one-thread");
     std::error_code ec;
     if (std::filesystem::equivalent(input, output, ec)) {
       throw UsageError(output + " is the input file; refusing to overwrite it");
@@ -288,7 +297,7 @@ int convert(int argc, char** argv) {
     }
     if (augmented) return convert_augmented(input, output, quiet);
   }
-  return convert_events(input, output, sensor, input_options, unchecked, quiet);
+  return convert_events(input, output, sensor, input_options, unchecked, one_thread, quiet);
 }
 
 }  // namespace

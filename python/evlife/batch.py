@@ -83,7 +83,9 @@ def _process_one(path, output, sensor, config, options):
     start = time.perf_counter()
     try:
         from evlife import _evlife as core
-        r = core.process_file(path, output, sensor, config=config, **options)
+        # One file per worker thread, one worker per core: reading ahead and
+        # writing behind would only compete with the other workers' estimators.
+        r = core.process_file(path, output, sensor, config=config, one_thread=True, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
     except Exception as e:  # reported by name in the table, the other files go on
         events, share, error = None, None, "%s: %s" % (type(e).__name__, e)

@@ -15,6 +15,8 @@
 #include "errors.h"
 #include "event_columns.h"
 #include "evlife/algo/lifetime_estimator.h"
+#include "evlife/engine/prefetch_reader.h"
+#include "evlife/engine/write_behind_writer.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "options.h"
@@ -134,20 +136,24 @@ struct FileRun {
 
 // `evlife process PATH`: the same sensor rule, reader, estimator and blocks;
 // each block of augmented events goes to `sink`, then `on_sensor` has been
-// called once before. Runs without the GIL.
+// called once before. Unless `one_thread`, the file is decoded ahead on a
+// thread of its own (as `evlife process` without --one-thread: the same
+// events, sooner). Runs without the GIL.
 template <class OnSensor, class Sink>
 FileRun run_file(const std::string& path, std::optional<SensorSize> user, ResolvedOptions r,
-                 OnSensor&& on_sensor, Sink&& sink) {
+                 bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
   const auto probe = io::open_unchecked_event_reader(path);
   if (const auto stated = probe->sensor_size()) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
   else run.sensor = scan_sensor(path);
-  auto reader = io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+  std::unique_ptr<io::EventReader> reader =
+      io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
   run.format = std::string(reader->format_name());
   r.config.estimator.sensor = run.sensor;
   LifetimeEstimator estimator(r.config.estimator);  // std::invalid_argument: ValueError
+  if (!one_thread) reader = std::make_unique<engine::PrefetchReader>(std::move(reader));
   on_sensor(run.sensor);
   std::vector<Event> in(kBlockEvents);
   std::vector<AugmentedEvent> out(kBlockEvents);
@@ -173,7 +179,7 @@ std::optional<SensorSize> user_sensor(const py::object& sensor) {
   return sensor_from_python(sensor);
 }
 
-py::array process_file(const std::string& path, const py::object& sensor,
+py::array process_file(const std::string& path, const py::object& sensor, bool one_thread,
                        const py::object& config, const py::dict& options) {
   // The sensor argument only counts when the format states none (as --sensor).
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
@@ -182,7 +188,8 @@ py::array process_file(const std::string& path, const py::object& sensor,
   FileRun run;
   {
     py::gil_scoped_release release;
-    run = run_file(path, user, r, [](SensorSize) {}, [&](std::span<const AugmentedEvent> block) {
+    run = run_file(path, user, r, one_thread, [](SensorSize) {},
+                   [&](std::span<const AugmentedEvent> block) {
       out.insert(out.end(), block.begin(), block.end());
     });
   }
@@ -191,9 +198,11 @@ py::array process_file(const std::string& path, const py::object& sensor,
   return result;
 }
 
-// `evlife process PATH -o OUTPUT`, in constant memory.
+// `evlife process PATH -o OUTPUT`, in constant memory; unless `one_thread`
+// decoded ahead and written behind, each on a thread of its own (the same
+// bytes: `evlife process` without --one-thread).
 py::dict process_to_file(const std::string& path, const std::string& output,
-                         const py::object& sensor, const py::object& config,
+                         const py::object& sensor, bool one_thread, const py::object& config,
                          const py::dict& options) {
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
   const std::optional<SensorSize> user = user_sensor(sensor);
@@ -202,7 +211,11 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     py::gil_scoped_release release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
     run = run_file(
-        path, user, r, [&](SensorSize s) { writer = io::open_augmented_writer(output, s); },
+        path, user, r, one_thread,
+        [&](SensorSize s) {
+          writer = io::open_augmented_writer(output, s);
+          if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
+        },
         [&](std::span<const AugmentedEvent> block) { writer->write(block); });
     writer->close();  // everything before a fault reaches the disk
   }
@@ -337,10 +350,10 @@ then nothing of this call is processed and the state is unchanged.)")
   m.def(
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         const py::kwargs& kw) -> py::array {
+         bool one_thread, const py::kwargs& kw) -> py::array {
         if (py::isinstance<py::str>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
-          return process_file(path, sensor, config, kw);
+          return process_file(path, sensor, one_thread, config, kw);
         }
         const py::object s = sensor.is_none()
             ? [&] {
@@ -352,7 +365,7 @@ then nothing of this call is processed and the state is unchanged.)")
         return estimator.process(input);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(),
+      py::arg("config") = py::none(), py::arg("one_thread") = false,
       R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
 
 input: a path (every format of `evlife process`) or an array with t, x, y, p
@@ -361,26 +374,31 @@ fields. Returns evlife.AUGMENTED_DTYPE, bit-identical to the records of
 
 sensor: (width, height) when the format states none (as --sensor); without
 it the smallest sensor holding every event. Keywords and config=: as
-evlife.LifetimeEstimator. Errors: FileNotFoundError, evlife.InputError (with
-.partial: the augmented events before the fault, as the CLI writes them),
-ValueError for bad options.)");
+evlife.LifetimeEstimator. A recording is decoded ahead on a thread of its
+own while the estimator runs (the same result, sooner); one_thread=True keeps
+everything on the calling thread (as --one-thread; for one process per core).
+Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
+events before the fault, as the CLI writes them), ValueError for bad options.)");
 
   m.def(
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         const py::object& config, const py::kwargs& kw) {
+         const py::object& config, bool one_thread, const py::kwargs& kw) {
         const auto fspath = py::module_::import("os").attr("fspath");
-        return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor, config,
-                               kw);
+        return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor,
+                               one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(),
+      py::arg("config") = py::none(), py::arg("one_thread") = false,
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
 'format'}. On bad input the events before the fault are written, then
-evlife.InputError is raised (as the CLI exits 3). Other arguments as
-evlife.process.)");
+evlife.InputError is raised (as the CLI exits 3). The input is decoded ahead
+and the output written behind, each on a thread of its own (CSV formatting
+and HDF5's deflate cost as much as the estimator); one_thread=True runs all
+on the calling thread (evlife.batch does: one file per core). Other arguments
+as evlife.process.)");
 
   m.def(
       "scan",

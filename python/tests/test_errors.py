@@ -81,9 +81,15 @@ def test_truncated_file_keeps_the_events_before_the_fault(tmp_path):
     assert str(e.value) == expected
     assert e.value.event_index == len(written) and e.value.byte_offset > 0
     assert_same_events(e.value.partial, written)  # nothing good is lost
-    with pytest.raises(evlife.InputError):
-        evlife.process_file(cut, tmp_path / "py.bin")
-    assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
+    for one_thread in (False, True):  # read ahead (and written behind) or not: the same
+        with pytest.raises(evlife.InputError) as e:
+            evlife.process(cut, one_thread=one_thread)
+        assert str(e.value) == expected
+        assert_same_events(e.value.partial, written)
+        with pytest.raises(evlife.InputError) as e:
+            evlife.process_file(cut, tmp_path / "py.bin", one_thread=one_thread)
+        assert str(e.value) == expected
+        assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
     with evlife.open(cut, chunk_events=10_000_000) as r:
         first = r.read()  # the good events first ...
         assert len(first) == len(written)

@@ -1,4 +1,6 @@
 """evlife.process / LifetimeEstimator / process_file: the same results as `evlife process`."""
+import os
+
 import numpy as np
 import pytest
 
@@ -51,6 +53,30 @@ def test_process_file_writes_the_cli_bytes(tmp_path):
     aug, sensor = evlife.read_augmented(tmp_path / "py.bin")
     assert sensor == info["sensor"]
     assert_same_events(aug, evlife.process(path))
+
+
+@pytest.mark.parametrize("ext", ["bin", "csv", "h5"])
+def test_process_file_on_one_thread_writes_the_same_bytes(ext, tmp_path):
+    # Decoding ahead and writing behind change when the work is done, not what
+    # is written (the default runs three threads, one_thread=True one).
+    path = data("reference/garfield.mat")
+    overlapped = evlife.process_file(path, tmp_path / f"over.{ext}")
+    alone = evlife.process_file(path, tmp_path / f"one.{ext}", one_thread=True)
+    assert overlapped == alone and overlapped["events"] > 100_000
+    assert (tmp_path / f"over.{ext}").read_bytes() == (tmp_path / f"one.{ext}").read_bytes()
+    assert_same_events(evlife.process(path, one_thread=True), evlife.process(path))
+
+
+def test_process_file_reports_a_full_disk_and_stops(tmp_path):
+    # The writer's error surfaces from the writing thread at the next hand-over
+    # or at close: either way the call raises, naming the output.
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    full = tmp_path / "full.bin"
+    os.symlink("/dev/full", full)
+    for one_thread in (False, True):
+        with pytest.raises(OSError, match="full.bin"):
+            evlife.process_file(data("reference/garfield.mat"), full, one_thread=one_thread)
 
 
 def test_chunked_equals_whole():
