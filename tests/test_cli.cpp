@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ class CliTest : public testing::Test {
  protected:
   // Runs `evlife <args>` through the shell, capturing both streams.
   RunResult run(const std::string& args) const { return evlife::test::run_cli(kCli, args, dir_.path() / "cli.log"); }
+  RunResult expect_one_thread_changes_nothing(const std::string& command,
+                                              std::initializer_list<const char*> exts,
+                                              const std::string& fault_ext) const;
 
   fs::path path(const std::string& name) const { return dir_.path() / name; }
 
@@ -262,50 +266,43 @@ TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
   EXPECT_EQ(read_file(h5).substr(0, 8), "\x89HDF\r\n\x1a\n");
 }
 
-// By default the input is decoded ahead and the output written behind on
-// threads of their own; --one-thread does all on one. The same bytes either
-// way, also when the input breaks off.
-TEST_F(CliTest, OneThreadAndOverlappedGiveTheSameBytes) {
-  for (const char* ext : {".csv", ".bin", ".h5"}) {
+// By default the input is decoded ahead (and for process the output written
+// behind) on threads of their own; --one-thread does all on one. The same
+// bytes either way, also when the input breaks off: `command` on the sample
+// to each extension, then on a file whose line 5001 is corrupt; returns the
+// one-thread run's outcome on that file (its output: bad_one + fault_ext).
+RunResult CliTest::expect_one_thread_changes_nothing(const std::string& command,
+                                                     std::initializer_list<const char*> exts,
+                                                     const std::string& fault_ext) const {
+  for (const char* ext : exts) {
     const fs::path threaded = path(std::string("threaded") + ext), one = path(std::string("one") + ext);
-    ASSERT_EQ(run("process '" + kRpgText + "' -o '" + threaded.string() + "' -q").exit_code, 0);
-    ASSERT_EQ(run("process '" + kRpgText + "' -o '" + one.string() + "' -q --one-thread").exit_code, 0);
-    EXPECT_GT(fs::file_size(one), 50000u) << ext;
-    EXPECT_TRUE(read_file(threaded) == read_file(one)) << ext;
+    EXPECT_EQ(run(command + " '" + kRpgText + "' -o '" + threaded.string() + "' -q").exit_code, 0);
+    EXPECT_EQ(run(command + " '" + kRpgText + "' -o '" + one.string() + "' -q --one-thread").exit_code, 0);
+    EXPECT_GT(fs::file_size(one), 50000u) << command << ext;
+    EXPECT_TRUE(read_file(threaded) == read_file(one)) << command << ext;
   }
   const fs::path bad = path("corrupt.txt");
   std::ofstream(bad) << rpg_lines(5000) << "not an event\n" << rpg_lines(100);
-  const RunResult threaded = run("process '" + bad.string() + "' -o '" + path("bad_threaded.bin").string() + "' -q");
-  const RunResult one = run("process '" + bad.string() + "' -o '" + path("bad_one.bin").string() + "' -q --one-thread");
+  const fs::path bad_threaded = path("bad_threaded" + fault_ext), bad_one = path("bad_one" + fault_ext);
+  const RunResult threaded = run(command + " '" + bad.string() + "' -o '" + bad_threaded.string() + "' -q");
+  const RunResult one = run(command + " '" + bad.string() + "' -o '" + bad_one.string() + "' -q --one-thread");
   EXPECT_EQ(threaded.exit_code, 3) << threaded.output;
   EXPECT_EQ(one.exit_code, 3) << one.output;
   std::string message = threaded.output;  // the same but for the output's name
-  message.replace(message.find("bad_threaded"), 12, "bad_one");
+  for (std::size_t at; (at = message.find("bad_threaded")) != std::string::npos;) message.replace(at, 12, "bad_one");
   EXPECT_EQ(message, one.output);
+  EXPECT_TRUE(read_file(bad_threaded) == read_file(bad_one)) << command;
+  return one;
+}
+
+TEST_F(CliTest, OneThreadAndOverlappedGiveTheSameBytes) {
+  expect_one_thread_changes_nothing("process", {".csv", ".bin", ".h5"}, ".bin");
   EXPECT_EQ(fs::file_size(path("bad_one.bin")), 32u + 32u * 5000u);
-  EXPECT_TRUE(read_file(path("bad_threaded.bin")) == read_file(path("bad_one.bin")));
 }
 
 TEST_F(CliTest, ConvertOnOneThreadWritesTheSameBytes) {
-  for (const char* ext : {".txt", ".h5"}) {
-    const fs::path ahead = path(std::string("ahead") + ext), one = path(std::string("one") + ext);
-    ASSERT_EQ(run("convert '" + kRpgText + "' '" + ahead.string() + "' -q").exit_code, 0);
-    ASSERT_EQ(run("convert '" + kRpgText + "' '" + one.string() + "' -q --one-thread").exit_code, 0);
-    EXPECT_GT(fs::file_size(one), 50000u) << ext;
-    EXPECT_TRUE(read_file(ahead) == read_file(one)) << ext;
-  }
-  // A fault read ahead reaches the writer after every event before it.
-  const fs::path bad = path("corrupt.txt");
-  std::ofstream(bad) << rpg_lines(5000) << "not an event\n" << rpg_lines(100);
-  const RunResult ahead = run("convert '" + bad.string() + "' '" + path("bad_ahead.txt").string() + "'");
-  const RunResult one = run("convert '" + bad.string() + "' '" + path("bad_one.txt").string() + "' --one-thread");
-  EXPECT_EQ(ahead.exit_code, 3) << ahead.output;
-  EXPECT_EQ(one.exit_code, 3) << one.output;
-  std::string message = ahead.output;  // the same but for the output's name
-  for (std::size_t at; (at = message.find("bad_ahead")) != std::string::npos;) message.replace(at, 9, "bad_one");
-  EXPECT_EQ(message, one.output);
+  const RunResult one = expect_one_thread_changes_nothing("convert", {".txt", ".h5"}, ".txt");
   EXPECT_NE(one.output.find("5000 events before the fault"), std::string::npos) << one.output;
-  EXPECT_TRUE(read_file(path("bad_ahead.txt")) == read_file(path("bad_one.txt")));
 }
 
 TEST_F(CliTest, TruncatedRpgTextKeepsEventsBeforeTheFault) {
