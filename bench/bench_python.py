@@ -18,6 +18,12 @@
    synthetic recording (`evlife synth --scene mixed`, 346x260, HDF5 input):
    alternating runs, wall time, outputs compared byte for byte.
 
+5. evlife.batch.process_slices over 4 slices on 2 workers, each slice's
+   seconds, on one synthetic recording as HDF5 (each slice starts at its
+   warm-up by a binary search on t) and as text (each slice decodes from the
+   start): with the search the slices take alike, without it the later
+   ones longer.
+
 --only N runs part N alone (e.g. --only 4: a minute).
 """
 import argparse
@@ -184,13 +190,31 @@ def compare_process_file(cli, folder, repetitions, seconds=10):
     return rows, info["events"]
 
 
+def slice_seconds(cli, folder, repetitions, seconds=20, slices=4):
+    """{format: [per-slice seconds, medians over the repetitions]} for .h5 and .txt input."""
+    from distributed import Client
+    h5 = os.path.join(folder, "long.h5")
+    subprocess.run([cli, "synth", "--scene", "mixed", "--sensor", "346x260", "--duration",
+                    str(seconds), "-o", h5, "--quiet"], check=True)
+    txt = os.path.join(folder, "long.txt")
+    subprocess.run([cli, "convert", h5, txt, "-q"], check=True)
+    runs = {"h5": [], "txt": []}
+    with batch.local_cluster(2) as cluster, Client(cluster) as client:
+        for _ in range(repetitions):
+            for name, path in (("h5", h5), ("txt", txt)):
+                rows = batch.process_slices(path, os.path.join(folder, "slices.bin"), slices=slices,
+                                            warmup_ms=100, scheduler=client, progress=False)
+                runs[name].append([r.seconds for r in rows])
+    return {k: [statistics.median(r[i] for r in v) for i in range(slices)] for k, v in runs.items()}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data"))
     ap.add_argument("--repetitions", type=int, default=5)
     ap.add_argument("--files", type=int, default=6)
-    ap.add_argument("--only", type=int, choices=(1, 2, 3, 4), help="run this part alone")
+    ap.add_argument("--only", type=int, choices=(1, 2, 3, 4, 5), help="run this part alone")
     ap.add_argument("--dask-defaults", action="store_true",
                     help="batch on a LocalCluster with Dask's default housekeeping (profiler, monitors)")
     args = ap.parse_args()
@@ -259,6 +283,17 @@ def main():
             for ext, over, one, ratio, lo, hi, same in rows:
                 print("| .%s | %.2f | %.2f | %.2f (%.2f..%.2f) | %s |" % (ext, over, one, ratio, lo, hi,
                                                                          "yes" if same else "NO"))
+        if run(5):
+            per_slice = slice_seconds(cli, tmp, args.repetitions)
+            print()
+            print("evlife.batch.process_slices, 4 slices on 2 workers, 100 ms warm-up, a 20 s "
+                  "synth --scene mixed 346x260 recording; seconds per slice (medians of %d runs)"
+                  % args.repetitions)
+            print("| input | slice 1 | slice 2 | slice 3 | slice 4 | last / first |")
+            print("|---|---|---|---|---|---|")
+            for name, secs in per_slice.items():
+                print("| .%s | %s | %.2f |" % (name, " | ".join("%.2f" % x for x in secs),
+                                              secs[-1] / secs[0]))
     print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
 
 

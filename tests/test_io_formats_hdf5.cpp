@@ -39,15 +39,19 @@ struct ReadResult {
   std::vector<Event> events;
   std::optional<ReadError> error;
   std::optional<SensorSize> sensor;
+  std::int64_t skipped = 0;  // what skip_events_before() returned
 };
 
-ReadResult read_all(const std::string& path, bool checked = true) {
+// Every event of `path`; with `skip_before`, after skip_events_before(it).
+ReadResult read_all(const std::string& path, bool checked = true,
+                    std::optional<std::int64_t> skip_before = std::nullopt) {
   ReadResult r;
   try {
     auto reader = checked ? evlife::io::open_event_reader(path)
                           : evlife::io::open_unchecked_event_reader(path);
     EXPECT_EQ(reader->format_name(), "hdf5");
     r.sensor = reader->sensor_size();
+    if (skip_before) r.skipped = reader->skip_events_before(*skip_before);
     std::vector<Event> chunk(10'000);
     while (const std::size_t n = reader->read(chunk)) {
       r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
@@ -211,6 +215,60 @@ TEST(IoFormatsHdf5, PlainEventWriterRoundTrip) {
   H5Fclose(file);
 }
 
+// skip_events_before(T) for times before, at and between the events (on
+// repeated times, at a reader chunk's edge, past the end): it passes exactly
+// the events with t < T, found without reading them (a binary search), and
+// the reader goes on from there. `all`: the file's events as read whole.
+void expect_skips_to_the_first_event_at(const std::string& path, const std::vector<Event>& all) {
+  ASSERT_GT(all.size(), 65'537u);  // more than one reader chunk
+  const std::int64_t first = all.front().t_us, last = all.back().t_us;
+  for (const std::int64_t t : {first - 1, first, all[17].t_us, all[17].t_us + 1, all[65'536].t_us,
+                               (first + last) / 2, last, last + 1}) {
+    const ReadResult r = read_all(path, true, t);
+    ASSERT_FALSE(r.error) << r.error->what();
+    const auto at = std::lower_bound(all.begin(), all.end(), t,
+                                     [](const Event& e, std::int64_t v) { return e.t_us < v; });
+    EXPECT_EQ(r.skipped, at - all.begin()) << "t " << t;
+    ASSERT_EQ(r.events.size(), static_cast<std::size_t>(all.end() - at)) << "t " << t;
+    for (std::size_t i = 0; i < r.events.size(); ++i) ASSERT_TRUE(same(r.events[i], at[i])) << t << " " << i;
+  }
+}
+
+TEST(IoFormatsHdf5, SkipsTheEventsBeforeATimeWithoutReadingThem) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("events.h5");
+  std::vector<Event> written;
+  for (const auto& a : make_events(150'000, {346, 260})) written.push_back(a.event);  // 2 % repeated times
+  {
+    auto writer = evlife::io::open_hdf5_event_writer(path, SensorSize{346, 260});
+    writer->write(written);
+    writer->close();
+  }
+  expect_skips_to_the_first_event_at(path, written);
+
+  // The events passed count in the indices that errors name: a time going
+  // backwards at event 120,000 is event 120,000, however many were passed.
+  written[120'000].t_us = written[0].t_us;
+  const std::string bad = dir.file("backwards.h5");
+  {
+    auto writer = evlife::io::open_hdf5_event_writer(bad, SensorSize{346, 260});
+    writer->write(written);
+    writer->close();
+  }
+  const ReadResult r = read_all(bad, true, written[110'000].t_us);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->event_index(), 120'000) << r.error->what();
+  EXPECT_GT(r.skipped, 109'000);
+  EXPECT_EQ(r.events.size(), static_cast<std::size_t>(120'000 - r.skipped));
+  // A reader that has been read from passes nothing.
+  auto reader = evlife::io::open_event_reader(path);
+  std::vector<Event> one(1);
+  ASSERT_EQ(reader->read(one), 1u);
+  EXPECT_EQ(reader->skip_events_before(written[50'000].t_us), 0);
+  ASSERT_EQ(reader->read(one), 1u);
+  EXPECT_TRUE(same(one[0], written[1]));
+}
+
 // A chunked 1-D dataset of `values` as `file_type`.
 template <typename T>
 void write_dataset(hid_t where, const char* name, hid_t file_type, hid_t memory_type,
@@ -265,6 +323,7 @@ TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
     const Event expected{t_offset + t[i], x[i], y[i], p[i] ? std::int8_t{1} : std::int8_t{-1}};
     ASSERT_TRUE(same(r.events[i], expected)) << i;
   }
+  expect_skips_to_the_first_event_at(path, r.events);  // times with the offset
 }
 
 TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
@@ -301,6 +360,7 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
     const Event expected{records[i].t, records[i].x, records[i].y, records[i].p ? std::int8_t{1} : std::int8_t{-1}};
     ASSERT_TRUE(same(r.events[i], expected)) << i;
   }
+  expect_skips_to_the_first_event_at(path, r.events);  // the compound's t field alone
 }
 
 TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {

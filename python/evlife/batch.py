@@ -190,12 +190,13 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
 
 
 def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, options):
-    """The task of one slice: its augmented events written to `part` (.bin)."""
+    """The task of one slice: its augmented events written to `part` (.bin) as
+    they are estimated (constant memory, however long the slice)."""
     from evlife import _evlife as core
     start = time.perf_counter()
-    aug = core._process_time_range(path, sensor, t_begin, t_end, warmup_us, config=config, **options)
-    core.write(part, aug, sensor)
-    return len(aug), int((aug["lifetime"] > 0).sum()), time.perf_counter() - start
+    r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
+                                 **options)
+    return r["events"], r["with_lifetime"], time.perf_counter() - start
 
 
 _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records

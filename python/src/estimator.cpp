@@ -262,21 +262,29 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
 }
 
 // The events of `path` with t in [t_begin, t_end), estimated by an estimator
-// that started warmup_us earlier (its outputs before t_begin are dropped):
-// one slice of a recording processed in parallel with the others.
-py::array process_time_range(const std::string& path, const py::object& sensor,
-                             std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us,
-                             const py::object& config, const py::dict& options) {
+// that started warmup_us earlier (its outputs before t_begin are dropped),
+// written to `output` as they come (constant memory, as process_file): one
+// slice of a recording processed in parallel with the others. On one thread:
+// the slices are the parallelism.
+py::dict process_time_range(const std::string& path, const std::string& output,
+                            const py::object& sensor, std::int64_t t_begin, std::int64_t t_end,
+                            std::int64_t warmup_us, const py::object& config,
+                            const py::dict& options) {
   if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
   ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
   const SensorSize s = sensor_from_python(sensor);
-  std::vector<AugmentedEvent> out;
+  std::uint64_t events = 0, with_lifetime = 0;
   {
     py::gil_scoped_release release;
     auto reader = io::open_event_reader(path, io::ReaderOptions{s, true});
     r.config.estimator.sensor = s;
     LifetimeEstimator estimator(r.config.estimator);
+    auto writer = io::open_augmented_writer(output, s);
     const std::int64_t start = t_begin < INT64_MIN + warmup_us ? INT64_MIN : t_begin - warmup_us;
+    // Where the format can (HDF5), the events before the warm-up are not even
+    // decoded; elsewhere the loop below drops them. process_slices' scan has
+    // checked the time order this needs.
+    reader->skip_events_before(start);
     std::vector<Event> in(kBlockEvents);
     std::vector<AugmentedEvent> block(kBlockEvents);
     bool done = false;
@@ -295,12 +303,19 @@ py::array process_time_range(const std::string& path, const py::object& sensor,
       if (hi <= lo) continue;
       estimator.process(std::span<const Event>(in.data() + lo, hi - lo),
                         std::span(block.data(), hi - lo));
-      for (std::size_t i = 0; i < hi - lo; ++i) {
-        if (block[i].event.t_us >= t_begin) out.push_back(block[i]);
-      }
+      std::size_t first = 0;  // the warm-up's outputs are dropped
+      while (first < hi - lo && block[first].event.t_us < t_begin) ++first;
+      const std::span<const AugmentedEvent> kept(block.data() + first, hi - lo - first);
+      for (const AugmentedEvent& e : kept) with_lifetime += !e.is_noise();
+      events += kept.size();
+      writer->write(kept);
     }
+    writer->close();
   }
-  return adopt(std::move(out), augmented_dtype());
+  py::dict d;
+  d["events"] = events;
+  d["with_lifetime"] = with_lifetime;
+  return d;
 }
 
 constexpr const char* kEstimatorDoc = R"(The lifetime estimator (Mueggler et al., ICRA 2015) over NumPy arrays.
@@ -412,16 +427,17 @@ as evlife.process.)");
 
   m.def(
       "_process_time_range",
-      [](const py::object& input, const py::object& sensor, std::int64_t t_begin,
-         std::int64_t t_end, std::int64_t warmup_us, const py::object& config,
-         const py::kwargs& kw) {
-        return process_time_range(py::str(py::module_::import("os").attr("fspath")(input)), sensor,
-                                  t_begin, t_end, warmup_us, config, kw);
+      [](const py::object& input, const py::object& output, const py::object& sensor,
+         std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us,
+         const py::object& config, const py::kwargs& kw) {
+        const auto fspath = py::module_::import("os").attr("fspath");
+        return process_time_range(py::str(fspath(input)), py::str(fspath(output)), sensor, t_begin,
+                                  t_end, warmup_us, config, kw);
       },
-      py::arg("input"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
+      py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
       py::arg("warmup_us"), py::kw_only(), py::arg("config") = py::none(),
-      "Internal (evlife.batch.process_slices): events with t in [t_begin, t_end), the estimator\n"
-      "started warmup_us before t_begin.");
+      "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) written to\n"
+      "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
 }
 
 }  // namespace evlife::python

@@ -68,6 +68,27 @@ def test_time_slices_in_parallel(tmp_path):
     assert (cold["lifetime"] != whole["lifetime"]).any()
 
 
+def test_slices_of_an_hdf5_file_start_at_their_warm_up(tmp_path):
+    # HDF5 slices pass the events before their warm-up by a binary search on t
+    # instead of decoding them: the same file as slices of the .mat, which
+    # decode from the start and drop them.
+    from distributed import Client
+    from evlife import batch
+    path = data("reference/stripes.mat")
+    h5 = tmp_path / "stripes.h5"
+    cli("convert", path, h5, "-q")
+    with batch.local_cluster(2) as cluster, Client(cluster) as client:
+        for warmup_ms in (0, 100):
+            outputs = []
+            for source in (path, h5):
+                out = tmp_path / ("%s_%d.bin" % (os.path.basename(source), warmup_ms))
+                rows = batch.process_slices(source, out, slices=4, warmup_ms=warmup_ms,
+                                            scheduler=client, progress=False)
+                assert len(rows) == 4 and all(r.events > 0 for r in rows)
+                outputs.append(out.read_bytes())
+            assert outputs[0] == outputs[1], warmup_ms
+
+
 def test_local_cluster_workers_run_without_the_stack_profiler():
     # The housekeeping settings must reach the worker processes, not only
     # this one (they cost the tasks ~15 % of a core each on 2 cores).

@@ -9,6 +9,12 @@ CheckedEventReader::CheckedEventReader(std::unique_ptr<EventReader> inner,
                                        bool require_time_order)
     : WrappingEventReader(std::move(inner)), sensor_(sensor), require_time_order_(require_time_order) {}
 
+std::int64_t CheckedEventReader::skip_events_before(std::int64_t t_us) {
+  if (delivered_ != 0 || pending_) return 0;
+  delivered_ = inner_->skip_events_before(t_us);
+  return delivered_;
+}
+
 std::size_t CheckedEventReader::read(std::span<Event> out) {
   if (pending_) throw *pending_;
   const std::size_t n = inner_->read(out);

@@ -24,6 +24,8 @@ class CheckedEventReader final : public WrappingEventReader {
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return inner_->byte_offset_of_event(event_index);
   }
+  /// The inner reader's; the events passed count in the indices of errors.
+  std::int64_t skip_events_before(std::int64_t t_us) override;
 
  private:
   std::optional<SensorSize> sensor_;

@@ -241,6 +241,36 @@ void Hdf5Reader::load_chunk() {
   chunk_size_ = count;
 }
 
+bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
+  std::int64_t t = 0;
+  bool ok;
+  if (layout_ == "prophesee") {  // the compound's t field alone
+    const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(std::int64_t));
+    H5Tinsert(type, "t", 0, H5T_NATIVE_INT64);
+    ok = read_slab(t_, type, index, 1, &t);
+    H5Tclose(type);
+  } else {
+    ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &t);
+  }
+  t_us = t + t_offset_us_;
+  return ok;
+}
+
+std::int64_t Hdf5Reader::skip_events_before(std::int64_t t_us) {
+  if (next_ != 0 || chunk_size_ != 0 || error_) return 0;
+  const Hdf5ErrorSilencer silence;
+  std::int64_t lo = 0, hi = total_;  // the answer lies in [lo, hi]
+  while (lo < hi) {
+    const std::int64_t mid = lo + (hi - lo) / 2;
+    std::int64_t t = 0;
+    if (!read_time(mid, t)) return 0;  // unreadable: read from the start, where read() reports it
+    if (t < t_us) lo = mid + 1;
+    else hi = mid;
+  }
+  next_ = lo;
+  return lo;
+}
+
 std::size_t Hdf5Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
   std::size_t n = 0;

@@ -30,6 +30,9 @@ class Hdf5Reader final : public EventReader {
   Hdf5Reader& operator=(const Hdf5Reader&) = delete;
 
   std::size_t read(std::span<Event> out) override;
+  /// A binary search on the t column (about 2·log2(n) values read): the
+  /// index of the first event with t >= t_us, if t is in order.
+  std::int64_t skip_events_before(std::int64_t t_us) override;
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "hdf5"; }
   const std::string& path() const override { return path_; }
@@ -57,6 +60,7 @@ class Hdf5Reader final : public EventReader {
   };
 
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
+  bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
   void close_handles() noexcept;
 
   std::string path_;

@@ -98,6 +98,18 @@ class EventReader {
     (void)event_index;
     return -1;
   }
+
+  /// Before the first read(): moves past the events with t below `t_us`
+  /// without decoding them, where the format can find them (HDF5: a binary
+  /// search on t), and returns how many it passed (the index of the next
+  /// event, which errors then name). Other readers, and a reader that has
+  /// already been read from, pass nothing and return 0: the caller drops the
+  /// early events as it reads them. Needs the events in time order (a checked
+  /// pass over the file shows it); the events passed are not checked.
+  virtual std::int64_t skip_events_before(std::int64_t t_us) {
+    (void)t_us;
+    return 0;
+  }
 };
 
 /// Which polarities a reader delivers.
