@@ -18,11 +18,9 @@
    synthetic recording (`evlife synth --scene mixed`, 346x260, HDF5 input):
    alternating runs, wall time, outputs compared byte for byte.
 
-5. evlife.batch.process_slices over 4 slices on 2 workers, each slice's
-   seconds, on one synthetic recording as HDF5 (each slice starts at its
-   warm-up by a binary search on t) and as text (each slice decodes from the
-   start): with the search the slices take alike, without it the later
-   ones longer.
+5. evlife.batch.process_slices' tasks over 4 and 16 slices of one HDF5
+   recording, each starting at its warm-up by a binary search on t against
+   each decoding the file from its start (alternating runs, one at a time).
 
 --only N runs part N alone (e.g. --only 4: a minute).
 """
@@ -190,22 +188,32 @@ def compare_process_file(cli, folder, repetitions, seconds=10):
     return rows, info["events"]
 
 
-def slice_seconds(cli, folder, repetitions, seconds=20, slices=4):
-    """{format: [per-slice seconds, medians over the repetitions]} for .h5 and .txt input."""
-    from distributed import Client
+def slice_seconds(cli, folder, repetitions, seconds=20, warmup_us=100_000):
+    """Per slice count (4, 16): the seconds of every slice's task
+    (evlife.batch's _process_time_range, run here one after the other) over an
+    HDF5 recording, each starting at its warm-up by a binary search on t and
+    each decoding from the file's start; medians of alternating runs."""
+    from evlife import _evlife as core
     h5 = os.path.join(folder, "long.h5")
     subprocess.run([cli, "synth", "--scene", "mixed", "--sensor", "346x260", "--duration",
                     str(seconds), "-o", h5, "--quiet"], check=True)
-    txt = os.path.join(folder, "long.txt")
-    subprocess.run([cli, "convert", h5, txt, "-q"], check=True)
-    runs = {"h5": [], "txt": []}
-    with batch.local_cluster(2) as cluster, Client(cluster) as client:
+    info = core.scan(h5, None)
+    t0, t1 = info["t_first"], info["t_last"] + 1
+    part = os.path.join(folder, "part.bin")
+    result = {}
+    for slices in (4, 16):
+        cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
+        per_slice = {True: [[] for _ in range(slices)], False: [[] for _ in range(slices)]}
         for _ in range(repetitions):
-            for name, path in (("h5", h5), ("txt", txt)):
-                rows = batch.process_slices(path, os.path.join(folder, "slices.bin"), slices=slices,
-                                            warmup_ms=100, scheduler=client, progress=False)
-                runs[name].append([r.seconds for r in rows])
-    return {k: [statistics.median(r[i] for r in v) for i in range(slices)] for k, v in runs.items()}
+            for k in range(slices):
+                for search in (True, False):
+                    start = time.perf_counter()
+                    core._process_time_range(h5, part, info["sensor"], cuts[k], cuts[k + 1],
+                                             warmup_us, skip_by_search=search)
+                    per_slice[search][k].append(time.perf_counter() - start)
+        result[slices] = {search: [statistics.median(r) for r in runs]
+                          for search, runs in per_slice.items()}
+    return result, info["events"]
 
 
 def main():
@@ -284,16 +292,20 @@ def main():
                 print("| .%s | %.2f | %.2f | %.2f (%.2f..%.2f) | %s |" % (ext, over, one, ratio, lo, hi,
                                                                          "yes" if same else "NO"))
         if run(5):
-            per_slice = slice_seconds(cli, tmp, args.repetitions)
+            result, events = slice_seconds(cli, tmp, args.repetitions)
             print()
-            print("evlife.batch.process_slices, 4 slices on 2 workers, 100 ms warm-up, a 20 s "
-                  "synth --scene mixed 346x260 recording; seconds per slice (medians of %d runs)"
-                  % args.repetitions)
-            print("| input | slice 1 | slice 2 | slice 3 | slice 4 | last / first |")
-            print("|---|---|---|---|---|---|")
-            for name, secs in per_slice.items():
-                print("| .%s | %s | %.2f |" % (name, " | ".join("%.2f" % x for x in secs),
-                                              secs[-1] / secs[0]))
+            print("evlife.batch.process_slices' tasks over a %.1f M-event HDF5 recording (synth "
+                  "--scene mixed 346x260, 20 s; its event rate rises over time), 100 ms warm-up, "
+                  "run one at a time; wall seconds, medians of %d alternating runs"
+                  % (events / 1e6, args.repetitions))
+            print("| slices | all tasks: binary search on t / decoded from the start (ratio) | "
+                  "first slice | last slice |")
+            print("|---|---|---|---|")
+            for slices, r in result.items():
+                cells = ["%.2f / %.2f (%.2f)" % (sum(r[True]), sum(r[False]), sum(r[False]) / sum(r[True]))]
+                for k in (0, slices - 1):
+                    cells.append("%.2f / %.2f (%.2f)" % (r[True][k], r[False][k], r[False][k] / r[True][k]))
+                print("| %d | %s |" % (slices, " | ".join(cells)))
     print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
 
 

@@ -268,7 +268,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
 // the slices are the parallelism.
 py::dict process_time_range(const std::string& path, const std::string& output,
                             const py::object& sensor, std::int64_t t_begin, std::int64_t t_end,
-                            std::int64_t warmup_us, const py::object& config,
+                            std::int64_t warmup_us, bool skip_by_search, const py::object& config,
                             const py::dict& options) {
   if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
   ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
@@ -283,8 +283,9 @@ py::dict process_time_range(const std::string& path, const std::string& output,
     const std::int64_t start = t_begin < INT64_MIN + warmup_us ? INT64_MIN : t_begin - warmup_us;
     // Where the format can (HDF5), the events before the warm-up are not even
     // decoded; elsewhere the loop below drops them. process_slices' scan has
-    // checked the time order this needs.
-    reader->skip_events_before(start);
+    // checked the time order this needs. (skip_by_search=False: the bench's
+    // reference, the same events decoded and dropped.)
+    if (skip_by_search) reader->skip_events_before(start);
     std::vector<Event> in(kBlockEvents);
     std::vector<AugmentedEvent> block(kBlockEvents);
     bool done = false;
@@ -428,14 +429,15 @@ as evlife.process.)");
   m.def(
       "_process_time_range",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us,
+         std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us, bool skip_by_search,
          const py::object& config, const py::kwargs& kw) {
         const auto fspath = py::module_::import("os").attr("fspath");
         return process_time_range(py::str(fspath(input)), py::str(fspath(output)), sensor, t_begin,
-                                  t_end, warmup_us, config, kw);
+                                  t_end, warmup_us, skip_by_search, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
-      py::arg("warmup_us"), py::kw_only(), py::arg("config") = py::none(),
+      py::arg("warmup_us"), py::kw_only(), py::arg("skip_by_search") = true,
+      py::arg("config") = py::none(),
       "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) written to\n"
       "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
 }
