@@ -2,13 +2,16 @@
 // read through evlife::io::open_event_reader until the end or a ReadError.
 // Findings: a crash or sanitizer report, an exception other than ReadError,
 // or a broken reader contract (an event outside the stated sensor, a bad
-// polarity, time going backwards, events after the end or after an error).
+// polarity, time going backwards, events after the end or after an error;
+// with `also_skip`, a skip_events_before() that disagrees with the whole read).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <string>
 
 #include "evlife/io/event_reader.h"
 #include "fuzz_input_file.h"
@@ -20,10 +23,34 @@ inline void contract_violation(const char* what) {
   std::abort();
 }
 
+/// After a whole read of `total` events from first_t_us to last_t_us that
+/// ended cleanly: a second reader skips the events before the middle time
+/// (for readers that search, e.g. HDF5's binary search on t, which corrupt
+/// files must not crash either); what it passes and what it reads then must
+/// add up to the whole read, in time order.
+inline void fuzz_skip(const std::string& path, std::size_t total, std::int64_t first_t_us,
+                      std::int64_t last_t_us) {
+  const std::int64_t middle = first_t_us + (last_t_us - first_t_us) / 2;
+  std::unique_ptr<io::EventReader> reader = io::open_event_reader(path);  // opened before
+  const std::int64_t skipped = reader->skip_events_before(middle);
+  if (skipped < 0 || static_cast<std::size_t>(skipped) > total) contract_violation("skipped more events than the file holds");
+  std::array<Event, 251> batch{};
+  std::size_t rest = 0;
+  try {
+    while (const std::size_t n = reader->read(batch)) {
+      if (skipped > 0 && batch[0].t_us < middle && rest == 0) contract_violation("skipped to an event before the time asked");
+      rest += n;
+    }
+  } catch (const io::ReadError&) {
+    contract_violation("a skip made a clean file fail");
+  }
+  if (static_cast<std::size_t>(skipped) + rest != total) contract_violation("skipped + read != the whole read");
+}
+
 /// Reads the whole input; `max_events` bounds the work per input (a few KB of
 /// compressed data can legitimately expand to millions of events).
 inline int fuzz_event_reader(const std::uint8_t* data, std::size_t size, const char* extension,
-                             std::size_t max_events = std::size_t{1} << 20) {
+                             std::size_t max_events = std::size_t{1} << 20, bool also_skip = false) {
   const std::string& path = write_input_file(data, size, extension);
   static bool registered = (remove_input_file_at_exit(path), true);
   (void)registered;
@@ -37,6 +64,7 @@ inline int fuzz_event_reader(const std::uint8_t* data, std::size_t size, const c
   // An odd buffer size exercises reads that end mid-chunk.
   std::array<Event, 251> batch{};
   std::size_t total = 0;
+  std::int64_t first_t_us = INT64_MIN;
   std::int64_t last_t_us = INT64_MIN;
   bool ended = false;
   try {
@@ -53,6 +81,7 @@ inline int fuzz_event_reader(const std::uint8_t* data, std::size_t size, const c
         if (e.t_us < last_t_us) contract_violation("timestamps going backwards");
         if (sensor && (e.x >= sensor->width || e.y >= sensor->height))
           contract_violation("event outside the sensor the reader states");
+        if (total == 0 && i == 0) first_t_us = e.t_us;
         last_t_us = e.t_us;
       }
       total += n;
@@ -69,6 +98,7 @@ inline int fuzz_event_reader(const std::uint8_t* data, std::size_t size, const c
     } catch (const io::ReadError&) {
       contract_violation("ReadError after the end of the stream");
     }
+    if (also_skip && total > 0) fuzz_skip(path, total, first_t_us, last_t_us);
   }
   return 0;
 }
