@@ -3,11 +3,17 @@
 #include <algorithm>
 
 namespace evlife::engine {
+namespace {
+// One block fills while another is written: fewer would deadlock.
+std::size_t pool_blocks(std::size_t asked) { return std::max<std::size_t>(asked, 2); }
+}  // namespace
 
 WriteBehindWriter::WriteBehindWriter(std::unique_ptr<io::AugmentedEventWriter> inner, std::size_t block_events,
                                      std::size_t blocks)
-    : inner_(std::move(inner)), path_(inner_->path()), free_(blocks, 1, 0), full_(blocks, 1, 0) {
-  blocks = std::max<std::size_t>(blocks, 2);
+    // The queues sized for the pool actually made: enqueueing never allocates.
+    : inner_(std::move(inner)), path_(inner_->path()), free_(pool_blocks(blocks), 1, 0),
+      full_(pool_blocks(blocks), 1, 0) {
+  blocks = pool_blocks(blocks);
   pool_.reserve(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
     pool_.push_back(std::make_unique<Block>());
