@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -237,7 +238,7 @@ TEST(Dvs128Source, SpecSelectsTheSerialAndBiasFileOverridesDefaults) {
   UsbTestbed bed;
   auto& a = bed.add_dvs128("AAA", 14, 1, 2);
   auto& b = bed.add_dvs128("BBB", 14, 1, 3);
-  const std::string path = std::string(EVLIFE_BINARY_DIR) + "/test_dvs128_biases.yaml";
+  const std::string path = (std::filesystem::path(EVLIFE_BINARY_DIR) / "test_dvs128_biases.yaml").string();
   {
     std::ofstream f(path);
     f << "# test biases\ndvs128_biases:\n  cas: 5   # changed\n  PR: 0x10\n";
