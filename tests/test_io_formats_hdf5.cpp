@@ -326,6 +326,79 @@ TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
   expect_skips_to_the_first_event_at(path, r.events);  // times with the offset
 }
 
+// --from on HDF5 starts by a search on t: the events before it are not
+// decoded. Shown with a DSEC file whose first chunk of x is corrupt: read
+// whole it fails there; from any time past that chunk it reads as written.
+TEST(IoFormatsHdf5, FromStartsPastWhatItDoesNotDecode) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_corrupt_start.h5");
+  const std::size_t count = 200'000;
+  std::vector<std::uint16_t> x(count), y(count);
+  std::vector<std::uint32_t> t(count);
+  std::vector<std::uint8_t> p(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    x[i] = static_cast<std::uint16_t>((i * 13) % 640);
+    y[i] = static_cast<std::uint16_t>((i / 3) % 480);
+    t[i] = static_cast<std::uint32_t>(1000 + i * 3 - i % 2);  // some repeated times
+    p[i] = static_cast<std::uint8_t>(i % 5 < 2);
+  }
+  haddr_t chunk_address = 0;
+  hsize_t chunk_bytes = 0;
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
+    write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
+    write_dataset(group, "t", H5T_STD_U32LE, H5T_NATIVE_UINT32, t);
+    write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+    const hid_t xs = H5Dopen2(group, "x", H5P_DEFAULT);
+    const hsize_t origin[1] = {0};
+    unsigned filter_mask = 0;
+    ASSERT_GE(H5Dget_chunk_info_by_coord(xs, origin, &filter_mask, &chunk_address, &chunk_bytes), 0);
+    H5Dclose(xs);
+    H5Gclose(group);
+    H5Fclose(file);
+  }
+  ASSERT_GT(chunk_bytes, 8u);
+  {  // the deflate stream of x's events 0..4095
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(chunk_address));
+    const std::string garbage(static_cast<std::size_t>(chunk_bytes), '\xA5');
+    f.write(garbage.data(), static_cast<std::streamsize>(garbage.size()));
+  }
+  const auto expected = [&](std::size_t i) {
+    return Event{t[i], x[i], y[i], p[i] ? std::int8_t{1} : std::int8_t{-1}};
+  };
+  const ReadResult whole = read_all(path);
+  ASSERT_TRUE(whole.error) << "the corruption does not show";
+  EXPECT_TRUE(whole.events.empty());
+
+  // --from T counts from the first event (t 1000): from event `begin` on,
+  // --to (exclusive) up to event `end`.
+  for (const auto& [begin, end] : {std::pair<std::size_t, std::size_t>{4096, count}, {5000, count},
+                                   {100'000, count}, {100'000, 150'000}, {count - 1, count}}) {
+    evlife::io::ReaderOptions options;
+    options.from_us = static_cast<std::int64_t>(t[begin]) - t[0];
+    if (end < count) options.to_us = static_cast<std::int64_t>(t[end]) - t[0];
+    std::vector<Event> events;
+    try {
+      auto reader = evlife::io::open_event_reader(path, options);
+      std::vector<Event> block(7'000);
+      while (const std::size_t n = reader->read(block)) events.insert(events.end(), block.begin(), block.begin() + n);
+    } catch (const ReadError& e) {
+      FAIL() << "from event " << begin << ": " << e.what();
+    }
+    // The first event at or after the time: event `begin` or, on a repeated
+    // time, the one before it.
+    std::size_t first = begin;
+    while (first > 0 && t[first - 1] == t[begin]) --first;
+    std::size_t last = end;
+    while (last > 0 && last < count && t[last - 1] == t[end]) --last;
+    ASSERT_EQ(events.size(), last - first) << "from event " << begin;
+    for (std::size_t i = 0; i < events.size(); ++i) ASSERT_TRUE(same(events[i], expected(first + i))) << begin << " " << i;
+  }
+}
+
 TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
   struct Record {  // Prophesee's field order: x, y, p, t
     std::uint16_t x;

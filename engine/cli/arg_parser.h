@@ -137,7 +137,9 @@ inline constexpr std::string_view kInputOptionsHelp =
     "  --polarity on|off|both  read only ON or only OFF events (default both).\n";
 inline constexpr std::string_view kCropOptionsHelp =
     "  --from T, --to T   read only the events from T to T (exclusive) after the first\n"
-    "                     event of the file; seconds or with a unit (250ms, 40us, 2s).\n";
+    "                     event of the file; seconds or with a unit (250ms, 40us, 2s).\n"
+    "                     HDF5 input starts at --from by a search on t, without\n"
+    "                     decoding the events before it.\n";
 
 template <typename T>
 T parse_number(std::string_view name, std::string_view text, T lo, T hi) {

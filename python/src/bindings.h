@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <optional>
 #include <string>
 
 namespace evlife::python {
@@ -15,7 +16,8 @@ void bind_estimator(py::module_& m);  // LifetimeEstimator, process
 void bind_frame(py::module_& m);      // frame
 void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 
-/// evlife.read's body (also used by process(path)).
-py::array read_events(const std::string& path, const py::object& sensor);
+/// evlife.read's body: from_s / to_s are seconds after the first event.
+py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
+                      std::optional<double> to_s);
 
 }  // namespace evlife::python

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -29,6 +30,23 @@ constexpr std::size_t kReadBlock = 1 << 16;
 std::optional<SensorSize> optional_sensor(const py::object& sensor) {
   if (sensor.is_none()) return std::nullopt;
   return sensor_from_python(sensor);
+}
+
+// What evlife.read and evlife.open read: the CLI's --sensor, --from, --to
+// (seconds after the first event of the file, as there).
+io::ReaderOptions reader_options(const py::object& sensor, std::optional<double> from_s, std::optional<double> to_s) {
+  io::ReaderOptions options(optional_sensor(sensor), true);
+  const auto to_us = [](const char* name, double seconds) {
+    if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN
+      throw py::value_error(std::string(name) + " must be seconds after the first event, >= 0, got " +
+                            std::to_string(seconds));
+    return static_cast<std::int64_t>(std::llround(seconds * 1e6));
+  };
+  if (from_s) options.from_us = to_us("from_s", *from_s);
+  if (to_s) options.to_us = to_us("to_s", *to_s);
+  if (options.from_us && options.to_us && *options.to_us < *options.from_us)
+    throw py::value_error("to_s is before from_s");
+  return options;
 }
 
 py::object sensor_tuple(std::optional<SensorSize> s) {
@@ -64,10 +82,10 @@ py::array read_all(io::EventReader& reader) {
 /// evlife.open(): a recording read chunk by chunk (bounded memory).
 class Reader {
  public:
-  Reader(const std::string& path, std::optional<SensorSize> sensor, std::size_t chunk_events)
+  Reader(const std::string& path, const io::ReaderOptions& options, std::size_t chunk_events)
       : chunk_events_(chunk_events) {
     if (chunk_events == 0) throw py::value_error("chunk_events must be at least 1");
-    reader_ = io::open_event_reader(path, io::ReaderOptions{sensor, true});
+    reader_ = io::open_event_reader(path, options);
   }
 
   py::array read(std::optional<std::size_t> max_events) {
@@ -131,12 +149,13 @@ class Reader {
 
 }  // namespace
 
-py::array read_events(const std::string& path, const py::object& sensor) {
+py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
+                      std::optional<double> to_s) {
   std::unique_ptr<io::EventReader> reader;
   {
-    const auto s = optional_sensor(sensor);
+    const io::ReaderOptions options = reader_options(sensor, from_s, to_s);
     py::gil_scoped_release release;
-    reader = io::open_event_reader(path, io::ReaderOptions{s, true});
+    reader = io::open_event_reader(path, options);
   }
   return read_all(*reader);
 }
@@ -144,10 +163,10 @@ py::array read_events(const std::string& path, const py::object& sensor) {
 void bind_reader(py::module_& m) {
   m.def(
       "read",
-      [](const std::filesystem::path& path, const py::object& sensor) {
-        return read_events(path.string(), sensor);
-      },
-      py::arg("path"), py::arg("sensor") = py::none(),
+      [](const std::filesystem::path& path, const py::object& sensor, std::optional<double> from_s,
+         std::optional<double> to_s) { return read_events(path.string(), sensor, from_s, to_s); },
+      py::arg("path"), py::arg("sensor") = py::none(), py::kw_only(), py::arg("from_s") = py::none(),
+      py::arg("to_s") = py::none(),
         R"(Read every event of a recording into a NumPy structured array.
 
 Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
@@ -155,7 +174,10 @@ p (int8, +1 ON / -1 OFF), dtype evlife.EVENT_DTYPE. Every input format of
 `evlife process` (sniffed from the content, else the extension).
 
 sensor: (width, height) the events must fit in; default: the size the format
-states (if any). Raises FileNotFoundError for a missing file and
+states (if any). from_s, to_s: only the events from from_s to to_s (exclusive)
+seconds after the first event of the file, as `evlife process --from --to`;
+HDF5 files (DSEC, Prophesee, evlife's) start there by a binary search on t,
+without decoding the events before it. Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
@@ -188,12 +210,14 @@ good events come first, the next chunk raises evlife.InputError.)")
 
   m.def(
       "open",
-      [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events) {
-        const auto s = optional_sensor(sensor);
+      [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
+         std::optional<double> from_s, std::optional<double> to_s) {
+        const io::ReaderOptions options = reader_options(sensor, from_s, to_s);
         py::gil_scoped_release release;
-        return std::make_unique<Reader>(path.string(), s, chunk_events);
+        return std::make_unique<Reader>(path.string(), options, chunk_events);
       },
-      py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20,
+      py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
+      py::arg("from_s") = py::none(), py::arg("to_s") = py::none(),
       R"(Open a recording for reading in chunks (recordings larger than memory).
 
 Returns an evlife.Reader with .sensor ((width, height) or None), .format and
@@ -203,7 +227,7 @@ iteration over chunks of at most chunk_events events:
         for chunk in r:
             ...
 
-Errors as evlife.read.)");
+from_s, to_s and errors as evlife.read.)");
 
   m.def(
       "read_augmented",

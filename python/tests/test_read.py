@@ -37,6 +37,32 @@ def test_read_hdf5_made_by_the_cli(tmp_path):
         assert r.format == "hdf5"
 
 
+def test_from_and_to_read_what_the_cli_reads(tmp_path):
+    """from_s/to_s: seconds after the first event, as --from/--to; an HDF5
+    file starts there by a search on t, the others decode up to it."""
+    src = data(RECORDINGS["mat"])
+    h5 = tmp_path / "stripes.h5"
+    cli("convert", src, h5)
+    whole = evlife.read(src)
+    t0 = int(whole["t"][0])
+    keep = (whole["t"] >= t0 + 200_000) & (whole["t"] < t0 + 500_000)
+    assert 1000 < keep.sum() < len(whole) // 2
+    cut = tmp_path / "cut.h5"
+    cli("convert", src, cut, "--from", "0.2", "--to", "500ms")
+    for path in (src, h5):
+        part = evlife.read(path, from_s=0.2, to_s=0.5)
+        assert_same_events(part, whole[keep], ["t", "x", "y", "p"])
+        assert_same_events(part, evlife.read(cut), ["t", "x", "y", "p"])
+        with evlife.open(path, chunk_events=10_000, from_s=0.2, to_s=0.5) as r:
+            assert_same_events(np.concatenate(list(r)), part, ["t", "x", "y", "p"])
+    tail = evlife.read(h5, from_s=0.2)
+    assert_same_events(tail, whole[whole["t"] >= t0 + 200_000], ["t", "x", "y", "p"])
+    with pytest.raises(ValueError, match="from_s"):
+        evlife.read(h5, from_s=-1.0)
+    with pytest.raises(ValueError, match="to_s is before from_s"):
+        evlife.open(h5, from_s=0.5, to_s=0.2)
+
+
 def test_open_yields_bounded_chunks_equal_to_read():
     path = data(RECORDINGS["evt2"])
     whole = evlife.read(path)

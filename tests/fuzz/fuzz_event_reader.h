@@ -27,7 +27,8 @@ inline void contract_violation(const char* what) {
 /// ended cleanly: a second reader skips the events before the middle time
 /// (for readers that search, e.g. HDF5's binary search on t, which corrupt
 /// files must not crash either); what it passes and what it reads then must
-/// add up to the whole read, in time order.
+/// add up to the whole read, in time order; --from that time (ReaderOptions)
+/// must read the same events.
 inline void fuzz_skip(const std::string& path, std::size_t total, std::int64_t first_t_us,
                       std::int64_t last_t_us) {
   const std::int64_t middle = first_t_us + (last_t_us - first_t_us) / 2;
@@ -45,6 +46,21 @@ inline void fuzz_skip(const std::string& path, std::size_t total, std::int64_t f
     contract_violation("a skip made a clean file fail");
   }
   if (static_cast<std::size_t>(skipped) + rest != total) contract_violation("skipped + read != the whole read");
+  // --from the same time (it counts from the first event; a reader that can
+  // seek starts there by the same search): the same events.
+  io::ReaderOptions from_middle;
+  from_middle.from_us = middle - first_t_us;
+  std::unique_ptr<io::EventReader> cropped = io::open_event_reader(path, from_middle);
+  std::size_t from_count = 0;
+  try {
+    while (const std::size_t n = cropped->read(batch)) {
+      if (batch[0].t_us < middle) contract_violation("--from delivered an event before its time");
+      from_count += n;
+    }
+  } catch (const io::ReadError&) {
+    contract_violation("--from made a clean file fail");
+  }
+  if (from_count != rest) contract_violation("--from read other events than a skip to its time");
 }
 
 /// Reads the whole input; `max_events` bounds the work per input (a few KB of

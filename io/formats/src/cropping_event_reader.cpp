@@ -7,6 +7,10 @@ CroppingEventReader::CroppingEventReader(std::unique_ptr<EventReader> inner, con
 
 std::size_t CroppingEventReader::read(std::span<Event> out) {
   if (done_ || out.empty()) return 0;
+  if (!first_t_ && from_us_) {  // a reader that can seek starts at --from without decoding what precedes it
+    first_t_ = inner_->first_event_time_us();
+    if (first_t_) inner_->skip_events_before(*first_t_ + *from_us_);
+  }
   while (true) {
     const std::size_t n = inner_->read(out);
     if (n == 0) return 0;

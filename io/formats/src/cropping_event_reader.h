@@ -1,6 +1,9 @@
 // Private: applies ReaderOptions' cropping (--from/--to, relative to the
 // first event of the file) and polarity filter to any reader. Errors of the
-// inner reader pass through after the kept events before them.
+// inner reader pass through after the kept events before them. Where the
+// inner reader can seek (HDF5), --from starts there by a search on t: the
+// events before it are not decoded (nor checked: the file must be in time
+// order, as evlife and the datasets write it).
 #pragma once
 
 #include <memory>

@@ -271,6 +271,14 @@ std::int64_t Hdf5Reader::skip_events_before(std::int64_t t_us) {
   return lo;
 }
 
+std::optional<std::int64_t> Hdf5Reader::first_event_time_us() const {
+  if (next_ != 0 || chunk_size_ != 0 || error_ || total_ == 0) return std::nullopt;
+  const Hdf5ErrorSilencer silence;
+  std::int64_t t = 0;
+  if (!read_time(0, t)) return std::nullopt;
+  return t;
+}
+
 std::size_t Hdf5Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
   std::size_t n = 0;

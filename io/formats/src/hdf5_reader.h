@@ -33,6 +33,7 @@ class Hdf5Reader final : public EventReader {
   /// A binary search on the t column (about 2·log2(n) values read): the
   /// index of the first event with t >= t_us, if t is in order.
   std::int64_t skip_events_before(std::int64_t t_us) override;
+  std::optional<std::int64_t> first_event_time_us() const override;
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "hdf5"; }
   const std::string& path() const override { return path_; }

@@ -110,6 +110,12 @@ class EventReader {
     (void)t_us;
     return 0;
   }
+
+  /// Before the first read(): the first event's time, where the format can
+  /// read it without decoding a block (HDF5: one value of t). --from counts
+  /// from it, and skip_events_before then starts there. nullopt otherwise
+  /// (and for an empty or unreadable file: read() reports those).
+  virtual std::optional<std::int64_t> first_event_time_us() const { return std::nullopt; }
 };
 
 /// Which polarities a reader delivers.
