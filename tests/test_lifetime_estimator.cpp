@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "evlife/algo/lifetime_estimator.h"
@@ -306,6 +307,46 @@ TEST(LifetimeEstimator, FollowersChainWithinTheBurstSpan) {
   const auto unchained = late_events({1500, 3000}, 2.0);
   EXPECT_NEAR(unchained[0].lifetime_us, 1000.0f, 50.0f);
   EXPECT_TRUE(unchained[1].is_noise());
+}
+
+// A slow photoreceptor spreads a burst over more than the burst span when
+// its timing noise is large against the lifetime: with
+// burst_span_timing_noise such a late event stays its burst's follower while
+// no newer edge has come from upstream; without it, it arrives anew.
+TEST(LifetimeEstimator, SlowResponseFollowersStayInTheirBurst) {
+  const SensorSize s{40, 40};
+  // An edge moving +x at 5000 px/s (lifetime 200 us), each pixel late by up
+  // to 300 us (a slow, noisy pixel); pixel (20, 20) fires once more 600 us
+  // after its arrival (3 lifetimes: past the burst window and a burst span
+  // of 2).
+  std::vector<Event> events = straight_edge(s, 0.0, 5000.0);
+  std::mt19937 rng(3);
+  for (Event& e : events) e.t_us += static_cast<std::int64_t>(rng() % 300);
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+  const Event arrival = *std::find_if(events.begin(), events.end(), [](const Event& e) { return e.x == 20 && e.y == 20; });
+  const Event late_event{arrival.t_us + 600, arrival.x, arrival.y, arrival.p};
+  events.insert(std::upper_bound(events.begin(), events.end(), late_event,
+                                 [](const Event& a, const Event& b) { return a.t_us < b.t_us; }),
+                late_event);
+  auto late_output = [&](double timing_noise_factor) {
+    LifetimeOptions o = options_for(s);
+    o.burst_span_lifetimes = 2.0;
+    o.burst_span_timing_noise = timing_noise_factor;
+    LifetimeEstimator est(o);
+    AugmentedEvent first{}, late{};
+    for (const Event& e : events) {
+      const AugmentedEvent out = est.process(e);
+      if (e.x != arrival.x || e.y != arrival.y) continue;
+      (e.t_us == arrival.t_us ? first : late) = out;
+    }
+    EXPECT_FALSE(first.is_noise());
+    return std::pair{first, late};
+  };
+  const auto [first_on, late_on] = late_output(10.0);
+  EXPECT_FALSE(late_on.is_noise());
+  EXPECT_EQ(late_on.lifetime_us, first_on.lifetime_us);  // the burst's estimate
+  const auto [first_off, late_off] = late_output(0.0);
+  EXPECT_NE(late_off.lifetime_us, first_off.lifetime_us);
 }
 
 // A burst whose first event came as the edge started, before its neighbours
