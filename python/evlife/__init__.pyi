@@ -82,9 +82,11 @@ class LifetimeEstimator:
 def estimator_options(config: Optional[StrPath] = None) -> dict[str, dict[str, Any]]: ...
 def process(input: Union[StrPath, Any], sensor: Optional[Sensor] = None, *,
             config: Optional[StrPath] = None, one_thread: bool = False,
+            from_s: Optional[float] = None, to_s: Optional[float] = None,
             **options: Any) -> npt.NDArray[np.void]: ...
 def process_file(input: StrPath, output: StrPath, sensor: Optional[Sensor] = None, *,
                  config: Optional[StrPath] = None, one_thread: bool = False,
+                 from_s: Optional[float] = None, to_s: Optional[float] = None,
                  **options: Any) -> dict[str, Any]: ...
 def frame(augmented: Any, t_us: int, sensor: Optional[Sensor] = None, mode: str = "lifetime", *,
           color: Literal["lifetime", "polarity", "plain"] = "lifetime",

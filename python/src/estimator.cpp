@@ -134,22 +134,23 @@ struct FileRun {
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
 };
 
-// `evlife process PATH`: the same sensor rule, reader, estimator and blocks;
+// `evlife process PATH [--from --to]` (the times of `crop`; its sensor is
+// set here): the same sensor rule, reader, estimator and blocks;
 // each block of augmented events goes to `sink`, then `on_sensor` has been
 // called once before. Unless `one_thread`, the file is decoded ahead on a
 // thread of its own (as `evlife process` without --one-thread: the same
 // events, sooner). Runs without the GIL.
 template <class OnSensor, class Sink>
 FileRun run_file(const std::string& path, std::optional<SensorSize> user, ResolvedOptions r,
-                 bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
+                 io::ReaderOptions crop, bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
   const auto probe = io::open_unchecked_event_reader(path);
   if (const auto stated = probe->sensor_size()) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
   else run.sensor = scan_sensor(path);
-  std::unique_ptr<io::EventReader> reader =
-      io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+  crop.sensor = run.sensor;
+  std::unique_ptr<io::EventReader> reader = io::open_event_reader(path, crop);
   run.format = std::string(reader->format_name());
   r.config.estimator.sensor = run.sensor;
   LifetimeEstimator estimator(r.config.estimator);  // std::invalid_argument: ValueError
@@ -179,8 +180,8 @@ std::optional<SensorSize> user_sensor(const py::object& sensor) {
   return sensor_from_python(sensor);
 }
 
-py::array process_file(const std::string& path, const py::object& sensor, bool one_thread,
-                       const py::object& config, const py::dict& options) {
+py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
+                       bool one_thread, const py::object& config, const py::dict& options) {
   // The sensor argument only counts when the format states none (as --sensor).
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
   const std::optional<SensorSize> user = user_sensor(sensor);
@@ -188,7 +189,7 @@ py::array process_file(const std::string& path, const py::object& sensor, bool o
   FileRun run;
   {
     py::gil_scoped_release release;
-    run = run_file(path, user, r, one_thread, [](SensorSize) {},
+    run = run_file(path, user, r, crop, one_thread, [](SensorSize) {},
                    [&](std::span<const AugmentedEvent> block) {
       out.insert(out.end(), block.begin(), block.end());
     });
@@ -202,8 +203,8 @@ py::array process_file(const std::string& path, const py::object& sensor, bool o
 // decoded ahead and written behind, each on a thread of its own (the same
 // bytes: `evlife process` without --one-thread).
 py::dict process_to_file(const std::string& path, const std::string& output,
-                         const py::object& sensor, bool one_thread, const py::object& config,
-                         const py::dict& options) {
+                         const py::object& sensor, const io::ReaderOptions& crop, bool one_thread,
+                         const py::object& config, const py::dict& options) {
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
   const std::optional<SensorSize> user = user_sensor(sensor);
   FileRun run;
@@ -211,7 +212,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     py::gil_scoped_release release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
     run = run_file(
-        path, user, r, one_thread,
+        path, user, r, crop, one_thread,
         [&](SensorSize s) {
           writer = io::open_augmented_writer(output, s);
           if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
@@ -366,11 +367,14 @@ then nothing of this call is processed and the state is unchanged.)")
   m.def(
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         bool one_thread, const py::kwargs& kw) -> py::array {
+         bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
+         const py::kwargs& kw) -> py::array {
         if (py::isinstance<py::str>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
-          return process_file(path, sensor, one_thread, config, kw);
+          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s), one_thread, config, kw);
         }
+        if (from_s || to_s)
+          throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         const py::object s = sensor.is_none()
             ? [&] {
                 const SensorSize d = sensor_from_events(event_columns(input));
@@ -381,7 +385,8 @@ then nothing of this call is processed and the state is unchanged.)")
         return estimator.process(input);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(), py::arg("one_thread") = false,
+      py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
+      py::arg("to_s") = py::none(),
       R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
 
 input: a path (every format of `evlife process`) or an array with t, x, y, p
@@ -393,19 +398,24 @@ it the smallest sensor holding every event. Keywords and config=: as
 evlife.LifetimeEstimator. A recording is decoded ahead on a thread of its
 own while the estimator runs (the same result, sooner); one_thread=True keeps
 everything on the calling thread (as --one-thread; for one process per core).
+from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
+after the first event, as --from / --to; the estimator starts at from_s, and
+an HDF5 file is not decoded before it (evlife.read).
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them), ValueError for bad options.)");
 
   m.def(
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         const py::object& config, bool one_thread, const py::kwargs& kw) {
+         const py::object& config, bool one_thread, std::optional<double> from_s,
+         std::optional<double> to_s, const py::kwargs& kw) {
         const auto fspath = py::module_::import("os").attr("fspath");
         return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor,
-                               one_thread, config, kw);
+                               reader_options(std::nullopt, from_s, to_s), one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(), py::arg("one_thread") = false,
+      py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
+      py::arg("to_s") = py::none(),
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',

@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,22 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
 }
 
 }  // namespace
+
+io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
+                                 std::optional<double> to_s) {
+  io::ReaderOptions options(sensor, true);
+  const auto to_us = [](const char* name, double seconds) {
+    if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN
+      throw py::value_error(std::string(name) + " must be seconds after the first event, >= 0, got " +
+                            std::to_string(seconds));
+    return static_cast<std::int64_t>(std::llround(seconds * 1e6));
+  };
+  if (from_s) options.from_us = to_us("from_s", *from_s);
+  if (to_s) options.to_us = to_us("to_s", *to_s);
+  if (options.from_us && options.to_us && *options.to_us < *options.from_us)
+    throw py::value_error("to_s is before from_s");
+  return options;
+}
 
 SensorSize sensor_from_python(const py::object& sensor) {
   if (!py::isinstance<py::sequence>(sensor) || py::len(sensor) != 2 ||

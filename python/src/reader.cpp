@@ -7,7 +7,6 @@
 #include <filesystem>
 
 #include <algorithm>
-#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,23 +29,6 @@ constexpr std::size_t kReadBlock = 1 << 16;
 std::optional<SensorSize> optional_sensor(const py::object& sensor) {
   if (sensor.is_none()) return std::nullopt;
   return sensor_from_python(sensor);
-}
-
-// What evlife.read and evlife.open read: the CLI's --sensor, --from, --to
-// (seconds after the first event of the file, as there).
-io::ReaderOptions reader_options(const py::object& sensor, std::optional<double> from_s, std::optional<double> to_s) {
-  io::ReaderOptions options(optional_sensor(sensor), true);
-  const auto to_us = [](const char* name, double seconds) {
-    if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN
-      throw py::value_error(std::string(name) + " must be seconds after the first event, >= 0, got " +
-                            std::to_string(seconds));
-    return static_cast<std::int64_t>(std::llround(seconds * 1e6));
-  };
-  if (from_s) options.from_us = to_us("from_s", *from_s);
-  if (to_s) options.to_us = to_us("to_s", *to_s);
-  if (options.from_us && options.to_us && *options.to_us < *options.from_us)
-    throw py::value_error("to_s is before from_s");
-  return options;
 }
 
 py::object sensor_tuple(std::optional<SensorSize> s) {
@@ -153,7 +135,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
                       std::optional<double> to_s) {
   std::unique_ptr<io::EventReader> reader;
   {
-    const io::ReaderOptions options = reader_options(sensor, from_s, to_s);
+    const io::ReaderOptions options = reader_options(optional_sensor(sensor), from_s, to_s);
     py::gil_scoped_release release;
     reader = io::open_event_reader(path, options);
   }
@@ -212,7 +194,7 @@ good events come first, the next chunk raises evlife.InputError.)")
       "open",
       [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
          std::optional<double> from_s, std::optional<double> to_s) {
-        const io::ReaderOptions options = reader_options(sensor, from_s, to_s);
+        const io::ReaderOptions options = reader_options(optional_sensor(sensor), from_s, to_s);
         py::gil_scoped_release release;
         return std::make_unique<Reader>(path.string(), options, chunk_events);
       },

@@ -122,3 +122,21 @@ def test_estimator_options_are_the_cli_defaults():
     est7 = evlife.LifetimeEstimator(sensor=(128, 128), window_size=7, seed=7)
     assert est7.options["window_size"] == 7 and est7.options["seed"] == 7
     assert est7.sensor == (128, 128)
+
+
+def test_process_from_and_to_equal_the_cli(tmp_path):
+    """from_s/to_s: `evlife process --from --to` (the estimator starts at
+    from_s), on HDF5, which starts there by a search, as on .mat."""
+    src = data(RECORDINGS["mat"])
+    h5 = tmp_path / "stripes.h5"
+    cli("convert", src, h5)
+    expected, _ = cli_bin(tmp_path, src, "--from", "0.3", "--to", "0.6")
+    cli_file = tmp_path / "stripes.mat.bin"
+    assert 1000 < len(expected) < len(evlife.read(src)) // 2
+    for path in (src, h5):
+        assert_same_events(evlife.process(path, from_s=0.3, to_s=0.6), expected)
+        written = tmp_path / "part.bin"
+        evlife.process_file(path, written, from_s=0.3, to_s=0.6)
+        assert written.read_bytes() == cli_file.read_bytes()
+    with pytest.raises(ValueError, match="mask"):
+        evlife.process(evlife.read(src), sensor=(128, 128), from_s=0.3)
