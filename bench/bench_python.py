@@ -21,6 +21,10 @@
 5. evlife.batch.process_slices' tasks over 4 and 16 slices of one HDF5
    recording, each starting at its warm-up by a binary search on t against
    each decoding the file from its start (alternating runs, one at a time).
+6. evlife.read(h5, from_s=9) on a 10 s HDF5 recording (starts by a binary
+   search on t) against decoding the file chunk by chunk (evlife.open) and
+   dropping the events before 9 s, as every reader did before (and the
+   formats without a search still do); arrays compared.
 
 --only N runs part N alone (e.g. --only 4: a minute).
 """
@@ -216,13 +220,44 @@ def slice_seconds(cli, folder, repetitions, seconds=20, warmup_us=100_000):
     return result, info["events"]
 
 
+def from_seconds(cli, folder, repetitions, seconds=10, from_s=9.0):
+    """Seconds to read the events from from_s on: by the search (from_s=) and
+    by decoding and dropping (evlife.open, chunks); medians of alternating
+    runs, the two arrays equal."""
+    import numpy as np
+    h5 = os.path.join(folder, "from.h5")
+    subprocess.run([cli, "synth", "--scene", "mixed", "--sensor", "346x260", "--duration",
+                    str(seconds), "-o", h5, "--quiet"], check=True)
+
+    def decode_and_drop():
+        kept, cut = [], None
+        with evlife.open(h5, chunk_events=1 << 16) as r:
+            for chunk in r:
+                cut = chunk["t"][0] + int(from_s * 1e6) if cut is None else cut
+                kept.append(chunk[chunk["t"] >= cut])
+        return np.concatenate(kept)
+
+    runs = {"search": [], "decode": []}
+    for _ in range(repetitions):
+        for how, read in (("search", lambda: evlife.read(h5, from_s=from_s)), ("decode", decode_and_drop)):
+            t0 = time.perf_counter()
+            read()
+            runs[how].append(time.perf_counter() - t0)
+    searched = evlife.read(h5, from_s=from_s)
+    same = np.array_equal(searched, decode_and_drop())
+    ratios = [d / s for s, d in zip(runs["search"], runs["decode"])]
+    total = evlife.scan(h5)["events"]
+    return (statistics.median(runs["search"]), statistics.median(runs["decode"]), statistics.median(ratios),
+            min(ratios), max(ratios), same, len(searched), total)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data"))
     ap.add_argument("--repetitions", type=int, default=5)
     ap.add_argument("--files", type=int, default=6)
-    ap.add_argument("--only", type=int, choices=(1, 2, 3, 4, 5), help="run this part alone")
+    ap.add_argument("--only", type=int, choices=(1, 2, 3, 4, 5, 6), help="run this part alone")
     ap.add_argument("--dask-defaults", action="store_true",
                     help="batch on a LocalCluster with Dask's default housekeeping (profiler, monitors)")
     args = ap.parse_args()
@@ -306,6 +341,14 @@ def main():
                 for k in (0, slices - 1):
                     cells.append("%.2f / %.2f (%.2f)" % (r[True][k], r[False][k], r[False][k] / r[True][k]))
                 print("| %d | %s |" % (slices, " | ".join(cells)))
+        if run(6):
+            search, decode, ratio, lo, hi, same, kept, total = from_seconds(cli, tmp, args.repetitions)
+            print()
+            print("The last second of a %.2f M-event HDF5 recording (synth --scene mixed 346x260, 10 s; "
+                  "%d events from 9 s on; wall time, %d alternating runs)" % (total / 1e6, kept, args.repetitions))
+            print("| evlife.read(h5, from_s=9): search | decode and drop (evlife.open) | ratio, median (min..max) | same events |")
+            print("|---|---|---|---|")
+            print("| %.3f s | %.3f s | %.2f (%.2f..%.2f) | %s |" % (search, decode, ratio, lo, hi, "yes" if same else "NO"))
     print("load average at the end: %.2f %.2f %.2f (2 cores)" % os.getloadavg())
 
 

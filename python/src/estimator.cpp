@@ -175,16 +175,12 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   return run;
 }
 
-std::optional<SensorSize> user_sensor(const py::object& sensor) {
-  if (sensor.is_none()) return std::nullopt;
-  return sensor_from_python(sensor);
-}
 
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
                        bool one_thread, const py::object& config, const py::dict& options) {
   // The sensor argument only counts when the format states none (as --sensor).
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
-  const std::optional<SensorSize> user = user_sensor(sensor);
+  const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   std::vector<AugmentedEvent> out;
   FileRun run;
   {
@@ -206,7 +202,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
                          const py::object& sensor, const io::ReaderOptions& crop, bool one_thread,
                          const py::object& config, const py::dict& options) {
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
-  const std::optional<SensorSize> user = user_sensor(sensor);
+  const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   FileRun run;
   {
     py::gil_scoped_release release;
@@ -233,7 +229,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
 // event count: one pass (what a caller needs to cut a recording into slices).
 py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config) {
   const ResolvedOptions r = resolve_options("evlife.scan", py::none(), config, py::dict());
-  const std::optional<SensorSize> user = user_sensor(sensor);
+  const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   std::int64_t first = 0, last = 0;
   std::uint64_t count = 0;
   FileRun run;

@@ -70,9 +70,13 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
   };
   if (from_s) options.from_us = to_us("from_s", *from_s);
   if (to_s) options.to_us = to_us("to_s", *to_s);
-  if (options.from_us && options.to_us && *options.to_us < *options.from_us)
-    throw py::value_error("to_s is before from_s");
+  if (options.crop_is_empty()) throw py::value_error("to_s must be after from_s");
   return options;
+}
+
+std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor) {
+  if (sensor.is_none()) return std::nullopt;
+  return sensor_from_python(sensor);
 }
 
 SensorSize sensor_from_python(const py::object& sensor) {

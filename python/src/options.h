@@ -40,10 +40,12 @@ py::dict options_dict(const config::Config& c);
 
 /// (width, height) -> SensorSize; TypeError/ValueError otherwise.
 SensorSize sensor_from_python(const py::object& sensor);
+/// The same, None -> nullopt.
+std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
 /// What evlife.read, open, process and process_file read: `sensor` and the
 /// CLI's --from / --to as from_s / to_s, seconds after the first event of the
-/// file. ValueError for a negative time or to_s before from_s.
+/// file. ValueError for a negative time or to_s not after from_s (as the CLI).
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
                                  std::optional<double> to_s);
 

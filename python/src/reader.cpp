@@ -26,11 +26,6 @@ namespace {
 
 constexpr std::size_t kReadBlock = 1 << 16;
 
-std::optional<SensorSize> optional_sensor(const py::object& sensor) {
-  if (sensor.is_none()) return std::nullopt;
-  return sensor_from_python(sensor);
-}
-
 py::object sensor_tuple(std::optional<SensorSize> s) {
   if (!s) return py::none();
   return py::make_tuple(s->width, s->height);
@@ -135,7 +130,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
                       std::optional<double> to_s) {
   std::unique_ptr<io::EventReader> reader;
   {
-    const io::ReaderOptions options = reader_options(optional_sensor(sensor), from_s, to_s);
+    const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s);
     py::gil_scoped_release release;
     reader = io::open_event_reader(path, options);
   }
@@ -194,7 +189,7 @@ good events come first, the next chunk raises evlife.InputError.)")
       "open",
       [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
          std::optional<double> from_s, std::optional<double> to_s) {
-        const io::ReaderOptions options = reader_options(optional_sensor(sensor), from_s, to_s);
+        const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s);
         py::gil_scoped_release release;
         return std::make_unique<Reader>(path.string(), options, chunk_events);
       },

@@ -59,7 +59,7 @@ def test_from_and_to_read_what_the_cli_reads(tmp_path):
     assert_same_events(tail, whole[whole["t"] >= t0 + 200_000], ["t", "x", "y", "p"])
     with pytest.raises(ValueError, match="from_s"):
         evlife.read(h5, from_s=-1.0)
-    with pytest.raises(ValueError, match="to_s is before from_s"):
+    with pytest.raises(ValueError, match="to_s must be after from_s"):
         evlife.open(h5, from_s=0.5, to_s=0.2)
 
 

@@ -257,7 +257,7 @@ bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
 }
 
 std::int64_t Hdf5Reader::skip_events_before(std::int64_t t_us) {
-  if (next_ != 0 || chunk_size_ != 0 || error_) return 0;
+  if (!unread()) return 0;
   const Hdf5ErrorSilencer silence;
   std::int64_t lo = 0, hi = total_;  // the answer lies in [lo, hi]
   while (lo < hi) {
@@ -272,7 +272,7 @@ std::int64_t Hdf5Reader::skip_events_before(std::int64_t t_us) {
 }
 
 std::optional<std::int64_t> Hdf5Reader::first_event_time_us() const {
-  if (next_ != 0 || chunk_size_ != 0 || error_ || total_ == 0) return std::nullopt;
+  if (!unread() || total_ == 0) return std::nullopt;
   const Hdf5ErrorSilencer silence;
   std::int64_t t = 0;
   if (!read_time(0, t)) return std::nullopt;

@@ -62,6 +62,8 @@ class Hdf5Reader final : public EventReader {
 
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
   bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
+  // Before the first read (and no error yet): a search may still move the start.
+  bool unread() const noexcept { return next_ == 0 && chunk_size_ == 0 && !error_; }
   void close_handles() noexcept;
 
   std::string path_;

@@ -150,6 +150,10 @@ struct ReaderOptions {
   /// --polarity: only ON or only OFF events.
   PolarityFilter polarity = PolarityFilter::both;
 
+  /// --to not after --from: nothing would be read. The command line and
+  /// Python refuse it (each in its own words).
+  bool crop_is_empty() const noexcept { return from_us && to_us && *to_us <= *from_us; }
+
   bool filters() const noexcept {
     return from_us.has_value() || to_us.has_value() || polarity != PolarityFilter::both;
   }
