@@ -175,7 +175,6 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   return run;
 }
 
-
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
                        bool one_thread, const py::object& config, const py::dict& options) {
   // The sensor argument only counts when the format states none (as --sensor).

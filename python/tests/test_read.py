@@ -90,4 +90,3 @@ def test_read_checks_the_given_sensor():
         evlife.read(path, sensor=(64, 64))
     assert e.value.event_index >= 0
     assert e.value.partial is not None and len(e.value.partial) == e.value.event_index
-
