@@ -51,7 +51,7 @@ class BatchResult(list):
             share = "" if r.lifetime_share is None else "%.1f %%" % (100.0 * r.lifetime_share)
             lines.append("%-40s %12s %9s %9.2f  %s" % (
                 _short(r.path, 40), "" if r.events is None else r.events, share, r.seconds,
-                "ok" if r.error is None else "FAILED: " + r.error.splitlines()[0]))
+                "ok" if r.error is None else "FAILED: " + _first_line(r.error)))
         return "\n".join(lines)
 
 
@@ -60,14 +60,28 @@ def _short(text, width):
 
 
 def _output_names(paths, extension):
-    """OUT names from the recordings' names, made unique (a.bin, a-2.bin)."""
-    names, seen = [], {}
+    """OUT names from the recordings' names, made unique (a.bin, a-2.bin): checked
+    against every name given out so far, without regard to case (a recording
+    named a-2 must not take a-2.bin from the second a, nor A.bin a.bin's place
+    on a case-insensitive file system)."""
+    names, taken = [], set()
     for p in paths:
         stem = os.path.splitext(os.path.basename(p))[0] or "recording"
-        n = seen.get(stem, 0) + 1
-        seen[stem] = n
-        names.append(stem + ("" if n == 1 else "-%d" % n) + extension)
+        name, n = stem + extension, 1
+        while name.lower() in taken:
+            n += 1
+            name = "%s-%d%s" % (stem, n, extension)
+        taken.add(name.lower())
+        names.append(name)
     return names
+
+
+# The output formats of evlife.process_file, by extension (its writers).
+OUTPUT_EXTENSIONS = (".bin", ".csv", ".h5")
+
+
+def _first_line(error):
+    return error.splitlines()[0] if error else error
 
 
 def _size_or_zero(path):
@@ -78,17 +92,16 @@ def _size_or_zero(path):
         return 0
 
 
-def _process_one(path, output, sensor, config, options):
+def _process_one(path, output, sensor, config, one_thread, crop, options):
     """The task: runs in a worker; never raises (a failure is the row's error)."""
     start = time.perf_counter()
     try:
         from evlife import _evlife as core
-        # One file per worker thread, one worker per core: reading ahead and
-        # writing behind would only compete with the other workers' estimators.
-        r = core.process_file(path, output, sensor, config=config, one_thread=True, **options)
+        r = core.process_file(path, output, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
     except Exception as e:  # reported by name in the table, the other files go on
-        events, share, error = None, None, "%s: %s" % (type(e).__name__, e)
+        # An input fault leaves the events before it written: the row counts them.
+        events, share, error = getattr(e, "events_written", None), None, "%s: %s" % (type(e).__name__, e)
     return FileResult(path, events, share, time.perf_counter() - start, output, error)
 
 
@@ -131,7 +144,8 @@ def _client(scheduler, workers):
 
 
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
-                  extension=".bin", progress=True, **options):
+                  extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
+                  **options):
     """Process many recordings on Dask distributed, one task per recording.
 
     paths: recordings (any format of `evlife process`).
@@ -141,19 +155,28 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     scheduler: None = a LocalCluster of `workers` processes on this machine
     (one thread each), or a scheduler address ("tcp://host:8786"), a
     distributed.Client or a cluster object.
-    sensor, config, **options: as evlife.process (every estimator keyword);
-    checked here before any task starts (ValueError / TypeError).
+    sensor, config, from_s, to_s, **options: as evlife.process (every
+    estimator keyword); checked here before any task starts (ValueError /
+    TypeError).
+    one_thread: True (the default) runs each recording on its worker's one
+    thread: with one worker per core, reading ahead and writing behind would
+    only compete with the other workers' estimators.
     progress: a line per finished recording on stderr.
 
     Returns a BatchResult: one FileResult row (path, events, lifetime_share,
     seconds, output, error) per path, in order. A failed recording is reported
-    by name in its row (and in .failed); the others are not affected.
+    by name in its row (and in .failed; events: those written before an input
+    fault, else None); the others are not affected.
     """
     paths = [os.fspath(p) for p in paths]
     # Bad options fail now, with the command line's message, not once per task.
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
         _evlife.LifetimeEstimator(sensor=sensor)
+    if extension not in OUTPUT_EXTENSIONS:
+        raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
+    _evlife._check_crop(from_s, to_s)
+    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s)) if v is not None}
     os.makedirs(out_dir, exist_ok=True)
     outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension)]
     if not paths:
@@ -164,8 +187,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
         # Largest recordings first (Dask runs higher priority first): the
         # last task to finish is then a small one, so workers end together.
-        futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config,
-                                 dict(options), pure=False, priority=_size_or_zero(p),
+        futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config, one_thread,
+                                 crop, dict(options), pure=False, priority=_size_or_zero(p),
                                  key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
@@ -179,7 +202,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                                  "%s: %s" % (type(e).__name__, e))
             rows[i] = row._replace(path=paths[i])
             if progress:
-                status = "ok" if row.error is None else "FAILED: " + row.error
+                status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
                 print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
                     done, len(futures), paths[i], row.events, row.seconds, status),
                     file=sys.stderr, flush=True)
@@ -217,10 +240,13 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     process_files. Raises on failure (the slices are one result).
     """
     path = os.path.abspath(os.fspath(path))
+    output = os.path.abspath(os.fspath(output))  # the parts are written where the workers run
     if slices < 1:
         raise ValueError("slices must be at least 1")
-    if not str(output).endswith(".bin"):
+    if not output.endswith(".bin"):
         raise ValueError("process_slices writes a .bin file: %s" % output)
+    if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker
+        raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     info = _evlife.scan(path, sensor, config=config)
     t0, t1 = info["t_first"], info["t_last"] + 1

@@ -24,7 +24,7 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
   std::error_code ec;
   const bool missing = !e.path().empty() && e.event_index() < 0 && e.byte_offset() < 0 &&
                        !std::filesystem::exists(e.path(), ec);
-  if (missing) {
+  if (missing) {  // the message only: an errno or filename set would make str() Python's, not the CLI's
     PyErr_SetString(PyExc_FileNotFoundError, e.what());
     throw py::error_already_set();
   }

@@ -15,6 +15,7 @@
 #include "errors.h"
 #include "event_columns.h"
 #include "evlife/algo/lifetime_estimator.h"
+#include "evlife/config/config.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/engine/write_behind_writer.h"
 #include "evlife/io/augmented_event_writer.h"
@@ -131,6 +132,8 @@ struct FileRun {
   std::string format;
   std::uint64_t events = 0;
   std::uint64_t with_lifetime = 0;
+  std::uint64_t skipped_records = 0;  // the format's non-event records (as the CLI's summary)
+  std::vector<io::SkippedKindCount> skipped_kinds;
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
 };
 
@@ -172,7 +175,16 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
     run.events += n;
     sink(std::span<const AugmentedEvent>(out.data(), n));
   }
+  run.skipped_records = reader->skipped_record_count();
+  run.skipped_kinds = reader->skipped_record_kinds();
   return run;
+}
+
+// The records of the format that are not events (triggers, IMU samples,
+// frames), counted as the command line's summary counts them.
+void add_skipped(py::dict& d, const FileRun& run) {
+  d["skipped_records"] = run.skipped_records;
+  d["skipped_record_kinds"] = skipped_kinds_dict(run.skipped_kinds);
 }
 
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
@@ -215,12 +227,20 @@ py::dict process_to_file(const std::string& path, const std::string& output,
         [&](std::span<const AugmentedEvent> block) { writer->write(block); });
     writer->close();  // everything before a fault reaches the disk
   }
-  if (run.fault) raise_input_error(*run.fault);
+  if (run.fault) {
+    try {
+      raise_input_error(*run.fault);
+    } catch (py::error_already_set& error) {
+      error.value().attr("events_written") = run.events;  // the output holds these
+      throw;
+    }
+  }
   py::dict d;
   d["events"] = run.events;
   d["with_lifetime"] = run.with_lifetime;
   d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
   d["format"] = run.format;
+  add_skipped(d, run);
   return d;
 }
 
@@ -247,6 +267,8 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
       last = in[n - 1].t_us;
       count += n;
     }
+    run.skipped_records = reader->skipped_record_count();
+    run.skipped_kinds = reader->skipped_record_kinds();
   }
   py::dict d;
   d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
@@ -254,6 +276,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   d["events"] = count;
   d["t_first"] = first;
   d["t_last"] = last;
+  add_skipped(d, run);
   return d;
 }
 
@@ -370,14 +393,15 @@ then nothing of this call is processed and the state is unchanged.)")
         }
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
-        const py::object s = sensor.is_none()
-            ? [&] {
-                const SensorSize d = sensor_from_events(event_columns(input));
-                return py::object(py::make_tuple(std::max(d.width, 1), std::max(d.height, 1)));
-              }()
-            : sensor;
-        Estimator estimator("evlife.process", s, config, kw);
-        return estimator.process(input);
+        if (!sensor.is_none()) return Estimator("evlife.process", sensor, config, kw).process(input);
+        const SensorSize d = sensor_from_events(event_columns(input));
+        const py::object inferred = py::make_tuple(std::max(d.width, 1), std::max(d.height, 1));
+        try {
+          return Estimator("evlife.process", inferred, config, kw).process(input);
+        } catch (const config::ConfigError& e) {  // a sensor the user never wrote: say where it came from
+          throw py::value_error("no sensor= given, and the smallest sensor holding the events is invalid: " +
+                                std::string(e.what()));
+        }
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
@@ -414,12 +438,19 @@ events before the fault, as the CLI writes them), ValueError for bad options.)")
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
-'format'}. On bad input the events before the fault are written, then
-evlife.InputError is raised (as the CLI exits 3). The input is decoded ahead
+'format', 'skipped_records', 'skipped_record_kinds'} (the format's records
+that are not events, e.g. triggers, IMU samples: a count, and a count per kind
+where the format tells them apart). On bad input the events before the fault
+are written, then evlife.InputError is raised (as the CLI exits 3) with
+.events_written: how many. The input is decoded ahead
 and the output written behind, each on a thread of its own (CSV formatting
 and HDF5's deflate cost as much as the estimator); one_thread=True runs all
 on the calling thread (evlife.batch does: one file per core). Other arguments
 as evlife.process.)");
+
+  m.def(
+      "_check_crop", [](std::optional<double> from_s, std::optional<double> to_s) { reader_options(std::nullopt, from_s, to_s); },
+      py::arg("from_s"), py::arg("to_s"), "ValueError unless from_s / to_s are valid (as evlife.process checks them).");
 
   m.def(
       "scan",
@@ -429,7 +460,8 @@ as evlife.process.)");
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(),
       R"(One pass over a recording: {'sensor' (the one `evlife process` uses), 'format',
-'events', 't_first', 't_last'} (µs). Errors as evlife.read.)");
+'events', 't_first', 't_last' (µs), 'skipped_records', 'skipped_record_kinds'}
+(as evlife.process_file). Errors as evlife.read.)");
 
   m.def(
       "_process_time_range",

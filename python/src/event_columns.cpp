@@ -69,12 +69,21 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
   EventCheck r;
   r.convert = c.exact == nullptr || c.p_is_bool;
   std::int64_t last = last_t_us;
+  std::size_t first_zero = SIZE_MAX, first_minus_one = SIZE_MAX;  // polarity conventions seen
   for (std::size_t i = 0; i < c.size; ++i) {
     std::int64_t t, x, y, p;
     if (c.exact) {
       const Event& e = c.exact[i];
       t = e.t_us, x = e.x, y = e.y, p = e.p;
+      // Bytes NumPy left in the padding: converted, so that the output's are zero.
+      if ((e.reserved[0] | e.reserved[1] | e.reserved[2]) != 0) r.convert = true;
     } else {
+      if (c.t.exceeds_int64(i)) {
+        r.bad_index = i;
+        r.what = "timestamp " + std::to_string(c.t.get_unsigned(i)) +
+                 " us does not fit a signed 64-bit integer (evlife's time type)";
+        break;
+      }
       t = c.t.get(i), x = c.x.get(i), y = c.y.get(i), p = c.p.get(i);
     }
     if (x < 0 || y < 0 || x >= sensor.width || y >= sensor.height) {
@@ -90,12 +99,23 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
                std::to_string(last) + " us";
       break;
     }
-    if (p == 0 && !c.p_is_bool) {
-      r.convert = true;  // 0/1 polarity
-    } else if (p != 1 && p != -1 && !c.p_is_bool) {
-      r.bad_index = i;
-      r.what = "polarity " + std::to_string(p) + " is none of +1/-1, 0/1 or a bool";
-      break;
+    if (!c.p_is_bool) {
+      if (p == 0) {
+        r.convert = true;  // 0/1 polarity
+        if (first_zero == SIZE_MAX) first_zero = i;
+      } else if (p == -1) {
+        if (first_minus_one == SIZE_MAX) first_minus_one = i;
+      } else if (p != 1) {
+        r.bad_index = i;
+        r.what = "polarity " + std::to_string(p) + " is none of +1/-1, 0/1 or a bool";
+        break;
+      }
+      if (first_zero != SIZE_MAX && first_minus_one != SIZE_MAX) {
+        r.bad_index = i;
+        r.what = "polarity mixes the 0/1 and +1/-1 conventions (0 at event " + std::to_string(first_zero) +
+                 ", -1 at event " + std::to_string(first_minus_one) + ")";
+        break;
+      }
     }
     last = t;
   }

@@ -24,6 +24,15 @@ struct Column {
   char kind = 'i';  // 'i' signed, 'u' unsigned, 'b' bool
   int size = 8;
 
+  /// An unsigned 64-bit value above INT64_MAX (get() would clamp it).
+  bool exceeds_int64(std::size_t i) const noexcept {
+    return kind == 'u' && size == 8 && get_unsigned(i) > static_cast<std::uint64_t>(INT64_MAX);
+  }
+
+  std::uint64_t get_unsigned(std::size_t i) const noexcept {
+    return load<std::uint64_t>(base + static_cast<py::ssize_t>(i) * stride);
+  }
+
   std::int64_t get(std::size_t i) const noexcept {
     const char* p = base + static_cast<py::ssize_t>(i) * stride;
     switch (kind) {
@@ -80,7 +89,8 @@ struct EventCheck {
 };
 
 /// Checks every event (no GIL needed): coordinates inside `sensor`, time
-/// not going backwards from `last_t_us`, polarity +1/-1, 0/1 or bool.
+/// within int64 and not going backwards from `last_t_us`, polarity +1/-1,
+/// 0/1 or bool (one convention per call: 0 beside -1 is a mistake upstream).
 EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t last_t_us) noexcept;
 
 /// Events [first, first + out.size()) as evlife::Event (polarity +1/-1).

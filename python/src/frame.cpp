@@ -9,6 +9,7 @@
 
 #include "bindings.h"
 #include "dtypes.h"
+#include "errors.h"
 #include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
@@ -62,6 +63,9 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
                           std::to_string(sensor.height) + " is not usable (1..4096 each)");
   }
   if (events.empty()) throw py::value_error("frame: the array holds no event: nothing to draw");
+  if (const auto fault = unreadable_record(events, sensor)) {  // as `evlife render` refuses such a file
+    raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(fault->first), fault->second));
+  }
   // As `evlife render`'s options (its defaults when not given).
   render::FrameStyle style;
   style.color = render::parse_color_mode(color);  // std::invalid_argument: ValueError

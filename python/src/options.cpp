@@ -26,7 +26,9 @@ std::string scalar_text(const config::ConfigKey& key, const std::string& keyword
     if (!is_bool) throw py::type_error(keyword + ": expected True or False");
     return value.cast<bool>() ? "true" : "false";
   }
-  if (is_bool) throw py::type_error(keyword + ": expected a " + key.type + ", got a bool");
+  if (is_bool) {
+    throw py::type_error(keyword + ": expected " + (key.type == "integer" ? "an " : "a ") + key.type + ", got a bool");
+  }
   if (key.type == "integer") {
     if (!py::hasattr(value, "__index__")) {
       throw py::type_error(keyword + ": expected an integer, got " +

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bindings.h"
@@ -30,6 +31,35 @@ py::object sensor_tuple(std::optional<SensorSize> s) {
   if (!s) return py::none();
   return py::make_tuple(s->width, s->height);
 }
+
+}  // namespace
+
+py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds) {
+  py::dict d;
+  for (const io::SkippedKindCount& k : kinds) d[py::str(std::string(k.kind))] = k.count;
+  return d;
+}
+
+std::optional<std::pair<std::size_t, std::string>> unreadable_record(std::span<const AugmentedEvent> events,
+                                                                     SensorSize sensor) {
+  std::int64_t last_t_us = INT64_MIN;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const Event& e = events[i].event;
+    if (e.p != 1 && e.p != -1) return std::pair(i, "polarity " + std::to_string(e.p) + " is not +1/-1");
+    if (e.x >= sensor.width || e.y >= sensor.height) {
+      return std::pair(i, "event at (x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") is outside the " +
+                              std::to_string(sensor.width) + "x" + std::to_string(sensor.height) + " sensor");
+    }
+    if (e.t_us < last_t_us) {
+      return std::pair(i, "timestamp goes backwards: " + std::to_string(e.t_us) + " us after " +
+                              std::to_string(last_t_us) + " us");
+    }
+    last_t_us = e.t_us;
+  }
+  return std::nullopt;
+}
+
+namespace {
 
 // Every event of a reader; on a fault raises InputError carrying the events
 // before it.
@@ -177,6 +207,13 @@ good events come first, the next chunk raises evlife.InputError.)")
           "bytes_consumed",
           [](const Reader& r) { return r.reader().bytes_consumed(); },
           "Bytes of the file consumed so far (approximate for compressed formats).")
+      .def_property_readonly(
+          "skipped_records", [](const Reader& r) { return r.reader().skipped_record_count(); },
+          "Records of the format read so far that are not events (triggers, IMU samples, frames).")
+      .def_property_readonly(
+          "skipped_record_kinds",
+          [](const Reader& r) { return skipped_kinds_dict(r.reader().skipped_record_kinds()); },
+          "skipped_records by kind, {kind: count}, where the format tells them apart.")
       .def("read", &Reader::read, py::arg("max_events") = py::none(),
            "The next chunk of at most max_events (default chunk_events) events; empty at the end.")
       .def("close", &Reader::close)
@@ -251,6 +288,11 @@ Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
         const SensorSize s = sensor_from_python(sensor);
         const auto* data = static_cast<const AugmentedEvent*>(augmented.data());
         const auto n = static_cast<std::size_t>(augmented.shape(0));
+        // Nothing is written that evlife.read_augmented and `evlife render` would refuse.
+        if (const auto fault = unreadable_record(std::span(data, n), s)) {
+          raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(fault->first),
+                                          fault->second + "; nothing was written to " + path));
+        }
         py::gil_scoped_release release;
         auto writer = io::open_augmented_writer(path, s);
         writer->write(std::span(data, n));
@@ -259,7 +301,9 @@ Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
       py::arg("path"), py::arg("augmented"), py::arg("sensor"),
       R"(Write augmented events as `evlife process -o` does: .bin (the binary format
 of the README, 32-byte records), .csv or .h5, by extension. Raises OSError
-when the file cannot be written.)");
+when the file cannot be written, evlife.InputError (nothing written) for a
+record evlife.read_augmented would refuse: polarity not +1/-1, outside
+`sensor`, time going backwards.)");
 }
 
 }  // namespace evlife::python

@@ -49,6 +49,24 @@ def test_bad_options_fail_before_any_task(tmp_path):
         batch.process_files([data("reference/stripes.mat")], tmp_path, windowsize=5)
 
 
+def test_output_names_are_unique_whatever_the_recordings_are_called():
+    from evlife import batch
+    names = batch._output_names(["a/g.mat", "b/g.mat", "g-2.dat", "c/G.txt", "g.dat"], ".bin")
+    assert len({n.lower() for n in names}) == 5
+    assert names[:2] == ["g.bin", "g-2.bin"]
+
+
+def test_bad_batch_arguments_fail_before_any_task(tmp_path):
+    from evlife import batch
+    path = data("reference/stripes.mat")
+    with pytest.raises(ValueError, match="extension"):
+        batch.process_files([path], tmp_path, extension="csv")
+    with pytest.raises(ValueError, match="to_s must be after from_s"):
+        batch.process_files([path], tmp_path, from_s=0.5, to_s=0.2)
+    with pytest.raises(ValueError, match="warmup_ms"):
+        batch.process_slices(path, tmp_path / "x.bin", warmup_ms=float("nan"))
+
+
 def test_time_slices_in_parallel(tmp_path):
     from evlife import batch
     path = data("reference/stripes.mat")

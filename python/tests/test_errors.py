@@ -89,6 +89,7 @@ def test_truncated_file_keeps_the_events_before_the_fault(tmp_path):
         with pytest.raises(evlife.InputError) as e:
             evlife.process_file(cut, tmp_path / "py.bin", one_thread=one_thread)
         assert str(e.value) == expected
+        assert e.value.events_written == len(written)
         assert (tmp_path / "py.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
     with evlife.open(cut, chunk_events=10_000_000) as r:
         first = r.read()  # the good events first ...
@@ -114,6 +115,16 @@ def test_bad_arrays_name_the_event_and_leave_the_state_unchanged():
     polarity["p"][3] = 2
     with pytest.raises(evlife.InputError, match=r"polarity 2.*event index 3"):
         est.process(polarity)
+    mixed = events[1000:2000].copy()  # 0/1 and +1/-1 in one array: a mistake upstream
+    mixed["p"][:] = 1
+    mixed["p"][4], mixed["p"][9] = -1, 0
+    with pytest.raises(evlife.InputError, match=r"mixes the 0/1 and \+1/-1 conventions.*event index 9"):
+        est.process(mixed)
+    huge = {f: events[f][1000:2000].copy() for f in "xyp"}  # an unsigned time past int64: not clamped
+    huge["t"] = events["t"][1000:2000].astype(np.uint64)
+    huge["t"][7] = np.uint64(2**63)
+    with pytest.raises(evlife.InputError, match=r"9223372036854775808 us does not fit.*event index 7"):
+        est.process(huge)
     rest = est.process(events[1000:])  # as if the bad calls never happened
     assert_same_events(np.concatenate([first, rest]), whole)
 
@@ -135,3 +146,22 @@ def test_unwritable_output_is_oserror(tmp_path):
         evlife.write(tmp_path / "missing-dir" / "x.bin", aug, (128, 128))
     with pytest.raises(OSError):
         evlife.write(tmp_path / "x.xyz", aug, (128, 128))
+
+
+def test_records_the_readers_refuse_are_not_written_nor_drawn(tmp_path):
+    aug = evlife.process(evlife.read(data(RECORDINGS["mat"]))[:2000], sensor=(128, 128))
+    outside = int(np.argmax((aug["x"] >= 64) | (aug["y"] >= 64)))
+    with pytest.raises(evlife.InputError, match=r"outside the 64x64 sensor.*event index %d" % outside):
+        evlife.write(tmp_path / "small.bin", aug, (64, 64))
+    assert not (tmp_path / "small.bin").exists()
+    t = int(aug["t"][-1])
+    with pytest.raises(evlife.InputError, match="outside the 64x64 sensor"):
+        evlife.frame(aug, t, sensor=(64, 64))
+    with pytest.raises(evlife.InputError, match="timestamp goes backwards"):
+        evlife.frame(aug[::-1].copy(), t, sensor=(128, 128))
+
+
+def test_a_sensor_inferred_from_the_events_says_so():
+    events = {"t": np.arange(3), "x": np.array([1, 65536, 2]), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")}
+    with pytest.raises(ValueError, match="no sensor= given, and the smallest sensor holding the events"):
+        evlife.process(events)

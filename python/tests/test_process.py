@@ -113,6 +113,11 @@ def test_any_array_with_t_x_y_p_and_every_polarity_convention():
         variants["strided view"][f] = events[f]
     for name, v in variants.items():
         assert_same_events(evlife.process(v, sensor=(128, 128)), expected), name
+    # Bytes a NumPy copy left in the padding do not reach the output's bytes.
+    junk = np.frombuffer(events.tobytes(), np.uint8).copy().reshape(-1, 16)
+    junk[:, 13:] = 0xA5
+    assert evlife.process(junk.reshape(-1).view(evlife.EVENT_DTYPE), sensor=(128, 128)).tobytes() == \
+        expected.tobytes()
 
 
 def test_estimator_options_are_the_cli_defaults():

@@ -84,6 +84,20 @@ def test_reader_reports_sensor_and_format():
         assert r.sensor == (128, 128)
 
 
+def test_skipped_records_are_counted_as_the_cli_counts_them(tmp_path):
+    path = data(RECORDINGS["aedat4"])  # 59 packets of frames and IMU samples beside the events
+    line = [l for l in cli("process", path, "-o", tmp_path / "x.bin").stdout.splitlines()
+            if "skipped records" in l]
+    expected = int(line[0].split()[2])
+    assert expected > 0
+    assert evlife.scan(path)["skipped_records"] == expected
+    assert evlife.process_file(path, tmp_path / "py.bin")["skipped_records"] == expected
+    with evlife.open(path) as r:
+        for _ in r:
+            pass
+        assert r.skipped_records == expected
+
+
 def test_read_checks_the_given_sensor():
     path = data(RECORDINGS["mat"])
     with pytest.raises(evlife.InputError, match="outside the 64x64 sensor") as e:
