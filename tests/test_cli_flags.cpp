@@ -42,9 +42,27 @@ TEST_F(CliFlags, VersionEverywhere) {
   const RunResult top = run("--version");
   EXPECT_EQ(top.exit_code, 0);
   EXPECT_TRUE(has(top, "evlife 0.")) << top.output;
-  const RunResult cmd = run("process --version");
-  EXPECT_EQ(cmd.exit_code, 0);
-  EXPECT_EQ(cmd.output, top.output);
+  for (const std::string command : {"process", "render", "eval", "run", "convert", "synth", "info", "devices"}) {
+    const RunResult cmd = run(command + " --version");
+    EXPECT_EQ(cmd.exit_code, 0) << command;
+    EXPECT_EQ(cmd.output, top.output) << command;
+  }
+  const RunResult help = run("help process");  // `evlife help CMD` = `evlife CMD --help`
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_EQ(help.output, run("process --help").output);
+}
+
+TEST_F(CliFlags, AnOutputOfTheWrongKindIsAUsageError) {
+  EXPECT_EQ(run("synth -q --duration 10ms -o " + path("s.csv")).exit_code, 2);
+  EXPECT_EQ(run("convert " + sample() + " " + path("x.dat")).exit_code, 2);
+  EXPECT_EQ(run("process " + sample() + " -o " + path("x.xyz")).exit_code, 2);
+}
+
+TEST_F(CliFlags, AFileWithNoEventIsAnInputErrorNotAOneByOneSensor) {
+  std::ofstream(path("empty.txt")).flush();
+  const RunResult r = run("process " + path("empty.txt") + " -o " + path("e.csv"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_TRUE(has(r, "no events")) << r.output;
 }
 
 TEST_F(CliFlags, DidYouMeanForCommandsAndFlags) {
@@ -132,6 +150,9 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   EXPECT_TRUE(has(r, "time range")) << r.output;
   const RunResult ok = run("render " + path("a.bin") + " -o " + path("in.png") + " --at 0.2");
   EXPECT_FALSE(has(ok, "warning")) << ok.output;
+  const RunResult none = run("process " + in + " -o " + path("none.bin") + " --from 300000");
+  EXPECT_EQ(none.exit_code, 0);
+  EXPECT_TRUE(has(none, "warning: no event of")) << none.output;
   const RunResult e = run("eval " + path("a.bin") + " -o " + path("ev") + " --at 2s");
   EXPECT_EQ(e.exit_code, 0) << e.output;
   EXPECT_TRUE(has(e, "time range")) << e.output;

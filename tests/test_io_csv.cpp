@@ -76,6 +76,15 @@ TEST(IoCsv, TimeUnitOptionOverrides) {
   const ReadAll ns = read_all(dir.save("ns.csv", "10,20,1,1000000\n11,21,0,1500000\n639,479,1,2250000\n"), "ns");
   ASSERT_FALSE(ns.error) << ns.error->what();
   EXPECT_TRUE(same(ns.events, kExpected));
+  // Epoch nanoseconds (19 digits), as ROS tools export them.
+  const ReadAll epoch = read_all(dir.save("epoch.csv", "10,20,1,1600000000001000000\n11,21,0,1600000000001500000\n"
+                                                       "639,479,1,1600000000002250000\n"),
+                                 "ns");
+  ASSERT_FALSE(epoch.error) << epoch.error->what();
+  ASSERT_EQ(epoch.events.size(), kExpected.size());
+  for (std::size_t i = 0; i < kExpected.size(); ++i) {
+    EXPECT_EQ(epoch.events[i].t_us, 1'600'000'000'000'000 + kExpected[i].t_us);
+  }
 }
 
 TEST(IoCsv, SpaceSeparatedSecondsStayRpgText) {

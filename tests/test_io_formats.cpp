@@ -343,6 +343,7 @@ TEST(IoFormatsWordStreams, Evt21VectorsInEitherByteOrder) {
       evt21_event(1, 5, 32, 7, 0b1001),         // ON at x 32 and 35, t 197
       std::uint64_t{0xA} << 60,                 // EXT_TRIGGER: skipped, counted
       evt21_event(0, 63, 288, 319, 1u << 31),   // OFF at x 319, t 255
+      evt21_time_high(0x08000000),              // (steps of less than half the range)
       evt21_time_high(0x0FFFFFFF),              // the last TIME_HIGH before the wrap
       evt21_time_high(1),                       // wraps: t = (2^28 + 1) << 6
       evt21_event(1, 0, 0, 0, 0xFFFFFFFFu),     // 32 events, x 0..31
@@ -457,6 +458,46 @@ TEST(IoFormatsWordStreams, DatTimeWrapsTo64Bits) {
   EXPECT_EQ(r.events[0].t_us, 0xFFFFFFF0LL);
   EXPECT_EQ(r.events[1].t_us, (std::int64_t{1} << 32) + 5);
   EXPECT_TRUE(r.events[1].x == 1 && r.events[1].y == 2 && r.events[1].p == -1);
+}
+
+// One corrupt high bit of a timestamp rises by more than half the clock's
+// range: a step back across a wrap, reported at that record, not a wrap at
+// the next one that shifts every later event by 71.6 min with no error.
+TEST(IoFormatsWordStreams, DatTimeRisingByMoreThanHalfItsRangeIsAStepBack) {
+  const ScratchDir dir("test_io_formats");
+  std::vector<std::uint8_t> bytes;
+  const std::string header = "% Width 304\n% Height 240\n";
+  bytes.assign(header.begin(), header.end());
+  bytes.push_back(0x00);
+  bytes.push_back(8);
+  const auto record = [&](std::uint32_t t) {
+    for (int k = 0; k < 4; ++k) bytes.push_back(static_cast<std::uint8_t>(t >> (8 * k)));
+    for (int k = 0; k < 4; ++k) bytes.push_back(0);
+  };
+  record(1000);
+  record(2000);
+  record(0xF0000000u | 3000u);  // the top bits flipped
+  record(4000);
+  const ReadResult r = read_all(dir.save("flip.dat", bytes), 4096, true);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 2u);
+  EXPECT_EQ(r.error->event_index(), 2);
+  EXPECT_NE(std::string(r.error->what()).find("backwards"), std::string::npos) << r.error->what();
+}
+
+TEST(IoFormatsWordStreams, Evt2TimeHighRisingByMoreThanHalfItsRangeIsAStepBack) {
+  const ScratchDir dir("test_io_formats");
+  const auto cd = [](std::uint32_t t_low) { return (1u << 28) | (t_low << 22); };
+  const std::vector<std::uint32_t> words = {
+      0x80000000u | 100u, cd(1),
+      0x80000000u | 0x0F000064u, cd(2),  // TIME_HIGH with its top bits flipped
+      0x80000000u | 101u, cd(3),
+  };
+  const ReadResult r =
+      read_all(dir.save("flip.raw", with_words("% evt 2.0\n% geometry 640x480\n", words)), 4096, true);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.error->event_index(), 1);
 }
 
 // ---- AEDAT 4.0 written here byte by byte (FlatBuffers laid out by hand from

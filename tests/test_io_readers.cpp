@@ -429,6 +429,17 @@ TEST_F(Aedat2Files, SpecialEventsAreSkippedAndCountedAndClockWrapsUnwrap) {
   EXPECT_TRUE(same(r.events[2], Event{(1LL << 32) + 0x10, 5, 120, 1}));
 }
 
+TEST_F(Aedat2Files, ATimestampRisingByMoreThanHalfTheClockIsAStepBackNotAWrap) {
+  std::vector<char> bytes = header();
+  record(bytes, address(0, 0, 1), 42206000u);
+  record(bytes, address(1, 0, 1), 42206537u | 0xFD000000u);  // one corrupt top byte
+  record(bytes, address(2, 0, 1), 42207000u);
+  const ReadAll r = read_all(write("flip.aedat", bytes));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(r.error->event_index(), 1);
+}
+
 TEST_F(Aedat2Files, TruncatedAtEveryByteOfARecord) {
   std::vector<char> full = header();
   const std::size_t header_bytes = full.size();

@@ -14,6 +14,7 @@
 
 #include "arg_parser.h"
 #include "command.h"
+#include "command_start.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
@@ -253,12 +254,6 @@ int convert_events(const std::string& input, const std::string& output,
 }
 
 int convert(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--help" || std::string_view(argv[i]) == "-h") {
-      print_help(stdout);
-      return kExitOk;
-    }
-  }
   std::string input;
   std::string output;
   std::optional<SensorSize> sensor;
@@ -266,7 +261,7 @@ int convert(int argc, char** argv) {
   bool quiet = false;
   bool one_thread = false;
   io::ReaderOptions input_options;
-  try {
+  if (const auto done = start_command("convert", argc, argv, print_help, [&] {
     const ParsedArgs a = parse_args(argc, argv, kOptions);
     std::vector<std::string> files = a.positional;  // INPUT OUTPUT, or INPUT -o OUTPUT
     if (const auto o = a.value("output")) files.push_back(*o);
@@ -278,13 +273,15 @@ int convert(int argc, char** argv) {
     input_options = parse_input_options(a);
     quiet = a.has("quiet");
     one_thread = a.has("one-thread");
+    if (!has_ext(output, {".txt", ".h5", ".hdf5", ".csv", ".bin"})) {
+      throw UsageError("OUTPUT " + output + ": expected a .txt, .h5, .csv or .bin file name");
+    }
     std::error_code ec;
     if (std::filesystem::equivalent(input, output, ec)) {
       throw UsageError(output + " is the input file; refusing to overwrite it");
     }
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife convert: %s\n(see evlife convert --help)\n", e.what());
-    return kExitUsage;
+  })) {
+    return *done;
   }
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
   // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
@@ -302,7 +299,7 @@ int convert(int argc, char** argv) {
 
 }  // namespace
 
-EVLIFE_REGISTER_COMMAND("convert", "rewrite a recording in another format (.txt, .h5)",
+EVLIFE_REGISTER_COMMAND("convert", "rewrite a recording in another format (.txt, .h5; augmented .csv, .bin)",
                         convert);
 
 }  // namespace evlife::cli

@@ -3,28 +3,31 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <string>
 
 #include "command.h"
+#include "command_start.h"
 #include "evlife/io/dvs128_device.h"
 #include "exit_code.h"
 
 namespace evlife::cli {
 namespace {
 
+void print_help(std::FILE* out) {
+  std::fprintf(out,
+               "Usage: evlife devices\n\n"
+               "Lists the attached event cameras (iniVation DVS128, USB 152a:8400), one per line,\n"
+               "starting with the --source spec that selects it for `evlife run`:\n"
+               "  dvs128:SERIAL   DVS128 serial SERIAL (bus B device D, firmware F)\n\n"
+               "Exit status: 0 at least one camera listed, 3 none found (the USB devices seen\n"
+               "and what to check are printed), 1 libusb cannot start.\n");
+}
+
 int run_devices(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::printf(
-          "Usage: evlife devices\n\n"
-          "Lists the attached event cameras (iniVation DVS128, USB 152a:8400), one per line,\n"
-          "starting with the --source spec that selects it for `evlife run`:\n"
-          "  dvs128:SERIAL   DVS128 serial SERIAL (bus B device D, firmware F)\n\n"
-          "Exit status: 0 at least one camera listed, 3 none found (the USB devices seen\n"
-          "and what to check are printed), 1 libusb cannot start.\n");
-      return kExitOk;
-    }
-    std::fprintf(stderr, "evlife devices: unexpected argument '%s' (see --help)\n", argv[i]);
-    return kExitUsage;
+  if (const auto done = start_command("devices", argc, argv, print_help, [&] {
+        if (argc > 1) throw UsageError(std::string("unexpected argument '") + argv[1] + "'");
+      })) {
+    return *done;
   }
   try {
     const auto cameras = io::list_dvs128_devices();

@@ -10,6 +10,7 @@
 
 #include "arg_parser.h"
 #include "command.h"
+#include "command_start.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
 #include "skipped_kinds_text.h"
@@ -55,18 +56,13 @@ std::string thousands(std::uint64_t v) {
 int run_info(int argc, char** argv) {
   std::string path;
   io::ReaderOptions options;
-  try {
-    const ParsedArgs a = parse_args(argc, argv, kOptions);
-    if (a.has("help")) {
-      print_help(stdout);
-      return kExitOk;
-    }
-    if (a.positional.size() != 1) throw UsageError("expected one FILE");
-    path = a.positional.front();
-    options = parse_input_options(a);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife info: %s\n(see evlife info --help)\n", e.what());
-    return kExitUsage;
+  if (const auto done = start_command("info", argc, argv, print_help, [&] {
+        const ParsedArgs a = parse_args(argc, argv, kOptions);
+        if (a.positional.size() != 1) throw UsageError("expected one FILE");
+        path = a.positional.front();
+        options = parse_input_options(a);
+      })) {
+    return *done;
   }
   std::unique_ptr<io::EventReader> reader;
   try {

@@ -143,17 +143,7 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   return p;
 }
 
-// Smallest sensor holding every event, tolerant of a fault: the events
-// before it count (the main pass reports the fault after writing them).
-// The rule of io::sensor_size_from_data; a file without a readable event is
-// reported by the main pass.
-SensorSize scan_sensor_size(const std::string& path, const io::ReaderOptions& input) {
-  try {
-    return io::sensor_size_from_data(path, input);
-  } catch (const io::ReadError&) {
-    return {1, 1};
-  }
-}
+constexpr const char* kScannedFromTheData = "scanned from the data";
 
 struct ResolvedSensor {
   SensorSize size;
@@ -184,7 +174,10 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
                    "(pass --sensor WxH to skip this pass)\n", args.input.c_str());
     }
   }
-  return {scan_sensor_size(args.input, args.input_options), "scanned from the data"};
+  // Smallest sensor holding every event; a fault after some events leaves
+  // those (the main pass writes them, then reports it); a file with no event
+  // to scan is an input error here (nothing to write), as for render and run.
+  return {io::sensor_size_from_data(args.input, args.input_options), kScannedFromTheData};
 }
 
 void print_summary(const ProcessArgs& args, const io::EventReader& reader,
@@ -278,9 +271,12 @@ int process_recording(int argc, char** argv) {
   try {
     estimator.emplace(cfg.estimator);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "evlife process: %s: sensor %dx%d (%s) is not usable: %s\n",
+    std::fprintf(stderr, "evlife process: %s: sensor %dx%d (%s) is not usable: %s%s\n",
                  args.input.c_str(), sensor.size.width, sensor.size.height, sensor.source.c_str(),
-                 e.what());
+                 e.what(),
+                 sensor.source != kScannedFromTheData ? ""
+                             : "\nevlife process: if the sensor is smaller, pass --sensor WxH: an event outside it "
+                               "is then reported with its index and byte offset");
     return kExitInput;
   }
 
@@ -320,6 +316,11 @@ int process_recording(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
   if (!args.quiet) print_summary(args, *reader, sensor, *estimator, summary, result, wall_s);
+  if (summary.events() == 0 && !result.input_fault && !result.stopped &&
+      (args.input_options.from_us || args.input_options.to_us)) {  // not silent: the crop held nothing
+    std::fprintf(stderr, "evlife process: warning: no event of %s within --from/--to (times are seconds "
+                 "after its first event; `evlife info` gives its length)\n", args.input.c_str());
+  }
   return exit_status(args, result);
 }
 

@@ -46,7 +46,8 @@ void print_usage(std::FILE* out) {
                "Every command takes -i/--input FILE (or FILE), --help and --version; those that\n"
                "estimate take --config FILE, --set key=value and --print-config (config/evlife.yaml).\n"
                "Times: 1.5s, 500ms, 20us, or a bare number of seconds. Exit status 0 ok,\n"
-               "2 usage, 3 input error, 4 output error, 130 interrupted.\n");
+               "1 unexpected failure (devices: libusb cannot start), 2 usage, 3 input error,\n"
+               "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n");
 }
 }  // namespace
 
@@ -58,6 +59,17 @@ int main(int argc, char** argv) {
   if (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "-V") == 0) {
     std::printf("evlife %s\n", evlife::cli::version_text());
     return 0;
+  }
+  // `evlife help CMD` is `evlife CMD --help`.
+  char help_flag[] = "--help";
+  char* help_argv[] = {argv[0], argc > 2 ? argv[2] : nullptr, help_flag, nullptr};
+  if (std::strcmp(argv[1], "help") == 0) {
+    if (argc < 3) {
+      print_usage(stdout);
+      return 0;
+    }
+    argc = 3;
+    argv = help_argv;
   }
   const std::string_view name = argv[1];
   for (const auto& c : evlife::cli::command_registry()) {

@@ -34,6 +34,7 @@
 #include "input_file.h"
 #include "reader_registry.h"
 #include "skipped_kinds.h"
+#include "wrapping_counter.h"
 
 namespace evlife::io::detail {
 namespace {
@@ -156,18 +157,16 @@ class Aedat2Reader final : public EventReader {
       }
       buffer_pos_ += kRecordBytes;
       offset_ += kRecordBytes;
-      // Unwrap the 32-bit µs clock (wraps every 71.6 min): a jump back by more
-      // than half the range is a wrap; smaller steps back are kept as they
-      // are so that the checked reader reports them.
-      if (ts < last_raw_ts_ && last_raw_ts_ - ts > 0x80000000u) wrap_us_ += std::int64_t{1} << 32;
-      last_raw_ts_ = ts;
+      // The 32-bit µs clock wraps every 71.6 min; steps back are kept so
+      // that the checked reader reports them.
+      const std::int64_t t_us = clock_.unwrap(ts);
       if (skip != kSkippedKinds) {
         skipped_.add(skip);
         note_skip();
         continue;
       }
       Event& e = out[n++];
-      e.t_us = wrap_us_ + ts;
+      e.t_us = t_us;
       e.x = static_cast<std::uint16_t>(width - 1 - raw_x);
       e.y = static_cast<std::uint16_t>(height - 1 - raw_y);
       e.p = on ? std::int8_t{1} : std::int8_t{-1};
@@ -279,8 +278,7 @@ class Aedat2Reader final : public EventReader {
   std::uint64_t offset_ = 0;      // file offset of buffer_[buffer_pos_]
   std::uint64_t next_index_ = 0;  // index of the next event delivered
   SkippedKinds<kSkippedKinds> skipped_{kSkippedNames};
-  std::uint32_t last_raw_ts_ = 0;
-  std::int64_t wrap_us_ = 0;
+  WrappingCounter<32> clock_;
   std::uint64_t batch_first_index_ = 0;
   std::uint64_t batch_first_offset_ = 0;
   // (event index, records skipped in this batch before it), one entry per index.

@@ -86,7 +86,7 @@ bool parse_number(Field f, Number& n) noexcept {
   if (p < f.end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
   const char* digits = p;
   while (p < f.end && *p >= '0' && *p <= '9') {
-    if (n.int_part > 999'999'999'999'999ULL) return false;
+    if (n.int_part > (UINT64_MAX - 9) / 10) return false;  // 19 digits hold epoch ns (ROS exports)
     n.int_part = n.int_part * 10 + static_cast<std::uint64_t>(*p++ - '0');
   }
   bool any = p != digits;
@@ -416,7 +416,9 @@ class CsvTextReader final : public EventReader {
     }
     pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
                      "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
-                         " fields '" + layout + "' (x y integers, p 0/1/-1, t a number), got '" + text + "'");
+                         " fields '" + layout +
+                         "' (x y integers, p 0/1/-1, t a number; a t of 17 or more digits is nanoseconds: "
+                         "--time-unit ns), got '" + text + "'");
   }
 
   LineReader lines_;
@@ -448,7 +450,7 @@ std::unique_ptr<EventReader> open_csv_text(const std::string& path, const Reader
 const ReaderFormat csv_text_format{
     "csv",
     "CSV/text events of other tools: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; "
-    "header line optional; comma, tab or space separated; t in s or µs (--time-unit)",
+    "header line optional; comma, tab or space separated; t in s or µs (else --time-unit s|ms|us|ns)",
     &sniff_csv_text, nullptr, &open_csv_text};
 
 }  // namespace evlife::io::detail

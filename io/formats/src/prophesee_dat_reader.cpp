@@ -12,7 +12,6 @@ namespace {
 
 constexpr std::uint8_t kTypeEvent2d = 0x00;
 constexpr std::uint8_t kTypeEventCd = 0x0C;
-constexpr std::int64_t kTimeRangeUs = std::int64_t{1} << 32;
 
 }  // namespace
 
@@ -72,11 +71,8 @@ std::size_t PropheseeDatReader::read(std::span<Event> out) {
                            " p=" + std::to_string(p) + " is not a CD event on the sensor");
         break;
       }
-      // A drop by more than half the range is a wrap of the 32-bit time.
-      if (t_raw < last_t_raw_ && last_t_raw_ - t_raw > (1u << 31)) wrap_us_ += kTimeRangeUs;
-      last_t_raw_ = t_raw;
       Event& e = out[n++];
-      e.t_us = wrap_us_ + t_raw;
+      e.t_us = clock_.unwrap(t_raw);  // 32-bit µs, wraps every 71.6 min
       e.x = static_cast<std::uint16_t>(x);
       e.y = static_cast<std::uint16_t>(y);
       e.p = p == 1 ? std::int8_t{1} : std::int8_t{-1};

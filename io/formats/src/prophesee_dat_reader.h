@@ -12,6 +12,7 @@
 
 #include "chunked_file.h"
 #include "evlife/io/event_reader.h"
+#include "wrapping_counter.h"
 
 namespace evlife::io {
 
@@ -39,8 +40,7 @@ class PropheseeDatReader final : public EventReader {
   std::uint32_t width_ = 1u << 14;  // x must be below (the sensor, else the field range)
   std::uint32_t height_ = 1u << 14;
   std::int64_t data_offset_ = 0;
-  std::uint32_t last_t_raw_ = 0;
-  std::int64_t wrap_us_ = 0;  // added per 32-bit wrap of t
+  WrappingCounter<32> clock_;  // t
   std::int64_t event_count_ = 0;
   std::optional<ReadError> error_;
 };
