@@ -87,6 +87,16 @@ TEST(IoCsv, TimeUnitOptionOverrides) {
   }
 }
 
+TEST(IoCsv, ATimeGoingBackwardsNamesItsLinesByteOffset) {
+  const ScratchDir dir("test_io_csv");
+  const std::string text = "x,y,p,t\n1,2,1,100\n3,4,0,200\n5,6,1,150\n";
+  const ReadAll r = read_all(dir.save("back.csv", text));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 2u);
+  EXPECT_EQ(r.error->event_index(), 2);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(text.find("5,6,1,150")));
+}
+
 TEST(IoCsv, SpaceSeparatedSecondsStayRpgText) {
   const ReadAll r = read_all(std::string(EVLIFE_SHARED_DATA_DIR) + "/rpg_txt/slider_depth_events_chunk.txt");
   ASSERT_FALSE(r.error);

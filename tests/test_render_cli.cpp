@@ -152,6 +152,19 @@ TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
   EXPECT_EQ(r.exit_code, 3);
 }
 
+TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
+  // A .bin of `evlife process` cut inside a record: a fault after some events.
+  ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("g.bin") + "' --to 0.2 -q").exit_code, 0);
+  const auto size = fs::file_size(path("g.bin"));
+  fs::copy_file(path("g.bin"), path("cut.bin"));
+  fs::resize_file(path("cut.bin"), size - 7);
+  const auto r = run("eval '" + path("cut.bin") + "' -o '" + path("ev_cut") + "' -q");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("holds the evaluation of the"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(path("ev_cut") + "/summary.html"));
+  EXPECT_TRUE(fs::exists(path("ev_cut") + "/runs.csv"));
+}
+
 std::vector<std::string> split_csv(const std::string& line) {
   std::vector<std::string> out;
   std::string cell;

@@ -157,14 +157,14 @@ class EventsOfAugmented {
 
 int report(const Outcome& o, const std::string& input, const std::string& output,
            const std::string& what, bool quiet) {
+  if (o.output_fault) {  // "handed to the writer": a full disk may have kept fewer
+    std::fprintf(stderr, "evlife convert: output error: %s (%llu handed to the writer before it)\n",
+                 o.output_fault->c_str(), o.written);
+    return kExitOutput;
+  }
   if (!quiet) {
     std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", input.c_str(),
                  output.c_str(), o.written, what.c_str());
-  }
-  if (o.output_fault) {
-    std::fprintf(stderr, "evlife convert: output error: %s (%llu written before it)\n",
-                 o.output_fault->c_str(), o.written);
-    return kExitOutput;
   }
   if (o.input_fault) {
     std::fprintf(stderr,

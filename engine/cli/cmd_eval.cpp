@@ -166,6 +166,14 @@ int eval_recording(int argc, char** argv) {
     return kExitOutput;
   }
   if (!args.quiet) render::eval::print_evaluation_summary(stdout, options, evaluation);
+  if (evaluation.input_fault) {
+    std::fprintf(stderr,
+                 "evlife eval: input error: %s\n"
+                 "evlife eval: %s holds the evaluation of the %llu events before the fault\n",
+                 evaluation.input_fault->what(), args.output.c_str(),
+                 static_cast<unsigned long long>(evaluation.runs[evaluation.primary_index].events));
+    return kExitInput;
+  }
   return kExitOk;
 }
 

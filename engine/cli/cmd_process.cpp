@@ -189,6 +189,10 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
                static_cast<int>(reader.format_name().size()), reader.format_name().data(),
                sensor.size.width, sensor.size.height, sensor.source.c_str());
   std::fprintf(stdout, "  configuration       %s\n", args.config.describe().c_str());
+  if (args.input_options.polarity != io::PolarityFilter::both) {
+    std::fprintf(stdout, "  polarity            %s events only (--polarity): the others were not read\n",
+                 args.input_options.polarity == io::PolarityFilter::on ? "ON" : "OFF");
+  }
   summary.print(stdout, wall_s, result.estimator_s);
   if (result.input_fault || result.output_fault || result.stopped) {
     std::fprintf(stdout, "  stopped early       %s (see the message below)\n",

@@ -262,6 +262,8 @@ RunArgs parse_run_args(int argc, char** argv) {
     if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
       throw UsageError("-o " + r.output + ": the output must end in .csv, .bin or .h5");
   }
+  if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
+    throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
   return r;
 }
 
@@ -296,6 +298,26 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
   source->set_packet_us(r.engine.replay_packet_us);
   return source;
 }
+
+// The merged output on its way to the file (or nowhere), tallied for the
+// summary as `evlife process` tallies it. Runs on the merger thread; read
+// after the run.
+class SummarizingSink final : public engine::AugmentedSink {
+ public:
+  explicit SummarizingSink(engine::AugmentedSink* next) : next_(next) {}
+  void write(std::span<const AugmentedEvent> events) override {
+    summary_.add(events);
+    if (next_ != nullptr) next_->write(events);
+  }
+  void finish() override {
+    if (next_ != nullptr) next_->finish();
+  }
+  const LifetimeSummary& summary() const { return summary_; }
+
+ private:
+  engine::AugmentedSink* next_;
+  LifetimeSummary summary_;
+};
 
 void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                        const engine::RunResult& result, const engine::RenderStage* render_stage,
@@ -407,16 +429,19 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
     return kExitInput;
   }
-  std::unique_ptr<engine::WriterSink> sink;
+  std::unique_ptr<engine::WriterSink> writer_sink;
   if (!args.output.empty()) {
     try {
-      sink = std::make_unique<engine::WriterSink>(
+      writer_sink = std::make_unique<engine::WriterSink>(
           io::open_augmented_writer(args.output, source->sensor_size()));
     } catch (const std::exception& e) {
       std::fprintf(stderr, "evlife run: output error: %s\n", e.what());
       return kExitOutput;
     }
   }
+  SummarizingSink summary_sink(writer_sink.get());
+  engine::AugmentedSink* const sink =
+      args.quiet ? static_cast<engine::AugmentedSink*>(writer_sink.get()) : &summary_sink;  // -q: nothing to tally
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
@@ -424,7 +449,7 @@ int run_engine(int argc, char** argv) {
   std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;
   try {
-    eng.emplace(*source, sink.get(), args.engine);
+    eng.emplace(*source, sink, args.engine);
     if (rendering) {
       if (!args.frames_dir.empty()) {
         frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
@@ -458,8 +483,11 @@ int run_engine(int argc, char** argv) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-  if (!args.quiet && result.status != engine::RunStatus::realtime_error)
+  if (!args.quiet && result.status != engine::RunStatus::realtime_error) {
     print_run_summary(args, *source, result, render_stage.get(), wall_s);
+    std::fprintf(stdout, "estimates (of the events output):\n");
+    summary_sink.summary().print_estimates(stdout);
+  }
   return run_exit_status(result, render_stage.get());
 }
 

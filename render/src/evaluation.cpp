@@ -419,12 +419,22 @@ Evaluation evaluate(const EvaluationOptions& args) {
       r.label = r.from_file ? "lifetimes from the file"
                             : "N=" + std::to_string(n) + (reg ? ", regularized" : ", not regularized");
       if (!args.quiet) std::fprintf(stderr, "evlife eval: %s ...\n", r.label.c_str());
-      if (primary) {
-        description = source->description();
-        sensor = source->sensor();
-        run_with_sharpness(*source, r, args, sharp);
-      } else {
-        run_plain(*source, r);
+      try {
+        if (primary) {
+          description = source->description();
+          sensor = source->sensor();
+          run_with_sharpness(*source, r, args, sharp);
+        } else {
+          run_plain(*source, r);
+        }
+      } catch (const io::ReadError& e) {
+        // The events before a fault are evaluated (every run stops at the
+        // same one); with none there is nothing to evaluate.
+        if (r.events == 0) throw;
+        if (!ev.input_fault) {
+          ev.input_fault.emplace(e);
+          description += " (stopped by an input fault: the events before it are evaluated)";
+        }
       }
       r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       runs.push_back(std::move(r));

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <vector>
 
+#include "batch_line_offsets.h"
 #include "line_reader.h"
 #include "reader_registry.h"
 
@@ -320,6 +321,7 @@ class CsvTextReader final : public EventReader {
 
   std::size_t read(std::span<Event> out) override {
     if (pending_) throw *pending_;
+    line_offsets_.begin(next_index_, out.size());
     std::size_t n = 0;
     while (n < out.size()) {
       std::string_view line;
@@ -333,6 +335,7 @@ class CsvTextReader final : public EventReader {
           fail(lines_.offset(), std::string(line.substr(0, 80)));
           break;
         } else {
+          line_offsets_.set(n, lines_.offset());
           ++n;
           ++next_index_;
         }
@@ -347,6 +350,9 @@ class CsvTextReader final : public EventReader {
   std::string_view format_name() const override { return "csv"; }
   const std::string& path() const override { return lines_.path(); }
   std::uint64_t bytes_consumed() const override { return lines_.offset(); }
+  std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
+    return line_offsets_.of(event_index, next_index_, pending_);
+  }
 
  private:
   bool time_has_point(const Detection& d) const {
@@ -430,6 +436,7 @@ class CsvTextReader final : public EventReader {
   bool skip_header_ = false;
   std::int64_t unit_ns_ = 1000;
   std::optional<ReadError> pending_;
+  BatchLineOffsets line_offsets_;
 };
 
 SniffResult sniff_csv_text(std::span<const std::byte> head, std::string_view path) {

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <vector>
 
+#include "batch_line_offsets.h"
 #include "line_reader.h"
 #include "reader_registry.h"
 
@@ -79,8 +80,7 @@ class RpgTextReader final : public EventReader {
 
   std::size_t read(std::span<Event> out) override {
     if (pending_) throw *pending_;
-    batch_first_index_ = next_index_;
-    line_offsets_.resize(out.size());  // no-op after the first batch of this size
+    line_offsets_.begin(next_index_, out.size());
     std::size_t n = 0;
     while (n < out.size()) {
       std::string_view line;
@@ -95,7 +95,7 @@ class RpgTextReader final : public EventReader {
       lines_.consume();
       ++line_number_;
       if (kind == LineKind::event) {
-        line_offsets_[n] = line_offset;
+        line_offsets_.set(n, line_offset);
         out[n++] = e;
         ++next_index_;
       }
@@ -109,12 +109,7 @@ class RpgTextReader final : public EventReader {
   const std::string& path() const override { return lines_.path(); }
   std::uint64_t bytes_consumed() const override { return lines_.offset(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
-    const std::int64_t i = event_index - static_cast<std::int64_t>(batch_first_index_);
-    if (i >= 0 && i < static_cast<std::int64_t>(next_index_ - batch_first_index_))
-      return static_cast<std::int64_t>(line_offsets_[static_cast<std::size_t>(i)]);
-    if (event_index == static_cast<std::int64_t>(next_index_) && pending_)
-      return pending_->byte_offset();
-    return -1;
+    return line_offsets_.of(event_index, next_index_, pending_);
   }
 
  private:
@@ -193,8 +188,7 @@ class RpgTextReader final : public EventReader {
   LineReader lines_;
   std::uint64_t line_number_ = 0;  // lines consumed
   std::uint64_t next_index_ = 0;
-  std::uint64_t batch_first_index_ = 0;
-  std::vector<std::uint64_t> line_offsets_;  // per event of the last batch
+  BatchLineOffsets line_offsets_;
   std::optional<SensorSize> sensor_;
   std::optional<ReadError> pending_;
 };

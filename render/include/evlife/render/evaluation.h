@@ -121,6 +121,8 @@ struct Evaluation {
   SharpnessResult sharp;
   std::string description;
   SensorSize sensor{};
+  /// A fault of the input: the runs cover the events before it.
+  std::optional<io::ReadError> input_fault;
 };
 
 class EvaluationOutputError : public std::runtime_error {
