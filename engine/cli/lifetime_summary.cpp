@@ -64,10 +64,12 @@ std::string format_si(double value) {
   return buf;
 }
 
-void LifetimeSummary::print_estimates(std::FILE* out) const {
+void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) const {
   const auto share = [](std::uint64_t part, std::uint64_t whole) {
     return whole == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(whole);
   };
+  std::fprintf(out, "  events              %llu\n", static_cast<unsigned long long>(events_));
+  if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
   std::fprintf(out, "  labelled noise      %.1f %% (%llu events)\n", share(noise_, events_),
                static_cast<unsigned long long>(noise_));
   if (lifetime_us_.total() > 0) {
@@ -83,12 +85,6 @@ void LifetimeSummary::print_estimates(std::FILE* out) const {
                  format_duration_us(abs_error_us_.percentile(0.5)).c_str(),
                  100.0 * abs_error_us_.share_below(1e4));
   }
-}
-
-void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) const {
-  std::fprintf(out, "  events              %llu\n", static_cast<unsigned long long>(events_));
-  if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
-  print_estimates(out);
   const double n = static_cast<double>(events_);
   std::fprintf(out, "  wall time           %.3f s (%sevents/s end to end", wall_s,
                format_si(wall_s > 0 ? n / wall_s : 0.0).c_str());

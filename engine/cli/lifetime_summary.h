@@ -28,8 +28,6 @@ class LifetimeSummary {
   /// Multi-line report; `wall_s` is the run's wall time, `estimator_s` the
   /// time spent inside the estimator (both in seconds).
   void print(std::FILE* out, double wall_s, double estimator_s) const;
-  /// The estimates' lines of print() alone: noise share, lifetimes, predictions.
-  void print_estimates(std::FILE* out) const;
 
  private:
   std::uint64_t events_ = 0;
