@@ -16,7 +16,7 @@ PrefetchReader::PrefetchReader(std::unique_ptr<io::EventReader> inner, std::size
   pool_.reserve(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
     pool_.push_back(std::make_unique<Block>());
-    pool_.back()->events.resize(block_events);
+    pool_.back()->events = io::UninitializedArray<Event>(block_events);
     pool_.back()->kinds.reserve(kMaxSkippedKinds);
     free_.enqueue(free_token_, pool_.back().get());
   }

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "evlife/io/uninitialized_array.h"
+
 #include "evlife/io/estimating_reader.h"
 
 namespace evlife::engine {
@@ -12,11 +14,11 @@ ProcessStreamResult process_stream(io::EventReader& reader, LifetimeEstimator& e
                                    const std::atomic<bool>* stop, std::size_t batch_events) {
   ProcessStreamResult r;
   io::EstimatingReader estimating(reader, estimator, batch_events);
-  std::vector<AugmentedEvent> out(batch_events);
+  io::UninitializedArray<AugmentedEvent> out(batch_events);
   while (!(stop && stop->load(std::memory_order_relaxed))) {
     std::size_t n = 0;
     try {
-      n = estimating.read(out);
+      n = estimating.read(out.span());
     } catch (const io::ReadError& e) {
       r.input_fault = e.what();
       break;

@@ -17,7 +17,7 @@ WriteBehindWriter::WriteBehindWriter(std::unique_ptr<io::AugmentedEventWriter> i
   pool_.reserve(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
     pool_.push_back(std::make_unique<Block>());
-    pool_.back()->events.resize(std::max<std::size_t>(block_events, 1));
+    pool_.back()->events = io::UninitializedArray<AugmentedEvent>(std::max<std::size_t>(block_events, 1));
   }
   current_ = pool_[0].get();
   for (std::size_t i = 1; i < blocks; ++i) free_.enqueue(free_token_, pool_[i].get());

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "evlife/io/uninitialized_array.h"
+
 namespace evlife::io {
 
 class ChunkedFile {
@@ -43,7 +45,7 @@ class ChunkedFile {
  private:
   std::string path_;
   std::FILE* file_ = nullptr;
-  std::vector<std::uint8_t> buffer_;
+  UninitializedArray<std::uint8_t> buffer_;  // bytes [pos_, end_) hold the file
   std::size_t pos_ = 0;
   std::size_t end_ = 0;
   std::int64_t buffer_offset_ = 0;

@@ -17,7 +17,7 @@ LineReader::Next LineReader::refill() {
   pos_ = 0;
   end_ = leftover;
   const std::size_t got =
-      file_.read_at(file_pos_, std::as_writable_bytes(std::span(buffer_)).subspan(leftover));
+      file_.read_at(file_pos_, std::as_writable_bytes(buffer_.span()).subspan(leftover));
   file_pos_ += got;
   end_ += got;
   return got > 0 ? Next::line : Next::end_of_file;

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "evlife/io/uninitialized_array.h"
 #include "input_file.h"
 
 namespace evlife::io::detail {
@@ -65,7 +66,7 @@ class LineReader {
   Next refill();
 
   InputFile file_;
-  std::vector<char> buffer_;
+  UninitializedArray<char> buffer_;  // bytes [pos_, end_) hold the file, the rest nothing yet
   std::size_t pos_ = 0, end_ = 0;  // unconsumed bytes: buffer_[pos_, end_)
   std::size_t line_bytes_ = 0;     // what consume() moves past
   std::uint64_t file_pos_ = 0;     // file offset of buffer_[end_]

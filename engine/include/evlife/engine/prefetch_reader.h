@@ -16,6 +16,7 @@
 #include <lightweightsemaphore.h>
 
 #include "evlife/io/event_reader.h"
+#include "evlife/io/uninitialized_array.h"
 
 namespace evlife::engine {
 
@@ -51,7 +52,7 @@ class PrefetchReader final : public io::EventReader {
 
  private:
   struct Block {
-    std::vector<Event> events;
+    io::UninitializedArray<Event> events;
     std::size_t count = 0;        // 0: end of stream or error, nothing follows
     std::exception_ptr error;     // the inner reader's, when it threw
     std::uint64_t skipped = 0;    // inner counters after this block

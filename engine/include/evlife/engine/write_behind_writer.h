@@ -17,6 +17,7 @@
 #include <lightweightsemaphore.h>
 
 #include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/uninitialized_array.h"
 
 namespace evlife::engine {
 
@@ -43,7 +44,7 @@ class WriteBehindWriter final : public io::AugmentedEventWriter {
 
  private:
   struct Block {
-    std::vector<AugmentedEvent> events;
+    io::UninitializedArray<AugmentedEvent> events;
     std::size_t count = 0;
     bool last = false;  // close the inner writer after this block
   };

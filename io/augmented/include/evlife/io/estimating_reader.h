@@ -11,6 +11,7 @@
 #include "evlife/algo/event.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/uninitialized_array.h"
 
 namespace evlife::io {
 
@@ -33,7 +34,7 @@ class EstimatingReader {
  private:
   EventReader& reader_;
   LifetimeEstimator& estimator_;
-  std::vector<Event> raw_;
+  UninitializedArray<Event> raw_;
   double estimator_s_ = 0.0;
 };
 
