@@ -198,8 +198,8 @@ bool Router::dispatch_pending() noexcept {
     WorkerChannel& ch = *state_.workers[wi];
     WorkBatch* batch = reserved_[wi];
     const std::size_t n = stage_count_[wi];
-    std::memcpy(batch->events.get(), stage_events_[wi].data(), n * sizeof(Event));
-    std::memcpy(batch->owned.get(), stage_owned_[wi].data(), n);
+    std::memcpy(batch->events.data(), stage_events_[wi].data(), n * sizeof(Event));
+    std::memcpy(batch->owned.data(), stage_owned_[wi].data(), n);
     batch->count = n;
     batch->owned_count = stage_owned_count_[wi];
     batch->chunk_seq = chunk_seq_;

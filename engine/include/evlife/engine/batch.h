@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/uninitialized_array.h"
 
 namespace evlife::engine {
 
@@ -16,15 +17,15 @@ namespace evlife::engine {
 /// needs it as context (margin: its output is discarded). The worker writes
 /// the outputs of owned events, in order, into `out`.
 struct WorkBatch {
+  // Not zeroed: the router and the worker write what they count; a run's
+  // pages are faulted in by the threads that first use them, not all by the
+  // main thread before the run.
   explicit WorkBatch(std::size_t capacity_events)
-      : events(std::make_unique<Event[]>(capacity_events)),
-        owned(std::make_unique<std::uint8_t[]>(capacity_events)),
-        out(std::make_unique<AugmentedEvent[]>(capacity_events)),
-        capacity(capacity_events) {}
+      : events(capacity_events), owned(capacity_events), out(capacity_events), capacity(capacity_events) {}
 
-  std::unique_ptr<Event[]> events;
-  std::unique_ptr<std::uint8_t[]> owned;
-  std::unique_ptr<AugmentedEvent[]> out;
+  io::UninitializedArray<Event> events;
+  io::UninitializedArray<std::uint8_t> owned;
+  io::UninitializedArray<AugmentedEvent> out;
   std::size_t capacity;
   std::size_t count = 0;        // events to process
   std::size_t owned_count = 0;  // outputs in `out` once processed
