@@ -1,7 +1,6 @@
 // `evlife devices`: lists the attached event cameras (DVS128 over USB) and,
 // when there is none, what libusb sees and what to check.
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <string>
 

@@ -355,7 +355,10 @@ process(events) takes any array with t, x, y, p fields (p as +1/-1, 0/1 or
 bool) and returns evlife.AUGMENTED_DTYPE: t, x, y, p, lifetime (µs, 0 = noise),
 vx, vy (px/s), prediction_error (µs, NaN = no prediction). The estimator keeps
 its state across calls: processing in chunks gives exactly the result of one
-call. The GIL is released while it runs; no per-event Python object is made.)";
+call. The GIL is released while it runs; no per-event Python object is made.
+RANSAC's draws are seeded per event from (seed, x, y, t, p), so the result is
+the same on every run and machine, but shifting t (e.g. t - t[0]) changes the
+draws as another seed would: keep the recording's times to match the CLI.)";
 
 }  // namespace
 
