@@ -56,6 +56,15 @@ TEST_F(CliFlags, AnOutputOfTheWrongKindIsAUsageError) {
   EXPECT_EQ(run("synth -q --duration 10ms -o " + path("s.csv")).exit_code, 2);
   EXPECT_EQ(run("convert " + sample() + " " + path("x.dat")).exit_code, 2);
   EXPECT_EQ(run("process " + sample() + " -o " + path("x.xyz")).exit_code, 2);
+  EXPECT_EQ(run("render " + sample() + " -o " + path("x.mp4") + " --fps 10 --video-fps 100").exit_code, 2);
+}
+
+TEST_F(CliFlags, AStrayEventThatSetsAHugeSensorIsPointedOut) {
+  std::ofstream(path("stray.txt")) << "0.000001 1 1 1\n0.000002 2 2 0\n0.000003 3000 2 1\n";
+  const RunResult r = run("process " + path("stray.txt") + " -o " + path("stray.bin"));
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_TRUE(has(r, "span 3001x3 pixels; if the sensor is smaller, pass --sensor")) << r.output;
+  EXPECT_FALSE(has(run("process " + sample() + " -o " + path("ok.bin")), "span")) << "a normal scene";
 }
 
 TEST_F(CliFlags, AFileWithNoEventIsAnInputErrorNotAOneByOneSensor) {

@@ -177,7 +177,16 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   // Smallest sensor holding every event; a fault after some events leaves
   // those (the main pass writes them, then reports it); a file with no event
   // to scan is an input error here (nothing to write), as for render and run.
-  return {io::sensor_size_from_data(args.input, args.input_options), kScannedFromTheData};
+  const SensorSize scanned = io::sensor_size_from_data(args.input, args.input_options);
+  // No event camera is this large: most likely a stray event sets the size
+  // (and the estimator's memory, ~40 bytes per pixel and polarity).
+  constexpr int kLargestKnownSide = 2048;
+  if (scanned.width > kLargestKnownSide || scanned.height > kLargestKnownSide) {
+    std::fprintf(stderr, "evlife process: warning: the events of %s span %dx%d pixels; if the sensor is smaller, "
+                 "pass --sensor WxH: an event outside it is then reported with its index\n",
+                 args.input.c_str(), scanned.width, scanned.height);
+  }
+  return {scanned, kScannedFromTheData};
 }
 
 void print_summary(const ProcessArgs& args, const io::EventReader& reader,

@@ -181,7 +181,10 @@ RenderArgs parse_render_args(int argc, char** argv) {
     r.job.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1));
     if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
-  if (const auto v = a.value("video-fps")) r.job.video_fps = parse_positive("video-fps", *v);
+  if (const auto v = a.value("video-fps")) {
+    r.job.video_fps = parse_positive("video-fps", *v);
+    if (*r.job.video_fps > render::kMaxVideoFps) throw UsageError("--video-fps " + *v + ": at most " + std::to_string(static_cast<int>(render::kMaxVideoFps)) + " frames per second");
+  }
 
   return r;
 }

@@ -20,6 +20,9 @@
 
 namespace evlife::render {
 
+/// The highest frame rate written into a video (players and codecs beyond it vary).
+inline constexpr double kMaxVideoFps = 60.0;
+
 struct RecordingRenderOptions {
   std::string output;                ///< a folder, FILE.png or a video (.mp4, .avi)
   bool video = false;                ///< output is a video
@@ -36,7 +39,7 @@ struct RecordingRenderOptions {
   bool thinning = true;
   double lifetime_min_us = 300.0;    ///< colour scale
   double lifetime_max_us = 30000.0;
-  std::optional<double> video_fps;   ///< written into a video (default fps; at most 60)
+  std::optional<double> video_fps;   ///< written into a video (default fps; at most kMaxVideoFps)
 };
 
 struct RecordingRenderResult {
