@@ -228,6 +228,31 @@ TEST(IoFormatsSamples, DatMatchesTheNumpyDecodeEventByEvent) {
   EXPECT_FALSE(read_all(kDat, 4096, /*checked=*/true).error);
 }
 
+// Readers write whole events into buffers that may hold anything (the
+// pipeline's are not zeroed): no byte of an event comes from the buffer.
+TEST(IoFormatsSharedFiles, EveryReaderWritesWholeEventsIntoAnyBuffer) {
+  const ScratchDir dir("test_io_formats");
+  const std::string csv = dir.save("junk.csv", std::string("x,y,p,t\n1,2,1,100\n3,4,0,200\n"));
+  for (const std::string& path :
+       {kAedat4, kEvt2, kEvt3, kDat, kData + "/aedat2/alex_walking_again.aedat", kData + "/reference/stripes.mat",
+        kData + "/rpg_txt/slider_depth_events_chunk.txt", csv}) {
+    SCOPED_TRACE(path);
+    auto reader = evlife::io::open_unchecked_event_reader(path);
+    std::vector<Event> chunk(4096);
+    std::uint64_t events = 0;
+    for (int round = 0; round < 4; ++round) {
+      std::memset(static_cast<void*>(chunk.data()), 0xA5, chunk.size() * sizeof(Event));
+      const std::size_t n = reader->read(chunk);
+      for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_TRUE(chunk[i].reserved[0] == 0 && chunk[i].reserved[1] == 0 && chunk[i].reserved[2] == 0)
+            << "event " << events + i;
+      }
+      events += n;
+    }
+    EXPECT_GT(events, 0u);
+  }
+}
+
 // ---- time unwrapping and state handling on hand-made word streams ----
 
 template <typename Word>

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -153,16 +154,24 @@ TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
 }
 
 TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
-  // A .bin of `evlife process` cut inside a record: a fault after some events.
+  // A raw recording cut inside a record (every estimator run stops at the
+  // fault) and an augmented .bin cut the same way (the lifetimes of the file).
+  const std::string aedat2 = kData + "/aedat2/alex_walking_again.aedat";
+  fs::copy_file(aedat2, path("cut.aedat"));
+  fs::resize_file(path("cut.aedat"), 300'001);
   ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("g.bin") + "' --to 0.2 -q").exit_code, 0);
-  const auto size = fs::file_size(path("g.bin"));
   fs::copy_file(path("g.bin"), path("cut.bin"));
-  fs::resize_file(path("cut.bin"), size - 7);
-  const auto r = run("eval '" + path("cut.bin") + "' -o '" + path("ev_cut") + "' -q");
-  EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_NE(r.output.find("holds the evaluation of the"), std::string::npos) << r.output;
-  EXPECT_TRUE(fs::exists(path("ev_cut") + "/summary.html"));
-  EXPECT_TRUE(fs::exists(path("ev_cut") + "/runs.csv"));
+  fs::resize_file(path("cut.bin"), fs::file_size(path("g.bin")) - 7);
+  for (const std::string cut : {"cut.aedat", "cut.bin"}) {
+    const std::string dir = path("ev_" + cut);
+    const auto r = run("eval '" + path(cut) + "' -o '" + dir + "' -q");
+    EXPECT_EQ(r.exit_code, 3) << r.output;
+    EXPECT_NE(r.output.find("holds the evaluation of the"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(dir + "/runs.csv")) << cut;
+    std::ifstream html(dir + "/summary.html");
+    const std::string text((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("stopped by an input fault"), std::string::npos) << cut;
+  }
 }
 
 std::vector<std::string> split_csv(const std::string& line) {

@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   char help_flag[] = "--help";
   char* help_argv[] = {argv[0], argc > 2 ? argv[2] : nullptr, help_flag, nullptr};
   if (std::strcmp(argv[1], "help") == 0) {
-    if (argc < 3) {
+    if (argc < 3 || std::strcmp(argv[2], "help") == 0 || argv[2][0] == '-') {  // `help`, `help --help`
       print_usage(stdout);
       return 0;
     }

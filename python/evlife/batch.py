@@ -77,7 +77,7 @@ def _output_names(paths, extension):
 
 
 # The output formats of evlife.process_file, by extension (its writers).
-OUTPUT_EXTENSIONS = (".bin", ".csv", ".h5")
+OUTPUT_EXTENSIONS = (".bin", ".csv", ".h5", ".hdf5")
 
 
 def _first_line(error):
@@ -173,7 +173,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
         _evlife.LifetimeEstimator(sensor=sensor)
-    if extension not in OUTPUT_EXTENSIONS:
+    if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
     _evlife._check_crop(from_s, to_s)
     crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s)) if v is not None}

@@ -165,7 +165,7 @@ class Aedat2Reader final : public EventReader {
         note_skip();
         continue;
       }
-      Event& e = out[n++];
+      Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
       e.t_us = t_us;
       e.x = static_cast<std::uint16_t>(width - 1 - raw_x);
       e.y = static_cast<std::uint16_t>(height - 1 - raw_y);

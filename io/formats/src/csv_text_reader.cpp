@@ -331,8 +331,8 @@ class CsvTextReader final : public EventReader {
       if (!is_comment_or_blank(line.data(), end)) {
         if (skip_header_) {
           skip_header_ = false;
-        } else if (!parse(line.data(), end, out[n])) {
-          fail(lines_.offset(), std::string(line.substr(0, 80)));
+        } else if (const Parsed parsed = parse(line.data(), end, out[n]); parsed != Parsed::ok) {
+          fail(lines_.offset(), std::string(line.substr(0, 80)), parsed == Parsed::time_too_large);
           break;
         } else {
           line_offsets_.set(n, lines_.offset());
@@ -383,20 +383,24 @@ class CsvTextReader final : public EventReader {
     return false;
   }
 
-  bool parse(const char* p, const char* end, Event& e) const noexcept {
+  enum class Parsed { ok, bad, time_too_large };
+
+  Parsed parse(const char* p, const char* end, Event& e) const noexcept {
     std::array<Field, 64> f{};
     const std::size_t n = split(p, end, sep_, f.data(), f.size());
-    if (n != static_cast<std::size_t>(columns_)) return false;
+    if (n != static_cast<std::size_t>(columns_)) return Parsed::bad;
     Number x, y, t, pol;
     if (!parse_number(f[static_cast<std::size_t>(layout_[kX])], x) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kY])], y) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kT])], t) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kP])], pol))
-      return false;
-    if (!as_uint16(x, e.x) || !as_uint16(y, e.y) || !to_us(t, unit_ns_, e.t_us)) return false;
-    if (pol.has_point || pol.int_part > 1) return false;
+      return Parsed::bad;
+    e = Event{};  // whole: the caller's buffer may hold anything
+    if (!as_uint16(x, e.x) || !as_uint16(y, e.y)) return Parsed::bad;
+    if (!to_us(t, unit_ns_, e.t_us)) return Parsed::time_too_large;
+    if (pol.has_point || pol.int_part > 1) return Parsed::bad;
     e.p = (pol.int_part == 1 && !pol.negative) ? std::int8_t{1} : std::int8_t{-1};
-    return true;
+    return Parsed::ok;
   }
 
   // The next line, not consumed yet; false at end of file or when it is
@@ -410,7 +414,7 @@ class CsvTextReader final : public EventReader {
     return next == LineReader::Next::line;
   }
 
-  void fail(std::uint64_t line_offset, const std::string& text) {
+  void fail(std::uint64_t line_offset, const std::string& text, bool time_too_large = false) {
     static constexpr const char* kRole = "xytp";
     std::string layout;
     std::array<char, 64> names{};
@@ -423,8 +427,10 @@ class CsvTextReader final : public EventReader {
     pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
                      "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
                          " fields '" + layout +
-                         "' (x y integers, p 0/1/-1, t a number; a t of 17 or more digits is nanoseconds: "
-                         "--time-unit ns), got '" + text + "'");
+                         "' (x y integers, p 0/1/-1, t a number), got '" + text + "'" +
+                         (time_too_large ? "; its t is too large for the time unit (epoch nanoseconds? "
+                                           "--time-unit ns)"
+                                         : ""));
   }
 
   LineReader lines_;

@@ -58,7 +58,7 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
                              " outside the sensor");
           break;
         }
-        Event& e = out[n++];
+        Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
         e.t_us = time_high_.us() | static_cast<std::int64_t>((w >> 22) & 0x3F);
         e.x = static_cast<std::uint16_t>(x);
         e.y = static_cast<std::uint16_t>(y);

@@ -352,7 +352,7 @@ class MatReader final : public EventReader {
           fault = "polarity " + std::to_string(p) + " is not -1, 0 or 1";
           break;
         }
-        Event& e = out[n + i];
+        Event& e = out[n + i] = Event{};  // whole: the caller's buffer may hold anything
         e.t_us = ts[i];
         e.x = static_cast<std::uint16_t>(x);
         e.y = static_cast<std::uint16_t>(y);

@@ -1,11 +1,13 @@
 // A sensor clock of `Bits` bits that wraps (AEDAT 2.0 and DAT timestamps,
-// EVT 2.0's TIME_HIGH), unwrapped to 64 bits. Each value is taken as the
+// the 28-bit TIME_HIGH of EVT 2.0 and 2.1), unwrapped to 64 bits. Each value is taken as the
 // shorter step from the last one, modulo the range: a drop by more than half
 // the range is a wrap forward, and a rise by more than half the range is a
 // step *back* across a wrap. So one corrupt high bit unwraps to a time before
 // its predecessor, which the checked reader reports (file, offset, event
 // index), instead of shifting every later event by the range (71.6 min for
-// 32 bits) with no error.
+// 32 µs bits, 4.8 h for TIME_HIGH) with no error. EVT 3.0's 12-bit TIME_HIGH
+// keeps the one-sided rule: its half range, 8.4 s, is a gap a quiet sensor
+// can leave between two TIME_HIGH words.
 #pragma once
 
 #include <cstdint>

@@ -59,7 +59,8 @@ class EventReader {
   /// Fills `out` with up to out.size() events, in file order, and returns how
   /// many; 0 means end of stream. On corrupt or truncated data the events
   /// decoded before the fault are returned first; the call after throws
-  /// ReadError (so nothing good is lost).
+  /// ReadError (so nothing good is lost). Whole events are written (their
+  /// reserved bytes zero): `out` may hold anything before (UninitializedArray).
   virtual std::size_t read(std::span<Event> out) = 0;
 
   /// Sensor size when the format states it (or the caller did, see
