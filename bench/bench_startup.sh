@@ -1,6 +1,7 @@
 #!/bin/sh
 # Start-up time of the evlife tool (issue 12): median of 7 runs of
-# `evlife --help` and of `evlife process` on a 3-event file, in ms.
+# `evlife --help` and of `evlife process` on a 3-event file, in ms; with perf,
+# their page faults and CPU time.
 #   bench/bench_startup.sh [build/engine/evlife]
 set -eu
 cli=${1:-build/engine/evlife}
@@ -16,3 +17,13 @@ median_ms() {
 echo "evlife --help: $(median_ms "$cli" --help) ms"
 echo "evlife process (3 events): $(median_ms "$cli" process "$tmp/three.txt" --sensor 8x8 -o "$tmp/three.bin" -q) ms"
 echo "shared libraries loaded: $(ldd "$cli" | wc -l)"
+# Page faults and CPU of each start (perf, from Debian's linux-perf, when the
+# machine lets it count): where page faults are dear, they are the start-up.
+if command -v perf > /dev/null 2>&1; then
+  for args in "--help" "process $tmp/three.txt --sensor 8x8 -o $tmp/three.bin -q"; do
+    # shellcheck disable=SC2086 # the arguments split on purpose
+    perf stat -r 7 -x, -e page-faults,task-clock "$cli" $args 2>&1 > /dev/null |
+      awk -F, -v a="${args%% *}" '$3 == "page-faults" { f = $1 } $3 == "task-clock" { c = $1 }
+        END { if (f != "") printf "evlife %s: %d page faults, %.1f ms CPU (perf stat -r 7)\n", a, f, c }'
+  done
+fi

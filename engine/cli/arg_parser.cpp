@@ -1,8 +1,10 @@
 #include "arg_parser.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 
@@ -198,6 +200,12 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
   }
   if (options.crop_is_empty()) throw UsageError("--to must be after --from");
   return options;
+}
+
+bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return std::find(extensions.begin(), extensions.end(), ext) != extensions.end();
 }
 
 }  // namespace evlife::cli

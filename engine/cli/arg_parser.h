@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -114,6 +115,10 @@ std::string table_flags_help(ForEach for_each);
 
 /// "WIDTHxHEIGHT", e.g. "240x180", each 1..4096. Throws UsageError.
 SensorSize parse_sensor_size(std::string_view text);
+
+/// True when `path` ends in one of `extensions` (".txt", ...), case aside, as
+/// the writers choose their format.
+bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions);
 
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
 /// sorted, without repeats; `option` names the flag in errors. Throws UsageError.

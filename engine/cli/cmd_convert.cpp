@@ -2,9 +2,7 @@
 // check a decode against one's own tools or to hand events to h5py users.
 // Streams batch by batch (constant memory); on bad input writes and flushes
 // everything before the fault, then exits non-zero.
-#include <cctype>
 #include <cstdio>
-#include <initializer_list>
 #include <exception>
 #include <filesystem>
 #include <memory>
@@ -94,15 +92,6 @@ void print_help(std::FILE* out) {
       (std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str());
 }
 
-bool has_ext(const std::string& path, std::initializer_list<const char*> exts) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* e : exts) {
-    if (ext == e) return true;
-  }
-  return false;
-}
-
 struct Outcome {
   unsigned long long written = 0;
   std::optional<std::string> input_fault;
@@ -185,7 +174,7 @@ int convert_augmented(const std::string& input, const std::string& output, bool 
     return kExitInput;
   }
   try {
-    if (has_ext(output, {".txt"})) {
+    if (has_extension(output, {".txt"})) {
       auto writer = io::open_event_writer(output);
       EventsOfAugmented events(*reader);
       return report(copy_all<Event>(events, *writer), input, output,
@@ -204,7 +193,7 @@ int convert_augmented(const std::string& input, const std::string& output, bool 
 int convert_events(const std::string& input, const std::string& output,
                    std::optional<SensorSize> sensor_arg, const io::ReaderOptions& input_options,
                    bool unchecked, bool one_thread, bool quiet) {
-  if (has_ext(output, {".csv", ".bin"})) {
+  if (has_extension(output, {".csv", ".bin"})) {
     std::fprintf(stderr,
                  "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
                  "  run `evlife process %s -o %s` for those;\n"
@@ -231,7 +220,7 @@ int convert_events(const std::string& input, const std::string& output,
   }
   std::unique_ptr<io::EventWriter> writer;
   try {
-    writer = has_ext(output, {".h5", ".hdf5"}) ? io::open_hdf5_event_writer(output, sensor)
+    writer = has_extension(output, {".h5", ".hdf5"}) ? io::open_hdf5_event_writer(output, sensor)
                                                : io::open_event_writer(output);
   } catch (const io::WriteError& e) {
     std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
@@ -273,7 +262,7 @@ int convert(int argc, char** argv) {
     input_options = parse_input_options(a);
     quiet = a.has("quiet");
     one_thread = a.has("one-thread");
-    if (!has_ext(output, {".txt", ".h5", ".hdf5", ".csv", ".bin"})) {
+    if (!has_extension(output, {".txt", ".h5", ".hdf5", ".csv", ".bin"})) {
       throw UsageError("OUTPUT " + output + ": expected a .txt, .h5, .csv or .bin file name");
     }
     std::error_code ec;
@@ -285,8 +274,8 @@ int convert(int argc, char** argv) {
   }
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
   // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
-  if (has_ext(input, {".bin"})) return convert_augmented(input, output, quiet);
-  if (has_ext(input, {".csv"})) {
+  if (has_extension(input, {".bin"})) return convert_augmented(input, output, quiet);
+  if (has_extension(input, {".csv"})) {
     bool augmented = false;
     try {
       augmented = io::open_augmented_reader(input) != nullptr;

@@ -143,8 +143,6 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   return p;
 }
 
-constexpr const char* kScannedFromTheData = "scanned from the data";
-
 struct ResolvedSensor {
   SensorSize size;
   std::string source;
@@ -186,7 +184,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
                  "pass --sensor WxH: an event outside it is then reported with its index\n",
                  args.input.c_str(), scanned.width, scanned.height);
   }
-  return {scanned, kScannedFromTheData};
+  return {scanned, "scanned from the data"};
 }
 
 void print_summary(const ProcessArgs& args, const io::EventReader& reader,
@@ -284,12 +282,10 @@ int process_recording(int argc, char** argv) {
   try {
     estimator.emplace(cfg.estimator);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "evlife process: %s: sensor %dx%d (%s) is not usable: %s%s\n",
+    // (A scanned sensor this large got resolve_sensor's warning, which says what to do.)
+    std::fprintf(stderr, "evlife process: %s: sensor %dx%d (%s) is not usable: %s\n",
                  args.input.c_str(), sensor.size.width, sensor.size.height, sensor.source.c_str(),
-                 e.what(),
-                 sensor.source != kScannedFromTheData ? ""
-                             : "\nevlife process: if the sensor is smaller, pass --sensor WxH: an event outside it "
-                               "is then reported with its index and byte offset");
+                 e.what());
     return kExitInput;
   }
 

@@ -183,7 +183,10 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto v = a.value("video-fps")) {
     r.job.video_fps = parse_positive("video-fps", *v);
-    if (*r.job.video_fps > render::kMaxVideoFps) throw UsageError("--video-fps " + *v + ": at most " + std::to_string(static_cast<int>(render::kMaxVideoFps)) + " frames per second");
+    if (*r.job.video_fps > render::kMaxVideoFps) {
+      throw UsageError("--video-fps " + *v + ": at most " + std::to_string(static_cast<int>(render::kMaxVideoFps)) +
+                       " frames per second");
+    }
   }
 
   return r;

@@ -2,13 +2,11 @@
 // (moving edges, a rotating bar that speeds up, jitter, background noise) as
 // an event recording — the bundled sample of the README and a test input for
 // anyone. Streams slice by slice (constant memory), deterministic per seed.
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -204,9 +202,7 @@ int synth(int argc, char** argv) {
     if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
     if (!a.has("output")) throw UsageError("missing -o FILE");
     output = *a.value("output");
-    std::string ext = std::filesystem::path(output).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".txt" && ext != ".h5" && ext != ".hdf5") {
+    if (!has_extension(output, {".txt", ".h5", ".hdf5"})) {
       throw UsageError("-o " + output + ": synth writes .txt or .h5 (events; `evlife process` writes .csv and .bin)");
     }
     truth_path = a.value("truth").value_or("");

@@ -5,9 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <optional>
-#include <span>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
@@ -24,11 +22,6 @@ void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 /// evlife.read's body: from_s / to_s are seconds after the first event.
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
                       std::optional<double> to_s);
-
-/// The first record the augmented readers (and `evlife render`) refuse:
-/// polarity not +1/-1, outside `sensor`, time going backwards; as (index, what).
-std::optional<std::pair<std::size_t, std::string>> unreadable_record(std::span<const AugmentedEvent> events,
-                                                                     SensorSize sensor);
 
 /// A reader's skipped (non-event) records by kind, {kind: count}.
 py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds);

@@ -135,6 +135,11 @@ struct FileRun {
   std::uint64_t skipped_records = 0;  // the format's non-event records (as the CLI's summary)
   std::vector<io::SkippedKindCount> skipped_kinds;
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
+
+  void note_skipped(const io::EventReader& reader) {  // at the end of the pass
+    skipped_records = reader.skipped_record_count();
+    skipped_kinds = reader.skipped_record_kinds();
+  }
 };
 
 // `evlife process PATH [--from --to]` (the times of `crop`; its sensor is
@@ -175,8 +180,7 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
     run.events += n;
     sink(std::span<const AugmentedEvent>(out.data(), n));
   }
-  run.skipped_records = reader->skipped_record_count();
-  run.skipped_kinds = reader->skipped_record_kinds();
+  run.note_skipped(*reader);
   return run;
 }
 
@@ -267,8 +271,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
       last = in[n - 1].t_us;
       count += n;
     }
-    run.skipped_records = reader->skipped_record_count();
-    run.skipped_kinds = reader->skipped_record_kinds();
+    run.note_skipped(*reader);
   }
   py::dict d;
   d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
@@ -452,7 +455,8 @@ on the calling thread (evlife.batch does: one file per core). Other arguments
 as evlife.process.)");
 
   m.def(
-      "_check_crop", [](std::optional<double> from_s, std::optional<double> to_s) { reader_options(std::nullopt, from_s, to_s); },
+      "_check_crop",
+      [](std::optional<double> from_s, std::optional<double> to_s) { reader_options(std::nullopt, from_s, to_s); },
       py::arg("from_s"), py::arg("to_s"), "ValueError unless from_s / to_s are valid (as evlife.process checks them).");
 
   m.def(

@@ -11,6 +11,7 @@
 #include "dtypes.h"
 #include "errors.h"
 #include "evlife/algo/active_event_map.h"
+#include "evlife/io/augmented_event_reader.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
@@ -63,8 +64,10 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
                           std::to_string(sensor.height) + " is not usable (1..4096 each)");
   }
   if (events.empty()) throw py::value_error("frame: the array holds no event: nothing to draw");
-  if (const auto fault = unreadable_record(events, sensor)) {  // as `evlife render` refuses such a file
-    raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(fault->first), fault->second));
+  // As `evlife render` refuses such a file.
+  const io::RecordFault bad = io::first_unreadable_record(events, sensor, INT64_MIN);
+  if (bad.index < events.size()) {
+    raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(bad.index), bad.what));
   }
   // As `evlife render`'s options (its defaults when not given).
   render::FrameStyle style;

@@ -11,7 +11,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "bindings.h"
@@ -40,24 +39,6 @@ py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds) {
   return d;
 }
 
-std::optional<std::pair<std::size_t, std::string>> unreadable_record(std::span<const AugmentedEvent> events,
-                                                                     SensorSize sensor) {
-  std::int64_t last_t_us = INT64_MIN;
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    const Event& e = events[i].event;
-    if (e.p != 1 && e.p != -1) return std::pair(i, "polarity " + std::to_string(e.p) + " is not +1/-1");
-    if (e.x >= sensor.width || e.y >= sensor.height) {
-      return std::pair(i, "event at (x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") is outside the " +
-                              std::to_string(sensor.width) + "x" + std::to_string(sensor.height) + " sensor");
-    }
-    if (e.t_us < last_t_us) {
-      return std::pair(i, "timestamp goes backwards: " + std::to_string(e.t_us) + " us after " +
-                              std::to_string(last_t_us) + " us");
-    }
-    last_t_us = e.t_us;
-  }
-  return std::nullopt;
-}
 
 namespace {
 
@@ -289,9 +270,10 @@ Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
         const auto* data = static_cast<const AugmentedEvent*>(augmented.data());
         const auto n = static_cast<std::size_t>(augmented.shape(0));
         // Nothing is written that evlife.read_augmented and `evlife render` would refuse.
-        if (const auto fault = unreadable_record(std::span(data, n), s)) {
-          raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(fault->first),
-                                          fault->second + "; nothing was written to " + path));
+        const io::RecordFault bad = io::first_unreadable_record(std::span(data, n), s, INT64_MIN);
+        if (bad.index < n) {
+          raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(bad.index),
+                                          bad.what + "; nothing was written to " + path));
         }
         py::gil_scoped_release release;
         auto writer = io::open_augmented_writer(path, s);

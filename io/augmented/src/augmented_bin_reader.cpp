@@ -42,30 +42,16 @@ class AugmentedBinReader final : public AugmentedEventReader {
       const std::size_t got = file_.read_at(offset_, std::span(buffer_).first(want * record_bytes_));
       const std::size_t records = got / record_bytes_;
       const auto* bytes = reinterpret_cast<const unsigned char*>(buffer_.data());
-      std::size_t i = 0;
-      for (; i < records; ++i) {
-        const AugmentedEvent a = augmented_bin::decode(bytes + i * record_bytes_);
-        if (a.event.p != 1 && a.event.p != -1) {
-          fault("corrupt record: polarity " + std::to_string(a.event.p));
-          break;
-        }
-        if (sensor_.width > 0 && !sensor_.contains(a.event.x, a.event.y)) {
-          fault("event at (x " + std::to_string(a.event.x) + ", y " + std::to_string(a.event.y) +
-                ") is outside the " + std::to_string(sensor_.width) + "x" +
-                std::to_string(sensor_.height) + " sensor");
-          break;
-        }
-        if (a.event.t_us < last_t_us_) {
-          fault("timestamp goes backwards: " + std::to_string(a.event.t_us) + " us after " +
-                std::to_string(last_t_us_) + " us");
-          break;
-        }
-        last_t_us_ = a.event.t_us;
-        out[n++] = a;
-        offset_ += record_bytes_;
-        ++index_;
+      for (std::size_t i = 0; i < records; ++i) out[n + i] = augmented_bin::decode(bytes + i * record_bytes_);
+      const RecordFault bad = first_unreadable_record(out.subspan(n, records), sensor_, last_t_us_);
+      if (bad.index > 0) last_t_us_ = out[n + bad.index - 1].event.t_us;
+      n += bad.index;
+      offset_ += bad.index * record_bytes_;
+      index_ += bad.index;
+      if (bad.index < records) {
+        fault(bad.what);
+        break;
       }
-      if (pending_) break;
       if (records < want) {
         if (got % record_bytes_ != 0)
           fault("truncated: " + std::to_string(got % record_bytes_) + " trailing bytes, a record is " +

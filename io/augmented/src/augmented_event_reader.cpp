@@ -21,6 +21,24 @@ std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& p
   return detail::open_augmented_csv_reader(path);  // checks its header
 }
 
+RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
+                                    std::int64_t last_t_us) {
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const Event& e = records[i].event;
+    if (e.p != 1 && e.p != -1) return {i, "corrupt record: polarity " + std::to_string(e.p)};
+    if (sensor.width > 0 && !sensor.contains(e.x, e.y)) {
+      return {i, "event at (x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") is outside the " +
+                     std::to_string(sensor.width) + "x" + std::to_string(sensor.height) + " sensor"};
+    }
+    if (e.t_us < last_t_us) {
+      return {i, "timestamp goes backwards: " + std::to_string(e.t_us) + " us after " + std::to_string(last_t_us) +
+                     " us"};
+    }
+    last_t_us = e.t_us;
+  }
+  return {records.size(), {}};
+}
+
 SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user) {
   if (user) return *user;
   const std::unique_ptr<AugmentedEventReader> reader = open_augmented_reader(path);

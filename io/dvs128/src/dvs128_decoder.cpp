@@ -32,11 +32,9 @@ bool Dvs128Decoder::decode_word(const std::uint8_t* w, Event& out) noexcept {
   last_t_us_ = t_us;
   const int raw_x = (address >> 1) & 0x7F;
   const int raw_y = (address >> 8) & 0x7F;
-  out = Event{};  // whole: the caller's buffer may hold anything
-  out.t_us = t_us;
-  out.x = static_cast<std::uint16_t>(dvs128::kWidth - 1 - raw_x);
-  out.y = static_cast<std::uint16_t>(dvs128::kHeight - 1 - raw_y);
-  out.p = (address & 0x01) == 0 ? std::int8_t{1} : std::int8_t{-1};
+  out = Event{t_us, static_cast<std::uint16_t>(dvs128::kWidth - 1 - raw_x),
+               static_cast<std::uint16_t>(dvs128::kHeight - 1 - raw_y),
+               (address & 0x01) == 0 ? std::int8_t{1} : std::int8_t{-1}};
   ++counters_.pixel_events;
   return true;
 }

@@ -165,11 +165,8 @@ class Aedat2Reader final : public EventReader {
         note_skip();
         continue;
       }
-      Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
-      e.t_us = t_us;
-      e.x = static_cast<std::uint16_t>(width - 1 - raw_x);
-      e.y = static_cast<std::uint16_t>(height - 1 - raw_y);
-      e.p = on ? std::int8_t{1} : std::int8_t{-1};
+      out[n++] = Event{t_us, static_cast<std::uint16_t>(width - 1 - raw_x),
+                       static_cast<std::uint16_t>(height - 1 - raw_y), on ? std::int8_t{1} : std::int8_t{-1}};
       ++next_index_;
     }
     return n;

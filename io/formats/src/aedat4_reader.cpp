@@ -254,7 +254,7 @@ std::size_t Aedat4Reader::read(std::span<Event> out) {
       const std::uint8_t* record = records + i * kEventBytes;
       std::int16_t x;
       std::int16_t y;
-      Event& e = out[n + i] = Event{};  // whole: the caller's buffer may hold anything
+      Event& e = out[n + i] = Event{};  // a whole event (EventReader::read)
       std::memcpy(&e.t_us, record, 8);
       std::memcpy(&x, record + 8, 2);
       std::memcpy(&y, record + 10, 2);

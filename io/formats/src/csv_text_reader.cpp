@@ -395,7 +395,7 @@ class CsvTextReader final : public EventReader {
         !parse_number(f[static_cast<std::size_t>(layout_[kT])], t) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kP])], pol))
       return Parsed::bad;
-    e = Event{};  // whole: the caller's buffer may hold anything
+    e = Event{};  // a whole event (EventReader::read)
     if (!as_uint16(x, e.x) || !as_uint16(y, e.y)) return Parsed::bad;
     if (!to_us(t, unit_ns_, e.t_us)) return Parsed::time_too_large;
     if (pol.has_point || pol.int_part > 1) return Parsed::bad;

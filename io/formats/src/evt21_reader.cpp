@@ -82,11 +82,8 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
     while (pending_mask_ != 0 && n < out.size()) {
       const int bit = std::countr_zero(pending_mask_);
       pending_mask_ &= pending_mask_ - 1;
-      Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
-      e.t_us = t_us;
-      e.x = static_cast<std::uint16_t>(x_of(pending_word_) + static_cast<std::uint32_t>(bit));
-      e.y = static_cast<std::uint16_t>(y_of(pending_word_));
-      e.p = p;
+      out[n++] = Event{t_us, static_cast<std::uint16_t>(x_of(pending_word_) + static_cast<std::uint32_t>(bit)),
+                       static_cast<std::uint16_t>(y_of(pending_word_)), p};
       ++event_count_;
     }
   };

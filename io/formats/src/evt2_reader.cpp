@@ -58,11 +58,8 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
                              " outside the sensor");
           break;
         }
-        Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
-        e.t_us = time_high_.us() | static_cast<std::int64_t>((w >> 22) & 0x3F);
-        e.x = static_cast<std::uint16_t>(x);
-        e.y = static_cast<std::uint16_t>(y);
-        e.p = type == 1 ? std::int8_t{1} : std::int8_t{-1};
+        out[n++] = Event{time_high_.us() | static_cast<std::int64_t>((w >> 22) & 0x3F), static_cast<std::uint16_t>(x),
+                         static_cast<std::uint16_t>(y), type == 1 ? std::int8_t{1} : std::int8_t{-1}};
         ++event_count_;
       } else if (type == 8) {  // EV_TIME_HIGH
         time_high_.update(w & 0x0FFFFFFF);

@@ -352,11 +352,8 @@ class MatReader final : public EventReader {
           fault = "polarity " + std::to_string(p) + " is not -1, 0 or 1";
           break;
         }
-        Event& e = out[n + i] = Event{};  // whole: the caller's buffer may hold anything
-        e.t_us = ts[i];
-        e.x = static_cast<std::uint16_t>(x);
-        e.y = static_cast<std::uint16_t>(y);
-        e.p = p == 1 ? std::int8_t{1} : std::int8_t{-1};
+        out[n + i] = Event{ts[i], static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                           p == 1 ? std::int8_t{1} : std::int8_t{-1}};
       }
       n += i;
       next_index_ += i;

@@ -71,11 +71,9 @@ std::size_t PropheseeDatReader::read(std::span<Event> out) {
                            " p=" + std::to_string(p) + " is not a CD event on the sensor");
         break;
       }
-      Event& e = out[n++] = Event{};  // whole: the caller's buffer may hold anything
-      e.t_us = clock_.unwrap(t_raw);  // 32-bit µs, wraps every 71.6 min
-      e.x = static_cast<std::uint16_t>(x);
-      e.y = static_cast<std::uint16_t>(y);
-      e.p = p == 1 ? std::int8_t{1} : std::int8_t{-1};
+      // 32-bit µs, wraps every 71.6 min
+      out[n++] = Event{clock_.unwrap(t_raw), static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                       p == 1 ? std::int8_t{1} : std::int8_t{-1}};
       ++event_count_;
     }
     file_.consume(i * static_cast<std::size_t>(kRecordBytes));

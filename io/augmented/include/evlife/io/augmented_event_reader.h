@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -26,6 +27,17 @@ class AugmentedEventReader {
   virtual std::string_view format_name() const = 0;  ///< "augmented-csv" / "augmented-bin"
   virtual const std::string& path() const = 0;
 };
+
+/// The first of `records` an augmented file may not hold after a record at
+/// `last_t_us`: polarity not +1/-1, outside `sensor` (width 0: any size),
+/// time going backwards. `index` == records.size() when there is none. The
+/// rule of the .bin reader, and of what evlife.write and evlife.frame accept.
+struct RecordFault {
+  std::size_t index = 0;
+  std::string what;  ///< empty when none
+};
+RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
+                                    std::int64_t last_t_us);
 
 /// Sniffs the .bin magic, else expects the CSV header. Throws ReadError for a
 /// missing file or unknown content.

@@ -43,8 +43,6 @@ class UninitializedArray {
   std::size_t size() const noexcept { return size_; }
   T& operator[](std::size_t i) noexcept { return data_[i]; }
   const T& operator[](std::size_t i) const noexcept { return data_[i]; }
-  T* begin() noexcept { return data_; }
-  T* end() noexcept { return data_ + size_; }
   std::span<T> span() noexcept { return {data_, size_}; }
 
  private:
