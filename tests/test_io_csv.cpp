@@ -87,6 +87,45 @@ TEST(IoCsv, TimeUnitOptionOverrides) {
   }
 }
 
+// NumPy's savetxt writes every column as "%.18e" by default: times in seconds
+// as 9.999999999999999547e-07, coordinates as 1.000000000000000000e+00.
+std::string savetxt(const std::vector<std::vector<double>>& rows, const char* sep, const char* header = "") {
+  std::string text = header;
+  char buf[64];
+  for (const auto& row : rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "%.18e", row[i]);
+      text += (i == 0 ? "" : sep) + std::string(buf);
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+TEST(IoCsv, NumpySavetxtDefaultFormatReads) {
+  const ScratchDir dir("test_io_csv");
+  const std::vector<std::vector<double>> txyp_s = {{0.001, 10, 20, 1}, {0.0015, 11, 21, 0}, {0.00225, 639, 479, 1}};
+  // Space separated t x y p in seconds (the rpg-text reader), with and without a header.
+  for (const char* header : {"", "t x y p\n"}) {
+    const ReadAll r = read_all(dir.save("s.txt", savetxt(txyp_s, " ", header)));
+    ASSERT_FALSE(r.error) << header << r.error->what();
+    EXPECT_TRUE(same(r.events, kExpected)) << header;
+  }
+  // Comma separated, t,x,y,p with a header, and x,y,p,t without one: t in µs
+  // as integral values ("1.000000000000000000e+03") stays µs.
+  const ReadAll h = read_all(dir.save("h.csv", savetxt(txyp_s, ",", "t,x,y,p\n")));
+  ASSERT_FALSE(h.error) << h.error->what();
+  EXPECT_TRUE(same(h.events, kExpected));
+  const ReadAll us = read_all(dir.save("us.csv", savetxt({{10, 20, 1, 1000}, {11, 21, 0, 1500}, {639, 479, 1, 2250}}, ",")));
+  ASSERT_FALSE(us.error) << us.error->what();
+  EXPECT_TRUE(same(us.events, kExpected));
+  // A fractional coordinate is not a pixel: refused, naming its line.
+  const ReadAll frac = read_all(dir.save("frac.txt", savetxt({{0.001, 10, 20, 1}, {0.0015, 11.5, 21, 0}}, " ")));
+  ASSERT_TRUE(frac.error);
+  EXPECT_EQ(frac.events.size(), 1u);
+  EXPECT_NE(std::string(frac.error->what()).find("line 2"), std::string::npos) << frac.error->what();
+}
+
 TEST(IoCsv, ATimeGoingBackwardsNamesItsLinesByteOffset) {
   const ScratchDir dir("test_io_csv");
   const std::string text = "x,y,p,t\n1,2,1,100\n3,4,0,200\n5,6,1,150\n";

@@ -233,8 +233,7 @@ RunResult Engine::run() {
     refused.message = rt_error;
     refused.stats = pipeline_.stats();
     refused.realtime = "refused";
-    spdlog::error("engine: {}", rt_error);
-    return refused;
+    return refused;  // the caller reports refused.message (the CLI once, exit 5)
   }
   std::string applied;
   if (!applied_cpus.empty()) applied += "cpus" + applied_cpus;

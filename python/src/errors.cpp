@@ -1,5 +1,6 @@
 #include "errors.h"
 
+#include <cerrno>
 #include <filesystem>
 #include <stdexcept>
 
@@ -24,8 +25,12 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
   std::error_code ec;
   const bool missing = !e.path().empty() && e.event_index() < 0 && e.byte_offset() < 0 &&
                        !std::filesystem::exists(e.path(), ec);
-  if (missing) {  // the message only: an errno or filename set would make str() Python's, not the CLI's
-    PyErr_SetString(PyExc_FileNotFoundError, e.what());
+  if (missing) {
+    // errno for `e.errno == errno.ENOENT`; no filename or strerror, which
+    // would make str() Python's "[Errno 2] ...", not the CLI's message.
+    py::object error = py::reinterpret_borrow<py::object>(PyExc_FileNotFoundError)(e.what());
+    error.attr("errno") = ENOENT;
+    PyErr_SetObject(PyExc_FileNotFoundError, error.ptr());
     throw py::error_already_set();
   }
   py::object error = py::reinterpret_borrow<py::object>(g_input_error)(e.what());

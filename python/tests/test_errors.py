@@ -1,4 +1,6 @@
 """Errors: Python exceptions carrying the command line's messages."""
+import errno
+
 import numpy as np
 import pytest
 
@@ -57,7 +59,7 @@ def test_missing_file_is_filenotfounderror(tmp_path):
         with pytest.raises(FileNotFoundError) as e:
             call(missing)
         assert str(e.value) == expected
-        assert isinstance(e.value, OSError)
+        assert isinstance(e.value, OSError) and e.value.errno == errno.ENOENT
 
 
 def test_unknown_format_is_inputerror_with_the_cli_message(tmp_path):

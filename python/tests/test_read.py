@@ -37,6 +37,17 @@ def test_read_hdf5_made_by_the_cli(tmp_path):
         assert r.format == "hdf5"
 
 
+def test_savetxt_of_read_events_reads_back(tmp_path):
+    # NumPy's default savetxt: every column as %.18e (seconds 1.000000000000000021e-03,
+    # pixels 1.000000000000000000e+01), with or without a header, space or comma.
+    events = evlife.read(data(RECORDINGS["rpg-text"]))[:5000]
+    columns = np.column_stack([events["t"] / 1e6, events["x"], events["y"], events["p"] > 0])
+    for name, kwargs in [("plain.txt", {}), ("header.csv", {"delimiter": ",", "header": "t,x,y,p", "comments": ""})]:
+        path = tmp_path / name
+        np.savetxt(path, columns, **kwargs)
+        assert_same_events(evlife.read(path), events, ["t", "x", "y", "p"])
+
+
 def test_from_and_to_read_what_the_cli_reads(tmp_path):
     """from_s/to_s: seconds after the first event, as --from/--to; an HDF5
     file starts there by a search on t, the others decode up to it."""

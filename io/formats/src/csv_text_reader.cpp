@@ -10,8 +10,10 @@
 // from the first lines (the polarity column holds only -1/0/1, the time
 // column never decreases, x and y are integers) and must be unambiguous.
 // Time unit: ReaderOptions::time_unit (--time-unit), else the header's, else
-// seconds when the time column has a decimal point, else µs. Times are parsed
-// as decimals straight to integer µs (rounded to nearest), no floating point.
+// seconds when the time column is written as a fraction (0.5, 1.5e-06), else
+// µs (12, 1.2e+01). Numbers may have an exponent (NumPy's savetxt); times are
+// parsed as decimals straight to integer µs (rounded to nearest), no floating
+// point; x, y and p must be integral (12, 12.0, 1.2e+01).
 // Polarity 1 = ON, 0 or -1 = OFF. '#' and '%' lines are comments.
 #include <algorithm>
 #include <array>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "batch_line_offsets.h"
+#include "decimal_number.h"
 #include "line_reader.h"
 #include "reader_registry.h"
 
@@ -31,7 +34,7 @@ constexpr std::size_t kSampleLines = 1000;     // lines looked at to tell the la
 constexpr const char* kLayouts =
     "accepted layouts: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; separated by commas, "
     "tabs or spaces; an optional header line naming the columns (x, y, t|ts|time|timestamp, "
-    "p|pol|polarity; other columns ignored); t in seconds with a decimal point or integer µs "
+    "p|pol|polarity; other columns ignored); t in seconds written as a fraction or integer µs "
     "(or say it with --time-unit s|ms|us|ns)";
 
 enum Role { kX = 0, kY = 1, kT = 2, kP = 3 };
@@ -71,62 +74,12 @@ std::size_t split(const char* p, const char* end, char sep, Field* out, std::siz
   return n;
 }
 
-/// A decimal number: sign, digits, optional fraction. `frac` = had a '.'.
-struct Number {
-  bool negative = false;
-  std::uint64_t int_part = 0;
-  std::uint64_t frac = 0;  // first up to 9 fraction digits
-  int frac_digits = 0;     // how many of them
-  bool round_up = false;   // 10th fraction digit >= 5
-  bool has_point = false;
-};
+bool parse_number(Field f, DecimalNumber& n) noexcept { return parse_decimal(f.begin, f.end, n); }
 
-bool parse_number(Field f, Number& n) noexcept {
-  const char* p = f.begin;
-  n = Number{};
-  if (p < f.end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
-  const char* digits = p;
-  while (p < f.end && *p >= '0' && *p <= '9') {
-    if (n.int_part > (UINT64_MAX - 9) / 10) return false;  // 19 digits hold epoch ns (ROS exports)
-    n.int_part = n.int_part * 10 + static_cast<std::uint64_t>(*p++ - '0');
-  }
-  bool any = p != digits;
-  if (p < f.end && *p == '.') {
-    n.has_point = true;
-    ++p;
-    while (p < f.end && *p >= '0' && *p <= '9') {
-      if (n.frac_digits < 9) {
-        n.frac = n.frac * 10 + static_cast<std::uint64_t>(*p - '0');
-        ++n.frac_digits;
-      } else if (n.frac_digits == 9) {
-        n.round_up = *p >= '5';
-        ++n.frac_digits;
-      }
-      any = true;
-      ++p;
-    }
-  }
-  return any && p == f.end;
-}
-
-bool as_uint16(const Number& n, std::uint16_t& v) noexcept {
-  if (n.negative || n.has_point || n.int_part > 65535) return false;
-  v = static_cast<std::uint16_t>(n.int_part);
-  return true;
-}
-
-/// µs per unit, as a numerator/denominator in ns: unit_ns = ns per unit.
-bool to_us(const Number& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
-  // value_ns = int_part * unit_ns + frac * unit_ns / 10^digits (digits <= 9).
-  const int digits = std::min(n.frac_digits, 9);
-  if (n.int_part > static_cast<std::uint64_t>(INT64_MAX / 2 / unit_ns)) return false;
-  std::int64_t ns = static_cast<std::int64_t>(n.int_part) * unit_ns;
-  std::int64_t pow10 = 1;
-  for (int i = 0; i < digits; ++i) pow10 *= 10;
-  // frac < 10^9 and unit_ns <= 10^9: the product fits in int64.
-  ns += (static_cast<std::int64_t>(n.frac) * unit_ns + (n.round_up ? unit_ns / 2 : 0)) / pow10;
-  const std::int64_t us = (ns + 500) / 1000;
-  t_us = n.negative ? -us : us;
+bool as_uint16(const DecimalNumber& n, std::uint16_t& v) noexcept {
+  std::uint64_t value = 0;
+  if (!as_uint(n, 65535, value)) return false;
+  v = static_cast<std::uint16_t>(value);
   return true;
 }
 
@@ -191,7 +144,7 @@ struct Detection {
 
 Detection detect(const char* p, const char* end) {
   Detection d;
-  std::vector<std::array<Number, 4>> rows;
+  std::vector<std::array<DecimalNumber, 4>> rows;
   bool first = true;
   while (p < end && rows.size() < kSampleLines) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
@@ -204,7 +157,7 @@ Detection detect(const char* p, const char* end) {
       first = false;
       d.sep = separator_of(line, nl);
       const std::size_t n = split(line, nl, d.sep, f.data(), f.size());
-      Number probe;
+      DecimalNumber probe;
       bool any_letter = false;
       for (std::size_t i = 0; i < std::min(n, f.size()); ++i)
         any_letter = any_letter || !parse_number(f[i], probe);
@@ -233,7 +186,7 @@ Detection detect(const char* p, const char* end) {
       d.why = "a line has " + std::to_string(n) + " fields, not 4";
       return d;
     }
-    std::array<Number, 4> row;
+    std::array<DecimalNumber, 4> row;
     bool numbers = true;
     for (int i = 0; i < 4 && numbers; ++i)
       numbers = parse_number(f[static_cast<std::size_t>(i)], row[static_cast<std::size_t>(i)]);
@@ -253,10 +206,10 @@ Detection detect(const char* p, const char* end) {
     pol[c] = frac[c] = false;
     nondec[c] = coord[c] = pol[c] = true;
     for (std::size_t r = 0; r < rows.size(); ++r) {
-      const Number& v = rows[r][static_cast<std::size_t>(c)];
-      frac[c] = frac[c] || v.has_point;
-      pol[c] = pol[c] && !v.has_point && v.int_part <= 1;
-      coord[c] = coord[c] && !v.negative && !v.has_point && v.int_part <= 65535;
+      const DecimalNumber& v = rows[r][static_cast<std::size_t>(c)];
+      frac[c] = frac[c] || written_as_fraction(v);
+      pol[c] = pol[c] && v.integral && v.int_part <= 1;
+      coord[c] = coord[c] && !v.negative && v.integral && v.int_part <= 65535;
       if (r > 0) {
         std::int64_t a = 0, b = 0;
         to_us(rows[r - 1][static_cast<std::size_t>(c)], 1'000'000'000, a);
@@ -356,7 +309,7 @@ class CsvTextReader final : public EventReader {
 
  private:
   bool time_has_point(const Detection& d) const {
-    // Any time value with a decimal point among the sampled lines.
+    // Any time value written as a fraction among the sampled lines.
     const std::string_view head = lines_.buffered();
     const char* p = head.data();
     const char* end = p + head.size();
@@ -372,9 +325,8 @@ class CsvTextReader final : public EventReader {
           std::array<Field, 64> f{};
           const std::size_t n = split(p, nl, d.sep, f.data(), f.size());
           const auto t = static_cast<std::size_t>(d.layout[kT]);
-          if (t < std::min(n, f.size()) &&
-              std::memchr(f[t].begin, '.', static_cast<std::size_t>(f[t].end - f[t].begin)) != nullptr)
-            return true;
+          DecimalNumber time;
+          if (t < std::min(n, f.size()) && parse_number(f[t], time) && written_as_fraction(time)) return true;
           ++lines;
         }
       }
@@ -389,7 +341,7 @@ class CsvTextReader final : public EventReader {
     std::array<Field, 64> f{};
     const std::size_t n = split(p, end, sep_, f.data(), f.size());
     if (n != static_cast<std::size_t>(columns_)) return Parsed::bad;
-    Number x, y, t, pol;
+    DecimalNumber x, y, t, pol;
     if (!parse_number(f[static_cast<std::size_t>(layout_[kX])], x) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kY])], y) ||
         !parse_number(f[static_cast<std::size_t>(layout_[kT])], t) ||
@@ -398,7 +350,7 @@ class CsvTextReader final : public EventReader {
     e = Event{};  // a whole event (EventReader::read)
     if (!as_uint16(x, e.x) || !as_uint16(y, e.y)) return Parsed::bad;
     if (!to_us(t, unit_ns_, e.t_us)) return Parsed::time_too_large;
-    if (pol.has_point || pol.int_part > 1) return Parsed::bad;
+    if (!pol.integral || pol.int_part > 1) return Parsed::bad;
     e.p = (pol.int_part == 1 && !pol.negative) ? std::int8_t{1} : std::int8_t{-1};
     return Parsed::ok;
   }

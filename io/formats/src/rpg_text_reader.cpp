@@ -4,12 +4,13 @@
 // exactly two integers `width height` (as written by rpg_e2vid tools) states
 // the sensor size. Timestamps are parsed as decimals straight to integer µs
 // (rounded half away from zero at the 7th decimal): no floating point, so no
-// drift over long recordings.
+// drift over long recordings. Numbers with exponents (NumPy's savetxt) read too.
 #include <algorithm>
 #include <cstring>
 #include <vector>
 
 #include "batch_line_offsets.h"
+#include "decimal_number.h"
 #include "line_reader.h"
 #include "reader_registry.h"
 
@@ -118,26 +119,53 @@ class RpgTextReader final : public EventReader {
   LineKind parse_line(const char* p, const char* end, Event& e) const noexcept {
     skip_spaces(p, end);
     if (p == end || *p == '#') return LineKind::skip;
+    if (parse_plain_line(p, end, e)) return LineKind::event;
+    return parse_exponent_line(p, end, e) ? LineKind::event : LineKind::bad;
+  }
+
+  // `t x y p` as the format writes it: t a plain decimal, x y p integers.
+  static bool parse_plain_line(const char* p, const char* end, Event& e) noexcept {
     std::int64_t t_us = 0;
     std::uint64_t x = 0, y = 0, pol = 0;
-    if (!parse_seconds(p, end, t_us)) return LineKind::bad;
-    if (p == end || !is_space(*p)) return LineKind::bad;
+    if (!parse_seconds(p, end, t_us)) return false;
+    if (p == end || !is_space(*p)) return false;
     skip_spaces(p, end);
-    if (!parse_uint(p, end, 65535, x) || p == end || !is_space(*p)) return LineKind::bad;
+    if (!parse_uint(p, end, 65535, x) || p == end || !is_space(*p)) return false;
     skip_spaces(p, end);
-    if (!parse_uint(p, end, 65535, y) || p == end || !is_space(*p)) return LineKind::bad;
+    if (!parse_uint(p, end, 65535, y) || p == end || !is_space(*p)) return false;
     skip_spaces(p, end);
     bool minus = false;
     if (p < end && *p == '-') minus = (++p, true);  // tolerate -1 for OFF
-    if (!parse_uint(p, end, 1, pol)) return LineKind::bad;
+    if (!parse_uint(p, end, 1, pol)) return false;
     skip_spaces(p, end);
-    if (p != end) return LineKind::bad;
-    e.t_us = t_us;
-    e.x = static_cast<std::uint16_t>(x);
-    e.y = static_cast<std::uint16_t>(y);
-    if (minus && pol != 1) return LineKind::bad;
-    e.p = (pol == 1 && !minus) ? std::int8_t{1} : std::int8_t{-1};
-    return LineKind::event;
+    if (p != end) return false;
+    if (minus && pol != 1) return false;
+    e = Event{t_us, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+              (pol == 1 && !minus) ? std::int8_t{1} : std::int8_t{-1}};
+    return true;
+  }
+
+  // The same four numbers with exponents or integral fractions, as NumPy's
+  // savetxt writes them ("1.000000000000000000e+00"); only reached when the
+  // plain parse refused the line.
+  static bool parse_exponent_line(const char* p, const char* end, Event& e) noexcept {
+    DecimalNumber field[4];
+    for (DecimalNumber& number : field) {
+      skip_spaces(p, end);
+      const char* begin = p;
+      while (p < end && !is_space(*p)) ++p;
+      if (!parse_decimal(begin, p, number)) return false;
+    }
+    skip_spaces(p, end);
+    std::int64_t t_us = 0;
+    std::uint64_t x = 0, y = 0;
+    const DecimalNumber& pol = field[3];
+    if (p != end || !to_us(field[0], 1'000'000'000, t_us) || !as_uint(field[1], 65535, x) ||
+        !as_uint(field[2], 65535, y) || !pol.integral || pol.int_part > 1 || (pol.negative && pol.int_part != 1))
+      return false;
+    e = Event{t_us, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+              (pol.int_part == 1 && !pol.negative) ? std::int8_t{1} : std::int8_t{-1}};
+    return true;
   }
 
   // The next line, not consumed yet; false at end of file or when it is

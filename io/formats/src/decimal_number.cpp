@@ -1,0 +1,89 @@
+#include "decimal_number.h"
+
+#include <algorithm>
+
+namespace evlife::io::detail {
+namespace {
+
+bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+
+constexpr int kMaxExponent = 40;  // beyond it no coordinate or time is meant
+
+}  // namespace
+
+bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
+  n = DecimalNumber{};
+  if (p < end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
+  const char* mantissa = p;
+  int int_digits = 0;
+  int all_digits = 0;
+  while (p < end && is_digit(*p)) ++p, ++int_digits;
+  all_digits = int_digits;
+  if (p < end && *p == '.') {
+    n.has_point = true;
+    ++p;
+    while (p < end && is_digit(*p)) ++p, ++all_digits;
+  }
+  if (all_digits == 0) return false;
+  const char* mantissa_end = p;
+  int exponent = 0;
+  if (p < end && (*p == 'e' || *p == 'E')) {
+    n.has_exponent = true;
+    ++p;
+    bool exponent_negative = false;
+    if (p < end && (*p == '-' || *p == '+')) exponent_negative = *p++ == '-';
+    if (p == end || !is_digit(*p)) return false;
+    while (p < end && is_digit(*p)) {
+      exponent = exponent * 10 + (*p++ - '0');
+      if (exponent > kMaxExponent) return false;
+    }
+    if (exponent_negative) exponent = -exponent;
+  }
+  if (p != end) return false;
+
+  // Digit i (0-based, the point skipped) lies before the point when i < point;
+  // else it is fraction digit i - point (0 = tenths).
+  const int point = int_digits + exponent;
+  int i = 0;
+  for (const char* q = mantissa; q < mantissa_end; ++q) {
+    if (*q == '.') continue;
+    const auto d = static_cast<std::uint64_t>(*q - '0');
+    if (i < point) {
+      if (n.int_part > (UINT64_MAX - 9) / 10) return false;
+      n.int_part = n.int_part * 10 + d;
+    } else {
+      const int position = i - point;
+      if (d != 0) n.integral = false;
+      if (position < 9) {
+        std::uint64_t scaled = d;
+        for (int k = position; k < 8; ++k) scaled *= 10;
+        n.frac += scaled;  // as if 9 digits were written
+      } else if (position == 9) {
+        n.round_up = d >= 5;
+      }
+    }
+    ++i;
+  }
+  for (; i < point; ++i) {  // an exponent beyond the digits: trailing zeros
+    if (n.int_part > UINT64_MAX / 10) return false;
+    n.int_part *= 10;
+  }
+  if (!n.integral || all_digits > int_digits) n.frac_digits = 9;
+  return true;
+}
+
+bool to_us(const DecimalNumber& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
+  // value_ns = int_part * unit_ns + frac * unit_ns / 10^digits (digits <= 9).
+  const int digits = std::min(n.frac_digits, 9);
+  if (n.int_part > static_cast<std::uint64_t>(INT64_MAX / 2 / unit_ns)) return false;
+  std::int64_t ns = static_cast<std::int64_t>(n.int_part) * unit_ns;
+  std::int64_t pow10 = 1;
+  for (int i = 0; i < digits; ++i) pow10 *= 10;
+  // frac < 10^9 and unit_ns <= 10^9: the product fits in int64.
+  ns += (static_cast<std::int64_t>(n.frac) * unit_ns + (n.round_up ? unit_ns / 2 : 0)) / pow10;
+  const std::int64_t us = (ns + 500) / 1000;
+  t_us = n.negative ? -us : us;
+  return true;
+}
+
+}  // namespace evlife::io::detail
