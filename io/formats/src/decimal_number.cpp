@@ -9,9 +9,8 @@ bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
 
 constexpr int kMaxExponent = 40;  // beyond it no coordinate or time is meant
 
-}  // namespace
-
-bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
+// With an exponent: the digits placed after the exponent is known.
+bool parse_with_exponent(const char* p, const char* end, DecimalNumber& n) noexcept {
   n = DecimalNumber{};
   if (p < end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
   const char* mantissa = p;
@@ -70,6 +69,39 @@ bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
   }
   if (!n.integral || all_digits > int_digits) n.frac_digits = 9;
   return true;
+}
+
+}  // namespace
+
+bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
+  // One pass for what text files mostly hold (no exponent); else the general parse.
+  const char* begin = p;
+  n = DecimalNumber{};
+  if (p < end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
+  const char* digits = p;
+  while (p < end && is_digit(*p)) {
+    if (n.int_part > (UINT64_MAX - 9) / 10) return false;  // 19 digits hold epoch ns (ROS exports)
+    n.int_part = n.int_part * 10 + static_cast<std::uint64_t>(*p++ - '0');
+  }
+  bool any = p != digits;
+  if (p < end && *p == '.') {
+    n.has_point = true;
+    ++p;
+    while (p < end && is_digit(*p)) {
+      if (*p != '0') n.integral = false;
+      if (n.frac_digits < 9) {
+        n.frac = n.frac * 10 + static_cast<std::uint64_t>(*p - '0');
+        ++n.frac_digits;
+      } else if (n.frac_digits == 9) {
+        n.round_up = *p >= '5';
+        ++n.frac_digits;
+      }
+      any = true;
+      ++p;
+    }
+  }
+  if (any && p < end && (*p == 'e' || *p == 'E')) return parse_with_exponent(begin, end, n);
+  return any && p == end;
 }
 
 bool to_us(const DecimalNumber& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
