@@ -950,9 +950,9 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
   RenderRun inline_run, threaded_run;
   render_run(events, false, inline_run);
   render_run(events, true, threaded_run, t0 + 12'345);
-  // A frame every 10 ms of event time after the first event, while events follow.
+  // A frame every 10 ms of event time from the first event on, up to the last one.
   std::vector<std::int64_t> expect;
-  for (std::int64_t t = t0 + 10'000; t < t_last; t += 10'000) expect.push_back(t);
+  for (std::int64_t t = t0; t <= t_last; t += 10'000) expect.push_back(t);
   ASSERT_FALSE(expect.empty());
   EXPECT_EQ(inline_run.frames.times, expect);
   // Threaded: the same frames (policy block: the render branch misses
@@ -961,7 +961,7 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
   with_request.insert(std::upper_bound(with_request.begin(), with_request.end(), t0 + 12'345), t0 + 12'345);
   EXPECT_EQ(threaded_run.frames.times, with_request);
   std::vector<std::uint64_t> hashes_without_request = threaded_run.frames.hashes;
-  hashes_without_request.erase(hashes_without_request.begin() + 1);  // the request came second
+  hashes_without_request.erase(hashes_without_request.begin() + 2);  // the request came third
   EXPECT_EQ(hashes_without_request, inline_run.frames.hashes);
   EXPECT_EQ(threaded_run.result.stats.render_offered, events.size());
   EXPECT_EQ(threaded_run.result.stats.render_dropped, 0u);
@@ -1036,9 +1036,22 @@ TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {
   const auto b = frames("b");
   ASSERT_GE(b.size(), 6u);
   EXPECT_EQ(std::vector<std::string>(b.begin(), b.begin() + 6),
-            (std::vector<std::string>{"frame_000000_t0.100000s.png", "frame_000001_t0.200000s.png",
-                                      "frame_000002_t0.250000s.png", "frame_000003_t0.300000s.png",
-                                      "frame_000004_t0.400000s.png", "frame_000005_t0.500000s.png"}));
+            (std::vector<std::string>{"frame_000000_t0.000000s.png", "frame_000001_t0.100000s.png",
+                                      "frame_000002_t0.200000s.png", "frame_000003_t0.250000s.png",
+                                      "frame_000004_t0.300000s.png", "frame_000005_t0.400000s.png"}));
+  // The event clock's frames are `evlife render --fps`'s, pixel for pixel
+  // (same instants, file names and captions), whatever the workers.
+  ASSERT_EQ(run_cli("run --source " + in + " --workers 2 -q --fps 7 --mode compare -o " + (dir / "r.bin").string() +
+                    " --frames " + (dir / "c").string()),
+            0);
+  ASSERT_EQ(run_cli("render " + (dir / "r.bin").string() + " -q --fps 7 --mode compare -o " + (dir / "d").string()), 0);
+  const auto c = frames("c");
+  EXPECT_EQ(c, frames("d"));
+  ASSERT_GE(c.size(), 8u);
+  for (const auto& name : c)
+    EXPECT_TRUE(evlife::test::read_text_file((dir / "c" / name).string()) ==
+                evlife::test::read_text_file((dir / "d" / name).string()))
+        << name;
   EXPECT_EQ(run_cli("run --source " + in + " -q --at 0.5"), 2) << "--at without a frame output";
   EXPECT_EQ(run_cli("run --source " + in + " -q --render-fps 0 --video " + (dir / "x.mp4").string()), 2);
   std::filesystem::remove_all(dir);

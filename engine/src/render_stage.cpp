@@ -5,6 +5,7 @@
 #include <exception>
 #include <stdexcept>
 
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/media.h"
 
@@ -20,9 +21,9 @@ RenderStage::RenderStage(RenderTap& tap, SensorSize sensor, const RenderOptions&
       drawing_(std::make_unique<Drawing>(
           Drawing{render::FrameComposer(render::parse_view_mode(options.mode), options.style, options.mode)})),
       sink_(sink),
-      period_us_(options.fps > 0 ? static_cast<std::int64_t>(1e6 / options.fps) : 0),
+      fps_(options.fps),
       at_us_(options.at_us) {
-  if (options.fps < 0 || (options.fps > 0 && period_us_ < 1))
+  if (!(options.fps >= 0) || options.fps > 1e6)
     throw std::invalid_argument("render fps: must be 0 (on request only) or 0 < fps <= 1e6");
 }
 
@@ -31,7 +32,9 @@ RenderStage::~RenderStage() = default;
 void RenderStage::emit(std::int64_t t_us) noexcept {
   if (!error_.empty()) return;
   try {
-    sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us)), t_us - first_t_us_);
+    // Caption and file name: time from the first event, as `evlife render`.
+    const std::int64_t rel_us = t_us - first_t_us_;
+    sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us, rel_us)), rel_us);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     error_ = e.what();
@@ -40,25 +43,29 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
   }
 }
 
+void RenderStage::advance_clock() noexcept {
+  next_frame_t_us_ = render::frame_instant_us(first_t_us_, ++next_frame_, fps_);
+}
+
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
   if (last_t_us_ == INT64_MIN) {  // the first event: the instants count from it
     first_t_us_ = t;
     for (auto& at : at_us_) at += t;
+    if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
-  if (period_us_ > 0 && next_frame_t_us_ == INT64_MIN) next_frame_t_us_ = t + period_us_;
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.
   for (;;) {
-    const bool clock_due = period_us_ > 0 && t > next_frame_t_us_;
+    const bool clock_due = fps_ > 0 && t > next_frame_t_us_;
     const bool at_due = next_at_ < at_us_.size() && t > at_us_[next_at_];
     if (!clock_due && !at_due) break;
     if (at_due && (!clock_due || at_us_[next_at_] <= next_frame_t_us_)) {
-      if (clock_due && at_us_[next_at_] == next_frame_t_us_) next_frame_t_us_ += period_us_;  // once
+      if (clock_due && at_us_[next_at_] == next_frame_t_us_) advance_clock();  // once
       emit(at_us_[next_at_++]);
     } else {
       emit(next_frame_t_us_);
-      next_frame_t_us_ += period_us_;
+      advance_clock();
     }
   }
   const std::int64_t req = requested_t_us_.load(std::memory_order_relaxed);
@@ -79,6 +86,12 @@ StepResult RenderStage::step() noexcept {
     if (!tap_.closed()) return StepResult::idle;
     b = tap_.try_take();  // an offer made before close() is visible now
     if (b == nullptr) {
+      // A clock frame at the last event's instant (no later event passed it)
+      // unless an asked-for instant draws it; then the request and the
+      // asked-for instants after the end.
+      const bool at_draws_it = next_at_ < at_us_.size() && at_us_[next_at_] == next_frame_t_us_;
+      if (fps_ > 0 && last_t_us_ != INT64_MIN && next_frame_t_us_ <= last_t_us_ && !at_draws_it)
+        emit(next_frame_t_us_);
       const std::int64_t req = requested_t_us_.exchange(kNoRequest);
       if (req != kNoRequest && req >= last_t_us_) emit(req);
       if (last_t_us_ != INT64_MIN)

@@ -9,6 +9,7 @@
 
 #include "evlife/io/event_reader.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 #include "evlife/render/render_cursor.h"
@@ -75,7 +76,7 @@ RecordingRenderResult render_recording(
   }
   auto frame_time = [&](std::size_t k) -> std::int64_t {
     if (!options.at_us.empty()) return options.at_us[k];
-    return options.from_us + std::llround(static_cast<double>(k) * 1e6 / options.fps);
+    return frame_instant_us(options.from_us, k, options.fps);
   };
 
   std::size_t& frames = result.frames;

@@ -1,7 +1,8 @@
 // The render thread's stage: takes the merged stream from the RenderTap,
 // keeps the active-event map (evlife::algo) up to date and draws a frame
-// every 1/fps of the EVENT clock (so a replay at any speed gives the same
-// frames), plus one frame at any requested timestamp. Frames go to a
+// every 1/fps of the EVENT clock from the first event on (so a replay at any
+// speed gives the same frames, those of `evlife render --fps`), plus one frame
+// at any requested timestamp. Frames go to a
 // render::FrameSink (render/frame_sink.h). No OpenCV in this header: the
 // drawing state is in the .cpp. Off the data path: a slow disk here slows only the render branch
 // (policy drop) or the output (policy block), never silently.
@@ -55,6 +56,7 @@ class RenderStage final : public AuxStage {
  private:
   void emit(std::int64_t t_us) noexcept;
   void feed(const AugmentedEvent& a) noexcept;
+  void advance_clock() noexcept;
 
   static constexpr std::int64_t kNoRequest = INT64_MIN;
   struct Drawing;  // the frame composer and its images (OpenCV)
@@ -64,8 +66,9 @@ class RenderStage final : public AuxStage {
   render::FixedWindowMap window_;
   std::unique_ptr<Drawing> drawing_;
   render::FrameSink& sink_;
-  std::int64_t period_us_;
-  std::int64_t next_frame_t_us_ = INT64_MIN;
+  double fps_;                                // 0: no clock frames
+  std::uint64_t next_frame_ = 0;              // index of the next clock frame
+  std::int64_t next_frame_t_us_ = INT64_MIN;  // its instant (render::frame_instant_us)
   std::vector<std::int64_t> at_us_;  // absolute once the first event is seen
   std::size_t next_at_ = 0;
   std::int64_t last_t_us_ = INT64_MIN;
