@@ -438,6 +438,10 @@ TEST_F(Aedat2Files, ATimestampRisingByMoreThanHalfTheClockIsAStepBackNotAWrap) {
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 1u);
   EXPECT_EQ(r.error->event_index(), 1);
+  // The message says what else it may be: a gap longer than half the clock.
+  EXPECT_NE(std::string(r.error->what()).find("32-bit clock wraps every 71.6 min, so a gap of more than 35.8 min"),
+            std::string::npos)
+      << r.error->what();
 }
 
 TEST_F(Aedat2Files, TruncatedAtEveryByteOfARecord) {

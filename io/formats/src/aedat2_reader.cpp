@@ -93,6 +93,7 @@ class Aedat2Reader final : public EventReader {
     return SensorSize{chip_->width, chip_->height};
   }
   std::string_view format_name() const override { return "aedat2"; }
+  std::string clock_wrap_note() const override { return decltype(clock_)::wrap_note(1); }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t skipped_record_count() const override { return skipped_.total(); }
   std::uint64_t trigger_count() const override { return skipped_.count(kExternal); }

@@ -40,6 +40,7 @@ std::size_t CheckedEventReader::read(std::span<Event> out) {
     } else {
       what = "timestamp goes backwards: " + std::to_string(e.t_us) + " us after " +
              std::to_string(last) + " us";
+      if (const std::string note = inner_->clock_wrap_note(); !note.empty()) what += " (" + note + ")";
     }
     pending_.emplace(inner_->path(), inner_->byte_offset_of_event(index), index, what);
     if (i == 0) throw *pending_;  // 0 would mean "end of stream"

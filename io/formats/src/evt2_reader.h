@@ -24,6 +24,7 @@ class Evt2Reader final : public EventReader {
   std::size_t read(std::span<Event> out) override;
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "evt2"; }
+  std::string clock_wrap_note() const override { return PropheseeTimeHigh::wrap_note(); }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t skipped_record_count() const override { return trigger_count_ + other_count_; }
   std::uint64_t bytes_consumed() const override {

@@ -24,6 +24,7 @@ class PropheseeDatReader final : public EventReader {
   std::size_t read(std::span<Event> out) override;
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "prophesee-dat"; }
+  std::string clock_wrap_note() const override { return decltype(clock_)::wrap_note(1); }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());

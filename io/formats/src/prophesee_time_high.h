@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "wrapping_counter.h"
 
@@ -15,6 +16,7 @@ class PropheseeTimeHigh {
   void update(std::uint64_t raw) noexcept { us_ = counter_.unwrap(raw) * 64; }
   /// The time of the last TIME_HIGH, µs (its 6 low bits zero).
   std::int64_t us() const noexcept { return us_; }
+  static std::string wrap_note() { return WrappingCounter<28>::wrap_note(64); }
 
  private:
   WrappingCounter<28> counter_;

@@ -11,8 +11,22 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
 namespace evlife::io {
+
+/// The note for EventReader::clock_wrap_note of a `bits`-bit clock counting
+/// `unit_us` µs: a step back may also be a gap of more than half its range.
+inline std::string clock_wrap_note(unsigned bits, std::int64_t unit_us) {
+  const double range_min = static_cast<double>(std::int64_t{1} << bits) * static_cast<double>(unit_us) / 60e6;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "the format's %u-bit clock wraps every %.1f min, so a gap of more than %.1f min between "
+                "two events reads as a step back too",
+                bits, range_min, range_min / 2);
+  return text;
+}
 
 template <unsigned Bits>
 class WrappingCounter {
@@ -27,6 +41,9 @@ class WrappingCounter {
     last_ = raw;
     return base_ + static_cast<std::int64_t>(raw);
   }
+
+  /// clock_wrap_note() of this counter counting `unit_us` µs.
+  static std::string wrap_note(std::int64_t unit_us) { return clock_wrap_note(Bits, unit_us); }
 
  private:
   static constexpr std::int64_t kRange = std::int64_t{1} << Bits;

@@ -30,6 +30,7 @@ class WrappingEventReader : public EventReader {
   }
   std::vector<ContainerStream> streams() const override { return inner_->streams(); }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
+  std::string clock_wrap_note() const override { return inner_->clock_wrap_note(); }
 
  protected:
   std::unique_ptr<EventReader> inner_;

@@ -91,6 +91,10 @@ class EventReader {
   /// Bytes of the file consumed so far (for progress display; approximate
   /// for compressed formats). 0 when unknown.
   virtual std::uint64_t bytes_consumed() const { return 0; }
+  /// For a format whose clock wraps: what else a step back in time may be (a
+  /// gap longer than half the clock's range), for the error's message; empty
+  /// for the others.
+  virtual std::string clock_wrap_note() const { return {}; }
 
   /// Byte offset in the file of event `event_index` (counted from 0 over the
   /// whole stream), valid for the events returned by the most recent read();
