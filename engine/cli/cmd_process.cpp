@@ -228,7 +228,7 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
 int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
   const unsigned long long written = result.events_written;
   if (result.output_fault) {
-    std::fprintf(stderr, "evlife process: output error: %s (%llu events written before it)\n",
+    std::fprintf(stderr, "evlife process: output error: %s (%llu events processed before it)\n",
                  result.output_fault->c_str(), written);
     return kExitOutput;
   }

@@ -1,12 +1,14 @@
 // `evlife <command> [args]`: dispatches to the registered subcommands.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string_view>
 
 #include "command.h"
 #include "evlife/config/config.h"
+#include "evlife/io/hdf5_writer.h"
 
 namespace evlife::cli {
 std::vector<Command>& command_registry() {
@@ -74,12 +76,17 @@ int main(int argc, char** argv) {
   const std::string_view name = argv[1];
   for (const auto& c : evlife::cli::command_registry()) {
     if (c.name != name) continue;
+    int code = 1;  // kExitFailure
     try {
-      return c.run(argc - 1, argv + 1);
+      code = c.run(argc - 1, argv + 1);
     } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
       std::fprintf(stderr, "evlife %s: unexpected error: %s\n", argv[1], e.what());
-      return 1;  // kExitFailure
     }
+    if (evlife::io::hdf5_exit_would_crash()) {  // libhdf5 1.10's exit handler would crash
+      std::fflush(nullptr);
+      std::_Exit(code);
+    }
+    return code;
   }
   std::vector<std::string_view> names;
   for (const auto& c : evlife::cli::command_registry()) names.push_back(c.name);

@@ -21,6 +21,8 @@ Errors:     InputError (a ValueError; bad input, with file, event index and
 Units: t in microseconds (int64), lifetime and prediction_error in
 microseconds, vx and vy in pixels per second; lifetime 0 = noise.
 """
+import atexit as _atexit
+
 import numpy as _np
 
 from ._evlife import (  # noqa: F401  (the public C++ API)
@@ -91,6 +93,25 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
     return _evlife._frame(_as_augmented(augmented), int(t_us), sensor, mode, color, scale,
                           bool(caption), bool(legend), bool(thinning),
                           (float(lifetime_range_ms[0]), float(lifetime_range_ms[1])))
+
+
+def _leave_before_hdf5_crashes():
+    # An HDF5 output that failed to close (its OSError was raised) leaves
+    # libhdf5 1.10 unable to run its exit handler without a crash (HDF5 issue
+    # #2257): flush, say so and leave before it runs, with status 1.
+    if not _evlife._hdf5_exit_would_crash():
+        return
+    import logging
+    import os
+    import sys
+    logging.shutdown()
+    sys.stdout.flush()
+    print("evlife: an HDF5 file failed to close (disk full?); leaving without libhdf5's exit "
+          "handler, which would crash", file=sys.stderr, flush=True)
+    os._exit(1)
+
+
+_atexit.register(_leave_before_hdf5_crashes)
 
 
 def __getattr__(name):  # evlife.batch imports Dask: only when asked for

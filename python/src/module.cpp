@@ -6,6 +6,7 @@
 #include "dtypes.h"
 #include "errors.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/hdf5_writer.h"
 #include "options.h"
 
 PYBIND11_MODULE(_evlife, m) {
@@ -29,4 +30,6 @@ PYBIND11_MODULE(_evlife, m) {
         return out;
       },
       "Every input format, [(name, description)], in sniffing order.");
+  m.def("_hdf5_exit_would_crash", &evlife::io::hdf5_exit_would_crash,
+        "True once an HDF5 file failed to close: libhdf5 1.10's exit handler would crash.");
 }

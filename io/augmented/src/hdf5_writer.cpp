@@ -3,8 +3,10 @@
 #include "evlife/io/hdf5_writer.h"
 
 #include <hdf5.h>
+#include <sys/statvfs.h>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -16,6 +18,22 @@ namespace {
 
 constexpr std::size_t kChunkEvents = 1 << 16;
 constexpr unsigned kDeflateLevel = 1;  // fast; shuffle does most of the work
+// Room kept free on the disk for H5Fclose, which writes the file's metadata.
+// libhdf5 1.10 (Debian 12) cannot survive a failed close: the file's id
+// dangles and its exit handler crashes (HDF5 issue #2257, fixed in 1.14), so
+// a chunk that would leave less than this is not written and the file closes
+// whole with the events before it.
+constexpr std::uint64_t kCloseReserveBytes = 8u << 20;
+
+std::atomic<bool> g_close_failed{false};
+
+// Free bytes for an unprivileged writer on the file system holding `path`;
+// UINT64_MAX when unknown.
+std::uint64_t free_bytes(const std::string& path) noexcept {
+  struct statvfs fs {};
+  if (statvfs(path.c_str(), &fs) != 0) return UINT64_MAX;
+  return static_cast<std::uint64_t>(fs.f_bavail) * static_cast<std::uint64_t>(fs.f_frsize);
+}
 
 struct ColumnSpec {
   const char* name;
@@ -123,9 +141,10 @@ class Hdf5ColumnFile {
     bool ok = true;
     for (std::size_t c = 0; c < column_count_; ++c) ok = H5Dclose(datasets_[c]) >= 0 && ok;
     datasets_.fill(-1);
-    ok = H5Fclose(file_) >= 0 && ok;
+    const bool closed = H5Fclose(file_) >= 0;
+    if (!closed) g_close_failed.store(true);
     file_ = -1;
-    if (!ok) throw WriteError(path_, "closing the HDF5 file failed (disk full?)");
+    if (!ok || !closed) throw WriteError(path_, "closing the HDF5 file failed (disk full?)");
   }
 
  private:
@@ -175,6 +194,14 @@ class Hdf5ColumnFile {
   void flush() {
     const std::size_t count = columns_.x.size();
     if (count == 0 || file_ < 0) return;
+    const std::uint64_t event_bytes = column_count_ == 8 ? 29 : 13;  // uncompressed: an upper bound
+    if (const std::uint64_t free = free_bytes(path_); free < count * event_bytes + kCloseReserveBytes) {
+      failed_ = true;  // nothing of this chunk written: the file closes whole
+      throw WriteError(path_, "the disk is nearly full (" + std::to_string(free >> 10) + " KiB free): events " +
+                                  std::to_string(written_) + ".." + std::to_string(written_ + count) +
+                                  " not written, so that the HDF5 file can still be closed with the " +
+                                  std::to_string(written_) + " before them");
+    }
     const Hdf5ErrorSilencer silence;
     const hsize_t start[1] = {written_};
     const hsize_t size[1] = {count};
@@ -214,7 +241,7 @@ class Hdf5ColumnFile {
       if (dataset >= 0) H5Dclose(dataset);
       dataset = -1;
     }
-    H5Fclose(file_);
+    if (H5Fclose(file_) < 0) g_close_failed.store(true);
     file_ = -1;
   }
 
@@ -267,5 +294,7 @@ std::unique_ptr<EventWriter> open_hdf5_event_writer(const std::string& path,
                                                     std::optional<SensorSize> sensor) {
   return std::make_unique<Hdf5EventWriter>(path, sensor);
 }
+
+bool hdf5_exit_would_crash() noexcept { return g_close_failed.load(); }
 
 }  // namespace evlife::io

@@ -27,4 +27,10 @@ std::unique_ptr<AugmentedEventWriter> open_hdf5_augmented_writer(const std::stri
 std::unique_ptr<EventWriter> open_hdf5_event_writer(const std::string& path,
                                                     std::optional<SensorSize> sensor);
 
+/// True once an HDF5 file failed to close (the disk filled up although the
+/// writers keep room for closing: another process took it). libhdf5 1.10
+/// then crashes in its exit handler (HDF5 issue #2257), so the process must
+/// leave with std::_Exit after flushing its own output.
+bool hdf5_exit_would_crash() noexcept;
+
 }  // namespace evlife::io
