@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "decimal_number.h"
 #include "evlife/io/event_reader.h"
 #include "evt21_reader.h"
 #include "scratch_dir.h"
@@ -846,3 +847,48 @@ TEST(IoFormatsCorruption, RandomBitFlipsNeverCrash) {
 }
 
 }  // namespace
+
+// ---- Decimal numbers of text files (decimal_number.h) ----
+
+namespace {
+struct Parsed {
+  bool ok;
+  std::int64_t t_us;  // in seconds -> µs
+  bool integral;
+  bool fraction;      // written_as_fraction
+};
+Parsed parse_seconds(const std::string& text) {
+  evlife::io::detail::DecimalNumber n;
+  Parsed p{evlife::io::detail::parse_decimal(text.data(), text.data() + text.size(), n), 0, false, false};
+  if (p.ok) {
+    p.ok = evlife::io::detail::to_us(n, 1'000'000'000, p.t_us);
+    p.integral = n.integral;
+    p.fraction = evlife::io::detail::written_as_fraction(n);
+  }
+  return p;
+}
+}  // namespace
+
+TEST(IoFormatsDecimal, ExponentsReadExactlyAsTheirPlainSpelling) {
+  // Each pair: the same value spelled plainly and with an exponent.
+  const std::vector<std::pair<std::string, std::string>> same = {
+      {"0.000001", "9.999999999999999547e-07"}, {"0.0015", "1.500000000000000031e-03"},
+      {"12", "1.200000000000000000e+01"},       {"1234.5", "1.2345e3"},
+      {"-0.25", "-2.5E-1"},                      {"0", "0.000000000000000000e+00"},
+      {"1600000000.0012345", "1.6000000000012345e+09"}};
+  for (const auto& [plain, exponent] : same) {
+    const Parsed a = parse_seconds(plain), b = parse_seconds(exponent);
+    ASSERT_TRUE(a.ok && b.ok) << plain << " / " << exponent;
+    EXPECT_EQ(a.t_us, b.t_us) << plain << " / " << exponent;
+    EXPECT_EQ(a.integral, b.integral) << plain << " / " << exponent;
+  }
+  EXPECT_EQ(parse_seconds("9.999999999999999547e-07").t_us, 1);
+  EXPECT_EQ(parse_seconds("2.2499999e-06").t_us, 2);  // rounded to nearest at the µs
+  EXPECT_EQ(parse_seconds("2.5000001e-06").t_us, 3);
+  // Integral values with an exponent count as integers (µs columns as savetxt writes them).
+  EXPECT_FALSE(parse_seconds("1.500000000000000000e+03").fraction);
+  EXPECT_TRUE(parse_seconds("1.5e-03").fraction);
+  EXPECT_TRUE(parse_seconds("1500.0").fraction);  // a point without exponent: a fraction, as before
+  for (const char* bad : {"", "e5", "1e", "1e+", "1.5e400", "1e40x", "--1", ".", "1.2.3", "1e-41", "nan"})
+    EXPECT_FALSE(parse_seconds(bad).ok) << bad;
+}
