@@ -1057,6 +1057,24 @@ TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(RunCommand, ProgressLinesSayHowFarThroughTheFile) {
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
+  const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 1ms", kCliLog);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Once events came in, every progress line starts with the file's share read so far.
+  std::size_t lines = 0;
+  for (std::size_t at = r.output.find("engine: in "); at != std::string::npos; at = r.output.find("engine: in ", at + 1))
+    EXPECT_EQ(r.output.compare(at, 13, "engine: in 0 "), 0) << "no share of the file: " << r.output.substr(at, 80);
+  for (std::size_t at = r.output.find(" % of the input, ETA "); at != std::string::npos;
+       at = r.output.find(" % of the input, ETA ", at + 1)) {
+    const double percent = std::stod(r.output.substr(r.output.rfind(' ', at - 1) + 1));
+    EXPECT_GT(percent, 0.0);
+    EXPECT_LE(percent, 100.0);
+    ++lines;
+  }
+  EXPECT_GT(lines, 0u) << r.output;
+}
+
 TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(run_cli("run --source file:/nonexistent/x.mat -q"), 3);
   EXPECT_EQ(run_cli("run -q"), 2);

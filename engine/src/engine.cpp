@@ -254,7 +254,8 @@ RunResult Engine::run() {
   // Monitor: stop requests, progress lines; never on the data path.
   bool stop_forwarded = false;
   const auto period_ns = static_cast<std::int64_t>(options_.stats_period_s * 1e9);
-  std::int64_t next_report_ns = monotonic_ns() + period_ns;
+  const std::int64_t started_ns = monotonic_ns();
+  std::int64_t next_report_ns = started_ns + period_ns;
   while (!merger_done.load(std::memory_order_acquire) ||
          aux_running.load(std::memory_order_acquire) > 0) {
     monitor_wake.wait(10'000);
@@ -269,7 +270,12 @@ RunResult Engine::run() {
       stop_forwarded = true;
     }
     if (period_ns > 0 && monotonic_ns() >= next_report_ns) {
-      spdlog::info("engine: {}", pipeline_.stats().progress_line());
+      std::string done;  // how far through a file, and when it will end at this pace
+      if (const double f = source.fraction_read(); f > 0.0) {
+        const double elapsed_s = static_cast<double>(monotonic_ns() - started_ns) * 1e-9;
+        done = fmt::format("{:.1f} % of the input, ETA {:.0f} s | ", 100.0 * f, elapsed_s * (1.0 - f) / f);
+      }
+      spdlog::info("engine: {}{}", done, pipeline_.stats().progress_line());
       next_report_ns += period_ns;
     }
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <filesystem>
 #include <stdexcept>
 #include <thread>
 
@@ -61,7 +62,11 @@ ReplaySource::ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize s
                            double speed, SourceKind kind)
     : reader_(read_ahead_if_paced(std::move(reader), speed)), buffer_(kReadAheadEvents), sensor_(sensor), kind_(kind),
       pacer_(speed),
-      description_("file:" + reader_->path() + " (" + std::string(reader_->format_name()) + ")") {}
+      description_("file:" + reader_->path() + " (" + std::string(reader_->format_name()) + ")") {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(reader_->path(), ec)) file_bytes_ = std::filesystem::file_size(reader_->path(), ec);
+  if (ec) file_bytes_ = 0;
+}
 
 ReplaySource::ReplaySource(std::span<const Event> events, SensorSize sensor, double speed,
                            SourceKind kind)
@@ -82,6 +87,9 @@ bool ReplaySource::refill() noexcept {
       return false;
     }
     pending_ = std::span<const Event>(buffer_.data(), n);
+    if (const std::uint64_t read = reader_->bytes_consumed(); file_bytes_ > 0 && read > 0)
+      fraction_read_.store(std::min(1.0, static_cast<double>(read) / static_cast<double>(file_bytes_)),
+                           std::memory_order_relaxed);
     return true;
   } catch (const std::exception& e) {
     error_ = e.what();

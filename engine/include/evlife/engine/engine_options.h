@@ -96,7 +96,7 @@ void for_each_engine_option(F&& f) {
   f(OptionInfo{"batches_per_worker", "queue-batches", 2, 1024, false, false, false, false,
                "batches in flight per worker"}, [](auto& o) -> auto& { return o.batches_per_worker; });
   f(OptionInfo{"stats_period_s", "stats-period", 0.0, 3600.0, false, false, false, false,
-               "progress line period (1.5s, 500ms); 0: none"},
+               "progress line (% of a file, ETA, counts) every T; 0: none"},
     [](auto& o) -> auto& { return o.stats_period_s; });
   f(OptionInfo{"idle_spin_us", "idle-spin-us", 0, 100000, false, false, false, true,
                "idle worker polls this long before sleeping, us; -1: auto"},

@@ -93,6 +93,10 @@ class EventSource {
   /// the time the event waited for its packet.
   virtual std::int64_t last_oldest_ns() const noexcept { return 0; }
 
+  /// Share of a finite input read so far (0..1), for the progress line; any
+  /// thread. Negative when unknown (live sources, inputs of unknown size).
+  virtual double fraction_read() const noexcept { return -1.0; }
+
   /// Asks a pull() in progress (or the next one) to return promptly and the
   /// source to finish with end_of_stream. Thread-safe; idempotent.
   virtual void request_stop() noexcept = 0;

@@ -54,6 +54,7 @@ class ReplaySource final : public EventSource {
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
   std::int64_t last_arrival_ns() const noexcept override { return last_arrival_ns_; }
   std::int64_t last_oldest_ns() const noexcept override { return last_oldest_ns_; }
+  double fraction_read() const noexcept override { return fraction_read_.load(std::memory_order_relaxed); }
 
   /// Paced replays hand events over in packets, as a camera's USB transfers
   /// do: every `packet_us` of wall-clock time, the events due by then (an
@@ -85,6 +86,8 @@ class ReplaySource final : public EventSource {
   std::int64_t last_oldest_ns_ = 0;
   std::int64_t packet_ns_ = kDefaultPacketUs * 1000;
   std::atomic<bool> stop_{false};
+  std::uint64_t file_bytes_ = 0;  // 0: unknown (not a regular file)
+  std::atomic<double> fraction_read_{-1.0};
 };
 
 }  // namespace evlife::engine
