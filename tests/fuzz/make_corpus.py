@@ -241,6 +241,10 @@ put('csv_text', 'header_tab_xytp.csv', b'x\ty\tt\tp\n' + b''.join(
     b'%d\t%d\t%d\t%d\n' % (rng.randrange(346), rng.randrange(260), 50 + 3 * i, rng.randrange(2)) for i in range(40)))
 put('csv_text', 'seconds_txyp.csv', b'# t x y p\n' + b''.join(
     b'%.6f,%d,%d,%d\n' % (0.5 + 1e-5 * i, rng.randrange(240), rng.randrange(180), rng.choice((1, -1))) for i in range(40)))
+# NumPy's savetxt default (%.18e everywhere): the exponent path of the number parser.
+SAVETXT = b't,x,y,p\n' + b''.join(b'%.18e,%.18e,%.18e,%.18e\n' % (1e-6 * (i + 1), 10 + i, 20 + i, i & 1) for i in range(20))
+put('csv_text', 'savetxt_txyp.csv', SAVETXT)
+put('rpg_text', 'savetxt_txyp.txt', SAVETXT.split(b'\n', 1)[1].replace(b',', b' '))
 
 # ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
 # timestamp overflow, one invalid event), an IMU and a special packet.
