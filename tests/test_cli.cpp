@@ -452,6 +452,26 @@ TEST_F(CliTest, AFullDiskUnderAnHdf5OutputIsAnOutputErrorAndTheFileStaysReadable
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// An output naming the input (itself, or through a link) would truncate it
+// before the reader reaches its end: every command that reads a file and
+// writes events refuses it (exit 2) and leaves the input as it was.
+TEST_F(CliTest, NoCommandWritesOverItsInput) {
+  ASSERT_EQ(run("process '" + kRpgText + "' -q -o '" + path("in.csv").string() + "'").exit_code, 0);
+  const std::string in = path("in.csv").string();
+  const std::string before = evlife::test::read_text_file(in);
+  ASSERT_GT(before.size(), 1000u);
+  fs::create_symlink(in, path("link.csv"));
+  for (const std::string& out : {in, path("link.csv").string()}) {
+    for (const std::string& command : {"process " + in + " -o " + out, "run " + in + " -o " + out,
+                                       "run --source file:" + in + " -o " + out, "convert " + in + " " + out}) {
+      const RunResult r = run(command + " -q");
+      EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+      EXPECT_NE(r.output.find("is the input file"), std::string::npos) << command << ": " << r.output;
+      EXPECT_TRUE(evlife::test::read_text_file(in) == before) << command << " changed its input";
+    }
+  }
+}
+
 TEST_F(CliTest, SetOverridesTakeEffect) {
   const RunResult printed = run("process --print-config --set estimator.window_size=7");
   EXPECT_EQ(printed.exit_code, 0) << printed.output;

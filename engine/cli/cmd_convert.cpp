@@ -16,6 +16,7 @@
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
+#include "evlife/io/output_path.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
@@ -265,10 +266,7 @@ int convert(int argc, char** argv) {
     if (!has_extension(output, {".txt", ".h5", ".hdf5", ".csv", ".bin"})) {
       throw UsageError("OUTPUT " + output + ": expected a .txt, .h5, .csv or .bin file name");
     }
-    std::error_code ec;
-    if (std::filesystem::equivalent(input, output, ec)) {
-      throw UsageError(output + " is the input file; refusing to overwrite it");
-    }
+    if (const auto refusal = io::output_overwrites_input(input, output)) throw UsageError(*refusal);
   })) {
     return *done;
   }

@@ -24,6 +24,7 @@
 #include "evlife/engine/write_behind_writer.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
 #include "exit_code.h"
 #include "skipped_kinds_text.h"
@@ -136,10 +137,7 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5") {
     throw UsageError("-o " + p.output + ": the output must end in .csv, .bin or .h5");
   }
-  std::error_code ec;
-  if (std::filesystem::equivalent(p.input, p.output, ec)) {
-    throw UsageError("-o " + p.output + " is the input file; refusing to overwrite it");
-  }
+  if (const auto refusal = io::output_overwrites_input(p.input, p.output)) throw UsageError("-o " + *refusal);
   return p;
 }
 

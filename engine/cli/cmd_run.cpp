@@ -36,6 +36,7 @@
 #include "evlife/engine/writer_sink.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
 #include "exit_code.h"
@@ -262,6 +263,10 @@ RunArgs parse_run_args(int argc, char** argv) {
     const std::string ext = std::filesystem::path(r.output).extension().string();
     if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
       throw UsageError("-o " + r.output + ": the output must end in .csv, .bin or .h5");
+    const std::string_view file = std::string_view(r.source).starts_with("file:") ? std::string_view(r.source).substr(5)
+                                                                                 : std::string_view(r.source);
+    if (const auto refusal = io::output_overwrites_input(std::string(file), r.output))
+      throw UsageError("-o " + *refusal);
   }
   if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
     throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");

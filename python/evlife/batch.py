@@ -59,12 +59,17 @@ def _short(text, width):
     return text if len(text) <= width else "..." + text[-(width - 3):]
 
 
-def _output_names(paths, extension):
+def _output_names(paths, extension, out_dir=None):
     """OUT names from the recordings' names, made unique (a.bin, a-2.bin): checked
     against every name given out so far, without regard to case (a recording
     named a-2 must not take a-2.bin from the second a, nor A.bin a.bin's place
-    on a case-insensitive file system)."""
+    on a case-insensitive file system), and against the recordings themselves
+    when they lie in out_dir (x.mat's x.csv must not overwrite the input x.csv)."""
     names, taken = [], set()
+    if out_dir is not None:
+        here = os.path.realpath(out_dir)
+        taken = {os.path.basename(p).lower() for p in paths
+                 if os.path.dirname(os.path.realpath(p)) == here}
     for p in paths:
         stem = os.path.splitext(os.path.basename(p))[0] or "recording"
         name, n = stem + extension, 1
@@ -178,7 +183,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     _evlife._check_crop(from_s, to_s)
     crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s)) if v is not None}
     os.makedirs(out_dir, exist_ok=True)
-    outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension)]
+    outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension, out_dir)]
     if not paths:
         return BatchResult()
     from distributed import as_completed

@@ -20,6 +20,7 @@
 #include "evlife/engine/write_behind_writer.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/output_path.h"
 #include "options.h"
 
 namespace evlife::python {
@@ -218,6 +219,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
                          const py::object& config, const py::dict& options) {
   const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
+  if (const auto refusal = io::output_overwrites_input(path, output)) throw std::invalid_argument(*refusal);
   FileRun run;
   {
     py::gil_scoped_release release;

@@ -56,6 +56,14 @@ def test_output_names_are_unique_whatever_the_recordings_are_called():
     assert names[:2] == ["g.bin", "g-2.bin"]
 
 
+def test_outputs_never_take_the_name_of_a_recording_in_the_output_folder(tmp_path):
+    from evlife import batch
+    (tmp_path / "x.csv").write_text("")
+    names = batch._output_names([tmp_path / "x.mat", tmp_path / "x.csv"], ".csv", tmp_path)
+    assert names == ["x-2.csv", "x-3.csv"]
+    assert batch._output_names(["elsewhere/x.csv"], ".csv", tmp_path) == ["x.csv"]
+
+
 def test_bad_batch_arguments_fail_before_any_task(tmp_path):
     from evlife import batch
     path = data("reference/stripes.mat")

@@ -89,6 +89,17 @@ def test_process_file_reports_a_full_disk_and_stops(tmp_path):
             evlife.process_file(data("reference/garfield.mat"), full, one_thread=one_thread)
 
 
+def test_process_file_never_writes_over_its_input(tmp_path):
+    src = tmp_path / "in.csv"
+    evlife.process_file(data("reference/garfield.mat"), src)
+    before = src.read_bytes()
+    os.symlink(src, tmp_path / "link.csv")
+    for out in (src, tmp_path / "link.csv"):
+        with pytest.raises(ValueError, match="is the input file"):
+            evlife.process_file(src, out)
+        assert src.read_bytes() == before
+
+
 def test_chunked_equals_whole():
     events = evlife.read(data("reference/stripes.mat"))
     whole = evlife.LifetimeEstimator(sensor=(128, 128)).process(events)
