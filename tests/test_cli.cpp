@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -425,31 +426,53 @@ TEST_F(CliTest, UnwritableOutputExitsFour) {
   EXPECT_NE(r.output.find("/nonexistent_dir/evlife/out.csv"), std::string::npos) << r.output;
 }
 
-// A disk that fills up under an HDF5 output (a 256 KiB tmpfs in a private
-// mount namespace): exit 4 naming the file and what it holds, and the file
-// closes whole with the events before the fault. Before, libhdf5 1.10's
-// failed close left a dangling file id and its exit handler crashed (SIGSEGV).
-TEST_F(CliTest, AFullDiskUnderAnHdf5OutputIsAnOutputErrorAndTheFileStaysReadable) {
-  const fs::path disk = path("small_disk");
+// `script` (sh, `$DISK` a 256 KiB tmpfs) in a private mount namespace; an
+// empty result when this machine allows no such mount (the test skips).
+std::optional<RunResult> run_on_a_small_disk(const fs::path& dir, const std::string& script) {
+  const fs::path disk = dir / "small_disk";
   fs::create_directories(disk);
-  const std::string out = (disk / "s.h5").string();
   {
-    std::ofstream script(path("full_disk.sh"));
-    script << "mount -t tmpfs -o size=256k tmpfs '" << disk.string() << "' || exit 77\n"
-           << "'" << kCli << "' process '" << EVLIFE_SHARED_DATA_DIR << "/reference/stripes.mat' -q -o '" << out
-           << "'\necho \"process exit $?\"\n"
-           << "'" << kCli << "' info '" << out << "'\n";
+    std::ofstream file(dir / "small_disk.sh");
+    file << "DISK='" << disk.string() << "'\nmount -t tmpfs -o size=256k tmpfs \"$DISK\" || exit 77\n"
+         << "echo mounted\n" << script;
   }
   // Root may make a mount namespace; others through a user namespace.
   const std::string flags = ::geteuid() == 0 ? "-m" : "-r -m";
-  const RunResult r = evlife::test::run_cli("unshare", flags + " sh '" + path("full_disk.sh").string() + "'",
-                                            dir_.path() / "unshare.log");
-  if (r.exit_code == 77 || r.output.find("process exit") == std::string::npos)
-    GTEST_SKIP() << "no private tmpfs mount here: " << r.output;
-  EXPECT_NE(r.output.find("process exit 4"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(out + ": the disk is nearly full"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("format     hdf5"), std::string::npos) << "the file reads back: " << r.output;
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const RunResult r = evlife::test::run_cli("unshare", flags + " sh '" + (dir / "small_disk.sh").string() + "'",
+                                            dir / "unshare.log");
+  if (r.exit_code == 77 || r.output.find("mounted") == std::string::npos) return std::nullopt;
+  return r;
+}
+
+// A disk that fills up under an HDF5 output: exit 4 naming the file and what
+// it holds, and the file closes whole with the events before the fault.
+// Before, libhdf5 1.10's failed close left a dangling file id and its exit
+// handler crashed (SIGSEGV).
+TEST_F(CliTest, AFullDiskUnderAnHdf5OutputIsAnOutputErrorAndTheFileStaysReadable) {
+  const auto r = run_on_a_small_disk(dir_.path(), "'" + kCli + "' process '" + EVLIFE_SHARED_DATA_DIR +
+                                                      "/reference/stripes.mat' -q -o \"$DISK/s.h5\"\n"
+                                                      "echo \"process exit $?\"\n'" +
+                                                      kCli + "' info \"$DISK/s.h5\"\n");
+  if (!r) GTEST_SKIP() << "no private tmpfs mount here";
+  EXPECT_NE(r->output.find("process exit 4"), std::string::npos) << r->output;
+  EXPECT_NE(r->output.find("s.h5: the disk is nearly full"), std::string::npos) << r->output;
+  EXPECT_NE(r->output.find("format     hdf5"), std::string::npos) << "the file reads back: " << r->output;
+  EXPECT_EQ(r->exit_code, 0) << r->output;
+}
+
+// A video cut short by a full disk (OpenCV's writer reports nothing: an .mp4
+// without its index, an .avi without its end) is an output error, not exit 0.
+TEST_F(CliTest, AVideoCutShortByAFullDiskIsAnOutputError) {
+  std::string script;
+  for (const char* ext : {"mp4", "avi"})
+    script += "'" + kCli + "' render '" + EVLIFE_SHARED_DATA_DIR + "/reference/stripes.mat' -q --fps 100 -o \"$DISK/v." +
+              ext + "\"\necho \"" + ext + " exit $?\"\nrm -f \"$DISK/v." + ext + "\"\n";
+  const auto r = run_on_a_small_disk(dir_.path(), script);
+  if (!r) GTEST_SKIP() << "no private tmpfs mount here";
+  for (const char* ext : {"mp4", "avi"}) {
+    EXPECT_NE(r->output.find(std::string(ext) + " exit 4"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find(std::string("v.") + ext + " is incomplete"), std::string::npos) << r->output;
+  }
 }
 
 // An output naming the input (itself, or through a link) would truncate it

@@ -260,7 +260,7 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  r.after_end, static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
   }
   if (r.output_fault) {
-    std::fprintf(stderr, "evlife render: output error: %s (%zu frames written before it)\n", r.output_fault->c_str(), r.frames);
+    std::fprintf(stderr, "evlife render: output error: %s (%zu frames drawn before it)\n", r.output_fault->c_str(), r.frames);
     return kExitOutput;
   }
   if (r.input_fault) {

@@ -1,6 +1,7 @@
 // libevlife_media.so: image files, video files and windows with OpenCV's
 // heavy modules, loaded on demand by render/src/media.cpp.
 #include <exception>
+#include <stdexcept>
 #include <string>
 
 #include <opencv2/highgui.hpp>
@@ -15,13 +16,36 @@ namespace {
 class OpenCvVideo final : public VideoFile {
  public:
   bool open(const std::string& path, int fourcc, double fps, cv::Size frame_size) {
+    path_ = path;
     return writer_.open(path, fourcc, fps, frame_size, true);
   }
-  void write(const cv::Mat& frame) override { writer_.write(frame); }
-  void close() override { writer_.release(); }
+  void write(const cv::Mat& frame) override {
+    writer_.write(frame);
+    ++frames_;
+  }
+  // VideoWriter reports no write error: a full disk left an .mp4 without its
+  // index (moov) that nothing plays, or an .avi cut short behind a complete
+  // header. So the file is read back: it must open, count every frame written
+  // and give the last one.
+  void close() override {
+    if (!writer_.isOpened()) return;
+    writer_.release();
+    if (frames_ == 0) return;
+    cv::VideoCapture check(path_, cv::CAP_FFMPEG);  // the backend that reads what the writer wrote
+    const double counted = check.isOpened() ? check.get(cv::CAP_PROP_FRAME_COUNT) : 0.0;
+    bool complete = check.isOpened() && counted >= static_cast<double>(frames_);
+    if (complete) complete = check.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(frames_ - 1)) && check.grab();
+    if (!complete)
+      throw std::runtime_error("the video " + path_ + " is incomplete: " + std::to_string(frames_) +
+                               " frames written, " +
+                               (check.isOpened() ? "not all of them readable" : "the file does not open") +
+                               " (disk full?)");
+  }
 
  private:
   cv::VideoWriter writer_;
+  std::string path_;
+  long long frames_ = 0;
 };
 
 class OpenCvWindow final : public Window {
