@@ -153,6 +153,20 @@ TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
   EXPECT_EQ(r.exit_code, 3);
 }
 
+// A text file of eval's that the disk refuses (here /dev/full: its writes fail
+// at the flush) is an output error naming it, not an empty file and exit 0.
+TEST_F(RenderCliTest, EvalReportsATextFileTheDiskRefused) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  for (const std::string name : {"runs.csv", "summary.html", "sharpness.csv"}) {
+    const std::string dir = path("full_" + name);
+    fs::create_directories(dir);
+    fs::create_symlink("/dev/full", dir + "/" + name);
+    const auto r = run("eval '" + kGarfield + "' --to 0.3 -o '" + dir + "' -q");
+    EXPECT_EQ(r.exit_code, 4) << name << ": " << r.output;
+    EXPECT_NE(r.output.find("cannot write " + dir + "/" + name), std::string::npos) << r.output;
+  }
+}
+
 TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
   // A raw recording cut inside a record (every estimator run stops at the
   // fault) and an augmented .bin cut the same way (the lifetimes of the file).

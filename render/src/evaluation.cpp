@@ -99,11 +99,27 @@ void write_png(const fs::path& path, const cv::Mat& img) {
   }
 }
 
-std::ofstream open_csv(const fs::path& path) {
-  std::ofstream f(path);
-  if (!f) throw OutputError("cannot write " + path.string());
-  return f;
-}
+// A text output whose write errors (a full disk shows at the flush) are an
+// OutputError at close(), not a file left empty behind exit 0.
+class TextFile {
+ public:
+  explicit TextFile(fs::path path) : path_(std::move(path)), out_(path_) {
+    if (!out_) throw OutputError("cannot write " + path_.string());
+  }
+  template <class T>
+  TextFile& operator<<(const T& value) {
+    out_ << value;
+    return *this;
+  }
+  void close() {
+    out_.close();
+    if (out_.fail()) throw OutputError("cannot write " + path_.string() + " (disk full?)");
+  }
+
+ private:
+  fs::path path_;
+  std::ofstream out_;
+};
 
 double ceil_nice(double v) {
   if (!(v > 0.0) || !std::isfinite(v)) return 1.0;
@@ -151,7 +167,7 @@ void histogram_outputs(const fs::path& dir, const std::string& stem, const std::
   o.x_max = x_max;
   write_png(dir / (stem + ".png"), render::draw_plot(o, plot));
 
-  auto csv = open_csv(dir / (stem + ".csv"));
+  TextFile csv(dir / (stem + ".csv"));
   csv << "bin_start,bin_end";
   for (const auto& [run, h] : series) csv << ",\"" << run->label << "\"";
   csv << "\n";
@@ -164,6 +180,7 @@ void histogram_outputs(const fs::path& dir, const std::string& stem, const std::
   csv << "# values below the first bin / above the last:";
   for (const auto& p : series) csv << " " << p.second->below() << "/" << p.second->above();
   csv << "\n";
+  csv.close();
 }
 
 std::string pct(double share) {
@@ -252,7 +269,7 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
     o.y_max = 1.0;
     o.legend_bottom = true;
     write_png(dir / "prediction_error_cdf.png", render::draw_plot(o, plot));
-    auto csv = open_csv(dir / "prediction_error_cdf.csv");
+    TextFile csv(dir / "prediction_error_cdf.csv");
     csv << "abs_error_ms";
     for (const RunResult* r : with_predictions) csv << ",\"" << r->label << "\"";
     csv << "\n";
@@ -261,6 +278,7 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
       for (const RunResult* r : with_predictions) csv << "," << r->abs_error_us.cdf_at_bin_end(b);
       csv << "\n";
     }
+    csv.close();
   }
 
 }
@@ -276,7 +294,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
       plot[m].label = kMethodNames[m];
       plot[m].color = render::series_color(static_cast<int>(m == kLifetimeMethod ? 1 : (m == 0 ? 2 : m + 2)));
     }
-    auto csv = open_csv(dir / "sharpness.csv");
+    TextFile csv(dir / "sharpness.csv");
     csv << "t_s,method,active_pixels,edge_pixels,thin_edge_pixels,thin_edge_share,mean_edge_thickness_px,"
            "completeness,score\n";
     for (const auto& s : sharp.samples) {
@@ -289,6 +307,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
             << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
       }
     }
+    csv.close();
     render::PlotOptions o;
     o.title = "Complete and sharp: completeness x thin-edge share (higher = better)";
     o.x_label = "time [s]";
@@ -297,7 +316,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
     o.y_max = 1.0;
     o.legend_bottom = true;
     write_png(dir / "sharpness.png", render::draw_plot(o, plot));
-    auto sum = open_csv(dir / "sharpness_summary.csv");
+    TextFile sum(dir / "sharpness_summary.csv");
     sum << "method,samples,active_pixels_per_sample,edge_pixels_per_sample,thin_edge_share,mean_edge_thickness_px,"
            "completeness,score\n";
     const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
@@ -307,6 +326,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
           << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
           << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
     }
+    sum.close();
   }
   if (!sharp.compare_frame.empty()) write_png(dir / "compare_frame.png", sharp.compare_frame);
 
@@ -318,7 +338,7 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
   const fs::path dir(args.output);
   // runs.csv
   {
-    auto csv = open_csv(dir / "runs.csv");
+    TextFile csv(dir / "runs.csv");
     csv << "run,window_size,regularization,events,noise,noise_share,predictions,median_lifetime_ms,"
            "median_abs_error_ms,share_abs_error_below_10ms,wall_s,share_with_lifetime,share_with_prediction,"
            "median_abs_error_over_lifetime\n";
@@ -330,6 +350,7 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
           << "," << r.share_with_lifetime() << "," << r.share_with_prediction() << ","
           << r.error_over_lifetime.quantile(0.5) << "\n";
     }
+    csv.close();
   }
 
 }
@@ -339,8 +360,7 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
   const fs::path dir(args.output);
   // summary.html
-  std::ofstream html(dir / "summary.html");
-  if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
+  TextFile html(dir / "summary.html");
   html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>evlife eval: " << description
        << "</title><style>body{font-family:sans-serif;max-width:1600px;margin:1em auto}"
           "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
@@ -383,7 +403,7 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
        << "<h2>Figures</h2><img src=\"lifetime_histogram.png\"><img src=\"prediction_error_cdf.png\">"
           "<img src=\"velocity_histogram.png\"><img src=\"velocity_components.png\"><img src=\"sharpness.png\">\n"
        << "<p>The numbers behind every figure are in the CSV file of the same name.</p></body></html>\n";
-  if (!html) throw OutputError("cannot write " + (dir / "summary.html").string());
+  html.close();
 }
 void write_outputs(const EvaluationOptions& args, const std::string& description, SensorSize sensor,
                    const std::vector<RunResult>& runs, const RunResult& primary,
