@@ -1,5 +1,5 @@
 // Fault injection through the `evlife` binary, as a user meets the faults:
-// a full disk (/dev/full), an unwritable output path, SIGINT / SIGTERM in the
+// a full disk (/dev/full), an unwritable output path, SIGINT / SIGTERM / SIGHUP in the
 // middle of `evlife process` and `evlife run`, bad configuration, absurd
 // sizes. Expected behaviour (README, issue "Hardening"): a clear message
 // naming the file / key, a non-zero exit, never a crash, and everything
@@ -282,6 +282,13 @@ TEST(Faults, RunSigintLeavesValidPrefixAndSummary) {
 
 TEST(Faults, RunSigtermLeavesValidPrefixAndSummary) {
   interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGTERM, "run SIGTERM");
+}
+
+// A closed terminal or ssh session: the same clean stop (it killed the
+// process with its output unclosed before).
+TEST(Faults, SighupStopsProcessAndRunCleanly) {
+  interrupt_mid_run({"process", "INPUT", "-o", "OUTPUT"}, SIGHUP, "process SIGHUP");
+  interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGHUP, "run SIGHUP");
 }
 
 // ---- configuration ----

@@ -17,6 +17,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "stop_signals.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/config/config.h"
 #include "evlife/engine/prefetch_reader.h"
@@ -307,17 +308,16 @@ int process_recording(int argc, char** argv) {
   progress.set_enabled(!args.quiet);
   LifetimeSummary summary;
   g_stop = false;
-  const auto old_int = std::signal(SIGINT, on_stop_signal);
-  const auto old_term = std::signal(SIGTERM, on_stop_signal);
-  const engine::ProcessStreamResult result = engine::process_stream(
-      *reader, *estimator, *writer,
-      [&](std::span<const AugmentedEvent> batch) {
-        summary.add(batch);
-        progress.update(summary.events());
-      },
-      &g_stop, kBatchEvents);
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
+  const engine::ProcessStreamResult result = [&] {
+    const StopSignals stop_signals(on_stop_signal);
+    return engine::process_stream(
+        *reader, *estimator, *writer,
+        [&](std::span<const AugmentedEvent> batch) {
+          summary.add(batch);
+          progress.update(summary.events());
+        },
+        &g_stop, kBatchEvents);
+  }();
   progress.finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -23,6 +23,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "stop_signals.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/render/active_event_set.h"
@@ -302,13 +303,13 @@ int run_render(int argc, char** argv) {
   }
   FrameProgress progress(!args.quiet);
   g_render_stop = false;
-  const auto old_int = std::signal(SIGINT, on_render_stop);
-  const auto old_term = std::signal(SIGTERM, on_render_stop);
-  const render::RecordingRenderResult result = render::render_recording(
-      *source, args.job, [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
-      &g_render_stop);
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
+  const render::RecordingRenderResult result = [&] {
+    const StopSignals stop_signals(on_render_stop);
+    return render::render_recording(
+        *source, args.job,
+        [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
+        &g_render_stop);
+  }();
   progress.finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (result.no_events) {

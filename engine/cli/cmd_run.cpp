@@ -3,7 +3,7 @@
 // DVS128 camera through lock-free queues to worker threads that own tiles of
 // each polarity; the merge back into input order runs on the worker that
 // completes a chunk (a backstop thread finishes the stream).
-// SIGINT/SIGTERM end the run cleanly: everything accepted is processed and
+// SIGINT/SIGTERM/SIGHUP end the run cleanly: everything accepted is processed and
 // written, the summary printed.
 #include <atomic>
 #include <chrono>
@@ -28,6 +28,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "stop_signals.h"
 #include "evlife/config/config.h"
 #include "evlife/engine/dvs128_source.h"
 #include "evlife/engine/engine.h"
@@ -154,9 +155,10 @@ void print_help(std::FILE* out) {
   std::fputs(kConfigOptionsHelp.data(), out);
   std::fprintf(out,
       "\n"
-      "At the end (and on SIGINT/SIGTERM, after finishing the queued work) a summary\n"
-      "per stage goes to stdout: events in/out/dropped (in = out + dropped), queue\n"
-      "high-water marks, worker load, latency from arrival to output p50/p99/max.\n"
+      "At the end (and on SIGINT, SIGTERM or SIGHUP, after finishing the queued\n"
+      "work) a summary per stage goes to stdout: events in/out/dropped (in = out +\n"
+      "dropped), queue high-water marks, worker load, latency from arrival to\n"
+      "output p50/p99/max.\n"
       "\n"
       "Exit status: 0 done; 2 bad command line or configuration; 3 input/device\n"
       "             error; 4 output error; 5 real-time setting refused; 130\n"
@@ -494,11 +496,10 @@ int run_engine(int argc, char** argv) {
   }
   const auto wall_start = std::chrono::steady_clock::now();
   g_engine.store(&*eng);
-  const auto old_int = std::signal(SIGINT, on_run_signal);
-  const auto old_term = std::signal(SIGTERM, on_run_signal);
-  const engine::RunResult result = eng->run();
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
+  const engine::RunResult result = [&] {
+    const StopSignals stop_signals(on_run_signal);
+    return eng->run();
+  }();
   g_engine.store(nullptr);
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
