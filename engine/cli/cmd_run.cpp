@@ -315,12 +315,12 @@ class CountingSink final : public engine::AugmentedSink {
  public:
   explicit CountingSink(engine::AugmentedSink* next) : next_(next) {}
   void write(std::span<const AugmentedEvent> events) override {
+    if (next_ != nullptr) next_->write(events);  // a refused block is not counted
     events_ += events.size();
     for (const AugmentedEvent& a : events) {
       noise_ += a.is_noise();
       predictions_ += a.has_prediction();
     }
-    if (next_ != nullptr) next_->write(events);
   }
   void finish() override {
     if (next_ != nullptr) next_->finish();
@@ -329,7 +329,7 @@ class CountingSink final : public engine::AugmentedSink {
     const auto share = [&](std::uint64_t part) {
       return events_ == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(events_);
     };
-    std::fprintf(out, "output : %llu events, labelled noise %.1f %%, with a prediction %.1f %% "
+    std::fprintf(out, "output : %llu events to the writer, labelled noise %.1f %%, with a prediction %.1f %% "
                  "(lifetimes: evlife process)\n",
                  static_cast<unsigned long long>(events_), share(noise_), share(predictions_));
   }

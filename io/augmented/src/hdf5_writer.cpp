@@ -23,7 +23,7 @@ constexpr unsigned kDeflateLevel = 1;  // fast; shuffle does most of the work
 // dangles and its exit handler crashes (HDF5 issue #2257, fixed in 1.14), so
 // a chunk that would leave less than this is not written and the file closes
 // whole with the events before it.
-constexpr std::uint64_t kCloseReserveBytes = 8u << 20;
+constexpr std::uint64_t kCloseReserveBytes = 2u << 20;
 
 std::atomic<bool> g_close_failed{false};
 
