@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -1073,6 +1074,25 @@ TEST(RunCommand, ProgressLinesSayHowFarThroughTheFile) {
     ++lines;
   }
   EXPECT_GT(lines, 0u) << r.output;
+}
+
+// Workers whose estimators would take more memory than the machine has are
+// refused up front (each allocates the whole sensor's state, ~80 bytes per
+// pixel): a clear exit 2, not the OOM killer after a minute of swapping.
+TEST(RunCommand, WorkersThatCannotFitInMemoryAreRefusedUpFront) {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  long long kib = 0;
+  std::string unit;
+  long long available_kib = -1;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") available_kib = kib;
+  // 32 workers x 4096 x 4096 x 2 polarities x 40 bytes = 42.9 GB.
+  if (available_kib < 0 || available_kib * 1024 > 40'000'000'000LL) GTEST_SKIP() << "this machine has the memory";
+  const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
+  const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "run " + in + " --sensor 4096x4096 --workers 32 -q", kCliLog);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("32 workers: 42.9 GB), more than the"), std::string::npos) << r.output;
 }
 
 TEST(RunCommand, ExitStatusNamesTheFault) {

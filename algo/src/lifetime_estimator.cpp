@@ -52,6 +52,11 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
   return &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
 }
 
+std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
+  const auto pixels = 2 * static_cast<std::uint64_t>(sensor.pixel_count());  // both polarities
+  return (pixels + detail::kGatherOverreadPixels) * sizeof(SurfacePixel) + pixels * sizeof(PixelState);
+}
+
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
   if (const std::string err = validate_lifetime_options(options); !err.empty()) {
 #if defined(__cpp_exceptions)

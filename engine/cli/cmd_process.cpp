@@ -17,6 +17,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "memory_check.h"
 #include "stop_signals.h"
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/config/config.h"
@@ -277,6 +278,11 @@ int process_recording(int argc, char** argv) {
     return kExitInput;
   }
   cfg.estimator.sensor = sensor.size;
+  if (const auto refusal = estimator_memory_refusal(sensor.size, 1)) {
+    std::fprintf(stderr, "evlife process: %s: %s (sensor: %s)\n", args.input.c_str(), refusal->c_str(),
+                 sensor.source.c_str());
+    return kExitInput;
+  }
   std::optional<LifetimeEstimator> estimator;
   try {
     estimator.emplace(cfg.estimator);

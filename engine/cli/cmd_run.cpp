@@ -28,6 +28,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "memory_check.h"
 #include "stop_signals.h"
 #include "evlife/config/config.h"
 #include "evlife/engine/dvs128_source.h"
@@ -467,6 +468,10 @@ int run_engine(int argc, char** argv) {
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
+  if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
+    std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
+    return kExitUsage;
+  }
   std::optional<engine::Engine> eng;
   std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;

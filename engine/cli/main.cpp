@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string_view>
 
 #include "command.h"
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
     int code = 1;  // kExitFailure
     try {
       code = c.run(argc - 1, argv + 1);
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "evlife %s: out of memory (a large --sensor, --scale or number of workers?)\n", argv[1]);
     } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
       std::fprintf(stderr, "evlife %s: unexpected error: %s\n", argv[1], e.what());
     }

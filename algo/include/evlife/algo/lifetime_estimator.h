@@ -62,6 +62,11 @@ class LifetimeEstimator {
   const LifetimeOptions& options() const noexcept { return options_; }
   const LifetimeStats& stats() const noexcept { return stats_; }
 
+  /// Bytes of per-pixel state an estimator for `sensor` allocates (both
+  /// polarities' surfaces and pixel states, ~80 per pixel): for a caller to
+  /// weigh against the memory it has before constructing one.
+  static std::uint64_t state_bytes(SensorSize sensor) noexcept;
+
  private:
   // What process() reads and writes at the new event's own pixel only, in
   // one cache line (32 bytes, aligned): the prediction made for it by a
