@@ -3,6 +3,7 @@
 // flushed to the output, one output row per input event, --set in effect.
 // Expected counts come from decoding the inputs here, independently.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -95,6 +96,18 @@ TEST_F(CliTest, MissingInputNamesTheFile) {
   const RunResult r = run("process '" + missing + "' -o '" + path("out.csv").string() + "'");
   EXPECT_EQ(r.exit_code, 3) << r.output;
   EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+}
+
+// A named pipe (no writer yet): refused at once, naming what to do, instead
+// of waiting forever in open() or failing later with "Illegal seek".
+TEST_F(CliTest, APipeAsInputIsRefusedAtOnce) {
+  const std::string fifo = path("events.fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const RunResult r = evlife::test::run_cli("timeout", "20 '" + kCli + "' process '" + fifo + "' -o '" +
+                                                           path("out.csv").string() + "'",
+                                            dir_.path() / "fifo.log");
+  EXPECT_EQ(r.exit_code, 3) << r.output;  // timeout's 124 if it waited
+  EXPECT_NE(r.output.find(fifo + ": a pipe: evlife reads files"), std::string::npos) << r.output;
 }
 
 TEST_F(CliTest, UsageErrorsExitTwo) {

@@ -281,7 +281,7 @@ int synth(int argc, char** argv) {
     writer->close();
     if (truth_csv) truth_csv->close();
   } catch (const io::WriteError& e) {
-    std::fprintf(stderr, "evlife synth: output error: %s (%llu events generated before it)\n", e.what(),
+    std::fprintf(stderr, "evlife synth: output error: %s (%llu events handed to the writer before it)\n", e.what(),
                  written);
     return kExitOutput;
   }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "media_backend.h"
@@ -67,9 +68,10 @@ cv::Mat read_image(const std::string& path) { return backend().read_image(path);
 std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) {
   auto video = backend().open_video(path, fps, frame_size);
   if (!video) {
-    throw std::runtime_error("cannot open the video " + path + " for writing with codec " +
-                             video_codec(path) +
-                             " (missing encoder or unwritable path); try .avi (MJPG) or a directory of PNG frames");
+    const bool avi = std::string_view(video_codec(path)) == "MJPG";
+    throw std::runtime_error("cannot open the video " + path + " for writing with codec " + video_codec(path) +
+                             " (missing encoder or unwritable path); try " +
+                             std::string(avi ? "a writable folder, or" : ".avi (MJPG) or") + " a directory of PNG frames");
   }
   return video;
 }

@@ -12,7 +12,9 @@
 namespace evlife::io::detail {
 
 InputFile::InputFile(const std::string& path) : path_(path) {
-  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: a pipe with no writer yet is refused below, not waited on
+  // forever (no effect on the reads of regular files).
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd_ < 0) throw ReadError(path, -1, -1, std::string("cannot open: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd_, &st) != 0) {
@@ -23,6 +25,12 @@ InputFile::InputFile(const std::string& path) : path_(path) {
   if (S_ISDIR(st.st_mode)) {
     ::close(fd_);
     throw ReadError(path, -1, -1, "cannot open: is a directory");
+  }
+  if (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)) {
+    ::close(fd_);
+    throw ReadError(path, -1, -1,
+                    "a pipe: evlife reads files (it reads their start again once it knows the format); save the "
+                    "stream to a file first");
   }
   size_bytes_ = static_cast<std::uint64_t>(st.st_size);
 #ifdef POSIX_FADV_SEQUENTIAL
