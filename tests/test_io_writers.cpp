@@ -277,6 +277,32 @@ TEST_F(Writers, TruncatedBinDeliversWholeRecordsThenIndexAndOffset) {
   EXPECT_TRUE(read_back(head).error);
 }
 
+// A CSV cut inside a row (a full disk) delivers the complete rows, then an
+// error at the cut row: that row never passes as an event with fewer fields
+// or a shortened last number.
+TEST_F(Writers, TruncatedCsvDeliversCompleteRowsThenTheCutOne) {
+  const std::vector<AugmentedEvent> events = tricky_events(50);
+  const std::string full = path("full.csv");
+  write_all(full, events);
+  const std::string bytes = file_text(full);
+  std::size_t row_start = 0;  // the 21st row (index 20)
+  for (int newline = 0; newline < 21; ++newline) row_start = bytes.find('\n', row_start) + 1;
+  const std::size_t row_end = bytes.find('\n', row_start);
+  for (std::size_t cut = row_start + 1; cut <= row_end; ++cut) {  // every cut inside it, even before its '\n'
+    SCOPED_TRACE(cut);
+    const std::string p = path("cut.csv");
+    std::ofstream(p, std::ios::binary) << bytes.substr(0, cut);
+    const Readback r = read_back(p, 7);
+    ASSERT_TRUE(r.error);
+    EXPECT_EQ(r.events.size(), 20u);
+    EXPECT_EQ(r.error->event_index(), 20);
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(row_start));
+  }
+  const std::string whole = path("whole.csv");
+  std::ofstream(whole, std::ios::binary) << bytes.substr(0, row_end + 1);
+  EXPECT_FALSE(read_back(whole).error);
+}
+
 TEST_F(Writers, BinOutsideSensorOrBackwardsOrBadPolarity) {
   std::vector<AugmentedEvent> events;
   for (int i = 0; i < 10; ++i) events.push_back(aug(100 * i, i, i, 1, 1.0f, 0, 0, kNaN));

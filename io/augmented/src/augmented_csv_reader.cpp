@@ -99,6 +99,14 @@ class AugmentedCsvReader final : public AugmentedEventReader {
       return false;
     }
     if (next == LineReader::Next::end_of_file) return false;
+    if (lines_.peeked_unterminated() && !strip_cr(line).empty()) {
+      // The writer ends every row: a last row without one was cut (a full
+      // disk), and its last field may parse as another number.
+      pending_.emplace(lines_.path(), static_cast<std::int64_t>(lines_.offset()), static_cast<std::int64_t>(index_),
+                       "line " + std::to_string(line_number_ + 1) + ": truncated (the file ends inside it): '" +
+                           std::string(line.substr(0, 100)) + "'");
+      return false;
+    }
     lines_.consume();
     ++line_number_;
     return true;

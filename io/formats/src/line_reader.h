@@ -35,6 +35,7 @@ class LineReader {
         const auto bytes = static_cast<std::size_t>(static_cast<const char*>(nl) - begin);
         line = std::string_view(begin, bytes);
         line_bytes_ = bytes + 1;
+        unterminated_ = false;
         return Next::line;
       }
       const Next more = refill();
@@ -42,9 +43,13 @@ class LineReader {
       if (more == Next::too_long || pos_ == end_) return more;
       line = std::string_view(buffer_.data() + pos_, end_ - pos_);  // last line without '\n'
       line_bytes_ = end_ - pos_;
+      unterminated_ = true;
       return Next::line;
     }
   }
+  /// The line peek() returned is the file's last and has no '\n': for a
+  /// format whose writer ends every line, a file cut short.
+  bool peeked_unterminated() const noexcept { return unterminated_; }
   /// Moves past the line peek() returned, with its '\n'.
   void consume() noexcept {
     pos_ += line_bytes_;
@@ -69,6 +74,7 @@ class LineReader {
   UninitializedArray<char> buffer_;  // bytes [pos_, end_) hold the file, the rest nothing yet
   std::size_t pos_ = 0, end_ = 0;  // unconsumed bytes: buffer_[pos_, end_)
   std::size_t line_bytes_ = 0;     // what consume() moves past
+  bool unterminated_ = false;      // the peeked line ends the file without '\n'
   std::uint64_t file_pos_ = 0;     // file offset of buffer_[end_]
   std::uint64_t offset_ = 0;       // file offset of buffer_[pos_]
 };
