@@ -189,6 +189,11 @@ struct RunArgs {
   engine::EngineOptions engine;
 };
 
+// The recording a file source names: `file:PATH` or `PATH`.
+std::string_view file_of_source(std::string_view spec) {
+  return spec.starts_with("file:") ? spec.substr(5) : spec;
+}
+
 RunArgs parse_run_args(int argc, char** argv) {
   // `--realtime` alone means 1x: give it its value before generic parsing.
   std::vector<std::string> storage(argv, argv + argc);
@@ -266,9 +271,7 @@ RunArgs parse_run_args(int argc, char** argv) {
     const std::string ext = std::filesystem::path(r.output).extension().string();
     if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
       throw UsageError("-o " + r.output + ": the output must end in .csv, .bin or .h5");
-    const std::string_view file = std::string_view(r.source).starts_with("file:") ? std::string_view(r.source).substr(5)
-                                                                                 : std::string_view(r.source);
-    if (const auto refusal = io::output_overwrites_input(std::string(file), r.output))
+    if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.output))
       throw UsageError("-o " + *refusal);
   }
   if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
@@ -302,8 +305,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
     source->set_packet_us(r.engine.replay_packet_us);
     return source;
   }
-  if (spec.starts_with("file:")) spec.remove_prefix(5);
-  auto source = engine::ReplaySource::open_file(std::string(spec), r.sensor, r.speed, r.input_options);
+  auto source = engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.sensor, r.speed, r.input_options);
   source->set_packet_us(r.engine.replay_packet_us);
   return source;
 }

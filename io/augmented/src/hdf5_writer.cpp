@@ -86,6 +86,7 @@ class Hdf5ColumnFile {
       for (std::size_t c = 0; c < column_count_; ++c) {
         create_dataset(c, specs[c]);
         memory_types_[c] = specs[c].memory_type;
+        event_bytes_ += H5Tget_size(specs[c].memory_type);
       }
       write_string_attribute(file_, "generator", "evlife");
       write_string_attribute(file_, "layout",
@@ -194,8 +195,8 @@ class Hdf5ColumnFile {
   void flush() {
     const std::size_t count = columns_.x.size();
     if (count == 0 || file_ < 0) return;
-    const std::uint64_t event_bytes = column_count_ == 8 ? 29 : 13;  // uncompressed: an upper bound
-    if (const std::uint64_t free = free_bytes(path_); free < count * event_bytes + kCloseReserveBytes) {
+    // The chunk uncompressed: an upper bound of what it takes on disk.
+    if (const std::uint64_t free = free_bytes(path_); free < count * event_bytes_ + kCloseReserveBytes) {
       failed_ = true;  // nothing of this chunk written: the file closes whole
       throw WriteError(path_, "the disk is nearly full (" + std::to_string(free >> 10) + " KiB free): events " +
                                   std::to_string(written_) + ".." + std::to_string(written_ + count) +
@@ -247,6 +248,7 @@ class Hdf5ColumnFile {
 
   std::string path_;
   std::size_t column_count_;
+  std::uint64_t event_bytes_ = 0;  // one event in the columns' memory types
   hid_t file_ = -1;
   std::array<hid_t, 8> datasets_{-1, -1, -1, -1, -1, -1, -1, -1};
   std::array<hid_t, 8> memory_types_{};
