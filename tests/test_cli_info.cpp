@@ -92,4 +92,41 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_EQ(run("info '" + dir_.file("missing.raw") + "'").exit_code, 3);
 }
 
+// evlife's own outputs: their events and the lifetimes they hold, with the
+// very figures `process` printed when it wrote them (before, the .bin was "an
+// unknown format" and the .csv passed for plain x,y,t,p events).
+TEST_F(CliInfo, EvlifeOutputsShowTheirLifetimes) {
+  const std::string in = kData + "/reference/stripes.mat";
+  const auto line = [](const std::string& text, const std::string& head) {
+    const auto at = text.find(head);
+    return at == std::string::npos ? std::string("(no " + head + ")") : text.substr(at, text.find('\n', at) - at);
+  };
+  for (const std::string ext : {".bin", ".csv"}) {
+    const fs::path out = dir_.path() / ("stripes" + ext);
+    const auto p = run("process '" + in + "' -o '" + out.string() + "'");
+    ASSERT_EQ(p.exit_code, 0) << p.output;
+    const auto r = run("info '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("format     augmented-" + ext.substr(1) + " (evlife's output"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("events     340,394 ("), std::string::npos) << r.output;
+    for (const std::string head : {"labelled noise", "lifetime (edges)", "with a prediction", "|prediction error|"}) {
+      EXPECT_EQ(line(r.output, head), line(p.output, head)) << ext << "\n" << r.output << "\n" << p.output;
+    }
+    EXPECT_EQ(r.output.find("wall time"), std::string::npos) << r.output;
+  }
+  // Cut inside a record: the figures of the records before it, then the error.
+  const fs::path bin = dir_.path() / "stripes.bin";
+  fs::resize_file(bin, fs::file_size(bin) - 5);
+  auto r = run("info '" + bin.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("events     340,393 ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("truncated"), std::string::npos) << r.output;
+  // Cut inside the header: said so, not "unknown format".
+  fs::resize_file(bin, 12);
+  r = run("info '" + bin.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("truncated: the header needs"), std::string::npos) << r.output;
+}
+
 }  // namespace

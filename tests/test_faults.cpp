@@ -249,8 +249,10 @@ TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
   const ScratchDir dir("test_faults");
   write_aedat2(dir.path() / "in.aedat", 1000);
   std::ofstream(dir.path() / "a_file") << "x";  // a regular file used as a directory: ENOTDIR, even for root
+  // Missing folders are created (next test), so the second path fails at
+  // that creation: a folder cannot be made inside a file either.
   const std::vector<std::string> outputs{(dir.path() / "a_file" / "out.csv").string(),
-                                         (dir.path() / "no_such_dir" / "out.csv").string()};
+                                         (dir.path() / "a_file" / "no_such_dir" / "out.h5").string()};
   for (const auto& out : outputs) {
     for (const std::string cmd : {"process", "run"}) {
       const std::vector<std::string> args =
@@ -263,6 +265,34 @@ TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
       EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
       EXPECT_TRUE(contains(f.err, out)) << cmd << ": error does not name " << out << "\n" << describe(f);
     }
+  }
+}
+
+// Every command that writes a file creates the folders it names (as render
+// always did for its frames): before, process/run/convert/synth refused a
+// missing folder while render and eval created theirs.
+TEST(Faults, EveryOutputCreatesItsMissingFolders) {
+  const ScratchDir dir("test_faults");
+  const std::string in = (dir.path() / "in.aedat").string();
+  write_aedat2(in, 1000);
+  const auto out = [&](const std::string& name) { return (dir.path() / "new" / name / "out").string(); };
+  const std::vector<std::vector<std::string>> commands{
+      {"process", in, "-o", out("p") + ".csv", "-q"},
+      {"process", in, "-o", out("pb") + ".bin", "-q"},
+      {"process", in, "-o", out("ph") + ".h5", "-q"},
+      {"run", "--source", "file:" + in, "-o", out("r") + ".bin", "-q"},
+      {"convert", in, "-o", out("c") + ".h5", "-q"},
+      {"synth", "-o", out("s") + ".txt", "--duration", "0.05", "--truth", out("st") + ".csv", "-q"},
+      {"render", in, "-o", out("f") + ".png", "--at", "0.001"},
+  };
+  for (const auto& args : commands) {
+    const Finished f = run_cli(args, dir);
+    ASSERT_TRUE(f.exited) << args.front() << ": " << describe(f);
+    EXPECT_EQ(f.code, 0) << args.front() << ": " << describe(f);
+  }
+  for (const std::string file : {"p/out.csv", "pb/out.bin", "ph/out.h5", "r/out.bin", "c/out.h5", "s/out.txt",
+                                 "st/out.csv", "f/out.png"}) {
+    EXPECT_GT(fs::file_size(dir.path() / "new" / file), 0u) << file;
   }
 }
 

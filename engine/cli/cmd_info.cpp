@@ -1,18 +1,23 @@
 // `evlife info FILE`: what a recording holds, for every readable format:
 // format, sensor size, event count (ON / OFF), time span, triggers and other
 // skipped records, and for containers (ROS bags) every stream with its
-// message type and count. One pass over the events (constant memory).
+// message type and count; for evlife's own outputs the lifetimes they hold.
+// One pass over the events (constant memory).
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "arg_parser.h"
 #include "command.h"
 #include "command_start.h"
+#include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
+#include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
 
 namespace evlife::cli {
@@ -33,6 +38,9 @@ void print_help(std::FILE* out) {
                "events span), the number of events (ON / OFF), the first and last timestamp\n"
                "and the duration, trigger and other skipped records, and for ROS bags every\n"
                "topic with its message type and count (the one read marked '*').\n"
+               "For evlife's own outputs (.bin, .csv with lifetimes: `evlife process -o`)\n"
+               "also the lifetimes they hold: share labelled noise, lifetime percentiles,\n"
+               "predictions, as `evlife process` summarised them.\n"
                "Reads every event once (constant memory); corrupt data is reported after\n"
                "the figures of the events before it.\n"
                "\n"
@@ -53,6 +61,70 @@ std::string thousands(std::uint64_t v) {
   return s;
 }
 
+// What every event file's description counts, one event at a time.
+struct EventTally {
+  std::uint64_t on = 0, off = 0;
+  std::int64_t first = 0, last = 0;
+  int max_x = -1, max_y = -1;
+  bool ordered = true;
+
+  void add(const Event& e) noexcept {
+    if (on + off == 0) first = last = e.t_us;
+    if (e.t_us < last) ordered = false;
+    last = std::max(last, e.t_us);
+    first = std::min(first, e.t_us);
+    (e.p > 0 ? on : off) += 1;
+    max_x = std::max<int>(max_x, e.x);
+    max_y = std::max<int>(max_y, e.y);
+  }
+};
+
+void print_events(const EventTally& t, std::optional<SensorSize> stated) {
+  if (stated) {
+    std::printf("sensor     %dx%d (stated by the file)\n", stated->width, stated->height);
+  } else if (t.max_x >= 0) {
+    std::printf("sensor     not stated; the events span %dx%d (max x + 1, max y + 1)\n", t.max_x + 1, t.max_y + 1);
+  } else {
+    std::printf("sensor     not stated\n");
+  }
+  std::printf("events     %s (%s ON, %s OFF)\n", thousands(t.on + t.off).c_str(), thousands(t.on).c_str(),
+              thousands(t.off).c_str());
+  if (t.on + t.off > 0) {
+    std::printf("time       %lld .. %lld us, duration %.6f s%s\n", static_cast<long long>(t.first),
+                static_cast<long long>(t.last), static_cast<double>(t.last - t.first) * 1e-6,
+                t.ordered ? "" : " (timestamps go backwards somewhere)");
+  }
+}
+
+// An evlife output (.bin, or .csv with lifetime columns): the events, then the
+// lifetimes as `evlife process` summarised them when it wrote the file.
+int describe_augmented(const std::string& path, io::AugmentedEventReader& reader) {
+  std::vector<AugmentedEvent> batch(1 << 14);
+  EventTally tally;
+  LifetimeSummary lifetimes;
+  std::string fault;
+  try {
+    while (const std::size_t n = reader.read(batch)) {
+      const std::span<const AugmentedEvent> got(batch.data(), n);
+      for (const AugmentedEvent& a : got) tally.add(a.event);
+      lifetimes.add(got);
+    }
+  } catch (const io::ReadError& e) {
+    fault = e.what();
+  }
+  std::printf("file       %s\n", path.c_str());
+  std::printf("format     %s (evlife's output: each event with its lifetime, velocity and prediction error)\n",
+              std::string(reader.format_name()).c_str());
+  print_events(tally, reader.sensor_size());
+  std::printf("lifetimes  as estimated when the file was written\n");
+  lifetimes.print_figures(stdout);
+  if (!fault.empty()) {
+    std::fprintf(stderr, "evlife info: %s\n", fault.c_str());
+    return kExitInput;
+  }
+  return kExitOk;
+}
+
 int run_info(int argc, char** argv) {
   std::string path;
   io::ReaderOptions options;
@@ -64,6 +136,22 @@ int run_info(int argc, char** argv) {
       })) {
     return *done;
   }
+  // evlife's own outputs first (as `render` reads them): their CSV would
+  // otherwise pass for a plain x,y,t,p file and the .bin for no format.
+  try {
+    if (const auto augmented = io::open_augmented_reader(path)) return describe_augmented(path, *augmented);
+  } catch (const io::ReadError& e) {
+    // A file with the .bin magic but a header no reader takes: its own error.
+    bool bin = false;
+    try {
+      bin = io::starts_as_augmented_bin(path);
+    } catch (const io::ReadError&) {
+    }
+    if (bin) {
+      std::fprintf(stderr, "evlife info: %s\n", e.what());
+      return kExitInput;
+    }
+  }
   std::unique_ptr<io::EventReader> reader;
   try {
     reader = io::open_unchecked_event_reader(path, options);
@@ -72,23 +160,11 @@ int run_info(int argc, char** argv) {
     return kExitInput;
   }
   std::vector<Event> batch(1 << 16);
-  std::uint64_t on = 0, off = 0;
-  std::int64_t first = 0, last = 0;
-  int max_x = -1, max_y = -1;
-  bool ordered = true;
+  EventTally tally;
   std::string fault;
   try {
     while (const std::size_t n = reader->read(batch)) {
-      for (std::size_t i = 0; i < n; ++i) {
-        const Event& e = batch[i];
-        if (on + off == 0) first = last = e.t_us;
-        if (e.t_us < last) ordered = false;
-        last = std::max(last, e.t_us);
-        first = std::min(first, e.t_us);
-        (e.p > 0 ? on : off) += 1;
-        max_x = std::max<int>(max_x, e.x);
-        max_y = std::max<int>(max_y, e.y);
-      }
+      for (std::size_t i = 0; i < n; ++i) tally.add(batch[i]);
     }
   } catch (const io::ReadError& e) {
     fault = e.what();
@@ -99,20 +175,7 @@ int run_info(int argc, char** argv) {
   for (const auto& f : io::known_event_formats())
     if (f.name == format) description = std::string(f.description);
   std::printf("format     %s (%s)\n", format.c_str(), description.c_str());
-  if (const auto s = reader->sensor_size()) {
-    std::printf("sensor     %dx%d (stated by the file)\n", s->width, s->height);
-  } else if (max_x >= 0) {
-    std::printf("sensor     not stated; the events span %dx%d (max x + 1, max y + 1)\n", max_x + 1, max_y + 1);
-  } else {
-    std::printf("sensor     not stated\n");
-  }
-  std::printf("events     %s (%s ON, %s OFF)\n", thousands(on + off).c_str(), thousands(on).c_str(),
-              thousands(off).c_str());
-  if (on + off > 0) {
-    std::printf("time       %lld .. %lld us, duration %.6f s%s\n", static_cast<long long>(first),
-                static_cast<long long>(last), static_cast<double>(last - first) * 1e-6,
-                ordered ? "" : " (timestamps go backwards somewhere)");
-  }
+  print_events(tally, reader->sensor_size());
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",
               thousands(reader->skipped_record_count()).c_str());

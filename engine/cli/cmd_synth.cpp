@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "command_start.h"
 #include "command.h"
 #include "evlife/io/event_writer.h"
+#include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
 #include "evlife/io/write_error.h"
@@ -152,12 +154,16 @@ void apply_pixel_options(const ParsedArgs& a, io::PixelModel& m) {
 // Ground truth as CSV (a tiny writer: this file is its only user).
 class TruthCsv {
  public:
-  explicit TruthCsv(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "wb")) {
-    if (file_ == nullptr) throw io::WriteError(path, "cannot create the file");
+  explicit TruthCsv(const std::string& path) : path_(path), file_(open(path)) {
+    if (file_ == nullptr) throw io::WriteError(path, std::string("cannot create: ") + std::strerror(errno));
     put("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n");
   }
   ~TruthCsv() {
     if (file_ != nullptr) std::fclose(file_);
+  }
+  static std::FILE* open(const std::string& path) {
+    io::create_output_folders(path);
+    return std::fopen(path.c_str(), "wb");
   }
   TruthCsv(const TruthCsv&) = delete;
   TruthCsv& operator=(const TruthCsv&) = delete;

@@ -65,11 +65,28 @@ std::string format_si(double value) {
 }
 
 void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) const {
+  std::fprintf(out, "  events              %llu\n", static_cast<unsigned long long>(events_));
+  if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
+  print_lifetimes(out);
+  const double n = static_cast<double>(events_);
+  std::fprintf(out, "  wall time           %.3f s (%sevents/s end to end", wall_s,
+               format_si(wall_s > 0 ? n / wall_s : 0.0).c_str());
+  if (estimator_s > 0) {
+    std::fprintf(out, "; estimator alone %sevents/s", format_si(n / estimator_s).c_str());
+  }
+  std::fprintf(out, ")\n");
+  print_notes(out);
+}
+
+void LifetimeSummary::print_figures(std::FILE* out) const {
+  print_lifetimes(out);
+  print_notes(out);
+}
+
+void LifetimeSummary::print_lifetimes(std::FILE* out) const {
   const auto share = [](std::uint64_t part, std::uint64_t whole) {
     return whole == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(whole);
   };
-  std::fprintf(out, "  events              %llu\n", static_cast<unsigned long long>(events_));
-  if (events_ > 0) std::fprintf(out, "  time range          %s\n", format_time_range(first_t_us_, last_t_us_).c_str());
   std::fprintf(out, "  labelled noise      %.1f %% (%llu events)\n", share(noise_, events_),
                static_cast<unsigned long long>(noise_));
   if (lifetime_us_.total() > 0) {
@@ -85,13 +102,9 @@ void LifetimeSummary::print(std::FILE* out, double wall_s, double estimator_s) c
                  format_duration_us(abs_error_us_.percentile(0.5)).c_str(),
                  100.0 * abs_error_us_.share_below(1e4));
   }
-  const double n = static_cast<double>(events_);
-  std::fprintf(out, "  wall time           %.3f s (%sevents/s end to end", wall_s,
-               format_si(wall_s > 0 ? n / wall_s : 0.0).c_str());
-  if (estimator_s > 0) {
-    std::fprintf(out, "; estimator alone %sevents/s", format_si(n / estimator_s).c_str());
-  }
-  std::fprintf(out, ")\n");
+}
+
+void LifetimeSummary::print_notes(std::FILE* out) const {
   std::fprintf(out, "  (percentiles from a log histogram: ±1.2 %%)\n");
   // A past-only estimator labels an edge's first passage through an empty
   // surface worse than the later ones; recordings need about ten median

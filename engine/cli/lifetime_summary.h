@@ -28,8 +28,13 @@ class LifetimeSummary {
   /// Multi-line report; `wall_s` is the run's wall time, `estimator_s` the
   /// time spent inside the estimator (both in seconds).
   void print(std::FILE* out, double wall_s, double estimator_s) const;
+  /// The same report from "labelled noise" on, without the timing line: for
+  /// a file estimated earlier, whose events a caller has described.
+  void print_figures(std::FILE* out) const;
 
  private:
+  void print_lifetimes(std::FILE* out) const;  // labelled noise .. prediction error
+  void print_notes(std::FILE* out) const;      // percentile precision, warm-up
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;

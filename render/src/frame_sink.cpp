@@ -5,18 +5,14 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "evlife/io/output_path.h"
 #include "evlife/render/media.h"
 
 namespace evlife::render {
 
 namespace {
 
-void create_parent(const std::string& path) {
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (parent.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(parent, ec);  // a failure shows when the file is written
-}
+void create_parent(const std::string& path) { io::create_output_folders(path); }
 
 }  // namespace
 

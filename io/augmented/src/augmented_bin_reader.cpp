@@ -14,9 +14,13 @@ class AugmentedBinReader final : public AugmentedEventReader {
   explicit AugmentedBinReader(const std::string& path) : file_(path) {
     using namespace augmented_bin;
     unsigned char header[kHeaderBytes];
-    if (file_.read_at(0, std::as_writable_bytes(std::span(header))) != kHeaderBytes ||
-        std::memcmp(header, kMagic.data(), kMagic.size()) != 0)
+    const std::size_t got = file_.read_at(0, std::as_writable_bytes(std::span(header)));
+    if (got < kMagic.size() || std::memcmp(header, kMagic.data(), kMagic.size()) != 0)
       throw ReadError(path, 0, -1, "not an evlife augmented .bin file (bad magic)");
+    if (got != kHeaderBytes)
+      throw ReadError(path, static_cast<std::int64_t>(got), -1,
+                      "truncated: the header needs " + std::to_string(kHeaderBytes) + " bytes, the file has " +
+                          std::to_string(got));
     const auto version = get<std::uint16_t>(header, 8);
     header_bytes_ = get<std::uint16_t>(header, 10);
     record_bytes_ = get<std::uint16_t>(header, 12);

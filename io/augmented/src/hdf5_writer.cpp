@@ -3,14 +3,19 @@
 #include "evlife/io/hdf5_writer.h"
 
 #include <hdf5.h>
+#include <fcntl.h>
 #include <sys/statvfs.h>
+#include <unistd.h>
 
 #include <array>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "evlife/io/output_path.h"
 #include "hdf5_error_silencer.h"
 
 namespace evlife::io {
@@ -67,6 +72,13 @@ class Hdf5ColumnFile {
  public:
   Hdf5ColumnFile(const std::string& path, std::optional<SensorSize> sensor, bool augmented)
       : path_(path), column_count_(augmented ? 8 : 4) {
+    create_output_folders(path);
+    // libhdf5 does not say why a create failed: the same open says it.
+    if (const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644); fd < 0) {
+      throw WriteError(path, std::string("cannot create: ") + std::strerror(errno));
+    } else {
+      ::close(fd);
+    }
     const Hdf5ErrorSilencer silence;
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (file_ < 0) throw WriteError(path, "cannot create the HDF5 file");

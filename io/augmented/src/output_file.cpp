@@ -6,11 +6,13 @@
 #include <cerrno>
 #include <cstring>
 
+#include "evlife/io/output_path.h"
 #include "evlife/io/write_error.h"
 
 namespace evlife::io::detail {
 
 OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBytes) {
+  create_output_folders(path);
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw WriteError(path, std::string("cannot create: ") + std::strerror(errno));
 }

@@ -39,6 +39,10 @@ struct RecordFault {
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us);
 
+/// True when the file begins with the .bin magic (whatever follows). Throws
+/// ReadError when it cannot be opened.
+bool starts_as_augmented_bin(const std::string& path);
+
 /// Sniffs the .bin magic, else expects the CSV header. Throws ReadError for a
 /// missing file or unknown content.
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);

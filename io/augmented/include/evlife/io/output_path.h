@@ -1,5 +1,6 @@
 // Where an output may go: never onto the file being read (the writer would
-// truncate the input before the reader reaches its end).
+// truncate the input before the reader reaches its end); into folders that
+// are created when missing, by every command alike (`-o results/run1/x.h5`).
 #pragma once
 
 #include <filesystem>
@@ -15,6 +16,14 @@ inline std::optional<std::string> output_overwrites_input(const std::string& inp
   std::error_code ec;
   if (!std::filesystem::equivalent(input, output, ec)) return std::nullopt;
   return output + " is the input file; refusing to overwrite it";
+}
+
+/// Creates the folders above `output` that do not exist yet. A failure is
+/// left to the open of the file itself, whose error names the reason.
+inline void create_output_folders(const std::string& output) noexcept {
+  std::error_code ec;
+  const std::filesystem::path parent = std::filesystem::path(output).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
 }
 
 }  // namespace evlife::io
