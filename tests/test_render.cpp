@@ -16,6 +16,7 @@
 #include "evlife/algo/active_event_map.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/frame_painter.h"
 #include "evlife/render/histogram.h"
@@ -484,6 +485,28 @@ TEST(Sharpness, ThinLinesCountThickBandsAndDotsDoNot) {
   cv::Mat diag(32, 32, CV_8UC1, cv::Scalar(0));
   for (int i = 0; i < 32; ++i) diag.at<std::uint8_t>(i, i) = 255;
   EXPECT_DOUBLE_EQ(evlife::render::measure_sharpness(diag).thin_edge_share(), 1.0);
+}
+
+// --to T at F fps draws every frame k with from + k / F <= T, the last one at
+// T itself when T is on the frame grid (0.2 s at 10 fps: 1e-6 * 200000 * 10
+// is 1.9999999999999998, which floored to one frame short).
+TEST(FrameClock, CountThroughIncludesTheLastInstantOnTheGrid) {
+  using evlife::render::frame_count_through;
+  using evlife::render::frame_instant_us;
+  EXPECT_EQ(frame_count_through(0, 200000, 10.0), 3u);
+  EXPECT_EQ(frame_count_through(0, 199999, 10.0), 2u);
+  EXPECT_EQ(frame_count_through(0, 0, 30.0), 1u);
+  EXPECT_EQ(frame_count_through(5, 4, 30.0), 0u);
+  for (const double fps : {1.0, 7.0, 10.0, 29.97, 30.0, 60.0, 1000.0}) {
+    for (std::int64_t from : {0, 123, 1000000}) {
+      for (std::int64_t span : {0, 1, 33333, 200000, 1000000, 2345678}) {
+        const auto n = frame_count_through(from, from + span, fps);
+        ASSERT_GE(n, 1u);
+        EXPECT_LE(frame_instant_us(from, n - 1, fps), from + span) << fps << " " << from << " " << span;
+        EXPECT_GT(frame_instant_us(from, n, fps), from + span) << fps << " " << from << " " << span;
+      }
+    }
+  }
 }
 
 }  // namespace

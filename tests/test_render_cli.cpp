@@ -258,4 +258,26 @@ TEST_F(RenderCliTest, EvalLifetimeHistogramMatchesProcessOutput) {
   EXPECT_EQ(total + beyond, non_noise);
 }
 
+// A frame folder used twice: the frames of the earlier run that this one did
+// not replace are counted in a warning (a video of the folder would mix them
+// in); a run that replaces every one of them is silent, and so is `run`'s.
+TEST_F(RenderCliTest, AFrameFolderUsedTwiceWarnsOfTheEarlierFramesLeft) {
+  const std::string dir = path("frames");
+  auto r = run("render '" + kGarfield + "' -o '" + dir + "' --fps 10 --to 0.5 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("earlier run"), std::string::npos) << r.output;
+  r = run("render '" + kGarfield + "' -o '" + dir + "' --fps 10 --to 0.5 -q");  // the same frames again
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("earlier run"), std::string::npos) << r.output;
+  r = run("render '" + kGarfield + "' -o '" + dir + "' --fps 10 --to 0.2 -q");  // 3 of the 6 again
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("also holds 3 frame_*.png of an earlier run"), std::string::npos) << r.output;
+  r = run("run '" + kGarfield + "' --frames '" + dir + "' --fps 10 -q");  // every instant of the file
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("earlier run"), std::string::npos) << r.output;
+  r = run("run '" + kGarfield + "' --frames '" + dir + "' --fps 20 -q");  // other instants: all 8 left
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("evlife run: warning:"), std::string::npos) << r.output;
+}
+
 }  // namespace

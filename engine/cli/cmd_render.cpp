@@ -23,6 +23,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "earlier_frames_warning.h"
 #include "stop_signals.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
@@ -255,6 +256,7 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  "a unit: 500ms, 20us)\n",
                  r.after_end, static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
   }
+  warn_earlier_frames("render", args.job.output, r.earlier_frames);
   if (r.output_fault) {
     std::fprintf(stderr, "evlife render: output error: %s (%zu frames drawn before it)\n", r.output_fault->c_str(), r.frames);
     return kExitOutput;

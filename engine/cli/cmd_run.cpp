@@ -28,6 +28,7 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
+#include "earlier_frames_warning.h"
 #include "memory_check.h"
 #include "stop_signals.h"
 #include "evlife/config/config.h"
@@ -515,6 +516,7 @@ int run_engine(int argc, char** argv) {
     print_run_summary(args, *source, result, render_stage.get(), wall_s);
     counting_sink.print(stdout);
   }
+  if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
   return run_exit_status(result, render_stage.get());
 }
 

@@ -23,6 +23,10 @@ PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
     throw std::runtime_error("cannot create directory " + dir_ + ": " +
                              (ec ? ec.message() : std::string("not a directory")));
   }
+  for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("frame_") && name.ends_with(".png")) earlier_.insert(name);
+  }
 }
 
 std::string PngFolderFrameSink::file_name(long long index, std::int64_t t_us) {
@@ -32,7 +36,9 @@ std::string PngFolderFrameSink::file_name(long long index, std::int64_t t_us) {
 }
 
 void PngFolderFrameSink::write(const FrameImage& frame, std::int64_t t_us) {
-  write_image((std::filesystem::path(dir_) / file_name(index_++, t_us)).string(), as_mat(frame));
+  const std::string name = file_name(index_++, t_us);
+  if (!earlier_.empty()) earlier_.erase(name);
+  write_image((std::filesystem::path(dir_) / name).string(), as_mat(frame));
 }
 
 ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { create_parent(path_); }

@@ -72,7 +72,7 @@ RecordingRenderResult render_recording(
   // Frame instants (relative to the first event).
   std::size_t total = options.at_us.size();
   if (options.at_us.empty() && options.to_us) {
-    total = static_cast<std::size_t>(std::floor(static_cast<double>(*options.to_us - options.from_us) * 1e-6 * options.fps)) + 1;
+    total = static_cast<std::size_t>(frame_count_through(options.from_us, *options.to_us, options.fps));
   }
   auto frame_time = [&](std::size_t k) -> std::int64_t {
     if (!options.at_us.empty()) return options.at_us[k];
@@ -114,6 +114,7 @@ RecordingRenderResult render_recording(
   } catch (const std::runtime_error& e) {
     if (!output_fault) output_fault = e.what();
   }
+  result.earlier_frames = sink->earlier_frames_left();
   result.stopped = stop && stop->load(std::memory_order_relaxed);
   result.frame_size = frame_size;
   result.scale = style.scale;

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 
 namespace evlife::render {
@@ -28,6 +29,10 @@ class FrameSink {
   /// `t_us` names the frame (file sinks put it into the file name).
   virtual void write(const FrameImage& frame, std::int64_t t_us) = 0;
   virtual void finish() {}
+  /// Files of an earlier run that this one's output sits beside and did not
+  /// replace (a frame folder used twice): a video made of the folder would
+  /// mix them in. 0 for sinks that write one file.
+  virtual std::size_t earlier_frames_left() const { return 0; }
 
  protected:
   FrameSink() = default;
@@ -44,12 +49,15 @@ class PngFolderFrameSink final : public FrameSink {
  public:
   explicit PngFolderFrameSink(std::string dir);
   void write(const FrameImage& frame, std::int64_t t_us) override;
+  /// frame_*.png files the folder held before that this run did not write.
+  std::size_t earlier_frames_left() const override { return earlier_.size(); }
   /// The file name of frame number `index` at `t_us` from the first event.
   static std::string file_name(long long index, std::int64_t t_us);
 
  private:
   std::string dir_;
   long long index_ = 0;
+  std::set<std::string> earlier_;  // frame files found at the start, not written since
 };
 
 /// Every frame to one image file (FILE.png: the frame of one instant).

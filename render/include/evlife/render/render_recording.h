@@ -45,6 +45,7 @@ struct RecordingRenderOptions {
 struct RecordingRenderResult {
   std::size_t frames = 0;
   std::size_t after_end = 0;          ///< frames at instants after the last event
+  std::size_t earlier_frames = 0;     ///< frame files of an earlier run left beside these
   std::optional<std::string> input_fault;
   std::optional<std::string> output_fault;
   bool setup_failed = false;          ///< the output could not be opened: no frame tried
