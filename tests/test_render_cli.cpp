@@ -280,4 +280,31 @@ TEST_F(RenderCliTest, AFrameFolderUsedTwiceWarnsOfTheEarlierFramesLeft) {
   EXPECT_NE(r.output.find("evlife run: warning:"), std::string::npos) << r.output;
 }
 
+// A timestamp outlier far after the recording: --fps without --to draws the
+// empty frames up to it (the frame rate's meaning), but says so before the
+// first of them, with the way out; a gap under the notice's size is silent.
+TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
+  const std::string csv = path("outlier.csv");
+  {
+    std::ofstream f(csv);
+    for (int i = 0; i < 2000; ++i) f << (i % 64) << ',' << (i / 64) % 64 << ",1," << i * 50 << '\n';
+    f << "5,5,1,100000000\n";  // 100 s: 99.9 s without an event
+  }
+  auto r = run("render '" + csv + "' -o '" + path("gap") + "' --fps 11 --scale 1 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: no event from 0.181818 s to 100.000000 s (the next event): 1097 empty frames"),
+            std::string::npos)
+      << r.output;
+  r = run("render '" + csv + "' -o '" + path("gap_to") + "' --fps 11 --to 0.5 --scale 1 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("no event from"), std::string::npos) << r.output;
+  r = run("render '" + csv + "' -o '" + path("gap_slow") + "' --fps 5 --scale 1 -q");  // 500 frames: no notice
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("no event from"), std::string::npos) << r.output;
+  // The sensor is 64x32: at scale 1 its panels are lower than the colour
+  // legend, which OpenCV refused to copy (exit 1, "unexpected error").
+  r = run("render '" + csv + "' -o '" + path("small.png") + "' --at 0.05 --scale 1 --mode compare -q");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace

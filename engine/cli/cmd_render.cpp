@@ -305,7 +305,13 @@ int run_render(int argc, char** argv) {
     return render::render_recording(
         *source, args.job,
         [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
-        &g_render_stop);
+        &g_render_stop, [&](const render::EventGap& gap) {
+          std::fprintf(stderr,
+                       "evlife render: warning: no event from %.6f s to %.6f s (the next event): %.0f empty "
+                       "frames at %g fps come first; a timestamp outlier? --to T stops before it (Ctrl-C "
+                       "stops here, keeping the frames drawn)\n",
+                       gap.from_s, gap.next_event_s, gap.empty_frames, args.job.fps);
+        });
   }();
   progress.finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -2,6 +2,7 @@
 
 #include "evlife/algo/parse_text.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -72,8 +73,12 @@ cv::Size FrameComposer::frame_size(SensorSize sensor) const {
   const int panel_w = sensor.width * style_.scale;
   const int panel_h = sensor.height * style_.scale;
   int w = n * panel_w + (n - 1) * kGap;
-  if (has_legend()) w += kGap + 96;
-  const int h = label_height() + panel_h + (style_.caption ? kCaptionHeight : 0);
+  int body_h = panel_h;
+  if (has_legend()) {
+    w += kGap + 96;
+    body_h = std::max(panel_h, LifetimeColormap::kLegendMinHeight);  // a small sensor at scale 1
+  }
+  const int h = label_height() + body_h + (style_.caption ? kCaptionHeight : 0);
   return {w, h};
 }
 
@@ -104,7 +109,7 @@ const cv::Mat& FrameComposer::compose(const ActiveEventMap& set, const FixedWind
     x0 += panel_w + kGap;
   }
   if (has_legend()) {
-    if (legend_.rows != panel_h) legend_ = colormap_.legend(panel_h);
+    if (legend_.rows != std::max(panel_h, LifetimeColormap::kLegendMinHeight)) legend_ = colormap_.legend(panel_h);
     legend_.copyTo(frame_(cv::Rect(x0, top, legend_.cols, legend_.rows)));
   }
   if (style_.caption) {

@@ -51,7 +51,7 @@ cv::Mat LifetimeColormap::legend(int height) const {
   const int width = 96;
   const int top = 24;
   const int bottom = 10;
-  height = std::max(height, 80);
+  height = std::max(height, kLegendMinHeight);
   cv::Mat img(height, width, CV_8UC3, cv::Scalar(0, 0, 0));
   cv::putText(img, "lifetime", {4, 15}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1,
               cv::LINE_AA);

@@ -19,7 +19,7 @@ namespace evlife::render {
 RecordingRenderResult render_recording(
     AugmentedSource& source, const RecordingRenderOptions& options,
     const std::function<void(std::size_t, std::size_t, double)>& progress,
-    const std::atomic<bool>* stop) {
+    const std::atomic<bool>* stop, const std::function<void(const EventGap&)>& on_gap) {
   RecordingRenderResult result;
   const SensorSize sensor = source.sensor();
   ActiveEventSet set(sensor, options.thinning);
@@ -84,6 +84,7 @@ RecordingRenderResult render_recording(
   auto& input_fault = result.input_fault;
   auto& output_fault = result.output_fault;
   double& draw_s = result.draw_s;
+  bool gap_told = false;
   for (std::size_t k = 0; !(stop && stop->load(std::memory_order_relaxed)); ++k) {
     if (total > 0 && k >= total) break;
     const std::int64_t rel = frame_time(k);
@@ -97,6 +98,18 @@ RecordingRenderResult render_recording(
     // --fps without --to: stop after the last event.
     if (options.at_us.empty() && !options.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
+    if (on_gap && !gap_told && options.at_us.empty() && !options.to_us) {
+      if (const auto next = cursor.next_t_us()) {
+        const double gap_s = static_cast<double>(*next - t) * 1e-6;
+        // Frames after this one at instants before the next event.
+        const auto empty = static_cast<double>(frame_count_through(options.from_us, *next - *first_t - 1, options.fps)) -
+                           static_cast<double>(k + 1);
+        if (gap_s >= kEventGapNoticeS && empty >= kEventGapNoticeFrames) {
+          gap_told = true;
+          on_gap(EventGap{static_cast<double>(rel) * 1e-6, static_cast<double>(*next - *first_t) * 1e-6, empty});
+        }
+      }
+    }
     const auto d0 = std::chrono::steady_clock::now();
     const cv::Mat& frame = composer.compose(set, window, t, rel);  // caption: time from the first event
     draw_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - d0).count();

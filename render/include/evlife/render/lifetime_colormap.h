@@ -41,7 +41,9 @@ class LifetimeColormap {
 
   /// A vertical colour bar with tick labels in ms, `height` pixels tall,
   /// titled "lifetime": the legend drawn next to lifetime images.
+  /// At least kLegendMinHeight rows, whatever `height` asks.
   cv::Mat legend(int height) const;
+  static constexpr int kLegendMinHeight = 80;
 
  private:
   double min_us_;

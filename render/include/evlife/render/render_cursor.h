@@ -30,6 +30,11 @@ class RenderCursor {
 
   /// True once the source is exhausted and every event was fed.
   bool exhausted() const noexcept { return ended_ && pos_ == count_; }
+  /// Time of the next event after the cursor when it is read already (after
+  /// advance_to, unless the source ended): what a frame rate has ahead.
+  std::optional<std::int64_t> next_t_us() const noexcept {
+    return pos_ < count_ ? std::optional<std::int64_t>(buffer_[pos_].event.t_us) : std::nullopt;
+  }
   /// Time of the latest event fed (INT64_MIN before the first).
   std::int64_t last_fed_t_us() const noexcept { return last_fed_t_us_; }
   std::uint64_t events_fed() const noexcept { return events_fed_; }
