@@ -76,6 +76,8 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_NE(r.output.find("events     3 (2 ON, 1 OFF)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("the events span 640x480"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1000 .. 2250 us"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("gap        longest without events 0.000750 s, after t = 1500 us"), std::string::npos)
+      << r.output;
   const fs::path h5 = dir_.path() / "mv.h5";
   ASSERT_EQ(run("convert '" + csv.string() + "' '" + h5.string() + "' -q").exit_code, 0);
   r = run("info '" + h5.string() + "'");

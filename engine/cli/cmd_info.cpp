@@ -36,7 +36,8 @@ void print_help(std::FILE* out) {
                "\n"
                "Prints the format, the sensor size (stated by the file, else the range the\n"
                "events span), the number of events (ON / OFF), the first and last timestamp\n"
-               "and the duration, trigger and other skipped records, and for ROS bags every\n"
+               "and the duration, the longest stretch without events (a timestamp outlier\n"
+               "shows there), trigger and other skipped records, and for ROS bags every\n"
                "topic with its message type and count (the one read marked '*').\n"
                "For evlife's own outputs (.bin, .csv with lifetimes: `evlife process -o`)\n"
                "also the lifetimes they hold: share labelled noise, lifetime percentiles,\n"
@@ -67,10 +68,16 @@ struct EventTally {
   std::int64_t first = 0, last = 0;
   int max_x = -1, max_y = -1;
   bool ordered = true;
+  std::int64_t longest_gap_us = 0;  // between events in file order: a timestamp outlier shows here
+  std::int64_t longest_gap_after_us = 0;
 
   void add(const Event& e) noexcept {
     if (on + off == 0) first = last = e.t_us;
     if (e.t_us < last) ordered = false;
+    if (e.t_us - last > longest_gap_us) {
+      longest_gap_us = e.t_us - last;
+      longest_gap_after_us = last;
+    }
     last = std::max(last, e.t_us);
     first = std::min(first, e.t_us);
     (e.p > 0 ? on : off) += 1;
@@ -93,6 +100,8 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated) {
     std::printf("time       %lld .. %lld us, duration %.6f s%s\n", static_cast<long long>(t.first),
                 static_cast<long long>(t.last), static_cast<double>(t.last - t.first) * 1e-6,
                 t.ordered ? "" : " (timestamps go backwards somewhere)");
+    std::printf("gap        longest without events %.6f s, after t = %lld us\n",
+                static_cast<double>(t.longest_gap_us) * 1e-6, static_cast<long long>(t.longest_gap_after_us));
   }
 }
 
