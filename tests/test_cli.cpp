@@ -100,14 +100,33 @@ TEST_F(CliTest, MissingInputNamesTheFile) {
 
 // A named pipe (no writer yet): refused at once, naming what to do, instead
 // of waiting forever in open() or failing later with "Illegal seek".
-TEST_F(CliTest, APipeAsInputIsRefusedAtOnce) {
+// INPUT `-` (stdin) and a named pipe read as the file itself does: the stream
+// is copied into $TMPDIR first (readers read a file's start again), and the
+// copy is gone afterwards. Before, a pipe was refused ("save the stream to a
+// file first") and `-` was a missing file.
+TEST_F(CliTest, StdinAndNamedPipesReadAsTheFileDoes) {
+  const fs::path tmp = path("tmp");
+  fs::create_directories(tmp);
   const std::string fifo = path("events.fifo").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  const RunResult r = evlife::test::run_cli("timeout", "20 '" + kCli + "' process '" + fifo + "' -o '" +
-                                                           path("out.csv").string() + "'",
-                                            dir_.path() / "fifo.log");
-  EXPECT_EQ(r.exit_code, 3) << r.output;  // timeout's 124 if it waited
-  EXPECT_NE(r.output.find(fifo + ": a pipe: evlife reads files"), std::string::npos) << r.output;
+  const fs::path script = path("pipes.sh");
+  std::ofstream(script) << "export TMPDIR='" << tmp.string() << "'\n"
+                        << "cat '" << kRpgText << "' | timeout 60 '" << kCli << "' process - -o '"
+                        << path("stdin.csv").string() << "' -q || exit 11\n"
+                        << "cat '" << kRpgText << "' > '" << fifo << "' &\n"
+                        << "timeout 60 '" << kCli << "' process '" << fifo << "' -o '" << path("fifo.csv").string()
+                        << "' -q || exit 12\n"
+                        << "cat '" << kRpgText << "' | timeout 60 '" << kCli << "' info - || exit 13\n";
+  const RunResult r = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + path("file.csv").string() + "' -q").exit_code, 0);
+  const std::string expected = evlife::test::read_text_file(path("file.csv"));
+  ASSERT_FALSE(expected.empty());
+  EXPECT_TRUE(evlife::test::read_text_file(path("stdin.csv")) == expected);
+  EXPECT_TRUE(evlife::test::read_text_file(path("fifo.csv")) == expected);
+  EXPECT_NE(r.output.find("file       stdin (a stream, read from its copy"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("events     50,000 ("), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
 }
 
 TEST_F(CliTest, UsageErrorsExitTwo) {
@@ -434,9 +453,12 @@ TEST_F(CliTest, TruncatedAedat2KeepsEventsBeforeTheFault) {
 }
 
 TEST_F(CliTest, UnwritableOutputExitsFour) {
-  const RunResult r = run("process '" + kRpgText + "' -o /nonexistent_dir/evlife/out.csv");
+  // Missing folders are created, so: a folder inside a regular file (ENOTDIR, even for root).
+  std::ofstream(path("a_file")) << "x";
+  const std::string out = path("a_file").string() + "/evlife/out.csv";
+  const RunResult r = run("process '" + kRpgText + "' -o '" + out + "'");
   EXPECT_EQ(r.exit_code, 4) << r.output;
-  EXPECT_NE(r.output.find("/nonexistent_dir/evlife/out.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(out + ": cannot create: Not a directory"), std::string::npos) << r.output;
 }
 
 // `script` (sh, `$DISK` a 256 KiB tmpfs) in a private mount namespace; an

@@ -3,6 +3,7 @@
 // (so the expected values do not come from the code under test).
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -518,8 +519,16 @@ TEST(IoFormatsHdf5, HugeStorageChunksAreRefusedBeforeAllocation) {
 }
 
 TEST(IoFormatsHdf5, UnwritablePathIsAWriteError) {
-  EXPECT_THROW(evlife::io::open_hdf5_augmented_writer("/nonexistent-dir/x.h5", std::nullopt),
-               evlife::io::WriteError);
+  // Missing folders are created; a folder inside a regular file cannot be (ENOTDIR, even for root).
+  const auto file = std::filesystem::temp_directory_path() / ("evlife_h5_not_a_dir_" + std::to_string(::getpid()));
+  std::ofstream(file) << "x";
+  try {
+    evlife::io::open_hdf5_augmented_writer((file / "x.h5").string(), std::nullopt);
+    ADD_FAILURE() << "no WriteError";
+  } catch (const evlife::io::WriteError& e) {
+    EXPECT_NE(std::string(e.what()).find("Not a directory"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -219,13 +219,17 @@ TEST_F(Writers, FullDiskGivesWriteErrorNamingTheFileAndDestructorsDoNotThrow) {
 
 TEST_F(Writers, BadPathsAndExtensionsGiveWriteError) {
   EXPECT_THROW(evlife::io::open_augmented_writer(path("x.parquet"), {1, 1}), WriteError);
-  EXPECT_THROW(evlife::io::open_augmented_writer(path("no/such/dir/x.csv"), {1, 1}), WriteError);
+  // Missing folders are created; none can be made inside a regular file.
+  std::ofstream(path("a_file")) << "x";
+  EXPECT_THROW(evlife::io::open_augmented_writer(path("a_file/dir/x.csv"), {1, 1}), WriteError);
   EXPECT_THROW(evlife::io::open_event_writer(path("x.aedat")), WriteError);
   try {
-    evlife::io::open_augmented_writer(path("no/such/dir/x.bin"), {1, 1});
+    evlife::io::open_augmented_writer(path("a_file/dir/x.bin"), {1, 1});
+    ADD_FAILURE() << "no WriteError";
   } catch (const WriteError& e) {
-    EXPECT_NE(std::string(e.what()).find("no/such/dir/x.bin"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("a_file/dir/x.bin"), std::string::npos);
   }
+  EXPECT_NO_THROW(evlife::io::open_augmented_writer(path("no/such/dir/x.bin"), {1, 1})->close());
 }
 
 TEST_F(Writers, RpgTextIsExactAndReadsBack) {

@@ -135,6 +135,9 @@ inline constexpr OptionSpec kPolarityOptionSpec{"polarity", 0, true, false};
 inline constexpr OptionSpec kFromOptionSpec{"from", 0, true, false};
 inline constexpr OptionSpec kToOptionSpec{"to", 0, true, false};
 inline constexpr std::string_view kInputOptionsHelp =
+    "  INPUT -            stdin (also a named pipe, or <(unzip -p x.zip events.txt)):\n"
+    "                     copied into $TMPDIR first and removed at the end; the\n"
+    "                     format is then told by its content (.dat, .bag, .mcap: a file).\n"
     "  --topic NAME       ROS bags: the event topic to read (needed when the bag has\n"
     "                     several; the error lists them).\n"
     "  --time-unit U      CSV/text input: unit of the time column, s|ms|us|ns (default:\n"

@@ -21,6 +21,7 @@
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
 #include "exit_code.h"
+#include "input_spool.h"
 #include "skipped_kinds_text.h"
 
 namespace evlife::cli {
@@ -270,6 +271,8 @@ int convert(int argc, char** argv) {
   })) {
     return *done;
   }
+  std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
+  if (const auto done = spool_stream_input("convert", input, quiet, spool)) return *done;
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
   // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
   if (has_extension(input, {".bin"})) return convert_augmented(input, output, quiet);

@@ -36,6 +36,7 @@
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/sharpness.h"
 #include "exit_code.h"
+#include "input_spool.h"
 
 namespace evlife::cli {
 namespace {
@@ -130,6 +131,8 @@ int eval_recording(int argc, char** argv) {
   if (const auto done = start_command("eval", argc, argv, print_eval_help, [&] { args = parse_eval_args(argc, argv); })) {
     return *done;
   }
+  std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
+  if (const auto done = spool_stream_input("eval", args.input, args.quiet, spool)) return *done;
   if (args.print_config) {
     print_config(args.config);
     return kExitOk;

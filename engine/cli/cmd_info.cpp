@@ -17,6 +17,7 @@
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/event_reader.h"
 #include "exit_code.h"
+#include "input_spool.h"
 #include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
 
@@ -145,10 +146,14 @@ int run_info(int argc, char** argv) {
       })) {
     return *done;
   }
+  std::optional<InputSpool> spool;  // FILE `-` or a pipe: read from a copy
+  const std::string named = path == "-" ? std::string("stdin") : path;
+  if (const auto done = spool_stream_input("info", path, true, spool)) return *done;
+  const std::string shown = spool ? named + " (a stream, read from its copy " + path + ")" : path;
   // evlife's own outputs first (as `render` reads them): their CSV would
   // otherwise pass for a plain x,y,t,p file and the .bin for no format.
   try {
-    if (const auto augmented = io::open_augmented_reader(path)) return describe_augmented(path, *augmented);
+    if (const auto augmented = io::open_augmented_reader(path)) return describe_augmented(shown, *augmented);
   } catch (const io::ReadError& e) {
     // A file with the .bin magic but a header no reader takes: its own error.
     bool bin = false;
@@ -179,7 +184,7 @@ int run_info(int argc, char** argv) {
     fault = e.what();
   }
   const std::string format(reader->format_name());
-  std::printf("file       %s\n", path.c_str());
+  std::printf("file       %s\n", shown.c_str());
   std::string description;
   for (const auto& f : io::known_event_formats())
     if (f.name == format) description = std::string(f.description);

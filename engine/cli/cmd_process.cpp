@@ -29,6 +29,7 @@
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
 #include "exit_code.h"
+#include "input_spool.h"
 #include "skipped_kinds_text.h"
 #include "lifetime_summary.h"
 #include "progress_meter.h"
@@ -262,6 +263,8 @@ int process_recording(int argc, char** argv) {
     print_config(args.config);
     return kExitOk;
   }
+  std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
+  if (const auto done = spool_stream_input("process", args.input, args.quiet, spool)) return *done;
 
   // Input: sniff the format, settle the sensor, then open the checked reader
   // (bounds and time order) for that sensor.

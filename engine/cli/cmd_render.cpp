@@ -35,6 +35,7 @@
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/render_recording.h"
 #include "exit_code.h"
+#include "input_spool.h"
 #include "lifetime_summary.h"
 
 namespace evlife::cli {
@@ -283,6 +284,8 @@ int run_render(int argc, char** argv) {
   if (const auto done = start_command("render", argc, argv, print_render_help, [&] { args = parse_render_args(argc, argv); })) {
     return *done;
   }
+  std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
+  if (const auto done = spool_stream_input("render", args.input, args.quiet, spool)) return *done;
   if (args.print_config) {
     print_config(args.config);
     return kExitOk;

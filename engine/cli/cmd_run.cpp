@@ -43,6 +43,7 @@
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
 #include "exit_code.h"
+#include "input_spool.h"
 #include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
 #include "window_frame_sink.h"
@@ -194,6 +195,7 @@ struct RunArgs {
 std::string_view file_of_source(std::string_view spec) {
   return spec.starts_with("file:") ? spec.substr(5) : spec;
 }
+bool is_file_source(std::string_view spec) { return !engine::is_dvs128_spec(spec) && !spec.starts_with("synth:"); }
 
 RunArgs parse_run_args(int argc, char** argv) {
   // `--realtime` alone means 1x: give it its value before generic parsing.
@@ -428,6 +430,12 @@ int run_engine(int argc, char** argv) {
   if (args.print_config) {
     print_config(args.config);
     return kExitOk;
+  }
+  std::optional<InputSpool> spool;  // a file source `-` or a pipe: replayed from a copy
+  if (is_file_source(args.source)) {
+    std::string file(file_of_source(args.source));
+    if (const auto done = spool_stream_input("run", file, args.quiet, spool)) return *done;
+    args.source = "file:" + file;
   }
   if (args.window) {  // before any thread: the probe forks
     const std::string problem = probe_window_display();

@@ -144,8 +144,12 @@ def test_arrays_without_integer_t_x_y_p_raise_typeerror():
 
 def test_unwritable_output_is_oserror(tmp_path):
     aug = evlife.process(evlife.read(data(RECORDINGS["mat"]))[:100], sensor=(128, 128))
+    # Missing folders are created (as the CLI does); none can be made inside a file.
+    (tmp_path / "a_file").write_text("x")
     with pytest.raises(OSError):
-        evlife.write(tmp_path / "missing-dir" / "x.bin", aug, (128, 128))
+        evlife.write(tmp_path / "a_file" / "x.bin", aug, (128, 128))
+    evlife.write(tmp_path / "new" / "dir" / "x.bin", aug, (128, 128))
+    assert (tmp_path / "new" / "dir" / "x.bin").stat().st_size > 0
     with pytest.raises(OSError):
         evlife.write(tmp_path / "x.xyz", aug, (128, 128))
 

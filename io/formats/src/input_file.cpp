@@ -29,8 +29,8 @@ InputFile::InputFile(const std::string& path) : path_(path) {
   if (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)) {
     ::close(fd_);
     throw ReadError(path, -1, -1,
-                    "a pipe: evlife reads files (it reads their start again once it knows the format); save the "
-                    "stream to a file first");
+                    "a pipe: the readers read files (they read the start again once they know the format); save "
+                    "the stream to a file first (the evlife command line does that itself for pipes and `-`)");
   }
   size_bytes_ = static_cast<std::uint64_t>(st.st_size);
 #ifdef POSIX_FADV_SEQUENTIAL
