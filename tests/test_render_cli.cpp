@@ -292,7 +292,7 @@ TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
   }
   auto r = run("render '" + csv + "' -o '" + path("gap") + "' --fps 11 --scale 1 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("warning: no event from 0.181818 s to 100.000000 s (the next event): 1097 empty frames"),
+  EXPECT_NE(r.output.find("warning: no event from 0.181818 s to 100.000000 s (the next event): 1098 empty frames"),
             std::string::npos)
       << r.output;
   r = run("render '" + csv + "' -o '" + path("gap_to") + "' --fps 11 --to 0.5 --scale 1 -q");
@@ -301,10 +301,36 @@ TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
   r = run("render '" + csv + "' -o '" + path("gap_slow") + "' --fps 5 --scale 1 -q");  // 500 frames: no notice
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("no event from"), std::string::npos) << r.output;
+  // run --fps: the same warning (from its monitor thread, before the frames).
+  r = run("run '" + csv + "' --frames '" + path("gap_run") + "' --fps 11 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("render: no event from 0.181818 s to 100.000000 s (the next event): 1098 empty frames"),
+            std::string::npos)
+      << r.output;
   // The sensor is 64x32: at scale 1 its panels are lower than the colour
   // legend, which OpenCV refused to copy (exit 1, "unexpected error").
   r = run("render '" + csv + "' -o '" + path("small.png") + "' --at 0.05 --scale 1 --mode compare -q");
   EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// Ctrl-C during `run --fps` over a timestamp outlier (a month ahead: 78 M
+// empty frames at 30 fps) ends the run: the frames not drawn yet are skipped
+// and counted, every event is written. Before, the render thread drew on
+// through the gap and the run never ended.
+TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
+  const std::string csv = path("month.csv");
+  {
+    std::ofstream f(csv);
+    for (int i = 0; i < 2000; ++i) f << (i % 64) << ',' << (i / 64) % 64 << ",1," << i * 50 << '\n';
+    f << "5,5,1,2600000000000\n";
+  }
+  const auto r = evlife::test::run_cli("timeout", "--preserve-status -s INT -k 60 5 '" + kCli + "' run '" + csv +
+                                                      "' --frames '" + path("month") + "' --fps 30 -o '" +
+                                                      path("month.bin") + "'",
+                                       dir_.path() / "cli.log");
+  EXPECT_EQ(r.exit_code, 130) << r.output;  // 137 if it had to be killed
+  EXPECT_NE(r.output.find("more not drawn: stopped"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("all 2001 accepted events were written"), std::string::npos) << r.output;
 }
 
 }  // namespace

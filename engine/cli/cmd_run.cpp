@@ -365,12 +365,16 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  static_cast<unsigned long long>(reader->skipped_record_count()),
                  kinds.empty() ? "" : ": ", kinds.c_str());
   }
-  if (render_stage)
-    std::fprintf(stdout, "frames : %llu %s %s\n",
+  if (render_stage) {
+    std::fprintf(stdout, "frames : %llu %s %s",
                  static_cast<unsigned long long>(render_stage->frames_written()),
                  args.window ? "shown in" : "written to",
                  args.window ? "a window" :
                  args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
+    if (const std::uint64_t skipped = render_stage->frames_not_drawn(); skipped > 0)
+      std::fprintf(stdout, " (%llu more not drawn: stopped)", static_cast<unsigned long long>(skipped));
+    std::fprintf(stdout, "\n");
+  }
   std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());
   std::string cpu;
   double threads_s = 0.0;

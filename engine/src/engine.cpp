@@ -262,7 +262,11 @@ RunResult Engine::run() {
     if (!stop_forwarded && stop_.load(std::memory_order_relaxed)) {
       spdlog::info("engine: stop requested, finishing the queued work");
       source.request_stop();
+      for (AuxStage* aux : pipeline_.aux_stages()) aux->request_stop();
       stop_forwarded = true;
+    }
+    for (AuxStage* aux : pipeline_.aux_stages()) {
+      if (const std::string notice = aux->take_notice(); !notice.empty()) spdlog::warn("render: {}", notice);
     }
     if (!stop_forwarded && pipeline_.merger().sink_failed()) {
       spdlog::error("engine: the output failed; stopping the source");

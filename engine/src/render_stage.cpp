@@ -2,6 +2,7 @@
 #if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
+#include <cstdio>
 #include <exception>
 #include <stdexcept>
 
@@ -31,6 +32,10 @@ RenderStage::~RenderStage() = default;
 
 void RenderStage::emit(std::int64_t t_us) noexcept {
   if (!error_.empty()) return;
+  if (stop_.load(std::memory_order_relaxed)) {
+    not_drawn_.store(not_drawn_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+    return;
+  }
   try {
     // Caption and file name: time from the first event, as `evlife render`.
     const std::int64_t rel_us = t_us - first_t_us_;
@@ -53,6 +58,23 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
     first_t_us_ = t;
     for (auto& at : at_us_) at += t;
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
+  }
+  if (fps_ > 0 && t > next_frame_t_us_) {
+    // Clock frames this event passes: frame_count_through(..., t - 1) is the
+    // index of the first instant at or after t.
+    const std::uint64_t passed = render::frame_count_through(first_t_us_, t - 1, fps_) - next_frame_;
+    if (gap_state_.load(std::memory_order_relaxed) == 0 && static_cast<double>(passed) >= render::kEventGapNoticeFrames &&
+        static_cast<double>(t - next_frame_t_us_) * 1e-6 >= render::kEventGapNoticeS) {
+      gap_from_us_ = next_frame_t_us_ - first_t_us_;
+      gap_next_us_ = t - first_t_us_;
+      gap_frames_ = passed;
+      gap_state_.store(1, std::memory_order_release);
+    }
+    if (stop_.load(std::memory_order_relaxed)) {  // skip them at once (counted), not one by one
+      next_frame_ += passed;
+      next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
+      not_drawn_.store(not_drawn_.load(std::memory_order_relaxed) + passed, std::memory_order_relaxed);
+    }
   }
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.
@@ -77,6 +99,18 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
   set_.feed(a);
   window_.feed(a);
   last_t_us_ = t;
+}
+
+std::string RenderStage::take_notice() {
+  if (gap_state_.load(std::memory_order_acquire) != 1) return {};
+  gap_state_.store(2, std::memory_order_relaxed);
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "no event from %.6f s to %.6f s (the next event): %llu empty frames at %g fps come first; a "
+                "timestamp outlier? Ctrl-C stops the drawing (the events are still written)",
+                static_cast<double>(gap_from_us_) * 1e-6, static_cast<double>(gap_next_us_) * 1e-6,
+                static_cast<unsigned long long>(gap_frames_), fps_);
+  return text;
 }
 
 StepResult RenderStage::step() noexcept {

@@ -101,9 +101,10 @@ RecordingRenderResult render_recording(
     if (on_gap && !gap_told && options.at_us.empty() && !options.to_us) {
       if (const auto next = cursor.next_t_us()) {
         const double gap_s = static_cast<double>(*next - t) * 1e-6;
-        // Frames after this one at instants before the next event.
+        // This frame and those after it at instants before the next event
+        // (as `run --fps` counts them).
         const auto empty = static_cast<double>(frame_count_through(options.from_us, *next - *first_t - 1, options.fps)) -
-                           static_cast<double>(k + 1);
+                           static_cast<double>(k);
         if (gap_s >= kEventGapNoticeS && empty >= kEventGapNoticeFrames) {
           gap_told = true;
           on_gap(EventGap{static_cast<double>(rel) * 1e-6, static_cast<double>(*next - *first_t) * 1e-6, empty});

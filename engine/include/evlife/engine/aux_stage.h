@@ -5,6 +5,8 @@
 #include <concurrentqueue.h>  // before the semaphore: it defines the macros it uses
 #include <lightweightsemaphore.h>
 
+#include <string>
+
 #include "evlife/engine/step_result.h"
 
 namespace evlife::engine {
@@ -16,6 +18,12 @@ class AuxStage {
   virtual StepResult step() noexcept = 0;
   /// Signalled when the stage may have work (its thread sleeps on it).
   virtual moodycamel::LightweightSemaphore& wake() noexcept = 0;
+  /// The run is stopping (Ctrl-C): skip what only the user would have
+  /// waited for (drawing); any thread.
+  virtual void request_stop() noexcept {}
+  /// A warning for the user, once, from the monitor thread (never on the
+  /// stage's own path): empty when there is none (yet).
+  virtual std::string take_notice() { return {}; }
 
  protected:
   AuxStage() = default;

@@ -49,7 +49,15 @@ class RenderStage final : public AuxStage {
     requested_t_us_.store(t_us, std::memory_order_relaxed);
   }
 
+  /// Ctrl-C: frames not drawn yet are skipped (counted: frames_not_drawn()).
+  void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
+  /// The gap warning of `evlife render`: a stretch of 60+ s and 1000+ frames
+  /// without events ahead of the clock (a timestamp outlier), said before
+  /// its empty frames are drawn.
+  std::string take_notice() override;
+
   std::uint64_t frames_written() const noexcept { return frames_.load(std::memory_order_relaxed); }
+  std::uint64_t frames_not_drawn() const noexcept { return not_drawn_.load(std::memory_order_relaxed); }
   /// The frame sink's error (render thread only, or after the run).
   const std::string& error() const noexcept { return error_; }
 
@@ -75,6 +83,13 @@ class RenderStage final : public AuxStage {
   std::int64_t first_t_us_ = 0;  ///< the first event's: sinks get t from it
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};
+  std::atomic<std::uint64_t> not_drawn_{0};
+  std::atomic<bool> stop_{false};
+  // The gap: written by the render thread, then gap_state_ 1 (release); the
+  // monitor reads it after an acquire and sets 2.
+  std::atomic<int> gap_state_{0};
+  std::int64_t gap_from_us_ = 0, gap_next_us_ = 0;
+  std::uint64_t gap_frames_ = 0;
   std::string error_;
   bool finished_ = false;
 };

@@ -23,4 +23,10 @@ inline std::uint64_t frame_count_through(std::int64_t from_us, std::int64_t to_u
   return k + 1;
 }
 
+/// A stretch without events ahead of a frame rate is said (a timestamp
+/// outlier would draw millions of empty frames) when it holds at least this
+/// many frames and lasts this long: `evlife render --fps` and `run --fps`.
+constexpr double kEventGapNoticeFrames = 1000.0;
+constexpr double kEventGapNoticeS = 60.0;
+
 }  // namespace evlife::render

@@ -16,6 +16,7 @@
 
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 
 namespace evlife::render {
@@ -68,9 +69,6 @@ struct EventGap {
   double next_event_s = 0.0; ///< the next event, from the first event
   double empty_frames = 0.0; ///< frames the rate draws before it
 };
-/// Gaps reported: at least this many empty frames and this long.
-constexpr double kEventGapNoticeFrames = 1000.0;
-constexpr double kEventGapNoticeS = 60.0;
 
 /// Draws the frames `options` asks for from `source`. `progress(frames,
 /// total (0: unknown), t_s)` after each frame; `stop` ends the loop early;
