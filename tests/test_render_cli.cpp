@@ -333,4 +333,36 @@ TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
   EXPECT_NE(r.output.find("all 2001 accepted events were written"), std::string::npos) << r.output;
 }
 
+// Ctrl-C in synth closes a complete, shorter file and says how much it holds
+// (before: killed mid-line, exit by signal); in eval it says that nothing was
+// written (the report needs every run) and exits 130 (before: killed silently).
+TEST_F(RenderCliTest, CtrlCInSynthAndEvalIsACleanStop) {
+  const std::string scene = path("long.txt");
+  auto r = evlife::test::run_cli("timeout", "--preserve-status -s INT -k 5 1 '" + kCli + "' synth -o '" + scene +
+                                                "' --scene large --sensor 640x480 --duration 100",
+                                 dir_.path() / "cli.log");
+  ASSERT_EQ(r.exit_code, 130) << r.output;
+  const auto held = r.output.find("events (a complete file, cut short)");
+  ASSERT_NE(held, std::string::npos) << r.output;
+  const auto count_at = r.output.rfind(", ", held) + 2;
+  const std::string count = r.output.substr(count_at, held - 1 - count_at);
+  const auto info = run("info '" + scene + "'");
+  EXPECT_EQ(info.exit_code, 0) << info.output;  // every line whole
+  std::string with_commas;
+  for (std::size_t i = 0; i < count.size(); ++i) {
+    if (i > 0 && (count.size() - i) % 3 == 0) with_commas += ',';
+    with_commas += count[i];
+  }
+  EXPECT_NE(info.output.find("events     " + with_commas + " ("), std::string::npos) << count << "\n" << info.output;
+
+  const std::string h5 = path("eval_input.h5");
+  ASSERT_EQ(run("synth -o '" + h5 + "' --scene large --sensor 320x240 --duration 1 -q").exit_code, 0);
+  r = evlife::test::run_cli("timeout", "--preserve-status -s INT -k 60 1 '" + kCli + "' eval '" + h5 + "' -o '" +
+                                           path("report") + "' -q",
+                            dir_.path() / "cli.log");
+  EXPECT_EQ(r.exit_code, 130) << r.output;
+  EXPECT_NE(r.output.find("interrupted: nothing written to"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("report") + "/summary.html"));
+}
+
 }  // namespace

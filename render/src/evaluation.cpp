@@ -36,8 +36,10 @@ using OutputError = EvaluationOutputError;
 // Passes events through while measuring them.
 class TapSource final : public render::AugmentedSource {
  public:
-  TapSource(render::AugmentedSource& inner, RunResult& result) : inner_(inner), result_(result) {}
+  TapSource(render::AugmentedSource& inner, RunResult& result, const std::atomic<bool>* stop)
+      : inner_(inner), result_(result), stop_(stop) {}
   std::size_t read(std::span<AugmentedEvent> out) override {
+    if (stop_ != nullptr && stop_->load(std::memory_order_relaxed)) throw EvaluationStopped{};
     const std::size_t n = inner_.read(out);
     result_.add(out.first(n));
     return n;
@@ -49,12 +51,13 @@ class TapSource final : public render::AugmentedSource {
  private:
   render::AugmentedSource& inner_;
   RunResult& result_;
+  const std::atomic<bool>* stop_;
 };
 
 // The measuring pass with rendering: sharpness at every sample instant and the compare frame.
 void run_with_sharpness(render::AugmentedSource& source, RunResult& result, const EvaluationOptions& args,
                         SharpnessResult& sharp) {
-  TapSource tap(source, result);
+  TapSource tap(source, result, args.stop);
   const SensorSize sensor = source.sensor();
   render::ActiveEventSet set(sensor, true);
   render::FixedWindowMap window(sensor);
@@ -85,9 +88,11 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   cursor.advance_to(INT64_MAX);  // the statistics cover the whole recording
 }
 
-void run_plain(render::AugmentedSource& source, RunResult& result) {
+void run_plain(render::AugmentedSource& source, RunResult& result, const std::atomic<bool>* stop) {
+  TapSource tap(source, result, stop);
   std::vector<AugmentedEvent> buf(1 << 14);
-  while (const std::size_t n = source.read(buf)) result.add(std::span<const AugmentedEvent>(buf.data(), n));
+  while (tap.read(buf) > 0) {
+  }
 }
 
 
@@ -445,7 +450,7 @@ Evaluation evaluate(const EvaluationOptions& args) {
           sensor = source->sensor();
           run_with_sharpness(*source, r, args, sharp);
         } else {
-          run_plain(*source, r);
+          run_plain(*source, r, args.stop);
         }
       } catch (const io::ReadError& e) {
         // The events before a fault are evaluated (every run stops at the

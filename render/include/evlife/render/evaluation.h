@@ -17,6 +17,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <atomic>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -38,6 +39,7 @@ struct EvaluationOptions {
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
   bool quiet = false;                 ///< no progress lines on stderr
+  const std::atomic<bool>* stop = nullptr;  ///< set (Ctrl-C): evaluate() throws EvaluationStopped
 };
 
 // Everything measured over one pass.
@@ -129,6 +131,9 @@ class EvaluationOutputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// EvaluationOptions::stop was seen: the runs are cut short, nothing to write.
+struct EvaluationStopped {};
 
 Evaluation evaluate(const EvaluationOptions& options);
 void write_evaluation(const EvaluationOptions& options, const Evaluation& evaluation);
