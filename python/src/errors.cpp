@@ -58,7 +58,12 @@ void bind_errors(py::module_& m) {
     } catch (const config::ConfigError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const io::WriteError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      // errno as data (`e.errno == errno.ENOSPC`); no filename or strerror,
+      // which would make str() Python's "[Errno 28] ...", not the command
+      // line's message (as for FileNotFoundError above).
+      py::object error = py::reinterpret_borrow<py::object>(PyExc_OSError)(e.what());
+      if (e.os_error() != 0) error.attr("errno") = e.os_error();
+      PyErr_SetObject(PyExc_OSError, error.ptr());
     }
   });
 }

@@ -146,8 +146,10 @@ def test_unwritable_output_is_oserror(tmp_path):
     aug = evlife.process(evlife.read(data(RECORDINGS["mat"]))[:100], sensor=(128, 128))
     # Missing folders are created (as the CLI does); none can be made inside a file.
     (tmp_path / "a_file").write_text("x")
-    with pytest.raises(OSError):
+    with pytest.raises(OSError) as e:
         evlife.write(tmp_path / "a_file" / "x.bin", aug, (128, 128))
+    assert e.value.errno == errno.ENOTDIR  # as data; str() is the CLI's message
+    assert str(e.value).startswith(str(tmp_path / "a_file" / "x.bin") + ": cannot create: Not a directory")
     evlife.write(tmp_path / "new" / "dir" / "x.bin", aug, (128, 128))
     assert (tmp_path / "new" / "dir" / "x.bin").stat().st_size > 0
     with pytest.raises(OSError):

@@ -1,4 +1,5 @@
 """evlife.process / LifetimeEstimator / process_file: the same results as `evlife process`."""
+import errno
 import os
 
 import numpy as np
@@ -85,8 +86,9 @@ def test_process_file_reports_a_full_disk_and_stops(tmp_path):
     full = tmp_path / "full.bin"
     os.symlink("/dev/full", full)
     for one_thread in (False, True):
-        with pytest.raises(OSError, match="full.bin"):
+        with pytest.raises(OSError, match="full.bin") as e:
             evlife.process_file(data("reference/garfield.mat"), full, one_thread=one_thread)
+        assert e.value.errno == errno.ENOSPC
 
 
 def test_process_file_never_writes_over_its_input(tmp_path):

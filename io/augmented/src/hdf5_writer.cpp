@@ -75,7 +75,8 @@ class Hdf5ColumnFile {
     create_output_folders(path);
     // libhdf5 does not say why a create failed: the same open says it.
     if (const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644); fd < 0) {
-      throw WriteError(path, std::string("cannot create: ") + std::strerror(errno));
+      const int err = errno;
+      throw WriteError(path, std::string("cannot create: ") + std::strerror(err), err);
     } else {
       ::close(fd);
     }
@@ -157,7 +158,7 @@ class Hdf5ColumnFile {
     const bool closed = H5Fclose(file_) >= 0;
     if (!closed) g_close_failed.store(true);
     file_ = -1;
-    if (!ok || !closed) throw WriteError(path_, "closing the HDF5 file failed (disk full?)");
+    if (!ok || !closed) throw WriteError(path_, "closing the HDF5 file failed (disk full?)", EIO);
   }
 
  private:
@@ -213,7 +214,8 @@ class Hdf5ColumnFile {
       throw WriteError(path_, "the disk is nearly full (" + std::to_string(free >> 10) + " KiB free): events " +
                                   std::to_string(written_) + ".." + std::to_string(written_ + count) +
                                   " not written, so that the HDF5 file can still be closed with the " +
-                                  std::to_string(written_) + " before them");
+                                  std::to_string(written_) + " before them",
+                       ENOSPC);
     }
     const Hdf5ErrorSilencer silence;
     const hsize_t start[1] = {written_};

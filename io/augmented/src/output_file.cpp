@@ -14,7 +14,10 @@ namespace evlife::io::detail {
 OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBytes) {
   create_output_folders(path);
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw WriteError(path, std::string("cannot create: ") + std::strerror(errno));
+  if (fd_ < 0) {
+    const int err = errno;
+    throw WriteError(path, std::string("cannot create: ") + std::strerror(err), err);
+  }
 }
 
 OutputFile::~OutputFile() {
@@ -44,7 +47,8 @@ void OutputFile::write_all(const char* data, std::size_t bytes) {
     const ssize_t n = ::write(fd_, data, bytes);
     if (n < 0) {
       if (errno == EINTR) continue;
-      throw WriteError(path_, std::string("write failed: ") + std::strerror(errno));
+      const int err = errno;
+      throw WriteError(path_, std::string("write failed: ") + std::strerror(err), err);
     }
     data += n;
     bytes -= static_cast<std::size_t>(n);
@@ -68,7 +72,10 @@ void OutputFile::close() {
   }
   const int rc = ::close(fd_);
   fd_ = -1;
-  if (rc != 0) throw WriteError(path_, std::string("close failed: ") + std::strerror(errno));
+  if (rc != 0) {
+    const int err = errno;
+    throw WriteError(path_, std::string("close failed: ") + std::strerror(err), err);
+  }
 }
 
 }  // namespace evlife::io::detail
