@@ -127,6 +127,14 @@ TEST_F(CliTest, StdinAndNamedPipesReadAsTheFileDoes) {
   EXPECT_NE(r.output.find("file       stdin (a stream, read from its copy"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("events     50,000 ("), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
+  // evlife's .bin through stdin: told by its content (the copy has no extension).
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + path("file.bin").string() + "' -q").exit_code, 0);
+  ASSERT_EQ(run("convert '" + path("file.bin").string() + "' -o '" + path("bin.csv").string() + "' -q").exit_code, 0);
+  std::ofstream(script) << "cat '" << path("file.bin").string() << "' | '" << kCli << "' convert - -o '"
+                        << path("stdin_bin.csv").string() << "' -q\n";
+  const RunResult b = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_TRUE(evlife::test::read_text_file(path("stdin_bin.csv")) == evlife::test::read_text_file(path("bin.csv")));
 }
 
 TEST_F(CliTest, UsageErrorsExitTwo) {

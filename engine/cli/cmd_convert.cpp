@@ -275,7 +275,13 @@ int convert(int argc, char** argv) {
   if (const auto done = spool_stream_input("convert", input, quiet, spool)) return *done;
   // Output of `evlife process` (.csv / .bin) converts as augmented events.
   // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
-  if (has_extension(input, {".bin"})) return convert_augmented(input, output, quiet);
+  // By content too: stdin's copy has no extension.
+  bool bin = has_extension(input, {".bin"});
+  try {
+    bin = bin || io::starts_as_augmented_bin(input);
+  } catch (const io::ReadError&) {  // unreadable: the reader below says so
+  }
+  if (bin) return convert_augmented(input, output, quiet);
   if (has_extension(input, {".csv"})) {
     bool augmented = false;
     try {
