@@ -167,14 +167,8 @@ int report(const Outcome& o, const std::string& input, const std::string& output
   return kExitOk;
 }
 
-int convert_augmented(const std::string& input, const std::string& output, bool quiet) {
-  std::unique_ptr<io::AugmentedEventReader> reader;
-  try {
-    reader = io::open_augmented_reader(input);
-  } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
-    return kExitInput;
-  }
+int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const std::string& input,
+                      const std::string& output, bool quiet) {
   try {
     if (has_extension(output, {".txt"})) {
       auto writer = io::open_event_writer(output);
@@ -273,23 +267,17 @@ int convert(int argc, char** argv) {
   }
   std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
   if (const auto done = spool_stream_input("convert", input, quiet, spool)) return *done;
-  // Output of `evlife process` (.csv / .bin) converts as augmented events.
-  // A .csv that is not evlife's augmented CSV is read as events (CSV layouts of other tools).
-  // By content too: stdin's copy has no extension.
-  bool bin = has_extension(input, {".bin"});
+  // Output of `evlife process` converts as augmented events: a .bin by its
+  // name (its reader's error for one that is not), else by content (stdin's
+  // copy has no extension); a .csv of other tools is read as events.
+  std::unique_ptr<io::AugmentedEventReader> augmented;
   try {
-    bin = bin || io::starts_as_augmented_bin(input);
-  } catch (const io::ReadError&) {  // unreadable: the reader below says so
+    augmented = has_extension(input, {".bin"}) ? io::open_augmented_reader(input) : io::open_if_augmented(input);
+  } catch (const io::ReadError& e) {
+    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
+    return kExitInput;
   }
-  if (bin) return convert_augmented(input, output, quiet);
-  if (has_extension(input, {".csv"})) {
-    bool augmented = false;
-    try {
-      augmented = io::open_augmented_reader(input) != nullptr;
-    } catch (const io::ReadError&) {
-    }
-    if (augmented) return convert_augmented(input, output, quiet);
-  }
+  if (augmented) return convert_augmented(std::move(augmented), input, output, quiet);
   return convert_events(input, output, sensor, input_options, unchecked, one_thread, quiet);
 }
 

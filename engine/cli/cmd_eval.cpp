@@ -3,7 +3,6 @@
 // rendering against 1 ms / 30 ms fixed windows, with a one-page summary.html.
 // Raw input is processed once per estimator variant (N = 3, 5, 7, with and
 // without regularization); every pass streams (constant memory).
-#include <atomic>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -42,9 +41,6 @@
 
 namespace evlife::cli {
 namespace {
-
-std::atomic<bool> g_eval_stop{false};
-extern "C" void on_eval_stop(int) { g_eval_stop.store(true); }
 
 namespace fs = std::filesystem;
 
@@ -157,10 +153,10 @@ int eval_recording(int argc, char** argv) {
   options.sample_every_us = args.sample_every_us;
   options.frame_at_us = args.frame_at_us;
   options.quiet = args.quiet;
-  options.stop = &g_eval_stop;
   render::eval::Evaluation evaluation;
   try {
-    const StopSignals stop_signals(on_eval_stop);
+    const StopRequest stop;
+    options.stop = stop.flag();
     evaluation = render::eval::evaluate(options);
   } catch (const render::eval::EvaluationStopped&) {
     std::fprintf(stderr, "evlife eval: interrupted: nothing written to %s (the report needs every run to the end)\n",

@@ -147,24 +147,15 @@ int run_info(int argc, char** argv) {
     return *done;
   }
   std::optional<InputSpool> spool;  // FILE `-` or a pipe: read from a copy
-  const std::string named = path == "-" ? std::string("stdin") : path;
   if (const auto done = spool_stream_input("info", path, true, spool)) return *done;
-  const std::string shown = spool ? named + " (a stream, read from its copy " + path + ")" : path;
+  const std::string shown = spool ? spool->stream() + " (a stream, read from its copy " + path + ")" : path;
   // evlife's own outputs first (as `render` reads them): their CSV would
   // otherwise pass for a plain x,y,t,p file and the .bin for no format.
   try {
-    if (const auto augmented = io::open_augmented_reader(path)) return describe_augmented(shown, *augmented);
+    if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(shown, *augmented);
   } catch (const io::ReadError& e) {
-    // A file with the .bin magic but a header no reader takes: its own error.
-    bool bin = false;
-    try {
-      bin = io::starts_as_augmented_bin(path);
-    } catch (const io::ReadError&) {
-    }
-    if (bin) {
-      std::fprintf(stderr, "evlife info: %s\n", e.what());
-      return kExitInput;
-    }
+    std::fprintf(stderr, "evlife info: %s\n", e.what());
+    return kExitInput;
   }
   std::unique_ptr<io::EventReader> reader;
   try {

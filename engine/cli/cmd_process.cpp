@@ -2,9 +2,7 @@
 // its lifetime and velocity. Streams batch by batch (constant memory); on bad
 // input writes and flushes everything before the fault, then exits non-zero.
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -38,10 +36,6 @@ namespace evlife::cli {
 namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;  // 1 MiB in, 2 MiB out
-
-std::atomic<bool> g_stop{false};
-static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
-extern "C" void on_stop_signal(int) { g_stop.store(true); }
 
 constexpr OptionSpec kOptions[] = {
     {"output", 'o', true, false},     {"sensor", 0, true, false},
@@ -316,16 +310,15 @@ int process_recording(int argc, char** argv) {
                          [&] { return static_cast<std::int64_t>(reader->bytes_consumed()); });
   progress.set_enabled(!args.quiet);
   LifetimeSummary summary;
-  g_stop = false;
   const engine::ProcessStreamResult result = [&] {
-    const StopSignals stop_signals(on_stop_signal);
+    const StopRequest stop;
     return engine::process_stream(
         *reader, *estimator, *writer,
         [&](std::span<const AugmentedEvent> batch) {
           summary.add(batch);
           progress.update(summary.events());
         },
-        &g_stop, kBatchEvents);
+        stop.flag(), kBatchEvents);
   }();
   progress.finish();
   const double wall_s =

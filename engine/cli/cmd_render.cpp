@@ -5,10 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -40,10 +38,6 @@
 
 namespace evlife::cli {
 namespace {
-
-std::atomic<bool> g_render_stop{false};
-static_assert(std::atomic<bool>::is_always_lock_free);  // async-signal-safe
-extern "C" void on_render_stop(int) { g_render_stop.store(true); }
 
 constexpr OptionSpec kRenderOptions[] = {
     {"output", 'o', true, false, "frames,video"},  {"at", 0, true, false},
@@ -302,18 +296,16 @@ int run_render(int argc, char** argv) {
     return kExitInput;
   }
   FrameProgress progress(!args.quiet);
-  g_render_stop = false;
   const render::RecordingRenderResult result = [&] {
-    const StopSignals stop_signals(on_render_stop);
+    const StopRequest stop;
     return render::render_recording(
         *source, args.job,
         [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
-        &g_render_stop, [&](const render::EventGap& gap) {
+        stop.flag(), [&](const render::EventGap& gap) {
           std::fprintf(stderr,
-                       "evlife render: warning: no event from %.6f s to %.6f s (the next event): %.0f empty "
-                       "frames at %g fps come first; a timestamp outlier? --to T stops before it (Ctrl-C "
-                       "stops here, keeping the frames drawn)\n",
-                       gap.from_s, gap.next_event_s, gap.empty_frames, args.job.fps);
+                       "evlife render: warning: %s --to T stops before it (Ctrl-C stops here, keeping the "
+                       "frames drawn)\n",
+                       gap.text(args.job.fps).c_str());
         });
   }();
   progress.finish();

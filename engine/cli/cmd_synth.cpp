@@ -2,7 +2,6 @@
 // (moving edges, a rotating bar that speeds up, jitter, background noise) as
 // an event recording — the bundled sample of the README and a test input for
 // anyone. Streams slice by slice (constant memory), deterministic per seed.
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -29,8 +28,6 @@
 namespace evlife::cli {
 namespace {
 
-std::atomic<bool> g_synth_stop{false};
-extern "C" void on_synth_stop(int) { g_synth_stop.store(true); }
 
 constexpr std::size_t kBatchEvents = 1 << 16;
 
@@ -269,6 +266,7 @@ int synth(int argc, char** argv) {
   std::vector<io::EventTruth> truth(kBatchEvents);
   unsigned long long written = 0, noise = 0, hot = 0;
   std::int64_t last_t_us = 0;
+  bool stopped = false;
   try {
     // The outputs open first: a bad file name is reported before seconds of generation.
     auto writer = io::open_event_writer(output);
@@ -281,9 +279,9 @@ int synth(int argc, char** argv) {
       bars.emplace(spec);
       names = io::scene_feature_names(spec);
     }
-    const StopSignals stop_signals(on_synth_stop);
+    const StopRequest stop;
     while (const std::size_t n = next(events, truth)) {
-      if (g_synth_stop.load(std::memory_order_relaxed)) break;  // Ctrl-C: close a complete, shorter file
+      if ((stopped = stop.requested())) break;  // Ctrl-C: close a complete, shorter file
       last_t_us = events[n - 1].t_us;
       writer->write(std::span<const Event>(events.data(), n));
       if (truth_csv) truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));
@@ -300,7 +298,7 @@ int synth(int argc, char** argv) {
                  written);
     return kExitOutput;
   }
-  if (g_synth_stop.load(std::memory_order_relaxed)) {
+  if (stopped) {
     std::fprintf(stderr,
                  "evlife synth: interrupted: %s holds the scene's first %.6f s, %llu events (a complete file, cut "
                  "short)%s\n",

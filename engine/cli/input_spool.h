@@ -27,11 +27,17 @@ class InputSpool {
   InputSpool& operator=(const InputSpool&) = delete;
 
   const std::string& path() const noexcept { return path_; }
+  /// What the stream is called: "stdin" or the pipe's path.
+  const std::string& stream() const noexcept { return stream_; }
+  static std::string stream_name(const std::string& input) { return input == "-" ? "stdin" : input; }
   std::uint64_t bytes() const noexcept { return bytes_; }
 
   struct Interrupted {};
 
  private:
+  void copy(const std::string& input, int out, const char* command, bool quiet);
+
+  std::string stream_;
   std::string path_;
   std::uint64_t bytes_ = 0;
 };

@@ -2,7 +2,6 @@
 #if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
-#include <cstdio>
 #include <exception>
 #include <stdexcept>
 
@@ -60,15 +59,13 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
   if (fps_ > 0 && t > next_frame_t_us_) {
-    // Clock frames this event passes: frame_count_through(..., t - 1) is the
-    // index of the first instant at or after t.
-    const std::uint64_t passed = render::frame_count_through(first_t_us_, t - 1, fps_) - next_frame_;
-    if (gap_state_.load(std::memory_order_relaxed) == 0 && static_cast<double>(passed) >= render::kEventGapNoticeFrames &&
-        static_cast<double>(t - next_frame_t_us_) * 1e-6 >= render::kEventGapNoticeS) {
-      gap_from_us_ = next_frame_t_us_ - first_t_us_;
-      gap_next_us_ = t - first_t_us_;
-      gap_frames_ = passed;
-      gap_state_.store(1, std::memory_order_release);
+    // The clock frames this event passes.
+    const std::uint64_t passed = render::frames_before(first_t_us_, next_frame_, t, fps_);
+    if (gap_state_.load(std::memory_order_relaxed) == 0) {
+      if (const auto gap = render::event_gap_to_notice(next_frame_t_us_ - first_t_us_, t - first_t_us_, passed)) {
+        gap_ = *gap;
+        gap_state_.store(1, std::memory_order_release);
+      }
     }
     if (stop_.load(std::memory_order_relaxed)) {  // skip them at once (counted), not one by one
       next_frame_ += passed;
@@ -104,13 +101,7 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
 std::string RenderStage::take_notice() {
   if (gap_state_.load(std::memory_order_acquire) != 1) return {};
   gap_state_.store(2, std::memory_order_relaxed);
-  char text[320];
-  std::snprintf(text, sizeof text,
-                "no event from %.6f s to %.6f s (the next event): %llu empty frames at %g fps come first; a "
-                "timestamp outlier? Ctrl-C stops the drawing (the events are still written)",
-                static_cast<double>(gap_from_us_) * 1e-6, static_cast<double>(gap_next_us_) * 1e-6,
-                static_cast<unsigned long long>(gap_frames_), fps_);
-  return text;
+  return gap_.text(fps_) + " Ctrl-C stops the drawing (the events are still written)";
 }
 
 StepResult RenderStage::step() noexcept {

@@ -10,12 +10,6 @@
 
 namespace evlife::render {
 
-namespace {
-
-void create_parent(const std::string& path) { io::create_output_folders(path); }
-
-}  // namespace
-
 PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
@@ -41,13 +35,13 @@ void PngFolderFrameSink::write(const FrameImage& frame, std::int64_t t_us) {
   write_image((std::filesystem::path(dir_) / name).string(), as_mat(frame));
 }
 
-ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { create_parent(path_); }
+ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { io::create_output_folders(path_); }
 
 void ImageFileFrameSink::write(const FrameImage& frame, std::int64_t) { write_image(path_, as_mat(frame)); }
 
 VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
     : path_(std::move(path)), playback_fps_(playback_fps) {
-  create_parent(path_);
+  io::create_output_folders(path_);
 }
 
 VideoFrameSink::~VideoFrameSink() = default;

@@ -100,14 +100,10 @@ RecordingRenderResult render_recording(
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
     if (on_gap && !gap_told && options.at_us.empty() && !options.to_us) {
       if (const auto next = cursor.next_t_us()) {
-        const double gap_s = static_cast<double>(*next - t) * 1e-6;
-        // This frame and those after it at instants before the next event
-        // (as `run --fps` counts them).
-        const auto empty = static_cast<double>(frame_count_through(options.from_us, *next - *first_t - 1, options.fps)) -
-                           static_cast<double>(k);
-        if (gap_s >= kEventGapNoticeS && empty >= kEventGapNoticeFrames) {
+        const std::int64_t next_rel = *next - *first_t;
+        if (const auto gap = event_gap_to_notice(rel, next_rel, frames_before(options.from_us, k, next_rel, options.fps))) {
           gap_told = true;
-          on_gap(EventGap{static_cast<double>(rel) * 1e-6, static_cast<double>(*next - *first_t) * 1e-6, empty});
+          on_gap(*gap);
         }
       }
     }

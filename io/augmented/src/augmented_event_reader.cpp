@@ -10,6 +10,8 @@
 
 namespace evlife::io {
 
+namespace {
+
 bool starts_as_augmented_bin(const std::string& path) {
   char head[8] = {};
   {
@@ -19,9 +21,20 @@ bool starts_as_augmented_bin(const std::string& path) {
   return std::memcmp(head, detail::augmented_bin::kMagic.data(), 8) == 0;
 }
 
+}  // namespace
+
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path) {
   if (starts_as_augmented_bin(path)) return detail::open_augmented_bin_reader(path);
   return detail::open_augmented_csv_reader(path);  // checks its header
+}
+
+std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path) {
+  try {
+    if (!starts_as_augmented_bin(path)) return detail::open_augmented_csv_reader(path);
+  } catch (const ReadError&) {  // not evlife's CSV, or no file (a folder: a ROS 2 bag): the caller's other readers say
+    return nullptr;
+  }
+  return detail::open_augmented_bin_reader(path);  // its errors are this file's
 }
 
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,

@@ -18,6 +18,7 @@
 #include "evlife/engine/aux_stage.h"
 #include "evlife/engine/render_tap.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_sink.h"
 #include "evlife/render/frame_style.h"
 
@@ -88,8 +89,7 @@ class RenderStage final : public AuxStage {
   // The gap: written by the render thread, then gap_state_ 1 (release); the
   // monitor reads it after an acquire and sets 2.
   std::atomic<int> gap_state_{0};
-  std::int64_t gap_from_us_ = 0, gap_next_us_ = 0;
-  std::uint64_t gap_frames_ = 0;
+  render::EventGap gap_;
   std::string error_;
   bool finished_ = false;
 };

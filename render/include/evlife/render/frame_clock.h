@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
 
 namespace evlife::render {
 
@@ -23,10 +26,41 @@ inline std::uint64_t frame_count_through(std::int64_t from_us, std::int64_t to_u
   return k + 1;
 }
 
-/// A stretch without events ahead of a frame rate is said (a timestamp
-/// outlier would draw millions of empty frames) when it holds at least this
-/// many frames and lasts this long: `evlife render --fps` and `run --fps`.
-constexpr double kEventGapNoticeFrames = 1000.0;
-constexpr double kEventGapNoticeS = 60.0;
+/// Frames k, k + 1, ... of `fps` from `from_us` at instants before
+/// `next_event_us`: those a frame rate draws before it.
+inline std::uint64_t frames_before(std::int64_t from_us, std::uint64_t k, std::int64_t next_event_us,
+                                   double fps) noexcept {
+  const std::uint64_t through = frame_count_through(from_us, next_event_us - 1, fps);
+  return through > k ? through - k : 0;
+}
+
+/// A stretch without events ahead of a frame rate (times from the first
+/// event): a timestamp outlier would have `evlife render --fps` and
+/// `run --fps` draw millions of empty frames, so it is said before them.
+struct EventGap {
+  std::int64_t from_us = 0;        ///< the next frame's instant
+  std::int64_t next_event_us = 0;  ///< the next event
+  std::uint64_t empty_frames = 0;  ///< frames before it, that one included
+  /// "no event from 0.333333 s to 99999.999981 s (the next event): 2999990
+  /// empty frames at 30 fps come first; a timestamp outlier?"
+  std::string text(double fps) const {
+    char out[240];
+    std::snprintf(out, sizeof out,
+                  "no event from %.6f s to %.6f s (the next event): %llu empty frames at %g fps come first; a "
+                  "timestamp outlier?",
+                  static_cast<double>(from_us) * 1e-6, static_cast<double>(next_event_us) * 1e-6,
+                  static_cast<unsigned long long>(empty_frames), fps);
+    return out;
+  }
+};
+
+/// Said when it holds at least this many frames and lasts this long.
+constexpr std::uint64_t kEventGapNoticeFrames = 1000;
+constexpr std::int64_t kEventGapNoticeUs = 60'000'000;
+inline std::optional<EventGap> event_gap_to_notice(std::int64_t from_us, std::int64_t next_event_us,
+                                                   std::uint64_t empty_frames) noexcept {
+  if (empty_frames < kEventGapNoticeFrames || next_event_us - from_us < kEventGapNoticeUs) return std::nullopt;
+  return EventGap{from_us, next_event_us, empty_frames};
+}
 
 }  // namespace evlife::render

@@ -61,18 +61,10 @@ struct RecordingRenderResult {
   bool exhausted = false;             ///< the whole source was read
 };
 
-/// A stretch without events ahead of a frame rate with no --to: a timestamp
-/// outlier (a clock glitch, a stray record) would have it draw millions of
-/// empty frames, so the caller is told before the first of them.
-struct EventGap {
-  double from_s = 0.0;       ///< the frame instant reached, from the first event
-  double next_event_s = 0.0; ///< the next event, from the first event
-  double empty_frames = 0.0; ///< frames the rate draws before it
-};
-
 /// Draws the frames `options` asks for from `source`. `progress(frames,
 /// total (0: unknown), t_s)` after each frame; `stop` ends the loop early;
-/// `on_gap` once, at the first EventGap long enough to notice.
+/// `on_gap` once, at the first EventGap long enough to notice (--fps without
+/// --to), before its frames are drawn.
 RecordingRenderResult render_recording(
     AugmentedSource& source, const RecordingRenderOptions& options,
     const std::function<void(std::size_t, std::size_t, double)>& progress,

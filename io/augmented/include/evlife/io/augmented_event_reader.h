@@ -39,13 +39,16 @@ struct RecordFault {
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us);
 
-/// True when the file begins with the .bin magic (whatever follows). Throws
-/// ReadError when it cannot be opened.
-bool starts_as_augmented_bin(const std::string& path);
-
 /// Sniffs the .bin magic, else expects the CSV header. Throws ReadError for a
 /// missing file or unknown content.
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);
+
+/// evlife's own output when the content says so (the .bin magic, the
+/// augmented CSV header), else nullptr: for callers that take any recording
+/// (a stream's copy has no extension), also for a path that cannot be opened
+/// (the caller's other readers name the reason). Throws ReadError for a file
+/// with the .bin magic that does not read.
+std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path);
 
 /// The sensor of an augmented file: `user` when given, else the one the file
 /// states (.bin), else {max x + 1, max y + 1} of its events (one pass; the
