@@ -390,6 +390,65 @@ TEST(LifetimeEstimator, FollowerOfAnUnestimatedArrivalGetsThePlaneThroughThatArr
   EXPECT_TRUE(follower_lifetime(0.0, 1500).is_noise());  // followers off: the paper
 }
 
+// An edge entering a sensor whose pixels fire sparsely (60 % stay silent, a
+// contrast below their thresholds): every window holds fewer samples than
+// eq. 8 assumes, and pixels ahead have never fired. Counting those as outside
+// the window (fresh_region_span_us) labels most of the edge, with the right
+// lifetime; a slow edge (supporters older than the span) is left to eq. 8
+// and the continuations, as before.
+struct SparseEdgeResult {
+  double share = 0.0;             // of the interior events, with a lifetime
+  double median_rel_error = 0.0;  // |lifetime - truth| / truth
+  std::vector<float> lifetimes_us;
+};
+SparseEdgeResult sparse_edge(double speed_px_s, double fresh_region_span_us) {
+  const SensorSize s{60, 40};
+  LifetimeOptions o = options_for(s);
+  o.fresh_region_span_us = fresh_region_span_us;
+  LifetimeEstimator est(o);
+  const double truth_us = 1e6 / speed_px_s;
+  SparseEdgeResult r;
+  std::vector<double> errors;
+  int interior_events = 0, estimated = 0;
+  for (const Event& e : straight_edge(s, 0.0, speed_px_s)) {
+    if ((e.x * 7 + e.y * 13) % 10 < 6) continue;  // silent pixels
+    const AugmentedEvent out = est.process(e);
+    r.lifetimes_us.push_back(out.lifetime_us);
+    if (!interior(e, s, 2)) continue;
+    ++interior_events;
+    if (out.is_noise()) continue;
+    ++estimated;
+    errors.push_back(std::fabs(static_cast<double>(out.lifetime_us) - truth_us) / truth_us);
+  }
+  r.share = static_cast<double>(estimated) / interior_events;
+  if (!errors.empty()) {
+    std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2), errors.end());
+    r.median_rel_error = errors[errors.size() / 2];
+  }
+  return r;
+}
+
+TEST(LifetimeEstimator, SparseEdgeEnteringAFreshRegionGetsItsLifetime) {
+  const SparseEdgeResult on = sparse_edge(1000.0, 20'000.0);
+  const SparseEdgeResult off = sparse_edge(1000.0, 0.0);
+  std::printf("sparse edge, 1000 px/s: with a lifetime %.3f (rule off %.3f), median error %.4f (off %.4f)\n",
+              on.share, off.share, on.median_rel_error, off.median_rel_error);
+  EXPECT_GE(on.share, 0.9);
+  EXPECT_GE(on.share, off.share + 0.2);
+  EXPECT_LE(on.median_rel_error, 0.05);
+}
+
+TEST(LifetimeEstimator, FreshRegionRuleHoldsOnlyWithinItsSpan) {
+  // 30 px/s: lifetime 33 ms, every supporter older than a 20 ms span.
+  const SparseEdgeResult within = sparse_edge(30.0, 20'000.0);
+  const SparseEdgeResult off = sparse_edge(30.0, 0.0);
+  const SparseEdgeResult long_span = sparse_edge(30.0, 1e6);
+  std::printf("sparse edge, 30 px/s: with a lifetime %.3f at a 20 ms span, %.3f off, %.3f at 1 s\n", within.share,
+              off.share, long_span.share);
+  EXPECT_EQ(within.lifetimes_us, off.lifetimes_us);
+  EXPECT_GE(long_span.share, off.share + 0.2);
+}
+
 // Every event labelled noise is counted under one reason (evlife process
 // prints them): too few past events, no supported plane, an unresolved fit.
 TEST(LifetimeEstimator, EveryNoiseEventIsCountedUnderOneReason) {

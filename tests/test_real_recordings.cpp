@@ -186,14 +186,15 @@ TEST(RealRecordings, GarfieldPredictionErrorsMostlyBelow10ms) {
 }
 
 // Today's sensors (shared samples). Issue 11 floors: slider >= 0.70, evt3
-// >= 0.60 and aedat4 >= 0.50 are NOT reached (0.560, 0.053 and 0.400: see
-// README, "Real recordings"; aedat4 had 0.541 while the tolerance floor
-// followed the mean residual, which ran away on long recordings). The
-// floors below hold today's figures.
+// >= 0.60 and aedat4 >= 0.50 are NOT reached (0.611, 0.203 and 0.409: see
+// README, "Real recordings"; 0.565, 0.053 and 0.405 before fresh regions
+// counted their never-fired pixels as outside the window; aedat4 had 0.541
+// while the tolerance floor followed the mean residual, which ran away on
+// long recordings). The floors below hold today's figures.
 TEST(RealRecordings, TodaysSensorsEventsGetALifetime) {
-  const std::pair<const char*, double> cases[] = {{"rpg_txt/slider_depth_events_chunk.txt", 0.53},
-                                                  {"evt3/evt3_sample.raw", 0.045},
-                                                  {"aedat4/sample.aedat4", 0.36}};
+  const std::pair<const char*, double> cases[] = {{"rpg_txt/slider_depth_events_chunk.txt", 0.59},
+                                                  {"evt3/evt3_sample.raw", 0.19},
+                                                  {"aedat4/sample.aedat4", 0.39}};
   for (const auto& [path, floor] : cases) {
     const auto out = run_file(path);
     if (out.empty()) GTEST_SKIP() << "shared data not found: " << path;
@@ -202,18 +203,20 @@ TEST(RealRecordings, TodaysSensorsEventsGetALifetime) {
 }
 
 // config/faint-texture.yaml (a wider band with the offset check, for scenes
-// with little background activity) on the same samples: 0.613, 0.091 and
-// 0.486, more than the defaults give each, still short of the issue's floors.
+// with little background activity) on the same samples: 0.622, 0.236 and
+// 0.493, more than the defaults give each (by 0.011, 0.033 and 0.084; by
+// 0.05-0.09 before fresh regions gave the defaults more of the slider),
+// still short of the issue's floors.
 TEST(RealRecordings, FaintTexturePresetGivesTodaysSensorsMoreLifetimes) {
   const LifetimeOptions preset = test::faint_texture_preset();
   const std::pair<const char*, double> cases[] = {{"rpg_txt/slider_depth_events_chunk.txt", 0.60},
-                                                  {"evt3/evt3_sample.raw", 0.085},
+                                                  {"evt3/evt3_sample.raw", 0.22},
                                                   {"aedat4/sample.aedat4", 0.47}};
   for (const auto& [path, floor] : cases) {
     const auto with_preset = run_file(path, preset);
     if (with_preset.empty()) GTEST_SKIP() << "shared data not found: " << path;
     EXPECT_GE(share_with_lifetime(with_preset), floor) << path;
-    EXPECT_GT(share_with_lifetime(with_preset), share_with_lifetime(run_file(path)) + 0.02) << path;
+    EXPECT_GT(share_with_lifetime(with_preset), share_with_lifetime(run_file(path)) + 0.005) << path;
   }
 }
 

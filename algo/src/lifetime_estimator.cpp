@@ -291,6 +291,35 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& st
   });
 }
 
+// Eq. 8's m for a window of which `pixels` count (halfway between them and
+// the full window: process()).
+int LifetimeEstimator::eq8_min_support(int pixels, int full_window) const noexcept {
+  return std::max(4, static_cast<int>(std::ceil(min_support_fraction_ * (pixels + full_window) * 0.25 - 1e-9)));
+}
+
+// True when `best` has the support of eq. 8 with the window's pixels that
+// never fired counted as outside it (the border rule), every supporter fired
+// within fresh_region_span_us of the new event, and its own pixel did not
+// (since_last_here_us: an edge's arrival; its pixel's later events are a
+// burst's followers, not the edge entering) (LifetimeOptions).
+// Out of line: only events short of eq. 8's support reach it.
+[[gnu::noinline]] bool LifetimeEstimator::supported_in_fresh_region(const detail::WindowSamples& nb,
+                                                                    const detail::PlaneCandidate& best,
+                                                                    int full_window,
+                                                                    double since_last_here_us) const noexcept {
+  const int min_support = eq8_min_support(nb.fired + 1, full_window);
+  if (!(options_.fresh_region_span_us > 0.0) || best.support < min_support ||
+      !(since_last_here_us > options_.fresh_region_span_us)) {
+    return false;
+  }
+  const auto earliest_us = static_cast<float>(-options_.fresh_region_span_us);
+  for (int k = 0; k < nb.count; ++k) {
+    const float r = nb.dt_us[k] - best.gx_us_px * nb.dx[k] - best.gy_us_px * nb.dy[k];
+    if (r * r <= best.tol2_us2 && nb.dt_us[k] < earliest_us) return false;
+  }
+  return true;
+}
+
 AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   using detail::Stage;
   using detail::stage_end;
@@ -392,8 +421,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   // only a third one tests it (with eq. 8's m = 3 at N = 3 every event with
   // two past neighbours passed: 98 % of stripes.mat, lifetimes 1.8x too long).
   const int full_window = options_.window_size * options_.window_size;
-  const int min_support = std::max(
-      4, static_cast<int>(std::ceil(min_support_fraction_ * (window_pixels + full_window) * 0.25 - 1e-9)));
+  const int min_support = eq8_min_support(window_pixels, full_window);
   const int min_continuation_support =
       options_.continuation_min_support > 0 ? std::min(min_support, options_.continuation_min_support + 1) : min_support;
   if (count + 1 < min_continuation_support) {
@@ -427,13 +455,32 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     // Else it may follow a burst here whose first event came too early in
     // the edge's passage to be estimated (its neighbours had not fired yet):
     // the plane through that arrival, with the samples there are now.
+    // Else, and failing that, it may be an edge entering a fresh region
+    // (supported_in_fresh_region()).
+    bool supported = continued;
+    const double since_last_here_us = previous_rel == detail::kNeverRel
+                                          ? std::numeric_limits<double>::infinity()
+                                          : static_cast<double>(std::int64_t{now_rel} - previous_rel);
     if (!continued && last_burst_unestimated && options_.burst_window_lifetimes > 0.0 &&
         previous_rel != detail::kNeverRel && previous_rel < now_rel) {
+      const detail::PlaneCandidate own = best;
+      const bool own_fresh = supported_in_fresh_region(nb, own, full_window, since_last_here_us);
+      float own_dt_us[detail::kSampleCapacity];
+      if (own_fresh) std::copy(nb.dt_us, nb.dt_us + nb.count, own_dt_us);
       nb.shift_times(static_cast<float>(now_rel - previous_rel));
       best = best_plane(nb, rng, tol_floor2, tol_fraction2);
       anchor_rel = previous_rel;
+      supported = best.support >= min_support;
+      if (!supported && own_fresh) {
+        std::copy(own_dt_us, own_dt_us + nb.count, nb.dt_us);
+        best = own;
+        anchor_rel = now_rel;
+        supported = true;
+      }
+    } else if (!continued) {
+      supported = supported_in_fresh_region(nb, best, full_window, since_last_here_us);
     }
-    if (!continued && best.support < min_support) {
+    if (!supported) {
       count_noise(stats_.noise_unsupported);
       stage_end(Stage::continuation);
       return out;

@@ -28,6 +28,7 @@ struct WindowSamples {
   float dt_us[kSampleCapacity];  // <= 0: past events only
   int rank_[kSampleCapacity];    // scratch of keep_newest()
   int count = 0;
+  int fired = 0;  // gather_newest(): the window's pixels that have fired, before the newer half
 
   /// Reads the window [x0, x1] x [y0, y1] around (x, y) of a time plane
   /// (`rows` points at row 0; `width` pixels a row): the pixels that have
@@ -73,6 +74,7 @@ struct WindowSamples {
         !gather_rows(rows, width, x, y, x0, x1, y0, y1, side, now_rel, timing_noise_us)) {
       gather(rows, width, x, y, x0, x1, y0, y1, side, now_rel, timing_noise_us);
     }
+    fired = count;
     keep_newest(keep);
   }
   static constexpr int kRowLanes = 5;

@@ -65,6 +65,7 @@ class LifetimeEstimator:
                  regularization: bool = ...,
                  lambda_offset: float = ..., lambda_gain: float = ...,
                  lambda_decay_per_us: float = ..., lambda_unit_px2: float = ...,
+                 fresh_region_span_us: float = ...,
                  continuation_min_support: int = ..., burst_window_lifetimes: float = ...,
                  burst_span_lifetimes: float = ..., burst_span_timing_noise: float = ...,
                  ramp_follower_span_lifetimes: float = ...,

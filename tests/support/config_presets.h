@@ -16,11 +16,13 @@ inline LifetimeOptions dim_light_preset() {
   return o;
 }
 
-/// config/faint-texture.yaml: a +-0.4 lifetime band with the offset check.
+/// config/faint-texture.yaml: a +-0.4 lifetime band with the offset check,
+/// fresh regions within 5 ms.
 inline LifetimeOptions faint_texture_preset() {
   LifetimeOptions o;
   o.inlier_tolerance_lifetime_fraction = 0.4;
   o.max_event_offset_tolerances = 2.0;
+  o.fresh_region_span_us = 5000.0;
   return o;
 }
 

@@ -26,6 +26,25 @@ struct LifetimeOptions {
   /// window's value). In (0, 0.9].
   double outlier_fraction = 0.4;
 
+  /// A region where some of the window's pixels have never fired (an edge
+  /// entering a part of the sensor that has been dark since the start; a
+  /// sensor whose pixels fire sparsely) cannot give eq. 8's m: only the
+  /// pixels that fired can support a plane. There the pixels that never fired
+  /// count as outside the window (the border rule: m halfway between the
+  /// pixels that fired, the new event's included, and the full window), if
+  /// every supporter fired within this span before the event and the event's
+  /// own pixel did not (its later events are a burst's, not the edge
+  /// entering): an entering edge's supporters lie within about 2 lifetimes,
+  /// while background
+  /// activity of R Hz/px brings N^2 x R x span events into the window in that
+  /// time (0.5 at 20 ms, 5 x 5 and 1 Hz/px, the top of room-temperature DVS
+  /// background activity and the pixel model's dim light), and a plane
+  /// through a few of them must not pass. Longer spans label more of a
+  /// recording's first passage but pass more noise (algo/README.md,
+  /// *Warm-up*). Microseconds, [0, 1e6]; 0 = eq. 8 everywhere (the output
+  /// before it).
+  double fresh_region_span_us = 20000.0;
+
   /// Minimum support, in past events, of an event that continues an edge:
   /// one that the plane of an edge estimated at a neighbour upstream predicts
   /// within the inlier tolerance. Real pixels fire sparsely (a pixel whose
@@ -262,6 +281,9 @@ void for_each_lifetime_option(F&& f) {
                "eq. 13 decay, 1/us"}, [](auto& o) -> auto& { return o.lambda_decay_per_us; });
   f(OptionInfo{"lambda_unit_px2", "", 0.0, 1e6, false, false, false, false,
                "weight of the prior in px^2 of data spread"}, [](auto& o) -> auto& { return o.lambda_unit_px2; });
+  f(OptionInfo{"fresh_region_span_us", "", 0.0, 1e6, false, false, false, false,
+               "never-fired pixels count as outside the window if the supporters fired within this span, us; 0 = off"},
+    [](auto& o) -> auto& { return o.fresh_region_span_us; });
   f(OptionInfo{"continuation_min_support", "", 0, 112, false, false, false, false,
                "minimum support of an edge's continuation: 0 or 2..(N^2-1)/2"},
     [](auto& o) -> auto& { return o.continuation_min_support; });
