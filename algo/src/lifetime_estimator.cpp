@@ -307,9 +307,8 @@ int LifetimeEstimator::eq8_min_support(int pixels, int full_window) const noexce
                                                                     const detail::PlaneCandidate& best,
                                                                     int full_window,
                                                                     double since_last_here_us) const noexcept {
-  const int min_support = eq8_min_support(nb.fired + 1, full_window);
-  if (!(options_.fresh_region_span_us > 0.0) || best.support < min_support ||
-      !(since_last_here_us > options_.fresh_region_span_us)) {
+  if (!(options_.fresh_region_span_us > 0.0) || !(since_last_here_us > options_.fresh_region_span_us) ||
+      best.support < eq8_min_support(nb.fired + 1, full_window)) {
     return false;
   }
   const auto earliest_us = static_cast<float>(-options_.fresh_region_span_us);
@@ -455,30 +454,27 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     // Else it may follow a burst here whose first event came too early in
     // the edge's passage to be estimated (its neighbours had not fired yet):
     // the plane through that arrival, with the samples there are now.
-    // Else, and failing that, it may be an edge entering a fresh region
-    // (supported_in_fresh_region()).
-    bool supported = continued;
+    // Else, and failing that, it may be an edge entering a fresh region with
+    // its own plane (supported_in_fresh_region()).
     const double since_last_here_us = previous_rel == detail::kNeverRel
                                           ? std::numeric_limits<double>::infinity()
                                           : static_cast<double>(std::int64_t{now_rel} - previous_rel);
+    const bool own_fresh = !continued && supported_in_fresh_region(nb, best, full_window, since_last_here_us);
+    bool supported = continued || own_fresh;
     if (!continued && last_burst_unestimated && options_.burst_window_lifetimes > 0.0 &&
         previous_rel != detail::kNeverRel && previous_rel < now_rel) {
       const detail::PlaneCandidate own = best;
-      const bool own_fresh = supported_in_fresh_region(nb, own, full_window, since_last_here_us);
-      float own_dt_us[detail::kSampleCapacity];
+      float own_dt_us[detail::kSampleCapacity];  // to go back to the own plane's samples
       if (own_fresh) std::copy(nb.dt_us, nb.dt_us + nb.count, own_dt_us);
       nb.shift_times(static_cast<float>(now_rel - previous_rel));
       best = best_plane(nb, rng, tol_floor2, tol_fraction2);
       anchor_rel = previous_rel;
-      supported = best.support >= min_support;
-      if (!supported && own_fresh) {
+      if (best.support < min_support && own_fresh) {
         std::copy(own_dt_us, own_dt_us + nb.count, nb.dt_us);
         best = own;
         anchor_rel = now_rel;
-        supported = true;
       }
-    } else if (!continued) {
-      supported = supported_in_fresh_region(nb, best, full_window, since_last_here_us);
+      supported = best.support >= min_support || own_fresh;
     }
     if (!supported) {
       count_noise(stats_.noise_unsupported);

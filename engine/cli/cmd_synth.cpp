@@ -28,7 +28,6 @@
 namespace evlife::cli {
 namespace {
 
-
 constexpr std::size_t kBatchEvents = 1 << 16;
 
 constexpr OptionSpec kOptions[] = {
