@@ -19,6 +19,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "evlife/io/augmented_event_writer.h"
@@ -439,6 +440,169 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
   expect_skips_to_the_first_event_at(path, r.events);  // the compound's t field alone
 }
 
+// A chunked (deflate) N×4 dataset at `name` (groups on its path created).
+template <typename T>
+void write_table(hid_t file, const std::string& name, hid_t file_type, hid_t memory_type,
+                 const std::vector<T>& rows_of_4) {
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const hsize_t size[2] = {rows_of_4.size() / 4, 4};
+  const hsize_t chunk[2] = {std::min<hsize_t>(4096, size[0]), 4};
+  const hid_t space = H5Screate_simple(2, size, nullptr);
+  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(properties, 2, chunk);
+  H5Pset_deflate(properties, 1);
+  const hid_t dataset = H5Dcreate2(file, name.c_str(), file_type, space, links, properties, H5P_DEFAULT);
+  ASSERT_GE(dataset, 0);
+  ASSERT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows_of_4.data()), 0);
+  H5Dclose(dataset);
+  H5Pclose(properties);
+  H5Sclose(space);
+  H5Pclose(links);
+}
+
+// v2e's --dvs_h5: dataset events, uint32 rows [t µs, x, y, p 0/1].
+TEST(IoFormatsHdf5, V2eTableLayout) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("v2e.h5");
+  const std::size_t count = 70'001;  // > one reader chunk
+  std::vector<std::uint32_t> rows(4 * count);
+  for (std::size_t i = 0; i < count; ++i) {
+    rows[4 * i] = static_cast<std::uint32_t>(33'333 + i / 3);
+    rows[4 * i + 1] = static_cast<std::uint32_t>(i % 346);
+    rows[4 * i + 2] = static_cast<std::uint32_t>((i / 5) % 260);
+    rows[4 * i + 3] = static_cast<std::uint32_t>(i % 7 < 3);
+  }
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write_table(file, "events", H5T_STD_U32LE, H5T_NATIVE_UINT32, rows);
+    write_dataset(file, "frame_ts", H5T_STD_U32LE, H5T_NATIVE_UINT32, std::vector<std::uint32_t>{0, 33'333});
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Event expected{rows[4 * i], static_cast<std::uint16_t>(rows[4 * i + 1]),
+                         static_cast<std::uint16_t>(rows[4 * i + 2]),
+                         rows[4 * i + 3] ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+  expect_skips_to_the_first_event_at(path, r.events);  // one column of the table
+}
+
+// MVSEC: davis/left/events, float64 rows [x, y, t s, p ±1], times since the
+// Unix epoch; the right camera's table beside it is not read.
+std::vector<double> mvsec_rows(std::size_t count) {
+  std::vector<double> rows(4 * count);
+  for (std::size_t i = 0; i < count; ++i) {
+    rows[4 * i] = static_cast<double>(i % 346);
+    rows[4 * i + 1] = static_cast<double>((i / 3) % 260);
+    rows[4 * i + 2] = 1'504'645'177.0 + static_cast<double>(i / 2) * 7e-6;
+    rows[4 * i + 3] = i % 3 == 0 ? 1.0 : -1.0;
+  }
+  return rows;
+}
+
+void write_mvsec_file(const std::string& path, const std::vector<double>& rows) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  write_table(file, "davis/left/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows);
+  write_table(file, "davis/right/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, std::vector<double>(8, 9.0));
+  H5Fclose(file);
+}
+
+TEST(IoFormatsHdf5, MvsecTableLayoutInSeconds) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("mvsec_data.hdf5");
+  const std::vector<double> rows = mvsec_rows(70'001);
+  write_mvsec_file(path, rows);
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), rows.size() / 4);
+  for (std::size_t i = 0; i < r.events.size(); ++i) {
+    const Event expected{std::llround(rows[4 * i + 2] * 1e6), static_cast<std::uint16_t>(rows[4 * i]),
+                         static_cast<std::uint16_t>(rows[4 * i + 1]),
+                         rows[4 * i + 3] > 0 ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+  // Whole µs apart as written (7 µs), at 1.5e9 s where a double still holds 0.24 µs.
+  EXPECT_EQ(r.events[2].t_us - r.events[0].t_us, 7);
+  expect_skips_to_the_first_event_at(path, r.events);
+}
+
+// A row that is no event (a coordinate that is no pixel, a time that is not
+// a number) ends the recording there: the events before it are read, the
+// error names the file, the layout and the event's index.
+TEST(IoFormatsHdf5, TableRowThatIsNoEventIsNamedAfterTheEventsBeforeIt) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("mvsec_bad_row.hdf5");
+  const std::size_t bad = 66'000;  // in the reader's second chunk
+  for (const auto& [column, value, says] :
+       {std::tuple{0, 12.5, "x = 12.5"}, {1, -1.0, "y = -1"}, {2, std::nan(""), "no time"}}) {
+    std::vector<double> rows = mvsec_rows(70'000);
+    rows[4 * bad + static_cast<std::size_t>(column)] = value;
+    write_mvsec_file(path, rows);
+    const ReadResult r = read_all(path);
+    ASSERT_TRUE(r.error) << says;
+    const std::string message = r.error->what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("mvsec layout: event 66000"), std::string::npos) << message;
+    EXPECT_NE(message.find(says), std::string::npos) << message;
+    EXPECT_EQ(r.events.size(), bad) << says;
+  }
+}
+
+// Stoffregen's event_utils (E2VID-style training data): events/xs, ys
+// (int16), ts (float64 s), ps (0/1).
+TEST(IoFormatsHdf5, EventUtilsLayoutInSeconds) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("event_utils.h5");
+  const std::size_t count = 70'001;
+  std::vector<std::int16_t> xs(count), ys(count);
+  std::vector<double> ts(count);
+  std::vector<std::uint8_t> ps(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    xs[i] = static_cast<std::int16_t>(i % 240);
+    ys[i] = static_cast<std::int16_t>((i / 11) % 180);
+    ts[i] = 0.5 + static_cast<double>(i) * 3e-6;
+    ps[i] = static_cast<std::uint8_t>(i % 2);
+  }
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    write_dataset(group, "xs", H5T_STD_I16LE, H5T_NATIVE_INT16, xs);
+    write_dataset(group, "ys", H5T_STD_I16LE, H5T_NATIVE_INT16, ys);
+    write_dataset(group, "ts", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, ts);
+    write_dataset(group, "ps", H5T_STD_U8LE, H5T_NATIVE_UINT8, ps);
+    H5Gclose(group);
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Event expected{std::llround(ts[i] * 1e6), static_cast<std::uint16_t>(xs[i]),
+                         static_cast<std::uint16_t>(ys[i]), ps[i] ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+  expect_skips_to_the_first_event_at(path, r.events);
+}
+
+TEST(IoFormatsHdf5, TableOfOtherColumnsIsNamed) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("v2e_3_columns.h5");
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write_dataset(file, "events", H5T_STD_U32LE, H5T_NATIVE_UINT32, std::vector<std::uint32_t>(9, 1));
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("v2e layout: dataset 'events' is not a table of 4 columns"),
+            std::string::npos)
+      << r.error->what();
+}
+
 TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("other.h5");
@@ -452,6 +616,7 @@ TEST(IoFormatsHdf5, UnknownLayoutNamesTheDatasetsLookedFor) {
   const std::string message = r.error->what();
   EXPECT_NE(message.find("events/x"), std::string::npos) << message;
   EXPECT_NE(message.find("CD/events"), std::string::npos) << message;
+  EXPECT_NE(message.find("davis/left/events"), std::string::npos) << message;
   EXPECT_NE(message.find(path), std::string::npos) << message;
 }
 

@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -27,6 +28,14 @@ bool exists(hid_t file, const std::string& path) {
     if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
     if (slash == std::string::npos) return true;
   }
+}
+
+// True if `path` names a dataset (not a group) in `file`.
+bool is_dataset(hid_t file, const std::string& path) {
+  H5O_info_t info{};
+  return exists(file, path) &&
+         H5Oget_info_by_name2(file, path.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
+         info.type == H5O_TYPE_DATASET;
 }
 
 // Length of the 1-D dataset `dataset`; -1 if it is not 1-D.
@@ -78,18 +87,60 @@ std::uint64_t chunk_bytes(hid_t dataset) {
   return bytes;
 }
 
-bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out) {
+// Rows [first, first + count) of a 1-D dataset, or of an N×`columns` one
+// (column `column` alone when `column` >= 0, else every column).
+bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out,
+               int columns = 0, int column = -1) {
   const hid_t file_space = H5Dget_space(dataset);
   if (file_space < 0) return false;
-  const hsize_t start[1] = {static_cast<hsize_t>(first)};
-  const hsize_t size[1] = {count};
-  const hid_t memory_space = H5Screate_simple(1, size, nullptr);
+  const int rank = columns > 0 ? 2 : 1;
+  const hsize_t start[2] = {static_cast<hsize_t>(first), static_cast<hsize_t>(std::max(column, 0))};
+  const hsize_t size[2] = {count, static_cast<hsize_t>(column >= 0 ? 1 : columns)};
+  const hid_t memory_space = H5Screate_simple(rank, size, nullptr);
   const bool ok = memory_space >= 0 &&
                   H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
                   H5Dread(dataset, memory_type, memory_space, file_space, H5P_DEFAULT, out) >= 0;
   if (memory_space >= 0) H5Sclose(memory_space);
   H5Sclose(file_space);
   return ok;
+}
+
+// True if `dataset` is N×`columns`; its N in `rows`.
+bool is_rows_of(hid_t dataset, int columns, std::int64_t& rows) {
+  const hid_t space = H5Dget_space(dataset);
+  if (space < 0) return false;
+  hsize_t dims[2] = {0, 0};
+  const bool table = H5Sget_simple_extent_ndims(space) == 2 &&
+                     H5Sget_simple_extent_dims(space, dims, nullptr) == 2 &&
+                     dims[1] == static_cast<hsize_t>(columns);
+  H5Sclose(space);
+  rows = static_cast<std::int64_t>(dims[0]);
+  return table;
+}
+
+bool is_float(hid_t dataset) {
+  const hid_t type = H5Dget_type(dataset);
+  if (type < 0) return false;
+  const bool result = H5Tget_class(type) == H5T_FLOAT;
+  H5Tclose(type);
+  return result;
+}
+
+// Seconds (or µs) as a double to whole µs; false when not a finite time
+// that int64 µs can hold (corrupt data).
+bool to_microseconds(double value, bool seconds, std::int64_t& t_us) {
+  const double us = seconds ? value * 1e6 : value;
+  if (!(std::fabs(us) < 9.0e18)) return false;  // NaN and ±inf fail too
+  t_us = std::llround(us);
+  return true;
+}
+
+// A pixel coordinate held as a double (MVSEC's table): a whole number in
+// [0, 65535], else false.
+bool to_coordinate(double value, std::uint16_t& out) {
+  if (!(value >= 0.0 && value <= 65535.0) || value != std::floor(value)) return false;
+  out = static_cast<std::uint16_t>(value);
+  return true;
 }
 
 }  // namespace
@@ -123,21 +174,47 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     return dataset;
   };
   std::string prefix;
+  std::string table_name;  // v2e, MVSEC: one N×4 dataset
+  const char* names[4] = {"x", "y", "t", "p"};
   if (exists(file_, "events/x")) {
     layout_ = "dsec";
     prefix = "events/";
+  } else if (exists(file_, "events/xs")) {
+    layout_ = "event_utils";
+    prefix = "events/";
+    names[0] = "xs", names[1] = "ys", names[2] = "ts", names[3] = "ps";
   } else if (exists(file_, "CD/events")) {
     layout_ = "prophesee";
+  } else if (exists(file_, "davis/left/events")) {
+    layout_ = "mvsec";
+    table_name = "davis/left/events";
+    table_ = {2, 0, 1, 3};
+  } else if (is_dataset(file_, "events")) {
+    layout_ = "v2e";
+    table_name = "events";
+    table_ = {0, 1, 2, 3};
   } else if (exists(file_, "x")) {
     layout_ = "evlife";
   } else {
     close_handles();
     throw ReadError(path, -1, -1,
                     "HDF5 file holds no known event layout: found no dataset 'events/x' (DSEC: "
-                    "events/{x,y,t,p}), 'CD/events' (Prophesee compound) or 'x' (evlife: x,y,t,p)");
+                    "events/{x,y,t,p}), 'events/xs' (event_utils: events/{xs,ys,ts,ps}), "
+                    "'CD/events' (Prophesee compound), 'davis/left/events' (MVSEC: N×4 x,y,t,p), "
+                    "'events' (v2e: N×4 t,x,y,p) or 'x' (evlife: x,y,t,p)");
   }
 
-  if (layout_ == "prophesee") {
+  if (is_table()) {
+    t_ = open(table_name);
+    if (!is_rows_of(t_, 4, total_)) {
+      close_handles();
+      throw ReadError(path, -1, -1,
+                      "HDF5 " + std::string(layout_) + " layout: dataset '" + table_name +
+                          "' is not a table of 4 columns (" +
+                          (layout_ == "v2e" ? "t, x, y, p" : "x, y, t, p") + ")");
+    }
+    t_in_seconds_ = is_float(t_);
+  } else if (layout_ == "prophesee") {
     t_ = open("CD/events");
     total_ = length_1d(t_);
     const hid_t type = H5Dget_type(t_);
@@ -148,7 +225,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
       throw ReadError(path, -1, -1, "HDF5 dataset 'CD/events' is not a compound of x, y, p, t");
     }
   } else {
-    for (const char* column : {"x", "y", "t", "p"}) {
+    for (const char* column : names) {
       if (!exists(file_, prefix + column)) {
         close_handles();
         throw ReadError(path, -1, -1,
@@ -156,19 +233,20 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
                             "' is missing");
       }
     }
-    x_ = open(prefix + "x");
-    y_ = open(prefix + "y");
-    t_ = open(prefix + "t");
-    p_ = open(prefix + "p");
+    x_ = open(prefix + names[0]);
+    y_ = open(prefix + names[1]);
+    t_ = open(prefix + names[2]);
+    p_ = open(prefix + names[3]);
     total_ = length_1d(x_);
-    for (const auto& [dataset, name] : {std::pair{y_, "y"}, {t_, "t"}, {p_, "p"}}) {
+    for (const auto& [dataset, name] : {std::pair{y_, names[1]}, {t_, names[2]}, {p_, names[3]}}) {
       if (length_1d(dataset) != total_) {
         close_handles();
         throw ReadError(path, -1, -1,
                         "HDF5 dataset '" + prefix + name + "' does not have the length of '" +
-                            prefix + "x' (" + std::to_string(total_) + ")");
+                            prefix + names[0] + "' (" + std::to_string(total_) + ")");
       }
     }
+    t_in_seconds_ = is_float(t_);
     if (layout_ == "dsec" && exists(file_, "t_offset")) {
       const hid_t offset = open("t_offset");
       const bool ok = H5Dread(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset_us_) >= 0;
@@ -195,6 +273,8 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     ys_.resize(kChunkEvents);
     ts_.resize(kChunkEvents);
     ps_.resize(kChunkEvents);
+    if (is_table()) doubles_.resize(4 * kChunkEvents);
+    else if (t_in_seconds_) doubles_.resize(kChunkEvents);
   }
 }
 
@@ -225,11 +305,25 @@ void Hdf5Reader::load_chunk() {
     H5Tinsert(type, "t", offsetof(CdRecord, t), H5T_NATIVE_INT64);
     ok = read_slab(t_, type, next_, count, records_.data());
     H5Tclose(type);
+  } else if (is_table()) {
+    what = layout_ == "v2e" ? "events" : "davis/left/events";
+    ok = read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data(), 4);
+    if (ok) {
+      chunk_size_ = count;
+      load_table_chunk(count);
+      return;
+    }
   } else {
     ok = (what = "x", read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
          (what = "y", read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
-         (what = "t", read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
+         (what = "t", t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
+                                    : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
          (what = "p", read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
+    if (ok && t_in_seconds_) {
+      chunk_size_ = count;
+      convert_seconds(count);
+      return;
+    }
   }
   if (!ok) {
     error_.emplace(path_, -1, next_,
@@ -241,6 +335,45 @@ void Hdf5Reader::load_chunk() {
   chunk_size_ = count;
 }
 
+// Converts the chunk's rows in doubles_ into the column buffers. At the first
+// row that is no event (a coordinate that is no pixel, a time out of range)
+// the chunk ends before it and error_ names it: the rows before are read.
+bool Hdf5Reader::load_table_chunk(std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const double* row = &doubles_[4 * i];
+    int bad = -1;  // the column that holds no event
+    if (!to_coordinate(row[table_.x], xs_[i])) bad = table_.x;
+    else if (!to_coordinate(row[table_.y], ys_[i])) bad = table_.y;
+    else if (!to_microseconds(row[table_.t], t_in_seconds_, ts_[i])) bad = table_.t;
+    if (bad >= 0) {
+      const std::int64_t index = next_ + static_cast<std::int64_t>(i);
+      const char* name = bad == table_.x ? "x" : bad == table_.y ? "y" : "t";
+      error_.emplace(path_, -1, index,
+                     "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) +
+                         " has " + name + " = " + std::to_string(row[bad]) +
+                         (bad == table_.t ? ", no time" : ", not a pixel coordinate") + " (corrupt data?)");
+      chunk_size_ = i;
+      return false;
+    }
+    ps_[i] = row[table_.p] > 0 ? std::int8_t{1} : std::int8_t{-1};
+  }
+  return true;
+}
+
+bool Hdf5Reader::convert_seconds(std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!to_microseconds(doubles_[i], true, ts_[i])) {
+      const std::int64_t index = next_ + static_cast<std::int64_t>(i);
+      error_.emplace(path_, -1, index,
+                     "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) +
+                         " has t = " + std::to_string(doubles_[i]) + " s, no time (corrupt data?)");
+      chunk_size_ = i;
+      return false;
+    }
+  }
+  return true;
+}
+
 bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
   std::int64_t t = 0;
   bool ok;
@@ -249,6 +382,11 @@ bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
     H5Tinsert(type, "t", 0, H5T_NATIVE_INT64);
     ok = read_slab(t_, type, index, 1, &t);
     H5Tclose(type);
+  } else if (is_table() || t_in_seconds_) {
+    double value = 0.0;
+    ok = (is_table() ? read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value, 4, table_.t)
+                     : read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value)) &&
+         to_microseconds(value, t_in_seconds_, t);
   } else {
     ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &t);
   }
@@ -280,14 +418,14 @@ std::optional<std::int64_t> Hdf5Reader::first_event_time_us() const {
 }
 
 std::size_t Hdf5Reader::read(std::span<Event> out) {
-  if (error_) throw *error_;
+  if (error_ && chunk_pos_ == chunk_size_) throw *error_;
   std::size_t n = 0;
   while (n < out.size()) {
     if (chunk_pos_ == chunk_size_) {
-      if (next_ >= total_) break;
-      load_chunk();
-      if (error_) break;
+      if (error_ || next_ >= total_) break;
+      load_chunk();  // on an error: the events before it, then the error
       next_ += static_cast<std::int64_t>(chunk_size_);
+      if (chunk_size_ == 0) break;
     }
     const std::size_t count = std::min(chunk_size_ - chunk_pos_, out.size() - n);
     if (layout_ == "prophesee") {
@@ -327,7 +465,9 @@ std::unique_ptr<EventReader> open_hdf5(const std::string& path) {
 }  // namespace
 
 const ReaderFormat hdf5_format{"hdf5",
-                               "HDF5 events: DSEC events/{x,y,t,p}, Prophesee CD/events, or evlife x,y,t,p",
+                               "HDF5 events: DSEC events/{x,y,t,p}, event_utils events/{xs,ys,ts,ps}, "
+                               "Prophesee CD/events, MVSEC davis/left/events, v2e events (N×4), or evlife "
+                               "x,y,t,p",
                                &sniff_hdf5, &open_hdf5};
 
 }  // namespace detail

@@ -3,7 +3,14 @@
 //    optional scalar t_offset (µs) added to t;
 //  - Prophesee: one compound dataset CD/events with fields x, y, p, t (µs);
 //  - evlife (what Hdf5Writer writes): root datasets x, y, t, p (+ augmented
-//    columns, ignored here), sensor size in root attributes width / height.
+//    columns, ignored here), sensor size in root attributes width / height;
+//  - event_utils (Stoffregen's tools, E2VID-style training data): datasets
+//    events/xs, events/ys, events/ts, events/ps;
+//  - v2e (the DVS simulator's --dvs_h5): one N×4 dataset events, rows
+//    [t, x, y, p] (t µs, p 0/1);
+//  - MVSEC: one N×4 dataset davis/left/events, rows [x, y, t, p] (t s, p ±1;
+//    the right camera's davis/right/events is not read).
+// A time column of floating-point type holds seconds, an integer one µs.
 // Read in chunks of kChunkEvents with the HDF5 library: constant memory.
 #pragma once
 
@@ -45,7 +52,7 @@ class Hdf5Reader final : public EventReader {
                       : 0;
   }
 
-  /// "dsec", "prophesee" or "evlife".
+  /// "dsec", "event_utils", "prophesee", "mvsec", "v2e" or "evlife".
   std::string_view layout() const noexcept { return layout_; }
   std::int64_t event_count() const noexcept { return total_; }
 
@@ -60,7 +67,15 @@ class Hdf5Reader final : public EventReader {
     std::int64_t t;
   };
 
+  // Columns of an N×4 table (v2e, MVSEC): which of the four holds what.
+  struct TableColumns {
+    int t, x, y, p;
+  };
+
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
+  bool load_table_chunk(std::size_t count);  // an N×4 table's chunk, converted to the columns
+  bool convert_seconds(std::size_t count);   // the chunk's t_seconds_ into ts_ (µs)
+  bool is_table() const noexcept { return table_.t >= 0; }
   bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
   // Before the first read (and no error yet): a search may still move the start.
   bool unread() const noexcept { return next_ == 0 && chunk_size_ == 0 && !error_; }
@@ -73,12 +88,15 @@ class Hdf5Reader final : public EventReader {
   std::int64_t total_ = 0;
   std::int64_t file_bytes_ = 0;
   std::int64_t t_offset_us_ = 0;
+  bool t_in_seconds_ = false;          // the time column is floating-point seconds
+  TableColumns table_{-1, -1, -1, -1};  // an N×4 table (t_ = the table) or none
   std::optional<SensorSize> sensor_;
   std::int64_t next_ = 0;  // index of the first event not yet loaded
   std::vector<std::uint16_t> xs_, ys_;
   std::vector<std::int64_t> ts_;
   std::vector<std::int8_t> ps_;
   std::vector<CdRecord> records_;
+  std::vector<double> doubles_;  // a table's rows, or a column of seconds, before conversion
   std::size_t chunk_size_ = 0;
   std::size_t chunk_pos_ = 0;
   std::optional<ReadError> error_;
