@@ -83,6 +83,7 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   r = run("info '" + h5.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("format     hdf5 ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\nlayout     evlife\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("events     3 (2 ON, 1 OFF)"), std::string::npos) << r.output;
   // A bad line: the events before it are counted, then the error, exit 3.
   std::ofstream(csv) << "10,20,1,1000\n11,21,0,1500\n639,479,1,22x0\n";

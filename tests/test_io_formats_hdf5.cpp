@@ -37,6 +37,11 @@ using evlife::SensorSize;
 using evlife::io::ReadError;
 using evlife::test::ScratchDir;
 
+// The layout the reader found (through the checked reader's wrapper).
+std::string layout_of(const std::string& path) {
+  return std::string(evlife::io::open_event_reader(path)->layout_name());
+}
+
 struct ReadResult {
   std::vector<Event> events;
   std::optional<ReadError> error;
@@ -489,6 +494,7 @@ TEST(IoFormatsHdf5, V2eTableLayout) {
     ASSERT_TRUE(same(r.events[i], expected)) << i;
   }
   expect_skips_to_the_first_event_at(path, r.events);  // one column of the table
+  EXPECT_EQ(layout_of(path), "v2e");
 }
 
 // MVSEC: davis/left/events, float64 rows [x, y, t s, p ±1], times since the
@@ -528,6 +534,7 @@ TEST(IoFormatsHdf5, MvsecTableLayoutInSeconds) {
   // Whole µs apart as written (7 µs), at 1.5e9 s where a double still holds 0.24 µs.
   EXPECT_EQ(r.events[2].t_us - r.events[0].t_us, 7);
   expect_skips_to_the_first_event_at(path, r.events);
+  EXPECT_EQ(layout_of(path), "mvsec");
 }
 
 // A row that is no event (a coordinate that is no pixel, a time that is not
@@ -586,6 +593,7 @@ TEST(IoFormatsHdf5, EventUtilsLayoutInSeconds) {
     ASSERT_TRUE(same(r.events[i], expected)) << i;
   }
   expect_skips_to_the_first_event_at(path, r.events);
+  EXPECT_EQ(layout_of(path), "event_utils");
 }
 
 TEST(IoFormatsHdf5, TableOfOtherColumnsIsNamed) {

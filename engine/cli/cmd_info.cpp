@@ -180,6 +180,8 @@ int run_info(int argc, char** argv) {
   for (const auto& f : io::known_event_formats())
     if (f.name == format) description = std::string(f.description);
   std::printf("format     %s (%s)\n", format.c_str(), description.c_str());
+  if (const std::string_view layout = reader->layout_name(); !layout.empty())
+    std::printf("layout     %.*s\n", static_cast<int>(layout.size()), layout.data());
   print_events(tally, reader->sensor_size());
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",

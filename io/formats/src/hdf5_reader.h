@@ -53,7 +53,7 @@ class Hdf5Reader final : public EventReader {
   }
 
   /// "dsec", "event_utils", "prophesee", "mvsec", "v2e" or "evlife".
-  std::string_view layout() const noexcept { return layout_; }
+  std::string_view layout_name() const override { return layout_; }
   std::int64_t event_count() const noexcept { return total_; }
 
  private:

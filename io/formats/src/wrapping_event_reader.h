@@ -31,6 +31,7 @@ class WrappingEventReader : public EventReader {
   std::vector<ContainerStream> streams() const override { return inner_->streams(); }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
   std::string clock_wrap_note() const override { return inner_->clock_wrap_note(); }
+  std::string_view layout_name() const override { return inner_->layout_name(); }
 
  protected:
   std::unique_ptr<EventReader> inner_;

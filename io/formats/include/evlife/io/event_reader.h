@@ -95,6 +95,9 @@ class EventReader {
   /// gap longer than half the clock's range), for the error's message; empty
   /// for the others.
   virtual std::string clock_wrap_note() const { return {}; }
+  /// Which of a format's layouts the file holds (HDF5: "v2e", "mvsec", …),
+  /// for `evlife info`; empty where a format has one.
+  virtual std::string_view layout_name() const { return {}; }
 
   /// Byte offset in the file of event `event_index` (counted from 0 over the
   /// whole stream), valid for the events returned by the most recent read();
