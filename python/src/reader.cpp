@@ -182,6 +182,10 @@ good events come first, the next chunk raises evlife.InputError.)")
       .def_property_readonly(
           "format", [](const Reader& r) { return std::string(r.reader().format_name()); },
           "Short format name, e.g. 'mat', 'aedat2', 'evt3'.")
+      .def_property_readonly(
+          "layout", [](const Reader& r) { return std::string(r.reader().layout_name()); },
+          "Which of its format's layouts the file holds (HDF5: 'dsec', 'event_utils', 'prophesee', "
+          "'mvsec', 'v2e', 'evlife'); '' where a format has one.")
       .def_property_readonly("path", [](const Reader& r) { return r.reader().path(); })
       .def_property_readonly("chunk_events", &Reader::chunk_events)
       .def_property_readonly(

@@ -1,4 +1,6 @@
 """evlife.read / evlife.open on every input format, against the command line."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -35,6 +37,28 @@ def test_read_hdf5_made_by_the_cli(tmp_path):
     assert_same_events(evlife.read(h5), evlife.read(src), ["t", "x", "y", "p"])
     with evlife.open(h5) as r:
         assert r.format == "hdf5"
+
+
+HDF5_SEEDS = Path(__file__).resolve().parents[2] / "tests" / "fuzz" / "corpus" / "hdf5"
+
+
+@pytest.mark.parametrize("layout, name, t_us", [
+    # The seeds' 30 events (written by the HDF5 C API): event i at x = 7i mod 346 (240 for
+    # event_utils), y = 5i mod 260 (180), p = +1 for odd i, 37 µs apart from the first time.
+    ("v2e", "v2e_30ev.h5", 1000),                     # events: N×4 uint32 t µs, x, y, p 0/1
+    ("mvsec", "mvsec_30ev.h5", 1_504_645_177_000_000),  # davis/left/events: N×4 float64 x, y, t s, p ±1
+    ("event_utils", "event_utils_30ev.h5", 250_000),  # events/xs, ys int16, ts float64 s, ps 0/1
+])
+def test_read_hdf5_layouts_of_other_tools(layout, name, t_us):
+    i = np.arange(30)
+    width, height = (240, 180) if layout == "event_utils" else (346, 260)
+    events = evlife.read(HDF5_SEEDS / name)
+    np.testing.assert_array_equal(events["t"], t_us + 37 * i)
+    np.testing.assert_array_equal(events["x"], (7 * i) % width)
+    np.testing.assert_array_equal(events["y"], (5 * i) % height)
+    np.testing.assert_array_equal(events["p"], np.where(i % 2 == 1, 1, -1))
+    with evlife.open(HDF5_SEEDS / name) as r:
+        assert (r.format, r.layout) == ("hdf5", layout)
 
 
 def test_savetxt_of_read_events_reads_back(tmp_path):
