@@ -560,19 +560,19 @@ TEST(IoFormatsHdf5, TableRowThatIsNoEventIsNamedAfterTheEventsBeforeIt) {
 }
 
 // Stoffregen's event_utils (E2VID-style training data): events/xs, ys
-// (int16), ts (float64 s), ps (0/1).
+// (int16), ts (float64 s), ps (numpy bool: an HDF5 enum of int8).
 TEST(IoFormatsHdf5, EventUtilsLayoutInSeconds) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("event_utils.h5");
   const std::size_t count = 70'001;
   std::vector<std::int16_t> xs(count), ys(count);
   std::vector<double> ts(count);
-  std::vector<std::uint8_t> ps(count);
+  std::vector<std::int8_t> ps(count);
   for (std::size_t i = 0; i < count; ++i) {
     xs[i] = static_cast<std::int16_t>(i % 240);
     ys[i] = static_cast<std::int16_t>((i / 11) % 180);
     ts[i] = 0.5 + static_cast<double>(i) * 3e-6;
-    ps[i] = static_cast<std::uint8_t>(i % 2);
+    ps[i] = static_cast<std::int8_t>(i % 2);
   }
   {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -580,7 +580,12 @@ TEST(IoFormatsHdf5, EventUtilsLayoutInSeconds) {
     write_dataset(group, "xs", H5T_STD_I16LE, H5T_NATIVE_INT16, xs);
     write_dataset(group, "ys", H5T_STD_I16LE, H5T_NATIVE_INT16, ys);
     write_dataset(group, "ts", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, ts);
-    write_dataset(group, "ps", H5T_STD_U8LE, H5T_NATIVE_UINT8, ps);
+    const hid_t boolean = H5Tenum_create(H5T_NATIVE_INT8);  // what h5py writes for numpy's bool
+    const std::int8_t no = 0, yes = 1;
+    H5Tenum_insert(boolean, "FALSE", &no);
+    H5Tenum_insert(boolean, "TRUE", &yes);
+    write_dataset(group, "ps", boolean, boolean, ps);
+    H5Tclose(boolean);
     H5Gclose(group);
     H5Fclose(file);
   }

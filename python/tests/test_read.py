@@ -48,6 +48,7 @@ HDF5_SEEDS = Path(__file__).resolve().parents[2] / "tests" / "fuzz" / "corpus" /
     ("v2e", "v2e_30ev.h5", 1000),                     # events: N×4 uint32 t µs, x, y, p 0/1
     ("mvsec", "mvsec_30ev.h5", 1_504_645_177_000_000),  # davis/left/events: N×4 float64 x, y, t s, p ±1
     ("event_utils", "event_utils_30ev.h5", 250_000),  # events/xs, ys int16, ts float64 s, ps 0/1
+    ("event_utils", "event_utils_bool_30ev.h5", 250_000),  # ps as h5py writes numpy's bool: an enum
 ])
 def test_read_hdf5_layouts_of_other_tools(layout, name, t_us):
     i = np.arange(30)

@@ -10,6 +10,8 @@ Two seeds come from evlife itself (no Python HDF5 on the CI image):
   corpus/hdf5/from_aedat2_30ev.h5     evlife convert <first 30 events of
                                       corpus/aedat2/real_head_400ev.aedat> X.h5
   corpus/augmented/real_10ev.bin      evlife process <its first 10 events> -o X.bin
+and the HDF5 layouts of other tools (v2e, MVSEC, event_utils) from
+tests/fuzz/make_hdf5_seeds.cpp (the HDF5 C API; its comment says how to run it).
 """
 import os
 import random

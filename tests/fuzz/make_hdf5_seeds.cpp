@@ -1,0 +1,96 @@
+// Writes the HDF5 seeds of the layouts of other tools into tests/fuzz/corpus/hdf5/
+// (no Python HDF5 on the CI image; the C API writes what h5py would). Run by
+// hand, only to change the seeds (python/tests/test_read.py knows their events:
+// event i at x = 7i mod 346 (240), y = 5i mod 260 (180), p = +1 for odd i, 37 µs
+// apart):
+//   g++ -o /tmp/make_hdf5_seeds tests/fuzz/make_hdf5_seeds.cpp -I/usr/include/hdf5/serial
+//     -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5 && /tmp/make_hdf5_seeds tests/fuzz/corpus/hdf5
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr int kEvents = 30;
+constexpr hsize_t kChunk = 16;  // two storage chunks, deflate: as the tools write
+
+// `values` as a dataset at `name`: 1-D, or N×4 (`table`); chunked and deflated unless not `chunked`.
+template <typename T>
+void write(hid_t where, const char* name, hid_t file_type, hid_t memory_type, const std::vector<T>& values,
+           bool table, bool chunked = true) {
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const hsize_t dims[2] = {table ? values.size() / 4 : values.size(), 4};
+  const hsize_t chunk[2] = {kChunk, 4};
+  const hid_t space = H5Screate_simple(table ? 2 : 1, dims, nullptr);
+  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+  if (chunked) {
+    H5Pset_chunk(properties, table ? 2 : 1, chunk);
+    H5Pset_deflate(properties, 1);
+  }
+  const hid_t dataset = H5Dcreate2(where, name, file_type, space, links, properties, H5P_DEFAULT);
+  H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(dataset);
+  H5Pclose(properties);
+  H5Sclose(space);
+  H5Pclose(links);
+}
+
+void event_utils(const std::string& path, bool numpy_bool) {
+  std::vector<std::int16_t> xs, ys;
+  std::vector<double> ts;
+  std::vector<std::int8_t> ps;
+  for (int i = 0; i < kEvents; ++i) {
+    xs.push_back(static_cast<std::int16_t>((i * 7) % 240));
+    ys.push_back(static_cast<std::int16_t>((i * 5) % 180));
+    ts.push_back(0.25 + 37e-6 * i);
+    ps.push_back(static_cast<std::int8_t>(i % 2));
+  }
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  write(group, "xs", H5T_STD_I16LE, H5T_NATIVE_INT16, xs, false, !numpy_bool);
+  write(group, "ys", H5T_STD_I16LE, H5T_NATIVE_INT16, ys, false, !numpy_bool);
+  write(group, "ts", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, ts, false, !numpy_bool);
+  if (numpy_bool) {  // h5py's bool: an enum of int8 {FALSE = 0, TRUE = 1}
+    const hid_t boolean = H5Tenum_create(H5T_NATIVE_INT8);
+    const std::int8_t no = 0, yes = 1;
+    H5Tenum_insert(boolean, "FALSE", &no);
+    H5Tenum_insert(boolean, "TRUE", &yes);
+    write(group, "ps", boolean, boolean, ps, false, false);
+    H5Tclose(boolean);
+  } else {
+    write(group, "ps", H5T_STD_U8LE, H5T_NATIVE_INT8, ps, false);
+  }
+  H5Gclose(group);
+  H5Fclose(file);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string dir = argc > 1 ? argv[1] : ".";
+  {  // v2e --dvs_h5: events, uint32 rows [t µs, x, y, p 0/1]
+    std::vector<std::uint32_t> rows;
+    for (int i = 0; i < kEvents; ++i) {
+      for (const int v : {1000 + 37 * i, (i * 7) % 346, (i * 5) % 260, i % 2}) rows.push_back(static_cast<std::uint32_t>(v));
+    }
+    const hid_t file = H5Fcreate((dir + "/v2e_30ev.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write(file, "events", H5T_STD_U32LE, H5T_NATIVE_UINT32, rows, true);
+    H5Fclose(file);
+  }
+  {  // MVSEC: davis/left/events, float64 rows [x, y, t s, p ±1]
+    std::vector<double> rows;
+    for (int i = 0; i < kEvents; ++i) {
+      for (const double v : {double((i * 7) % 346), double((i * 5) % 260), 1504645177.0 + 37e-6 * i, i % 2 ? 1.0 : -1.0})
+        rows.push_back(v);
+    }
+    const hid_t file = H5Fcreate((dir + "/mvsec_30ev.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write(file, "davis/left/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows, true);
+    H5Fclose(file);
+  }
+  event_utils(dir + "/event_utils_30ev.h5", false);
+  event_utils(dir + "/event_utils_bool_30ev.h5", true);
+  return 0;
+}
