@@ -537,6 +537,29 @@ TEST(IoFormatsHdf5, MvsecTableLayoutInSeconds) {
   EXPECT_EQ(layout_of(path), "mvsec");
 }
 
+// --topic chooses the camera of an MVSEC file; a table it does not hold is named.
+TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("mvsec_stereo.hdf5");
+  write_mvsec_file(path, mvsec_rows(10));  // the right camera: 2 rows of 9.0
+  evlife::io::ReaderOptions options;
+  options.topic = "davis/right/events";
+  auto reader = evlife::io::open_event_reader(path, options);
+  std::vector<Event> events(10);
+  ASSERT_EQ(reader->read(events), 2u);
+  EXPECT_TRUE(same(events[0], Event{9'000'000, 9, 9, 1}));
+  EXPECT_TRUE(same(events[1], Event{9'000'000, 9, 9, 1}));
+  EXPECT_EQ(reader->layout_name(), "mvsec");
+  options.topic = "davis/centre/events";
+  try {
+    evlife::io::open_event_reader(path, options);
+    FAIL() << "no error for a table the file lacks";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("no dataset 'davis/centre/events'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
 // A row that is no event (a coordinate that is no pixel, a time that is not
 // a number) ends the recording there: the events before it are read, the
 // error names the file, the layout and the event's index.

@@ -150,7 +150,7 @@ def _client(scheduler, workers):
 
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
                   extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
-                  **options):
+                  topic=None, **options):
     """Process many recordings on Dask distributed, one task per recording.
 
     paths: recordings (any format of `evlife process`).
@@ -160,9 +160,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     scheduler: None = a LocalCluster of `workers` processes on this machine
     (one thread each), or a scheduler address ("tcp://host:8786"), a
     distributed.Client or a cluster object.
-    sensor, config, from_s, to_s, **options: as evlife.process (every
+    sensor, config, from_s, to_s, topic, **options: as evlife.process (every
     estimator keyword); checked here before any task starts (ValueError /
-    TypeError).
+    TypeError). topic: the same ROS topic (or MVSEC camera) in every file.
     one_thread: True (the default) runs each recording on its worker's one
     thread: with one worker per core, reading ahead and writing behind would
     only compete with the other workers' estimators.
@@ -181,7 +181,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
     _evlife._check_crop(from_s, to_s)
-    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s)) if v is not None}
+    _check_topic(topic)
+    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic)) if v is not None}
     os.makedirs(out_dir, exist_ok=True)
     outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension, out_dir)]
     if not paths:
@@ -217,13 +218,18 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
             c.close()
 
 
-def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, options):
+def _check_topic(topic):
+    if topic is not None and (not isinstance(topic, str) or not topic):
+        raise ValueError("topic: a ROS topic or an MVSEC camera's table, got %r" % (topic,))
+
+
+def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, options):
     """The task of one slice: its augmented events written to `part` (.bin) as
     they are estimated (constant memory, however long the slice)."""
     from evlife import _evlife as core
     start = time.perf_counter()
     r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
-                                 **options)
+                                 topic=topic, **options)
     return r["events"], r["with_lifetime"], time.perf_counter() - start
 
 
@@ -231,7 +237,7 @@ _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the r
 
 
 def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
-                   sensor=None, config=None, progress=True, **options):
+                   sensor=None, config=None, progress=True, topic=None, **options):
     """One long recording cut into `slices` equal time slices processed in parallel.
 
     Each slice's estimator starts `warmup_ms` before its slice (those events
@@ -241,7 +247,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     measured share). With warmup_ms at least the recording's length the result
     is identical. Writes `output` (.bin, the format of `evlife process`) with
     the slices in order; returns a BatchResult with one row per slice
-    (path "PATH[k]"). scheduler, workers, sensor, config, **options: as
+    (path "PATH[k]"). scheduler, workers, sensor, config, topic, **options: as
     process_files. Raises on failure (the slices are one result).
     """
     path = os.path.abspath(os.fspath(path))
@@ -253,7 +259,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker
         raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
-    info = _evlife.scan(path, sensor, config=config)
+    _check_topic(topic)
+    info = _evlife.scan(path, sensor, config=config, topic=topic)
     t0, t1 = info["t_first"], info["t_last"] + 1
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
     warmup_us = int(round(warmup_ms * 1000.0))
@@ -263,7 +270,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     try:
         run = uuid.uuid4().hex[:8]
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k], cuts[k + 1],
-                                 warmup_us, config, dict(options), pure=False,
+                                 warmup_us, config, topic, dict(options), pure=False,
                                  key="evlife-slice-%s-%d" % (run, k))
                    for k in range(slices)]
         rows = []

@@ -19,9 +19,10 @@ void bind_estimator(py::module_& m);  // LifetimeEstimator, process
 void bind_frame(py::module_& m);      // frame
 void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 
-/// evlife.read's body: from_s / to_s are seconds after the first event.
+/// evlife.read's body: from_s / to_s are seconds after the first event;
+/// topic: a ROS bag's event topic, an MVSEC file's camera (--topic).
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
-                      std::optional<double> to_s);
+                      std::optional<double> to_s, const std::optional<std::string>& topic);
 
 /// A reader's skipped (non-event) records by kind, {kind: count}.
 py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds);

@@ -108,11 +108,19 @@ class Estimator {
   std::mutex mutex_;
 };
 
+// What the sensor probe and scan read: the whole stream of `options.topic`
+// (the events of a crop alone could fit a smaller sensor than the file's).
+io::ReaderOptions whole_stream(const io::ReaderOptions& options) {
+  io::ReaderOptions whole;
+  whole.topic = options.topic;
+  return whole;
+}
+
 // Smallest sensor holding every event of `path`, tolerant of a fault (the
 // events before it count; the processing pass reports it): `evlife process`'s
 // scan.
-SensorSize scan_sensor(const std::string& path) {
-  auto reader = io::open_unchecked_event_reader(path);
+SensorSize scan_sensor(const std::string& path, const io::ReaderOptions& options) {
+  auto reader = io::open_unchecked_event_reader(path, whole_stream(options));
   std::vector<Event> block(kBlockEvents);
   int max_x = 0, max_y = 0;
   try {
@@ -153,11 +161,11 @@ template <class OnSensor, class Sink>
 FileRun run_file(const std::string& path, std::optional<SensorSize> user, ResolvedOptions r,
                  io::ReaderOptions crop, bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
-  const auto probe = io::open_unchecked_event_reader(path);
+  const auto probe = io::open_unchecked_event_reader(path, whole_stream(crop));
   if (const auto stated = probe->sensor_size()) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
-  else run.sensor = scan_sensor(path);
+  else run.sensor = scan_sensor(path, crop);
   crop.sensor = run.sensor;
   std::unique_ptr<io::EventReader> reader = io::open_event_reader(path, crop);
   run.format = std::string(reader->format_name());
@@ -252,20 +260,23 @@ py::dict process_to_file(const std::string& path, const std::string& output,
 
 // The sensor `evlife process` would use for `path`, the time span and the
 // event count: one pass (what a caller needs to cut a recording into slices).
-py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config) {
+py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config,
+                   const std::optional<std::string>& topic) {
   const ResolvedOptions r = resolve_options("evlife.scan", py::none(), config, py::dict());
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
+  io::ReaderOptions source = reader_options(std::nullopt, std::nullopt, std::nullopt, topic);
   std::int64_t first = 0, last = 0;
   std::uint64_t count = 0;
   FileRun run;
   {
     py::gil_scoped_release release;
-    const auto probe = io::open_unchecked_event_reader(path);
+    const auto probe = io::open_unchecked_event_reader(path, source);
     if (const auto stated = probe->sensor_size()) run.sensor = *stated;
     else if (user) run.sensor = *user;
     else if (r.sensor) run.sensor = *r.sensor;
-    else run.sensor = scan_sensor(path);
-    auto reader = io::open_event_reader(path, io::ReaderOptions{run.sensor, true});
+    else run.sensor = scan_sensor(path, source);
+    source.sensor = run.sensor;
+    auto reader = io::open_event_reader(path, source);
     run.format = std::string(reader->format_name());
     std::vector<Event> in(kBlockEvents);
     while (const std::size_t n = reader->read(in)) {  // a fault: InputError
@@ -293,14 +304,15 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
 py::dict process_time_range(const std::string& path, const std::string& output,
                             const py::object& sensor, std::int64_t t_begin, std::int64_t t_end,
                             std::int64_t warmup_us, bool skip_by_search, const py::object& config,
-                            const py::dict& options) {
+                            const std::optional<std::string>& topic, const py::dict& options) {
   if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
   ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
   const SensorSize s = sensor_from_python(sensor);
+  io::ReaderOptions source = reader_options(s, std::nullopt, std::nullopt, topic);
   std::uint64_t events = 0, with_lifetime = 0;
   {
     py::gil_scoped_release release;
-    auto reader = io::open_event_reader(path, io::ReaderOptions{s, true});
+    auto reader = io::open_event_reader(path, source);
     r.config.estimator.sensor = s;
     LifetimeEstimator estimator(r.config.estimator);
     auto writer = io::open_augmented_writer(output, s);
@@ -394,13 +406,15 @@ then nothing of this call is processed and the state is unchanged.)")
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
          bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
-         const py::kwargs& kw) -> py::array {
+         const std::optional<std::string>& topic, const py::kwargs& kw) -> py::array {
         if (py::isinstance<py::str>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
-          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s), one_thread, config, kw);
+          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic), one_thread, config,
+                              kw);
         }
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
+        if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
         if (!sensor.is_none()) return Estimator("evlife.process", sensor, config, kw).process(input);
         const SensorSize d = sensor_from_events(event_columns(input));
         const py::object inferred = py::make_tuple(std::max(d.width, 1), std::max(d.height, 1));
@@ -413,7 +427,7 @@ then nothing of this call is processed and the state is unchanged.)")
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
       R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
 
 input: a path (every format of `evlife process`) or an array with t, x, y, p
@@ -427,7 +441,8 @@ own while the estimator runs (the same result, sooner); one_thread=True keeps
 everything on the calling thread (as --one-thread; for one process per core).
 from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
 after the first event, as --from / --to; the estimator starts at from_s, and
-an HDF5 file is not decoded before it (evlife.read).
+an HDF5 file is not decoded before it (evlife.read). topic (a path only): a ROS
+bag's event topic or an MVSEC file's camera, as --topic (evlife.read).
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them), ValueError for bad options.)");
 
@@ -435,14 +450,14 @@ events before the fault, as the CLI writes them), ValueError for bad options.)")
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
          const py::object& config, bool one_thread, std::optional<double> from_s,
-         std::optional<double> to_s, const py::kwargs& kw) {
+         std::optional<double> to_s, const std::optional<std::string>& topic, const py::kwargs& kw) {
         const auto fspath = py::module_::import("os").attr("fspath");
         return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor,
-                               reader_options(std::nullopt, from_s, to_s), one_thread, config, kw);
+                               reader_options(std::nullopt, from_s, to_s, topic), one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
@@ -463,27 +478,28 @@ as evlife.process.)");
 
   m.def(
       "scan",
-      [](const py::object& input, const py::object& sensor, const py::object& config) {
-        return scan_file(py::str(py::module_::import("os").attr("fspath")(input)), sensor, config);
+      [](const py::object& input, const py::object& sensor, const py::object& config,
+         const std::optional<std::string>& topic) {
+        return scan_file(py::str(py::module_::import("os").attr("fspath")(input)), sensor, config, topic);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(),
+      py::arg("config") = py::none(), py::arg("topic") = py::none(),
       R"(One pass over a recording: {'sensor' (the one `evlife process` uses), 'format',
 'events', 't_first', 't_last' (µs), 'skipped_records', 'skipped_record_kinds'}
-(as evlife.process_file). Errors as evlife.read.)");
+(as evlife.process_file). topic and errors as evlife.read.)");
 
   m.def(
       "_process_time_range",
       [](const py::object& input, const py::object& output, const py::object& sensor,
          std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us, bool skip_by_search,
-         const py::object& config, const py::kwargs& kw) {
+         const py::object& config, const std::optional<std::string>& topic, const py::kwargs& kw) {
         const auto fspath = py::module_::import("os").attr("fspath");
         return process_time_range(py::str(fspath(input)), py::str(fspath(output)), sensor, t_begin,
-                                  t_end, warmup_us, skip_by_search, config, kw);
+                                  t_end, warmup_us, skip_by_search, config, topic, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
       py::arg("warmup_us"), py::kw_only(), py::arg("skip_by_search") = true,
-      py::arg("config") = py::none(),
+      py::arg("config") = py::none(), py::arg("topic") = py::none(),
       "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) written to\n"
       "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
 }

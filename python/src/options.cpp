@@ -62,8 +62,12 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
 }  // namespace
 
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
-                                 std::optional<double> to_s) {
+                                 std::optional<double> to_s, const std::optional<std::string>& topic) {
   io::ReaderOptions options(sensor, true);
+  if (topic) {
+    if (topic->empty()) throw py::value_error("topic: empty topic name");
+    options.topic = *topic;
+  }
   const auto to_us = [](const char* name, double seconds) {
     if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN
       throw py::value_error(std::string(name) + " must be seconds after the first event, >= 0, got " +

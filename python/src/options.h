@@ -43,11 +43,13 @@ SensorSize sensor_from_python(const py::object& sensor);
 /// The same, None -> nullopt.
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
-/// What evlife.read, open, process and process_file read: `sensor` and the
+/// What evlife.read, open, process and process_file read: `sensor`, the
 /// CLI's --from / --to as from_s / to_s, seconds after the first event of the
-/// file. ValueError for a negative time or to_s not after from_s (as the CLI).
+/// file, and --topic (a ROS bag's event topic, an MVSEC file's camera).
+/// ValueError for a negative time, to_s not after from_s or an empty topic
+/// (as the CLI).
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
-                                 std::optional<double> to_s);
+                                 std::optional<double> to_s, const std::optional<std::string>& topic = std::nullopt);
 
 void bind_options(py::module_& m);
 

@@ -138,10 +138,10 @@ class Reader {
 }  // namespace
 
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
-                      std::optional<double> to_s) {
+                      std::optional<double> to_s, const std::optional<std::string>& topic) {
   std::unique_ptr<io::EventReader> reader;
   {
-    const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s);
+    const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic);
     py::gil_scoped_release release;
     reader = io::open_event_reader(path, options);
   }
@@ -152,9 +152,11 @@ void bind_reader(py::module_& m) {
   m.def(
       "read",
       [](const std::filesystem::path& path, const py::object& sensor, std::optional<double> from_s,
-         std::optional<double> to_s) { return read_events(path.string(), sensor, from_s, to_s); },
+         std::optional<double> to_s, const std::optional<std::string>& topic) {
+        return read_events(path.string(), sensor, from_s, to_s, topic);
+      },
       py::arg("path"), py::arg("sensor") = py::none(), py::kw_only(), py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
         R"(Read every event of a recording into a NumPy structured array.
 
 Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
@@ -165,7 +167,9 @@ sensor: (width, height) the events must fit in; default: the size the format
 states (if any). from_s, to_s: only the events from from_s to to_s (exclusive)
 seconds after the first event of the file, as `evlife process --from --to`;
 HDF5 files (DSEC, Prophesee, evlife's) start there by a binary search on t,
-without decoding the events before it. Raises FileNotFoundError for a missing file and
+without decoding the events before it. topic: a ROS bag's event topic (needed
+when it has several; the error lists them), or an MVSEC file's camera table
+(davis/left/events by default, davis/right/events), as --topic. Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
@@ -210,13 +214,13 @@ good events come first, the next chunk raises evlife.InputError.)")
   m.def(
       "open",
       [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
-         std::optional<double> from_s, std::optional<double> to_s) {
-        const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s);
+         std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& topic) {
+        const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic);
         py::gil_scoped_release release;
         return std::make_unique<Reader>(path.string(), options, chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
-      py::arg("from_s") = py::none(), py::arg("to_s") = py::none(),
+      py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
       R"(Open a recording for reading in chunks (recordings larger than memory).
 
 Returns an evlife.Reader with .sensor ((width, height) or None), .format and
@@ -226,7 +230,7 @@ iteration over chunks of at most chunk_events events:
         for chunk in r:
             ...
 
-from_s, to_s and errors as evlife.read.)");
+from_s, to_s, topic and errors as evlife.read.)");
 
   m.def(
       "read_augmented",

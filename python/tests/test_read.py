@@ -1,4 +1,6 @@
 """evlife.read / evlife.open on every input format, against the command line."""
+import shutil
+import sqlite3
 from pathlib import Path
 
 import numpy as np
@@ -140,3 +142,47 @@ def test_read_checks_the_given_sensor():
         evlife.read(path, sensor=(64, 64))
     assert e.value.event_index >= 0
     assert e.value.partial is not None and len(e.value.partial) == e.value.event_index
+
+
+def _two_topic_bag(tmp_path):
+    """The shared ROS 2 bag with a second event topic holding a copy of its first message."""
+    src = data("rosbag/test_data_mono_cd/test_data_mono_cd_0.db3")
+    bag = tmp_path / "two_topics.db3"
+    shutil.copyfile(src, bag)
+    with sqlite3.connect(bag) as db:
+        (name, kind), = db.execute("SELECT name, type FROM topics").fetchall()
+        db.execute("INSERT INTO topics VALUES (2, '/right/events', ?, 'cdr', '')", (kind,))
+        db.execute("INSERT INTO messages (topic_id, timestamp, data) "
+                   "SELECT 2, timestamp, data FROM messages WHERE id = (SELECT MIN(id) FROM messages)")
+    return src, bag, name
+
+
+def test_topic_chooses_the_stream_of_a_bag_with_several(tmp_path):
+    src, bag, name = _two_topic_bag(tmp_path)
+    with pytest.raises(evlife.InputError, match="topic"):  # which of the two: refused with the list
+        evlife.read(bag)
+    whole = evlife.read(src)
+    assert_same_events(evlife.read(bag, topic=name), whole)
+    right = evlife.read(bag, topic="/right/events")
+    assert 0 < len(right) < len(whole)
+    assert_same_events(right, whole[:len(right)])
+    with evlife.open(bag, topic="/right/events") as r:
+        assert sum(len(chunk) for chunk in r) == len(right)
+    # process, process_file and scan read the chosen topic as the CLI's --topic does.
+    expected, _ = cli_bin(tmp_path, bag, "--topic", "/right/events")
+    assert_same_events(evlife.process(bag, topic="/right/events"), expected)
+    out = tmp_path / "right.bin"
+    assert evlife.process_file(bag, out, topic="/right/events")["events"] == len(right)
+    assert out.read_bytes() == (tmp_path / "two_topics.db3.bin").read_bytes()
+    assert evlife.scan(bag, topic="/right/events")["events"] == len(right)
+    with pytest.raises(ValueError, match="topic"):
+        evlife.read(bag, topic="")
+    with pytest.raises(ValueError, match="topic"):
+        evlife.process(np.zeros(3, evlife.EVENT_DTYPE), sensor=(4, 4), topic=name)
+
+
+def test_topic_chooses_the_camera_of_an_mvsec_file():
+    left = evlife.read(HDF5_SEEDS / "mvsec_30ev.h5")
+    assert_same_events(evlife.read(HDF5_SEEDS / "mvsec_30ev.h5", topic="davis/left/events"), left)
+    with pytest.raises(evlife.InputError, match="davis/right/events"):  # the seed has one camera
+        evlife.read(HDF5_SEEDS / "mvsec_30ev.h5", topic="davis/right/events")

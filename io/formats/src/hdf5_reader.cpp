@@ -145,7 +145,7 @@ bool to_coordinate(double value, std::uint16_t& out) {
 
 }  // namespace
 
-Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
+Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path_(path) {
   const Hdf5ErrorSilencer silence;
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
@@ -174,9 +174,19 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : path_(path) {
     return dataset;
   };
   std::string prefix;
-  std::string table_name;  // v2e, MVSEC: one N×4 dataset
+  std::string& table_name = table_name_;  // v2e, MVSEC: one N×4 dataset
   const char* names[4] = {"x", "y", "t", "p"};
-  if (exists(file_, "events/x")) {
+  if (!table.empty()) {
+    if (!is_dataset(file_, table)) {
+      close_handles();
+      throw ReadError(path, -1, -1,
+                      "HDF5 file has no dataset '" + table +
+                          "' (--topic names an MVSEC camera's table of x, y, t, p rows, e.g. davis/right/events)");
+    }
+    layout_ = "mvsec";
+    table_name = table;
+    table_ = {2, 0, 1, 3};
+  } else if (exists(file_, "events/x")) {
     layout_ = "dsec";
     prefix = "events/";
   } else if (exists(file_, "events/xs")) {
@@ -306,7 +316,7 @@ void Hdf5Reader::load_chunk() {
     ok = read_slab(t_, type, next_, count, records_.data());
     H5Tclose(type);
   } else if (is_table()) {
-    what = layout_ == "v2e" ? "events" : "davis/left/events";
+    what = table_name_.c_str();
     ok = read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data(), 4);
     if (ok) {
       chunk_size_ = count;
@@ -458,8 +468,8 @@ SniffResult sniff_hdf5(std::span<const std::byte> head, std::string_view path) {
                                                                      : SniffResult::no;
 }
 
-std::unique_ptr<EventReader> open_hdf5(const std::string& path) {
-  return std::make_unique<Hdf5Reader>(path);
+std::unique_ptr<EventReader> open_hdf5(const std::string& path, const ReaderOptions& options) {
+  return std::make_unique<Hdf5Reader>(path, options.topic);
 }
 
 }  // namespace
@@ -468,7 +478,7 @@ const ReaderFormat hdf5_format{"hdf5",
                                "HDF5 events: DSEC events/{x,y,t,p}, event_utils events/{xs,ys,ts,ps}, "
                                "Prophesee CD/events, MVSEC davis/left/events, v2e events (N×4), or evlife "
                                "x,y,t,p",
-                               &sniff_hdf5, &open_hdf5};
+                               &sniff_hdf5, nullptr, &open_hdf5};
 
 }  // namespace detail
 }  // namespace evlife::io

@@ -30,8 +30,10 @@ class Hdf5Reader final : public EventReader {
   static constexpr std::size_t kChunkEvents = 1 << 16;
 
   /// Throws ReadError if the file is not HDF5 or holds none of the layouts
-  /// above (the message names the datasets looked for).
-  explicit Hdf5Reader(const std::string& path);
+  /// above (the message names the datasets looked for). `table`: an MVSEC
+  /// file's table to read instead of davis/left/events (--topic, e.g.
+  /// davis/right/events).
+  explicit Hdf5Reader(const std::string& path, const std::string& table = {});
   ~Hdf5Reader() override;
   Hdf5Reader(const Hdf5Reader&) = delete;
   Hdf5Reader& operator=(const Hdf5Reader&) = delete;
@@ -90,6 +92,7 @@ class Hdf5Reader final : public EventReader {
   std::int64_t t_offset_us_ = 0;
   bool t_in_seconds_ = false;          // the time column is floating-point seconds
   TableColumns table_{-1, -1, -1, -1};  // an N×4 table (t_ = the table) or none
+  std::string table_name_;              // its dataset
   std::optional<SensorSize> sensor_;
   std::int64_t next_ = 0;  // index of the first event not yet loaded
   std::vector<std::uint16_t> xs_, ys_;
