@@ -276,22 +276,27 @@ TEST(IoFormatsHdf5, SkipsTheEventsBeforeATimeWithoutReadingThem) {
   EXPECT_TRUE(same(one[0], written[1]));
 }
 
-// A chunked 1-D dataset of `values` as `file_type`.
+// A chunked (deflate) dataset of `values` as `file_type`: 1-D, or N×`columns`
+// rows; groups on the path of `name` are created.
 template <typename T>
-void write_dataset(hid_t where, const char* name, hid_t file_type, hid_t memory_type,
-                   const std::vector<T>& values) {
-  const hsize_t size[1] = {values.size()};
-  const hsize_t chunk[1] = {std::min<hsize_t>(4096, values.size())};
-  const hid_t space = H5Screate_simple(1, size, nullptr);
+void write_dataset(hid_t where, const std::string& name, hid_t file_type, hid_t memory_type,
+                   const std::vector<T>& values, hsize_t columns = 0) {
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const int rank = columns > 0 ? 2 : 1;
+  const hsize_t size[2] = {columns > 0 ? values.size() / columns : values.size(), columns};
+  const hsize_t chunk[2] = {std::min<hsize_t>(4096, size[0]), columns};
+  const hid_t space = H5Screate_simple(rank, size, nullptr);
   const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
-  H5Pset_chunk(properties, 1, chunk);
+  H5Pset_chunk(properties, rank, chunk);
   H5Pset_deflate(properties, 1);
-  const hid_t dataset = H5Dcreate2(where, name, file_type, space, H5P_DEFAULT, properties, H5P_DEFAULT);
+  const hid_t dataset = H5Dcreate2(where, name.c_str(), file_type, space, links, properties, H5P_DEFAULT);
   ASSERT_GE(dataset, 0);
   ASSERT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
   H5Dclose(dataset);
   H5Pclose(properties);
   H5Sclose(space);
+  H5Pclose(links);
 }
 
 // A DSEC events file: events/{x,y,t,p} (chunked, deflate), t_offset if given.
@@ -445,25 +450,11 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
   expect_skips_to_the_first_event_at(path, r.events);  // the compound's t field alone
 }
 
-// A chunked (deflate) N×4 dataset at `name` (groups on its path created).
+// An N×4 table of events.
 template <typename T>
 void write_table(hid_t file, const std::string& name, hid_t file_type, hid_t memory_type,
                  const std::vector<T>& rows_of_4) {
-  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(links, 1);
-  const hsize_t size[2] = {rows_of_4.size() / 4, 4};
-  const hsize_t chunk[2] = {std::min<hsize_t>(4096, size[0]), 4};
-  const hid_t space = H5Screate_simple(2, size, nullptr);
-  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
-  H5Pset_chunk(properties, 2, chunk);
-  H5Pset_deflate(properties, 1);
-  const hid_t dataset = H5Dcreate2(file, name.c_str(), file_type, space, links, properties, H5P_DEFAULT);
-  ASSERT_GE(dataset, 0);
-  ASSERT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows_of_4.data()), 0);
-  H5Dclose(dataset);
-  H5Pclose(properties);
-  H5Sclose(space);
-  H5Pclose(links);
+  write_dataset(file, name, file_type, memory_type, rows_of_4, 4);
 }
 
 // v2e's --dvs_h5: dataset events, uint32 rows [t µs, x, y, p 0/1].
