@@ -450,6 +450,22 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
   expect_skips_to_the_first_event_at(path, r.events);  // the compound's t field alone
 }
 
+// A stack of `frames` grey frames of `width` × `height` (v2e's frame, MVSEC's
+// image_raw): where those tools store the sensor size.
+void write_frames(hid_t file, const std::string& name, hsize_t frames, hsize_t width, hsize_t height) {
+  const std::vector<std::uint8_t> grey(frames * width * height, 128);
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const hsize_t size[3] = {frames, height, width};
+  const hid_t space = H5Screate_simple(3, size, nullptr);
+  const hid_t dataset = H5Dcreate2(file, name.c_str(), H5T_STD_U8LE, space, links, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(dataset, 0);
+  ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, grey.data()), 0);
+  H5Dclose(dataset);
+  H5Sclose(space);
+  H5Pclose(links);
+}
+
 // An N×4 table of events.
 template <typename T>
 void write_table(hid_t file, const std::string& name, hid_t file_type, hid_t memory_type,
@@ -473,10 +489,12 @@ TEST(IoFormatsHdf5, V2eTableLayout) {
     const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     write_table(file, "events", H5T_STD_U32LE, H5T_NATIVE_UINT32, rows);
     write_dataset(file, "frame_ts", H5T_STD_U32LE, H5T_NATIVE_UINT32, std::vector<std::uint32_t>{0, 33'333});
+    write_frames(file, "frame", 2, 346, 260);
     H5Fclose(file);
   }
   const ReadResult r = read_all(path);
   ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.sensor, std::optional<SensorSize>(SensorSize{346, 260}));  // from the frames
   ASSERT_EQ(r.events.size(), count);
   for (std::size_t i = 0; i < count; ++i) {
     const Event expected{rows[4 * i], static_cast<std::uint16_t>(rows[4 * i + 1]),
@@ -504,6 +522,7 @@ std::vector<double> mvsec_rows(std::size_t count) {
 void write_mvsec_file(const std::string& path, const std::vector<double>& rows) {
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   write_table(file, "davis/left/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows);
+  write_frames(file, "davis/left/image_raw", 1, 346, 260);
   write_table(file, "davis/right/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, std::vector<double>(8, 9.0));
   H5Fclose(file);
 }
@@ -515,6 +534,7 @@ TEST(IoFormatsHdf5, MvsecTableLayoutInSeconds) {
   write_mvsec_file(path, rows);
   const ReadResult r = read_all(path);
   ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.sensor, std::optional<SensorSize>(SensorSize{346, 260}));  // from davis/left/image_raw
   ASSERT_EQ(r.events.size(), rows.size() / 4);
   for (std::size_t i = 0; i < r.events.size(); ++i) {
     const Event expected{std::llround(rows[4 * i + 2] * 1e6), static_cast<std::uint16_t>(rows[4 * i]),
@@ -541,6 +561,7 @@ TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
   EXPECT_TRUE(same(events[0], Event{9'000'000, 9, 9, 1}));
   EXPECT_TRUE(same(events[1], Event{9'000'000, 9, 9, 1}));
   EXPECT_EQ(reader->layout_name(), "mvsec");
+  EXPECT_FALSE(reader->sensor_size());  // no davis/right/image_raw
   options.topic = "davis/centre/events";
   try {
     evlife::io::open_event_reader(path, options);

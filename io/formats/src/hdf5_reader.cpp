@@ -105,6 +105,22 @@ bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t
   return ok;
 }
 
+// The sensor of a stack of grey frames stored beside the events (v2e's
+// frame, MVSEC's image_raw: N × height × width), if there is one.
+std::optional<SensorSize> sensor_of_frames(hid_t file, const std::string& name) {
+  if (!is_dataset(file, name)) return std::nullopt;
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (dataset < 0) return std::nullopt;
+  const hid_t space = H5Dget_space(dataset);
+  hsize_t dims[3] = {0, 0, 0};
+  const bool stack = space >= 0 && H5Sget_simple_extent_ndims(space) == 3 &&
+                     H5Sget_simple_extent_dims(space, dims, nullptr) == 3;
+  if (space >= 0) H5Sclose(space);
+  H5Dclose(dataset);
+  if (!stack || dims[1] == 0 || dims[2] == 0 || dims[1] > 65536 || dims[2] > 65536) return std::nullopt;
+  return SensorSize{static_cast<int>(dims[2]), static_cast<int>(dims[1])};
+}
+
 // True if `dataset` is N×`columns`; its N in `rows`.
 bool is_rows_of(hid_t dataset, int columns, std::int64_t& rows) {
   const hid_t space = H5Dget_space(dataset);
@@ -275,6 +291,10 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
   const auto height = read_int_attribute(file_, "height");
   if (width && height && *width > 0 && *height > 0 && *width <= 65536 && *height <= 65536) {
     sensor_ = SensorSize{static_cast<int>(*width), static_cast<int>(*height)};
+  } else if (layout_ == "v2e") {
+    sensor_ = sensor_of_frames(file_, "frame");
+  } else if (layout_ == "mvsec") {  // davis/left/events: davis/left/image_raw
+    sensor_ = sensor_of_frames(file_, table_name_.substr(0, table_name_.rfind('/') + 1) + "image_raw");
   }
   if (layout_ == "prophesee") {
     records_.resize(kChunkEvents);

@@ -7,9 +7,9 @@
 //  - event_utils (Stoffregen's tools, E2VID-style training data): datasets
 //    events/xs, events/ys, events/ts, events/ps;
 //  - v2e (the DVS simulator's --dvs_h5): one N×4 dataset events, rows
-//    [t, x, y, p] (t µs, p 0/1);
+//    [t, x, y, p] (t µs, p 0/1); the sensor from its frames (N×h×w) if any;
 //  - MVSEC: one N×4 dataset davis/left/events, rows [x, y, t, p] (t s, p ±1;
-//    the right camera's davis/right/events is not read).
+//    davis/right/events with --topic); the sensor from image_raw beside it.
 // A time column of floating-point type holds seconds, an integer one µs.
 // Read in chunks of kChunkEvents with the HDF5 library: constant memory.
 #pragma once
