@@ -562,6 +562,14 @@ TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
   EXPECT_TRUE(same(events[1], Event{9'000'000, 9, 9, 1}));
   EXPECT_EQ(reader->layout_name(), "mvsec");
   EXPECT_FALSE(reader->sensor_size());  // no davis/right/image_raw
+  const auto cameras = reader->streams();  // what `evlife info` lists
+  ASSERT_EQ(cameras.size(), 2u);
+  EXPECT_EQ(cameras[0].name, "davis/left/events");
+  EXPECT_EQ(cameras[0].messages, 10u);
+  EXPECT_FALSE(cameras[0].read);
+  EXPECT_EQ(cameras[1].name, "davis/right/events");
+  EXPECT_EQ(cameras[1].messages, 2u);
+  EXPECT_TRUE(cameras[1].read);
   options.topic = "davis/centre/events";
   try {
     evlife::io::open_event_reader(path, options);

@@ -191,9 +191,10 @@ int run_info(int argc, char** argv) {
   const auto streams = reader->streams();
   if (!streams.empty()) {
     std::printf("topics     %zu\n", streams.size());
+    const char* unit = format == "hdf5" ? "rows" : "messages";  // HDF5: MVSEC's cameras (--topic)
     for (const io::ContainerStream& s : streams) {
-      std::printf("  %c %-32s %-40s %s messages\n", s.read ? '*' : ' ', s.name.c_str(), s.type.c_str(),
-                  thousands(s.messages).c_str());
+      std::printf("  %c %-32s %-40s %s %s\n", s.read ? '*' : ' ', s.name.c_str(), s.type.c_str(),
+                  thousands(s.messages).c_str(), unit);
     }
   }
   if (!fault.empty()) {

@@ -310,6 +310,22 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
 
 Hdf5Reader::~Hdf5Reader() { close_handles(); }
 
+std::vector<ContainerStream> Hdf5Reader::streams() const {
+  std::vector<ContainerStream> tables;
+  if (layout_ != "mvsec" || file_ < 0) return tables;
+  const Hdf5ErrorSilencer silence;
+  for (const char* camera : {"davis/left/events", "davis/right/events"}) {
+    if (!is_dataset(file_, camera)) continue;
+    const hid_t dataset = H5Dopen2(file_, camera, H5P_DEFAULT);
+    std::int64_t rows = 0;
+    if (dataset >= 0 && is_rows_of(dataset, 4, rows)) {
+      tables.push_back({camera, "x, y, t, p", static_cast<std::uint64_t>(rows), table_name_ == camera});
+    }
+    if (dataset >= 0) H5Dclose(dataset);
+  }
+  return tables;
+}
+
 void Hdf5Reader::close_handles() noexcept {
   for (Hid* handle : {&x_, &y_, &t_, &p_}) {
     if (*handle >= 0) H5Dclose(*handle);

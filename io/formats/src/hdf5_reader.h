@@ -56,6 +56,9 @@ class Hdf5Reader final : public EventReader {
 
   /// "dsec", "event_utils", "prophesee", "mvsec", "v2e" or "evlife".
   std::string_view layout_name() const override { return layout_; }
+  /// MVSEC: each camera's table (name, "x, y, t, p", its rows), the one read
+  /// marked; none for the other layouts.
+  std::vector<ContainerStream> streams() const override;
   std::int64_t event_count() const noexcept { return total_; }
 
  private:

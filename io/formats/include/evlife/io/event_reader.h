@@ -37,11 +37,11 @@ class ReadError : public std::runtime_error {
   std::int64_t event_index_;
 };
 
-/// A stream of a container file (a ROS bag's topic), for `evlife info`.
+/// A stream of a container file (a ROS bag's topic, an MVSEC file's camera), for `evlife info`.
 struct ContainerStream {
   std::string name;            ///< e.g. "/dvs/events"
   std::string type;            ///< e.g. "dvs_msgs/msg/EventArray"
-  std::uint64_t messages = 0;  ///< message count
+  std::uint64_t messages = 0;  ///< message count (an HDF5 table: its rows)
   bool read = false;           ///< the stream this reader delivers
 };
 
