@@ -385,6 +385,9 @@ TEST(IoFormatsHdf5, FromStartsPastWhatItDoesNotDecode) {
   };
   const ReadResult whole = read_all(path);
   ASSERT_TRUE(whole.error) << "the corruption does not show";
+  EXPECT_NE(std::string(whole.error->what()).find("dataset 'events/x' cannot be read from event 0"),
+            std::string::npos)
+      << whole.error->what();
   EXPECT_TRUE(whole.events.empty());
 
   // --from T counts from the first event (t 1000): from event `begin` on,
@@ -578,6 +581,19 @@ TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
     EXPECT_NE(std::string(e.what()).find("no dataset 'davis/centre/events'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
+  // A file of the right camera alone says how to read it.
+  const std::string right_only = dir.file("mvsec_right.hdf5");
+  {
+    const hid_t file = H5Fcreate(right_only.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    write_table(file, "davis/right/events", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, mvsec_rows(5));
+    H5Fclose(file);
+  }
+  const ReadResult r = read_all(right_only);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("--topic davis/right/events"), std::string::npos) << r.error->what();
+  options.topic = "davis/right/events";
+  std::vector<Event> five(10);
+  EXPECT_EQ(evlife::io::open_event_reader(right_only, options)->read(five), 5u);
 }
 
 // A row that is no event (a coordinate that is no pixel, a time that is not

@@ -190,7 +190,6 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
     return dataset;
   };
   std::string prefix;
-  std::string& table_name = table_name_;  // v2e, MVSEC: one N×4 dataset
   const char* names[4] = {"x", "y", "t", "p"};
   if (!table.empty()) {
     if (!is_dataset(file_, table)) {
@@ -200,7 +199,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
                           "' (--topic names an MVSEC camera's table of x, y, t, p rows, e.g. davis/right/events)");
     }
     layout_ = "mvsec";
-    table_name = table;
+    table_name_ = table;
     table_ = {2, 0, 1, 3};
   } else if (exists(file_, "events/x")) {
     layout_ = "dsec";
@@ -213,16 +212,22 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
     layout_ = "prophesee";
   } else if (exists(file_, "davis/left/events")) {
     layout_ = "mvsec";
-    table_name = "davis/left/events";
+    table_name_ = "davis/left/events";
     table_ = {2, 0, 1, 3};
   } else if (is_dataset(file_, "events")) {
     layout_ = "v2e";
-    table_name = "events";
+    table_name_ = "events";
     table_ = {0, 1, 2, 3};
   } else if (exists(file_, "x")) {
     layout_ = "evlife";
   } else {
+    const bool right_only = exists(file_, "davis/right/events");
     close_handles();
+    if (right_only) {
+      throw ReadError(path, -1, -1,
+                      "HDF5 MVSEC file without davis/left/events: read the right camera with "
+                      "--topic davis/right/events (Python: topic=)");
+    }
     throw ReadError(path, -1, -1,
                     "HDF5 file holds no known event layout: found no dataset 'events/x' (DSEC: "
                     "events/{x,y,t,p}), 'events/xs' (event_utils: events/{xs,ys,ts,ps}), "
@@ -231,11 +236,11 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
   }
 
   if (is_table()) {
-    t_ = open(table_name);
+    t_ = open(table_name_);
     if (!is_rows_of(t_, 4, total_)) {
       close_handles();
       throw ReadError(path, -1, -1,
-                      "HDF5 " + std::string(layout_) + " layout: dataset '" + table_name +
+                      "HDF5 " + std::string(layout_) + " layout: dataset '" + table_name_ +
                           "' is not a table of 4 columns (" +
                           (layout_ == "v2e" ? "t, x, y, p" : "x, y, t, p") + ")");
     }
@@ -259,10 +264,11 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
                             "' is missing");
       }
     }
-    x_ = open(prefix + names[0]);
-    y_ = open(prefix + names[1]);
-    t_ = open(prefix + names[2]);
-    p_ = open(prefix + names[3]);
+    for (int i = 0; i < 4; ++i) column_names_[i] = prefix + names[i];
+    x_ = open(column_names_[0]);
+    y_ = open(column_names_[1]);
+    t_ = open(column_names_[2]);
+    p_ = open(column_names_[3]);
     total_ = length_1d(x_);
     for (const auto& [dataset, name] : {std::pair{y_, names[1]}, {t_, names[2]}, {p_, names[3]}}) {
       if (length_1d(dataset) != total_) {
@@ -360,11 +366,12 @@ void Hdf5Reader::load_chunk() {
       return;
     }
   } else {
-    ok = (what = "x", read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
-         (what = "y", read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
-         (what = "t", t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
-                                    : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
-         (what = "p", read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
+    ok = (what = column_names_[0].c_str(), read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
+         (what = column_names_[1].c_str(), read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
+         (what = column_names_[2].c_str(),
+          t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
+                        : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
+         (what = column_names_[3].c_str(), read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
     if (ok && t_in_seconds_) {
       chunk_size_ = count;
       convert_seconds(count);

@@ -96,6 +96,7 @@ class Hdf5Reader final : public EventReader {
   bool t_in_seconds_ = false;          // the time column is floating-point seconds
   TableColumns table_{-1, -1, -1, -1};  // an N×4 table (t_ = the table) or none
   std::string table_name_;              // its dataset
+  std::string column_names_[4];         // the column datasets x, y, t, p (for errors)
   std::optional<SensorSize> sensor_;
   std::int64_t next_ = 0;  // index of the first event not yet loaded
   std::vector<std::uint16_t> xs_, ys_;
