@@ -127,6 +127,49 @@ TEST_F(IoAedat2Davis, TheChipTableSetsTheSensor) {
   }
 }
 
+// v2e's AEDAT 2.0 writer (v2ecore/output/aedat2_output.py): its own header
+// lines and no AEChip line, then big-endian (address, t µs) with the DAVIS
+// layout for 346 x 260 or 240 x 180 outputs, both axes flipped:
+// address = (W-1-x) << 12 | (H-1-y) << 22 | p << 11 (p 1 = ON).
+std::vector<char> v2e_file(int w, int h, const std::vector<Event>& events) {
+  const std::string header =
+      "#!AER-DAT2.0\r\n"
+      "# This is a raw AE data file created by AEDat2Output in v2e (see https://github.com/SensorsINI/v2e) as "
+      "specified at https://inivation.com/support/software/fileformat/#aedat-20\r\n"
+      "# Data format is int32 address, int32 timestamp (8 bytes total), repeated for each event\r\n"
+      "# Timestamps tick is 1 us\r\n"
+      "# Creation time: 01:02PM November 29 2026\r\n"
+      "# Creation time: System.currentTimeMillis() 1795944856591\r\n"
+      "# User name: tester\r\n";
+  std::vector<char> bytes(header.begin(), header.end());
+  for (const Event& e : events) {
+    const auto address = static_cast<std::uint32_t>(((w - 1 - e.x) << 12) | ((h - 1 - e.y) << 22) |
+                                                    ((e.p > 0 ? 1 : 0) << 11));
+    for (const std::uint32_t v : {address, static_cast<std::uint32_t>(e.t_us)})
+      for (int shift = 24; shift >= 0; shift -= 8) bytes.push_back(static_cast<char>((v >> shift) & 0xFF));
+  }
+  return bytes;
+}
+
+TEST_F(IoAedat2Davis, V2eFilesReadAsTheDavisTheyWereWrittenFor) {
+  // A DAVIS346 output: its events reach beyond 240 x 180 raw pixels.
+  const std::vector<Event> on346 = {{1000, 0, 0, 1}, {1001, 345, 259, -1}, {1002, 100, 200, 1}, {1003, 340, 5, -1}};
+  ReadAll r = read_all(save("v2e346.aedat", v2e_file(346, 260, on346)));
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_TRUE(r.sensor);
+  EXPECT_EQ(r.sensor->width, 346);
+  EXPECT_EQ(r.sensor->height, 260);
+  expect_events(r.events, on346);
+  // A DAVIS240 output.
+  const std::vector<Event> on240 = {{5, 0, 0, -1}, {6, 239, 179, 1}, {7, 120, 33, 1}};
+  r = read_all(save("v2e240.aedat", v2e_file(240, 180, on240)));
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_TRUE(r.sensor);
+  EXPECT_EQ(r.sensor->width, 240);
+  EXPECT_EQ(r.sensor->height, 180);
+  expect_events(r.events, on240);
+}
+
 TEST_F(IoAedat2Davis, TruncationKeepsTheEventsBeforeAndNamesFileAndOffset) {
   DavisAedat2Writer f = mixed("eu.seebetter.ini.chips.davis.DAVIS240C", 240, 180);
   std::vector<char> bytes = f.bytes();

@@ -299,3 +299,18 @@ def davis_file(chip, w, h):
 
 put('aedat2', 'synthetic_davis240c.aedat', davis_file('eu.seebetter.ini.chips.davis.DAVIS240C', 240, 180))
 put('aedat2', 'synthetic_davis346b.aedat', davis_file('eu.seebetter.ini.chips.davis.Davis346B', 346, 260))
+
+# ---- AEDAT 2.0 as v2e writes it (fuzz_aedat2): its header lines, no AEChip
+# line, DAVIS addresses of a 346 x 260 output (raw x = 345 - x, raw y = 259 - y),
+# events only. Its own random generator.
+vrng = random.Random(2468)
+v2e_head = (b'#!AER-DAT2.0\r\n# This is a raw AE data file created by AEDat2Output in v2e (see '
+            b'https://github.com/SensorsINI/v2e) as specified at '
+            b'https://inivation.com/support/software/fileformat/#aedat-20\r\n'
+            b'# Data format is int32 address, int32 timestamp (8 bytes total), repeated for each event\r\n'
+            b'# Timestamps tick is 1 us\r\n')
+v2e_recs = []
+for i in range(40):
+    x, y, on = vrng.randrange(346), vrng.randrange(260), vrng.randrange(2)
+    v2e_recs.append(struct.pack('>II', ((345 - x) << 12) | ((259 - y) << 22) | (on << 11), 1000 + 33 * i))
+put('aedat2', 'v2e_346x260.aedat', v2e_head + b''.join(v2e_recs))

@@ -1,7 +1,11 @@
 // jAER AEDAT 2.0: `#!AER-DAT2.0` and `#` header lines (CRLF), then per
 // record a big-endian u32 address and a big-endian u32 timestamp (µs). The
 // `# AEChip: <java class>` line selects the address layout and the sensor
-// (table in aedat2_chips.cpp); without it the file is a DVS128's.
+// (table in aedat2_chips.cpp); without it the file is a DVS128's, unless v2e
+// wrote it (its `created by AEDat2Output in v2e` line, no AEChip line): then a
+// DAVIS346's or, where every event lies within 240 x 180 raw pixels, a
+// DAVIS240's — the two sensors v2e's AEDAT 2.0 writer knows, in the DAVIS
+// layout, flipped as jAER's (a pass over the addresses tells them apart).
 //
 // DVS128 (jAER DVS128.Extractor): bit 0 polarity (raw 0 = ON), bits 1-7 raw
 // x, bits 8-14 raw y, bit 15 external input event.
@@ -69,6 +73,7 @@ class Aedat2Reader final : public EventReader {
   explicit Aedat2Reader(const std::string& path) : file_(path), chip_(&default_aedat2_chip()) {
     parse_header();
     buffer_.resize(kChunkRecords * kRecordBytes);
+    if (written_by_v2e_ && !chip_line_) chip_ = &v2e_chip();
   }
 
   std::size_t read(std::span<Event> out) override {
@@ -237,6 +242,7 @@ class Aedat2Reader final : public EventReader {
     constexpr std::string_view kChip = "# AEChip:";
     constexpr std::string_view kHardware = "# HardwareInterface:";
     if (line.rfind(kHardware, 0) == 0 && line.find("DAVIS") != std::string::npos) davis_hardware_ = true;
+    if (line.find("created by AEDat2Output in v2e") != std::string::npos) written_by_v2e_ = true;
     if (line.rfind(kChip, 0) != 0) return;
     const std::string name = line.substr(kChip.size());
     const Aedat2Chip* chip = find_aedat2_chip(name);
@@ -246,6 +252,26 @@ class Aedat2Reader final : public EventReader {
                           known_aedat2_chips() + ")");
     chip_ = chip;
     chip_line_ = true;
+  }
+
+  // v2e's sensor: a DAVIS240 where no DVS event's raw x reaches 240 nor its
+  // raw y 180, else a DAVIS346 (a pass over the records' addresses).
+  const Aedat2Chip& v2e_chip() {
+    std::uint32_t max_x = 0, max_y = 0;
+    for (std::uint64_t at = offset_;;) {
+      const std::size_t got = file_.read_at(at, buffer_);
+      const auto* bytes = reinterpret_cast<const unsigned char*>(buffer_.data());
+      for (std::size_t r = 0; r + kRecordBytes <= got; r += kRecordBytes) {
+        const std::uint32_t address = load_be32(bytes + r);
+        if ((address & kDavisNotDvs) != 0 || (address & kDavisTypeMask) == kDavisExternal) continue;
+        max_x = std::max(max_x, (address >> 12) & 0x3FFu);
+        max_y = std::max(max_y, (address >> 22) & 0x1FFu);
+      }
+      if (got < buffer_.size()) break;
+      at += got;
+    }
+    const Aedat2Chip* chip = find_aedat2_chip(max_x < 240 && max_y < 180 ? "DAVIS240" : "Davis346");
+    return *chip;
   }
 
   // Moves the partial record to the front and reads more. False at end of
@@ -270,6 +296,7 @@ class Aedat2Reader final : public EventReader {
   const Aedat2Chip* chip_;
   bool chip_line_ = false;
   bool davis_hardware_ = false;
+  bool written_by_v2e_ = false;  // v2e's AEDAT 2.0 writer: DAVIS layout, no AEChip line
   std::vector<std::byte> buffer_;
   std::size_t buffer_pos_ = 0;
   std::size_t buffer_end_ = 0;
