@@ -327,7 +327,7 @@ std::unique_ptr<EventReader> open_aedat2(const std::string& path) {
 }  // namespace
 
 const ReaderFormat aedat2_format{"aedat2",
-                                 "jAER AEDAT 2.0 from a DVS128 or a DAVIS ('#!AER-DAT2.0' header, "
+                                 "jAER AEDAT 2.0 from a DVS128 or a DAVIS, or v2e's ('#!AER-DAT2.0' header, "
                                  "big-endian u32 address + u32 timestamp in us; APS, IMU and "
                                  "external events skipped and counted)",
                                  &sniff_aedat2, &open_aedat2};
