@@ -578,7 +578,7 @@ TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
     evlife::io::open_event_reader(path, options);
     FAIL() << "no error for a table the file lacks";
   } catch (const ReadError& e) {
-    EXPECT_NE(std::string(e.what()).find("no dataset 'davis/centre/events'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no table and no group of x, y, t, p columns 'davis/centre/events'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
   // A file of the right camera alone says how to read it.
@@ -594,6 +594,60 @@ TEST(IoFormatsHdf5, MvsecCameraChosenByTopic) {
   options.topic = "davis/right/events";
   std::vector<Event> five(10);
   EXPECT_EQ(evlife::io::open_event_reader(right_only, options)->read(five), 5u);
+}
+
+// M3ED: a group of x, y, t, p columns per camera, prophesee/left read by
+// default with its calib/resolution; --topic chooses the other camera, or any
+// group of such columns.
+TEST(IoFormatsHdf5, M3edCamerasAndGroupsOfColumns) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("m3ed_data.h5");
+  const auto camera = [](hid_t file, const std::string& group, std::size_t count, std::uint16_t x0) {
+    std::vector<std::uint16_t> x(count), y(count);
+    std::vector<std::int64_t> t(count);
+    std::vector<std::int8_t> p(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      x[i] = static_cast<std::uint16_t>(x0 + i % 600);
+      y[i] = static_cast<std::uint16_t>(i % 720);
+      t[i] = 5'000 + static_cast<std::int64_t>(i);
+      p[i] = static_cast<std::int8_t>(i % 2);
+    }
+    write_dataset(file, group + "/x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
+    write_dataset(file, group + "/y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
+    write_dataset(file, group + "/t", H5T_STD_I64LE, H5T_NATIVE_INT64, t);
+    write_dataset(file, group + "/p", H5T_STD_I8LE, H5T_NATIVE_INT8, p);
+  };
+  {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    camera(file, "prophesee/left", 1'000, 0);
+    camera(file, "prophesee/right", 30, 600);
+    camera(file, "mine/cam0", 7, 10);
+    write_dataset(file, "prophesee/left/calib/resolution", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                  std::vector<std::int64_t>{1280, 720});
+    H5Fclose(file);
+  }
+  const ReadResult left = read_all(path);
+  ASSERT_FALSE(left.error) << left.error->what();
+  ASSERT_EQ(left.events.size(), 1'000u);
+  EXPECT_TRUE(same(left.events[3], Event{5'003, 3, 3, 1}));
+  EXPECT_EQ(left.sensor, std::optional<SensorSize>(SensorSize{1280, 720}));
+  EXPECT_EQ(layout_of(path), "m3ed");
+  evlife::io::ReaderOptions options;
+  options.topic = "prophesee/right";
+  auto right = evlife::io::open_event_reader(path, options);
+  std::vector<Event> events(100);
+  ASSERT_EQ(right->read(events), 30u);
+  EXPECT_TRUE(same(events[2], Event{5'002, 602, 2, -1}));
+  const auto cameras = right->streams();
+  ASSERT_EQ(cameras.size(), 2u);
+  EXPECT_EQ(cameras[0].name, "prophesee/left");
+  EXPECT_EQ(cameras[0].messages, 1'000u);
+  EXPECT_FALSE(cameras[0].read);
+  EXPECT_TRUE(cameras[1].read);
+  options.topic = "mine/cam0";
+  auto mine = evlife::io::open_event_reader(path, options);
+  EXPECT_EQ(mine->read(events), 7u);
+  EXPECT_EQ(mine->layout_name(), "columns");
 }
 
 // A row that is no event (a coordinate that is no pixel, a time that is not

@@ -139,8 +139,9 @@ inline constexpr std::string_view kInputOptionsHelp =
     "                     copied into $TMPDIR first and removed at the end; the\n"
     "                     format is then told by its content (.dat, .bag, .mcap: a file).\n"
     "  --topic NAME       ROS bags: the event topic to read (needed when the bag has\n"
-    "                     several; the error lists them). MVSEC HDF5: the camera's\n"
-    "                     table, davis/left/events (default) or davis/right/events.\n"
+    "                     several; the error lists them). HDF5: the camera to read,\n"
+    "                     MVSEC davis/right/events, M3ED prophesee/right (default:\n"
+    "                     the left), or any group of x, y, t, p columns.\n"
     "  --time-unit U      CSV/text input: unit of the time column, s|ms|us|ns (default:\n"
     "                     the header's, else s if the times have a decimal point, else us).\n"
     "  --polarity on|off|both  read only ON or only OFF events (default both).\n";

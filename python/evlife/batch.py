@@ -162,7 +162,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     distributed.Client or a cluster object.
     sensor, config, from_s, to_s, topic, **options: as evlife.process (every
     estimator keyword); checked here before any task starts (ValueError /
-    TypeError). topic: the same ROS topic (or MVSEC camera) in every file.
+    TypeError). topic: the same ROS topic (or HDF5 camera) in every file.
     one_thread: True (the default) runs each recording on its worker's one
     thread: with one worker per core, reading ahead and writing behind would
     only compete with the other workers' estimators.
@@ -220,7 +220,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
 
 def _check_topic(topic):
     if topic is not None and (not isinstance(topic, str) or not topic):
-        raise ValueError("topic: a ROS topic or an MVSEC camera's table, got %r" % (topic,))
+        raise ValueError("topic: a ROS topic or an HDF5 file's camera, got %r" % (topic,))
 
 
 def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, options):

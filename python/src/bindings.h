@@ -20,7 +20,7 @@ void bind_frame(py::module_& m);      // frame
 void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 
 /// evlife.read's body: from_s / to_s are seconds after the first event;
-/// topic: a ROS bag's event topic, an MVSEC file's camera (--topic).
+/// topic: a ROS bag's event topic, an HDF5 file's camera (--topic).
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
                       std::optional<double> to_s, const std::optional<std::string>& topic);
 

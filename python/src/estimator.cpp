@@ -442,7 +442,7 @@ everything on the calling thread (as --one-thread; for one process per core).
 from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
 after the first event, as --from / --to; the estimator starts at from_s, and
 an HDF5 file is not decoded before it (evlife.read). topic (a path only): a ROS
-bag's event topic or an MVSEC file's camera, as --topic (evlife.read).
+bag's event topic or an HDF5 file's camera (MVSEC, M3ED), as --topic (evlife.read).
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them), ValueError for bad options.)");
 

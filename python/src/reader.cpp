@@ -168,8 +168,8 @@ states (if any). from_s, to_s: only the events from from_s to to_s (exclusive)
 seconds after the first event of the file, as `evlife process --from --to`;
 HDF5 files (DSEC, Prophesee, evlife's) start there by a binary search on t,
 without decoding the events before it. topic: a ROS bag's event topic (needed
-when it has several; the error lists them), or an MVSEC file's camera table
-(davis/left/events by default, davis/right/events), as --topic. Raises FileNotFoundError for a missing file and
+when it has several; the error lists them), or an HDF5 file's camera (MVSEC
+davis/right/events, M3ED prophesee/right; the left by default), as --topic. Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute

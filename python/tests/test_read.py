@@ -45,16 +45,17 @@ HDF5_SEEDS = Path(__file__).resolve().parents[2] / "tests" / "fuzz" / "corpus" /
 
 
 @pytest.mark.parametrize("layout, name, t_us", [
-    # The seeds' 30 events (written by the HDF5 C API): event i at x = 7i mod 346 (240 for
-    # event_utils), y = 5i mod 260 (180), p = +1 for odd i, 37 µs apart from the first time.
+    # The seeds' 30 events (tests/fuzz/make_hdf5_seeds.cpp): event i at x = 7i mod 346 (240 for
+    # event_utils, 1280 for M3ED), y = 5i mod 260 (180, 720), p = +1 for odd i, 37 µs apart.
     ("v2e", "v2e_30ev.h5", 1000),                     # events: N×4 uint32 t µs, x, y, p 0/1
     ("mvsec", "mvsec_30ev.h5", 1_504_645_177_000_000),  # davis/left/events: N×4 float64 x, y, t s, p ±1
     ("event_utils", "event_utils_30ev.h5", 250_000),  # events/xs, ys int16, ts float64 s, ps 0/1
     ("event_utils", "event_utils_bool_30ev.h5", 250_000),  # ps as h5py writes numpy's bool: an enum
+    ("m3ed", "m3ed_30ev.h5", 1000),                   # prophesee/left/{x,y,t,p} + calib/resolution
 ])
 def test_read_hdf5_layouts_of_other_tools(layout, name, t_us):
     i = np.arange(30)
-    width, height = (240, 180) if layout == "event_utils" else (346, 260)
+    width, height = {"event_utils": (240, 180), "m3ed": (1280, 720)}.get(layout, (346, 260))
     events = evlife.read(HDF5_SEEDS / name)
     np.testing.assert_array_equal(events["t"], t_us + 37 * i)
     np.testing.assert_array_equal(events["x"], (7 * i) % width)
@@ -62,6 +63,8 @@ def test_read_hdf5_layouts_of_other_tools(layout, name, t_us):
     np.testing.assert_array_equal(events["p"], np.where(i % 2 == 1, 1, -1))
     with evlife.open(HDF5_SEEDS / name) as r:
         assert (r.format, r.layout) == ("hdf5", layout)
+        if layout == "m3ed":
+            assert r.sensor == (1280, 720)  # its calib/resolution
 
 
 def test_savetxt_of_read_events_reads_back(tmp_path):

@@ -1,8 +1,8 @@
 // Writes the HDF5 seeds of the layouts of other tools into tests/fuzz/corpus/hdf5/
 // (no Python HDF5 on the CI image; the C API writes what h5py would). Run by
 // hand, only to change the seeds (python/tests/test_read.py knows their events:
-// event i at x = 7i mod 346 (240), y = 5i mod 260 (180), p = +1 for odd i, 37 µs
-// apart):
+// event i at x = 7i mod 346 (240; M3ED 1280), y = 5i mod 260 (180; 720), p = +1
+// for odd i, 37 µs apart):
 //   g++ -o /tmp/make_hdf5_seeds tests/fuzz/make_hdf5_seeds.cpp -I/usr/include/hdf5/serial
 //     -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5 && /tmp/make_hdf5_seeds tests/fuzz/corpus/hdf5
 #include <hdf5.h>
@@ -92,5 +92,26 @@ int main(int argc, char** argv) {
   }
   event_utils(dir + "/event_utils_30ev.h5", false);
   event_utils(dir + "/event_utils_bool_30ev.h5", true);
+  {  // M3ED: prophesee/left/{x,y,t,p} (uint16, int64 µs, int8 0/1) + calib/resolution, a right camera
+    const hid_t file = H5Fcreate((dir + "/m3ed_30ev.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    for (const std::string camera : {"prophesee/left", "prophesee/right"}) {
+      std::vector<std::uint16_t> x, y;
+      std::vector<std::int64_t> t;
+      std::vector<std::int8_t> p;
+      for (int i = 0; i < kEvents; ++i) {
+        x.push_back(static_cast<std::uint16_t>((i * 7) % 1280));
+        y.push_back(static_cast<std::uint16_t>((i * 5) % 720));
+        t.push_back(1000 + 37 * i);
+        p.push_back(static_cast<std::int8_t>(i % 2));
+      }
+      write(file, (camera + "/x").c_str(), H5T_STD_U16LE, H5T_NATIVE_UINT16, x, false);
+      write(file, (camera + "/y").c_str(), H5T_STD_U16LE, H5T_NATIVE_UINT16, y, false);
+      write(file, (camera + "/t").c_str(), H5T_STD_I64LE, H5T_NATIVE_INT64, t, false);
+      write(file, (camera + "/p").c_str(), H5T_STD_I8LE, H5T_NATIVE_INT8, p, false);
+      write(file, (camera + "/calib/resolution").c_str(), H5T_STD_I64LE, H5T_NATIVE_INT64,
+            std::vector<std::int64_t>{1280, 720}, false, false);
+    }
+    H5Fclose(file);
+  }
   return 0;
 }

@@ -121,6 +121,20 @@ std::optional<SensorSize> sensor_of_frames(hid_t file, const std::string& name) 
   return SensorSize{static_cast<int>(dims[2]), static_cast<int>(dims[1])};
 }
 
+// A sensor stated as a dataset of two integers [width, height] (M3ED's
+// calib/resolution), if there is one.
+std::optional<SensorSize> sensor_of_resolution(hid_t file, const std::string& name) {
+  if (!is_dataset(file, name)) return std::nullopt;
+  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (dataset < 0) return std::nullopt;
+  std::int64_t size[2] = {0, 0};
+  const bool ok = length_1d(dataset) == 2 &&
+                  H5Dread(dataset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, size) >= 0;
+  H5Dclose(dataset);
+  if (!ok || size[0] <= 0 || size[1] <= 0 || size[0] > 65536 || size[1] > 65536) return std::nullopt;
+  return SensorSize{static_cast<int>(size[0]), static_cast<int>(size[1])};
+}
+
 // True if `dataset` is N×`columns`; its N in `rows`.
 bool is_rows_of(hid_t dataset, int columns, std::int64_t& rows) {
   const hid_t space = H5Dget_space(dataset);
@@ -161,7 +175,7 @@ bool to_coordinate(double value, std::uint16_t& out) {
 
 }  // namespace
 
-Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path_(path) {
+Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path_(path) {
   const Hdf5ErrorSilencer silence;
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
@@ -191,16 +205,21 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
   };
   std::string prefix;
   const char* names[4] = {"x", "y", "t", "p"};
-  if (!table.empty()) {
-    if (!is_dataset(file_, table)) {
+  if (!topic.empty()) {
+    if (is_dataset(file_, topic)) {  // an MVSEC camera's table
+      layout_ = "mvsec";
+      table_name_ = topic;
+      table_ = {2, 0, 1, 3};
+    } else if (exists(file_, topic + "/x")) {  // a group of x, y, t, p columns (M3ED's cameras)
+      layout_ = topic.rfind("prophesee/", 0) == 0 ? "m3ed" : "columns";
+      prefix = topic + "/";
+    } else {
       close_handles();
       throw ReadError(path, -1, -1,
-                      "HDF5 file has no dataset '" + table +
-                          "' (--topic names an MVSEC camera's table of x, y, t, p rows, e.g. davis/right/events)");
+                      "HDF5 file has no table and no group of x, y, t, p columns '" + topic +
+                          "' (--topic names an MVSEC camera's table, e.g. davis/right/events, or a group "
+                          "of columns, e.g. M3ED's prophesee/right)");
     }
-    layout_ = "mvsec";
-    table_name_ = table;
-    table_ = {2, 0, 1, 3};
   } else if (exists(file_, "events/x")) {
     layout_ = "dsec";
     prefix = "events/";
@@ -214,6 +233,9 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
     layout_ = "mvsec";
     table_name_ = "davis/left/events";
     table_ = {2, 0, 1, 3};
+  } else if (exists(file_, "prophesee/left/x")) {  // M3ED: a group per camera
+    layout_ = "m3ed";
+    prefix = "prophesee/left/";
   } else if (is_dataset(file_, "events")) {
     layout_ = "v2e";
     table_name_ = "events";
@@ -221,18 +243,22 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
   } else if (exists(file_, "x")) {
     layout_ = "evlife";
   } else {
-    const bool right_only = exists(file_, "davis/right/events");
+    // A right camera alone (MVSEC, M3ED): say how to read it.
+    const char* right = exists(file_, "davis/right/events")  ? "davis/right/events"
+                        : exists(file_, "prophesee/right/x") ? "prophesee/right"
+                                                             : nullptr;
     close_handles();
-    if (right_only) {
+    if (right != nullptr) {
       throw ReadError(path, -1, -1,
-                      "HDF5 MVSEC file without davis/left/events: read the right camera with "
-                      "--topic davis/right/events (Python: topic=)");
+                      std::string("HDF5 file of a right camera alone: read it with --topic ") + right +
+                          " (Python: topic=)");
     }
     throw ReadError(path, -1, -1,
                     "HDF5 file holds no known event layout: found no dataset 'events/x' (DSEC: "
                     "events/{x,y,t,p}), 'events/xs' (event_utils: events/{xs,ys,ts,ps}), "
                     "'CD/events' (Prophesee compound), 'davis/left/events' (MVSEC: N×4 x,y,t,p), "
-                    "'events' (v2e: N×4 t,x,y,p) or 'x' (evlife: x,y,t,p)");
+                    "'prophesee/left/x' (M3ED: prophesee/left/{x,y,t,p}), 'events' (v2e: N×4 t,x,y,p) or "
+                    "'x' (evlife: x,y,t,p); --topic names another table or group of columns");
   }
 
   if (is_table()) {
@@ -301,6 +327,8 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
     sensor_ = sensor_of_frames(file_, "frame");
   } else if (layout_ == "mvsec") {  // davis/left/events: davis/left/image_raw
     sensor_ = sensor_of_frames(file_, table_name_.substr(0, table_name_.rfind('/') + 1) + "image_raw");
+  } else if (layout_ == "m3ed") {  // prophesee/left/calib/resolution: [width, height]
+    sensor_ = sensor_of_resolution(file_, prefix + "calib/resolution");
   }
   if (layout_ == "prophesee") {
     records_.resize(kChunkEvents);
@@ -317,19 +345,27 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& table) : path
 Hdf5Reader::~Hdf5Reader() { close_handles(); }
 
 std::vector<ContainerStream> Hdf5Reader::streams() const {
-  std::vector<ContainerStream> tables;
-  if (layout_ != "mvsec" || file_ < 0) return tables;
+  std::vector<ContainerStream> cameras;
+  if (file_ < 0) return cameras;
   const Hdf5ErrorSilencer silence;
-  for (const char* camera : {"davis/left/events", "davis/right/events"}) {
-    if (!is_dataset(file_, camera)) continue;
-    const hid_t dataset = H5Dopen2(file_, camera, H5P_DEFAULT);
-    std::int64_t rows = 0;
-    if (dataset >= 0 && is_rows_of(dataset, 4, rows)) {
-      tables.push_back({camera, "x, y, t, p", static_cast<std::uint64_t>(rows), table_name_ == camera});
+  const auto add = [&](const std::string& name, const std::string& rows_of, const char* type, int columns) {
+    if (!is_dataset(file_, rows_of)) return;
+    const hid_t dataset = H5Dopen2(file_, rows_of.c_str(), H5P_DEFAULT);
+    if (dataset < 0) return;
+    std::int64_t rows = columns > 0 ? 0 : length_1d(dataset);
+    if (columns == 0 || is_rows_of(dataset, columns, rows)) {
+      const bool read = columns > 0 ? table_name_ == rows_of : column_names_[0] == rows_of;
+      if (rows >= 0) cameras.push_back({name, type, static_cast<std::uint64_t>(rows), read});
     }
-    if (dataset >= 0) H5Dclose(dataset);
+    H5Dclose(dataset);
+  };
+  if (layout_ == "mvsec") {
+    for (const char* camera : {"davis/left/events", "davis/right/events"}) add(camera, camera, "x, y, t, p", 4);
+  } else if (layout_ == "m3ed") {
+    for (const std::string camera : {"prophesee/left", "prophesee/right"})
+      add(camera, camera + "/x", "x, y, t, p columns", 0);
   }
-  return tables;
+  return cameras;
 }
 
 void Hdf5Reader::close_handles() noexcept {
@@ -512,15 +548,15 @@ SniffResult sniff_hdf5(std::span<const std::byte> head, std::string_view path) {
 }
 
 std::unique_ptr<EventReader> open_hdf5(const std::string& path, const ReaderOptions& options) {
-  return std::make_unique<Hdf5Reader>(path, options.topic);
+  return std::make_unique<Hdf5Reader>(path, options.topic);  // MVSEC's, M3ED's camera
 }
 
 }  // namespace
 
 const ReaderFormat hdf5_format{"hdf5",
                                "HDF5 events: DSEC events/{x,y,t,p}, event_utils events/{xs,ys,ts,ps}, "
-                               "Prophesee CD/events, MVSEC davis/left/events, v2e events (N×4), or evlife "
-                               "x,y,t,p",
+                               "Prophesee CD/events, MVSEC davis/left/events, M3ED prophesee/left/{x,y,t,p}, v2e "
+                               "events (N×4), or evlife x,y,t,p",
                                &sniff_hdf5, nullptr, &open_hdf5};
 
 }  // namespace detail

@@ -9,7 +9,10 @@
 //  - v2e (the DVS simulator's --dvs_h5): one N×4 dataset events, rows
 //    [t, x, y, p] (t µs, p 0/1); the sensor from its frames (N×h×w) if any;
 //  - MVSEC: one N×4 dataset davis/left/events, rows [x, y, t, p] (t s, p ±1;
-//    davis/right/events with --topic); the sensor from image_raw beside it.
+//    davis/right/events with --topic); the sensor from image_raw beside it;
+//  - M3ED: prophesee/left/{x,y,t,p} (prophesee/right with --topic), the
+//    sensor from calib/resolution beside them;
+//  - with --topic, any group of x, y, t, p columns ("columns").
 // A time column of floating-point type holds seconds, an integer one µs.
 // Read in chunks of kChunkEvents with the HDF5 library: constant memory.
 #pragma once
@@ -30,10 +33,10 @@ class Hdf5Reader final : public EventReader {
   static constexpr std::size_t kChunkEvents = 1 << 16;
 
   /// Throws ReadError if the file is not HDF5 or holds none of the layouts
-  /// above (the message names the datasets looked for). `table`: an MVSEC
-  /// file's table to read instead of davis/left/events (--topic, e.g.
-  /// davis/right/events).
-  explicit Hdf5Reader(const std::string& path, const std::string& table = {});
+  /// above (the message names the datasets looked for). `topic` (--topic):
+  /// the N×4 table (MVSEC: davis/right/events) or the group of x, y, t, p
+  /// columns (M3ED: prophesee/right) to read instead of the layout's default.
+  explicit Hdf5Reader(const std::string& path, const std::string& topic = {});
   ~Hdf5Reader() override;
   Hdf5Reader(const Hdf5Reader&) = delete;
   Hdf5Reader& operator=(const Hdf5Reader&) = delete;
@@ -54,9 +57,10 @@ class Hdf5Reader final : public EventReader {
                       : 0;
   }
 
-  /// "dsec", "event_utils", "prophesee", "mvsec", "v2e" or "evlife".
+  /// "dsec", "event_utils", "prophesee", "mvsec", "m3ed", "v2e", "evlife" or
+  /// "columns" (a group named by --topic).
   std::string_view layout_name() const override { return layout_; }
-  /// MVSEC: each camera's table (name, "x, y, t, p", its rows), the one read
+  /// MVSEC, M3ED: each camera (its table or group, its rows), the one read
   /// marked; none for the other layouts.
   std::vector<ContainerStream> streams() const override;
   std::int64_t event_count() const noexcept { return total_; }
