@@ -21,75 +21,129 @@ namespace {
 
 const std::string kData = EVLIFE_SHARED_DATA_DIR;
 
-// A 2 M-event HDF5 file written once by the evlife writer (no HDF5 sample exists).
-const std::string& hdf5_file() {
-  static const std::string path = [] {
-    const std::string p = (std::filesystem::temp_directory_path() /
-                           ("evlife_bench_formats_" + std::to_string(::getpid()) + ".h5"))
-                              .string();
-    auto writer = evlife::io::open_hdf5_event_writer(p, evlife::SensorSize{640, 480});
-    std::vector<evlife::Event> events(1 << 16);
-    std::int64_t t_us = 0;
-    std::uint32_t state = 1;
-    for (int batch = 0; batch < 32; ++batch) {
-      for (auto& e : events) {
-        state = state * 1664525u + 1013904223u;
-        t_us += state >> 30;
-        e = evlife::Event{t_us, static_cast<std::uint16_t>((state >> 8) % 640),
-                          static_cast<std::uint16_t>((state >> 18) % 480),
-                          (state & 1u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
-      }
-      writer->write(events);
-    }
-    writer->close();
-    return p;
-  }();
-  return path;
-}
+constexpr std::size_t kSyntheticEvents = 2 << 20;
 
-// The same events in DSEC's layout (events/{x,y,t,p}), chunked but not
-// compressed: the reader's own cost, without zlib's.
-const std::string& hdf5_dsec_uncompressed_file() {
-  static const std::string path = [] {
-    const std::string p = (std::filesystem::temp_directory_path() /
-                           ("evlife_bench_formats_dsec_" + std::to_string(::getpid()) + ".h5"))
-                              .string();
-    constexpr hsize_t kCount = 2 << 20;
-    std::vector<std::uint16_t> x(kCount), y(kCount);
-    std::vector<std::int64_t> t(kCount);
-    std::vector<std::uint8_t> pol(kCount);
-    std::uint32_t state = 1;
+// The 2 M synthetic events of every HDF5 file here (no HDF5 sample exists):
+// a 640x480 sensor, times rising by 0-3 µs.
+const std::vector<evlife::Event>& synthetic_events() {
+  static const std::vector<evlife::Event> events = [] {
+    std::vector<evlife::Event> out(kSyntheticEvents);
     std::int64_t t_us = 0;
-    for (hsize_t i = 0; i < kCount; ++i) {
+    std::uint32_t state = 1;
+    for (auto& e : out) {
       state = state * 1664525u + 1013904223u;
       t_us += state >> 30;
-      x[i] = static_cast<std::uint16_t>((state >> 8) % 640);
-      y[i] = static_cast<std::uint16_t>((state >> 18) % 480);
-      t[i] = t_us;
-      pol[i] = static_cast<std::uint8_t>(state & 1u);
+      e = evlife::Event{t_us, static_cast<std::uint16_t>((state >> 8) % 640),
+                        static_cast<std::uint16_t>((state >> 18) % 480),
+                        (state & 1u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
     }
-    const hid_t file = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    const hid_t space = H5Screate_simple(1, &kCount, nullptr);
-    const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
-    const hsize_t chunk = 1 << 16;
-    H5Pset_chunk(props, 1, &chunk);
-    auto put = [&](const char* name, hid_t type, const void* data) {
-      const hid_t d = H5Dcreate2(group, name, type, space, H5P_DEFAULT, props, H5P_DEFAULT);
-      H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-      H5Dclose(d);
-    };
-    put("x", H5T_NATIVE_UINT16, x.data());
-    put("y", H5T_NATIVE_UINT16, y.data());
-    put("t", H5T_NATIVE_INT64, t.data());
-    put("p", H5T_NATIVE_UINT8, pol.data());
-    H5Pclose(props);
-    H5Sclose(space);
-    H5Gclose(group);
-    H5Fclose(file);
-    return p;
+    return out;
   }();
-  return path;
+  return events;
+}
+
+std::string temp_path(const std::string& layout) {
+  return (std::filesystem::temp_directory_path() /
+          ("evlife_bench_formats_" + layout + "_" + std::to_string(::getpid()) + ".h5"))
+      .string();
+}
+
+// Written by the evlife writer (shuffle + deflate 1).
+std::string write_evlife_file() {
+  const std::string p = temp_path("evlife");
+  auto writer = evlife::io::open_hdf5_event_writer(p, evlife::SensorSize{640, 480});
+  writer->write(synthetic_events());
+  writer->close();
+  return p;
+}
+
+// One dataset of `values` at `name`, chunked (64 Ki rows) but not compressed:
+// the reader's own cost, without zlib's. `columns` 0: 1-D, else N×columns.
+template <typename T>
+void put(hid_t file, const char* name, hid_t type, const std::vector<T>& values, hsize_t columns = 0) {
+  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(links, 1);
+  const int rank = columns > 0 ? 2 : 1;
+  const hsize_t size[2] = {columns > 0 ? values.size() / columns : values.size(), columns};
+  const hsize_t chunk[2] = {1 << 16, columns};
+  const hid_t space = H5Screate_simple(rank, size, nullptr);
+  const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(props, rank, chunk);
+  const hid_t d = H5Dcreate2(file, name, type, space, links, props, H5P_DEFAULT);
+  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(d);
+  H5Pclose(props);
+  H5Sclose(space);
+  H5Pclose(links);
+}
+
+// DSEC's layout: events/{x,y,t,p} (t µs, p 0/1).
+std::string write_dsec_file() {
+  const auto& events = synthetic_events();
+  std::vector<std::uint16_t> x, y;
+  std::vector<std::int64_t> t;
+  std::vector<std::uint8_t> pol;
+  for (const auto& e : events) {
+    x.push_back(e.x);
+    y.push_back(e.y);
+    t.push_back(e.t_us);
+    pol.push_back(e.p > 0);
+  }
+  const std::string p = temp_path("dsec");
+  const hid_t file = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  put(file, "events/x", H5T_NATIVE_UINT16, x);
+  put(file, "events/y", H5T_NATIVE_UINT16, y);
+  put(file, "events/t", H5T_NATIVE_INT64, t);
+  put(file, "events/p", H5T_NATIVE_UINT8, pol);
+  H5Fclose(file);
+  return p;
+}
+
+// v2e's table (uint32 rows t µs, x, y, p 0/1) and MVSEC's (float64 rows x,
+// y, t s, p ±1): every cell converted to a double by the reader.
+std::string write_v2e_file() {
+  std::vector<std::uint32_t> rows;
+  for (const auto& e : synthetic_events()) {
+    for (const std::int64_t v : {e.t_us, std::int64_t{e.x}, std::int64_t{e.y}, std::int64_t{e.p > 0}})
+      rows.push_back(static_cast<std::uint32_t>(v));
+  }
+  const std::string p = temp_path("v2e");
+  const hid_t file = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  put(file, "events", H5T_NATIVE_UINT32, rows, 4);
+  H5Fclose(file);
+  return p;
+}
+
+std::string write_mvsec_file() {
+  std::vector<double> rows;
+  for (const auto& e : synthetic_events()) {
+    for (const double v : {static_cast<double>(e.x), static_cast<double>(e.y), 1.5e9 + static_cast<double>(e.t_us) * 1e-6,
+                           static_cast<double>(e.p)})
+      rows.push_back(v);
+  }
+  const std::string p = temp_path("mvsec");
+  const hid_t file = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  put(file, "davis/left/events", H5T_NATIVE_DOUBLE, rows, 4);
+  H5Fclose(file);
+  return p;
+}
+
+// The synthetic files, written on first use and removed at exit.
+struct SyntheticFile {
+  const char* name;
+  std::string (*write)();
+  std::string path;
+};
+SyntheticFile synthetic_files[] = {
+    {"hdf5", &write_evlife_file, {}},
+    {"hdf5_dsec_uncompressed", &write_dsec_file, {}},
+    {"hdf5_v2e_uncompressed", &write_v2e_file, {}},
+    {"hdf5_mvsec_uncompressed", &write_mvsec_file, {}},
+};
+
+const std::string& synthetic_path(SyntheticFile& f) {
+  if (f.path.empty()) f.path = f.write();
+  return f.path;
 }
 
 void decode(benchmark::State& state, const std::string& path, bool checked) {
@@ -119,16 +173,16 @@ void register_all() {
       {"evt2", kData + "/evt2/evt2_sample.raw"},
       {"evt3", kData + "/evt3/evt3_sample.raw"},
       {"prophesee_dat", kData + "/prophesee_dat/NCARS_obj_004397_td.dat"},
-      {"hdf5", ""},
-      {"hdf5_dsec_uncompressed", "dsec"},
   };
-  for (const File& f : files) {
-    for (const bool checked : {false, true}) {
-      const std::string name = std::string("BM_Decode/") + f.name + (checked ? "/checked" : "/decoder");
-      benchmark::RegisterBenchmark(name.c_str(), [path = f.path, checked](benchmark::State& s) {
-        decode(s, path.empty() ? hdf5_file() : path == "dsec" ? hdf5_dsec_uncompressed_file() : path, checked);
-      })->Unit(benchmark::kMillisecond)->MinTime(0.5);
-    }
+  const auto add = [](const char* name, bool checked, auto path) {
+    const std::string full = std::string("BM_Decode/") + name + (checked ? "/checked" : "/decoder");
+    benchmark::RegisterBenchmark(full.c_str(), [path, checked](benchmark::State& s) {
+      decode(s, path(), checked);
+    })->Unit(benchmark::kMillisecond)->MinTime(0.5);
+  };
+  for (const bool checked : {false, true}) {
+    for (const File& f : files) add(f.name, checked, [p = f.path] { return p; });
+    for (SyntheticFile& f : synthetic_files) add(f.name, checked, [&f] { return synthetic_path(f); });
   }
 }
 
@@ -140,8 +194,9 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  std::error_code ec;
-  std::filesystem::remove(hdf5_file(), ec);
-  std::filesystem::remove(hdf5_dsec_uncompressed_file(), ec);
+  for (const SyntheticFile& f : synthetic_files) {
+    std::error_code ec;
+    if (!f.path.empty()) std::filesystem::remove(f.path, ec);
+  }
   return 0;
 }

@@ -276,19 +276,25 @@ TEST(IoFormatsHdf5, SkipsTheEventsBeforeATimeWithoutReadingThem) {
   EXPECT_TRUE(same(one[0], written[1]));
 }
 
-// A chunked (deflate) dataset of `values` as `file_type`: 1-D, or N×`columns`
-// rows; groups on the path of `name` are created.
+// A chunked (deflate) dataset of `values` as `file_type`: 1-D, or N rows of
+// `inner` dimensions (a table of columns, a stack of frames); groups on the
+// path of `name` are created.
 template <typename T>
 void write_dataset(hid_t where, const std::string& name, hid_t file_type, hid_t memory_type,
-                   const std::vector<T>& values, hsize_t columns = 0) {
+                   const std::vector<T>& values, const std::vector<hsize_t>& inner = {}) {
+  std::vector<hsize_t> size{values.size()};
+  for (const hsize_t d : inner) {
+    size[0] /= d;
+    size.push_back(d);
+  }
+  std::vector<hsize_t> chunk = size;
+  chunk[0] = std::min<hsize_t>(4096, size[0]);
   const hid_t links = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(links, 1);
-  const int rank = columns > 0 ? 2 : 1;
-  const hsize_t size[2] = {columns > 0 ? values.size() / columns : values.size(), columns};
-  const hsize_t chunk[2] = {std::min<hsize_t>(4096, size[0]), columns};
-  const hid_t space = H5Screate_simple(rank, size, nullptr);
+  const auto rank = static_cast<int>(size.size());
+  const hid_t space = H5Screate_simple(rank, size.data(), nullptr);
   const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
-  H5Pset_chunk(properties, rank, chunk);
+  H5Pset_chunk(properties, rank, chunk.data());
   H5Pset_deflate(properties, 1);
   const hid_t dataset = H5Dcreate2(where, name.c_str(), file_type, space, links, properties, H5P_DEFAULT);
   ASSERT_GE(dataset, 0);
@@ -456,24 +462,15 @@ TEST(IoFormatsHdf5, PropheseeCompoundLayout) {
 // A stack of `frames` grey frames of `width` × `height` (v2e's frame, MVSEC's
 // image_raw): where those tools store the sensor size.
 void write_frames(hid_t file, const std::string& name, hsize_t frames, hsize_t width, hsize_t height) {
-  const std::vector<std::uint8_t> grey(frames * width * height, 128);
-  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(links, 1);
-  const hsize_t size[3] = {frames, height, width};
-  const hid_t space = H5Screate_simple(3, size, nullptr);
-  const hid_t dataset = H5Dcreate2(file, name.c_str(), H5T_STD_U8LE, space, links, H5P_DEFAULT, H5P_DEFAULT);
-  ASSERT_GE(dataset, 0);
-  ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, grey.data()), 0);
-  H5Dclose(dataset);
-  H5Sclose(space);
-  H5Pclose(links);
+  write_dataset(file, name, H5T_STD_U8LE, H5T_NATIVE_UINT8, std::vector<std::uint8_t>(frames * width * height, 128),
+                {height, width});
 }
 
 // An N×4 table of events.
 template <typename T>
 void write_table(hid_t file, const std::string& name, hid_t file_type, hid_t memory_type,
                  const std::vector<T>& rows_of_4) {
-  write_dataset(file, name, file_type, memory_type, rows_of_4, 4);
+  write_dataset(file, name, file_type, memory_type, rows_of_4, {4});
 }
 
 // v2e's --dvs_h5: dataset events, uint32 rows [t µs, x, y, p 0/1].

@@ -105,11 +105,16 @@ bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t
   return ok;
 }
 
+// The dataset `name` of `file` opened, or -1 when there is none (a group,
+// nothing, or unreadable): for the optional datasets beside the events.
+hid_t open_if_dataset(hid_t file, const std::string& name) {
+  return is_dataset(file, name) ? H5Dopen2(file, name.c_str(), H5P_DEFAULT) : hid_t{-1};
+}
+
 // The sensor of a stack of grey frames stored beside the events (v2e's
 // frame, MVSEC's image_raw: N × height × width), if there is one.
 std::optional<SensorSize> sensor_of_frames(hid_t file, const std::string& name) {
-  if (!is_dataset(file, name)) return std::nullopt;
-  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t dataset = open_if_dataset(file, name);
   if (dataset < 0) return std::nullopt;
   const hid_t space = H5Dget_space(dataset);
   hsize_t dims[3] = {0, 0, 0};
@@ -124,8 +129,7 @@ std::optional<SensorSize> sensor_of_frames(hid_t file, const std::string& name) 
 // A sensor stated as a dataset of two integers [width, height] (M3ED's
 // calib/resolution), if there is one.
 std::optional<SensorSize> sensor_of_resolution(hid_t file, const std::string& name) {
-  if (!is_dataset(file, name)) return std::nullopt;
-  const hid_t dataset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  const hid_t dataset = open_if_dataset(file, name);
   if (dataset < 0) return std::nullopt;
   std::int64_t size[2] = {0, 0};
   const bool ok = length_1d(dataset) == 2 &&
@@ -175,6 +179,10 @@ bool to_coordinate(double value, std::uint16_t& out) {
 
 }  // namespace
 
+// The column orders of the N×4 tables.
+constexpr Hdf5Reader::TableColumns kMvsecColumns{2, 0, 1, 3};  // rows x, y, t, p
+constexpr Hdf5Reader::TableColumns kV2eColumns{0, 1, 2, 3};    // rows t, x, y, p
+
 Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path_(path) {
   const Hdf5ErrorSilencer silence;
   if (H5Fis_hdf5(path.c_str()) <= 0) {
@@ -209,7 +217,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
     if (is_dataset(file_, topic)) {  // an MVSEC camera's table
       layout_ = "mvsec";
       table_name_ = topic;
-      table_ = {2, 0, 1, 3};
+      table_ = kMvsecColumns;
     } else if (exists(file_, topic + "/x")) {  // a group of x, y, t, p columns (M3ED's cameras)
       layout_ = topic.rfind("prophesee/", 0) == 0 ? "m3ed" : "columns";
       prefix = topic + "/";
@@ -232,14 +240,14 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
   } else if (exists(file_, "davis/left/events")) {
     layout_ = "mvsec";
     table_name_ = "davis/left/events";
-    table_ = {2, 0, 1, 3};
+    table_ = kMvsecColumns;
   } else if (exists(file_, "prophesee/left/x")) {  // M3ED: a group per camera
     layout_ = "m3ed";
     prefix = "prophesee/left/";
   } else if (is_dataset(file_, "events")) {
     layout_ = "v2e";
     table_name_ = "events";
-    table_ = {0, 1, 2, 3};
+    table_ = kV2eColumns;
   } else if (exists(file_, "x")) {
     layout_ = "evlife";
   } else {
@@ -268,7 +276,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
       throw ReadError(path, -1, -1,
                       "HDF5 " + std::string(layout_) + " layout: dataset '" + table_name_ +
                           "' is not a table of 4 columns (" +
-                          (layout_ == "v2e" ? "t, x, y, p" : "x, y, t, p") + ")");
+                          (table_.t == 0 ? "t, x, y, p" : "x, y, t, p") + ")");
     }
     t_in_seconds_ = is_float(t_);
   } else if (layout_ == "prophesee") {
@@ -349,8 +357,7 @@ std::vector<ContainerStream> Hdf5Reader::streams() const {
   if (file_ < 0) return cameras;
   const Hdf5ErrorSilencer silence;
   const auto add = [&](const std::string& name, const std::string& rows_of, const char* type, int columns) {
-    if (!is_dataset(file_, rows_of)) return;
-    const hid_t dataset = H5Dopen2(file_, rows_of.c_str(), H5P_DEFAULT);
+    const hid_t dataset = open_if_dataset(file_, rows_of);
     if (dataset < 0) return;
     std::int64_t rows = columns > 0 ? 0 : length_1d(dataset);
     if (columns == 0 || is_rows_of(dataset, columns, rows)) {
@@ -430,20 +437,9 @@ void Hdf5Reader::load_chunk() {
 bool Hdf5Reader::load_table_chunk(std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
     const double* row = &doubles_[4 * i];
-    int bad = -1;  // the column that holds no event
-    if (!to_coordinate(row[table_.x], xs_[i])) bad = table_.x;
-    else if (!to_coordinate(row[table_.y], ys_[i])) bad = table_.y;
-    else if (!to_microseconds(row[table_.t], t_in_seconds_, ts_[i])) bad = table_.t;
-    if (bad >= 0) {
-      const std::int64_t index = next_ + static_cast<std::int64_t>(i);
-      const char* name = bad == table_.x ? "x" : bad == table_.y ? "y" : "t";
-      error_.emplace(path_, -1, index,
-                     "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) +
-                         " has " + name + " = " + std::to_string(row[bad]) +
-                         (bad == table_.t ? ", no time" : ", not a pixel coordinate") + " (corrupt data?)");
-      chunk_size_ = i;
-      return false;
-    }
+    if (!to_coordinate(row[table_.x], xs_[i])) return stop_at(i, "x", row[table_.x], ", not a pixel coordinate");
+    if (!to_coordinate(row[table_.y], ys_[i])) return stop_at(i, "y", row[table_.y], ", not a pixel coordinate");
+    if (!to_microseconds(row[table_.t], t_in_seconds_, ts_[i])) return stop_at(i, "t", row[table_.t], ", no time");
     ps_[i] = row[table_.p] > 0 ? std::int8_t{1} : std::int8_t{-1};
   }
   return true;
@@ -451,16 +447,19 @@ bool Hdf5Reader::load_table_chunk(std::size_t count) {
 
 bool Hdf5Reader::convert_seconds(std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
-    if (!to_microseconds(doubles_[i], true, ts_[i])) {
-      const std::int64_t index = next_ + static_cast<std::int64_t>(i);
-      error_.emplace(path_, -1, index,
-                     "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) +
-                         " has t = " + std::to_string(doubles_[i]) + " s, no time (corrupt data?)");
-      chunk_size_ = i;
-      return false;
-    }
+    if (!to_microseconds(doubles_[i], true, ts_[i])) return stop_at(i, "t", doubles_[i], " s, no time");
   }
   return true;
+}
+
+// Row i of the chunk is no event: the chunk ends before it, error_ names it.
+bool Hdf5Reader::stop_at(std::size_t i, const char* column, double value, const char* why) {
+  const std::int64_t index = next_ + static_cast<std::int64_t>(i);
+  error_.emplace(path_, -1, index,
+                 "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) + " has " + column +
+                     " = " + std::to_string(value) + why + " (corrupt data?)");
+  chunk_size_ = i;
+  return false;
 }
 
 bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {

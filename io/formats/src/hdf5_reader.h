@@ -65,6 +65,11 @@ class Hdf5Reader final : public EventReader {
   std::vector<ContainerStream> streams() const override;
   std::int64_t event_count() const noexcept { return total_; }
 
+  // Columns of an N×4 table (v2e, MVSEC): which of the four holds what.
+  struct TableColumns {
+    int t, x, y, p;
+  };
+
  private:
   using Hid = std::int64_t;  // = hid_t (checked in the .cpp)
 
@@ -76,14 +81,11 @@ class Hdf5Reader final : public EventReader {
     std::int64_t t;
   };
 
-  // Columns of an N×4 table (v2e, MVSEC): which of the four holds what.
-  struct TableColumns {
-    int t, x, y, p;
-  };
 
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
   bool load_table_chunk(std::size_t count);  // an N×4 table's chunk, converted to the columns
-  bool convert_seconds(std::size_t count);   // the chunk's t_seconds_ into ts_ (µs)
+  bool convert_seconds(std::size_t count);   // the chunk's seconds in doubles_ into ts_ (µs)
+  bool stop_at(std::size_t i, const char* column, double value, const char* why);  // a bad row ends the chunk
   bool is_table() const noexcept { return table_.t >= 0; }
   bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
   // Before the first read (and no error yet): a search may still move the start.
