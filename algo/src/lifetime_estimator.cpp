@@ -136,12 +136,14 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
     }
   }
   // Every window row: its first and last pixel (a row of 2 * half_window + 1
-  // pixels of 8 bytes spans at most two cache lines for N <= 9).
+  // pixels of 8 bytes spans at most two cache lines for N <= 9, three for
+  // N <= 15: then also its ninth pixel).
   const int x0 = std::max(0, x - half_window_), x1 = std::min(W - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(H - 1, y + half_window_);
-  for (int yy = y0; yy <= y1; ++yy) {
-    const SurfacePixel* row = &surface_[pixel_index(pol, 0, yy)];
-    for (int xx = x0; xx < x1; xx += 8) __builtin_prefetch(row + xx);
+  const SurfacePixel* row = &surface_[pixel_index(pol, 0, y0)];
+  for (int yy = y0; yy <= y1; ++yy, row += W) {
+    __builtin_prefetch(row + x0);
+    if (x1 - x0 > 8) __builtin_prefetch(row + x0 + 8);
     __builtin_prefetch(row + x1);
   }
 }
