@@ -24,6 +24,7 @@ import argparse
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -101,8 +102,11 @@ def benchmark_names(binary, pattern):
 
 def main(argv):
     args = parse_args(argv)
+    for binary in args.binaries:
+        if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+            sys.exit(f"instructions.py: {binary}: not an executable file (a bench_estimator build)")
     for tool in ("valgrind", "callgrind_annotate"):
-        if subprocess.run(["sh", "-c", f"command -v {tool}"], capture_output=True).returncode != 0:
+        if shutil.which(tool) is None:
             sys.exit(f"instructions.py: {tool} not found (Debian: apt-get install valgrind)")
     names = benchmark_names(args.binaries[0], args.filter)
     with tempfile.TemporaryDirectory() as workdir:

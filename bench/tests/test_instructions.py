@@ -38,3 +38,9 @@ def test_counts_and_names_are_read_from_a_listing():
 def test_a_profile_without_the_estimator_is_an_error():
     with pytest.raises(ValueError, match="not a bench_estimator build"):
         instructions.entry_instructions(instructions.annotate_counts(LISTING.replace("LifetimeEstimator::process", "x")))
+
+
+def test_a_missing_binary_is_named(tmp_path):
+    missing = str(tmp_path / "bench_estimator")
+    with pytest.raises(SystemExit, match="bench_estimator: not an executable file"):
+        instructions.main([missing])
