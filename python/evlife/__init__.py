@@ -17,6 +17,9 @@ Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
 Many files: evlife.batch.process_files, process_slices (Dask distributed)
 Errors:     InputError (a ValueError; bad input, with file, event index and
             byte offset), FileNotFoundError, ValueError (bad options), OSError.
+Streams:    a named pipe or socket (`<(zcat x.txt.gz)`, /dev/stdin) given to
+            read, open, scan, process or process_file is first copied into a
+            temporary file in $TMPDIR (the readers read a file's start twice).
 
 Units: t in microseconds (int64), lifetime and prediction_error in
 microseconds, vx and vy in pixels per second; lifetime 0 = noise.
@@ -44,6 +47,14 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     write,
 )
 from . import _evlife
+from . import _streams
+
+# Named pipes and sockets as input: read from a temporary copy (_streams.py).
+read = _streams.reading_streams(read, "path")
+scan = _streams.reading_streams(scan, "input")
+process = _streams.reading_streams(process, "input")
+process_file = _streams.reading_streams(process_file, "input")
+open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
 
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "LifetimeEstimator", "Reader",

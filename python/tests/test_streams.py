@@ -1,0 +1,135 @@
+"""Named pipes as input (python/evlife/_streams.py): read from a temporary copy, as the command
+line reads `-` and pipes; the copy is removed, and errors name the pipe."""
+import gc
+import os
+import tempfile
+import threading
+
+import numpy as np
+import pytest
+
+import evlife
+from conftest import data
+
+SLIDER = "rpg_txt/slider_depth_events_chunk.txt"
+
+
+@pytest.fixture
+def temp_dir(tmp_path, monkeypatch):
+    """Where the copies go (tempfile's $TMPDIR), empty at the start."""
+    copies = tmp_path / "copies"
+    copies.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(copies))
+    return copies
+
+
+def feed(fifo, payload):
+    """Writes payload into the named pipe from a thread (its open waits for the reader)."""
+    def write():
+        with open(fifo, "wb") as out:
+            out.write(payload)
+    thread = threading.Thread(target=write, daemon=True)
+    thread.start()
+    return thread
+
+
+def pipe(tmp_path, payload, name="events.txt"):
+    fifo = tmp_path / name
+    os.mkfifo(fifo)
+    return fifo, feed(fifo, payload)
+
+
+def test_every_reading_function_takes_a_named_pipe(tmp_path, temp_dir):
+    path = data(SLIDER)
+    with open(path, "rb") as f:
+        payload = f.read()
+    want = evlife.read(path)
+
+    fifo, writer = pipe(tmp_path, payload)
+    got = evlife.read(fifo)
+    writer.join()
+    assert np.array_equal(got, want)
+    assert list(temp_dir.iterdir()) == []  # the copy is gone
+
+    os.unlink(fifo)
+    fifo, writer = pipe(tmp_path, payload)
+    assert evlife.process(str(fifo)).tobytes() == evlife.process(path).tobytes()  # NaN errors too
+    writer.join()
+
+    os.unlink(fifo)
+    fifo, writer = pipe(tmp_path, payload)
+    assert evlife.scan(input=fifo)["events"] == evlife.scan(path)["events"]
+    writer.join()
+
+    os.unlink(fifo)
+    fifo, writer = pipe(tmp_path, payload)
+    evlife.process_file(fifo, tmp_path / "from_pipe.bin")
+    writer.join()
+    evlife.process_file(path, tmp_path / "from_file.bin")
+    assert (tmp_path / "from_pipe.bin").read_bytes() == (tmp_path / "from_file.bin").read_bytes()
+    assert list(temp_dir.iterdir()) == []
+
+
+def test_open_keeps_the_copy_while_its_reader_lives(tmp_path, temp_dir):
+    path = data(SLIDER)
+    with open(path, "rb") as f:
+        fifo, writer = pipe(tmp_path, f.read())
+    reader = evlife.open(fifo, chunk_events=7000)
+    writer.join()
+    assert len(list(temp_dir.iterdir())) == 1
+    chunks = list(reader)
+    assert np.array_equal(np.concatenate(chunks), evlife.read(path))
+    assert max(len(c) for c in chunks) <= 7000
+    del reader, chunks
+    gc.collect()
+    assert list(temp_dir.iterdir()) == []
+
+
+def test_a_bad_stream_is_named_not_its_copy(tmp_path, temp_dir):
+    fifo, writer = pipe(tmp_path, b"100 1 2 1\n200 3 4 0\n300 5 six 1\n")
+    with pytest.raises(evlife.InputError) as e:
+        evlife.read(fifo)
+    writer.join()
+    assert e.value.path == str(fifo)
+    assert str(fifo) in str(e.value) and "evlife-stream" not in str(e.value)
+    assert e.value.event_index == 2
+    assert list(temp_dir.iterdir()) == []
+
+    # From evlife.open: the error of a read, and of the open itself.
+    os.unlink(fifo)
+    fifo, writer = pipe(tmp_path, b"100 1 2 1\n200 3 4 0\n300 5 six 1\n")
+    with evlife.open(fifo) as reader:
+        writer.join()
+        assert reader.path == str(fifo)
+        with pytest.raises(evlife.InputError) as e:
+            list(reader)
+    assert e.value.path == str(fifo) and "evlife-stream" not in str(e.value)
+    assert list(temp_dir.iterdir()) == []  # removed by the end of `with`
+    os.unlink(fifo)
+    fifo, writer = pipe(tmp_path, b"\x00\x01\x02 not events", name="events.dat")
+    with pytest.raises(evlife.InputError) as e:
+        evlife.open(fifo)
+    writer.join()
+    assert e.value.path == str(fifo)
+    assert list(temp_dir.iterdir()) == []
+
+
+def test_a_regular_file_is_read_in_place(tmp_path, temp_dir):
+    path = data(SLIDER)
+    with evlife.open(path) as reader:
+        assert reader.path == path
+        assert list(temp_dir.iterdir()) == []
+
+
+def test_a_copy_that_fails_names_the_stream_and_leaves_nothing(tmp_path, temp_dir, monkeypatch):
+    fifo, writer = pipe(tmp_path, b"100 1 2 1\n" * 1000)
+
+    def full_disk(fd, data):
+        raise OSError(28, "No space left on device")
+    monkeypatch.setattr(os, "write", full_disk)
+    with pytest.raises(OSError) as e:
+        evlife.read(fifo)
+    writer.join()
+    assert e.value.errno == 28
+    assert str(fifo) in str(e.value) and "after 0 bytes" in str(e.value) and "TMPDIR" in str(e.value)
+    assert list(temp_dir.iterdir()) == []
