@@ -18,6 +18,8 @@ import weakref
 from . import _evlife
 
 _CHUNK_BYTES = 1 << 20
+_DOC_NOTE = ("\n\nA named pipe (<(zcat x.txt.gz), /dev/stdin in a pipeline) is first copied into a temporary file "
+             "in $TMPDIR, removed when done; errors name the pipe.")
 
 
 def is_stream(path):
@@ -121,6 +123,7 @@ def reading_streams(function, argument):
         with readable(where.of(args, kwargs)) as source:
             args, kwargs = where.replaced(args, kwargs, source)
             return function(*args, **kwargs)
+    wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
     return wrapper
 
 
@@ -192,4 +195,5 @@ def open_reading_streams(function):
             _remove(copy)
             raise
         return StreamReader(reader, stream, copy)
+    wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
     return wrapper

@@ -133,3 +133,9 @@ def test_a_copy_that_fails_names_the_stream_and_leaves_nothing(tmp_path, temp_di
     assert e.value.errno == 28
     assert str(fifo) in str(e.value) and "after 0 bytes" in str(e.value) and "TMPDIR" in str(e.value)
     assert list(temp_dir.iterdir()) == []
+
+
+def test_help_says_that_pipes_are_copied():
+    for function in (evlife.read, evlife.open, evlife.scan, evlife.process, evlife.process_file):
+        assert "named pipe" in function.__doc__ and "$TMPDIR" in function.__doc__, function
+        assert function.__doc__.startswith(function.__name__ + "("), function  # the C++ signature line first
