@@ -8,12 +8,15 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
 #include "evlife/io/hdf5_writer.h"
+#include "hdf5_dataset.h"
 
 #include <hdf5.h>
 
@@ -61,20 +64,11 @@ std::string write_evlife_file() {
 // the reader's own cost, without zlib's. `columns` 0: 1-D, else N×columns.
 template <typename T>
 void put(hid_t file, const char* name, hid_t type, const std::vector<T>& values, hsize_t columns = 0) {
-  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(links, 1);
-  const int rank = columns > 0 ? 2 : 1;
-  const hsize_t size[2] = {columns > 0 ? values.size() / columns : values.size(), columns};
-  const hsize_t chunk[2] = {1 << 16, columns};
-  const hid_t space = H5Screate_simple(rank, size, nullptr);
-  const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
-  H5Pset_chunk(props, rank, chunk);
-  const hid_t d = H5Dcreate2(file, name, type, space, links, props, H5P_DEFAULT);
-  H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-  H5Dclose(d);
-  H5Pclose(props);
-  H5Sclose(space);
-  H5Pclose(links);
+  const std::vector<hsize_t> inner = columns > 0 ? std::vector<hsize_t>{columns} : std::vector<hsize_t>{};
+  if (!evlife::test::write_hdf5_dataset(file, name, type, type, values, inner, {1 << 16, -1})) {
+    std::fprintf(stderr, "bench_formats: cannot write the HDF5 dataset %s\n", name);
+    std::exit(1);
+  }
 }
 
 // DSEC's layout: events/{x,y,t,p} (t µs, p 0/1).

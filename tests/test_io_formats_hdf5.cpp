@@ -26,6 +26,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
+#include "hdf5_dataset.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -276,33 +277,13 @@ TEST(IoFormatsHdf5, SkipsTheEventsBeforeATimeWithoutReadingThem) {
   EXPECT_TRUE(same(one[0], written[1]));
 }
 
-// A chunked (deflate) dataset of `values` as `file_type`: 1-D, or N rows of
-// `inner` dimensions (a table of columns, a stack of frames); groups on the
-// path of `name` are created.
+// A chunked (4096 rows, deflate 1) dataset (hdf5_dataset.h): 1-D, or N rows of
+// `inner` dimensions (a table of columns, a stack of frames).
 template <typename T>
 void write_dataset(hid_t where, const std::string& name, hid_t file_type, hid_t memory_type,
                    const std::vector<T>& values, const std::vector<hsize_t>& inner = {}) {
-  std::vector<hsize_t> size{values.size()};
-  for (const hsize_t d : inner) {
-    size[0] /= d;
-    size.push_back(d);
-  }
-  std::vector<hsize_t> chunk = size;
-  chunk[0] = std::min<hsize_t>(4096, size[0]);
-  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(links, 1);
-  const auto rank = static_cast<int>(size.size());
-  const hid_t space = H5Screate_simple(rank, size.data(), nullptr);
-  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
-  H5Pset_chunk(properties, rank, chunk.data());
-  H5Pset_deflate(properties, 1);
-  const hid_t dataset = H5Dcreate2(where, name.c_str(), file_type, space, links, properties, H5P_DEFAULT);
-  ASSERT_GE(dataset, 0);
-  ASSERT_GE(H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
-  H5Dclose(dataset);
-  H5Pclose(properties);
-  H5Sclose(space);
-  H5Pclose(links);
+  ASSERT_TRUE(evlife::test::write_hdf5_dataset(where, name, file_type, memory_type, values, inner, {4096, 1}))
+      << name;
 }
 
 // A DSEC events file: events/{x,y,t,p} (chunked, deflate), t_offset if given.

@@ -3,13 +3,17 @@
 // hand, only to change the seeds (python/tests/test_read.py knows their events:
 // event i at x = 7i mod 346 (240; M3ED 1280), y = 5i mod 260 (180; 720), p = +1
 // for odd i, 37 µs apart):
-//   g++ -o /tmp/make_hdf5_seeds tests/fuzz/make_hdf5_seeds.cpp -I/usr/include/hdf5/serial
+//   g++ -std=c++20 -o /tmp/make_hdf5_seeds tests/fuzz/make_hdf5_seeds.cpp -Itests/support -I/usr/include/hdf5/serial
 //     -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5 && /tmp/make_hdf5_seeds tests/fuzz/corpus/hdf5
 #include <hdf5.h>
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
+
+#include "hdf5_dataset.h"
 
 namespace {
 
@@ -20,22 +24,12 @@ constexpr hsize_t kChunk = 16;  // two storage chunks, deflate: as the tools wri
 template <typename T>
 void write(hid_t where, const char* name, hid_t file_type, hid_t memory_type, const std::vector<T>& values,
            bool table, bool chunked = true) {
-  const hid_t links = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(links, 1);
-  const hsize_t dims[2] = {table ? values.size() / 4 : values.size(), 4};
-  const hsize_t chunk[2] = {kChunk, 4};
-  const hid_t space = H5Screate_simple(table ? 2 : 1, dims, nullptr);
-  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
-  if (chunked) {
-    H5Pset_chunk(properties, table ? 2 : 1, chunk);
-    H5Pset_deflate(properties, 1);
+  const std::vector<hsize_t> inner = table ? std::vector<hsize_t>{4} : std::vector<hsize_t>{};
+  if (!evlife::test::write_hdf5_dataset(where, name, file_type, memory_type, values, inner,
+                                        chunked ? evlife::test::Hdf5Storage{kChunk, 1} : evlife::test::Hdf5Storage{})) {
+    std::fprintf(stderr, "make_hdf5_seeds: cannot write %s\n", name);
+    std::exit(1);
   }
-  const hid_t dataset = H5Dcreate2(where, name, file_type, space, links, properties, H5P_DEFAULT);
-  H5Dwrite(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-  H5Dclose(dataset);
-  H5Pclose(properties);
-  H5Sclose(space);
-  H5Pclose(links);
 }
 
 void event_utils(const std::string& path, bool numpy_bool) {

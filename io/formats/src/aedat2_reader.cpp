@@ -54,6 +54,9 @@ constexpr std::uint32_t kDavisNotDvs = 0x80000000u;
 constexpr std::uint32_t kDavisImu = 0x80000C00u;
 constexpr std::uint32_t kDavisTypeMask = 0x00000C00u;
 constexpr std::uint32_t kDavisExternal = 0x00000400u;
+// A DAVIS DVS event's raw x (bits 12-21) and raw y (bits 22-30).
+constexpr std::uint32_t davis_raw_x(std::uint32_t address) noexcept { return (address >> 12) & 0x3FFu; }
+constexpr std::uint32_t davis_raw_y(std::uint32_t address) noexcept { return (address >> 22) & 0x1FFu; }
 
 std::uint32_t load_be32(const unsigned char* p) noexcept {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
@@ -151,8 +154,8 @@ class Aedat2Reader final : public EventReader {
         } else {
           if ((address & 0x3FFu) != 0)
             return corrupt(n, address, "is a DVS event with bits 0-9 set (not a DAVIS address)");
-          raw_x = (address >> 12) & 0x3FFu;
-          raw_y = (address >> 22) & 0x1FFu;
+          raw_x = davis_raw_x(address);
+          raw_y = davis_raw_y(address);
           if (raw_x >= width || raw_y >= height)
             return corrupt(n, address,
                            "is a DVS event at raw x " + std::to_string(raw_x) + ", y " + std::to_string(raw_y) +
@@ -264,8 +267,8 @@ class Aedat2Reader final : public EventReader {
       for (std::size_t r = 0; r + kRecordBytes <= got; r += kRecordBytes) {
         const std::uint32_t address = load_be32(bytes + r);
         if ((address & kDavisNotDvs) != 0 || (address & kDavisTypeMask) == kDavisExternal) continue;
-        max_x = std::max(max_x, (address >> 12) & 0x3FFu);
-        max_y = std::max(max_y, (address >> 22) & 0x1FFu);
+        max_x = std::max(max_x, davis_raw_x(address));
+        max_y = std::max(max_y, davis_raw_y(address));
       }
       if (got < buffer_.size()) break;
       at += got;

@@ -356,21 +356,23 @@ std::vector<ContainerStream> Hdf5Reader::streams() const {
   std::vector<ContainerStream> cameras;
   if (file_ < 0) return cameras;
   const Hdf5ErrorSilencer silence;
-  const auto add = [&](const std::string& name, const std::string& rows_of, const char* type, int columns) {
-    const hid_t dataset = open_if_dataset(file_, rows_of);
+  // A camera whose events are counted in `counted`: its N×4 table (`table`),
+  // else its x column; listed if that dataset is one and is read as one.
+  const auto add = [&](const std::string& name, const std::string& counted, bool table) {
+    const hid_t dataset = open_if_dataset(file_, counted);
     if (dataset < 0) return;
-    std::int64_t rows = columns > 0 ? 0 : length_1d(dataset);
-    if (columns == 0 || is_rows_of(dataset, columns, rows)) {
-      const bool read = columns > 0 ? table_name_ == rows_of : column_names_[0] == rows_of;
-      if (rows >= 0) cameras.push_back({name, type, static_cast<std::uint64_t>(rows), read});
-    }
+    std::int64_t rows = -1;
+    if (!table) rows = length_1d(dataset);
+    else if (!is_rows_of(dataset, 4, rows)) rows = -1;
     H5Dclose(dataset);
+    if (rows < 0) return;
+    cameras.push_back({name, table ? "x, y, t, p" : "x, y, t, p columns", static_cast<std::uint64_t>(rows),
+                       counted == (table ? table_name_ : column_names_[0])});
   };
   if (layout_ == "mvsec") {
-    for (const char* camera : {"davis/left/events", "davis/right/events"}) add(camera, camera, "x, y, t, p", 4);
+    for (const char* camera : {"davis/left/events", "davis/right/events"}) add(camera, camera, true);
   } else if (layout_ == "m3ed") {
-    for (const std::string camera : {"prophesee/left", "prophesee/right"})
-      add(camera, camera + "/x", "x, y, t, p columns", 0);
+    for (const std::string camera : {"prophesee/left", "prophesee/right"}) add(camera, camera + "/x", false);
   }
   return cameras;
 }

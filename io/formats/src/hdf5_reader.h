@@ -81,7 +81,6 @@ class Hdf5Reader final : public EventReader {
     std::int64_t t;
   };
 
-
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
   bool load_table_chunk(std::size_t count);  // an N×4 table's chunk, converted to the columns
   bool convert_seconds(std::size_t count);   // the chunk's seconds in doubles_ into ts_ (µs)
