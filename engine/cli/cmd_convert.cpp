@@ -24,7 +24,7 @@
 #include "input_spool.h"
 #include "skipped_kinds_text.h"
 
-namespace evlife::cli {
+namespace evlife::cli::convert_command {
 namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;
@@ -286,4 +286,4 @@ int convert(int argc, char** argv) {
 EVLIFE_REGISTER_COMMAND("convert", "rewrite a recording in another format (.txt, .h5; augmented .csv, .bin)",
                         convert);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::convert_command

@@ -9,7 +9,7 @@
 #include "evlife/io/dvs128_device.h"
 #include "exit_code.h"
 
-namespace evlife::cli {
+namespace evlife::cli::devices_command {
 namespace {
 
 void print_help(std::FILE* out) {
@@ -55,4 +55,4 @@ int run_devices(int argc, char** argv) {
 
 EVLIFE_REGISTER_COMMAND("devices", "list attached event cameras (DVS128 over USB)", run_devices);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::devices_command

@@ -39,7 +39,7 @@
 #include "stop_signals.h"
 #include "input_spool.h"
 
-namespace evlife::cli {
+namespace evlife::cli::eval_command {
 namespace {
 
 namespace fs = std::filesystem;
@@ -191,4 +191,4 @@ int eval_recording(int argc, char** argv) {
 
 EVLIFE_REGISTER_COMMAND("eval", "the paper's evaluation plots (Figs. 9, 10), velocity and sharpness", eval_recording);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::eval_command

@@ -21,7 +21,7 @@
 #include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
 
-namespace evlife::cli {
+namespace evlife::cli::info_command {
 namespace {
 
 constexpr OptionSpec kOptions[] = {
@@ -208,4 +208,4 @@ int run_info(int argc, char** argv) {
 
 EVLIFE_REGISTER_COMMAND("info", "describe a recording: format, sensor, events, duration, topics", run_info);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::info_command

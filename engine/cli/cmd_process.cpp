@@ -32,7 +32,7 @@
 #include "lifetime_summary.h"
 #include "progress_meter.h"
 
-namespace evlife::cli {
+namespace evlife::cli::process_command {
 namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;  // 1 MiB in, 2 MiB out
@@ -338,4 +338,4 @@ int process_recording(int argc, char** argv) {
 EVLIFE_REGISTER_COMMAND("process", "give every event of a recording its lifetime and velocity",
                         process_recording);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::process_command

@@ -36,7 +36,7 @@
 #include "input_spool.h"
 #include "lifetime_summary.h"
 
-namespace evlife::cli {
+namespace evlife::cli::render_command {
 namespace {
 
 constexpr OptionSpec kRenderOptions[] = {
@@ -322,4 +322,4 @@ int run_render(int argc, char** argv) {
 
 EVLIFE_REGISTER_COMMAND("render", "draw active events at any instant: PNG frames or a video", run_render);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::render_command

@@ -48,7 +48,7 @@
 #include "skipped_kinds_text.h"
 #include "window_frame_sink.h"
 
-namespace evlife::cli {
+namespace evlife::cli::run_command {
 namespace {
 
 std::atomic<engine::Engine*> g_engine{nullptr};
@@ -537,4 +537,4 @@ int run_engine(int argc, char** argv) {
 EVLIFE_REGISTER_COMMAND("run", "real-time multithreaded engine: live camera or paced replay",
                         run_engine);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::run_command

@@ -25,7 +25,7 @@
 #include "exit_code.h"
 #include "stop_signals.h"
 
-namespace evlife::cli {
+namespace evlife::cli::synth_command {
 namespace {
 
 constexpr std::size_t kBatchEvents = 1 << 16;
@@ -337,4 +337,4 @@ int synth(int argc, char** argv) {
 EVLIFE_REGISTER_COMMAND("synth", "write a synthetic scene with known ground truth (a sample)",
                         synth);
 
-}  // namespace evlife::cli
+}  // namespace evlife::cli::synth_command

@@ -1,5 +1,7 @@
 // Subcommand registry of the `evlife` CLI. Each cmd_<name>.cpp registers
-// itself with a static EVLIFE_REGISTER_COMMAND, so commands land independently.
+// itself with a static EVLIFE_REGISTER_COMMAND, so commands land independently,
+// and keeps its private names (kOptions, print_help, ...) in namespace
+// evlife::cli::<name>_command: a unity build compiles several cmd files as one.
 #pragma once
 
 #include <string_view>

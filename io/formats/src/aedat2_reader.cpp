@@ -43,12 +43,12 @@
 namespace evlife::io::detail {
 namespace {
 
-constexpr std::string_view kMagic = "#!AER-DAT2.0";
+constexpr std::string_view kAedat2Magic = "#!AER-DAT2.0";
 constexpr std::size_t kRecordBytes = 8;
 constexpr std::size_t kChunkRecords = 1 << 16;
 
 enum Skipped : std::size_t { kExternal, kApsSample, kImuWord, kSkippedKinds };
-constexpr std::array<std::string_view, kSkippedKinds> kSkippedNames{"external", "aps-sample", "imu-word"};
+constexpr std::array<std::string_view, kSkippedKinds> kAedat2SkippedNames{"external", "aps-sample", "imu-word"};
 
 constexpr std::uint32_t kDavisNotDvs = 0x80000000u;
 constexpr std::uint32_t kDavisImu = 0x80000C00u;
@@ -63,7 +63,7 @@ std::uint32_t load_be32(const unsigned char* p) noexcept {
          std::uint32_t{p[3]};
 }
 
-std::string hex(std::uint32_t v) {
+std::string hex_address(std::uint32_t v) {
   char text[9];
   static constexpr char digits[] = "0123456789abcdef";
   for (int i = 7; i >= 0; --i, v >>= 4) text[i] = digits[v & 0xF];
@@ -183,7 +183,7 @@ class Aedat2Reader final : public EventReader {
 
   std::size_t corrupt(std::size_t n, std::uint32_t address, const std::string& what) {
     pending_.emplace(file_.path(), static_cast<std::int64_t>(offset_), static_cast<std::int64_t>(next_index_),
-                     "corrupt AEDAT 2.0 record: address 0x" + hex(address) + " " + what);
+                     "corrupt AEDAT 2.0 record: address 0x" + hex_address(address) + " " + what);
     return n;
   }
 
@@ -240,7 +240,7 @@ class Aedat2Reader final : public EventReader {
 
   void check_header_line(std::string line, bool first_line, std::uint64_t end) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (first_line && line.rfind(kMagic, 0) != 0)
+    if (first_line && line.rfind(kAedat2Magic, 0) != 0)
       throw ReadError(file_.path(), 0, -1, "not an AEDAT 2.0 file (first line '" + line + "')");
     constexpr std::string_view kChip = "# AEChip:";
     constexpr std::string_view kHardware = "# HardwareInterface:";
@@ -305,7 +305,7 @@ class Aedat2Reader final : public EventReader {
   std::size_t buffer_end_ = 0;
   std::uint64_t offset_ = 0;      // file offset of buffer_[buffer_pos_]
   std::uint64_t next_index_ = 0;  // index of the next event delivered
-  SkippedKinds<kSkippedKinds> skipped_{kSkippedNames};
+  SkippedKinds<kSkippedKinds> skipped_{kAedat2SkippedNames};
   WrappingCounter<32> clock_;
   std::uint64_t batch_first_index_ = 0;
   std::uint64_t batch_first_offset_ = 0;
@@ -316,8 +316,8 @@ class Aedat2Reader final : public EventReader {
 };
 
 SniffResult sniff_aedat2(std::span<const std::byte> head, std::string_view path) {
-  if (head.size() >= kMagic.size() &&
-      std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0)
+  if (head.size() >= kAedat2Magic.size() &&
+      std::memcmp(head.data(), kAedat2Magic.data(), kAedat2Magic.size()) == 0)
     return SniffResult::by_content;
   (void)path;  // .aedat is shared by AEDAT 2/3/4: never sniff by extension alone
   return SniffResult::no;

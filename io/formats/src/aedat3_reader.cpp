@@ -32,12 +32,12 @@
 namespace evlife::io::detail {
 namespace {
 
-constexpr std::string_view kMagic = "#!AER-DAT3.1";
+constexpr std::string_view kAedat3Magic = "#!AER-DAT3.1";
 constexpr std::string_view kEndHeader = "#!END-HEADER";
 constexpr std::size_t kPacketHeader = 28;
 constexpr std::int16_t kSpecial = 0;
 constexpr std::int16_t kPolarity = 1;
-constexpr std::uint64_t kMaxPacketBytes = std::uint64_t{64} << 20;
+constexpr std::uint64_t kAedat3MaxPacketBytes = std::uint64_t{64} << 20;
 
 // Skipped kinds: index = event type id for 0..13 (0: the special events that
 // are not triggers); then evlife's own.
@@ -45,7 +45,7 @@ constexpr std::size_t kInvalidPolarity = 14;
 constexpr std::size_t kUnknownType = 15;
 constexpr std::size_t kTrigger = 16;
 constexpr std::size_t kInvalidSpecial = 17;
-constexpr std::array<std::string_view, 18> kSkippedNames{
+constexpr std::array<std::string_view, 18> kAedat3SkippedNames{
     "special", "polarity", "frame", "imu6", "imu9", "sample", "ear", "config", "point1d", "point2d",
     "point3d", "point4d", "spike", "matrix4x4", "polarity-invalid", "unknown-type", "trigger",
     "special-invalid"};
@@ -91,7 +91,7 @@ class Aedat3Reader final : public EventReader {
     std::vector<char> head(std::min<std::uint64_t>(file_.size_bytes(), 1 << 20));
     file_.read_at(0, std::as_writable_bytes(std::span(head)));
     const std::string_view text(head.data(), head.size());
-    if (!text.starts_with(kMagic)) throw ReadError(file_.path(), 0, -1, "not an AEDAT 3.1 file");
+    if (!text.starts_with(kAedat3Magic)) throw ReadError(file_.path(), 0, -1, "not an AEDAT 3.1 file");
     const std::size_t end = text.find(kEndHeader);
     if (end == std::string_view::npos)
       throw ReadError(file_.path(), 0, -1, "AEDAT 3.1 header without '#!END-HEADER' in its first MiB");
@@ -121,7 +121,7 @@ class Aedat3Reader final : public EventReader {
     std::memcpy(&overflow, h.data() + 12, 4);
     std::memcpy(&number, h.data() + 20, 4);
     if (size <= 0 || number < 0 ||
-        static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number) > kMaxPacketBytes)
+        static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number) > kAedat3MaxPacketBytes)
       return fault(at, "corrupt AEDAT 3.1 packet header (event size " + std::to_string(size) + ", " +
                            std::to_string(number) + " events)");
     const std::uint64_t bytes = static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number);
@@ -183,13 +183,13 @@ class Aedat3Reader final : public EventReader {
   std::vector<Event> events_;
   std::size_t next_ = 0;
   std::int64_t delivered_ = 0;
-  SkippedKinds<kSkippedNames.size()> skipped_{kSkippedNames};
+  SkippedKinds<kAedat3SkippedNames.size()> skipped_{kAedat3SkippedNames};
   bool ended_ = false;
   std::optional<ReadError> error_;
 };
 
 SniffResult sniff_aedat3(std::span<const std::byte> head, std::string_view /*path*/) {
-  return head.size() >= kMagic.size() && std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0
+  return head.size() >= kAedat3Magic.size() && std::memcmp(head.data(), kAedat3Magic.data(), kAedat3Magic.size()) == 0
              ? SniffResult::by_content
              : SniffResult::no;
 }

@@ -14,9 +14,9 @@
 namespace evlife::io {
 namespace {
 
-constexpr std::string_view kMagic = "#!AER-DAT4.0\r\n";
+constexpr std::string_view kAedat4Magic = "#!AER-DAT4.0\r\n";
 constexpr std::size_t kEventBytes = 16;       // i64 t, i16 x, i16 y, u8 polarity, 3 pad
-constexpr std::size_t kMaxPacketBytes = std::size_t{256} << 20;  // sanity bound (corrupt sizes)
+constexpr std::size_t kAedat4MaxPacketBytes = std::size_t{256} << 20;  // sanity bound (corrupt sizes)
 constexpr std::int32_t kMaxHeaderBytes = 16 << 20;
 
 struct StreamInfo {
@@ -66,12 +66,12 @@ StreamInfo find_event_stream(std::string_view xml) {
 }  // namespace
 
 Aedat4Reader::Aedat4Reader(const std::string& path) : file_(path) {
-  const std::size_t prefix = kMagic.size() + 4;
+  const std::size_t prefix = kAedat4Magic.size() + 4;
   if (file_.fill(prefix) < prefix ||
-      std::memcmp(file_.data(), kMagic.data(), kMagic.size()) != 0) {
+      std::memcmp(file_.data(), kAedat4Magic.data(), kAedat4Magic.size()) != 0) {
     throw ReadError(path, 0, -1, "not an AEDAT 4.0 file (no '#!AER-DAT4.0' line)");
   }
-  file_.consume(kMagic.size());
+  file_.consume(kAedat4Magic.size());
   // The i32 header size is the size prefix of the IOHeader FlatBuffer (its
   // alignment counts from there), so the buffer verified starts with it.
   std::int32_t header_bytes;
@@ -138,11 +138,11 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
   std::size_t out_pos = 0;
   while (true) {
     if (out_pos == packet_.size()) {
-      if (packet_.size() >= kMaxPacketBytes) {
+      if (packet_.size() >= kAedat4MaxPacketBytes) {
         fail(packet_offset, "AEDAT 4.0 packet decompresses to more than 256 MiB (corrupt?)");
         return false;
       }
-      packet_.resize(std::min(2 * packet_.size(), kMaxPacketBytes));
+      packet_.resize(std::min(2 * packet_.size(), kAedat4MaxPacketBytes));
     }
     std::size_t in_bytes = compressed_bytes_ - in_pos;
     std::size_t out_bytes = packet_.size() - out_pos;
@@ -194,7 +194,7 @@ bool Aedat4Reader::next_packet() {
     std::memcpy(&stream_id, file_.data(), 4);
     std::memcpy(&size, file_.data() + 4, 4);
     file_.consume(8);
-    if (size <= 0 || static_cast<std::size_t>(size) > kMaxPacketBytes ||
+    if (size <= 0 || static_cast<std::size_t>(size) > kAedat4MaxPacketBytes ||
         offset + 8 + size > std::min(data_end_, file_.size_bytes())) {
       fail(offset, "AEDAT 4.0 packet of " + std::to_string(size) + " bytes (stream " +
                        std::to_string(stream_id) +
@@ -297,8 +297,8 @@ namespace detail {
 namespace {
 
 SniffResult sniff_aedat4(std::span<const std::byte> head, std::string_view /*path*/) {
-  return head.size() >= kMagic.size() &&
-                 std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0
+  return head.size() >= kAedat4Magic.size() &&
+                 std::memcmp(head.data(), kAedat4Magic.data(), kAedat4Magic.size()) == 0
              ? SniffResult::by_content
              : SniffResult::no;
 }

@@ -11,9 +11,9 @@
 namespace evlife::io {
 namespace {
 
-constexpr std::size_t kWordBytes = 8;
+constexpr std::size_t kEvt21WordBytes = 8;
 // Words after the header that decide the byte order: 512 words, 4 KiB.
-constexpr std::size_t kLayoutProbeBytes = 512 * kWordBytes;
+constexpr std::size_t kLayoutProbeBytes = 512 * kEvt21WordBytes;
 
 constexpr std::uint32_t kTypeNeg = 0, kTypePos = 1, kTypeTimeHigh = 8, kTypeTrigger = 10, kTypeOthers = 14;
 
@@ -43,7 +43,7 @@ Evt21Reader::Layout Evt21Reader::detect_layout(std::span<const std::uint8_t> wor
   // time, which real streams rarely hold.
   const auto misfits = [&](Layout layout) {
     std::size_t n = 0;
-    for (std::size_t k = 0; k + kWordBytes <= words.size(); k += kWordBytes) {
+    for (std::size_t k = 0; k + kEvt21WordBytes <= words.size(); k += kEvt21WordBytes) {
       const std::uint64_t w = word_at(words.data() + k, layout);
       const auto type = static_cast<std::uint32_t>(w >> 60);
       const bool known = type == kTypeNeg || type == kTypePos || type == kTypeTimeHigh || type == kTypeTrigger ||
@@ -69,7 +69,7 @@ Evt21Reader::Evt21Reader(const std::string& path) : file_(path) {
     max_y_ = static_cast<std::uint32_t>(std::min(sensor_->height, 2048) - 1);
   }
   const std::size_t probe = std::min(file_.fill(kLayoutProbeBytes), kLayoutProbeBytes);
-  layout_ = detect_layout(std::span(file_.data(), probe / kWordBytes * kWordBytes));
+  layout_ = detect_layout(std::span(file_.data(), probe / kEvt21WordBytes * kEvt21WordBytes));
 }
 
 std::size_t Evt21Reader::read(std::span<Event> out) {
@@ -89,18 +89,18 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
   };
   emit_pending();
   while (n < out.size()) {
-    if (file_.fill(kWordBytes) < kWordBytes) {
+    if (file_.fill(kEvt21WordBytes) < kEvt21WordBytes) {
       if (file_.available() != 0) {
         error_.emplace(path(), file_.offset(), event_count_,
                        "truncated EVT 2.1 word (" + std::to_string(file_.available()) + " trailing bytes)");
       }
       break;
     }
-    const std::size_t words = file_.available() / kWordBytes;
+    const std::size_t words = file_.available() / kEvt21WordBytes;
     const std::uint8_t* bytes = file_.data();
     std::size_t i = 0;
     for (; i < words && n < out.size(); ++i) {
-      const std::uint64_t w = word_at(bytes + i * kWordBytes, layout_);
+      const std::uint64_t w = word_at(bytes + i * kEvt21WordBytes, layout_);
       const auto type = static_cast<std::uint32_t>(w >> 60);
       if (type <= kTypePos) {
         const std::uint32_t mask = lower_half(w);
@@ -111,7 +111,7 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
         }
         const std::uint32_t last_x = x + 31 - static_cast<std::uint32_t>(std::countl_zero(mask));
         if (last_x > max_x_ || y > max_y_) {
-          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes), event_count_,
+          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt21WordBytes), event_count_,
                          "EVT 2.1 event at x=" + std::to_string(last_x) + " y=" + std::to_string(y) +
                              " outside the sensor");
           break;
@@ -126,12 +126,12 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
       } else if (type == kTypeOthers) {
         ++other_count_;
       } else {
-        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes), event_count_,
+        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt21WordBytes), event_count_,
                        "unknown EVT 2.1 word type " + std::to_string(type));
         break;
       }
     }
-    file_.consume(i * kWordBytes);
+    file_.consume(i * kEvt21WordBytes);
     if (error_) break;
   }
   if (error_ && n == 0) throw *error_;

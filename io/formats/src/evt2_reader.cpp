@@ -10,7 +10,7 @@
 namespace evlife::io {
 namespace {
 
-constexpr std::size_t kWordBytes = 4;
+constexpr std::size_t kEvt2WordBytes = 4;
 
 }  // namespace
 
@@ -32,7 +32,7 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
   std::size_t n = 0;
   while (n < out.size()) {
-    if (file_.fill(kWordBytes) < kWordBytes) {
+    if (file_.fill(kEvt2WordBytes) < kEvt2WordBytes) {
       if (file_.available() != 0) {
         error_.emplace(path(), file_.offset(), event_count_,
                        "truncated EVT 2.0 word (" + std::to_string(file_.available()) +
@@ -41,18 +41,18 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
       break;
     }
     // At most one event per word, so `words` never overruns `out`.
-    const std::size_t words = std::min(file_.available() / kWordBytes, out.size() - n);
+    const std::size_t words = std::min(file_.available() / kEvt2WordBytes, out.size() - n);
     const std::uint8_t* bytes = file_.data();
     std::size_t i = 0;
     for (; i < words; ++i) {
       std::uint32_t w;
-      std::memcpy(&w, bytes + i * kWordBytes, kWordBytes);
+      std::memcpy(&w, bytes + i * kEvt2WordBytes, kEvt2WordBytes);
       const std::uint32_t type = w >> 28;
       if (type <= 1) {  // CD_OFF / CD_ON
         const std::uint32_t x = (w >> 11) & 0x7FF;
         const std::uint32_t y = w & 0x7FF;
         if (x > max_x_ || y > max_y_) {
-          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes),
+          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt2WordBytes),
                          event_count_,
                          "EVT 2.0 event at x=" + std::to_string(x) + " y=" + std::to_string(y) +
                              " outside the sensor");
@@ -68,12 +68,12 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
       } else if (type == 14 || type == 15) {  // OTHERS, CONTINUED
         ++other_count_;
       } else {
-        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kWordBytes),
+        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt2WordBytes),
                        event_count_, "unknown EVT 2.0 word type " + std::to_string(type));
         break;
       }
     }
-    file_.consume(i * kWordBytes);
+    file_.consume(i * kEvt2WordBytes);
     if (error_) break;
   }
   if (error_ && n == 0) throw *error_;

@@ -65,7 +65,7 @@ std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
 // Reads `count` elements from `first` of 1-D `dataset` as `memory_type` into `out`.
 // libhdf5 allocates a whole storage chunk to read any part of it; a corrupt
 // chunk size (fuzzing found 4 GB) must not reach that allocation.
-constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{256} << 20;
+constexpr std::uint64_t kHdf5MaxChunkBytes = std::uint64_t{256} << 20;
 
 // Bytes of one storage chunk of `dataset` (0 when it is not chunked).
 std::uint64_t chunk_bytes(hid_t dataset) {
@@ -79,9 +79,9 @@ std::uint64_t chunk_bytes(hid_t dataset) {
     bytes = type >= 0 ? H5Tget_size(type) : 0;
     if (type >= 0) H5Tclose(type);
     for (int i = 0; i < rank; ++i) {
-      bytes = dims[i] != 0 && bytes > kMaxChunkBytes / dims[i] ? kMaxChunkBytes + 1 : bytes * dims[i];
+      bytes = dims[i] != 0 && bytes > kHdf5MaxChunkBytes / dims[i] ? kHdf5MaxChunkBytes + 1 : bytes * dims[i];
     }
-    if (rank < 0) bytes = kMaxChunkBytes + 1;  // unreadable chunk description: corrupt
+    if (rank < 0) bytes = kHdf5MaxChunkBytes + 1;  // unreadable chunk description: corrupt
   }
   H5Pclose(properties);
   return bytes;
@@ -202,12 +202,12 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
       throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
     }
     const std::uint64_t bytes = chunk_bytes(dataset);
-    if (bytes > kMaxChunkBytes) {
+    if (bytes > kHdf5MaxChunkBytes) {
       H5Dclose(dataset);
       close_handles();
       throw ReadError(path, -1, -1,
                       "HDF5 dataset '" + name + "' is stored in chunks of more than " +
-                          std::to_string(kMaxChunkBytes >> 20) + " MiB (corrupt?)");
+                          std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
     }
     return dataset;
   };

@@ -12,13 +12,13 @@ namespace evlife::io::mcap {
 namespace {
 
 // Refuse chunks that would need absurd memory (the reader holds one chunk).
-constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 28;  // 256 MiB
+constexpr std::uint64_t kMcapMaxChunkBytes = std::uint64_t{1} << 28;  // 256 MiB
 constexpr std::uint64_t kMaxLz4Ratio = 256;  // LZ4 cannot expand more than ~255:1
 
 /// Sequential little-endian field reader over a record's content.
-class Fields {
+class RecordFields {
  public:
-  explicit Fields(std::span<const std::uint8_t> b) : b_(b) {}
+  explicit RecordFields(std::span<const std::uint8_t> b) : b_(b) {}
   template <typename T>
   bool get(T& v) {
     if (b_.size() - pos_ < sizeof(T)) return false;
@@ -54,24 +54,24 @@ class Fields {
 }  // namespace
 
 bool parse_footer(std::span<const std::uint8_t> content, Footer& f) {
-  Fields r(content);
+  RecordFields r(content);
   return r.get(f.summary_start) && r.get(f.summary_offset_start) && r.get(f.summary_crc);
 }
 
 bool parse_schema(std::span<const std::uint8_t> content, Schema& s) {
-  Fields r(content);
+  RecordFields r(content);
   return r.get(s.id) && r.string(s.name) && r.string(s.encoding);  // data not needed
 }
 
 bool parse_channel(std::span<const std::uint8_t> content, Channel& c) {
-  Fields r(content);
+  RecordFields r(content);
   std::span<const std::uint8_t> metadata;
   return r.get(c.id) && r.get(c.schema_id) && r.string(c.topic) && r.string(c.message_encoding) &&
          r.prefixed(metadata);
 }
 
 bool parse_message(std::span<const std::uint8_t> content, Message& m) {
-  Fields r(content);
+  RecordFields r(content);
   if (!r.get(m.channel_id) || !r.get(m.sequence) || !r.get(m.log_time) || !r.get(m.publish_time))
     return false;
   m.data = r.rest();
@@ -79,7 +79,7 @@ bool parse_message(std::span<const std::uint8_t> content, Message& m) {
 }
 
 bool parse_chunk(std::span<const std::uint8_t> content, Chunk& c) {
-  Fields r(content);
+  RecordFields r(content);
   std::uint64_t records_size = 0;
   return r.get(c.message_start_time) && r.get(c.message_end_time) && r.get(c.uncompressed_size) &&
          r.get(c.uncompressed_crc) && r.string(c.compression) && r.get(records_size) &&
@@ -87,7 +87,7 @@ bool parse_chunk(std::span<const std::uint8_t> content, Chunk& c) {
 }
 
 bool parse_statistics(std::span<const std::uint8_t> content, std::map<std::uint16_t, std::uint64_t>& counts) {
-  Fields r(content);
+  RecordFields r(content);
   std::uint64_t message_count = 0, start = 0, end = 0;
   std::uint16_t schemas = 0;
   std::uint32_t channels = 0, attachments = 0, metadata = 0, chunks = 0;
@@ -96,7 +96,7 @@ bool parse_statistics(std::span<const std::uint8_t> content, std::map<std::uint1
       !r.get(metadata) || !r.get(chunks) || !r.get(start) || !r.get(end) || !r.prefixed(map))
     return false;
   counts.clear();
-  Fields entries(map);
+  RecordFields entries(map);
   while (!entries.rest().empty()) {
     std::uint16_t id = 0;
     std::uint64_t n = 0;
@@ -118,9 +118,9 @@ std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uin
   const std::string size = std::to_string(c.uncompressed_size);
   if (c.compression != "" && c.compression != "zstd" && c.compression != "lz4")
     return "chunk compressed with '" + c.compression + "' (readable: none, zstd, lz4)";
-  if (c.uncompressed_size > kMaxChunkBytes)
+  if (c.uncompressed_size > kMcapMaxChunkBytes)
     return "chunk of " + size + " bytes uncompressed, over this reader's limit of " +
-           std::to_string(kMaxChunkBytes) + " bytes";
+           std::to_string(kMcapMaxChunkBytes) + " bytes";
   const std::size_t n = static_cast<std::size_t>(c.uncompressed_size);
   if (c.compression.empty()) {
     if (c.records.size() != n)
@@ -140,7 +140,7 @@ std::optional<std::string> decompress_chunk(const Chunk& c, std::vector<std::uin
       if (ZSTD_isError(frame) || content == ZSTD_CONTENTSIZE_ERROR)
         return "corrupt zstd chunk (no valid zstd frame at byte " + std::to_string(at) + " of its data)";
       if (content == ZSTD_CONTENTSIZE_UNKNOWN) all_declared = false;
-      else declared += std::min<unsigned long long>(content, kMaxChunkBytes + 1);  // no overflow
+      else declared += std::min<unsigned long long>(content, kMcapMaxChunkBytes + 1);  // no overflow
       at += frame;
     }
     if (all_declared && declared != c.uncompressed_size)

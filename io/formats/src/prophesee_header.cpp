@@ -21,14 +21,14 @@ bool iequals(std::string_view a, std::string_view b) {
          });
 }
 
-std::string_view trim(std::string_view s) {
+std::string_view trim_view(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
   return s;
 }
 
 std::optional<int> to_int(std::string_view s) {
-  s = trim(s);
+  s = trim_view(s);
   int v = 0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || end != s.data() + s.size() || v <= 0 || v > 1 << 16) return std::nullopt;
@@ -37,12 +37,12 @@ std::optional<int> to_int(std::string_view s) {
 
 // `line` without the leading '%' and the newline; false for `% end`.
 bool add_line(PropheseeHeader& header, std::string_view line) {
-  line = trim(line);
+  line = trim_view(line);
   if (iequals(line, "end")) return false;
   const std::size_t space = line.find_first_of(" \t");
   std::string_view key = line.substr(0, space);
   std::string_view value = space == std::string_view::npos ? std::string_view{} : line.substr(space);
-  header.fields.emplace_back(std::string(key), std::string(trim(value)));
+  header.fields.emplace_back(std::string(key), std::string(trim_view(value)));
   return true;
 }
 
@@ -53,7 +53,7 @@ std::optional<std::string_view> format_option(std::string_view format, std::stri
     const std::size_t next = std::min(format.find(';', pos), format.size());
     const std::string_view item = format.substr(pos, next - pos);
     const std::size_t eq = item.find('=');
-    if (eq != std::string_view::npos && iequals(trim(item.substr(0, eq)), name)) {
+    if (eq != std::string_view::npos && iequals(trim_view(item.substr(0, eq)), name)) {
       return item.substr(eq + 1);
     }
     pos = next + 1;
@@ -71,7 +71,7 @@ std::optional<std::string_view> PropheseeHeader::find(std::string_view key) cons
 }
 
 std::string PropheseeHeader::evt_version() const {
-  if (auto evt = find("evt")) return std::string(trim(*evt));
+  if (auto evt = find("evt")) return std::string(trim_view(*evt));
   if (auto format = find("format")) {
     const std::string_view name = format->substr(0, format->find(';'));
     if (iequals(name, "EVT2")) return "2.0";

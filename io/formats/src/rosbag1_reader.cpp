@@ -24,7 +24,7 @@
 namespace evlife::io {
 namespace {
 
-constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+constexpr std::string_view kRosbag1Magic = "#ROSBAG V2.0\n";
 constexpr std::uint32_t kMaxRecordPart = 1u << 30;  // refuse absurd lengths
 
 enum Op : std::uint8_t {
@@ -37,9 +37,9 @@ enum Op : std::uint8_t {
 };
 
 /// "name=value" fields of a record header.
-using Fields = std::map<std::string, std::string, std::less<>>;
+using HeaderFields = std::map<std::string, std::string, std::less<>>;
 
-bool parse_fields(std::span<const std::uint8_t> h, Fields& fields) {
+bool parse_fields(std::span<const std::uint8_t> h, HeaderFields& fields) {
   fields.clear();
   std::size_t pos = 0;
   while (pos < h.size()) {
@@ -58,7 +58,7 @@ bool parse_fields(std::span<const std::uint8_t> h, Fields& fields) {
 }
 
 template <typename T>
-bool field(const Fields& f, std::string_view name, T& v) {
+bool field(const HeaderFields& f, std::string_view name, T& v) {
   const auto it = f.find(name);
   if (it == f.end() || it->second.size() != sizeof(T)) return false;
   std::memcpy(&v, it->second.data(), sizeof(T));
@@ -70,18 +70,18 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   Rosbag1Reader(const std::string& path, const ReaderOptions& options) : file_(path) {
     std::array<std::byte, 13> magic{};
     if (file_.read_at(0, magic) != magic.size() ||
-        std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0)
+        std::memcmp(magic.data(), kRosbag1Magic.data(), kRosbag1Magic.size()) != 0)
       throw ReadError(path, 0, -1, "not a ROS 1 bag (no '#ROSBAG V2.0' line)");
-    Fields f;
+    HeaderFields f;
     std::uint64_t data_at = 0;
     std::uint32_t data_len = 0;
-    std::uint64_t next = read_record(kMagic.size(), f, data_at, data_len);
+    std::uint64_t next = read_record(kRosbag1Magic.size(), f, data_at, data_len);
     std::uint8_t op = 0;
     std::uint64_t index_pos = 0;
     if (!field(f, "op", op) || op != kBagHeader || !field(f, "index_pos", index_pos))
-      throw ReadError(path, static_cast<std::int64_t>(kMagic.size()), -1, "ROS 1 bag without its bag header record");
+      throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1, "ROS 1 bag without its bag header record");
     if (index_pos == 0 || index_pos > file_.size_bytes())
-      throw ReadError(path, static_cast<std::int64_t>(kMagic.size()), -1,
+      throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1,
                       "ROS 1 bag not indexed (index_pos " + std::to_string(index_pos) +
                           "; an interrupted recording: run `rosbag reindex` on it)");
     first_record_ = next;
@@ -111,7 +111,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
 
   /// Reads the record at `at`: its header fields and where its data is;
   /// returns the offset of the next record. Throws ReadError.
-  std::uint64_t read_record(std::uint64_t at, Fields& f, std::uint64_t& data_at, std::uint32_t& data_len) {
+  std::uint64_t read_record(std::uint64_t at, HeaderFields& f, std::uint64_t& data_at, std::uint32_t& data_len) {
     std::uint32_t header_len = 0;
     if (file_.read_at(at, std::as_writable_bytes(std::span(&header_len, 1))) != 4)
       fail(at, "ROS 1 bag truncated inside a record header");
@@ -137,8 +137,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
 
   /// Connections and message counts from the index section.
   void read_index() {
-    Fields f;
-    Fields conn_fields;
+    HeaderFields f;
+    HeaderFields conn_fields;
     std::vector<std::uint8_t> data;
     for (std::uint64_t at = index_pos_; at < file_.size_bytes();) {
       std::uint64_t data_at = 0;
@@ -178,7 +178,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   }
 
   /// Decompresses the chunk record at `at` into chunk_.
-  void load_chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint32_t data_len) {
+  void load_chunk(std::uint64_t at, const HeaderFields& f, std::uint64_t data_at, std::uint32_t data_len) {
     std::uint32_t size = 0;
     const auto compression = f.find("compression");
     if (compression == f.end() || !field(f, "size", size) || size > kMaxRecordPart)
@@ -215,7 +215,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
 
   /// The next message of the wanted topic: its data in `message`; false at the end.
   bool next_in_chunks(std::span<const std::uint8_t>& message) {
-    Fields f;
+    HeaderFields f;
     while (true) {
       if (in_chunk_) {
         while (chunk_pos_ < chunk_.size()) {
@@ -278,7 +278,7 @@ namespace detail {
 namespace {
 
 SniffResult sniff_rosbag1(std::span<const std::byte> head, std::string_view path) {
-  if (head.size() >= kMagic.size() && std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0)
+  if (head.size() >= kRosbag1Magic.size() && std::memcmp(head.data(), kRosbag1Magic.data(), kRosbag1Magic.size()) == 0)
     return SniffResult::by_content;
   return has_extension(path, ".bag") ? SniffResult::by_extension : SniffResult::no;
 }

@@ -14,7 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string trim(std::string s) {
+std::string trimmed(std::string s) {
   const auto not_space = [](char c) { return c != ' ' && c != '\t' && c != '\r' && c != '"' && c != '\''; };
   s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
   s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
@@ -29,9 +29,9 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
     std::string line;
     bool in_list = false;
     while (std::getline(in, line)) {
-      const std::string t = trim(line);
+      const std::string t = trimmed(line);
       if (t.rfind("storage_identifier:", 0) == 0) {
-        const std::string id = trim(t.substr(19));
+        const std::string id = trimmed(t.substr(19));
         if (id != "sqlite3") {
           throw ReadError(metadata.string(), -1, -1,
                           "rosbag2 storage '" + id + "' is not readable (only sqlite3 .db3 bags)");
@@ -40,7 +40,7 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
       if (t == "relative_file_paths:") {
         in_list = true;
       } else if (in_list && t.rfind("- ", 0) == 0) {
-        files.push_back((fs::path(dir) / trim(t.substr(2))).string());
+        files.push_back((fs::path(dir) / trimmed(t.substr(2))).string());
       } else if (in_list) {
         in_list = false;
       }

@@ -14,7 +14,7 @@ namespace evlife::io::detail {
 namespace {
 
 // What a draw is for: the same identity never feeds two draws.
-enum Tag : std::uint64_t { kContrast = 1, kThreshold, kResidual, kLatency, kHot };
+enum PixelDrawTag : std::uint64_t { kContrast = 1, kThreshold, kResidual, kLatency, kHot };
 
 constexpr double kLatencyTruncationSigmas = 4.0;
 constexpr int kLatencyDraws = 8;  // rejection tries before falling back to the mean

@@ -25,7 +25,7 @@ using detail::uniform;
 // What a draw is for (textured scene only; disjoint from the pixel model's
 // tags by the kTextured prefix).
 constexpr std::uint64_t kTextured = 0x7e47;
-enum Tag : std::uint64_t { kLeaf = 1, kReference, kLatency, kNoise, kHot };
+enum TextureDrawTag : std::uint64_t { kLeaf = 1, kReference, kLatency, kNoise, kHot };
 
 constexpr int kSupersample = 4;            // texels per pixel
 constexpr double kStepPx = 0.05;           // the texture's move per simulation step
