@@ -496,6 +496,39 @@ TEST(PixelModelAccuracy, EdgesDavis346DimLightHarderSensor) {
   expect_pixel_floors(kEdgesDim, ", harder sensor", kIssueDimLightFloors, {}, harder_sensor);
 }
 
+// Hot pixels as real DVXplorers have them, far past the settings' 1e-4 at
+// 20 Hz: sample.aedat4 has pixels firing at 0.9-1.1 kHz all through it, and
+// the static scene of rosbag/test_data_libcaer_rollover has 1.1e-3 of its
+// pixels at 10 Hz or more, 2.3e-4 at 100 Hz, 1.6e-5 at 1 kHz (README, *Real
+// background activity*). Here 1e-3 of the pixels at 1 kHz. Within a burst's
+// span such a pixel fires dozens of events, which passed as the followers of
+// an edge's burst there; max_burst_followers (16) judges the rest on their
+// own. Measured: noise labelled noise 95.78 -> 97.13 % (normal light),
+// 96.84 -> 97.43 % (dim); on the seeds +100 and +200 (`accuracy_sweep
+// --seed-offset`) +0.8 to +1.5 points, but the dim edges of +100 at 96.65 %:
+// at this density the issue's 97 % is not met on every seed. The edges'
+// accuracy is unchanged.
+TEST(PixelModelAccuracy, KilohertzHotPixelsDoNotPassAsBurstFollowers) {
+  for (const PixelScene index : {kEdgesNormal, kEdgesDim}) {
+    const auto [scene, title] = pixel_scene(index, [](SceneSpec& spec) {
+      spec.pixel.hot_pixel_fraction = 1e-3;
+      spec.pixel.hot_pixel_rate_hz = 1000.0;
+    });
+    evlife::LifetimeOptions unlimited;
+    unlimited.max_burst_followers = 0;
+    const auto limited_report = run_estimator(scene, evlife::LifetimeOptions{});
+    const auto unlimited_report = run_estimator(scene, unlimited);
+    std::cout << evlife::test::format_accuracy_table(title + ", 1e-3 of the pixels hot at 1 kHz", limited_report)
+              << evlife::test::format_accuracy_table(title + ", the same, max_burst_followers 0", unlimited_report);
+    const auto& with = limited_report.overall;
+    const auto& without = unlimited_report.overall;
+    EXPECT_GE(with.noise_share, without.noise_share + 0.005) << title;
+    EXPECT_GE(with.noise_share, 0.97) << title;  // this seed's
+    EXPECT_NEAR(with.lifetime_share, without.lifetime_share, 0.002) << title;
+    EXPECT_NEAR(with.median_rel_error, without.median_rel_error, 0.002) << title;
+  }
+}
+
 // Contrast 0.35 against threshold 0.3 (below).
 void faint_texture(SceneSpec& spec) {
   spec.pixel.contrast_log = 0.35;

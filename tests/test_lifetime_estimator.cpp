@@ -309,6 +309,68 @@ TEST(LifetimeEstimator, FollowersChainWithinTheBurstSpan) {
   EXPECT_TRUE(unchained[1].is_noise());
 }
 
+// An edge moving +x at 100 px/s (lifetime 10 ms) where every pixel fires
+// `burst` events per crossing (its arrival, then one each 0.5 ms) and pixel
+// (20, 20) is hot: from its arrival on it fires every 0.5 ms for 30 ms, at
+// 2 kHz, far more events than a crossing has. Returns how many events of
+// the hot pixel got a lifetime, and the share of the interior pixels'
+// events with the true one (within 10 %).
+struct BurstShares {
+  int hot_with_lifetime = 0;
+  int hot_with_arrival_estimate = 0;  // the lifetime its arrival got: the arrival and its followers
+  int hot_events = 0;
+  double interior_share = 0.0;
+};
+BurstShares hot_pixel_in_bursts(int burst, int max_burst_followers) {
+  const SensorSize s{40, 40};
+  LifetimeOptions o = options_for(s);
+  o.max_burst_followers = max_burst_followers;
+  LifetimeEstimator est(o);
+  std::vector<Event> events;
+  for (const Event& arrival : straight_edge(s, 0.0, 100.0)) {
+    const bool hot = arrival.x == 20 && arrival.y == 20;
+    const int n = hot ? 60 : burst;
+    for (int k = 0; k < n; ++k) events.push_back({arrival.t_us + 500 * k, arrival.x, arrival.y, arrival.p});
+  }
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
+  BurstShares r;
+  int interior_events = 0, interior_with_lifetime = 0;
+  float arrival_lifetime_us = -1.0f;
+  for (const Event& e : events) {
+    const AugmentedEvent out = est.process(e);
+    const bool with_lifetime = !out.is_noise();
+    if (e.x == 20 && e.y == 20) {
+      if (r.hot_events++ == 0) arrival_lifetime_us = out.lifetime_us;
+      r.hot_with_lifetime += with_lifetime ? 1 : 0;
+      r.hot_with_arrival_estimate += with_lifetime && out.lifetime_us == arrival_lifetime_us ? 1 : 0;
+    } else if (interior(e, s, 4) && e.x > 8) {  // past the warm-up of the first columns
+      ++interior_events;
+      interior_with_lifetime += with_lifetime && std::fabs(out.lifetime_us - 10000.0f) < 1000.0f ? 1 : 0;
+    }
+  }
+  r.interior_share = static_cast<double>(interior_with_lifetime) / interior_events;
+  return r;
+}
+
+// A burst has at most max_burst_followers followers (16): a hot pixel fires
+// on, and its events past that are judged on their own (here the first is
+// fitted anew, 8.5 ms late, and starts a burst of its own; the last 26 are
+// noise), while bursts as long along the whole edge (a low threshold) keep
+// theirs, as their upstream neighbours' bursts are as long.
+TEST(LifetimeEstimator, AHotPixelKeepsNoMoreFollowersThanItsEdgesBursts) {
+  const BurstShares unlimited = hot_pixel_in_bursts(3, 0);
+  EXPECT_EQ(unlimited.hot_events, 60);
+  EXPECT_GE(unlimited.hot_with_arrival_estimate, 55);  // every event within the burst span: a follower
+  const BurstShares limited = hot_pixel_in_bursts(3, 16);
+  EXPECT_EQ(limited.hot_with_arrival_estimate, 17);  // the arrival and its 16 followers
+  EXPECT_LE(limited.hot_with_lifetime, 40);  // a third of the hot events at least: noise
+  EXPECT_GT(limited.interior_share, 0.98);
+  // 24 events per crossing everywhere: past 16, the upstream neighbour's
+  // burst is as long, so the followers stay.
+  const BurstShares long_bursts = hot_pixel_in_bursts(24, 16);
+  EXPECT_GT(long_bursts.interior_share, 0.95);
+}
+
 // A slow photoreceptor spreads a burst over more than the burst span when
 // its timing noise is large against the lifetime: with
 // burst_span_timing_noise such a late event stays its burst's follower while

@@ -54,7 +54,8 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
 
 std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
   const auto pixels = 2 * static_cast<std::uint64_t>(sensor.pixel_count());  // both polarities
-  return (pixels + detail::kGatherOverreadPixels) * sizeof(SurfacePixel) + pixels * sizeof(PixelState);
+  return (pixels + detail::kGatherOverreadPixels) * sizeof(SurfacePixel) +
+         pixels * (sizeof(PixelState) + sizeof(std::uint8_t));  // + burst_followers_
 }
 
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
@@ -83,6 +84,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   min_lifetime_us_ = std::max(options_.inlier_tolerance_us / half_window_, 1.0);
   surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()) + detail::kGatherOverreadPixels);
   pixel_state_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
+  burst_followers_.resize(pixel_state_.size());
   iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
@@ -104,6 +106,7 @@ void LifetimeEstimator::reset() noexcept {
   std::fill(surface_.begin(), surface_.end(), SurfacePixel{detail::kNeverRel, 0.0f});
   epoch_us_ = 0;
   std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  std::fill(burst_followers_.begin(), burst_followers_.end(), std::uint8_t{0});
   stats_ = LifetimeStats{};
 }
 
@@ -125,6 +128,7 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
   const int x = e.x;
   const int y = e.y;
   __builtin_prefetch(&pixel_state_[pixel_index(pol, x, y)], 1);
+  __builtin_prefetch(&burst_followers_[pixel_index(pol, x, y)], 1);
   // The rows above and below: the next prediction goes to a neighbour (a
   // store that misses the cache stalls; 1280x720: +25 %), where the states
   // exceed the caches (small sensors: -1 %).
@@ -293,6 +297,26 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& st
   });
 }
 
+// True when a neighbour upstream (the edge reached it first) holds a burst
+// with at least as many followers as this pixel's, its latest event within
+// the burst window of now: the edge's own bursts are that long (a low
+// threshold, a high contrast), not this pixel's alone (a hot pixel).
+// Out of line: only bursts past max_burst_followers reach it.
+[[gnu::cold, gnu::noinline]] bool LifetimeEstimator::long_bursts_upstream(int pol, int x, int y,
+                                                                        const PixelState& state,
+                                                                        std::int32_t now_rel) const noexcept {
+  const std::uint8_t followers = burst_followers_[pixel_index(pol, x, y)];
+  const double window_us = options_.burst_window_lifetimes * static_cast<double>(state.burst_lifetime_us);
+  return any_upstream(pol, x, y, state, [&](std::size_t q) {
+    const PixelState& upstream = pixel_state_[q];
+    const std::int32_t upstream_arrival_rel = surface_[q].t_rel;
+    if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel) return false;
+    const double upstream_latest_rel =
+        static_cast<double>(upstream_arrival_rel) + static_cast<double>(upstream.burst_latest_us);
+    return burst_followers_[q] >= std::min<int>(followers, options_.max_burst_followers) && static_cast<double>(now_rel) - upstream_latest_rel <= window_us;
+  });
+}
+
 // Eq. 8's m for a window of which `pixels` count (halfway between them and
 // the full window: process()).
 int LifetimeEstimator::eq8_min_support(int pixels, int full_window) const noexcept {
@@ -349,7 +373,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
 
   // A follower of the burst at this pixel inherits its estimate; the surface
   // keeps the burst's arrival time. Followers chain: each within the burst
-  // window of the burst's latest event, all within its span of the arrival.
+  // window of the burst's latest event, all within its span of the arrival,
+  // and at most max_burst_followers of them (a hot pixel fires on).
   SurfacePixel& here = surface_[self];
   PixelState& state = pixel_state_[self];
   const auto since_arrival_us = static_cast<double>(std::int64_t{now_rel} - here.t_rel);
@@ -363,8 +388,11 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
        (options_.burst_span_timing_noise > 0.0 && slow_response_follower(pol, x, y, state, since_arrival_us)) ||
        (options_.ramp_follower_span_lifetimes > 0.0 &&
         since_arrival_us <= options_.ramp_follower_span_lifetimes * burst_lifetime_us &&
-        ramp_follower(pol, x, y, state, since_arrival_us)))) {
+        ramp_follower(pol, x, y, state, since_arrival_us))) &&
+      (options_.max_burst_followers == 0 || burst_followers_[self] < options_.max_burst_followers ||
+       long_bursts_upstream(pol, x, y, state, now_rel))) {
     ++stats_.followers;
+    burst_followers_[self] = static_cast<std::uint8_t>(std::min(burst_followers_[self] + 1, 255));
     state.burst_latest_us = static_cast<float>(since_arrival_us);
     out.lifetime_us = state.burst_lifetime_us;
     out.vx_px_s = state.burst_vx_px_s;
@@ -567,6 +595,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
   state.burst_lifetime_us = out.lifetime_us;
   state.burst_latest_us = static_cast<float>(now_rel - anchor_rel);
+  burst_followers_[self] = 0;
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;
   here.timing_noise_us = best.support >= kMinTimingNoiseSamples ? static_cast<float>(rms_us) : 0.0f;

@@ -172,7 +172,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   // to scan is an input error here (nothing to write), as for render and run.
   const SensorSize scanned = io::sensor_size_from_data(args.input, args.input_options);
   // No event camera is this large: most likely a stray event sets the size
-  // (and the estimator's memory, ~40 bytes per pixel and polarity).
+  // (and the estimator's memory, ~41 bytes per pixel and polarity).
   constexpr int kLargestKnownSide = 2048;
   if (scanned.width > kLargestKnownSide || scanned.height > kLargestKnownSide) {
     std::fprintf(stderr, "evlife process: warning: the events of %s span %dx%d pixels; if the sensor is smaller, "

@@ -63,7 +63,7 @@ class LifetimeEstimator {
   const LifetimeStats& stats() const noexcept { return stats_; }
 
   /// Bytes of per-pixel state an estimator for `sensor` allocates (both
-  /// polarities' surfaces and pixel states, ~80 per pixel): for a caller to
+  /// polarities' surfaces and pixel states, ~82 per pixel): for a caller to
   /// weigh against the memory it has before constructing one.
   static std::uint64_t state_bytes(SensorSize sensor) noexcept;
 
@@ -110,6 +110,7 @@ class LifetimeEstimator {
   bool slow_response_follower(int pol, int x, int y, const PixelState& state,
                               double since_arrival_us) const noexcept;
   bool ramp_follower(int pol, int x, int y, const PixelState& state, double since_arrival_us) const noexcept;
+  bool long_bursts_upstream(int pol, int x, int y, const PixelState& state, std::int32_t now_rel) const noexcept;
   // True when pred(q) holds at a neighbour q (pixel index) of (x, y) upstream
   // of the motion of the burst in `state`: where its edge came from.
   template <typename Pred>
@@ -139,6 +140,9 @@ class LifetimeEstimator {
   std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
   std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
   std::vector<PixelState, detail::LargePageAllocator<PixelState>> pixel_state_;
+  // [polarity][y][x]: followers of the burst now at each pixel so far
+  // (max_burst_followers; saturates at 255). Apart: PixelState's line is full.
+  std::vector<std::uint8_t, detail::LargePageAllocator<std::uint8_t>> burst_followers_;
   std::vector<int> iterations_table_;  // [count][inliers] -> adaptive RANSAC budget
 };
 
