@@ -5,8 +5,6 @@
 namespace evlife::io::detail {
 namespace {
 
-bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
-
 constexpr int kMaxExponent = 40;  // beyond it no coordinate or time is meant
 
 // With an exponent: the digits placed after the exponent is known.
@@ -16,12 +14,12 @@ bool parse_with_exponent(const char* p, const char* end, DecimalNumber& n) noexc
   const char* mantissa = p;
   int int_digits = 0;
   int all_digits = 0;
-  while (p < end && is_digit(*p)) ++p, ++int_digits;
+  while (p < end && is_decimal_digit(*p)) ++p, ++int_digits;
   all_digits = int_digits;
   if (p < end && *p == '.') {
     n.has_point = true;
     ++p;
-    while (p < end && is_digit(*p)) ++p, ++all_digits;
+    while (p < end && is_decimal_digit(*p)) ++p, ++all_digits;
   }
   if (all_digits == 0) return false;
   const char* mantissa_end = p;
@@ -31,8 +29,8 @@ bool parse_with_exponent(const char* p, const char* end, DecimalNumber& n) noexc
     ++p;
     bool exponent_negative = false;
     if (p < end && (*p == '-' || *p == '+')) exponent_negative = *p++ == '-';
-    if (p == end || !is_digit(*p)) return false;
-    while (p < end && is_digit(*p)) {
+    if (p == end || !is_decimal_digit(*p)) return false;
+    while (p < end && is_decimal_digit(*p)) {
       exponent = exponent * 10 + (*p++ - '0');
       if (exponent > kMaxExponent) return false;
     }
@@ -79,7 +77,7 @@ bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
   n = DecimalNumber{};
   if (p < end && (*p == '-' || *p == '+')) n.negative = *p++ == '-';
   const char* digits = p;
-  while (p < end && is_digit(*p)) {
+  while (p < end && is_decimal_digit(*p)) {
     if (n.int_part > (UINT64_MAX - 9) / 10) return false;  // 19 digits hold epoch ns (ROS exports)
     n.int_part = n.int_part * 10 + static_cast<std::uint64_t>(*p++ - '0');
   }
@@ -87,7 +85,7 @@ bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
   if (p < end && *p == '.') {
     n.has_point = true;
     ++p;
-    while (p < end && is_digit(*p)) {
+    while (p < end && is_decimal_digit(*p)) {
       if (*p != '0') n.integral = false;
       if (n.frac_digits < 9) {
         n.frac = n.frac * 10 + static_cast<std::uint64_t>(*p - '0');

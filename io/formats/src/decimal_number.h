@@ -8,6 +8,9 @@
 
 namespace evlife::io::detail {
 
+/// '0'..'9' (no locale: std::isdigit's reads the C locale's table).
+inline bool is_decimal_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+
 struct DecimalNumber {
   bool negative = false;
   std::uint64_t int_part = 0;  // the digits before the point, exponent applied

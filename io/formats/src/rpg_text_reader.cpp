@@ -18,7 +18,6 @@ namespace evlife::io::detail {
 namespace {
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\r'; }
-bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
 
 void skip_spaces(const char*& p, const char* end) noexcept {
   while (p < end && is_space(*p)) ++p;
@@ -28,7 +27,7 @@ void skip_spaces(const char*& p, const char* end) noexcept {
 bool parse_uint(const char*& p, const char* end, std::uint64_t max, std::uint64_t& value) noexcept {
   const char* start = p;
   std::uint64_t v = 0;
-  while (p < end && is_digit(*p)) {
+  while (p < end && is_decimal_digit(*p)) {
     v = v * 10 + static_cast<std::uint64_t>(*p - '0');
     if (v > max) return false;
     ++p;
@@ -56,7 +55,7 @@ bool parse_seconds(const char*& p, const char* end, std::int64_t& t_us) noexcept
   if (p < end && *p == '.') {
     ++p;
     const char* frac_start = p;
-    while (p < end && is_digit(*p)) {
+    while (p < end && is_decimal_digit(*p)) {
       if (digits < 6) {
         micro = micro * 10 + static_cast<std::uint64_t>(*p - '0');
       } else if (digits == 6) {
