@@ -298,6 +298,7 @@ TEST(RealRecordings, KilohertzHotPixelsOfADvxplorerRarelyGetALifetime) {
 // pixels here; measured 99.53 / 99.62 %, the busiest 1 % of pixels 98.2 / 99.5 %
 // (99.53 / 99.33 % and 98.2 / 98.4 % with max_burst_followers 0).
 TEST(RealRecordings, BackgroundActivityAndHotPixelsOfRealSensorsAreLabelledNoise) {
+  if (!EVLIFE_TEST_ROS_BAGS) GTEST_SKIP() << "built without the ROS bag readers (EVLIFE_IO_ROSBAG off)";
   for (const char* bag : {"rosbag/test_data_evt3_trigger", "rosbag/test_data_libcaer_rollover"}) {
     const auto out = run_file(bag);
     if (out.empty()) GTEST_SKIP() << "shared data not found: " << bag;

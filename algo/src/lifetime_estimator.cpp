@@ -298,14 +298,13 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& st
 }
 
 // True when a neighbour upstream (the edge reached it first) holds a burst
-// with at least as many followers as this pixel's, its latest event within
-// the burst window of now: the edge's own bursts are that long (a low
-// threshold, a high contrast), not this pixel's alone (a hot pixel).
+// with max_burst_followers followers too, its latest event within the burst
+// window of now: the edge's own bursts are that long (a low threshold, a
+// high contrast), not this pixel's alone (a hot pixel).
 // Out of line: only bursts past max_burst_followers reach it.
 [[gnu::cold, gnu::noinline]] bool LifetimeEstimator::long_bursts_upstream(int pol, int x, int y,
                                                                         const PixelState& state,
                                                                         std::int32_t now_rel) const noexcept {
-  const std::uint8_t followers = burst_followers_[pixel_index(pol, x, y)];
   const double window_us = options_.burst_window_lifetimes * static_cast<double>(state.burst_lifetime_us);
   return any_upstream(pol, x, y, state, [&](std::size_t q) {
     const PixelState& upstream = pixel_state_[q];
@@ -313,7 +312,8 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& st
     if (!(upstream.burst_lifetime_us > 0.0f) || upstream_arrival_rel == detail::kNeverRel) return false;
     const double upstream_latest_rel =
         static_cast<double>(upstream_arrival_rel) + static_cast<double>(upstream.burst_latest_us);
-    return burst_followers_[q] >= std::min<int>(followers, options_.max_burst_followers) && static_cast<double>(now_rel) - upstream_latest_rel <= window_us;
+    return burst_followers_[q] >= options_.max_burst_followers &&
+           static_cast<double>(now_rel) - upstream_latest_rel <= window_us;
   });
 }
 
