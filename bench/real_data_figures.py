@@ -31,6 +31,15 @@
    --truth`): the share of its edge events that are burst events more than 2
    lifetimes after their burst's first event, at the default 1.5 px blur and
    at 2.5 px.
+6. Real background activity (README, *Real background activity*; algo/README.md,
+   *Hot pixels*): for the two ROS 2 bags of no moving scene, the event rate by
+   tenth, the share of events with no other within +-10 ms in their 3x3
+   neighbourhood, the share within 10 ms of the previous event at the same
+   pixel, the background rate at pixels under 10 Hz, the share of pixels at
+   >= 10 / 100 / 1000 Hz and of the events there, the busiest pixel, and the
+   Prophesee's streak at its left border (x < 12, y > 600). For
+   sample.aedat4, its pixels at >= 200 Hz over the recording: how many, how
+   many fire in at least 9 of its tenths, the busiest.
 """
 import argparse
 import os
@@ -118,6 +127,62 @@ def synthetic_late_burst_share(evlife_cli, blur_px):
         return late_burst_share(truth, 346)
 
 
+def pixel_rates(ev, width):
+    """Each event's pixel (y * width + x), the events per pixel and the recording's length in s."""
+    pixel = ev["y"].astype(np.int64) * width + ev["x"].astype(np.int64)
+    t = ev["t"].astype(np.int64)
+    return pixel, np.bincount(pixel), (t[-1] - t[0]) * 1e-6
+
+
+def isolated_share(ev, width, horizon_us=10_000):
+    """Share of events with no other event (either polarity) within +-horizon_us
+    at their pixel or its 8 neighbours."""
+    t = ev["t"].astype(np.int64) - int(ev["t"][0])
+    stride = width + 2  # a one-pixel border, so that the neighbours' keys never wrap
+    key = (ev["y"].astype(np.int64) + 1) * stride + ev["x"].astype(np.int64) + 1
+    span = int(t[-1]) + 2 * horizon_us + 1
+    packed = np.sort(key * span + t + horizon_us)
+    has_neighbour = np.zeros(len(t), bool)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            base = (key + dy * stride + dx) * span + t + horizon_us
+            n = np.searchsorted(packed, base + horizon_us, "right") - np.searchsorted(packed, base - horizon_us, "left")
+            has_neighbour |= n > (1 if dx == dy == 0 else 0)  # the event itself
+    return 1.0 - np.mean(has_neighbour)
+
+
+def static_scene_figures(path, name):
+    ev = evlife.read(path)
+    width, height = evlife.open(path).sensor
+    pixel, count, seconds = pixel_rates(ev, width)
+    t = ev["t"].astype(np.int64) - int(ev["t"][0])
+    tenths = np.bincount(np.minimum(t * 10 // (t[-1] + 1), 9), minlength=10)
+    order = np.lexsort((t, pixel))
+    repeat = (pixel[order][1:] == pixel[order][:-1]) & (np.diff(t[order]) < 10_000)
+    rate = count / seconds
+    hot_event = rate[pixel] >= 10
+    print(f"{name}: {len(t)} events over {seconds:.2f} s; tenths within {np.max(np.abs(tenths / tenths.mean() - 1)):.0%} "
+          f"of the mean; {isolated_share(ev, width):.0%} with no other event within +-10 ms in their 3x3 "
+          f"neighbourhood; {np.sum(repeat) / len(t):.0%} within 10 ms of the previous event at their pixel")
+    print(f"{name}: background activity {np.sum(~hot_event) / seconds / (width * height):.3f} Hz/px (pixels under "
+          f"10 Hz); pixels at >= 10 / 100 / 1000 Hz: "
+          + " / ".join(f"{np.sum(rate >= hz) / (width * height):.1e}" for hz in (10, 100, 1000))
+          + f" of the pixels, {np.mean(hot_event):.0%} of the events; the busiest {rate.max():.0f} Hz")
+    return ev, t
+
+
+def hot_pixels_of_a_recording(path, name, min_hz=200):
+    ev = evlife.read(path)
+    width = evlife.open(path).sensor[0]
+    pixel, count, seconds = pixel_rates(ev, width)
+    t = ev["t"].astype(np.int64) - int(ev["t"][0])
+    hot = np.flatnonzero(count >= min_hz * seconds)
+    tenth = np.minimum(t * 10 // (t[-1] + 1), 9)
+    steady = sum(len(np.unique(tenth[pixel == q])) >= 9 for q in hot)
+    print(f"{name}: {len(hot)} pixels at >= {min_hz} Hz over its {seconds:.2f} s, {steady} of them firing in at "
+          f"least 9 of its tenths; the busiest {count.max() / seconds:.0f} Hz")
+
+
 def share_by_bin(t, lifetime, bins):
     """Each event's bin (equal spans of the recording, t from 0) and the
     share with a lifetime in each bin."""
@@ -171,6 +236,16 @@ def main():
                                                 evlife.process(stripes, burst_span_lifetimes=2), 128)
     print(f"stripes.mat, followers chaining against burst_span_lifetimes 2: {gained} events gain a lifetime, "
           f"{followers} of them as followers (their pixel's previous lifetime); {lost} lose theirs")
+    for bag in ("test_data_evt3_trigger", "test_data_libcaer_rollover"):
+        path = f"{data}/rosbag/{bag}"
+        ev, _ = static_scene_figures(path, bag)
+        if bag == "test_data_evt3_trigger":
+            streak = (ev["x"] < 12) & (ev["y"] > 600)
+            lifetime = evlife.process(path)["lifetime"]
+            print(f"{bag}: its left-border streak (x < 12, y > 600) holds {np.mean(streak):.1%} of the events, "
+                  f"{np.mean(lifetime[streak] > 0):.1%} of them with a lifetime")
+    hot_pixels_of_a_recording(f"{data}/aedat4/sample.aedat4", "sample.aedat4")
+
     if args.evlife:
         for blur in (1.5, 2.5):
             share = synthetic_late_burst_share(args.evlife, blur)

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -263,14 +263,14 @@ TEST(RealRecordings, KilohertzHotPixelsOfADvxplorerRarelyGetALifetime) {
   const auto limited_out = run_file("aedat4/sample.aedat4");
   if (limited_out.empty()) GTEST_SKIP() << "shared data not found";
   const auto unlimited_out = run_file("aedat4/sample.aedat4", unlimited);
-  std::map<std::uint64_t, std::size_t> events_at = events_per_pixel(limited_out);
+  const std::map<std::uint64_t, std::size_t> events_at = events_per_pixel(limited_out);
   const double duration_s =
       static_cast<double>(limited_out.back().event.t_us - limited_out.front().event.t_us) * 1e-6;
   // Shares with a lifetime at the hot pixels and at the others.
   const auto shares = [&](const std::vector<AugmentedEvent>& out) {
     std::size_t hot = 0, hot_lifetimes = 0, other = 0, other_lifetimes = 0;
     for (const auto& a : out) {
-      const bool is_hot = static_cast<double>(events_at[pixel_key(a)]) >= 200.0 * duration_s;
+      const bool is_hot = static_cast<double>(events_at.at(pixel_key(a))) >= 200.0 * duration_s;
       (is_hot ? hot : other) += 1;
       (is_hot ? hot_lifetimes : other_lifetimes) += a.is_noise() ? 0 : 1;
     }
@@ -307,24 +307,24 @@ TEST(RealRecordings, BackgroundActivityAndHotPixelsOfRealSensorsAreLabelledNoise
     const double t0_us = static_cast<double>(out.front().event.t_us);
     const double span_us = static_cast<double>(out.back().event.t_us) - t0_us + 1.0;
     std::vector<std::size_t> per_tenth(10, 0);
-    for (const auto& a : out) ++per_tenth[static_cast<std::size_t>(10.0 * (static_cast<double>(a.event.t_us) - t0_us) / span_us)];
-    for (const std::size_t n : per_tenth)
-      ASSERT_NEAR(static_cast<double>(n), static_cast<double>(out.size()) / 10.0, 0.25 * static_cast<double>(out.size()) / 10.0) << bag;
+    for (const auto& a : out)
+      ++per_tenth[static_cast<std::size_t>(10.0 * (static_cast<double>(a.event.t_us) - t0_us) / span_us)];
+    const double mean_per_tenth = static_cast<double>(out.size()) / 10.0;
+    for (const std::size_t n : per_tenth) ASSERT_NEAR(static_cast<double>(n), mean_per_tenth, 0.25 * mean_per_tenth) << bag;
 
     // Hot pixels: the busiest 1 % of the pixels that fired, by event count.
-    std::map<std::uint64_t, std::size_t> events_at = events_per_pixel(out);
+    const std::map<std::uint64_t, std::size_t> events_at = events_per_pixel(out);
     std::vector<std::size_t> counts;
     for (const auto& [key, n] : events_at) counts.push_back(n);
     std::sort(counts.begin(), counts.end(), std::greater<>());
     const std::size_t hot_threshold = counts[counts.size() / 100];
-    std::size_t hot = 0, hot_noise = 0, noise = 0;
+    std::size_t hot = 0, hot_noise = 0;
     for (const auto& a : out) {
-      noise += a.is_noise() ? 1 : 0;
-      if (events_at[pixel_key(a)] < hot_threshold) continue;
+      if (events_at.at(pixel_key(a)) < hot_threshold) continue;
       ++hot;
       hot_noise += a.is_noise() ? 1 : 0;
     }
-    const double noise_share = static_cast<double>(noise) / static_cast<double>(out.size());
+    const double noise_share = 1.0 - share_with_lifetime(out);
     const double hot_noise_share = static_cast<double>(hot_noise) / static_cast<double>(hot);
     std::cout << bag << ": " << out.size() << " events, " << 100.0 * noise_share << " % labelled noise; " << hot
               << " at the busiest 1 % of pixels, " << 100.0 * hot_noise_share << " % of them noise\n";
