@@ -2,7 +2,9 @@
 // reference recordings (stripes, garfield) and a synthetic 1280x720 scene.
 #pragma once
 
+#include <cstdio>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,8 +25,13 @@ inline const Recording& recording(const std::string& name) {
   if (it != cache.end()) return it->second;
   Recording r;
   if (name.rfind("synthetic_", 0) == 0) {  // synthetic_WxH: the `large` preset on a WxH sensor
-    const std::size_t by = name.find('x', 10);
-    r.sensor = {std::stoi(name.substr(10, by - 10)), std::stoi(name.substr(by + 1))};
+    int width = 0, height = 0;
+    char end = 0;
+    if (std::sscanf(name.c_str() + 10, "%dx%d%c", &width, &height, &end) != 2 || width < 1 || height < 1 ||
+        width > 65535 || height > 65535) {
+      throw std::invalid_argument("not synthetic_WxH with W, H in 1..65535");
+    }
+    r.sensor = {width, height};
     r.events = io::generate_scene(io::large_scene(r.sensor, 200'000, 1)).events;
   } else {
     const std::string path = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/" + name + ".mat";

@@ -6,9 +6,13 @@
 // reach costs little), "events" the share that passes through it; medians of
 // 7 runs. The counter reads themselves add some ns per stage.
 //   ./build/bench/bench_estimator_stages [stripes garfield synthetic_1280x720]
+// (the recordings of bench_recordings.h: a reference recording's name, or
+// synthetic_WxH).
 #include <algorithm>
-#include <ctime>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -72,7 +76,25 @@ void report(const std::string& name) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> names(argv + 1, argv + argc);
+  for (const auto& name : names) {
+    if (name == "--help" || name == "-h") {
+      std::printf("usage: bench_estimator_stages [RECORDING...]\n\n"
+                  "The estimator's cost per stage (ns/event over all events, and the share of events\n"
+                  "reaching each stage), default options, medians of 7 runs, with a stage clock\n"
+                  "compiled in: read the figures as shares, not as times (bench/README.md).\n"
+                  "RECORDING: stripes, garfield (../shared/data/reference/NAME.mat) or synthetic_WxH\n"
+                  "(the `large` scene on a WxH sensor); default: stripes garfield synthetic_1280x720.\n");
+      return 0;
+    }
+  }
   if (names.empty()) names = {"stripes", "garfield", "synthetic_1280x720"};
-  for (const auto& name : names) report(name);
+  for (const auto& name : names) {
+    try {
+      report(name);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_estimator_stages: %s: %s (--help)\n", name.c_str(), e.what());
+      return 1;
+    }
+  }
   return 0;
 }

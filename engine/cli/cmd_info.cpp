@@ -111,7 +111,7 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated) {
 int describe_augmented(const std::string& path, io::AugmentedEventReader& reader) {
   std::vector<AugmentedEvent> batch(1 << 14);
   EventTally tally;
-  LifetimeSummary lifetimes;
+  LifetimeSummary lifetimes(reader.sensor_size());
   std::string fault;
   try {
     while (const std::size_t n = reader.read(batch)) {

@@ -98,7 +98,9 @@ void print_help(std::FILE* out) {
       "\n"
       "Progress goes to stderr (a live line on a terminal, else a line every 10 s);\n"
       "the summary to stdout: events, share labelled noise, lifetime percentiles,\n"
-      "share with a prediction and median |prediction error|, wall time, events/s.\n"
+      "share with a prediction and median |prediction error|, wall time, events/s;\n"
+      "for a short recording its length in median lifetimes (warm-up), and over\n"
+      "0.5 s or more the pixels firing at 100 Hz or more (hot pixels, or busy edges).\n"
       "\n"
       "Bad input (missing file, unknown format, truncated or corrupt data, coordinates\n"
       "outside the sensor, timestamps going backwards) stops the run with a message\n"
@@ -309,7 +311,7 @@ int process_recording(int argc, char** argv) {
   ProgressMeter progress("evlife process", size_ec ? 0 : static_cast<std::int64_t>(input_bytes),
                          [&] { return static_cast<std::int64_t>(reader->bytes_consumed()); });
   progress.set_enabled(!args.quiet);
-  LifetimeSummary summary;
+  LifetimeSummary summary(sensor.size);
   const engine::ProcessStreamResult result = [&] {
     const StopRequest stop;
     return engine::process_stream(

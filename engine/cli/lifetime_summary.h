@@ -1,12 +1,16 @@
-// What a run produced, accumulated batch by batch in constant memory and
-// printed at the end: events, share labelled noise, lifetime percentiles,
-// prediction coverage and error, speed. Shared by commands that estimate.
+// What a run produced, accumulated batch by batch in memory fixed at the
+// start and printed at the end: events, share labelled noise, lifetime
+// percentiles, prediction coverage and error, speed, and (with the sensor
+// size) the pixels that fire at hot-pixel rates. Shared by commands that
+// estimate.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "evlife/algo/event.h"
 #include "evlife/render/histogram.h"
@@ -15,7 +19,9 @@ namespace evlife::cli {
 
 class LifetimeSummary {
  public:
-  LifetimeSummary();
+  /// With a sensor size, also counts events per pixel (8 bytes a pixel) for
+  /// the line on pixels firing at hot-pixel rates.
+  explicit LifetimeSummary(std::optional<SensorSize> sensor = std::nullopt);
 
   void add(std::span<const AugmentedEvent> events) noexcept;
 
@@ -34,7 +40,8 @@ class LifetimeSummary {
 
  private:
   void print_lifetimes(std::FILE* out) const;  // labelled noise .. prediction error
-  void print_notes(std::FILE* out) const;      // percentile precision, warm-up
+  void print_notes(std::FILE* out) const;      // percentile precision, warm-up, busy pixels
+  void print_busy_pixels(std::FILE* out) const;
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;
@@ -42,6 +49,9 @@ class LifetimeSummary {
   std::int64_t last_t_us_ = 0;
   render::Histogram lifetime_us_;
   render::Histogram abs_error_us_;
+  SensorSize sensor_{0, 0};
+  std::vector<std::uint32_t> pixel_events_;  // [y * width + x], both polarities; empty: no sensor size
+  std::vector<std::uint32_t> pixel_noise_;   // of them labelled noise
 };
 
 /// The recording's time range as every summary states it:
