@@ -299,8 +299,8 @@ TEST_F(CliTest, ShortRecordingsSayHowManyLifetimesLongTheyAre) {
 // the recording) with their share of the events and of them labelled noise,
 // counted here again from the output file: sample.aedat4 (a DVXplorer, 0.59 s)
 // has tens of them (README, *Real background activity*), `evlife info` of
-// the .bin says the same, stripes.mat has none, and the 170 ms slider is too
-// short for the line.
+// the .bin and `evlife run` say the same, stripes.mat has none, and the
+// 170 ms slider is too short for the line.
 TEST_F(CliTest, SummaryNamesThePixelsFiringAtHotPixelRates) {
   const fs::path out = path("aedat4_busy.csv");
   const RunResult r = run("process '" + kData + "/aedat4/sample.aedat4' -o '" + out.string() + "'");
@@ -330,14 +330,15 @@ TEST_F(CliTest, SummaryNamesThePixelsFiringAtHotPixelRates) {
     }
   }
   ASSERT_GE(busy, 10u);  // the recording's hot pixels
-  char line[256];
-  std::snprintf(line, sizeof line,
-                "pixels >= 100 Hz    %llu of %d (busiest %.3g kHz at (%zu, %zu)): %.1f %% of the events, "
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "%llu of %d (busiest %.3g kHz at (%zu, %zu)): %.1f %% of the events, "
                 "%.1f %% of theirs labelled noise",
                 static_cast<unsigned long long>(busy), kWidth * kHeight,
                 static_cast<double>(events[busiest]) / span_s / 1e3, busiest % kWidth, busiest / kWidth,
                 100.0 * static_cast<double>(busy_events) / static_cast<double>(rows.size()),
                 100.0 * static_cast<double>(busy_noise) / static_cast<double>(busy_events));
+  const std::string line = std::string("pixels >= 100 Hz    ") + text;
   EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
 
   const fs::path bin = path("aedat4_busy.bin");
@@ -345,6 +346,11 @@ TEST_F(CliTest, SummaryNamesThePixelsFiringAtHotPixelRates) {
   const RunResult info = run("info '" + bin.string() + "'");
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find(line), std::string::npos) << line << "\n" << info.output;
+  // `evlife run` (the same estimator, evlife run == evlife process) counts the merged output.
+  const RunResult live = run("run '" + kData + "/aedat4/sample.aedat4' -o '" + path("aedat4_run.bin").string() + "'");
+  ASSERT_EQ(live.exit_code, 0) << live.output;
+  EXPECT_NE(live.output.find(std::string("pixels : at >= 100 Hz ") + text), std::string::npos) << text << "\n"
+                                                                                               << live.output;
 
   const RunResult stripes =
       run("process '" + kData + "/reference/stripes.mat' -o '" + path("stripes_busy.bin").string() + "'");

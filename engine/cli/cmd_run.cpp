@@ -26,6 +26,7 @@
 #include <spdlog/spdlog.h>
 
 #include "arg_parser.h"
+#include "busy_pixels.h"
 #include "command_start.h"
 #include "command.h"
 #include "earlier_frames_warning.h"
@@ -161,7 +162,8 @@ void print_help(std::FILE* out) {
       "At the end (and on SIGINT, SIGTERM or SIGHUP, after finishing the queued\n"
       "work) a summary per stage goes to stdout: events in/out/dropped (in = out +\n"
       "dropped), queue high-water marks, worker load, latency from arrival to\n"
-      "output p50/p99/max.\n"
+      "output p50/p99/max; the output's share labelled noise and with a prediction,\n"
+      "and over 0.5 s or more the pixels firing at 100 Hz or more (hot pixels).\n"
       "\n"
       "Exit status: 0 done; 2 bad command line or configuration; 3 input/device\n"
       "             error; 4 output error; 5 real-time setting refused; 130\n"
@@ -315,17 +317,22 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
 
 // The merged output on its way to the file (or nowhere), counted for the
 // summary: the shares `evlife process` prints, without its histograms (their
-// logarithm per event would cost the pipeline ~10 %). Runs on the thread that
-// merges; read after the run.
+// logarithm per event would cost the pipeline ~10 %), and its busy pixels.
+// Runs on the thread that merges; read after the run.
 class CountingSink final : public engine::AugmentedSink {
  public:
-  explicit CountingSink(engine::AugmentedSink* next) : next_(next) {}
+  CountingSink(engine::AugmentedSink* next, SensorSize sensor) : next_(next), busy_pixels_(sensor) {}
   void write(std::span<const AugmentedEvent> events) override {
     if (next_ != nullptr) next_->write(events);  // a refused block is not counted
+    if (!events.empty()) {
+      if (events_ == 0) first_t_us_ = events.front().event.t_us;
+      last_t_us_ = events.back().event.t_us;
+    }
     events_ += events.size();
     for (const AugmentedEvent& a : events) {
       noise_ += a.is_noise();
       predictions_ += a.has_prediction();
+      busy_pixels_.add(a);
     }
   }
   void finish() override {
@@ -338,6 +345,10 @@ class CountingSink final : public engine::AugmentedSink {
     std::fprintf(out, "output : %llu events to the writer, labelled noise %.1f %%, with a prediction %.1f %% "
                  "(lifetimes: evlife process)\n",
                  static_cast<unsigned long long>(events_), share(noise_), share(predictions_));
+    if (const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_)) {
+      std::fprintf(out, "pixels : at >= 100 Hz %s%s\n", busy->text.c_str(),
+                   busy->pixels > 0 ? " (hot pixels, or edges passing that often)" : "");
+    }
   }
 
  private:
@@ -345,6 +356,9 @@ class CountingSink final : public engine::AugmentedSink {
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;
+  std::int64_t first_t_us_ = 0;
+  std::int64_t last_t_us_ = 0;
+  BusyPixels busy_pixels_;
 };
 
 void print_run_summary(const RunArgs& args, const engine::EventSource& src,
@@ -477,7 +491,7 @@ int run_engine(int argc, char** argv) {
       return kExitOutput;
     }
   }
-  CountingSink counting_sink(writer_sink.get());
+  CountingSink counting_sink(writer_sink.get(), source->sensor_size());
   engine::AugmentedSink* const sink =
       args.quiet ? static_cast<engine::AugmentedSink*>(writer_sink.get()) : &counting_sink;  // -q: nothing to count
 

@@ -9,13 +9,8 @@ namespace evlife::cli {
 
 LifetimeSummary::LifetimeSummary(std::optional<SensorSize> sensor)
     : lifetime_us_(render::Histogram::log_bins(0.1, 1e9, 100)),  // covers every allowed max_lifetime_us
-      abs_error_us_(render::Histogram::log_bins(0.1, 1e10, 100)) {
-  if (sensor && sensor->width > 0 && sensor->height > 0) {
-    sensor_ = *sensor;
-    pixel_events_.assign(static_cast<std::size_t>(sensor->pixel_count()), 0);
-    pixel_noise_.assign(pixel_events_.size(), 0);
-  }
-}
+      abs_error_us_(render::Histogram::log_bins(0.1, 1e10, 100)),
+      busy_pixels_(sensor) {}
 
 void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
   if (!events.empty()) {
@@ -33,11 +28,7 @@ void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
       ++predictions_;
       abs_error_us_.add(static_cast<double>(std::fabs(a.prediction_error_us)));
     }
-    if (!pixel_events_.empty() && a.event.x < sensor_.width && a.event.y < sensor_.height) {
-      const std::size_t i = static_cast<std::size_t>(a.event.y) * static_cast<std::size_t>(sensor_.width) + a.event.x;
-      pixel_events_[i] += pixel_events_[i] != UINT32_MAX;  // saturates
-      pixel_noise_[i] += a.is_noise() && pixel_noise_[i] != UINT32_MAX;
-    }
+    busy_pixels_.add(a);
   }
 }
 
@@ -121,8 +112,8 @@ void LifetimeSummary::print_notes(std::FILE* out) const {
   // surface worse than the later ones; recordings need about ten median
   // lifetimes to reach their steady share (algo/README.md, *Warm-up*). Say so when
   // the whole recording is short on that scale, so that a low share is not
-  // read as the estimator's steady state. Last, so that the lines above
-  // keep their order for scripts.
+  // read as the estimator's steady state. This note and the busy pixels'
+  // come last, so that the lines above keep their order for scripts.
   constexpr double kWarmupNoticeLifetimes = 20.0;
   if (lifetime_us_.total() > 0 && last_t_us_ > first_t_us_) {
     const double lifetimes_long =
@@ -135,45 +126,11 @@ void LifetimeSummary::print_notes(std::FILE* out) const {
                    lifetimes_long);
     }
   }
-  print_busy_pixels(out);
-}
-
-// Pixels firing at 100 Hz or more over the whole recording: a hundred times
-// the top of background activity (0.1-1 Hz per pixel), where hot pixels fire
-// (tens of Hz to kHz: README, *Real background activity*), and how many of
-// their events were labelled noise. Edges passing often fire that much too,
-// hence "or a busy scene". Only over 0.5 s or more: in a shorter recording
-// one edge's burst of a few events already makes a pixel's rate 100 Hz.
-void LifetimeSummary::print_busy_pixels(std::FILE* out) const {
-  constexpr double kBusyPixelHz = 100.0;
-  constexpr double kMinSpanS = 0.5;
-  const double span_s = static_cast<double>(last_t_us_ - first_t_us_) * 1e-6;
-  if (pixel_events_.empty() || !(span_s >= kMinSpanS)) return;
-  std::uint64_t busy = 0, busy_events = 0, busy_noise = 0;
-  std::size_t busiest = 0;
-  for (std::size_t i = 0; i < pixel_events_.size(); ++i) {
-    if (pixel_events_[i] > pixel_events_[busiest]) busiest = i;
-    if (static_cast<double>(pixel_events_[i]) >= kBusyPixelHz * span_s) {
-      ++busy;
-      busy_events += pixel_events_[i];
-      busy_noise += pixel_noise_[i];
-    }
+  const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_);
+  if (busy) {
+    std::fprintf(out, "  pixels >= 100 Hz    %s\n", busy->text.c_str());
+    if (busy->pixels > 0) std::fprintf(out, "                      (hot pixels, or edges passing that often)\n");
   }
-  const auto width = static_cast<std::size_t>(sensor_.width);
-  char busiest_text[96];
-  std::snprintf(busiest_text, sizeof busiest_text, "busiest %sHz at (%zu, %zu)",
-                format_si(static_cast<double>(pixel_events_[busiest]) / span_s).c_str(), busiest % width,
-                busiest / width);
-  if (busy == 0) {
-    std::fprintf(out, "  pixels >= 100 Hz    none of %zu (%s)\n", pixel_events_.size(), busiest_text);
-    return;
-  }
-  std::fprintf(out,
-               "  pixels >= 100 Hz    %llu of %zu (%s): %.1f %% of the events, %.1f %% of theirs labelled noise\n"
-               "                      (hot pixels, or edges passing that often)\n",
-               static_cast<unsigned long long>(busy), pixel_events_.size(), busiest_text,
-               100.0 * static_cast<double>(busy_events) / static_cast<double>(events_),
-               100.0 * static_cast<double>(busy_noise) / static_cast<double>(busy_events));
 }
 
 }  // namespace evlife::cli

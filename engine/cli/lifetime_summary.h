@@ -10,8 +10,8 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <vector>
 
+#include "busy_pixels.h"
 #include "evlife/algo/event.h"
 #include "evlife/render/histogram.h"
 
@@ -41,7 +41,6 @@ class LifetimeSummary {
  private:
   void print_lifetimes(std::FILE* out) const;  // labelled noise .. prediction error
   void print_notes(std::FILE* out) const;      // percentile precision, warm-up, busy pixels
-  void print_busy_pixels(std::FILE* out) const;
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;
@@ -49,9 +48,7 @@ class LifetimeSummary {
   std::int64_t last_t_us_ = 0;
   render::Histogram lifetime_us_;
   render::Histogram abs_error_us_;
-  SensorSize sensor_{0, 0};
-  std::vector<std::uint32_t> pixel_events_;  // [y * width + x], both polarities; empty: no sensor size
-  std::vector<std::uint32_t> pixel_noise_;   // of them labelled noise
+  BusyPixels busy_pixels_;
 };
 
 /// The recording's time range as every summary states it:
