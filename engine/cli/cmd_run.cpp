@@ -321,7 +321,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
 // Runs on the thread that merges; read after the run.
 class CountingSink final : public engine::AugmentedSink {
  public:
-  CountingSink(engine::AugmentedSink* next, SensorSize sensor) : next_(next), busy_pixels_(sensor) {}
+  CountingSink(engine::AugmentedSink* next, std::optional<SensorSize> sensor) : next_(next), busy_pixels_(sensor) {}
   void write(std::span<const AugmentedEvent> events) override {
     if (next_ != nullptr) next_->write(events);  // a refused block is not counted
     if (!events.empty()) {
@@ -491,9 +491,10 @@ int run_engine(int argc, char** argv) {
       return kExitOutput;
     }
   }
-  CountingSink counting_sink(writer_sink.get(), source->sensor_size());
+  // -q: nothing to count (and no per-pixel counts to allocate).
+  CountingSink counting_sink(writer_sink.get(), args.quiet ? std::nullopt : std::optional(source->sensor_size()));
   engine::AugmentedSink* const sink =
-      args.quiet ? static_cast<engine::AugmentedSink*>(writer_sink.get()) : &counting_sink;  // -q: nothing to count
+      args.quiet ? static_cast<engine::AugmentedSink*>(writer_sink.get()) : &counting_sink;
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
