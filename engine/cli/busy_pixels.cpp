@@ -31,12 +31,13 @@ std::optional<BusyPixels::Report> BusyPixels::report(double span_s, std::uint64_
       busy_noise += pixel_noise_[i];
     }
   }
+  if (pixel_events_[busiest] == 0) return std::nullopt;  // every event outside the sensor
   const auto width = static_cast<std::size_t>(sensor_.width);
   char text[256];
-  int n = std::snprintf(text, sizeof text, "%s of %zu (busiest %sHz at (%zu, %zu))",
-                        busy == 0 ? "none" : std::to_string(busy).c_str(), pixel_events_.size(),
-                        format_si(static_cast<double>(pixel_events_[busiest]) / span_s).c_str(), busiest % width,
-                        busiest / width);
+  const int n = std::snprintf(text, sizeof text, "%s of %zu (busiest %sHz at (%zu, %zu))",
+                              busy == 0 ? "none" : std::to_string(busy).c_str(), pixel_events_.size(),
+                              format_si(static_cast<double>(pixel_events_[busiest]) / span_s).c_str(),
+                              busiest % width, busiest / width);
   if (busy > 0 && n > 0 && static_cast<std::size_t>(n) < sizeof text) {
     std::snprintf(text + n, sizeof text - static_cast<std::size_t>(n),
                   ": %.1f %% of the events, %.1f %% of theirs labelled noise",

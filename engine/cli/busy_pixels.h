@@ -32,9 +32,9 @@ class BusyPixels {
     /// at (62, 29))".
     std::string text;
   };
-  /// Over `span_s` seconds and `events` in all; none without a sensor size
-  /// or under 0.5 s (in a shorter recording one edge's burst of a few events
-  /// already makes a pixel's rate 100 Hz).
+  /// Over `span_s` seconds and `events` in all; none without a sensor size,
+  /// without an event inside it or under 0.5 s (in a shorter recording one
+  /// edge's burst of a few events already makes a pixel's rate 100 Hz).
   std::optional<Report> report(double span_s, std::uint64_t events) const;
 
  private:
