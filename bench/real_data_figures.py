@@ -158,7 +158,7 @@ def static_scene_figures(path, name):
     width, height = evlife.open(path).sensor
     pixel, count, seconds = pixel_rates(ev, width)
     t = ev["t"].astype(np.int64) - int(ev["t"][0])
-    tenths = np.bincount(np.minimum(t * 10 // (t[-1] + 1), 9), minlength=10)
+    tenths = np.bincount(time_bins(t, 10), minlength=10)
     order = np.lexsort((t, pixel))
     repeat = (pixel[order][1:] == pixel[order][:-1]) & (np.diff(t[order]) < 10_000)
     rate = count / seconds
@@ -175,29 +175,32 @@ def static_scene_figures(path, name):
 
 def hot_pixels_of_a_recording(path, name, min_hz=200):
     ev = evlife.read(path)
-    width = evlife.open(path).sensor[0]
-    pixel, count, seconds = pixel_rates(ev, width)
+    sensor = evlife.open(path).sensor
+    pixel, count, seconds = pixel_rates(ev, sensor[0])
     t = ev["t"].astype(np.int64) - int(ev["t"][0])
     hot = np.flatnonzero(count >= min_hz * seconds)
-    tenth = np.minimum(t * 10 // (t[-1] + 1), 9)
+    tenth = time_bins(t, 10)
     steady = sum(len(np.unique(tenth[pixel == q])) >= 9 for q in hot)
     print(f"{name}: {len(hot)} pixels at >= {min_hz} Hz over its {seconds:.2f} s, {steady} of them firing in at "
           f"least 9 of its tenths; the busiest {count.max() / seconds:.0f} Hz")
     # Would a mask help? The other pixels' share with and without the busy
     # pixels' events (>= 100 Hz: the summary's `pixels >= 100 Hz`) in the input.
     busy = count[pixel] >= 100 * seconds
-    sensor = evlife.open(path).sensor
     kept = evlife.process(ev, sensor)["lifetime"][~busy] > 0
     masked = evlife.process(ev[~busy], sensor)["lifetime"] > 0
-    print(f"{name}: the events of its other pixels than the {np.sum(count >= 100 * seconds)} at >= 100 Hz, share with "
-          f"a lifetime {np.mean(kept):.4f}; with those pixels' events removed before the estimator (a mask) "
-          f"{np.mean(masked):.4f}, {np.sum(kept != masked)} events differ")
+    print(f"{name}: the {len(kept)} events of its other pixels than the {np.sum(count >= 100 * seconds)} at "
+          f">= 100 Hz, share with a lifetime {np.mean(kept):.4f}; with those pixels' events removed before the "
+          f"estimator (a mask) {np.mean(masked):.4f}, {np.sum(kept != masked)} events differ")
+
+
+def time_bins(t, bins):
+    """Each event's bin: equal spans of the recording, t from 0."""
+    return np.minimum(t * bins // max(1, t[-1] + 1), bins - 1)
 
 
 def share_by_bin(t, lifetime, bins):
-    """Each event's bin (equal spans of the recording, t from 0) and the
-    share with a lifetime in each bin."""
-    k = np.minimum(t * bins // max(1, t[-1] + 1), bins - 1)
+    """Each event's bin (time_bins()) and the share with a lifetime in each bin."""
+    k = time_bins(t, bins)
     return k, [np.mean(lifetime[k == b] > 0) for b in range(bins)]
 
 

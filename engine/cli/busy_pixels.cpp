@@ -14,18 +14,13 @@ BusyPixels::BusyPixels(std::optional<SensorSize> sensor) {
   }
 }
 
-// 100 Hz: a hundred times the top of background activity (0.1-1 Hz per
-// pixel), where hot pixels fire (tens of Hz to kHz: README, *Real background
-// activity*). Edges passing often fire that much too.
 std::optional<BusyPixels::Report> BusyPixels::report(double span_s, std::uint64_t events) const {
-  constexpr double kBusyPixelHz = 100.0;
-  constexpr double kMinSpanS = 0.5;
   if (pixel_events_.empty() || !(span_s >= kMinSpanS) || events == 0) return std::nullopt;
   std::uint64_t busy = 0, busy_events = 0, busy_noise = 0;
   std::size_t busiest = 0;
   for (std::size_t i = 0; i < pixel_events_.size(); ++i) {
     if (pixel_events_[i] > pixel_events_[busiest]) busiest = i;
-    if (static_cast<double>(pixel_events_[i]) >= kBusyPixelHz * span_s) {
+    if (static_cast<double>(pixel_events_[i]) >= kMinRateHz * span_s) {
       ++busy;
       busy_events += pixel_events_[i];
       busy_noise += pixel_noise_[i];

@@ -346,8 +346,9 @@ class CountingSink final : public engine::AugmentedSink {
                  "(lifetimes: evlife process)\n",
                  static_cast<unsigned long long>(events_), share(noise_), share(predictions_));
     if (const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_)) {
-      std::fprintf(out, "pixels : at >= 100 Hz %s%s\n", busy->text.c_str(),
-                   busy->pixels > 0 ? " (hot pixels, or edges passing that often)" : "");
+      const std::string meaning = busy->pixels > 0 ? std::string(" (") + BusyPixels::kMeaning + ")" : "";
+      std::fprintf(out, "pixels : at >= %.0f Hz %s%s\n", BusyPixels::kMinRateHz, busy->text.c_str(),
+                   meaning.c_str());
     }
   }
 

@@ -128,8 +128,10 @@ void LifetimeSummary::print_notes(std::FILE* out) const {
   }
   const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_);
   if (busy) {
-    std::fprintf(out, "  pixels >= 100 Hz    %s\n", busy->text.c_str());
-    if (busy->pixels > 0) std::fprintf(out, "                      (hot pixels, or edges passing that often)\n");
+    char label[32];
+    std::snprintf(label, sizeof label, "pixels >= %.0f Hz", BusyPixels::kMinRateHz);
+    std::fprintf(out, "  %-20s%s\n", label, busy->text.c_str());
+    if (busy->pixels > 0) std::fprintf(out, "%22s(%s)\n", "", BusyPixels::kMeaning);
   }
 }
 
