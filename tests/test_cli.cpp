@@ -299,8 +299,9 @@ TEST_F(CliTest, ShortRecordingsSayHowManyLifetimesLongTheyAre) {
 // the recording) with their share of the events and of them labelled noise,
 // counted here again from the output file: sample.aedat4 (a DVXplorer, 0.59 s)
 // has tens of them (README, *Real background activity*), `evlife info` of
-// the .bin and `evlife run` say the same, stripes.mat has none, and the
-// 170 ms slider is too short for the line.
+// the .bin and of the .csv (no sensor size: the span its events cover, here
+// the whole 320x240) and `evlife run` say the same, stripes.mat has none, and
+// the 170 ms slider is too short for the line.
 TEST_F(CliTest, SummaryNamesThePixelsFiringAtHotPixelRates) {
   const fs::path out = path("aedat4_busy.csv");
   const RunResult r = run("process '" + kData + "/aedat4/sample.aedat4' -o '" + out.string() + "'");
@@ -346,6 +347,10 @@ TEST_F(CliTest, SummaryNamesThePixelsFiringAtHotPixelRates) {
   const RunResult info = run("info '" + bin.string() + "'");
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find(line), std::string::npos) << line << "\n" << info.output;
+  const RunResult info_csv = run("info '" + out.string() + "'");
+  ASSERT_EQ(info_csv.exit_code, 0) << info_csv.output;
+  EXPECT_NE(info_csv.output.find("the events span 320x240"), std::string::npos) << info_csv.output;
+  EXPECT_NE(info_csv.output.find(line), std::string::npos) << line << "\n" << info_csv.output;
   // `evlife run` (the same estimator, evlife run == evlife process) counts the merged output.
   const RunResult live = run("run '" + kData + "/aedat4/sample.aedat4' -o '" + path("aedat4_run.bin").string() + "'");
   ASSERT_EQ(live.exit_code, 0) << live.output;

@@ -42,11 +42,15 @@ void print_help(std::FILE* out) {
                "topic with its message type and count (the one read marked '*').\n"
                "For evlife's own outputs (.bin, .csv with lifetimes: `evlife process -o`)\n"
                "also the lifetimes they hold: share labelled noise, lifetime percentiles,\n"
-               "predictions, as `evlife process` summarised them.\n"
-               "Reads every event once (constant memory); corrupt data is reported after\n"
-               "the figures of the events before it.\n"
+               "predictions and the pixels firing at >= %.0f Hz, as `evlife process`\n"
+               "summarised them.\n"
+               "Reads every event once (an output without a sensor size, the .csv, twice:\n"
+               "the second time for the per-pixel counts over the span its events cover),\n"
+               "in constant memory; corrupt data is reported after the figures of the\n"
+               "events before it.\n"
                "\n"
-               "Options:\n");
+               "Options:\n",
+               BusyPixels::kMinRateHz);
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
                "\n"
@@ -106,28 +110,44 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated) {
   }
 }
 
-// An evlife output (.bin, or .csv with lifetime columns): the events, then the
-// lifetimes as `evlife process` summarised them when it wrote the file.
-int describe_augmented(const std::string& path, io::AugmentedEventReader& reader) {
+// Every event of `reader` into `tally` (when given) and `lifetimes`; the
+// message of the read error that stopped it, if one did.
+std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, LifetimeSummary& lifetimes) {
   std::vector<AugmentedEvent> batch(1 << 14);
-  EventTally tally;
-  LifetimeSummary lifetimes(reader.sensor_size());
-  std::string fault;
   try {
     while (const std::size_t n = reader.read(batch)) {
       const std::span<const AugmentedEvent> got(batch.data(), n);
-      for (const AugmentedEvent& a : got) tally.add(a.event);
+      if (tally != nullptr) {
+        for (const AugmentedEvent& a : got) tally->add(a.event);
+      }
       lifetimes.add(got);
     }
   } catch (const io::ReadError& e) {
-    fault = e.what();
+    return e.what();
   }
-  std::printf("file       %s\n", path.c_str());
+  return {};
+}
+
+// An evlife output (.bin, or .csv with lifetime columns): the events, then the
+// lifetimes as `evlife process` summarised them when it wrote the file. A file
+// that states no sensor size (the CSV) is read a second time with the span its
+// events cover as the sensor, for the pixels firing at hot-pixel rates.
+int describe_augmented(const std::string& path, const std::string& shown, io::AugmentedEventReader& reader) {
+  EventTally tally;
+  std::optional<LifetimeSummary> lifetimes(std::in_place, reader.sensor_size());
+  const std::string fault = read_augmented(reader, &tally, *lifetimes);
+  if (!reader.sensor_size() && tally.max_x >= 0) {
+    if (const auto again = io::open_if_augmented(path)) {
+      lifetimes.emplace(SensorSize{tally.max_x + 1, tally.max_y + 1});
+      read_augmented(*again, nullptr, *lifetimes);  // stops where the first pass did (its fault is reported)
+    }
+  }
+  std::printf("file       %s\n", shown.c_str());
   std::printf("format     %s (evlife's output: each event with its lifetime, velocity and prediction error)\n",
               std::string(reader.format_name()).c_str());
   print_events(tally, reader.sensor_size());
   std::printf("lifetimes  as estimated when the file was written\n");
-  lifetimes.print_figures(stdout);
+  lifetimes->print_figures(stdout);
   if (!fault.empty()) {
     std::fprintf(stderr, "evlife info: %s\n", fault.c_str());
     return kExitInput;
@@ -152,7 +172,7 @@ int run_info(int argc, char** argv) {
   // evlife's own outputs first (as `render` reads them): their CSV would
   // otherwise pass for a plain x,y,t,p file and the .bin for no format.
   try {
-    if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(shown, *augmented);
+    if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
