@@ -132,4 +132,46 @@ TEST_F(CliInfo, EvlifeOutputsShowTheirLifetimes) {
   EXPECT_NE(r.output.find("truncated: the header needs"), std::string::npos) << r.output;
 }
 
+// An output whose events span more than any camera (a stray coordinate) or
+// whose header states such a sensor: `info` describes it without per-pixel
+// counts (they would take gigabytes: the process was killed), `render` says
+// why it cannot draw it and how to (--sensor).
+TEST_F(CliInfo, AnOutputSpanningMoreThanAnyCameraIsDescribedAndRenderSaysWhy) {
+  const fs::path csv = dir_.path() / "stray.csv";
+  std::ofstream(csv) << "x,y,t,p,lifetime,vx,vy,prediction_error\n1,1,1,1,0,0,0,\n"
+                     << "60000,60000,500000,1,0,0,0,\n2,2,1000000,1,0,0,0,\n";
+  const auto info = run("info '" + csv.string() + "'");
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("the events span 60001x60001"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("labelled noise      100.0 % (3 events)"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("pixels >="), std::string::npos) << info.output;
+  const fs::path png = dir_.path() / "stray.png";
+  const auto refused = run("render '" + csv.string() + "' -o '" + png.string() + "' --at 0.9");
+  EXPECT_EQ(refused.exit_code, 3) << refused.output;
+  EXPECT_NE(refused.output.find(csv.string() + ": has events spanning 60001x60001, more than any camera"),
+            std::string::npos)
+      << refused.output;
+  const auto drawn = run("render '" + csv.string() + "' -o '" + png.string() + "' --at 0.9 --sensor 320x240");
+  EXPECT_EQ(drawn.exit_code, 0) << drawn.output;
+  EXPECT_NE(drawn.output.find("ignored             1 outside the sensor"), std::string::npos) << drawn.output;
+
+  // `convert` of it to .bin states no sensor (0x0), said so; then the same
+  // events under a header stating a 60001x60001 sensor (a corrupt header).
+  const fs::path bin = dir_.path() / "stray.bin";
+  ASSERT_EQ(run("convert '" + csv.string() + "' '" + bin.string() + "'").exit_code, 0);
+  const auto unstated = run("info '" + bin.string() + "'");
+  EXPECT_EQ(unstated.exit_code, 0) << unstated.output;
+  EXPECT_NE(unstated.output.find("the events span 60001x60001"), std::string::npos) << unstated.output;
+  {
+    std::fstream f(bin, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(16);  // width, height: little-endian uint32 (README, *Binary augmented event format*)
+    const char sides[8] = {'\x61', '\xea', 0, 0, '\x61', '\xea', 0, 0};  // 60001 = 0xea61
+    f.write(sides, sizeof sides);
+  }
+  const auto huge = run("info '" + bin.string() + "'");
+  EXPECT_EQ(huge.exit_code, 0) << huge.output;
+  EXPECT_NE(huge.output.find("sensor     60001x60001 (stated by the file)"), std::string::npos) << huge.output;
+  EXPECT_EQ(huge.output.find("pixels >="), std::string::npos) << huge.output;
+}
+
 }  // namespace

@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "evlife/io/augmented_event_reader.h"
@@ -697,6 +698,28 @@ TEST_F(SensorSizeFiles, FromDataStopsAtAFaultAndAugmentedFilesFollowTheSameRule)
                                                              : SensorSize{12, 5};  // max x + 1, max y + 1
     EXPECT_EQ(evlife::io::sensor_size_of_augmented(path), expected) << name;
     EXPECT_EQ(evlife::io::sensor_size_of_augmented(path, SensorSize{7, 7}), (SensorSize{7, 7})) << name;
+  }
+  // A side beyond any camera's, stated (a corrupt header) or spanned (a stray
+  // coordinate): an error naming the file and the way around it, not a plane
+  // of gigabytes for the caller; --sensor still reads the file.
+  const std::vector<evlife::AugmentedEvent> stray{{evlife::Event{10, 3, 4, 1}, 0.0f, 0.0f, 0.0f},
+                                                  {evlife::Event{20, 2, 59999, -1}, 0.0f, 0.0f, 0.0f}};
+  for (const auto& [name, stated, written] :
+       {std::tuple{"huge.bin", SensorSize{60000, 60000}, events}, std::tuple{"stray.csv", SensorSize{64, 48}, stray}}) {
+    const std::string path = dir_.file(name);
+    auto writer = evlife::io::open_augmented_writer(path, stated);
+    writer->write(written);
+    writer->close();
+    try {
+      (void)evlife::io::sensor_size_of_augmented(path);
+      ADD_FAILURE() << name << ": no error";
+    } catch (const evlife::io::ReadError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("x60000, more than any camera (at most 4096 px a side): give --sensor"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(evlife::io::sensor_size_of_augmented(path, SensorSize{64, 48}), (SensorSize{64, 48})) << name;
   }
 }
 

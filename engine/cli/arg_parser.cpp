@@ -144,13 +144,13 @@ SensorSize parse_sensor_size(std::string_view text) {
   const auto x = text.find_first_of("xX");
   auto number = [&](std::string_view s, int& v) {
     const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    return !s.empty() && ec == std::errc() && ptr == s.data() + s.size() && v >= 1 && v <= 4096;
+    return !s.empty() && ec == std::errc() && ptr == s.data() + s.size() && v >= 1 && v <= kMaxSensorSide;
   };
   SensorSize size;
   if (x == std::string_view::npos || !number(text.substr(0, x), size.width) ||
       !number(text.substr(x + 1), size.height)) {
-    throw UsageError("--sensor '" + std::string(text) +
-                     "': expected WIDTHxHEIGHT with each side in 1..4096, e.g. 240x180");
+    throw UsageError("--sensor '" + std::string(text) + "': expected WIDTHxHEIGHT with each side in 1.." +
+                     std::to_string(kMaxSensorSide) + ", e.g. 240x180");
   }
   return size;
 }

@@ -26,7 +26,8 @@ class BusyPixels {
   /// often fire that much too.
   static constexpr const char* kMeaning = "hot pixels, or edges passing that often";
 
-  /// Counts nothing without a sensor size; else 8 bytes a pixel.
+  /// Counts nothing without a sensor size or for a side beyond
+  /// kMaxSensorSide; else 8 bytes a pixel.
   explicit BusyPixels(std::optional<SensorSize> sensor);
 
   void add(const AugmentedEvent& a) noexcept {

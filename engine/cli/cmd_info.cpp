@@ -130,13 +130,16 @@ std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, 
 
 // An evlife output (.bin, or .csv with lifetime columns): the events, then the
 // lifetimes as `evlife process` summarised them when it wrote the file. A file
-// that states no sensor size (the CSV) is read a second time with the span its
+// that states no sensor size (the CSV, a .bin `convert` wrote of events of no
+// known sensor) is read a second time with the span its
 // events cover as the sensor, for the pixels firing at hot-pixel rates.
 int describe_augmented(const std::string& path, const std::string& shown, io::AugmentedEventReader& reader) {
   EventTally tally;
-  std::optional<LifetimeSummary> lifetimes(std::in_place, reader.sensor_size());
+  std::optional<SensorSize> stated = reader.sensor_size();
+  if (stated && stated->pixel_count() == 0) stated.reset();  // a .bin of events of no known sensor (convert)
+  std::optional<LifetimeSummary> lifetimes(std::in_place, stated);
   const std::string fault = read_augmented(reader, &tally, *lifetimes);
-  if (!reader.sensor_size() && tally.max_x >= 0) {
+  if (!stated && tally.max_x >= 0 && tally.max_x < kMaxSensorSide && tally.max_y < kMaxSensorSide) {
     if (const auto again = io::open_if_augmented(path)) {
       lifetimes.emplace(SensorSize{tally.max_x + 1, tally.max_y + 1});
       read_augmented(*again, nullptr, *lifetimes);  // stops where the first pass did (its fault is reported)
@@ -145,7 +148,7 @@ int describe_augmented(const std::string& path, const std::string& shown, io::Au
   std::printf("file       %s\n", shown.c_str());
   std::printf("format     %s (evlife's output: each event with its lifetime, velocity and prediction error)\n",
               std::string(reader.format_name()).c_str());
-  print_events(tally, reader.sensor_size());
+  print_events(tally, stated);
   std::printf("lifetimes  as estimated when the file was written\n");
   lifetimes->print_figures(stdout);
   if (!fault.empty()) {

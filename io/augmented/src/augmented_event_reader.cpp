@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "augmented_bin_format.h"
@@ -57,9 +58,20 @@ RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, Sen
 
 SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user) {
   if (user) return *user;
+  // The caller sizes per-pixel planes by it (render, eval): a corrupt header
+  // or a stray coordinate must not ask for gigabytes.
+  const auto within_cameras = [&](SensorSize s, const std::string& whence) {
+    if (s.width > kMaxSensorSide || s.height > kMaxSensorSide) {
+      throw ReadError(path, -1, -1,
+                      whence + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                          ", more than any camera (at most " + std::to_string(kMaxSensorSide) +
+                          " px a side): give --sensor WxH (events outside it are counted and skipped)");
+    }
+    return s;
+  };
   const std::unique_ptr<AugmentedEventReader> reader = open_augmented_reader(path);
   if (const std::optional<SensorSize> stated = reader->sensor_size(); stated && stated->width > 0)
-    return *stated;
+    return within_cameras(*stated, "states a sensor of");
   std::vector<AugmentedEvent> buf(4096);
   SensorSize s{0, 0};
   while (const std::size_t n = reader->read(buf)) {
@@ -69,7 +81,7 @@ SensorSize sensor_size_of_augmented(const std::string& path, std::optional<Senso
     }
   }
   if (s.width == 0) throw ReadError(path, -1, -1, "holds no event: cannot tell the sensor size (give --sensor WxH)");
-  return s;
+  return within_cameras(s, "has events spanning");
 }
 
 }  // namespace evlife::io

@@ -8,6 +8,11 @@
 
 namespace evlife {
 
+/// The largest sensor side evlife handles, px (the largest event cameras are
+/// 1280x720): what the estimator and --sensor accept, and the limit for a
+/// per-pixel plane sized from a file's stated or scanned sensor.
+inline constexpr int kMaxSensorSide = 4096;
+
 /// Sensor geometry in pixels.
 struct SensorSize {
   int width = 0;

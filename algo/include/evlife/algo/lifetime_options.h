@@ -12,7 +12,7 @@
 namespace evlife {
 
 struct LifetimeOptions {
-  /// Sensor size in pixels. 1..4096 each way.
+  /// Sensor size in pixels. 1..kMaxSensorSide each way.
   SensorSize sensor{128, 128};
 
   /// N: side of the square window around the new event, odd, 3..15.
@@ -259,9 +259,9 @@ struct LifetimeOptions {
 /// the `estimator:` keys of config/ and the --help texts read it.
 template <typename F>
 void for_each_lifetime_option(F&& f) {
-  f(OptionInfo{"sensor.width", "", 1, 4096, false, false, false, false,
+  f(OptionInfo{"sensor.width", "", 1, kMaxSensorSide, false, false, false, false,
                "sensor width, px (input formats that state it win)"}, [](auto& o) -> auto& { return o.sensor.width; });
-  f(OptionInfo{"sensor.height", "", 1, 4096, false, false, false, false, "sensor height, px"},
+  f(OptionInfo{"sensor.height", "", 1, kMaxSensorSide, false, false, false, false, "sensor height, px"},
     [](auto& o) -> auto& { return o.sensor.height; });
   f(OptionInfo{"window_size", "window-size", 3, 15, false, false, true, false,
                "N: side of the square window around each event"}, [](auto& o) -> auto& { return o.window_size; });

@@ -53,7 +53,8 @@ std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path)
 /// The sensor of an augmented file: `user` when given, else the one the file
 /// states (.bin), else {max x + 1, max y + 1} of its events (one pass; the
 /// rule of sensor_size_from_data for raw files). Throws ReadError for an
-/// unreadable or corrupt file or one holding no event.
+/// unreadable or corrupt file, one holding no event, or a stated or spanned
+/// side beyond kMaxSensorSide.
 SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user = {});
 
 }  // namespace evlife::io
