@@ -9,8 +9,7 @@ namespace evlife::cli {
 BusyPixels::BusyPixels(std::optional<SensorSize> sensor) {
   // A file may state (or its events span) a larger sensor than any camera:
   // no counts then, rather than gigabytes.
-  if (sensor && sensor->width > 0 && sensor->height > 0 && sensor->width <= kMaxSensorSide &&
-      sensor->height <= kMaxSensorSide) {
+  if (sensor && sensor->within_camera_limits()) {
     sensor_ = *sensor;
     pixel_events_.assign(static_cast<std::size_t>(sensor->pixel_count()), 0);
     pixel_noise_.assign(pixel_events_.size(), 0);

@@ -135,13 +135,12 @@ std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, 
 // events cover as the sensor, for the pixels firing at hot-pixel rates.
 int describe_augmented(const std::string& path, const std::string& shown, io::AugmentedEventReader& reader) {
   EventTally tally;
-  std::optional<SensorSize> stated = reader.sensor_size();
-  if (stated && stated->pixel_count() == 0) stated.reset();  // a .bin of events of no known sensor (convert)
+  const std::optional<SensorSize> stated = reader.sensor_size();
   std::optional<LifetimeSummary> lifetimes(std::in_place, stated);
   const std::string fault = read_augmented(reader, &tally, *lifetimes);
-  if (!stated && tally.max_x >= 0 && tally.max_x < kMaxSensorSide && tally.max_y < kMaxSensorSide) {
+  if (const SensorSize spanned{tally.max_x + 1, tally.max_y + 1}; !stated && spanned.within_camera_limits()) {
     if (const auto again = io::open_if_augmented(path)) {
-      lifetimes.emplace(SensorSize{tally.max_x + 1, tally.max_y + 1});
+      lifetimes.emplace(spanned);
       read_augmented(*again, nullptr, *lifetimes);  // stops where the first pass did (its fault is reported)
     }
   }

@@ -67,7 +67,10 @@ class AugmentedBinReader final : public AugmentedEventReader {
     return n;
   }
 
-  std::optional<SensorSize> sensor_size() const override { return sensor_; }
+  // A header of 0 x 0 states none (convert of events of no known sensor).
+  std::optional<SensorSize> sensor_size() const override {
+    return sensor_.pixel_count() > 0 ? std::optional(sensor_) : std::nullopt;
+  }
   std::string_view format_name() const override { return "augmented-bin"; }
   const std::string& path() const override { return file_.path(); }
 

@@ -61,7 +61,7 @@ SensorSize sensor_size_of_augmented(const std::string& path, std::optional<Senso
   // The caller sizes per-pixel planes by it (render, eval): a corrupt header
   // or a stray coordinate must not ask for gigabytes.
   const auto within_cameras = [&](SensorSize s, const std::string& whence) {
-    if (s.width > kMaxSensorSide || s.height > kMaxSensorSide) {
+    if (!s.within_camera_limits()) {
       throw ReadError(path, -1, -1,
                       whence + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                           ", more than any camera (at most " + std::to_string(kMaxSensorSide) +
@@ -70,8 +70,9 @@ SensorSize sensor_size_of_augmented(const std::string& path, std::optional<Senso
     return s;
   };
   const std::unique_ptr<AugmentedEventReader> reader = open_augmented_reader(path);
-  if (const std::optional<SensorSize> stated = reader->sensor_size(); stated && stated->width > 0)
+  if (const std::optional<SensorSize> stated = reader->sensor_size()) {
     return within_cameras(*stated, "states a sensor of");
+  }
   std::vector<AugmentedEvent> buf(4096);
   SensorSize s{0, 0};
   while (const std::size_t n = reader->read(buf)) {

@@ -23,6 +23,10 @@ struct SensorSize {
   constexpr long long pixel_count() const noexcept {
     return static_cast<long long>(width) * height;
   }
+  /// 1..kMaxSensorSide each way: a size that per-pixel planes may follow.
+  constexpr bool within_camera_limits() const noexcept {
+    return width >= 1 && height >= 1 && width <= kMaxSensorSide && height <= kMaxSensorSide;
+  }
   friend constexpr bool operator==(SensorSize, SensorSize) = default;
 };
 

@@ -22,7 +22,7 @@ class AugmentedEventReader {
   virtual ~AugmentedEventReader() = default;
   /// Up to out.size() records in file order; 0 = end.
   virtual std::size_t read(std::span<AugmentedEvent> out) = 0;
-  /// From the .bin header; nullopt for CSV.
+  /// From the .bin header (nullopt where it states 0 x 0); nullopt for CSV.
   virtual std::optional<SensorSize> sensor_size() const = 0;
   virtual std::string_view format_name() const = 0;  ///< "augmented-csv" / "augmented-bin"
   virtual const std::string& path() const = 0;
