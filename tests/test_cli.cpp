@@ -601,12 +601,23 @@ TEST_F(CliTest, NoCommandWritesOverItsInput) {
   fs::create_symlink(in, path("link.csv"));
   for (const std::string& out : {in, path("link.csv").string()}) {
     for (const std::string& command : {"process " + in + " -o " + out, "run " + in + " -o " + out,
-                                       "run --source file:" + in + " -o " + out, "convert " + in + " " + out}) {
+                                       "run --source file:" + in + " -o " + out, "convert " + in + " " + out,
+                                       "render " + in + " -o " + out + " --at 0.01"}) {
       const RunResult r = run(command + " -q");
       EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
       EXPECT_NE(r.output.find("is the input file"), std::string::npos) << command << ": " << r.output;
       EXPECT_TRUE(evlife::test::read_text_file(in) == before) << command << " changed its input";
     }
+  }
+  // A recording named like a frame, or a video's name linked to it: render read it, then drew over it.
+  const std::string png = path("recording.png").string();
+  fs::copy_file(kRpgText, png);
+  fs::create_symlink(png, path("video.avi"));
+  for (const std::string& out : {png, path("video.avi").string()}) {
+    const RunResult r = run("render " + png + " -q -o " + out + (out == png ? " --at 0.01" : " --fps 10"));
+    EXPECT_EQ(r.exit_code, 2) << out << ": " << r.output;
+    EXPECT_NE(r.output.find("is the input file"), std::string::npos) << out << ": " << r.output;
+    EXPECT_EQ(fs::file_size(png), fs::file_size(kRpgText)) << out;
   }
 }
 
@@ -641,6 +652,29 @@ TEST_F(CliTest, SameInputSameOutput) {
   ASSERT_EQ(run("process '" + input + "' -o '" + path("a.bin").string() + "' -q").exit_code, 0);
   ASSERT_EQ(run("process '" + input + "' -o '" + path("b.bin").string() + "' -q").exit_code, 0);
   EXPECT_EQ(read_file(path("a.bin")), read_file(path("b.bin")));
+}
+
+}  // namespace
+
+namespace {
+
+// A run that stops before it starts leaves a file of the output's name as it
+// was: the refused real-time setting (a CPU this machine does not have) is
+// found before the output is opened, which empties it.
+TEST_F(CliTest, ARefusedRunLeavesAnExistingOutputAsItWas) {
+  const std::string out = path("keep.bin").string();
+  ASSERT_EQ(run("process '" + kRpgText + "' -q -o " + out).exit_code, 0);
+  const std::string before = evlife::test::read_text_file(out);
+  ASSERT_GT(before.size(), 1000u);
+  const RunResult refused = run("run '" + kRpgText + "' -q --cpus 1000 -o " + out);
+  EXPECT_EQ(refused.exit_code, 5) << refused.output;
+  EXPECT_NE(refused.output.find("real-time setting refused, nothing processed: --cpus"), std::string::npos)
+      << refused.output;
+  EXPECT_TRUE(evlife::test::read_text_file(out) == before);
+  // A video that is no video is a usage error before the run (it failed at its end, exit 4).
+  const RunResult mkv = run("run '" + kRpgText + "' -q --fps 10 --video " + path("v.mkv").string());
+  EXPECT_EQ(mkv.exit_code, 2) << mkv.output;
+  EXPECT_FALSE(fs::exists(path("v.mkv")));
 }
 
 }  // namespace

@@ -169,3 +169,85 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
 }
 
 }  // namespace
+
+namespace {
+
+// What a command prints must reach its reader: stdout on a full disk is an
+// output error (exit 4, named), not exit 0 with the text lost.
+TEST_F(CliFlags, AFullStandardOutputIsAnOutputError) {
+  for (const std::string& command : {"info " + sample(), std::string("process --print-config"), std::string("--help")}) {
+    const RunResult r = evlife::test::run_cli("/bin/sh", "-c \"'" + kCli + "' " + command + " >/dev/full\"",
+                                              dir_.path() / "sh.log");
+    EXPECT_EQ(r.exit_code, 4) << command << ": " << r.output;
+    EXPECT_TRUE(has(r, "cannot write the standard output: No space left on device")) << command << ": " << r.output;
+  }
+}
+
+// --print-config given back with --config configures the same run: the
+// sensor, which the input decides unless the user sets it, stays a comment
+// (before, it bound every input to 128 x 128: a 346 x 260 scene was refused).
+TEST_F(CliFlags, PrintedConfigurationGivenBackConfiguresTheSameRun) {
+  const std::string scene = path("wide.txt");
+  ASSERT_EQ(run("synth -q --scene edges --sensor 346x260 --duration 100ms -o " + scene).exit_code, 0);
+  const RunResult printed = run("process --print-config --set estimator.window_size=7");
+  ASSERT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_TRUE(has(printed, "    # width: 128\n    # height: 128\n")) << printed.output;
+  std::ofstream(path("printed.yaml")) << printed.output;
+  ASSERT_EQ(run("process -q " + scene + " -o " + path("a.bin") + " --set estimator.window_size=7").exit_code, 0);
+  const RunResult again = run("process -q " + scene + " -o " + path("b.bin") + " --config " + path("printed.yaml"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(evlife::test::read_text_file(path("a.bin")), evlife::test::read_text_file(path("b.bin")));
+  // Set by the user, the size is printed as a value, both sides of it.
+  const RunResult set = run("process --print-config --set estimator.sensor.width=300");
+  EXPECT_TRUE(has(set, "    width: 300\n    height: 128\n")) << set.output;
+  // `run` prints the engine's flags as the configuration they make, and checks them.
+  const RunResult engine = run("run --print-config --workers 3 --tiles 2x2");
+  EXPECT_TRUE(has(engine, "workers: 3\n")) << engine.output;
+  EXPECT_TRUE(has(engine, "tiles_x: 2\n")) << engine.output;
+  EXPECT_EQ(run("run --print-config --workers 99").exit_code, 2);
+}
+
+// A configuration file that is no file, one that says a key twice, holds two
+// documents or gives a section a value: usage errors naming the place (a
+// directory was an "unexpected error", the rest passed silently).
+TEST_F(CliFlags, ConfigurationFilesThatSayTooMuchOrNothingAreNamed) {
+  const auto config_error = [&](const std::string& yaml, const std::string& says) {
+    std::ofstream(path("c.yaml")) << yaml;
+    const RunResult r = run("process --print-config --config " + path("c.yaml"));
+    EXPECT_EQ(r.exit_code, 2) << yaml << r.output;
+    EXPECT_TRUE(has(r, says)) << yaml << r.output;
+  };
+  config_error("estimator:\n  window_size: 7\n  window_size: 9\n", "c.yaml:3: estimator.window_size is already given at line 2");
+  config_error("estimator:\n  window_size: 7\nestimator:\n  seed: 3\n", "c.yaml:3: estimator is already given at line 1");
+  config_error("estimator:\n  window_size: 7\n---\nestimator:\n  window_size: 9\n", "a second YAML document");
+  config_error("estimator:\n  window_size: {a: 1}\n", "estimator.window_size must be a single value");
+  config_error("estimator: 5\n", "estimator is a section");
+  const RunResult dir = run("process --print-config --config " + dir_.path().string());
+  EXPECT_EQ(dir.exit_code, 2) << dir.output;
+  EXPECT_TRUE(has(dir, "is a directory, not a configuration file")) << dir.output;
+  EXPECT_EQ(run("process --print-config --config ''").exit_code, 2);
+  // A section whose keys are all commented out sets nothing.
+  std::ofstream(path("c.yaml")) << "estimator:\n  sensor:\n    # width: 300\n";
+  EXPECT_EQ(run("process --print-config --config " + path("c.yaml")).exit_code, 0);
+}
+
+// A whole-number flag given a fraction names its own range, not int64's.
+TEST_F(CliFlags, AWholeNumberFlagNamesItsRange) {
+  const RunResult r = run("run " + sample() + " --workers 2.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(has(r, "--workers 2.5: expected a whole number in [1, 32]")) << r.output;
+}
+
+// Frames of a sensor of a few pixels: the default upscaling stays within
+// its limit (it asked for 42 at 12 x 12: "unexpected error").
+TEST_F(CliFlags, ATinySensorRendersAndEvaluates) {
+  const std::string tiny = path("tiny.txt");
+  ASSERT_EQ(run("synth -q --sensor 12x12 --duration 300ms -o " + tiny).exit_code, 0);
+  const RunResult frame = run("render " + tiny + " -q -o " + path("tiny.png") + " --at 0.2");
+  EXPECT_EQ(frame.exit_code, 0) << frame.output;
+  EXPECT_TRUE(fs::file_size(path("tiny.png")) > 0);
+  const RunResult report = run("eval " + tiny + " -q -o " + path("tiny_eval"));
+  EXPECT_EQ(report.exit_code, 0) << report.output;
+}
+
+}  // namespace

@@ -650,6 +650,69 @@ TEST(IoFormatsHdf5, TableRowThatIsNoEventIsNamedAfterTheEventsBeforeIt) {
   }
 }
 
+// A column value its event field cannot hold (a negative or too large
+// coordinate, a fraction, a time beyond int64 microseconds, a polarity beyond
+// int8): HDF5's conversion would clamp or truncate it into another event. The
+// reader stops there and names it, after the events before it.
+TEST(IoFormatsHdf5, ColumnValueThatNoEventHoldsIsNamedNotClamped) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_bad_value.h5");
+  const std::size_t count = 70'000, bad = 66'000;  // in the reader's second chunk
+  const auto write = [&](const char* column, const auto& values, hid_t file_type, hid_t memory_type) {
+    std::vector<std::int64_t> x(count), y(count), t(count), p(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      x[i] = static_cast<std::int64_t>(i % 300);
+      y[i] = static_cast<std::int64_t>(i % 200);
+      t[i] = static_cast<std::int64_t>(10 * i);
+      p[i] = static_cast<std::int64_t>(i % 2);
+    }
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    for (const auto& [name, column_values] : {std::pair{"x", &x}, {"y", &y}, {"t", &t}, {"p", &p}}) {
+      if (std::string(name) == column) {
+        write_dataset(group, name, file_type, memory_type, values);
+      } else {
+        write_dataset(group, name, H5T_STD_I64LE, H5T_NATIVE_INT64, *column_values);
+      }
+    }
+    H5Gclose(group);
+    H5Fclose(file);
+  };
+  const auto expect_stop = [&](const std::string& says) {
+    const ReadResult r = read_all(path);
+    ASSERT_TRUE(r.error) << says;
+    const std::string message = r.error->what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("dsec layout: event 66000 has events/" + says), std::string::npos) << message;
+    EXPECT_EQ(r.events.size(), bad) << says;
+    if (!r.events.empty()) {
+      EXPECT_EQ(r.events.back().t_us, static_cast<std::int64_t>(10 * (bad - 1))) << says;
+    }
+  };
+  std::vector<std::int64_t> ints(count);
+  for (std::size_t i = 0; i < count; ++i) ints[i] = static_cast<std::int64_t>(i % 300);
+  for (const std::int64_t value : {std::int64_t{-1}, std::int64_t{70'000}}) {
+    ints[bad] = value;
+    write("x", ints, H5T_STD_I64LE, H5T_NATIVE_INT64);
+    expect_stop("x = " + std::to_string(value) + ", not a pixel coordinate");
+  }
+  std::vector<double> fractions(count);
+  for (std::size_t i = 0; i < count; ++i) fractions[i] = static_cast<double>(i % 200);
+  fractions[bad] = 12.7;
+  write("y", fractions, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+  expect_stop("y = 12.7, not a pixel coordinate");
+  std::vector<std::uint64_t> times(count);
+  for (std::size_t i = 0; i < count; ++i) times[i] = 10 * i;
+  times[bad] = std::uint64_t{1} << 63;
+  write("t", times, H5T_STD_U64LE, H5T_NATIVE_UINT64);
+  expect_stop("t = 9.22337203685478e+18, not a time in whole microseconds");
+  std::vector<std::uint8_t> polarities(count);
+  for (std::size_t i = 0; i < count; ++i) polarities[i] = static_cast<std::uint8_t>(i % 2);
+  polarities[bad] = 255;
+  write("p", polarities, H5T_STD_U8LE, H5T_NATIVE_UINT8);
+  expect_stop("p = 255, not a polarity");
+}
+
 // Stoffregen's event_utils (E2VID-style training data): events/xs, ys
 // (int16), ts (float64 s), ps (numpy bool: an HDF5 enum of int8).
 TEST(IoFormatsHdf5, EventUtilsLayoutInSeconds) {

@@ -788,3 +788,47 @@ TEST_F(RealFilesCut, AnyCutGivesAnExactPrefix) {
 }
 
 }  // namespace
+
+namespace {
+
+// A corrupt line quoted into the error: a NUL would end the message early for
+// printf (losing the event index and offset), a stray byte fail Python's UTF-8
+// decoding (a UnicodeDecodeError instead of the InputError). Both are written
+// as \xNN; the message's own UTF-8 and the path stay as they are.
+TEST(ReadErrors, BytesQuotedFromACorruptFileArePrintable) {
+  const evlife::test::ScratchDir dir("test_io_readers");
+  const std::string path = dir.file("bytes_µs.txt");
+  std::ofstream(path, std::ios::binary) << std::string("0.1 1 1 1\n0.2 1 \xff 1\0\0\n", 22);
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string message = r.error->what();
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_EQ(message.find('\0'), std::string::npos);
+  EXPECT_NE(message.find("got '0.2 1 \\xff 1\\x00\\x00'"), std::string::npos) << message;
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("(event index 1, byte offset 10)"), std::string::npos) << message;
+  EXPECT_EQ(r.error->path(), path);
+}
+
+}  // namespace
+
+namespace {
+
+// A stop signal during the scan for a sensor size (process of a long file
+// that states none) ends it at once with what it has, so that the command
+// can write an output of no event and exit 130; without a stop, every event.
+TEST(SensorSizeScan, AStopEndsTheScanAfterTheEventsReadSoFar) {
+  const evlife::test::ScratchDir dir("test_io_readers");
+  const std::string path = dir.file("late_far_event.txt");
+  {
+    std::ofstream out(path);
+    for (int i = 0; i < 70'000; ++i) out << 1e-6 * i << " " << i % 10 << " " << i % 7 << " 1\n";
+    out << "0.1 200 150 0\n";  // beyond the scan's first 65536 events
+  }
+  const std::atomic<bool> go_on{false}, stop{true};
+  EXPECT_EQ(evlife::io::sensor_size_from_data(path, {}, &go_on), (SensorSize{201, 151}));
+  EXPECT_EQ(evlife::io::sensor_size_from_data(path), (SensorSize{201, 151}));
+  EXPECT_EQ(evlife::io::sensor_size_from_data(path, {}, &stop), (SensorSize{10, 7}));
+}
+
+}  // namespace

@@ -401,6 +401,70 @@ TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
   EXPECT_EQ(0, std::memcmp(cut.events.data(), full.events.data(), before * sizeof(Event)));
 }
 
+// Little-endian fields with CDR's alignment (relative to `base`, after the
+// encapsulation header; ROS 1: none): a message built by hand.
+struct MessageBytes {
+  std::vector<std::uint8_t> bytes;
+  std::size_t base = 0;
+  bool aligned = true;
+  template <typename T>
+  MessageBytes& put(T value) {
+    while (aligned && (bytes.size() - base) % sizeof(T) != 0) bytes.push_back(0);
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+    return *this;
+  }
+  MessageBytes& text(const std::string& s) {
+    put(static_cast<std::uint32_t>(s.size() + 1));
+    bytes.insert(bytes.end(), s.begin(), s.end());
+    bytes.push_back(0);
+    return *this;
+  }
+};
+
+// A length or count smaller than the events behind it would lose the rest of
+// the message unseen: the bytes after the last field are a fault (beyond
+// CDR's padding to 4 bytes), after the events the count covered.
+TEST(RosPayloads, BytesAfterTheEventsAreAFaultNotDropped) {
+  for (const std::size_t extra : {std::size_t{0}, std::size_t{3}, std::size_t{8}}) {
+    MessageBytes packet{{0x00, 0x01, 0x00, 0x00}, 4};  // CDR little-endian
+    packet.put(std::int32_t{1}).put(std::uint32_t{0}).text("camera");
+    packet.put(std::uint32_t{480}).put(std::uint32_t{640}).put(std::uint64_t{0}).put(std::uint64_t{0});
+    packet.text("mono").put(std::uint8_t{0}).put(std::uint32_t{0});  // an events field of 0 bytes
+    packet.bytes.resize(packet.bytes.size() + extra, 0);
+    ros::MessageDecoder decoder(ros::MessageKind::event_packet);
+    std::vector<ros::RosEvent> events;
+    const auto fault = decoder.decode(packet.bytes, events);
+    EXPECT_EQ(fault.has_value(), extra > 3) << extra << " bytes after";
+    if (fault) EXPECT_NE(fault->what.find(std::to_string(extra) + " bytes follow the field 'events'"), std::string::npos) << fault->what;
+  }
+  // A width no camera has (it would read as -1 in an int) is a fault, not a sensor.
+  MessageBytes wide{{0x00, 0x01, 0x00, 0x00}, 4};
+  wide.put(std::int32_t{1}).put(std::uint32_t{0}).text("camera");
+  wide.put(std::uint32_t{480}).put(std::uint32_t{0xFFFFFFFF}).put(std::uint64_t{0}).put(std::uint64_t{0});
+  wide.text("mono").put(std::uint8_t{0}).put(std::uint32_t{0});
+  std::vector<ros::RosEvent> none;
+  const auto wide_fault = ros::MessageDecoder(ros::MessageKind::event_packet).decode(wide.bytes, none);
+  ASSERT_TRUE(wide_fault);
+  EXPECT_NE(wide_fault->what.find("480/4294967295 beyond any camera's"), std::string::npos) << wide_fault->what;
+  // ROS 1 dvs_msgs/EventArray saying 1 event and holding 2: the first is read.
+  MessageBytes array{{}, 0, false};
+  array.put(std::uint32_t{7}).put(std::int32_t{1}).put(std::uint32_t{0}).text("camera");
+  array.put(std::uint32_t{180}).put(std::uint32_t{240}).put(std::uint32_t{1});
+  for (int i = 0; i < 2; ++i) {
+    array.put(std::uint16_t{10}).put(std::uint16_t{20}).put(std::int32_t{1}).put(std::uint32_t{500}).put(std::uint8_t{1});
+  }
+  ros::MessageDecoder decoder(ros::MessageKind::event_array, ros::Serialization::ros1);
+  std::vector<ros::RosEvent> events;
+  const auto fault = decoder.decode(array.bytes, events);
+  ASSERT_TRUE(fault);
+  EXPECT_NE(fault->what.find("13 bytes follow the field 'events'"), std::string::npos) << fault->what;
+  EXPECT_EQ(events.size(), 1u);
+  array.bytes.resize(array.bytes.size() - 13);
+  EXPECT_FALSE(decoder.decode(array.bytes, events));
+  EXPECT_EQ(events.size(), 1u);
+}
+
 TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {
   const ScratchDir dir{"test_io_rosbag"};
   const std::string path = copy_bag(dir, kMonoBag + "/test_data_mono_cd_0.db3", "enc.db3");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "evlife/config/config.h"
@@ -103,20 +104,34 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   if (!std::filesystem::exists(path)) {
     throw ConfigError(path + ": configuration file not found");
   }
-  YAML::Node root;
+  if (std::filesystem::is_directory(path)) {
+    throw ConfigError(path + ": is a directory, not a configuration file");
+  }
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::LoadFile(path);
+    documents = YAML::LoadAllFromFile(path);
   } catch (const YAML::Exception& e) {
     throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " +
                       e.msg);
+  } catch (const std::exception& e) {  // yaml-cpp reads with a stream: unreadable files
+    throw ConfigError(path + ": cannot read the configuration file: " + e.what());
   }
-  if (root.IsNull()) return;  // empty file: defaults stand
+  if (documents.empty()) return;  // empty file: defaults stand
+  if (documents.size() > 1) {
+    throw ConfigError(path + ":" + std::to_string(documents[1].Mark().line + 1) +
+                      ": a second YAML document: a configuration file holds one");
+  }
+  const YAML::Node& root = documents.front();
+  if (root.IsNull()) return;  // only comments: defaults stand
   auto where = [&](const YAML::Node& n) {
     return path + ":" + std::to_string(n.Mark().line + 1);
   };
   if (!root.IsMap()) throw ConfigError(where(root) + ": expected a map of sections at top level");
 
   // Depth-first over maps; leaves are scalars named by their dotted path.
+  // yaml-cpp keeps a key written twice: the second one is an error here, not
+  // a silent winner (nor a section merged from two places).
+  std::map<std::string, int, std::less<>> line_of_key;
   auto walk = [&](auto&& self, const YAML::Node& map, const std::string& prefix) -> void {
     for (const auto& item : map) {
       // A key must be a name: YAML also allows empty, sequence and map keys,
@@ -125,13 +140,20 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
       const std::string name = item.first.as<std::string>();
       const std::string key = prefix.empty() ? name : prefix + "." + name;
       const YAML::Node& value = item.second;
-      if (value.IsMap()) {
-        if (!is_section(key)) throw ConfigError(unknown_key_message(where(item.first), key));
-        self(self, value, key);
+      const bool section = is_section(key);
+      if (!section && !find_config_key(key)) throw ConfigError(unknown_key_message(where(item.first), key));
+      if (const auto [it, first] = line_of_key.emplace(key, item.first.Mark().line + 1); !first) {
+        throw ConfigError(where(item.first) + ": " + key + " is already given at line " +
+                          std::to_string(it->second));
+      }
+      if (section) {
+        if (value.IsMap()) {
+          self(self, value, key);
+        } else if (!value.IsNull()) {  // null: every key of it commented out
+          throw ConfigError(where(item.first) + ": " + key + " is a section: expected its keys, indented below it");
+        }
       } else if (value.IsScalar()) {
         assign(key, value.Scalar(), where(item.first), by_user);
-      } else if (!find_config_key(key) && !is_section(key)) {
-        throw ConfigError(unknown_key_message(where(item.first), key));
       } else {
         throw ConfigError(where(item.first) + ": " + key +
                           (value.IsNull() ? " has no value" : " must be a single value"));
@@ -216,7 +238,11 @@ std::string LoadedConfig::describe() const {
   return s;
 }
 
-std::string to_yaml(const Config& config) {
+bool is_taken_from_the_input(std::string_view key) {
+  return key == "estimator.sensor.width" || key == "estimator.sensor.height";
+}
+
+std::string to_yaml(const Config& config, const std::function<bool(std::string_view key)>& commented) {
   // Keys are listed section by section, so emit a nested map in that order.
   std::ostringstream out;
   std::vector<std::string> open;  // currently open map path
@@ -234,7 +260,9 @@ std::string to_yaml(const Config& config) {
       out << std::string(2 * i, ' ') << parts[i] << ":\n";
       open.push_back(parts[i]);
     }
-    out << std::string(2 * parts.size(), ' ') << leaf << ": " << k.format(config) << "\n";
+    const bool as_comment = commented && commented(k.name);
+    out << std::string(2 * parts.size(), ' ') << (as_comment ? "# " : "") << leaf << ": "
+        << k.format(config) << "\n";
   }
   return out.str();
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "evlife/config/config_key.h"
 
 namespace evlife::cli {
 
@@ -132,12 +133,24 @@ bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
 }
 
 config::LoadedConfig load_command_config(const ParsedArgs& a) {
-  return config::load_config(a.value("config").value_or(""), a.values("set"));
+  const auto path = a.value("config");
+  if (path && path->empty()) throw UsageError("--config needs a file name");
+  return config::load_config(path.value_or(""), a.values("set"));
 }
 
 void print_config(const config::LoadedConfig& c) {
+  // What the input decides stays a comment unless the user set it, so the
+  // output given back with --config configures the same run.
+  bool user_set_one = false;  // the sensor's width and height bind together
+  for (const auto& k : config::config_keys()) {
+    const config::KeyOrigin* o = c.builder.origin(k.name);
+    user_set_one = user_set_one || (config::is_taken_from_the_input(k.name) && o && o->by_user);
+  }
+  const auto from_input = [&](std::string_view key) {
+    return config::is_taken_from_the_input(key) && !user_set_one;
+  };
   std::fprintf(stdout, "# effective configuration (from %s)\n%s", c.describe().c_str(),
-               config::to_yaml(c.config).c_str());
+               config::to_yaml(c.config, from_input).c_str());
 }
 
 SensorSize parse_sensor_size(std::string_view text) {

@@ -180,11 +180,12 @@ void parse_table_flag(const OptionInfo& info, std::string_view text, T& field) {
       v = parse_number<double>(info.flag, text, -1e300, 1e300);
     }
   } else {
-    v = static_cast<double>(parse_number<long long>(info.flag, text, -(1LL << 53), 1LL << 53));
+    v = parse_number<double>(info.flag, text, -1e300, 1e300);
   }
-  if (!info.contains(v)) {
+  const bool whole = std::is_floating_point_v<T> || v == std::floor(v);
+  if (!whole || !info.contains(v)) {
     throw UsageError("--" + std::string(info.flag) + " " + std::string(text) + ": expected " +
-                     info.range_text());
+                     (whole ? "" : "a whole number in ") + info.range_text());
   }
   field = static_cast<T>(v);
 }

@@ -146,7 +146,7 @@ struct ResolvedSensor {
 };
 
 ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg,
-                              const io::EventReader& probe) {
+                              const io::EventReader& probe, const StopRequest& stop) {
   if (const auto s = probe.sensor_size()) {
     if (args.sensor && *args.sensor != *s) {
       std::fprintf(stderr, "evlife process: warning: --sensor %dx%d ignored: %s states %dx%d\n",
@@ -172,7 +172,8 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   // Smallest sensor holding every event; a fault after some events leaves
   // those (the main pass writes them, then reports it); a file with no event
   // to scan is an input error here (nothing to write), as for render and run.
-  const SensorSize scanned = io::sensor_size_from_data(args.input, args.input_options);
+  const SensorSize scanned = io::sensor_size_from_data(args.input, args.input_options, stop.flag());
+  if (stop.requested()) return {scanned, "the scan's, interrupted"};  // the main pass stops at once
   // No event camera is this large: most likely a stray event sets the size
   // (and the estimator's memory, ~41 bytes per pixel and polarity).
   constexpr int kLargestKnownSide = 2048;
@@ -264,11 +265,14 @@ int process_recording(int argc, char** argv) {
 
   // Input: sniff the format, settle the sensor, then open the checked reader
   // (bounds and time order) for that sensor.
+  // From the scan for a sensor size on, a stop signal ends the command with
+  // what it wrote: an output of no event when it comes before the main pass.
+  const StopRequest stop;
   std::unique_ptr<io::EventReader> reader;
   ResolvedSensor sensor;
   try {
     const auto probe = io::open_unchecked_event_reader(args.input, args.input_options);
-    sensor = resolve_sensor(args, cfg, *probe);
+    sensor = resolve_sensor(args, cfg, *probe, stop);
     io::ReaderOptions checked = args.input_options;
     checked.sensor = sensor.size;
     reader = io::open_event_reader(args.input, checked);
@@ -313,7 +317,6 @@ int process_recording(int argc, char** argv) {
   progress.set_enabled(!args.quiet);
   LifetimeSummary summary(sensor.size);
   const engine::ProcessStreamResult result = [&] {
-    const StopRequest stop;
     return engine::process_stream(
         *reader, *estimator, *writer,
         [&](std::span<const AugmentedEvent> batch) {

@@ -30,6 +30,8 @@
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/media.h"
+#include "evlife/render/output_kind.h"
+#include "evlife/io/output_path.h"
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/render_recording.h"
 #include "exit_code.h"
@@ -124,7 +126,7 @@ struct RenderArgs : CommonArgs {
 
 double parse_positive(const std::string& option, const std::string& text, double max) {
   const double v = parse_number<double>(option, text, 0.0, max);
-  if (v == 0.0) throw UsageError("--" + option + " " + text + ": expected a positive number");
+  if (v == 0.0) throw UsageError("--" + option + " " + text + ": expected a number in (0, " + std::to_string(static_cast<long long>(max)) + "]");
   return v;
 }
 
@@ -135,13 +137,12 @@ RenderArgs parse_render_args(int argc, char** argv) {
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
   r.job.output = *out;
-  std::string ext = std::filesystem::path(r.job.output).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  r.job.video = ext == ".mp4" || ext == ".avi";
-  r.job.single_png = ext == ".png";
-  for (const char* other : {".jpg", ".gif", ".mkv", ".mov", ".webm", ".avif"}) {
-    if (ext == other) throw UsageError("-o " + r.job.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
-  }
+  const render::OutputKind kind = render::output_kind(r.job.output);
+  if (kind == render::OutputKind::unsupported)
+    throw UsageError("-o " + r.job.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
+  r.job.video = kind == render::OutputKind::video;
+  r.job.single_png = kind == render::OutputKind::single_png;
+  if (const auto refusal = io::output_overwrites_input(r.input, r.job.output)) throw UsageError("-o " + *refusal);
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
   }
@@ -163,8 +164,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
     throw UsageError(e.what());
   }
   if (const auto s = a.value("scale")) {
-    const double v = parse_positive("scale", *s, 32);
-    if (v != std::floor(v) || v > 32) throw UsageError("--scale " + *s + ": an integer 1..32");
+    constexpr int kMax = render::FrameStyle::kMaxScale;
+    const double v = parse_number<double>("scale", *s, 1, kMax);
+    if (v != std::floor(v)) throw UsageError("--scale " + *s + ": a whole number in [1, " + std::to_string(kMax) + "]");
     r.job.scale = static_cast<int>(v);
   }
   r.job.caption = !a.has("no-caption");

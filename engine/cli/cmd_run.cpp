@@ -35,7 +35,9 @@
 #include "evlife/config/config.h"
 #include "evlife/engine/dvs128_source.h"
 #include "evlife/engine/engine.h"
+#include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/render_stage.h"
+#include "evlife/render/output_kind.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/writer_sink.h"
 #include "evlife/io/augmented_event_writer.h"
@@ -121,7 +123,10 @@ void print_help(std::FILE* out) {
       "                       polarity, output identical to `evlife process`). The\n"
       "                       2*C*R tiles are dealt to the workers round robin. Tiled\n"
       "                       output differs from the single-threaded one on a small\n"
-      "                       share of events near borders (see README; --margin).\n"
+      "                       share of events near borders (see README; --margin),\n"
+      "                       and so between --workers counts that deal the tiles\n"
+      "                       differently (a worker's estimator sees its tiles\n"
+      "                       together); for one count it is the same every run.\n"
       "  --policy block|drop  when workers fall behind: block the source (default for\n"
       "                       files) or drop and count (default for cameras).\n"
       "Engine options (defaults: the engine: section of the configuration; -j = --workers):\n");
@@ -212,38 +217,6 @@ RunArgs parse_run_args(int argc, char** argv) {
   r.quiet = a.has("quiet");
   r.config = load_command_config(a);
   r.print_config = a.has("print-config");
-  if (r.print_config) return r;
-  if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
-  const auto src = a.value("source");
-  if (src && !a.positional.empty())
-    throw UsageError("give the source once: --source " + *src + " or " + a.positional.front());
-  if (!src && a.positional.empty())
-    throw UsageError("missing --source (file:PATH or PATH, dvs128[:SERIAL] or synth:PRESET)");
-  r.source = src ? *src : a.positional.front();  // `run FILE` = --source FILE
-  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
-  r.input_options = parse_input_options(a);
-  if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
-  if (const auto s = a.value("output")) r.output = *s;
-  if (const auto s = a.value("biases")) r.biases = *s;
-  if (const auto s = a.value("duration")) {
-    r.duration_s = static_cast<double>(parse_time_flag("duration", *s)) * 1e-6;
-    if (r.duration_s < 1e-3 || r.duration_s > 3600)
-      throw UsageError("--duration " + *s + ": expected 1ms..3600s");
-  }
-  if (const auto s = a.value("frames")) r.frames_dir = *s;
-  if (const auto s = a.value("video")) r.video = *s;
-  if (const auto s = a.value("mode")) r.render.mode = *s;
-  if (const auto s = a.value("fps")) r.render.fps = parse_number<double>("fps", *s, 0, 100000);
-  if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
-  if (!r.video.empty() && r.render.fps == 0)
-    throw UsageError("--video needs --fps > 0 (it plays at that rate)");
-  r.window = a.has("window");
-  if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
-    throw UsageError("--frames, --video and --window: choose one");
-  if ((a.has("fps") || a.has("mode") || a.has("at")) && r.frames_dir.empty() &&
-      r.video.empty() && !r.window)
-    throw UsageError("--fps/--mode/--at need --frames DIR, --video FILE or --window");
-
   // The configuration file first, then the flags override it: every flag of
   // the engine's option table (engine_options.h), with the table's range.
   engine::EngineOptions& e = r.engine;
@@ -272,6 +245,45 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto s = a.value("rt-priority")) e.realtime.rt_priority = parse_number<int>("rt-priority", *s, 1, 99);
   e.realtime.lock_memory = a.has("lock-memory");
+  if (r.print_config) {  // the engine's flags shown as the configuration they make
+    r.config.config.engine = e;
+    return r;
+  }
+  if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
+  const auto src = a.value("source");
+  if (src && !a.positional.empty())
+    throw UsageError("give the source once: --source " + *src + " or " + a.positional.front());
+  if (!src && a.positional.empty())
+    throw UsageError("missing --source (file:PATH or PATH, dvs128[:SERIAL] or synth:PRESET)");
+  r.source = src ? *src : a.positional.front();  // `run FILE` = --source FILE
+  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  r.input_options = parse_input_options(a);
+  if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
+  if (const auto s = a.value("output")) r.output = *s;
+  if (const auto s = a.value("biases")) r.biases = *s;
+  if (const auto s = a.value("duration")) {
+    r.duration_s = static_cast<double>(parse_time_flag("duration", *s)) * 1e-6;
+    if (r.duration_s < 1e-3 || r.duration_s > 3600)
+      throw UsageError("--duration " + *s + ": expected 1ms..3600s");
+  }
+  if (const auto s = a.value("frames")) r.frames_dir = *s;
+  if (const auto s = a.value("video")) {
+    r.video = *s;
+    if (render::output_kind(r.video) != render::OutputKind::video)
+      throw UsageError("--video " + r.video + ": the video must end in .mp4 or .avi (--frames DIR for PNG frames)");
+  }
+  if (const auto s = a.value("mode")) r.render.mode = *s;
+  if (const auto s = a.value("fps")) r.render.fps = parse_number<double>("fps", *s, 0, 100000);
+  if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
+  if (!r.video.empty() && r.render.fps == 0)
+    throw UsageError("--video needs --fps > 0 (it plays at that rate)");
+  r.window = a.has("window");
+  if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
+    throw UsageError("--frames, --video and --window: choose one");
+  if ((a.has("fps") || a.has("mode") || a.has("at")) && r.frames_dir.empty() &&
+      r.video.empty() && !r.window)
+    throw UsageError("--fps/--mode/--at need --frames DIR, --video FILE or --window");
+
   if (!r.output.empty()) {
     const std::string ext = std::filesystem::path(r.output).extension().string();
     if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
@@ -279,6 +291,8 @@ RunArgs parse_run_args(int argc, char** argv) {
     if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.output))
       throw UsageError("-o " + *refusal);
   }
+  if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.video))
+    throw UsageError("--video " + *refusal);
   if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
     throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
   return r;
@@ -440,7 +454,6 @@ int run_engine(int argc, char** argv) {
   RunArgs args;
   if (const auto done = start_command("run", argc, argv, print_help, [&] {
         args = parse_run_args(argc, argv);
-        if (args.print_config) return;
         const std::string problem = engine::validate_engine_options(args.engine);
         if (!problem.empty()) throw UsageError(problem);
       })) {
@@ -482,6 +495,15 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
     return kExitInput;
   }
+  // Every refusal before the output is opened: opening it empties a file of that name.
+  if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
+    std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
+    return kExitUsage;
+  }
+  if (const std::string refused = engine::probe_realtime_options(args.engine.realtime); !refused.empty()) {
+    std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n", refused.c_str());
+    return kExitRealtime;
+  }
   std::unique_ptr<engine::WriterSink> writer_sink;
   if (!args.output.empty()) {
     try {
@@ -499,10 +521,6 @@ int run_engine(int argc, char** argv) {
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
-  if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
-    std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
-    return kExitUsage;
-  }
   std::optional<engine::Engine> eng;
   std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;

@@ -1,5 +1,6 @@
 // `evlife <command> [args]`: dispatches to the registered subcommands.
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -8,6 +9,7 @@
 #include <string_view>
 
 #include "command.h"
+#include "evlife/engine/exit_code.h"
 #include "evlife/config/config.h"
 #include "evlife/io/hdf5_writer.h"
 
@@ -52,16 +54,26 @@ void print_usage(std::FILE* out) {
                "1 unexpected failure (devices: libusb cannot start), 2 usage, 3 input error,\n"
                "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n");
 }
+
+// What a command printed must reach its reader: a full disk or a closed pipe
+// behind stdout (`evlife info x > /dev/full`) is an output error, not exit 0.
+int with_stdout_written(const char* command, int code) {
+  errno = 0;
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
+  std::fprintf(stderr, "evlife%s%s: cannot write the standard output: %s\n", command[0] ? " " : "", command,
+               errno != 0 ? std::strerror(errno) : "write error");
+  return code == 0 ? evlife::kExitOutput : code;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
+    return with_stdout_written("", argc < 2 ? 2 : 0);
   }
   if (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "-V") == 0) {
     std::printf("evlife %s\n", evlife::cli::version_text());
-    return 0;
+    return with_stdout_written("", 0);
   }
   // `evlife help CMD` is `evlife CMD --help`.
   char help_flag[] = "--help";
@@ -69,7 +81,7 @@ int main(int argc, char** argv) {
   if (std::strcmp(argv[1], "help") == 0) {
     if (argc < 3 || std::strcmp(argv[2], "help") == 0 || argv[2][0] == '-') {  // `help`, `help --help`
       print_usage(stdout);
-      return 0;
+      return with_stdout_written("", 0);
     }
     argc = 3;
     argv = help_argv;
@@ -85,6 +97,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {  // a bug or out of memory: a message, never a crash
       std::fprintf(stderr, "evlife %s: unexpected error: %s\n", argv[1], e.what());
     }
+    code = with_stdout_written(argv[1], code);
     if (evlife::io::hdf5_exit_would_crash()) {  // libhdf5 1.10's exit handler would crash
       std::fflush(nullptr);
       std::_Exit(code);

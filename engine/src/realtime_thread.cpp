@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <future>
 #include <string>
+#include <thread>
 
 namespace evlife::engine {
 namespace {
@@ -53,6 +55,25 @@ std::string set_fifo_priority(pthread_t thread, int priority) {
          (err == EPERM ? " (needs CAP_SYS_NICE, or RLIMIT_RTPRIO >= the priority; `ulimit -r` is " +
                              rlimit_text(RLIMIT_RTPRIO) + ")"
                        : "");
+}
+
+std::string probe_realtime_options(const RealtimeOptions& options) {
+  if (options.lock_memory) {
+    if (std::string refused = lock_process_memory(); !refused.empty()) return refused;
+    unlock_process_memory();
+  }
+  if (options.cpus.empty() && options.rt_priority == 0) return {};
+  // A thread parked until it has been tried: the settings apply to a live one.
+  std::promise<void> release;
+  std::thread probe([done = release.get_future()]() mutable { done.wait(); });
+  std::string refused;
+  for (const int cpu : options.cpus) {
+    if (refused.empty()) refused = pin_thread(probe.native_handle(), cpu);
+  }
+  if (refused.empty()) refused = set_fifo_priority(probe.native_handle(), options.rt_priority);
+  release.set_value();
+  probe.join();
+  return refused;
 }
 
 long long locked_memory_bytes() {

@@ -73,10 +73,11 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   render::FrameStyle style;
   style.color = render::parse_color_mode(color);  // std::invalid_argument: ValueError
   if (scale_obj.is_none()) {
-    style.scale = std::max(1, 512 / std::max(sensor.width, sensor.height));
+    style.scale = render::FrameStyle::scale_to_fit(sensor.width, sensor.height, 512);
   } else {
     style.scale = scale_obj.cast<int>();
-    if (style.scale < 1 || style.scale > 32) throw py::value_error("frame: scale must be 1..32");
+    if (style.scale < 1 || style.scale > render::FrameStyle::kMaxScale)
+      throw py::value_error("frame: scale must be 1.." + std::to_string(render::FrameStyle::kMaxScale));
   }
   style.caption = caption;
   style.legend = legend;

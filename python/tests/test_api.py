@@ -15,8 +15,8 @@ def yaml_estimator_keys():
         section = yaml.safe_load(f)["estimator"]
     flat = {}
     for k, v in section.items():
-        if isinstance(v, dict):
-            flat.update({k + "." + kk: vv for kk, vv in v.items()})
+        if isinstance(v, dict) or v is None:  # None: a section of comments (the sensor)
+            flat.update({k + "." + kk: vv for kk, vv in (v or {}).items()})
         else:
             flat[k] = v
     return flat

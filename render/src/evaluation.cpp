@@ -65,7 +65,7 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   const auto first = cursor.first_t_us();
   if (!first) return;
   render::FrameStyle style;
-  style.scale = std::max(1, 384 / std::max(sensor.width, sensor.height));
+  style.scale = FrameStyle::scale_to_fit(sensor.width, sensor.height, 384);
   render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
   std::array<cv::Mat, kMethods> masks;
   for (std::int64_t rel = args.sample_every_us;; rel += args.sample_every_us) {

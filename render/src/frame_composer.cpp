@@ -51,8 +51,9 @@ FrameComposer::FrameComposer(std::vector<View> views, FrameStyle style, std::str
     : views_(std::move(views)), style_(style),
       colormap_(style.lifetime_min_us, style.lifetime_max_us), mode_name_(std::move(mode_name)) {
   if (views_.empty()) throw std::invalid_argument("FrameComposer: no view to draw");
-  if (style_.scale < 1 || style_.scale > 32)
-    throw std::invalid_argument("scale must be 1..32 (got " + std::to_string(style_.scale) + ")");
+  if (style_.scale < 1 || style_.scale > FrameStyle::kMaxScale)
+    throw std::invalid_argument("scale must be 1.." + std::to_string(FrameStyle::kMaxScale) +
+                                " (got " + std::to_string(style_.scale) + ")");
 }
 
 bool FrameComposer::has_legend() const noexcept {

@@ -5,9 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
 #include <type_traits>
 
 #include "hdf5_error_silencer.h"
@@ -87,6 +91,14 @@ std::uint64_t chunk_bytes(hid_t dataset) {
   return bytes;
 }
 
+// HDF5 converts a value that the memory type cannot hold by clamping (x = -1
+// read as 0, 70000 as 65535, t >= 2^63 as INT64_MAX) or truncating (12.7 as
+// 12): silently another event. Such a value fails the read here instead, and
+// the reader names its row (first_unconvertible_row).
+H5T_conv_ret_t refuse_lossy_conversion(H5T_conv_except_t kind, hid_t, hid_t, void*, void*, void*) {
+  return kind == H5T_CONV_EXCEPT_PRECISION ? H5T_CONV_UNHANDLED : H5T_CONV_ABORT;  // int64 -> double
+}
+
 // Rows [first, first + count) of a 1-D dataset, or of an N×`columns` one
 // (column `column` alone when `column` >= 0, else every column).
 bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out,
@@ -97,12 +109,47 @@ bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t
   const hsize_t start[2] = {static_cast<hsize_t>(first), static_cast<hsize_t>(std::max(column, 0))};
   const hsize_t size[2] = {count, static_cast<hsize_t>(column >= 0 ? 1 : columns)};
   const hid_t memory_space = H5Screate_simple(rank, size, nullptr);
-  const bool ok = memory_space >= 0 &&
+  const hid_t transfer = H5Pcreate(H5P_DATASET_XFER);
+  const bool ok = memory_space >= 0 && transfer >= 0 &&
+                  H5Pset_type_conv_cb(transfer, refuse_lossy_conversion, nullptr) >= 0 &&
                   H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
-                  H5Dread(dataset, memory_type, memory_space, file_space, H5P_DEFAULT, out) >= 0;
+                  H5Dread(dataset, memory_type, memory_space, file_space, transfer, out) >= 0;
+  if (transfer >= 0) H5Pclose(transfer);
   if (memory_space >= 0) H5Sclose(memory_space);
   H5Sclose(file_space);
   return ok;
+}
+
+// What a column's value must be to be an event's: a pixel coordinate, a time
+// of whole µs within int64, a polarity within int8.
+enum class ColumnKind { coordinate, time_us, polarity };
+
+// The first of `count` rows from `first` whose value the column cannot hold
+// without change (read as doubles, which hold every such value's size), with
+// that value; nothing when every row fits (the read failed for another reason).
+std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t dataset, ColumnKind kind,
+                                                                      std::int64_t first, std::size_t count) {
+  std::vector<double> values(count);
+  const hid_t file_space = H5Dget_space(dataset);
+  if (file_space < 0) return std::nullopt;
+  const hsize_t start[1] = {static_cast<hsize_t>(first)};
+  const hsize_t size[1] = {count};
+  const hid_t memory_space = H5Screate_simple(1, size, nullptr);
+  const bool ok = memory_space >= 0 &&
+                  H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
+                  H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, values.data()) >= 0;
+  if (memory_space >= 0) H5Sclose(memory_space);
+  H5Sclose(file_space);
+  if (!ok) return std::nullopt;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double v = values[i];
+    const bool whole = v == std::floor(v);  // false for NaN and infinities too
+    const bool fits = kind == ColumnKind::coordinate ? v >= 0.0 && v <= 65535.0
+                      : kind == ColumnKind::polarity ? v >= -128.0 && v <= 127.0
+                                                     : std::fabs(v) < 9.2e18;
+    if (!whole || !fits) return std::pair{i, v};
+  }
+  return std::nullopt;
 }
 
 // The dataset `name` of `file` opened, or -1 when there is none (a group,
@@ -167,6 +214,13 @@ bool to_microseconds(double value, bool seconds, std::int64_t& t_us) {
   if (!(std::fabs(us) < 9.0e18)) return false;  // NaN and ±inf fail too
   t_us = std::llround(us);
   return true;
+}
+
+// "-1", "12.7", "9.22337203685478e+18": the value as written, not "-1.000000".
+std::string shortest_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", value);
+  return text;
 }
 
 // A pixel coordinate held as a double (MVSEC's table): a whole number in
@@ -411,12 +465,28 @@ void Hdf5Reader::load_chunk() {
       return;
     }
   } else {
-    ok = (what = column_names_[0].c_str(), read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
-         (what = column_names_[1].c_str(), read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
-         (what = column_names_[2].c_str(),
-          t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
-                        : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
-         (what = column_names_[3].c_str(), read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
+    ok = read_columns(count, what);
+    if (!ok) {
+      // A value its column cannot hold: the rows before it are events.
+      const hid_t columns[4] = {x_, y_, t_, p_};
+      const ColumnKind kinds[4] = {ColumnKind::coordinate, ColumnKind::coordinate, ColumnKind::time_us,
+                                   ColumnKind::polarity};
+      std::optional<std::pair<std::size_t, double>> bad;
+      int bad_column = 0;
+      for (int c = 0; c < 4; ++c) {
+        if (c == 2 && t_in_seconds_) continue;  // doubles: nothing to convert
+        const auto row = first_unconvertible_row(columns[c], kinds[c], next_, count);
+        if (row && (!bad || row->first < bad->first)) bad = row, bad_column = c;
+      }
+      if (bad && (bad->first == 0 || read_columns(bad->first, what))) {
+        if (t_in_seconds_ && !convert_seconds(bad->first)) return;  // an earlier row has no time
+        stop_at(bad->first, column_names_[bad_column].c_str(), bad->second,
+                kinds[bad_column] == ColumnKind::coordinate ? ", not a pixel coordinate"
+                : kinds[bad_column] == ColumnKind::polarity ? ", not a polarity"
+                                                            : ", not a time in whole microseconds");
+        return;
+      }
+    }
     if (ok && t_in_seconds_) {
       chunk_size_ = count;
       convert_seconds(count);
@@ -431,6 +501,17 @@ void Hdf5Reader::load_chunk() {
     return;
   }
   chunk_size_ = count;
+}
+
+// The column datasets' rows [next_, next_ + count) into the column buffers
+// (times in seconds into doubles_); `what` names the column that failed.
+bool Hdf5Reader::read_columns(std::size_t count, const char*& what) {
+  return (what = column_names_[0].c_str(), read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
+         (what = column_names_[1].c_str(), read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
+         (what = column_names_[2].c_str(),
+          t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
+                        : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
+         (what = column_names_[3].c_str(), read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
 }
 
 // Converts the chunk's rows in doubles_ into the column buffers. At the first
@@ -459,7 +540,7 @@ bool Hdf5Reader::stop_at(std::size_t i, const char* column, double value, const 
   const std::int64_t index = next_ + static_cast<std::int64_t>(i);
   error_.emplace(path_, -1, index,
                  "HDF5 " + std::string(layout_) + " layout: event " + std::to_string(index) + " has " + column +
-                     " = " + std::to_string(value) + why + " (corrupt data?)");
+                     " = " + shortest_text(value) + why + " (corrupt data?)");
   chunk_size_ = i;
   return false;
 }

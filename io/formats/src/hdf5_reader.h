@@ -82,6 +82,7 @@ class Hdf5Reader final : public EventReader {
   };
 
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
+  bool read_columns(std::size_t count, const char*& what);  // the column datasets' chunk
   bool load_table_chunk(std::size_t count);  // an N×4 table's chunk, converted to the columns
   bool convert_seconds(std::size_t count);   // the chunk's seconds in doubles_ into ts_ (µs)
   bool stop_at(std::size_t i, const char* column, double value, const char* why);  // a bad row ends the chunk

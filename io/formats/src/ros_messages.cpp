@@ -51,6 +51,26 @@ class CdrCursor {
   bool aligned_;
 };
 
+/// Bytes after a message's last field: CDR pads a message to 4 bytes (ROS 2),
+/// ROS 1 not at all; more means a length or count smaller than the events it
+/// precedes, whose rest would be lost unseen.
+std::optional<MessageFault> trailing_bytes(const CdrCursor& c, bool ros1, const char* field) {
+  const std::size_t allowed = ros1 ? 0 : 3;
+  if (c.remaining() <= allowed) return std::nullopt;
+  return MessageFault{c.pos(), std::to_string(c.remaining()) + " bytes follow the field '" + field +
+                                   "', the message's last (its length or count is too small?)"};
+}
+
+/// A stated width or height beyond any camera's (kMaxSensorSide) is corrupt
+/// data, not a sensor: it would turn negative as an int.
+std::optional<MessageFault> implausible_size(const CdrCursor& c, std::uint32_t width, std::uint32_t height) {
+  constexpr auto kMax = static_cast<std::uint32_t>(kMaxSensorSide);
+  if (width <= kMax && height <= kMax) return std::nullopt;
+  return MessageFault{c.pos(), "height/width " + std::to_string(height) + "/" + std::to_string(width) +
+                                   " beyond any camera's (at most " + std::to_string(kMaxSensorSide) +
+                                   " px a side)"};
+}
+
 MessageFault ends_inside(const CdrCursor& c, const char* field) {
   return MessageFault{c.pos(), std::string("message ends inside its field '") + field + "'"};
 }
@@ -219,6 +239,7 @@ std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::u
   CdrCursor c(m, base, !ros1);
   if (!skip_header(c, ros1)) return ends_inside(c, "header");
   if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
+  if (auto fault = implausible_size(c, width_, height_)) return fault;
   std::uint64_t seq = 0;
   std::uint64_t time_base = 0;
   if (!c.read(seq) || !c.read(time_base)) return ends_inside(c, "seq/time_base");
@@ -234,6 +255,8 @@ std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::u
   }
   if (big_endian != 0) return MessageFault{payload_at, "big-endian event payloads are not supported"};
   const std::span<const std::uint8_t> payload(c.here(), size);
+  c.skip(size);
+  if (auto fault = trailing_bytes(c, ros1, "events")) return fault;
   std::optional<MessageFault> fault;
   if (encoding_ == "evt3") {
     evt3_.set_geometry(width_ == 0 ? 2048u : width_, height_ == 0 ? 2048u : height_);
@@ -258,6 +281,7 @@ std::optional<MessageFault> MessageDecoder::decode_array(std::span<const std::ui
   encoding_.clear();
   if (!skip_header(c, ros1)) return ends_inside(c, "header");
   if (!c.read(height_) || !c.read(width_)) return ends_inside(c, "height/width");
+  if (auto fault = implausible_size(c, width_, height_)) return fault;
   std::uint32_t n = 0;
   if (!c.read(n)) return ends_inside(c, "events");
   // Each event takes at least 13 bytes: refuse counts the message cannot hold.
@@ -281,7 +305,7 @@ std::optional<MessageFault> MessageDecoder::decode_array(std::span<const std::ui
     out.push_back(RosEvent{static_cast<std::int64_t>(sec) * 1'000'000'000 + nanosec, x, y,
                            polarity != 0 ? std::int8_t{1} : std::int8_t{-1}});
   }
-  return std::nullopt;
+  return trailing_bytes(c, ros1, "events");
 }
 
 std::size_t take_events(const std::vector<RosEvent>& events, std::size_t& next, std::span<Event> out) noexcept {

@@ -8,7 +8,9 @@ void TopicEventReader::start(const std::vector<TopicInfo>& topics, const TopicIn
   topic_ = topic.name;
   decoder_ = MessageDecoder(message_kind(topic.type), serialization);
   load_message();
-  if (decoder_.width() > 0 && decoder_.height() > 0)
+  // A first message that states no size, or one beyond any camera's (its fault is error_), states none.
+  constexpr auto kMax = static_cast<std::uint32_t>(kMaxSensorSide);
+  if (decoder_.width() > 0 && decoder_.height() > 0 && decoder_.width() <= kMax && decoder_.height() <= kMax)
     sensor_ = SensorSize{static_cast<int>(decoder_.width()), static_cast<int>(decoder_.height())};
 }
 

@@ -7,7 +7,8 @@
 
 namespace evlife::io {
 
-SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input) {
+SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input,
+                                 const std::atomic<bool>* stop) {
   // Time order is not checked here: this pass only looks at coordinates;
   // the processing pass reports ordering faults with their index.
   ReaderOptions options = input;
@@ -25,6 +26,9 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
       for (std::size_t i = 0; i < n; ++i) {
         max_x = std::max<int>(max_x, buffer[i].x);
         max_y = std::max<int>(max_y, buffer[i].y);
+      }
+      if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+        return SensorSize{std::max(max_x, 0) + 1, std::max(max_y, 0) + 1};
       }
     }
   } catch (const ReadError&) {

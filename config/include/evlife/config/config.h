@@ -15,6 +15,7 @@
 // the struct's default value).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -108,7 +109,15 @@ LoadedConfig load_config(const std::string& path, const std::vector<std::string>
 /// "did you mean" of configuration keys, commands and flags.
 std::string closest_name(std::string_view name, const std::vector<std::string_view>& candidates);
 
-/// The effective configuration as YAML (every key, current value).
-std::string to_yaml(const Config& config);
+/// The keys a command takes from its input unless the user sets them (the
+/// sensor size: a format's header, --sensor, else a scan of the data).
+bool is_taken_from_the_input(std::string_view key);
+
+/// The effective configuration as YAML (every key, current value). Keys for
+/// which `commented(key)` holds are written as comments, so that the output
+/// read back with --config leaves them unset (--print-config: the keys taken
+/// from the input that the user did not set).
+std::string to_yaml(const Config& config,
+                    const std::function<bool(std::string_view key)>& commented = {});
 
 }  // namespace evlife::config

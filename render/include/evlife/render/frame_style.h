@@ -2,6 +2,7 @@
 // Plain values, no OpenCV: the engine's public headers take a FrameStyle.
 #pragma once
 
+#include <algorithm>
 #include <string_view>
 
 namespace evlife::render {
@@ -17,8 +18,16 @@ ColorMode parse_color_mode(std::string_view name);
 std::string_view to_string(ColorMode mode);
 
 struct FrameStyle {
+  static constexpr int kMaxScale = 32;
+
+  /// The upscaling that brings the larger sensor side near `target_px`, within
+  /// 1..kMaxScale (a sensor of a few pixels would otherwise ask for more).
+  static constexpr int scale_to_fit(int width, int height, int target_px) noexcept {
+    return std::clamp(target_px / std::max({width, height, 1}), 1, kMaxScale);
+  }
+
   ColorMode color = ColorMode::lifetime;
-  int scale = 4;          ///< integer upscaling, 1..32 (nearest neighbour: pixels stay crisp)
+  int scale = 4;          ///< integer upscaling, 1..kMaxScale (nearest neighbour: pixels stay crisp)
   bool caption = true;    ///< time and mode under the image
   bool legend = true;     ///< lifetime colour bar (only drawn when colouring by lifetime)
   /// Lifetime colour scale (log): at or below min the first colour, at or

@@ -2,6 +2,7 @@
 // the file, the smallest sensor holding every event.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -17,8 +18,11 @@ namespace evlife::io {
 /// there (the processing pass reports it after delivering those events).
 /// Throws ReadError when the file cannot be read or holds no event.
 /// `input`: the caller's input selection (topic...); its sensor and
-/// time-order settings are replaced.
-SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input = {});
+/// time-order settings are replaced. `stop` (a command's stop flag) ends the
+/// scan early: the size of the events scanned so far (1 x 1 before any), for
+/// an output that will hold no event.
+SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input = {},
+                                 const std::atomic<bool>* stop = nullptr);
 
 /// Where a resolved sensor size came from (for the user's summary).
 enum class SensorSizeSource { format, user, data };
