@@ -77,10 +77,28 @@ def _as_augmented(augmented):
     out = _np.zeros(a.shape[0], dtype=AUGMENTED_DTYPE)
     for name in AUGMENTED_DTYPE.names:
         if name in a.dtype.names:
-            out[name] = a[name]
+            out[name] = _fitting_column(a[name], name, AUGMENTED_DTYPE[name])
         elif name == "prediction_error":
             out[name] = _np.nan
     return out
+
+
+def _fitting_column(column, name, target):
+    # NumPy's assignment wraps (x = 65541 becomes 5) and truncates (x = 3.7
+    # becomes 3): an integer field takes integers within its range only.
+    if target.kind not in "iu":
+        return column
+    if column.dtype.kind not in "iub":
+        raise TypeError("augmented: field %s must hold integers (%s), got %s" % (name, target, column.dtype))
+    info = _np.iinfo(target)
+    outside = _np.flatnonzero((column < info.min) | (column > info.max))
+    if outside.size:
+        i = int(outside[0])
+        error = InputError("augmented: event %d has %s = %d, outside %s's range [%d, %d] (event index %d)"
+                           % (i, name, int(column[i]), target, info.min, info.max, i))
+        error.path, error.byte_offset, error.event_index, error.partial = "augmented", -1, i, None
+        raise error
+    return column
 
 
 def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", scale=None,

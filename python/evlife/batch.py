@@ -173,6 +173,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     by name in its row (and in .failed; events: those written before an input
     fault, else None); the others are not affected.
     """
+    if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
+        raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
     paths = [os.fspath(p) for p in paths]
     # Bad options fail now, with the command line's message, not once per task.
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
@@ -263,7 +265,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     info = _evlife.scan(path, sensor, config=config, topic=topic)
     t0, t1 = info["t_first"], info["t_last"] + 1
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
-    warmup_us = int(round(warmup_ms * 1000.0))
+    # Beyond 2^62 us (146,000 years) every warm-up is the whole recording: int64 for the workers.
+    warmup_us = min(int(round(warmup_ms * 1000.0)), 1 << 62)
     parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
     from distributed import wait
     client, to_close = _client(scheduler, workers)

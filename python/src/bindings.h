@@ -3,6 +3,9 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
 
 #include <optional>
 #include <string>
@@ -23,6 +26,12 @@ void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 /// topic: a ROS bag's event topic, an HDF5 file's camera (--topic).
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
                       std::optional<double> to_s, const std::optional<std::string>& topic);
+
+/// A str, bytes or os.PathLike as the file name's bytes (os.fsencode: a name
+/// that is not UTF-8 stays the file's), as evlife.read's `path` takes it.
+inline std::string path_from_python(const py::handle& path) {
+  return py::cast<std::filesystem::path>(path).string();
+}
 
 /// A reader's skipped (non-event) records by kind, {kind: count}.
 py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds);

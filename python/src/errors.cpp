@@ -34,7 +34,8 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
     throw py::error_already_set();
   }
   py::object error = py::reinterpret_borrow<py::object>(g_input_error)(e.what());
-  error.attr("path") = e.path();
+  // A file name that is not UTF-8 as os.fsdecode gives it (the message quotes it escaped).
+  error.attr("path") = py::reinterpret_steal<py::object>(PyUnicode_DecodeFSDefault(e.path().c_str()));
   error.attr("byte_offset") = e.byte_offset();
   error.attr("event_index") = e.event_index();
   error.attr("partial") = std::move(partial);

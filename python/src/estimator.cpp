@@ -21,6 +21,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
+#include "evlife/io/sensor_size_from_data.h"
 #include "options.h"
 
 namespace evlife::python {
@@ -116,25 +117,6 @@ io::ReaderOptions whole_stream(const io::ReaderOptions& options) {
   return whole;
 }
 
-// Smallest sensor holding every event of `path`, tolerant of a fault (the
-// events before it count; the processing pass reports it): `evlife process`'s
-// scan.
-SensorSize scan_sensor(const std::string& path, const io::ReaderOptions& options) {
-  auto reader = io::open_unchecked_event_reader(path, whole_stream(options));
-  std::vector<Event> block(kBlockEvents);
-  int max_x = 0, max_y = 0;
-  try {
-    while (const std::size_t n = reader->read(block)) {
-      for (std::size_t i = 0; i < n; ++i) {
-        max_x = std::max<int>(max_x, block[i].x);
-        max_y = std::max<int>(max_y, block[i].y);
-      }
-    }
-  } catch (const io::ReadError&) {
-  }
-  return {max_x + 1, max_y + 1};
-}
-
 /// What one run over a file saw.
 struct FileRun {
   SensorSize sensor;
@@ -165,7 +147,7 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   if (const auto stated = probe->sensor_size()) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
-  else run.sensor = scan_sensor(path, crop);
+  else run.sensor = io::sensor_size_from_data(path, whole_stream(crop));  // the CLI's rule
   crop.sensor = run.sensor;
   std::unique_ptr<io::EventReader> reader = io::open_event_reader(path, crop);
   run.format = std::string(reader->format_name());
@@ -274,7 +256,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
     if (const auto stated = probe->sensor_size()) run.sensor = *stated;
     else if (user) run.sensor = *user;
     else if (r.sensor) run.sensor = *r.sensor;
-    else run.sensor = scan_sensor(path, source);
+    else run.sensor = io::sensor_size_from_data(path, source);
     source.sensor = run.sensor;
     auto reader = io::open_event_reader(path, source);
     run.format = std::string(reader->format_name());
@@ -407,8 +389,8 @@ then nothing of this call is processed and the state is unchanged.)")
       [](const py::object& input, const py::object& sensor, const py::object& config,
          bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
          const std::optional<std::string>& topic, const py::kwargs& kw) -> py::array {
-        if (py::isinstance<py::str>(input) || py::hasattr(input, "__fspath__")) {
-          const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
+        if (py::isinstance<py::str>(input) || py::isinstance<py::bytes>(input) || py::hasattr(input, "__fspath__")) {
+          const std::string path = path_from_python(input);
           return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic), one_thread, config,
                               kw);
         }
@@ -416,14 +398,10 @@ then nothing of this call is processed and the state is unchanged.)")
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
         if (!sensor.is_none()) return Estimator("evlife.process", sensor, config, kw).process(input);
+        // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
         const SensorSize d = sensor_from_events(event_columns(input));
         const py::object inferred = py::make_tuple(std::max(d.width, 1), std::max(d.height, 1));
-        try {
-          return Estimator("evlife.process", inferred, config, kw).process(input);
-        } catch (const config::ConfigError& e) {  // a sensor the user never wrote: say where it came from
-          throw py::value_error("no sensor= given, and the smallest sensor holding the events is invalid: " +
-                                std::string(e.what()));
-        }
+        return Estimator("evlife.process", inferred, config, kw).process(input);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
@@ -451,8 +429,7 @@ events before the fault, as the CLI writes them), ValueError for bad options.)")
       [](const py::object& input, const py::object& output, const py::object& sensor,
          const py::object& config, bool one_thread, std::optional<double> from_s,
          std::optional<double> to_s, const std::optional<std::string>& topic, const py::kwargs& kw) {
-        const auto fspath = py::module_::import("os").attr("fspath");
-        return process_to_file(py::str(fspath(input)), py::str(fspath(output)), sensor,
+        return process_to_file(path_from_python(input), path_from_python(output), sensor,
                                reader_options(std::nullopt, from_s, to_s, topic), one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
@@ -480,7 +457,7 @@ as evlife.process.)");
       "scan",
       [](const py::object& input, const py::object& sensor, const py::object& config,
          const std::optional<std::string>& topic) {
-        return scan_file(py::str(py::module_::import("os").attr("fspath")(input)), sensor, config, topic);
+        return scan_file(path_from_python(input), sensor, config, topic);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("topic") = py::none(),
@@ -493,8 +470,7 @@ as evlife.process.)");
       [](const py::object& input, const py::object& output, const py::object& sensor,
          std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us, bool skip_by_search,
          const py::object& config, const std::optional<std::string>& topic, const py::kwargs& kw) {
-        const auto fspath = py::module_::import("os").attr("fspath");
-        return process_time_range(py::str(fspath(input)), py::str(fspath(output)), sensor, t_begin,
+        return process_time_range(path_from_python(input), path_from_python(output), sensor, t_begin,
                                   t_end, warmup_us, skip_by_search, config, topic, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),

@@ -140,8 +140,12 @@ SensorSize sensor_from_events(const EventColumns& c) noexcept {
     max_x = std::max(max_x, c.exact ? c.exact[i].x : c.x.get(i));
     max_y = std::max(max_y, c.exact ? c.exact[i].y : c.y.get(i));
   }
-  return {static_cast<int>(std::clamp<std::int64_t>(max_x + 1, 0, INT32_MAX)),
-          static_cast<int>(std::clamp<std::int64_t>(max_y + 1, 0, INT32_MAX))};
+  // Beyond any camera (an x near 2^63 would overflow + 1): the largest sensor,
+  // outside which the event is then named by the conversion's check.
+  const auto side = [](std::int64_t max) {
+    return max < 0 ? 0 : static_cast<int>(std::min<std::int64_t>(max, kMaxSensorSide - 1) + 1);
+  };
+  return {side(max_x), side(max_y)};
 }
 
 }  // namespace evlife::python

@@ -75,7 +75,13 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   if (scale_obj.is_none()) {
     style.scale = render::FrameStyle::scale_to_fit(sensor.width, sensor.height, 512);
   } else {
-    style.scale = scale_obj.cast<int>();
+    try {
+      style.scale = py::int_(scale_obj.attr("__index__")()).cast<int>();  // 2.5 is no scale: no truncation
+    } catch (const py::error_already_set&) {
+      throw py::type_error("frame: scale must be a whole number, got " + py::repr(scale_obj).cast<std::string>());
+    } catch (const py::cast_error&) {
+      throw py::value_error("frame: scale must be 1.." + std::to_string(render::FrameStyle::kMaxScale));
+    }
     if (style.scale < 1 || style.scale > render::FrameStyle::kMaxScale)
       throw py::value_error("frame: scale must be 1.." + std::to_string(render::FrameStyle::kMaxScale));
   }

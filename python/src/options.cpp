@@ -55,7 +55,7 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
   const std::string text = key.format(c);
   if (key.type == "boolean") return py::bool_(text == "true");
   if (key.type == "integer") return py::module_::import("builtins").attr("int")(text);
-  if (key.type == "number") return py::float_(std::stod(text));
+  if (key.type == "number") return py::module_::import("builtins").attr("float")(text);  // stod fails on subnormals
   return py::str(text);
 }
 
@@ -98,7 +98,11 @@ SensorSize sensor_from_python(const py::object& sensor) {
   } catch (const py::error_already_set&) {
     throw py::type_error("sensor: expected two integers (width, height)");
   } catch (const py::cast_error&) {
-    throw py::value_error("sensor: width and height must be 1..4096");
+    throw py::value_error("sensor: width and height must be 1.." + std::to_string(kMaxSensorSide));
+  }
+  if (!s.within_camera_limits()) {  // a file no reader accepts, an estimator that cannot be made
+    throw py::value_error("sensor: width and height must be 1.." + std::to_string(kMaxSensorSide) + ", got (" +
+                          std::to_string(s.width) + ", " + std::to_string(s.height) + ")");
   }
   return s;
 }

@@ -69,7 +69,13 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   // noise_rate, jitter_us.
   for (const auto& [key, value] : pixel_options) {
     const auto name = key.cast<std::string>();
-    const auto v = value.cast<double>();
+    double v = 0.0;
+    try {
+      if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value)) throw py::cast_error();  // "5" is text
+      v = value.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(name + ": expected a number, got " + py::repr(value).cast<std::string>());
+    }
     if (name == "noise_rate") {
       if (!(v >= 0.0 && v <= 1e4)) throw py::value_error("noise_rate: expected 0 .. 1e4 events per pixel per second");
       spec.noise_rate_hz_per_px = v;

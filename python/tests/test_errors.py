@@ -46,7 +46,7 @@ def test_wrong_types_and_unknown_keywords_raise_typeerror():
         evlife.LifetimeEstimator(sensor=(128, 128), window_size=5.0)
     with pytest.raises(TypeError, match="sensor"):
         evlife.LifetimeEstimator(sensor=128)
-    with pytest.raises(ValueError, match="sensor.width = 0"):
+    with pytest.raises(ValueError, match=r"sensor: width and height must be 1..4096, got \(0, 128\)"):
         evlife.LifetimeEstimator(sensor=(0, 128))
     with pytest.raises(TypeError):
         evlife.process(data(RECORDINGS["mat"]), windowsize=5)
@@ -169,7 +169,79 @@ def test_records_the_readers_refuse_are_not_written_nor_drawn(tmp_path):
         evlife.frame(aug[::-1].copy(), t, sensor=(128, 128))
 
 
-def test_a_sensor_inferred_from_the_events_says_so():
-    events = {"t": np.arange(3), "x": np.array([1, 65536, 2]), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")}
-    with pytest.raises(ValueError, match="no sensor= given, and the smallest sensor holding the events"):
-        evlife.process(events)
+def test_an_event_beyond_any_sensor_is_named_when_the_sensor_is_inferred():
+    # The smallest sensor holding the events stops at the largest camera's; the
+    # event beyond it is named (x near 2**63 overflowed the size to 0 before).
+    for x in (65536, 2**63 - 1):
+        events = {"t": np.arange(3), "x": np.array([1, x, 2]), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")}
+        with pytest.raises(evlife.InputError, match=r"event at \(x %d, y 0\) is outside the 4096x1 sensor.*"
+                                                    r"event index 1" % x):
+            evlife.process(events)
+    # A bad option is said as such, not blamed on the inferred sensor.
+    with pytest.raises(ValueError, match="window_size"):
+        evlife.process({"t": np.arange(3), "x": np.arange(3), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")},
+                       window_size=4)
+
+
+def test_no_event_to_infer_a_sensor_from_is_the_clis_error(tmp_path):
+    # evlife.process / scan / process_file take the CLI's rule (io::sensor_size_from_data):
+    # a recording of no event is an InputError, not a made-up 1 x 1 sensor.
+    empty = tmp_path / "empty.txt"
+    empty.write_text("# no events\n")
+    message = cli_error(str(empty), "-o", str(tmp_path / "cli.bin"))
+    for call in (lambda: evlife.process(empty), lambda: evlife.scan(empty),
+                 lambda: evlife.process_file(empty, tmp_path / "py.bin")):
+        with pytest.raises(evlife.InputError) as raised:
+            call()
+        assert str(raised.value) == message
+    assert not (tmp_path / "py.bin").exists()
+
+
+def test_bytes_quoted_from_a_corrupt_file_and_its_name_stay_text(tmp_path):
+    # A stray byte in a bad line (or the file's name) made a UnicodeDecodeError
+    # of the InputError, losing .partial; the message writes it \xNN.
+    bad = tmp_path / b"caf\xe9.txt".decode(errors="surrogateescape")
+    bad.write_bytes(b"0.1 1 1 1\n0.2 1 \xff 1\n")
+    with pytest.raises(evlife.InputError) as raised:
+        evlife.read(bad)
+    assert "got '0.2 1 \\xff 1'" in str(raised.value)
+    assert raised.value.path == str(bad)
+    assert len(raised.value.partial) == 1
+    for call in (evlife.process, evlife.scan, evlife.read):  # bytes are a path too (process read them as an array)
+        with pytest.raises(evlife.InputError, match="event index 1"):
+            call(bytes(bad))
+
+
+def test_values_an_integer_field_cannot_hold_are_named_not_wrapped():
+    aug = np.zeros(3, [("t", "i8"), ("x", "i8"), ("y", "i8"), ("p", "i8"), ("lifetime", "f8"),
+                       ("vx", "f8"), ("vy", "f8")])
+    aug["t"] = [0, 10, 20]
+    aug["x"] = [1, 65541, 2]  # wrapped to 5 before, and drawn
+    aug["p"] = 1
+    with pytest.raises(evlife.InputError, match=r"event 1 has x = 65541") as raised:
+        evlife.frame(aug, 30, sensor=(16, 16))
+    assert raised.value.event_index == 1
+    floats = aug.astype([(n, "f8") for n in aug.dtype.names])
+    with pytest.raises(TypeError, match="field t must hold integers"):
+        evlife.frame(floats, 30, sensor=(16, 16))
+    with pytest.raises(TypeError, match="scale must be a whole number"):
+        evlife.frame(evlife.process(evlife.read(data(RECORDINGS["mat"]))[:100], sensor=(128, 128)), 0, scale=2.5)
+
+
+def test_sensors_no_camera_has_are_refused_before_writing(tmp_path):
+    aug = np.zeros(1, evlife.AUGMENTED_DTYPE)
+    aug["p"] = 1
+    for sensor in ((-5, 10), (70000, 70000), (0, 0)):
+        with pytest.raises(ValueError, match="sensor: width and height must be 1..4096"):
+            evlife.write(tmp_path / "bad.bin", aug, sensor)
+        assert not (tmp_path / "bad.bin").exists()
+
+
+def test_one_path_is_not_a_list_of_recordings(tmp_path):
+    with pytest.raises(TypeError, match="a list of recordings, not one path"):
+        evlife.batch.process_files(data(RECORDINGS["mat"]), tmp_path)
+
+
+def test_a_subnormal_option_value_reads_back():
+    e = evlife.LifetimeEstimator(sensor=(64, 64), inlier_tolerance_us=1e-320)
+    assert e.options["inlier_tolerance_us"] == 1e-320
