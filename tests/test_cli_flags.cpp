@@ -251,3 +251,56 @@ TEST_F(CliFlags, ATinySensorRendersAndEvaluates) {
 }
 
 }  // namespace
+
+namespace {
+
+// Flags that would select nothing are refused, not ignored: the input
+// selection on evlife's own output (read whole), --from/--to/--polarity on a
+// synthetic source, --duration on a file, --topic / --time-unit on a format
+// that has no topics / states its times.
+TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
+  const std::string out = path("p.bin");
+  ASSERT_EQ(run("process -q " + sample() + " -o " + out).exit_code, 0);
+  for (const std::string& command : {"info " + out + " --from 0.1", "info " + out + " --polarity on",
+                                     "convert " + out + " " + path("c.csv") + " --to 0.2",
+                                     "render " + out + " -o " + path("f.png") + " --at 0.1 --polarity off",
+                                     "eval " + out + " -o " + path("ev") + " --polarity on"}) {
+    const RunResult r = run(command);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_TRUE(has(r, "nothing to select in " + out + ", evlife's output")) << command << ": " << r.output;
+  }
+  EXPECT_EQ(run("info " + out + " --polarity both").exit_code, 0);  // selects nothing: allowed
+  const RunResult synth = run("run synth:mixed --duration 100ms --from 0.05 -q");
+  EXPECT_EQ(synth.exit_code, 2) << synth.output;
+  EXPECT_TRUE(has(synth, "--from/--to select the events of a file; the source synth:mixed is none")) << synth.output;
+  const RunResult duration = run("run " + sample() + " --duration 100ms -q");
+  EXPECT_EQ(duration.exit_code, 2) << duration.output;
+  EXPECT_EQ(run("run file: -q").exit_code, 2);
+  const RunResult topic = run("info " + sample() + " --topic /dvs/events");
+  EXPECT_EQ(topic.exit_code, 3) << topic.output;
+  EXPECT_TRUE(has(topic, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file; this rpg-text file")) << topic.output;
+  const RunResult unit = run("info " + sample() + " --time-unit ns");
+  EXPECT_EQ(unit.exit_code, 3) << unit.output;
+  EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of other tools' CSV/text files")) << unit.output;
+}
+
+// One timestamp far ahead (a corrupt clock) asked for millions of blank
+// frames at --fps; render draws up to the gap and stops with an input
+// error (exit 3) unless --to asks for them.
+TEST_F(CliFlags, RenderStopsBeforeAnHourOfBlankFrames) {
+  const std::string outlier = path("outlier.txt");
+  {
+    std::ofstream text(outlier);
+    for (int i = 0; i < 3000; ++i) text << 1e-4 * i << " " << i % 40 << " " << i % 30 << " " << i % 2 << "\n";
+    text << "100000 5 5 1\n";
+  }
+  const RunResult r = run("render " + outlier + " -q -o " + path("frames") + " --fps 30");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_TRUE(has(r, "empty frames at 30 fps come first; a timestamp outlier? Stopped before them")) << r.output;
+  std::size_t frames = 0;
+  for ([[maybe_unused]] const auto& f : fs::directory_iterator(path("frames"))) ++frames;
+  EXPECT_EQ(frames, 9u);  // 0 .. 0.267 s at 30 fps; the gap starts with the frame at 0.3 s
+  EXPECT_EQ(run("render " + outlier + " -q -o " + path("frames_to") + " --fps 30 --to 1").exit_code, 0);
+}
+
+}  // namespace

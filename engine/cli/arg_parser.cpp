@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "evlife/config/config_key.h"
+#include "evlife/io/augmented_event_reader.h"
 
 namespace evlife::cli {
 
@@ -213,6 +214,32 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
   }
   if (options.crop_is_empty()) throw UsageError("--to must be after --from");
   return options;
+}
+
+std::string selecting_flags(const io::ReaderOptions& options) {
+  std::string flags;
+  const auto add = [&](const char* flag) { flags += (flags.empty() ? "" : ", ") + std::string(flag); };
+  if (options.polarity != io::PolarityFilter::both) add("--polarity");
+  if (options.from_us || options.to_us) add("--from/--to");
+  if (!options.time_unit.empty()) add("--time-unit");
+  if (!options.topic.empty()) add("--topic");
+  return flags;
+}
+
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input) {
+  const std::string flags = selecting_flags(options);
+  if (flags.empty()) return;
+  bool augmented = false;
+  try {
+    augmented = io::open_if_augmented(input) != nullptr;
+  } catch (const io::ReadError&) {  // a .bin that does not read: the command's reader says why
+    augmented = true;
+  }
+  if (augmented) {
+    throw UsageError(flags + ": nothing to select in " + input +
+                     ", evlife's output (read whole: its lifetimes came from the whole recording); "
+                     "select when processing the recording");
+  }
 }
 
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions) {

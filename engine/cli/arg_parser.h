@@ -118,6 +118,15 @@ SensorSize parse_sensor_size(std::string_view text);
 
 /// True when `path` ends in one of `extensions` (".txt", ...), case aside, as
 /// the writers choose their format.
+/// The flags in `options` that select a recording's events ("--polarity,
+/// --from/--to"), "" for none. evlife's own output (an augmented .bin/.csv)
+/// is read whole: the commands refuse them there (exit 2) instead of
+/// ignoring them.
+std::string selecting_flags(const io::ReaderOptions& options);
+
+/// The usage error of selecting_flags() for `input`, when there are any.
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input);
+
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions);
 
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,

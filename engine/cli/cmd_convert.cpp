@@ -256,6 +256,7 @@ int convert(int argc, char** argv) {
     if (const auto s = a.value("sensor")) sensor = parse_sensor_size(*s);
     unchecked = a.has("unchecked");
     input_options = parse_input_options(a);
+    refuse_selection_of_augmented(input_options, input);
     quiet = a.has("quiet");
     one_thread = a.has("one-thread");
     if (!has_extension(output, {".txt", ".h5", ".hdf5", ".csv", ".bin"})) {

@@ -165,6 +165,7 @@ int run_info(int argc, char** argv) {
         if (a.positional.size() != 1) throw UsageError("expected one FILE");
         path = a.positional.front();
         options = parse_input_options(a);
+        refuse_selection_of_augmented(options, path);
       })) {
     return *done;
   }

@@ -256,16 +256,22 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (!src && a.positional.empty())
     throw UsageError("missing --source (file:PATH or PATH, dvs128[:SERIAL] or synth:PRESET)");
   r.source = src ? *src : a.positional.front();  // `run FILE` = --source FILE
+  if (is_file_source(r.source) && file_of_source(r.source).empty())
+    throw UsageError("--source " + r.source + ": a file source needs a path (file:PATH or PATH)");
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
   r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
   if (const auto s = a.value("output")) r.output = *s;
   if (const auto s = a.value("biases")) r.biases = *s;
   if (const auto s = a.value("duration")) {
+    if (!r.source.starts_with("synth:"))
+      throw UsageError("--duration sets a synth: scene's length; " + r.source + " runs to its end (a file: --to T)");
     r.duration_s = static_cast<double>(parse_time_flag("duration", *s)) * 1e-6;
     if (r.duration_s < 1e-3 || r.duration_s > 3600)
       throw UsageError("--duration " + *s + ": expected 1ms..3600s");
   }
+  if (const std::string flags = selecting_flags(r.input_options); !flags.empty() && !is_file_source(r.source))
+    throw UsageError(flags + " select the events of a file; the source " + r.source + " is none");
   if (const auto s = a.value("frames")) r.frames_dir = *s;
   if (const auto s = a.value("video")) {
     r.video = *s;

@@ -98,12 +98,16 @@ RecordingRenderResult render_recording(
     // --fps without --to: stop after the last event.
     if (options.at_us.empty() && !options.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
-    if (on_gap && !gap_told && options.at_us.empty() && !options.to_us) {
+    if (!gap_told && options.at_us.empty() && !options.to_us) {
       if (const auto next = cursor.next_t_us()) {
         const std::int64_t next_rel = *next - *first_t;
         if (const auto gap = event_gap_to_notice(rel, next_rel, frames_before(options.from_us, k, next_rel, options.fps))) {
           gap_told = true;
-          on_gap(*gap);
+          if (gap->empty_frames >= kEventGapStopFrames) {
+            input_fault = gap->text(options.fps) + " Stopped before them (--to T draws through it)";
+            break;
+          }
+          if (on_gap) on_gap(*gap);
         }
       }
     }

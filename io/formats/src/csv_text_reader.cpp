@@ -416,6 +416,6 @@ const ReaderFormat csv_text_format{
     "csv",
     "CSV/text events of other tools: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; "
     "header line optional; comma, tab or space separated; t in s or µs (else --time-unit s|ms|us|ns)",
-    &sniff_csv_text, nullptr, &open_csv_text};
+    &sniff_csv_text, nullptr, &open_csv_text, nullptr, "time-unit"};
 
 }  // namespace evlife::io::detail

@@ -639,7 +639,7 @@ const ReaderFormat hdf5_format{"hdf5",
                                "HDF5 events: DSEC events/{x,y,t,p}, event_utils events/{xs,ys,ts,ps}, "
                                "Prophesee CD/events, MVSEC davis/left/events, M3ED prophesee/left/{x,y,t,p}, v2e "
                                "events (N×4), or evlife x,y,t,p",
-                               &sniff_hdf5, nullptr, &open_hdf5};
+                               &sniff_hdf5, nullptr, &open_hdf5, nullptr, "topic"};
 
 }  // namespace detail
 }  // namespace evlife::io

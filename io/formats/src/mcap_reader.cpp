@@ -60,7 +60,7 @@ const ReaderFormat mcap_format{
     "mcap",
     "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages): event_camera_msgs/EventPacket "
     "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
-    &sniff_mcap, nullptr, &open_mcap};
+    &sniff_mcap, nullptr, &open_mcap, nullptr, "topic"};
 
 }  // namespace detail
 }  // namespace evlife::io

@@ -44,6 +44,15 @@ namespace {
 
 std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::string& path,
                                      const ReaderOptions& options) {
+  const std::string format(f.name);
+  if (!options.topic.empty() && f.options_taken != "topic") {
+    throw ReadError(path, -1, -1, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file; this " + format +
+                                      " file has one stream");
+  }
+  if (!options.time_unit.empty() && f.options_taken != "time-unit") {
+    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text files; this " +
+                                      format + " file has its own");
+  }
   return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);
 }
 

@@ -44,6 +44,10 @@ struct ReaderFormat {
   /// For formats stored as a directory: true when `path` (a directory) is
   /// one of theirs. Must not throw.
   bool (*claims_directory)(const std::string& path) = nullptr;
+  /// The selection open_with_options reads beyond every format's (crop,
+  /// polarity, sensor): "topic" or "time-unit". Another given is refused
+  /// (ReadError), not ignored.
+  std::string_view options_taken = {};
 };
 
 inline constexpr std::size_t kSniffBytes = 4096;

@@ -293,7 +293,7 @@ const ReaderFormat rosbag1_format{
     "rosbag1",
     "ROS 1 bag v2.0 (.bag; chunks uncompressed, bz2 or lz4): event_camera_msgs/EventPacket "
     "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
-    &sniff_rosbag1, nullptr, &open_rosbag1};
+    &sniff_rosbag1, nullptr, &open_rosbag1, nullptr, "topic"};
 
 }  // namespace detail
 }  // namespace evlife::io

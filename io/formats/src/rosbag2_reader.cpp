@@ -71,7 +71,7 @@ const ReaderFormat rosbag2_format{
     "ROS 2 bag, sqlite3 storage (.db3 or its folder with metadata.yaml): "
     "event_camera_msgs/EventPacket (evt3, libcaer, mono), dvs_msgs/EventArray, "
     "prophesee_event_msgs/EventArray",
-    &sniff_rosbag2, nullptr, &open_rosbag2, &claims_rosbag2_directory};
+    &sniff_rosbag2, nullptr, &open_rosbag2, &claims_rosbag2_directory, "topic"};
 
 }  // namespace detail
 }  // namespace evlife::io

@@ -54,6 +54,11 @@ struct EventGap {
   }
 };
 
+/// A gap of this many empty frames (an hour at 30 fps) ends `evlife render`
+/// as an input fault unless --to asks for them: a timestamp outlier would
+/// otherwise fill the disk with millions of blank frames.
+constexpr std::uint64_t kEventGapStopFrames = 100'000;
+
 /// Said when it holds at least this many frames and lasts this long.
 constexpr std::uint64_t kEventGapNoticeFrames = 1000;
 constexpr std::int64_t kEventGapNoticeUs = 60'000'000;
