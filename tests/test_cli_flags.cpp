@@ -276,6 +276,8 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   const RunResult duration = run("run " + sample() + " --duration 100ms -q");
   EXPECT_EQ(duration.exit_code, 2) << duration.output;
   EXPECT_EQ(run("run file: -q").exit_code, 2);
+  EXPECT_EQ(run("synth -q --pixel dvs --jitter-us 500 --duration 10ms -o " + path("j.txt")).exit_code, 2);
+  EXPECT_EQ(run("render " + sample() + " -q -o " + path("pngs") + " --fps 10 --video-fps 5").exit_code, 2);
   const RunResult topic = run("info " + sample() + " --topic /dvs/events");
   EXPECT_EQ(topic.exit_code, 3) << topic.output;
   EXPECT_TRUE(has(topic, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file; this rpg-text file")) << topic.output;

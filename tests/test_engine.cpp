@@ -893,6 +893,28 @@ TEST(EngineConfig, KeysAndValidationFollowTheOptionTable) {
 }
 #endif
 
+// With --to the share of the input read is that of the selected span's
+// time: the bytes after its end are never read, so the share of the file's
+// bytes stopped short of 100 % (and its ETA counted them).
+TEST(ReplaySource, ShareReadWithToIsTheSpansAndEndsAtAll) {
+  evlife::io::ReaderOptions input;
+  input.to_us = 300'000;  // of stripes.mat's 1.2 s
+  auto source = ee::ReplaySource::open_file(std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat",
+                                            std::nullopt, 0.0, input);
+  std::vector<Event> buffer(4096);
+  double mid = -1.0;
+  std::size_t events = 0;
+  while (source->status() == ee::SourceStatus::ok) {
+    events += source->pull(buffer);
+    if (mid < 0.0 && source->fraction_read() > 0.0) mid = source->fraction_read();
+  }
+  EXPECT_EQ(source->status(), ee::SourceStatus::end_of_stream);
+  EXPECT_GT(events, 10'000u);
+  EXPECT_GT(mid, 0.0);
+  EXPECT_LT(mid, 1.0);
+  EXPECT_DOUBLE_EQ(source->fraction_read(), 1.0);
+}
+
 // ---- Render thread (not in a core-only build: no render component) ---------------
 
 #if __has_include("evlife/render/frame_composer.h")
@@ -968,6 +990,32 @@ TEST(RenderStage, FramesFollowTheEventClockAndAreDeterministic) {
   EXPECT_EQ(threaded_run.result.stats.render_dropped, 0u);
   // Frames are not all alike (they show the motion).
   EXPECT_NE(inline_run.frames.hashes.front(), inline_run.frames.hashes.back());
+}
+
+// Policy drop: when the render thread is behind, the merger skips its
+// events, and with them the clock frames due in their time. Those frames
+// are counted (`run` prints them), not lost silently.
+TEST(RenderStage, ClockFramesWhoseEventsWereSkippedAreCounted) {
+  moodycamel::LightweightSemaphore wake_merger;
+  ee::RenderTap tap(1, 64, wake_merger);  // one batch: a second offer finds none free
+  ee::RenderOptions ro;
+  ro.fps = 100;  // every 10 ms
+  ro.style.scale = 1;
+  RecordingFrameSink frames;
+  ee::RenderStage stage(tap, kDvs128, ro, frames);
+  const auto at = [](std::vector<std::int64_t> times) {
+    std::vector<AugmentedEvent> events(times.size());
+    for (std::size_t i = 0; i < times.size(); ++i) events[i].event = Event{times[i], 5, 5, 1};
+    return events;
+  };
+  ASSERT_TRUE(tap.try_offer(at({0, 25'000})));
+  EXPECT_FALSE(tap.try_offer(at({30'000, 95'000})));  // dropped: the render thread has not taken the first
+  tap.close();
+  while (stage.step() != ee::StepResult::finished) {
+  }
+  EXPECT_EQ(frames.times, (std::vector<std::int64_t>{0, 10'000, 20'000}));
+  EXPECT_EQ(stage.frames_missed(), 7u);  // 30 .. 90 ms
+  EXPECT_EQ(stage.frames_not_drawn(), 0u);
 }
 #endif
 

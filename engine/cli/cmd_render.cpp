@@ -181,6 +181,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
     if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
   if (const auto v = a.value("video-fps")) {
+    if (!r.job.video) throw UsageError("--video-fps is a video's playback rate; -o " + r.job.output + " is no video");
     r.job.video_fps = parse_positive("video-fps", *v, render::kMaxVideoFps);
   }
 

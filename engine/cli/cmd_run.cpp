@@ -408,6 +408,9 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
     if (const std::uint64_t skipped = render_stage->frames_not_drawn(); skipped > 0)
       std::fprintf(stdout, " (%llu more not drawn: stopped)", static_cast<unsigned long long>(skipped));
+    if (const std::uint64_t missed = render_stage->frames_missed(); missed > 0)
+      std::fprintf(stdout, " (%llu due not drawn: their events were skipped, the render thread behind)",
+                   static_cast<unsigned long long>(missed));
     std::fprintf(stdout, "\n");
   }
   std::fprintf(stdout, "realtime: %s\n", result.realtime.c_str());

@@ -240,7 +240,11 @@ int synth(int argc, char** argv) {
     if (is_textured && a.has("contrast")) throw UsageError("--contrast: the textured scene's leaves set the contrasts");
     apply_pixel_options(a, spec.pixel);
     if (const auto r = a.value("noise-rate")) spec.noise_rate_hz_per_px = parse_number<double>("noise-rate", *r, 0.0, 1e4);
-    if (const auto j = a.value("jitter-us")) spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
+    if (const auto j = a.value("jitter-us")) {
+      if (spec.pixel.enabled)  // the pixel model times its events by latency and latency jitter
+        throw UsageError("--jitter-us is the ideal pixels' timing; with --pixel " + pixel_name + ": --latency-jitter-us");
+      spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
+    }
     quiet = a.has("quiet");
     if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
     if (is_textured) {

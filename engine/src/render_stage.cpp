@@ -115,8 +115,16 @@ StepResult RenderStage::step() noexcept {
       // unless an asked-for instant draws it; then the request and the
       // asked-for instants after the end.
       const bool at_draws_it = next_at_ < at_us_.size() && at_us_[next_at_] == next_frame_t_us_;
-      if (fps_ > 0 && last_t_us_ != INT64_MIN && next_frame_t_us_ <= last_t_us_ && !at_draws_it)
-        emit(next_frame_t_us_);
+      if (fps_ > 0 && last_t_us_ != INT64_MIN) {
+        // The clock frames through the run's last event; those past this
+        // thread's last event were skipped with its events (counted).
+        const std::int64_t run_last = std::max(last_t_us_, tap_.last_offered_t_us.load(std::memory_order_relaxed));
+        const std::uint64_t owed = render::frames_before(first_t_us_, next_frame_, run_last + 1, fps_);
+        const bool draws_last = next_frame_t_us_ <= last_t_us_ && !at_draws_it;
+        if (draws_last) emit(next_frame_t_us_);
+        missed_.store(owed - std::min<std::uint64_t>(owed, draws_last || at_draws_it ? 1 : 0),
+                      std::memory_order_relaxed);
+      }
       const std::int64_t req = requested_t_us_.exchange(kNoRequest);
       if (req != kNoRequest && req >= last_t_us_) emit(req);
       if (last_t_us_ != INT64_MIN)

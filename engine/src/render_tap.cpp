@@ -16,6 +16,7 @@ RenderTap::RenderTap(std::size_t batches, std::size_t batch_events,
 }
 
 bool RenderTap::try_offer(std::span<const AugmentedEvent> events) noexcept {
+  if (!events.empty()) last_offered_t_us.store(events.back().event.t_us, std::memory_order_relaxed);
   RenderBatch* b = nullptr;
   if (!free_.try_dequeue(b)) return false;
   b->count = std::min(events.size(), b->capacity);

@@ -35,8 +35,9 @@ std::unique_ptr<ReplaySource> ReplaySource::open_file(const std::string& path,
   io::ReaderOptions checked = input;
   checked.sensor = size.size;
   checked.require_time_order = true;
-  return from_reader(io::open_event_reader(path, checked), size.size,
-                     speed, SourceKind::offline);
+  auto source = from_reader(io::open_event_reader(path, checked), size.size, speed, SourceKind::offline);
+  if (input.to_us) source->crop_span_us_ = std::max<std::int64_t>(1, *input.to_us - input.from_us.value_or(0));
+  return source;
 }
 
 std::unique_ptr<ReplaySource> ReplaySource::from_reader(std::unique_ptr<io::EventReader> reader,
@@ -83,13 +84,19 @@ bool ReplaySource::refill() noexcept {
     const std::size_t want = pacer_.paced() ? kPacedReadAheadEvents : buffer_.size();
     const std::size_t n = reader_->read(std::span<Event>(buffer_.data(), want));
     if (n == 0) {
+      if (crop_span_us_ > 0) fraction_read_.store(1.0, std::memory_order_relaxed);  // the span's end
       status_ = SourceStatus::end_of_stream;
       return false;
     }
     pending_ = std::span<const Event>(buffer_.data(), n);
-    if (const std::uint64_t read = reader_->bytes_consumed(); file_bytes_ > 0 && read > 0)
+    if (crop_span_us_ > 0) {
+      if (crop_first_t_us_ == INT64_MIN) crop_first_t_us_ = buffer_[0].t_us;
+      const auto passed = static_cast<double>(buffer_[n - 1].t_us - crop_first_t_us_);
+      fraction_read_.store(std::min(1.0, passed / static_cast<double>(crop_span_us_)), std::memory_order_relaxed);
+    } else if (const std::uint64_t read = reader_->bytes_consumed(); file_bytes_ > 0 && read > 0) {
       fraction_read_.store(std::min(1.0, static_cast<double>(read) / static_cast<double>(file_bytes_)),
                            std::memory_order_relaxed);
+    }
     return true;
   } catch (const std::exception& e) {
     error_ = e.what();

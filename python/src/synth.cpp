@@ -82,6 +82,8 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
       continue;
     }
     if (name == "jitter_us") {
+      if (spec.pixel.enabled)  // as `evlife synth --jitter-us`: the pixel model has its latency jitter
+        throw py::value_error("jitter_us is the ideal pixels' timing; with pixel='" + pixel_name + "': latency_jitter_us");
       if (!(v >= 0.0 && v <= 1e5)) throw py::value_error("jitter_us: expected 0 .. 1e5");
       spec.jitter_sigma_us = v;
       continue;

@@ -59,6 +59,10 @@ class RenderStage final : public AuxStage {
 
   std::uint64_t frames_written() const noexcept { return frames_.load(std::memory_order_relaxed); }
   std::uint64_t frames_not_drawn() const noexcept { return not_drawn_.load(std::memory_order_relaxed); }
+  /// Clock frames due before the run's last event that were never drawn:
+  /// the events after the last one this thread received were skipped
+  /// (policy drop, the render thread behind). Known once finished.
+  std::uint64_t frames_missed() const noexcept { return missed_.load(std::memory_order_relaxed); }
   /// The frame sink's error (render thread only, or after the run).
   const std::string& error() const noexcept { return error_; }
 
@@ -85,6 +89,7 @@ class RenderStage final : public AuxStage {
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<std::uint64_t> not_drawn_{0};
+  std::atomic<std::uint64_t> missed_{0};
   std::atomic<bool> stop_{false};
   // The gap: written by the render thread, then gap_state_ 1 (release); the
   // monitor reads it after an acquire and sets 2.

@@ -49,6 +49,9 @@ class RenderTap {
 
   Counter offered_events;  ///< events the merger offered (merger writes)
   Counter dropped_events;  ///< of which dropped, no free batch (merger writes)
+  /// The last offered event's time, dropped or not (merger writes; read after
+  /// closed()): the clock frames owed up to it are counted when not drawn.
+  std::atomic<std::int64_t> last_offered_t_us{INT64_MIN};
 
  private:
   std::vector<std::unique_ptr<RenderBatch>> pool_;

@@ -87,6 +87,10 @@ class ReplaySource final : public EventSource {
   std::int64_t packet_ns_ = kDefaultPacketUs * 1000;
   std::atomic<bool> stop_{false};
   std::uint64_t file_bytes_ = 0;  // 0: unknown (not a regular file)
+  // --to: the share read is the share of the selected span's time passed
+  // (the bytes after its end are never read), from its first event on.
+  std::int64_t crop_span_us_ = 0;  // 0: no --to
+  std::int64_t crop_first_t_us_ = INT64_MIN;
   std::atomic<double> fraction_read_{-1.0};
 };
 
