@@ -538,7 +538,8 @@ TEST_F(CliTest, UnwritableOutputExitsFour) {
   const std::string out = path("a_file").string() + "/evlife/out.csv";
   const RunResult r = run("process '" + kRpgText + "' -o '" + out + "'");
   EXPECT_EQ(r.exit_code, 4) << r.output;
-  EXPECT_NE(r.output.find(out + ": cannot create: Not a directory"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(out + ": cannot create the folder " + path("a_file").string() + "/evlife: Not a directory"),
+            std::string::npos) << r.output;
 }
 
 // `script` (sh, `$DISK` a 256 KiB tmpfs) in a private mount namespace; an

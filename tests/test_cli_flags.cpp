@@ -306,3 +306,15 @@ TEST_F(CliFlags, RenderStopsBeforeAnHourOfBlankFrames) {
 }
 
 }  // namespace
+
+namespace {
+
+// An option given under two of its names says so (it named only the second).
+TEST_F(CliFlags, AnOptionUnderTwoNamesIsNamedBoth) {
+  const RunResult r = run("eval " + sample() + " -o " + path("ev") + " --at 0.2 --frame-at 0.3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(has(r, "'--at' and '--frame-at' are the same option: give it once")) << r.output;
+  EXPECT_TRUE(has(run("process " + sample() + " -o a.csv -o b.csv"), "option '-o' given more than once"));
+}
+
+}  // namespace

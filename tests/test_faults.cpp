@@ -264,6 +264,12 @@ TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
       ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
       EXPECT_NE(f.code, 0) << cmd << ": " << describe(f);
       EXPECT_TRUE(contains(f.err, out)) << cmd << ": error does not name " << out << "\n" << describe(f);
+      // The folder that could not be made, and why: not the open's "No such file or directory".
+      if (contains(out, "no_such_dir")) {
+        EXPECT_TRUE(contains(f.err, "cannot create the folder " + (dir.path() / "a_file" / "no_such_dir").string() +
+                                        ": Not a directory"))
+            << cmd << "\n" << describe(f);
+      }
     }
   }
 }

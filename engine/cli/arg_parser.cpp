@@ -57,6 +57,7 @@ std::string unknown_option_message(std::string_view arg, std::span<const OptionS
 
 ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options) {
   ParsedArgs out;
+  std::map<std::string, std::string> spelled;  // option -> how it was first written (an alias?)
   bool options_done = false;
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
@@ -102,10 +103,14 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
       out.positional.push_back(std::move(value));
       continue;
     }
+    const std::string spelling(arg.substr(0, arg.find('=')));  // "--at", "-o"
     auto& slot = out.values_[name];
     if (!slot.empty() && !spec->repeatable) {
-      throw UsageError("option '--" + name + "' given more than once");
+      const std::string& first = spelled[name];
+      if (first != spelling) throw UsageError("'" + first + "' and '" + spelling + "' are the same option: give it once");
+      throw UsageError("option '" + spelling + "' given more than once");
     }
+    if (slot.empty()) spelled[name] = spelling;
     slot.push_back(std::move(value));
   }
   return out;

@@ -155,16 +155,16 @@ void apply_pixel_options(const ParsedArgs& a, io::PixelModel& m) {
 // Ground truth as CSV (a tiny writer: this file is its only user).
 class TruthCsv {
  public:
-  explicit TruthCsv(const std::string& path) : path_(path), file_(open(path)) {
-    if (file_ == nullptr) throw io::WriteError(path, std::string("cannot create: ") + std::strerror(errno));
+  explicit TruthCsv(const std::string& path) : path_(path), folder_problem_(io::create_output_folders(path)),
+                                                 file_(std::fopen(path.c_str(), "wb")) {
+    if (file_ == nullptr) {
+      throw io::WriteError(path, folder_problem_.empty() ? std::string("cannot create: ") + std::strerror(errno)
+                                                         : folder_problem_);
+    }
     put("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n");
   }
   ~TruthCsv() {
     if (file_ != nullptr) std::fclose(file_);
-  }
-  static std::FILE* open(const std::string& path) {
-    io::create_output_folders(path);
-    return std::fopen(path.c_str(), "wb");
   }
   TruthCsv(const TruthCsv&) = delete;
   TruthCsv& operator=(const TruthCsv&) = delete;
@@ -196,6 +196,7 @@ class TruthCsv {
     if (std::fputs(s, file_) < 0) throw io::WriteError(path_, "write failed");
   }
   std::string path_;
+  std::string folder_problem_;  // why the folders above path_ could not be made, if they could not
   std::FILE* file_;
 };
 

@@ -149,7 +149,8 @@ def test_unwritable_output_is_oserror(tmp_path):
     with pytest.raises(OSError) as e:
         evlife.write(tmp_path / "a_file" / "x.bin", aug, (128, 128))
     assert e.value.errno == errno.ENOTDIR  # as data; str() is the CLI's message
-    assert str(e.value).startswith(str(tmp_path / "a_file" / "x.bin") + ": cannot create: Not a directory")
+    assert str(e.value).startswith(str(tmp_path / "a_file" / "x.bin") + ": cannot create the folder " +
+                                   str(tmp_path / "a_file") + ": Not a directory")
     evlife.write(tmp_path / "new" / "dir" / "x.bin", aug, (128, 128))
     assert (tmp_path / "new" / "dir" / "x.bin").stat().st_size > 0
     with pytest.raises(OSError):

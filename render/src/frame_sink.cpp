@@ -35,13 +35,17 @@ void PngFolderFrameSink::write(const FrameImage& frame, std::int64_t t_us) {
   write_image((std::filesystem::path(dir_) / name).string(), as_mat(frame));
 }
 
-ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) { io::create_output_folders(path_); }
+ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)) {
+  if (const std::string problem = io::create_output_folders(path_); !problem.empty())
+    throw std::runtime_error(path_ + ": " + problem);
+}
 
 void ImageFileFrameSink::write(const FrameImage& frame, std::int64_t) { write_image(path_, as_mat(frame)); }
 
 VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
     : path_(std::move(path)), playback_fps_(playback_fps) {
-  io::create_output_folders(path_);
+  if (const std::string problem = io::create_output_folders(path_); !problem.empty())
+    throw std::runtime_error(path_ + ": " + problem);
 }
 
 VideoFrameSink::~VideoFrameSink() = default;

@@ -57,7 +57,6 @@ RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, Sen
 }
 
 SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user) {
-  if (user) return *user;
   // The caller sizes per-pixel planes by it (render, eval): a corrupt header
   // or a stray coordinate must not ask for gigabytes.
   const auto within_cameras = [&](SensorSize s, const std::string& whence) {
@@ -70,9 +69,11 @@ SensorSize sensor_size_of_augmented(const std::string& path, std::optional<Senso
     return s;
   };
   const std::unique_ptr<AugmentedEventReader> reader = open_augmented_reader(path);
-  if (const std::optional<SensorSize> stated = reader->sensor_size()) {
-    return within_cameras(*stated, "states a sensor of");
-  }
+  // A size the file states wins, as for every recording (`process`): --sensor
+  // is for files that state none, or one no camera has.
+  const std::optional<SensorSize> stated = reader->sensor_size();
+  if (stated && (stated->within_camera_limits() || !user)) return within_cameras(*stated, "states a sensor of");
+  if (user) return *user;
   std::vector<AugmentedEvent> buf(4096);
   SensorSize s{0, 0};
   while (const std::size_t n = reader->read(buf)) {

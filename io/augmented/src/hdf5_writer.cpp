@@ -72,11 +72,12 @@ class Hdf5ColumnFile {
  public:
   Hdf5ColumnFile(const std::string& path, std::optional<SensorSize> sensor, bool augmented)
       : path_(path), column_count_(augmented ? 8 : 4) {
-    create_output_folders(path);
+    const std::string folder_problem = create_output_folders(path);
     // libhdf5 does not say why a create failed: the same open says it.
     if (const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644); fd < 0) {
       const int err = errno;
-      throw WriteError(path, std::string("cannot create: ") + std::strerror(err), err);
+      throw WriteError(path, folder_problem.empty() ? std::string("cannot create: ") + std::strerror(err) : folder_problem,
+                       err);
     } else {
       ::close(fd);
     }

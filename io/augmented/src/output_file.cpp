@@ -12,11 +12,12 @@
 namespace evlife::io::detail {
 
 OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBytes) {
-  create_output_folders(path);
+  const std::string folder_problem = create_output_folders(path);
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     const int err = errno;
-    throw WriteError(path, std::string("cannot create: ") + std::strerror(err), err);
+    throw WriteError(path, folder_problem.empty() ? std::string("cannot create: ") + std::strerror(err) : folder_problem,
+                     err);
   }
 }
 

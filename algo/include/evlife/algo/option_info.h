@@ -37,6 +37,7 @@ struct OptionInfo {
   std::string range_text() const {
     auto num = [](double v) {
       char buf[32];
+      if (v == 18446744073709551615.0) return std::string("18446744073709551615");  // a uint64's whole range (2^64 as a double)
       if (v == std::floor(v) && std::fabs(v) < 1e15)
         std::snprintf(buf, sizeof buf, "%.0f", v);
       else

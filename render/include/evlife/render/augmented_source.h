@@ -38,8 +38,8 @@ std::unique_ptr<AugmentedSource> make_estimating_source(std::unique_ptr<io::Even
 
 /// Opens `path`: an augmented file is read as is; anything else is read by
 /// io::open_event_reader and augmented by a LifetimeEstimator with
-/// `estimator` (its sensor replaced by the resolved one). `sensor` overrides
-/// the sensor size. Throws io::ReadError (file at fault, both attempts
+/// `estimator` (its sensor replaced by the resolved one). `sensor`: the size
+/// when the file states none (or one no camera has). Throws io::ReadError (file at fault, both attempts
 /// explained) or std::invalid_argument (bad options). `input`: the input
 /// selection for event files (topic...; its sensor is replaced).
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,

@@ -50,11 +50,11 @@ std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& p
 /// with the .bin magic that does not read.
 std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path);
 
-/// The sensor of an augmented file: `user` when given, else the one the file
-/// states (.bin), else {max x + 1, max y + 1} of its events (one pass; the
-/// rule of sensor_size_from_data for raw files). Throws ReadError for an
-/// unreadable or corrupt file, one holding no event, or a stated or spanned
-/// side beyond kMaxSensorSide.
+/// The sensor of an augmented file: the one the file states (.bin) when it
+/// is a camera's, else `user` when given, else {max x + 1, max y + 1} of its
+/// events (one pass; the rule of sensor_size_from_data for raw files). Throws
+/// ReadError for an unreadable or corrupt file, one holding no event, or a
+/// stated or spanned side beyond kMaxSensorSide without `user`.
 SensorSize sensor_size_of_augmented(const std::string& path, std::optional<SensorSize> user = {});
 
 }  // namespace evlife::io

@@ -18,12 +18,15 @@ inline std::optional<std::string> output_overwrites_input(const std::string& inp
   return output + " is the input file; refusing to overwrite it";
 }
 
-/// Creates the folders above `output` that do not exist yet. A failure is
-/// left to the open of the file itself, whose error names the reason.
-inline void create_output_folders(const std::string& output) noexcept {
+/// Creates the folders above `output` that do not exist yet. Returns why
+/// that failed ("cannot create the folder a/b: Permission denied"), for the
+/// open of the file itself to say instead of its own "No such file or
+/// directory"; empty on success.
+inline std::string create_output_folders(const std::string& output) {
   std::error_code ec;
   const std::filesystem::path parent = std::filesystem::path(output).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (parent.empty() || std::filesystem::create_directories(parent, ec) || !ec) return {};
+  return "cannot create the folder " + parent.string() + ": " + ec.message();
 }
 
 }  // namespace evlife::io
