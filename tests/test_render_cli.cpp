@@ -3,6 +3,7 @@
 // checked against `evlife process` output decoded here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -263,6 +264,48 @@ TEST_F(RenderCliTest, EvalLifetimeHistogramMatchesProcessOutput) {
   for (const auto& [b, n] : expected)
     if (b >= bin) beyond += n;
   EXPECT_EQ(total + beyond, non_noise);
+}
+
+// The medians eval reports (runs.csv, its summary) are those of the values,
+// within the +-1.2 % of the summaries of process and info, not the upper edge
+// of the plots' 0.2 ms (0.1 ms) bin that holds them (7.40 ms for 7.34).
+TEST_F(RenderCliTest, EvalMediansAreTheValuesNotTheirBinsEdges) {
+  auto r = run("process '" + kGarfield + "' -o '" + path("g.csv") + "' --to 0.3 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run("eval '" + path("g.csv") + "' -o '" + path("eval") + "' -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream csv(path("g.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::vector<double> lifetimes, errors, ratios;
+  while (std::getline(csv, line)) {
+    const auto cells = split_csv(line);
+    const double lifetime = std::stod(cells.at(4));
+    const bool predicted = cells.size() > 7 && !cells[7].empty();
+    if (predicted) errors.push_back(std::fabs(std::stod(cells[7])));
+    if (lifetime <= 0.0) continue;
+    lifetimes.push_back(lifetime);
+    if (predicted) ratios.push_back(std::fabs(std::stod(cells[7])) / lifetime);
+  }
+  ASSERT_GT(lifetimes.size(), 1000u);
+  ASSERT_GT(errors.size(), 1000u);
+  const auto median = [](std::vector<double> v) {  // nearest rank, as the summaries
+    std::sort(v.begin(), v.end());
+    return v[(v.size() + 1) / 2 - 1];
+  };
+  std::ifstream runs(path("eval") + "/runs.csv");
+  std::getline(runs, line);
+  const auto header = split_csv(line);
+  std::getline(runs, line);
+  const auto row = split_csv(line);
+  const auto column = [&](const std::string& name) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(at, header.end()) << name;
+    return std::stod(row.at(static_cast<std::size_t>(at - header.begin())));
+  };
+  EXPECT_NEAR(column("median_lifetime_ms"), median(lifetimes) / 1000.0, 0.012 * median(lifetimes) / 1000.0);
+  EXPECT_NEAR(column("median_abs_error_ms"), median(errors) / 1000.0, 0.012 * median(errors) / 1000.0);
+  EXPECT_NEAR(column("median_abs_error_over_lifetime"), median(ratios), 0.012 * median(ratios));
 }
 
 // A frame folder used twice: the frames of the earlier run that this one did

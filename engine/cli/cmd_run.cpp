@@ -37,7 +37,6 @@
 #include "evlife/engine/engine.h"
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/render_stage.h"
-#include "evlife/render/output_kind.h"
 #include "evlife/engine/replay_source.h"
 #include "evlife/engine/writer_sink.h"
 #include "evlife/io/augmented_event_writer.h"
@@ -45,6 +44,7 @@
 #include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
+#include "evlife/render/output_kind.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
@@ -204,24 +204,13 @@ std::string_view file_of_source(std::string_view spec) {
 }
 bool is_file_source(std::string_view spec) { return !engine::is_dvs128_spec(spec) && !spec.starts_with("synth:"); }
 
-RunArgs parse_run_args(int argc, char** argv) {
-  // `--realtime` alone means 1x: give it its value before generic parsing.
-  std::vector<std::string> storage(argv, argv + argc);
-  for (auto& a : storage)
-    if (a == "--realtime") a = "--realtime=1";
-  std::vector<char*> args;
-  for (auto& a : storage) args.push_back(a.data());
-  const ParsedArgs a = parse_args(static_cast<int>(args.size()), args.data(), kOptions);
-
-  RunArgs r;
-  r.quiet = a.has("quiet");
-  r.config = load_command_config(a);
-  r.print_config = a.has("print-config");
+// The engine's options: the configuration's, then its flags over them
+// (with --print-config too, which shows them).
+engine::EngineOptions engine_flags(const ParsedArgs& a, const config::Config& config) {
   // The configuration file first, then the flags override it: every flag of
   // the engine's option table (engine_options.h), with the table's range.
-  engine::EngineOptions& e = r.engine;
-  e = r.config.config.engine;
-  e.lifetime = r.config.config.estimator;
+  engine::EngineOptions e = config.engine;
+  e.lifetime = config.estimator;
   engine::for_each_engine_option([&](const OptionInfo& info, auto field) {
     if (info.flag.empty()) return;
     if (const auto s = a.value(info.flag)) parse_table_flag(info, *s, field(e));
@@ -245,8 +234,25 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto s = a.value("rt-priority")) e.realtime.rt_priority = parse_number<int>("rt-priority", *s, 1, 99);
   e.realtime.lock_memory = a.has("lock-memory");
+  return e;
+}
+
+RunArgs parse_run_args(int argc, char** argv) {
+  // `--realtime` alone means 1x: give it its value before generic parsing.
+  std::vector<std::string> storage(argv, argv + argc);
+  for (auto& a : storage)
+    if (a == "--realtime") a = "--realtime=1";
+  std::vector<char*> args;
+  for (auto& a : storage) args.push_back(a.data());
+  const ParsedArgs a = parse_args(static_cast<int>(args.size()), args.data(), kOptions);
+
+  RunArgs r;
+  r.quiet = a.has("quiet");
+  r.config = load_command_config(a);
+  r.print_config = a.has("print-config");
+  r.engine = engine_flags(a, r.config.config);
   if (r.print_config) {  // the engine's flags shown as the configuration they make
-    r.config.config.engine = e;
+    r.config.config.engine = r.engine;
     return r;
   }
   if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");

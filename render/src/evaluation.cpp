@@ -350,10 +350,10 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
     for (const auto& r : runs) {
       csv << "\"" << r.label << "\"," << r.window_size << "," << (r.regularization ? 1 : 0) << "," << r.events
           << "," << r.noise << "," << (r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0)
-          << "," << r.predictions << "," << r.lifetime_us.quantile(0.5) / 1000.0 << ","
-          << r.abs_error_us.quantile(0.5) / 1000.0 << "," << r.abs_error_us.cdf_at_bin_end(99) << "," << r.wall_s
+          << "," << r.predictions << "," << r.median_lifetime_ms() << ","
+          << r.median_abs_error_ms() << "," << r.abs_error_us.cdf_at_bin_end(99) << "," << r.wall_s
           << "," << r.share_with_lifetime() << "," << r.share_with_prediction() << ","
-          << r.error_over_lifetime.quantile(0.5) << "\n";
+          << r.median_error_over_lifetime() << "\n";
     }
     csv.close();
   }
@@ -378,9 +378,9 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
   for (const auto& r : runs) {
     html << "<tr><td style=\"text-align:left\">" << r.label << "</td><td>" << r.events << "</td><td>"
          << pct(r.share_with_lifetime()) << "</td><td>" << pct(r.share_with_prediction()) << "</td><td>"
-         << fmt("%.2f ms", r.lifetime_us.quantile(0.5) / 1000.0) << "</td><td>"
-         << fmt("%.2f ms", r.abs_error_us.quantile(0.5) / 1000.0) << "</td><td>"
-         << fmt("%.3f", r.error_over_lifetime.quantile(0.5)) << "</td><td>"
+         << fmt("%.2f ms", r.median_lifetime_ms()) << "</td><td>"
+         << fmt("%.2f ms", r.median_abs_error_ms()) << "</td><td>"
+         << fmt("%.3f", r.median_error_over_lifetime()) << "</td><td>"
          << pct(r.abs_error_us.cdf_at_bin_end(99)) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
   }
   html << "</table>\n<h2>Sharpness (" << sharp.samples.size() << " instants, every "
@@ -501,8 +501,8 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "
                  "%6.2f ms, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %.3f\n",
                  r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
-                 100.0 * r.share_with_prediction(), r.lifetime_us.quantile(0.5) / 1000.0,
-                 100.0 * r.abs_error_us.cdf_at_bin_end(99), r.error_over_lifetime.quantile(0.5));
+                 100.0 * r.share_with_prediction(), r.median_lifetime_ms(),
+                 100.0 * r.abs_error_us.cdf_at_bin_end(99), r.median_error_over_lifetime());
   }
   std::fprintf(out, "  over %zu instants: thin-edge share, mean edge thickness, completeness, score (product):\n",
                sharp.samples.size());
