@@ -1009,12 +1009,19 @@ TEST(RenderStage, ClockFramesWhoseEventsWereSkippedAreCounted) {
     return events;
   };
   ASSERT_TRUE(tap.try_offer(at({0, 25'000})));
-  EXPECT_FALSE(tap.try_offer(at({30'000, 95'000})));  // dropped: the render thread has not taken the first
+  EXPECT_FALSE(tap.try_offer(at({30'000, 55'000})));  // dropped: the render thread has not taken the first
+  tap.drop(2);                                         // as the merger does under policy drop
+  ASSERT_EQ(stage.step(), ee::StepResult::progressed);
+  ASSERT_TRUE(tap.try_offer(at({60'000, 65'000})));    // says that events before it were dropped
+  EXPECT_FALSE(tap.try_offer(at({70'000, 95'000})));
+  tap.drop(2);
   tap.close();
   while (stage.step() != ee::StepResult::finished) {
   }
-  EXPECT_EQ(frames.times, (std::vector<std::int64_t>{0, 10'000, 20'000}));
-  EXPECT_EQ(stage.frames_missed(), 7u);  // 30 .. 90 ms
+  // 30, 40, 50 ms are drawn without the events skipped from 25 to 60 ms; 60 ms is drawn at the end.
+  EXPECT_EQ(frames.times, (std::vector<std::int64_t>{0, 10'000, 20'000, 30'000, 40'000, 50'000, 60'000}));
+  EXPECT_EQ(stage.frames_incomplete(), 3u);
+  EXPECT_EQ(stage.frames_missed(), 3u);  // 70 .. 90 ms: their events and all after them were skipped
   EXPECT_EQ(stage.frames_not_drawn(), 0u);
 }
 #endif

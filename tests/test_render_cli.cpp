@@ -308,6 +308,18 @@ TEST_F(RenderCliTest, EvalMediansAreTheValuesNotTheirBinsEdges) {
   EXPECT_NEAR(column("median_abs_error_over_lifetime"), median(ratios), 0.012 * median(ratios));
 }
 
+// `run --frames` draws the frames of `evlife render`, upscaling included, on
+// any sensor (it kept FrameStyle's 4x: 1484x1086 px for render's 446x306).
+TEST_F(RenderCliTest, RunDrawsRendersFramesOnAnySensor) {
+  ASSERT_EQ(run("synth -q --scene edges-bar --sensor 346x260 --duration 0.6 -o '" + path("wide.h5") + "'").exit_code, 0);
+  ASSERT_EQ(run("render '" + path("wide.h5") + "' -q -o '" + path("by_render") + "' --at 0.5").exit_code, 0);
+  ASSERT_EQ(run("run '" + path("wide.h5") + "' -q --frames '" + path("by_run") + "' --fps 0 --at 0.5").exit_code, 0);
+  const std::string name = "/frame_000000_t0.500000s.png";
+  const std::string drawn = evlife::test::read_text_file(path("by_render") + name);
+  ASSERT_GT(drawn.size(), 1000u);
+  EXPECT_TRUE(drawn == evlife::test::read_text_file(path("by_run") + name));
+}
+
 // A frame folder used twice: the frames of the earlier run that this one did
 // not replace are counted in a warning (a video of the folder would mix them
 // in); a run that replaces every one of them is silent, and so is `run`'s.

@@ -414,6 +414,10 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
     if (const std::uint64_t skipped = render_stage->frames_not_drawn(); skipped > 0)
       std::fprintf(stdout, " (%llu more not drawn: stopped)", static_cast<unsigned long long>(skipped));
+    if (const std::uint64_t incomplete = render_stage->frames_incomplete(); incomplete > 0)
+      std::fprintf(stdout, " (%llu of them at instants whose events the render thread skipped: blank or partial; "
+                           "frames after such a stretch may lack its long-lived events)",
+                   static_cast<unsigned long long>(incomplete));
     if (const std::uint64_t missed = render_stage->frames_missed(); missed > 0)
       std::fprintf(stdout, " (%llu due not drawn: their events were skipped, the render thread behind)",
                    static_cast<unsigned long long>(missed));
@@ -536,6 +540,8 @@ int run_engine(int argc, char** argv) {
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
+  // The frames of `evlife render` (its upscaling too), whatever the sensor.
+  args.render.style.scale = render::FrameStyle::default_scale(source->sensor_size().width, source->sensor_size().height);
   std::optional<engine::Engine> eng;
   std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;

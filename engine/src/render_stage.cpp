@@ -40,6 +40,8 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
     const std::int64_t rel_us = t_us - first_t_us_;
     sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us, rel_us)), rel_us);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+    if (t_us > skipped_from_us_ && t_us < skipped_to_us_)
+      incomplete_.store(incomplete_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     error_ = e.what();
   } catch (...) {
@@ -137,6 +139,10 @@ StepResult RenderStage::step() noexcept {
       finished_ = true;
       return StepResult::finished;
     }
+  }
+  if (b->after_skip && b->count > 0 && last_t_us_ != INT64_MIN) {  // the events between were dropped
+    skipped_from_us_ = last_t_us_;
+    skipped_to_us_ = b->events[0].event.t_us;
   }
   for (std::size_t i = 0; i < b->count; ++i) feed(b->events[i]);
   tap_.give_back(b);

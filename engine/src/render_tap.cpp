@@ -1,6 +1,7 @@
 #include "evlife/engine/render_tap.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace evlife::engine {
 
@@ -21,6 +22,7 @@ bool RenderTap::try_offer(std::span<const AugmentedEvent> events) noexcept {
   if (!free_.try_dequeue(b)) return false;
   b->count = std::min(events.size(), b->capacity);
   std::copy_n(events.begin(), b->count, b->events.get());
+  b->after_skip = std::exchange(skipped_since_offer_, false);
   if (!full_.try_enqueue(*full_token_, b)) full_.enqueue(*full_token_, b);
   if (wake_render_.availableApprox() == 0) wake_render_.signal();
   return true;

@@ -73,7 +73,7 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   render::FrameStyle style;
   style.color = render::parse_color_mode(color);  // std::invalid_argument: ValueError
   if (scale_obj.is_none()) {
-    style.scale = render::FrameStyle::scale_to_fit(sensor.width, sensor.height, 512);
+    style.scale = render::FrameStyle::default_scale(sensor.width, sensor.height);
   } else {
     try {
       style.scale = py::int_(scale_obj.attr("__index__")()).cast<int>();  // 2.5 is no scale: no truncation

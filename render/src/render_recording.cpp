@@ -28,7 +28,7 @@ RecordingRenderResult render_recording(
 
   FrameStyle style;
   style.color = options.color;
-  style.scale = options.scale.value_or(FrameStyle::scale_to_fit(sensor.width, sensor.height, 512));
+  style.scale = options.scale.value_or(FrameStyle::default_scale(sensor.width, sensor.height));
   style.caption = options.caption;
   style.legend = options.legend;
   style.lifetime_min_us = options.lifetime_min_us;

@@ -63,6 +63,9 @@ class RenderStage final : public AuxStage {
   /// the events after the last one this thread received were skipped
   /// (policy drop, the render thread behind). Known once finished.
   std::uint64_t frames_missed() const noexcept { return missed_.load(std::memory_order_relaxed); }
+  /// Frames drawn at an instant whose events were skipped (policy drop, the
+  /// render thread behind): blank or partial, counted among frames_written().
+  std::uint64_t frames_incomplete() const noexcept { return incomplete_.load(std::memory_order_relaxed); }
   /// The frame sink's error (render thread only, or after the run).
   const std::string& error() const noexcept { return error_; }
 
@@ -90,6 +93,11 @@ class RenderStage final : public AuxStage {
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<std::uint64_t> not_drawn_{0};
   std::atomic<std::uint64_t> missed_{0};
+  std::atomic<std::uint64_t> incomplete_{0};
+  // A stretch of event time (from, to) whose events were skipped: the frames
+  // drawn at instants inside it lack them.
+  std::int64_t skipped_from_us_ = INT64_MAX;
+  std::int64_t skipped_to_us_ = INT64_MIN;
   std::atomic<bool> stop_{false};
   // The gap: written by the render thread, then gap_state_ 1 (release); the
   // monitor reads it after an acquire and sets 2.

@@ -26,6 +26,7 @@ struct RenderBatch {
   std::unique_ptr<AugmentedEvent[]> events;
   std::size_t capacity;
   std::size_t count = 0;
+  bool after_skip = false;  ///< events before this batch's first were dropped (policy drop)
 };
 
 class RenderTap {
@@ -37,6 +38,12 @@ class RenderTap {
   /// Merger side: copies `events` (at most batch_events) into a free batch
   /// and queues it; false when no batch is free. Never allocates or waits.
   bool try_offer(std::span<const AugmentedEvent> events) noexcept;
+  /// Merger side: the span of the failed offer is dropped (policy drop); the
+  /// next batch offered says so (RenderBatch::after_skip).
+  void drop(std::size_t events) noexcept {
+    dropped_events.add(events);
+    skipped_since_offer_ = true;
+  }
   /// Merger side: no more offers (the stream ended).
   void close() noexcept;
 
@@ -62,6 +69,7 @@ class RenderTap {
   std::unique_ptr<moodycamel::ProducerToken> full_token_;  // merger's
   std::unique_ptr<moodycamel::ProducerToken> free_token_;  // render's
   std::atomic<bool> closed_{false};
+  bool skipped_since_offer_ = false;  // merger's
 };
 
 }  // namespace evlife::engine

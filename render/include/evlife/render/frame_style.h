@@ -25,6 +25,9 @@ struct FrameStyle {
   static constexpr int scale_to_fit(int width, int height, int target_px) noexcept {
     return std::clamp(target_px / std::max({width, height, 1}), 1, kMaxScale);
   }
+  /// The upscaling of `evlife render`, `run --frames` and evlife.frame when
+  /// none is given: the larger side near 512 px.
+  static constexpr int default_scale(int width, int height) noexcept { return scale_to_fit(width, height, 512); }
 
   ColorMode color = ColorMode::lifetime;
   int scale = 4;          ///< integer upscaling, 1..kMaxScale (nearest neighbour: pixels stay crisp)
