@@ -1,4 +1,4 @@
-"""Named pipes as input (`<(zcat x.txt.gz)`, `/dev/stdin` in a pipeline).
+"""Named pipes and sockets as input (`<(zcat x.txt.gz)`, `/dev/stdin` in a pipeline).
 
 evlife's readers read a file's start again once they know its format, and
 several formats need the file's size, so a stream is first copied into a
@@ -18,18 +18,41 @@ import weakref
 from . import _evlife
 
 _CHUNK_BYTES = 1 << 20
-_DOC_NOTE = ("\n\nA named pipe (<(zcat x.txt.gz), /dev/stdin in a pipeline) is first copied into a temporary file "
+_DOC_NOTE = ("\n\nA named pipe or socket (<(zcat x.txt.gz), /dev/stdin in a pipeline) is first copied into a temporary file "
              "in $TMPDIR, removed when done; errors name the pipe.")
 
 
 def is_stream(path):
-    """True for a path (str, bytes or os.PathLike) that is a named pipe."""
+    """True for a path (str, bytes or os.PathLike) that is a named pipe or a socket."""
     if not isinstance(path, (str, bytes, os.PathLike)):
         return False
     try:
-        return stat.S_ISFIFO(os.stat(path).st_mode)
+        mode = os.stat(path).st_mode
     except (OSError, ValueError):
         return False  # the reader's own error names what is wrong
+    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode)
+
+
+def _open_stream(name):
+    """The stream as a binary file: a pipe by its name; a socket, which no
+    open() reads, by the descriptor it names (/dev/stdin, /dev/fd/N,
+    /proc/self/fd/N) or else by connecting to it (a listening socket file)."""
+    if not stat.S_ISSOCK(os.stat(name).st_mode):
+        return builtins.open(name, "rb", buffering=0)
+    descriptor = {"/dev/stdin": 0}.get(name)
+    for prefix in ("/dev/fd/", "/proc/self/fd/"):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            descriptor = int(name[len(prefix):])
+    if descriptor is not None:
+        return os.fdopen(os.dup(descriptor), "rb", buffering=0)
+    import socket
+    connection = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        connection.connect(name)
+    except OSError:
+        connection.close()
+        raise
+    return connection.makefile("rb", buffering=0)
 
 
 def _copy(stream):
@@ -40,7 +63,7 @@ def _copy(stream):
     fd, copy = tempfile.mkstemp(prefix="evlife-stream-", suffix=extension if len(extension) <= 8 else "")
     copied = 0
     try:
-        with builtins.open(stream, "rb", buffering=0) as source:
+        with _open_stream(name) as source:
             while True:
                 try:
                     chunk = source.read(_CHUNK_BYTES)

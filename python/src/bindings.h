@@ -30,7 +30,13 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
 /// A str, bytes or os.PathLike as the file name's bytes (os.fsencode: a name
 /// that is not UTF-8 stays the file's), as evlife.read's `path` takes it.
 inline std::string path_from_python(const py::handle& path) {
-  return py::cast<std::filesystem::path>(path).string();
+  try {
+    return py::cast<std::filesystem::path>(path).string();
+  } catch (const py::cast_error&) {  // pybind's RuntimeError otherwise
+    throw py::type_error("expected a path (str, bytes or os.PathLike), got " +
+                         py::str(py::type::of(path).attr("__name__")).cast<std::string>() +
+                         " (a file object: give its name)");
+  }
 }
 
 /// A reader's skipped (non-event) records by kind, {kind: count}.

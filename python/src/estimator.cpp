@@ -191,12 +191,16 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   FileRun run;
   {
     py::gil_scoped_release release;
-    run = run_file(path, user, r, crop, one_thread, [](SensorSize) {},
-                   [&](std::span<const AugmentedEvent> block) {
-      out.insert(out.end(), block.begin(), block.end());
-    });
+    try {
+      run = run_file(path, user, r, crop, one_thread, [](SensorSize) {},
+                     [&](std::span<const AugmentedEvent> block) {
+        out.insert(out.end(), block.begin(), block.end());
+      });
+    } catch (const io::ReadError& e) {  // before the first event (opening, the sensor scan)
+      run.fault = e;
+    }
   }
-  py::array result = adopt(std::move(out), augmented_dtype());
+  py::array result = adopt(std::move(out), augmented_dtype());  // .partial: empty, not None, as evlife.read's
   if (run.fault) raise_input_error(*run.fault, result);
   return result;
 }
@@ -214,14 +218,18 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   {
     py::gil_scoped_release release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
-    run = run_file(
-        path, user, r, crop, one_thread,
-        [&](SensorSize s) {
-          writer = io::open_augmented_writer(output, s);
-          if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
-        },
-        [&](std::span<const AugmentedEvent> block) { writer->write(block); });
-    writer->close();  // everything before a fault reaches the disk
+    try {
+      run = run_file(
+          path, user, r, crop, one_thread,
+          [&](SensorSize s) {
+            writer = io::open_augmented_writer(output, s);
+            if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
+          },
+          [&](std::span<const AugmentedEvent> block) { writer->write(block); });
+    } catch (const io::ReadError& e) {  // before the output was opened: nothing written, as the CLI
+      run.fault = e;
+    }
+    if (writer) writer->close();  // everything before a fault reaches the disk
   }
   if (run.fault) {
     try {
@@ -394,6 +402,8 @@ then nothing of this call is processed and the state is unchanged.)")
           return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic), one_thread, config,
                               kw);
         }
+        if (py::hasattr(input, "read") && !py::hasattr(input, "dtype"))  // not an array of events: "no field 't'" said less
+          throw py::type_error("input: a file object; give its path (or an array with t, x, y, p fields)");
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");

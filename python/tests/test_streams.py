@@ -139,3 +139,51 @@ def test_help_says_that_pipes_are_copied():
     for function in (evlife.read, evlife.open, evlife.scan, evlife.process, evlife.process_file):
         assert "named pipe" in function.__doc__ and "$TMPDIR" in function.__doc__, function
         assert function.__doc__.startswith(function.__name__ + "("), function  # the C++ signature line first
+
+
+def test_sockets_are_streams_too(tmp_path, temp_dir):
+    # A socket as stdin (/dev/stdin, /dev/fd/N: open() cannot read one) and a
+    # listening socket file: both copied as pipes are (InputError "cannot open" before).
+    import socket
+    payload = open(data(SLIDER), "rb").read()
+    expected = evlife.read(data(SLIDER))
+    ours, theirs = socket.socketpair()
+    with ours, theirs:
+        sender = threading.Thread(target=lambda: (theirs.sendall(payload), theirs.shutdown(socket.SHUT_WR)),
+                                  daemon=True)
+        sender.start()
+        np.testing.assert_array_equal(evlife.read("/dev/fd/%d" % ours.fileno()), expected)
+        sender.join()
+    path = str(tmp_path / "events.sock")
+    server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    server.bind(path)
+    server.listen(1)
+
+    def serve():
+        connection, _ = server.accept()
+        with connection:
+            connection.sendall(payload)
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    np.testing.assert_array_equal(evlife.read(path), expected)
+    thread.join()
+    server.close()
+    assert os.listdir(temp_dir) == []
+
+
+def test_what_is_no_path_is_a_typeerror_and_a_fault_before_any_event_says_none_was_written(tmp_path):
+    import io
+    with pytest.raises(TypeError, match="expected a path"):
+        evlife.scan(io.BytesIO(b"x"))
+    with pytest.raises(TypeError, match="expected a path"):
+        evlife.process_file(data(SLIDER), io.BytesIO())
+    with pytest.raises(TypeError, match="a file object; give its path"):
+        evlife.process(io.BytesIO(b"x"))
+    cut = tmp_path / "cut.mat"
+    cut.write_bytes(open(data("reference/stripes.mat"), "rb").read()[:700_000])
+    with pytest.raises(evlife.InputError) as raised:
+        evlife.process_file(cut, tmp_path / "out.bin")
+    assert raised.value.events_written == 0
+    with pytest.raises(evlife.InputError) as raised:
+        evlife.process(cut)
+    assert raised.value.partial is not None and raised.value.partial.size == 0
