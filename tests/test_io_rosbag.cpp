@@ -436,7 +436,10 @@ TEST(RosPayloads, BytesAfterTheEventsAreAFaultNotDropped) {
     std::vector<ros::RosEvent> events;
     const auto fault = decoder.decode(packet.bytes, events);
     EXPECT_EQ(fault.has_value(), extra > 3) << extra << " bytes after";
-    if (fault) EXPECT_NE(fault->what.find(std::to_string(extra) + " bytes follow the field 'events'"), std::string::npos) << fault->what;
+    if (fault) {
+      EXPECT_NE(fault->what.find(std::to_string(extra) + " bytes follow the field 'events'"), std::string::npos)
+          << fault->what;
+    }
   }
   // A width no camera has (it would read as -1 in an int) is a fault, not a sensor.
   MessageBytes wide{{0x00, 0x01, 0x00, 0x00}, 4};
