@@ -209,6 +209,13 @@ const KeyOrigin* ConfigBuilder::origin(std::string_view key) const {
   return it == origins_.end() ? nullptr : &it->second;
 }
 
+const KeyOrigin* ConfigBuilder::user_origin_of_input_keys() const {
+  for (const auto& [key, where] : origins_) {
+    if (where.by_user && is_taken_from_the_input(key)) return &where;
+  }
+  return nullptr;
+}
+
 std::string default_config_path() {
 #ifdef EVLIFE_DEFAULT_CONFIG
   return EVLIFE_DEFAULT_CONFIG;

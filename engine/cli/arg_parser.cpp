@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "evlife/config/config_key.h"
 #include "evlife/io/augmented_event_reader.h"
 
 namespace evlife::cli {
@@ -147,13 +146,9 @@ config::LoadedConfig load_command_config(const ParsedArgs& a) {
 void print_config(const config::LoadedConfig& c) {
   // What the input decides stays a comment unless the user set it, so the
   // output given back with --config configures the same run.
-  bool user_set_one = false;  // the sensor's width and height bind together
-  for (const auto& k : config::config_keys()) {
-    const config::KeyOrigin* o = c.builder.origin(k.name);
-    user_set_one = user_set_one || (config::is_taken_from_the_input(k.name) && o && o->by_user);
-  }
+  const bool user_set_them = c.builder.user_origin_of_input_keys() != nullptr;
   const auto from_input = [&](std::string_view key) {
-    return config::is_taken_from_the_input(key) && !user_set_one;
+    return config::is_taken_from_the_input(key) && !user_set_them;
   };
   std::fprintf(stdout, "# effective configuration (from %s)\n%s", c.describe().c_str(),
                config::to_yaml(c.config, from_input).c_str());

@@ -156,10 +156,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }
   if (args.sensor) return {*args.sensor, "--sensor"};
-  if (const auto* o = args.config.builder.origin("estimator.sensor.width"); o && o->by_user) {
-    return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
-  }
-  if (const auto* o = args.config.builder.origin("estimator.sensor.height"); o && o->by_user) {
+  if (const auto* o = args.config.builder.user_origin_of_input_keys()) {
     return {cfg.estimator.sensor, "estimator.sensor (" + o->where + ")"};
   }
   if (!args.quiet) {

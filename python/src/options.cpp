@@ -142,9 +142,7 @@ ResolvedOptions resolve_options(const std::string& where, const py::object& sens
     b.set("estimator.sensor.height", std::to_string(s.height), origin);
   }
   r.config = b.build();
-  const auto* ow = b.origin("estimator.sensor.width");
-  const auto* oh = b.origin("estimator.sensor.height");
-  if ((ow && ow->by_user) || (oh && oh->by_user)) r.sensor = r.config.estimator.sensor;
+  if (b.user_origin_of_input_keys() != nullptr) r.sensor = r.config.estimator.sensor;
   return r;
 }
 

@@ -120,37 +120,6 @@ bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t
   return ok;
 }
 
-// What a column's value must be to be an event's: a pixel coordinate, a time
-// of whole µs within int64, a polarity within int8.
-enum class ColumnKind { coordinate, time_us, polarity };
-
-// The first of `count` rows from `first` whose value the column cannot hold
-// without change (read as doubles, which hold every such value's size), with
-// that value; nothing when every row fits (the read failed for another reason).
-std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t dataset, ColumnKind kind,
-                                                                      std::int64_t first, std::size_t count) {
-  std::vector<double> values(count);
-  const hid_t file_space = H5Dget_space(dataset);
-  if (file_space < 0) return std::nullopt;
-  const hsize_t start[1] = {static_cast<hsize_t>(first)};
-  const hsize_t size[1] = {count};
-  const hid_t memory_space = H5Screate_simple(1, size, nullptr);
-  const bool ok = memory_space >= 0 &&
-                  H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
-                  H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, values.data()) >= 0;
-  if (memory_space >= 0) H5Sclose(memory_space);
-  H5Sclose(file_space);
-  if (!ok) return std::nullopt;
-  for (std::size_t i = 0; i < count; ++i) {
-    const double v = values[i];
-    const bool whole = v == std::floor(v);  // false for NaN and infinities too
-    const bool fits = kind == ColumnKind::coordinate ? v >= 0.0 && v <= 65535.0
-                      : kind == ColumnKind::polarity ? v >= -128.0 && v <= 127.0
-                                                     : std::fabs(v) < 9.2e18;
-    if (!whole || !fits) return std::pair{i, v};
-  }
-  return std::nullopt;
-}
 
 // The dataset `name` of `file` opened, or -1 when there is none (a group,
 // nothing, or unreadable): for the optional datasets beside the events.
@@ -229,6 +198,30 @@ bool to_coordinate(double value, std::uint16_t& out) {
   if (!(value >= 0.0 && value <= 65535.0) || value != std::floor(value)) return false;
   out = static_cast<std::uint16_t>(value);
   return true;
+}
+
+// What a column's value must be to be an event's: a pixel coordinate
+// (to_coordinate), a time in int64 microseconds (to_microseconds), a polarity
+// within int8.
+enum class ColumnKind { coordinate, time_us, polarity };
+
+// The first of `count` rows from `first` whose value the column cannot hold
+// without change (read as doubles, which hold every such value's size), with
+// that value; nothing when every row fits (the read failed for another reason).
+std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t dataset, ColumnKind kind,
+                                                                      std::int64_t first, std::size_t count) {
+  std::vector<double> values(count);
+  if (!read_slab(dataset, H5T_NATIVE_DOUBLE, first, count, values.data())) return std::nullopt;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double v = values[i];
+    std::uint16_t coordinate = 0;
+    std::int64_t t_us = 0;
+    const bool fits = kind == ColumnKind::coordinate ? to_coordinate(v, coordinate)
+                      : kind == ColumnKind::time_us  ? v == std::floor(v) && to_microseconds(v, false, t_us)
+                                                     : v == std::floor(v) && v >= -128.0 && v <= 127.0;
+    if (!fits) return std::pair{i, v};
+  }
+  return std::nullopt;
 }
 
 }  // namespace

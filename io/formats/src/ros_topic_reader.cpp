@@ -1,5 +1,7 @@
 #include "ros_topic_reader.h"
 
+#include <algorithm>
+
 namespace evlife::io::ros {
 
 void TopicEventReader::start(const std::vector<TopicInfo>& topics, const TopicInfo& topic,
@@ -8,10 +10,9 @@ void TopicEventReader::start(const std::vector<TopicInfo>& topics, const TopicIn
   topic_ = topic.name;
   decoder_ = MessageDecoder(message_kind(topic.type), serialization);
   load_message();
-  // A first message that states no size, or one beyond any camera's (its fault is error_), states none.
-  constexpr auto kMax = static_cast<std::uint32_t>(kMaxSensorSide);
-  if (decoder_.width() > 0 && decoder_.height() > 0 && decoder_.width() <= kMax && decoder_.height() <= kMax)
-    sensor_ = SensorSize{static_cast<int>(decoder_.width()), static_cast<int>(decoder_.height())};
+  // A first message that states no size (0), or one beyond any camera's (its fault is error_), states none.
+  const auto side = [](std::uint32_t v) { return static_cast<int>(std::min<std::uint32_t>(v, kMaxSensorSide + 1)); };
+  if (const SensorSize s{side(decoder_.width()), side(decoder_.height())}; s.within_camera_limits()) sensor_ = s;
 }
 
 std::size_t TopicEventReader::read(std::span<Event> out) {

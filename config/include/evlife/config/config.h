@@ -78,6 +78,11 @@ class ConfigBuilder {
   /// Non-null when the key was given by a file or --set.
   const KeyOrigin* origin(std::string_view key) const;
 
+  /// Where the user set a key the input decides otherwise (is_taken_from_the_input:
+  /// the sensor's width or height, which bind together), or null: the default
+  /// file's values there do not count.
+  const KeyOrigin* user_origin_of_input_keys() const;
+
  private:
   void assign(std::string_view key, std::string_view value, const std::string& where,
               bool by_user);
