@@ -135,6 +135,15 @@ TEST_F(CliTest, StdinAndNamedPipesReadAsTheFileDoes) {
   const RunResult b = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
   ASSERT_EQ(b.exit_code, 0) << b.output;
   EXPECT_TRUE(evlife::test::read_text_file(path("stdin_bin.csv")) == evlife::test::read_text_file(path("bin.csv")));
+  // A fault in the stream is named as the stream's (the copy is called
+  // `stdin`), not as an anonymous temporary file, and the copy is removed.
+  std::ofstream(script) << "export TMPDIR='" << tmp.string() << "'\n"
+                        << "printf '1 2 3 1\\n0.5 2 3 1\\n' | '" << kCli << "' process - -o '"
+                        << path("backwards.csv").string() << "'\n";
+  const RunResult fault = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
+  EXPECT_EQ(fault.exit_code, 3) << fault.output;
+  EXPECT_NE(fault.output.find("/stdin: timestamp goes backwards"), std::string::npos) << fault.output;
+  EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
 }
 
 TEST_F(CliTest, UsageErrorsExitTwo) {
@@ -591,6 +600,34 @@ TEST_F(CliTest, AVideoCutShortByAFullDiskIsAnOutputError) {
   }
 }
 
+// A file named .bin is evlife's output: one without its magic is said to be
+// that by every command that reads one (before: render and eval listed every
+// format, convert asked for the CSV header, info listed every format), and a
+// good one given to `process` says what reads it (before: "unknown format").
+TEST_F(CliTest, ABinThatIsNotEvlifesIsNamedSoByEveryCommand) {
+  const std::string good = path("good.bin").string();
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + good + "' -q").exit_code, 0);
+  std::string bytes = evlife::test::read_text_file(good);
+  ASSERT_GT(bytes.size(), 8u);
+  bytes.replace(0, 8, "ZZZZZZZZ");
+  const std::string bad = path("bad.bin").string();
+  std::ofstream(bad, std::ios::binary) << bytes;
+  const std::string said = bad + ": not evlife's .bin: it starts with 'ZZZZZZZZ'";
+  for (const std::string& command : {"info '" + bad + "'", "convert '" + bad + "' -o '" + path("b.txt").string() + "'",
+                                    "render '" + bad + "' -o '" + path("b.png").string() + "' --at 0.05",
+                                    "eval '" + bad + "' -o '" + path("b_eval").string() + "'",
+                                    "process '" + bad + "' -o '" + path("b.csv").string() + "'"}) {
+    const RunResult r = run(command);
+    EXPECT_EQ(r.exit_code, 3) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(said), std::string::npos) << command << "\n" << r.output;
+    EXPECT_EQ(r.output.find("known formats"), std::string::npos) << command << "\n" << r.output;
+  }
+  const RunResult again = run("process '" + good + "' -o '" + path("again.csv").string() + "'");
+  EXPECT_EQ(again.exit_code, 3) << again.output;
+  EXPECT_NE(again.output.find(good + ": evlife's output (.bin: its events carry lifetimes already)"), std::string::npos)
+      << again.output;
+}
+
 // An output naming the input (itself, or through a link) would truncate it
 // before the reader reaches its end: every command that reads a file and
 // writes events refuses it (exit 2) and leaves the input as it was.
@@ -676,6 +713,14 @@ TEST_F(CliTest, ARefusedRunLeavesAnExistingOutputAsItWas) {
   const RunResult mkv = run("run '" + kRpgText + "' -q --fps 10 --video " + path("v.mkv").string());
   EXPECT_EQ(mkv.exit_code, 2) << mkv.output;
   EXPECT_FALSE(fs::exists(path("v.mkv")));
+  // Frames that cannot be written are found before -o is opened (it was emptied to its header before).
+  std::ofstream(path("a_file")) << "not a folder";
+  const RunResult frames = run("run '" + kRpgText + "' -q --fps 10 --frames " + path("a_file").string() + " -o " + out);
+  EXPECT_EQ(frames.exit_code, 4) << frames.output;
+  EXPECT_NE(frames.output.find(out + " left as it was"), std::string::npos) << frames.output;
+  const RunResult video = run("run '" + kRpgText + "' -q --fps 10 --video /proc/no_such/x.avi -o " + out);
+  EXPECT_EQ(video.exit_code, 4) << video.output;
+  EXPECT_TRUE(evlife::test::read_text_file(out) == before);
 }
 
 }  // namespace

@@ -111,7 +111,10 @@ TEST_F(CliFlags, OneRangePerEngineOption) {
 
 TEST_F(CliFlags, TimesWithUnitsEverywhere) {
   const std::string in = sample();
-  EXPECT_EQ(run("run --source synth:edges --sensor 64x64 --duration 50ms --stats-period 500ms -q").exit_code, 0);
+  const RunResult scene = run("run --source synth:edges --sensor 64x64 --duration 50ms --stats-period 500ms");
+  EXPECT_EQ(scene.exit_code, 0) << scene.output;
+  // The scene is named as given, with its size and length (before: "file:<synthetic>").
+  EXPECT_TRUE(has(scene, "synth:edges (a generated scene, 64x64, 0.05 s) ->")) << scene.output;
   EXPECT_EQ(run("render " + in + " -o " + path("a.png") + " --at 150ms -q").exit_code, 0);
   EXPECT_TRUE(fs::exists(path("a.png")));
   const RunResult bad = run("synth -o " + path("x.txt") + " --duration 5parsecs");
@@ -315,6 +318,17 @@ TEST_F(CliFlags, AnOptionUnderTwoNamesIsNamedBoth) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(has(r, "'--at' and '--frame-at' are the same option: give it once")) << r.output;
   EXPECT_TRUE(has(run("process " + sample() + " -o a.csv -o b.csv"), "option '-o' given more than once"));
+}
+
+// synth's HDF5 output states the scene's sensor, as convert's does: a scene
+// whose events do not reach its right and bottom borders read back with the
+// sensor it was made on (before: "not stated", the span of the events).
+TEST_F(CliFlags, SynthesizedHdf5StatesItsSensor) {
+  const std::string h5 = path("wide.h5");
+  ASSERT_EQ(run("synth -q --scene bar --sensor 400x90 --duration 20ms -o " + h5).exit_code, 0);
+  const RunResult r = run("info " + h5);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r, "sensor     400x90 (stated by the file)")) << r.output;
 }
 
 }  // namespace

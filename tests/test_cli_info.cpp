@@ -93,6 +93,18 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
   EXPECT_EQ(run("info").exit_code, 2);
   EXPECT_EQ(run("info '" + dir_.file("missing.raw") + "'").exit_code, 3);
+  // Timestamps that go backwards: every event described, the first such event
+  // named as the other commands name it, and exit 3 (they stop there; before,
+  // "somewhere" and exit 0).
+  const fs::path txt = dir_.path() / "backwards.txt";
+  std::ofstream(txt) << "1.0 2 3 1\n0.5 2 3 1\n2.0 2 3 0\n1.5 1 1 0\n";
+  r = run("info '" + txt.string() + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("events     4 (2 ON, 2 OFF)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("2 events earlier than one before them"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(txt.string() + ": timestamp goes backwards: 500000 us after 1000000 us (event index 1, byte offset 10)"),
+            std::string::npos)
+      << r.output;
 }
 
 // evlife's own outputs: their events and the lifetimes they hold, with the

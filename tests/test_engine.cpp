@@ -504,6 +504,10 @@ TEST(Engine, FailingSinkEndsRunWithErrorAndKeepsAccounting) {
   EXPECT_EQ(calls, 3u);  // not called again after failing
   EXPECT_GT(r.stats.sink_failed, 0u);
   EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
+  // The summary must not call the run balanced without saying the output lost events.
+  EXPECT_NE(r.stats.summary().find("but " + std::to_string(r.stats.sink_failed) + " of the out were not written"),
+            std::string::npos)
+      << r.stats.summary();
 }
 
 TEST(Engine, FileSourceReportsMissingFileAndBadOptions) {
@@ -1010,11 +1014,11 @@ TEST(RenderStage, ClockFramesWhoseEventsWereSkippedAreCounted) {
   };
   ASSERT_TRUE(tap.try_offer(at({0, 25'000})));
   EXPECT_FALSE(tap.try_offer(at({30'000, 55'000})));  // dropped: the render thread has not taken the first
-  tap.drop(2);                                         // as the merger does under policy drop
+  tap.drop(at({30'000, 55'000}));                      // as the merger does under policy drop
   ASSERT_EQ(stage.step(), ee::StepResult::progressed);
   ASSERT_TRUE(tap.try_offer(at({60'000, 65'000})));    // says that events before it were dropped
   EXPECT_FALSE(tap.try_offer(at({70'000, 95'000})));
-  tap.drop(2);
+  tap.drop(at({70'000, 95'000}));
   tap.close();
   while (stage.step() != ee::StepResult::finished) {
   }
@@ -1023,6 +1027,37 @@ TEST(RenderStage, ClockFramesWhoseEventsWereSkippedAreCounted) {
   EXPECT_EQ(stage.frames_incomplete(), 3u);
   EXPECT_EQ(stage.frames_missed(), 3u);  // 70 .. 90 ms: their events and all after them were skipped
   EXPECT_EQ(stage.frames_not_drawn(), 0u);
+}
+
+// A skipped event with a long lifetime belongs in the frames after the gap
+// too: they are counted incomplete until it would have ended (before: only
+// the frames inside the gap of event time were).
+TEST(RenderStage, FramesThatLackALongLivedSkippedEventAreCounted) {
+  moodycamel::LightweightSemaphore wake_merger;
+  ee::RenderTap tap(1, 64, wake_merger);
+  ee::RenderOptions ro;
+  ro.fps = 100;  // every 10 ms
+  ro.style.scale = 1;
+  RecordingFrameSink frames;
+  ee::RenderStage stage(tap, kDvs128, ro, frames);
+  std::vector<AugmentedEvent> first(2), skipped(1), next(2);
+  first[0].event = Event{0, 5, 5, 1};
+  first[1].event = Event{5'000, 6, 5, 1};
+  skipped[0].event = Event{8'000, 7, 5, 1};
+  skipped[0].lifetime_us = 40'000.0f;  // active until 48 ms
+  next[0].event = Event{9'000, 8, 5, 1};
+  next[1].event = Event{95'000, 9, 5, 1};
+  ASSERT_TRUE(tap.try_offer(first));
+  ASSERT_FALSE(tap.try_offer(skipped));
+  tap.drop(skipped);
+  ASSERT_EQ(stage.step(), ee::StepResult::progressed);
+  ASSERT_TRUE(tap.try_offer(next));
+  tap.close();
+  while (stage.step() != ee::StepResult::finished) {
+  }
+  EXPECT_EQ(frames.times.size(), 10u);  // 0 .. 90 ms
+  EXPECT_EQ(stage.frames_incomplete(), 4u);  // 10, 20, 30, 40 ms: without the event of 8 .. 48 ms
+  EXPECT_EQ(stage.frames_missed(), 0u);
 }
 #endif
 

@@ -140,6 +140,36 @@ TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
     }
     EXPECT_EQ(frames, 7) << name;
   }
+  // No frame to draw (--from after the last event): an earlier video of that
+  // name is left as it was (before: replaced by a video of no frame), and no
+  // probe file is left beside it.
+  const std::string before = evlife::test::read_text_file(path("v.avi"));
+  const auto none = run("render '" + kGarfield + "' -o '" + path("v.avi") + "' --fps 20 --from 100 -q");
+  EXPECT_EQ(none.exit_code, 3) << none.output;
+  EXPECT_NE(none.output.find("nothing written to " + path("v.avi")), std::string::npos) << none.output;
+  EXPECT_TRUE(evlife::test::read_text_file(path("v.avi")) == before);
+  for (const auto& entry : std::filesystem::directory_iterator(dir_.path()))
+    EXPECT_EQ(entry.path().filename().string().rfind(".evlife-probe", 0), std::string::npos) << entry.path();
+}
+
+// A fixed window is drawn exactly up to its longest (537 s of 32-bit history
+// behind the newest event); a longer one is refused (before: window:3600s
+// silently left out events older than ~45 min).
+TEST_F(RenderCliTest, LongWindowsAreExactOrRefused) {
+  std::ofstream(path("gap.txt")) << "0.000000 1 1 1\n500.000000 2 2 1\n";
+  auto r = run("render '" + path("gap.txt") + "' -o '" + path("gap_frames") +
+               "' --at 500 --mode window:530s --color plain --scale 1 --no-caption --no-legend --sensor 4x4 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const cv::Mat image = cv::imread(path("gap_frames") + "/frame_000000_t500.000000s.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(image.cols, 4);
+  const cv::Mat frame = image.rowRange(image.rows - 4, image.rows);  // under the panel's label
+  EXPECT_GT(frame.at<unsigned char>(1, 1), 0) << "the event 500 s before the instant";
+  EXPECT_GT(frame.at<unsigned char>(2, 2), 0);
+  EXPECT_EQ(cv::countNonZero(frame), 2);
+  r = run("render '" + path("gap.txt") + "' -o '" + path("gap_frames") + "' --at 500 --mode window:3600s --sensor 4x4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("window longer than the longest drawn exactly, 536 s, in 'window:3600s'"), std::string::npos)
+      << r.output;
 }
 
 TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
@@ -416,6 +446,29 @@ TEST_F(RenderCliTest, CtrlCInSynthAndEvalIsACleanStop) {
   EXPECT_EQ(r.exit_code, 130) << r.output;
   EXPECT_NE(r.output.find("interrupted: nothing written to"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(path("report") + "/summary.html"));
+}
+
+// eval's compare frame is drawn at --frame-at itself (before: the last sample
+// instant not after it, 0.10 s for 0.12 s), or at the last event when the
+// recording ends first; a recording shorter than --sample-every has no
+// sharpness instant, and says so (before: "completeness 100.0 %" over 0
+// instants, and summary.html linking a compare frame never drawn).
+TEST_F(RenderCliTest, EvalDrawsTheCompareFrameWhereAskedAndSaysWhenNothingWasSampled) {
+  const std::string scene = path("short.txt");
+  ASSERT_EQ(run("synth -q --duration 0.3 -o '" + scene + "'").exit_code, 0);
+  auto r = run("eval '" + scene + "' -o '" + path("at") + "' --frame-at 0.12 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(evlife::test::read_text_file(path("at") + "/summary.html").find("Compare frame (t = 0.120 s)"),
+            std::string::npos);
+  r = run("eval '" + scene + "' -o '" + path("long") + "' --sample-every 1s");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sharpness: no instant sampled: the recording (0.3"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("over 0 instants"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(path("long") + "/compare_frame.png"));
+  const std::string html = evlife::test::read_text_file(path("long") + "/summary.html");
+  EXPECT_NE(html.find("Compare frame (t = 0.300 s)"), std::string::npos);  // the last event, before 0.5 s
+  EXPECT_NE(evlife::test::read_text_file(path("long") + "/sharpness_summary.csv").find("\nlifetime (ours),0,,,,,,\n"),
+            std::string::npos);
 }
 
 }  // namespace

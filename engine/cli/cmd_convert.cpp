@@ -216,8 +216,7 @@ int convert_events(const std::string& input, const std::string& output,
   }
   std::unique_ptr<io::EventWriter> writer;
   try {
-    writer = has_extension(output, {".h5", ".hdf5"}) ? io::open_hdf5_event_writer(output, sensor)
-                                               : io::open_event_writer(output);
+    writer = io::open_event_writer(output, sensor);
   } catch (const io::WriteError& e) {
     std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
     return kExitOutput;
@@ -273,7 +272,7 @@ int convert(int argc, char** argv) {
   // copy has no extension); a .csv of other tools is read as events.
   std::unique_ptr<io::AugmentedEventReader> augmented;
   try {
-    augmented = has_extension(input, {".bin"}) ? io::open_augmented_reader(input) : io::open_if_augmented(input);
+    augmented = io::open_if_augmented(input);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
     return kExitInput;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "arg_parser.h"
 #include "command.h"
 #include "command_start.h"
@@ -54,7 +56,8 @@ void print_help(std::FILE* out) {
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
                "\n"
-               "Exit status: 0 done; 2 bad command line; 3 input error.\n");
+               "Exit status: 0 done; 2 bad command line; 3 input error (corrupt data, or\n"
+               "timestamps that go backwards: described in full, the first one named).\n");
 }
 
 std::string thousands(std::uint64_t v) {
@@ -73,12 +76,25 @@ struct EventTally {
   std::int64_t first = 0, last = 0;
   int max_x = -1, max_y = -1;
   bool ordered = true;
+  std::uint64_t backwards = 0;  // events earlier than one before them (the other commands stop at the first)
+  std::uint64_t first_backwards_index = 0;
+  std::int64_t first_backwards_t_us = 0, first_backwards_after_us = 0;
   std::int64_t longest_gap_us = 0;  // between events in file order: a timestamp outlier shows here
   std::int64_t longest_gap_after_us = 0;
 
+  std::uint64_t count() const noexcept { return on + off; }
+
   void add(const Event& e) noexcept {
     if (on + off == 0) first = last = e.t_us;
-    if (e.t_us < last) ordered = false;
+    if (e.t_us < last) {
+      if (ordered) {
+        first_backwards_index = count();
+        first_backwards_t_us = e.t_us;
+        first_backwards_after_us = last;
+      }
+      ordered = false;
+      ++backwards;
+    }
     if (e.t_us - last > longest_gap_us) {
       longest_gap_us = e.t_us - last;
       longest_gap_after_us = last;
@@ -104,7 +120,11 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated) {
   if (t.on + t.off > 0) {
     std::printf("time       %lld .. %lld us, duration %.6f s%s\n", static_cast<long long>(t.first),
                 static_cast<long long>(t.last), static_cast<double>(t.last - t.first) * 1e-6,
-                t.ordered ? "" : " (timestamps go backwards somewhere)");
+                t.ordered ? ""
+                          : fmt::format(" (timestamps go backwards: {} events earlier than one before them, "
+                                        "the first named below)",
+                                        thousands(t.backwards))
+                                .c_str());
     std::printf("gap        longest without events %.6f s, after t = %lld us\n",
                 static_cast<double>(t.longest_gap_us) * 1e-6, static_cast<long long>(t.longest_gap_after_us));
   }
@@ -190,9 +210,17 @@ int run_info(int argc, char** argv) {
   std::vector<Event> batch(1 << 16);
   EventTally tally;
   std::string fault;
+  std::string backwards;  // the first event earlier than one before it, as the checked readers name it
   try {
     while (const std::size_t n = reader->read(batch)) {
       for (std::size_t i = 0; i < n; ++i) tally.add(batch[i]);
+      if (!tally.ordered && backwards.empty()) {  // offsets are known for the batch just read
+        const auto index = static_cast<std::int64_t>(tally.first_backwards_index);
+        backwards = io::ReadError(reader->path(), reader->byte_offset_of_event(index), index,
+                                  fmt::format("timestamp goes backwards: {} us after {} us", tally.first_backwards_t_us,
+                                              tally.first_backwards_after_us))
+                        .what();
+      }
     }
   } catch (const io::ReadError& e) {
     fault = e.what();
@@ -220,11 +248,15 @@ int run_info(int argc, char** argv) {
                   thousands(s.messages).c_str(), unit);
     }
   }
+  if (!backwards.empty()) {  // described above, but every other command stops there: not a clean exit
+    std::fprintf(stderr, "evlife info: %s (the first of %s; process, convert and render stop at it)\n",
+                 backwards.c_str(), thousands(tally.backwards).c_str());
+  }
   if (!fault.empty()) {
     std::fprintf(stderr, "evlife info: %s\n", fault.c_str());
     return kExitInput;
   }
-  return kExitOk;
+  return backwards.empty() ? kExitOk : kExitInput;
 }
 
 }  // namespace

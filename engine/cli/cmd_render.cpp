@@ -87,7 +87,7 @@ void print_render_help(std::FILE* out) {
       "  -m, --mode M        lifetime (default): the active events. (--render-mode and\n"
       "                      --render-fps, as `evlife run` spelled them, are accepted.)\n"
       "                      window:DUR: every event of the fixed window [t-DUR, t], e.g.\n"
-      "                      window:30ms (the naive method).\n"
+      "                      window:30ms (the naive method; DUR up to 536 s).\n"
       "                      compare: 1 ms window | 30 ms window | lifetime, side by side,\n"
       "                      labelled as in the paper.\n"
       "  --color C           lifetime (default; blue = short, red = long, log scale, with\n"
@@ -270,7 +270,8 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
     return kExitInterrupted;
   }
   if (r.frames == 0) {
-    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?)\n");
+    std::fprintf(stderr, "evlife render: no frame drawn (--from after the last event?): nothing written to %s\n",
+                 args.job.output.c_str());
     return kExitInput;
   }
   return kExitOk;

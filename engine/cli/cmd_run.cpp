@@ -334,6 +334,8 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
     auto source = engine::ReplaySource::from_reader(std::move(scene), sensor, r.speed,
                                                     r.speed > 0 ? engine::SourceKind::live : engine::SourceKind::offline);
     source->set_packet_us(r.engine.replay_packet_us);
+    source->describe_as(fmt::format("{} (a generated scene, {}x{}, {:g} s)", r.source, sensor.width, sensor.height,
+                                    static_cast<double>(duration_us) * 1e-6));
     return source;
   }
   auto source = engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.sensor, r.speed, r.input_options);
@@ -523,6 +525,20 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n", refused.c_str());
     return kExitRealtime;
   }
+  // The frames' folder or video before -o: a bad frame path must not have
+  // emptied an existing output first.
+  std::unique_ptr<render::FrameSink> frame_sink;
+  try {
+    if (!args.frames_dir.empty()) {
+      frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
+    } else if (!args.video.empty()) {
+      frame_sink = std::make_unique<render::VideoFrameSink>(args.video, args.render.fps);
+    }
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "evlife run: output error: %s%s\n", e.what(),
+                 args.output.empty() ? "" : fmt::format(" ({} left as it was)", args.output).c_str());
+    return kExitOutput;
+  }
   std::unique_ptr<engine::WriterSink> writer_sink;
   if (!args.output.empty()) {
     try {
@@ -543,16 +559,11 @@ int run_engine(int argc, char** argv) {
   // The frames of `evlife render` (its upscaling too), whatever the sensor.
   args.render.style.scale = render::FrameStyle::default_scale(source->sensor_size().width, source->sensor_size().height);
   std::optional<engine::Engine> eng;
-  std::unique_ptr<render::FrameSink> frame_sink;
   std::unique_ptr<engine::RenderStage> render_stage;
   try {
     eng.emplace(*source, sink, args.engine);
     if (rendering) {
-      if (!args.frames_dir.empty()) {
-        frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
-      } else if (!args.video.empty()) {
-        frame_sink = std::make_unique<render::VideoFrameSink>(args.video, args.render.fps);
-      } else {
+      if (!frame_sink) {  // the on-screen window: it stops the engine when closed
         engine::Engine* running = &*eng;
         frame_sink = std::make_unique<WindowFrameSink>(
             "evlife: " + source->describe(), [running] { running->request_stop(); });

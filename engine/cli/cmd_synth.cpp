@@ -84,7 +84,9 @@ void print_help(std::FILE* out) {
       "\n"
       "Options:\n"
       "  -o, --output FILE    .txt: RPG text, one event per line 't x y p' (t in\n"
-      "                       seconds, 6 decimals; p 1 = ON, 0 = OFF); .h5: HDF5.\n"
+      "                       seconds, 6 decimals; p 1 = ON, 0 = OFF; it cannot state the\n"
+      "                       sensor: give readers --sensor); .h5: HDF5 x,y,t,p with\n"
+      "                       the sensor as attributes width and height.\n"
       "  --scene NAME         see above (default mixed).\n"
       "  --sensor WxH         sensor size in pixels (default 128x128, the DVS128).\n"
       "  --duration T         length of the scene: 1.5s, 500ms, or seconds (default 3).\n"
@@ -273,7 +275,7 @@ int synth(int argc, char** argv) {
   bool stopped = false;
   try {
     // The outputs open first: a bad file name is reported before seconds of generation.
-    auto writer = io::open_event_writer(output);
+    auto writer = io::open_event_writer(output, spec.sensor);  // .h5 states it; .txt cannot
     std::unique_ptr<TruthCsv> truth_csv;
     if (!truth_path.empty()) truth_csv = std::make_unique<TruthCsv>(truth_path);
     if (textured) {

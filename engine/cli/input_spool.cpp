@@ -19,11 +19,12 @@
 namespace evlife::cli {
 namespace {
 
-// A named pipe's extension is kept (format sniffing by extension: .dat, .bag).
-std::string extension_of(const std::string& input) {
-  if (input == "-") return "";
-  const std::string ext = std::filesystem::path(input).extension().string();
-  return ext.size() <= 8 ? ext : "";
+// "stdin", or a named pipe's file name: its extension still counts (format
+// sniffing by extension: .dat, .bag).
+std::string copy_name(const std::string& input) {
+  if (input == "-") return "stdin";
+  const std::string name = std::filesystem::path(input).filename().string();
+  return name.empty() || name == "." || name == ".." ? "stream" : name;
 }
 
 // Closes a descriptor it owns (not stdin) on every way out.
@@ -44,26 +45,34 @@ bool InputSpool::needed(const std::string& input) {
 
 InputSpool::InputSpool(const std::string& input, const char* command, bool quiet)
     : stream_(stream_name(input)) {
+  // The copy lives in a private folder under the stream's own name ("stdin",
+  // or the pipe's file name), so that every reader message that names the
+  // copy also says which stream it came from: `/tmp/evlife-Ab12Cd/stdin: ...`.
   const char* tmpdir = std::getenv("TMPDIR");
-  const std::string ext = extension_of(input);
-  std::string templ = std::string(tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp") + "/evlife-stdin-XXXXXX" + ext;
-  Descriptor out{::mkostemps(templ.data(), static_cast<int>(ext.size()), O_CLOEXEC)};
-  if (out.fd < 0) {
-    throw std::runtime_error(stream_ + ": cannot create a temporary file to hold the stream (" + templ +
+  std::string folder = std::string(tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp") + "/evlife-XXXXXX";
+  if (::mkdtemp(folder.data()) == nullptr) {
+    throw std::runtime_error(stream_ + ": cannot create a temporary folder to hold the stream (" + folder +
                              "): " + std::strerror(errno) + "; set TMPDIR to a folder with room");
   }
-  path_ = templ;
+  folder_ = folder;
+  path_ = folder_ + "/" + copy_name(input);
+  Descriptor out{::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600)};
+  if (out.fd < 0) {
+    const int err = errno;
+    ::rmdir(folder_.c_str());
+    throw std::runtime_error(stream_ + ": cannot create " + path_ + " to hold the stream: " + std::strerror(err));
+  }
   try {
     copy(input, out.fd, command, quiet);
   } catch (...) {
-    ::unlink(path_.c_str());  // the destructor does not run for a constructor that throws
+    remove_copy();  // the destructor does not run for a constructor that throws
     throw;
   }
   const int closed = ::close(out.fd);
   out.fd = -1;
   if (closed != 0) {
     const int err = errno;
-    ::unlink(path_.c_str());
+    remove_copy();
     throw std::runtime_error(stream_ + ": cannot copy the stream into " + path_ + ": " + std::strerror(err));
   }
 }
@@ -105,7 +114,12 @@ void InputSpool::copy(const std::string& input, int out, const char* command, bo
   }
 }
 
-InputSpool::~InputSpool() { ::unlink(path_.c_str()); }
+void InputSpool::remove_copy() noexcept {
+  ::unlink(path_.c_str());
+  ::rmdir(folder_.c_str());
+}
+
+InputSpool::~InputSpool() { remove_copy(); }
 
 std::optional<int> spool_stream_input(const char* command, std::string& input, bool quiet,
                                       std::optional<InputSpool>& spool) {

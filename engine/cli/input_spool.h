@@ -1,8 +1,9 @@
 // INPUT `-` (stdin), a named pipe or a process substitution (`<(unzip -p
 // x.zip events.txt)`): the readers read a file's start again once they know
 // its format, and several formats need its size, so such a stream is first
-// copied into a temporary file (in $TMPDIR, else /tmp), which the readers
-// then take as INPUT and which is removed when the command ends. Formats are
+// copied into a temporary file (`$TMPDIR/evlife-XXXXXX/stdin`, else under
+// /tmp; a pipe's copy keeps the pipe's file name), which the readers then
+// take as INPUT and which is removed when the command ends. Formats are
 // then recognised by their content (text, CSV, AEDAT, Prophesee RAW, MATLAB,
 // HDF5); a named pipe's own extension still counts (x.dat, x.bag).
 #pragma once
@@ -36,8 +37,10 @@ class InputSpool {
 
  private:
   void copy(const std::string& input, int out, const char* command, bool quiet);
+  void remove_copy() noexcept;
 
   std::string stream_;
+  std::string folder_;
   std::string path_;
   std::uint64_t bytes_ = 0;
 };

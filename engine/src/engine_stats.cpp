@@ -54,6 +54,9 @@ std::string EngineStats::summary() const {
                      render_offered, render_dropped);
   s += fmt::format("balance: in {} = out {} + dropped {} : {}", events_in, events_out,
                    events_dropped, events_in == events_out + events_dropped ? "ok" : "MISMATCH");
+  // "out" counts what reached the sink; a failed sink kept none of it after the failure.
+  if (sink_failed > 0)
+    s += fmt::format(", but {} of the out were not written (the output failed)", sink_failed);
   return s;
 }
 

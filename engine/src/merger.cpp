@@ -106,7 +106,7 @@ bool Merger::deliver(std::int64_t now_ns) noexcept {
   if (RenderTap* tap = state_.render_tap.get()) {
     if (!tap->try_offer(merged)) {
       if (state_.policy == OverloadPolicy::block) return false;  // retried on the next step
-      tap->drop(merged_count_);
+      tap->drop(merged);
     }
     tap->offered_events.add(merged_count_);
   }

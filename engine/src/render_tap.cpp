@@ -23,6 +23,7 @@ bool RenderTap::try_offer(std::span<const AugmentedEvent> events) noexcept {
   b->count = std::min(events.size(), b->capacity);
   std::copy_n(events.begin(), b->count, b->events.get());
   b->after_skip = std::exchange(skipped_since_offer_, false);
+  b->skipped_active_until_us = std::exchange(skipped_active_until_us_, INT64_MIN);
   if (!full_.try_enqueue(*full_token_, b)) full_.enqueue(*full_token_, b);
   if (wake_render_.availableApprox() == 0) wake_render_.signal();
   return true;

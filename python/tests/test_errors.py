@@ -72,6 +72,25 @@ def test_unknown_format_is_inputerror_with_the_cli_message(tmp_path):
     assert e.value.path == str(bad)
 
 
+def test_evlifes_own_bin_given_as_a_recording_says_what_reads_it(tmp_path):
+    """Before: "unknown event file format" and the list of every format."""
+    out = tmp_path / "out.bin"
+    evlife.process_file(data(RECORDINGS["mat"]), out)
+    expected = cli_error(out, "-o", tmp_path / "x.bin")
+    assert "evlife.read_augmented read it" in expected
+    for call in (evlife.read, evlife.open, evlife.process, evlife.scan):
+        with pytest.raises(evlife.InputError) as e:
+            call(out)
+        assert str(e.value) == expected
+    assert len(evlife.read_augmented(out)) > 0
+    bad = tmp_path / "bad.bin"
+    bad.write_bytes(b"ZZZZZZZZ" + out.read_bytes()[8:])
+    with pytest.raises(evlife.InputError, match="not evlife's .bin: it starts with 'ZZZZZZZZ'"):
+        evlife.read_augmented(bad)
+    with pytest.raises(evlife.InputError, match="not evlife's .bin: it starts with 'ZZZZZZZZ'"):
+        evlife.read(bad)
+
+
 def test_truncated_file_keeps_the_events_before_the_fault(tmp_path):
     src = data(RECORDINGS["aedat2"])
     cut = tmp_path / "cut.aedat"

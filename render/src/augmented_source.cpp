@@ -63,11 +63,12 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                                                        std::optional<SensorSize> sensor,
                                                        const io::ReaderOptions& input) {
   std::unique_ptr<io::AugmentedEventReader> augmented;
-  std::string augmented_error;
+  io::ReadError augmented_error(path, -1, -1, "");
   try {
     augmented = io::open_augmented_reader(path);
   } catch (const io::ReadError& e) {
-    augmented_error = e.what();
+    if (io::names_augmented_bin(path)) throw;  // named as evlife's output: read as one, or say why not
+    augmented_error = e;
   }
   if (augmented) {
     const SensorSize s = io::sensor_size_of_augmented(path, sensor);
@@ -78,7 +79,7 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
     raw = io::open_event_reader(path, input);
   } catch (const io::ReadError& e) {
     throw io::ReadError(path, e.byte_offset(), e.event_index(),
-                        std::string(e.what()) + " (and not an augmented file: " + augmented_error + ")");
+                        e.reason() + " (and not an augmented file: " + augmented_error.reason() + ")");
   }
   LifetimeOptions options = estimator;
   options.sensor = io::resolve_sensor_size(path, sensor, input).size;

@@ -68,8 +68,18 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   style.scale = FrameStyle::scale_to_fit(sensor.width, sensor.height, 384);
   render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
   std::array<cv::Mat, kMethods> masks;
+  // At --frame-at itself (not the sample after it), or at the last event when
+  // the recording ends before it. The cursor is never past that instant here.
+  const auto draw_compare_frame = [&] {
+    std::int64_t t = *first + args.frame_at_us;
+    cursor.advance_to(t);
+    if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
+    composer.compose(set, window, t, t - *first).copyTo(sharp.compare_frame);
+    sharp.compare_t_s = static_cast<double>(t - *first) * 1e-6;
+  };
   for (std::int64_t rel = args.sample_every_us;; rel += args.sample_every_us) {
     const std::int64_t t = *first + rel;
+    if (sharp.compare_frame.empty() && args.frame_at_us <= rel) draw_compare_frame();
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     for (std::size_t m = 0; m < kLifetimeMethod; ++m) render::window_mask(window, t, kWindowLengthsUs[m], masks[m]);
@@ -80,11 +90,8 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
     std::copy(quality.begin(), quality.end(), s.methods.begin());
     for (std::size_t m = 0; m < kMethods; ++m) sharp.pooled[m] += s.methods[m];
     sharp.samples.push_back(s);
-    if (rel <= args.frame_at_us || sharp.compare_frame.empty()) {
-      composer.compose(set, window, t, rel).copyTo(sharp.compare_frame);
-      sharp.compare_t_s = s.t_s;
-    }
   }
+  if (sharp.compare_frame.empty()) draw_compare_frame();  // --frame-at after the last sample
   cursor.advance_to(INT64_MAX);  // the statistics cover the whole recording
 }
 
@@ -198,6 +205,12 @@ std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
+}
+
+// Why the sharpness has no instant (its table would be the empty pool's defaults).
+std::string no_sharpness_instant(const EvaluationOptions& args, const RunResult& r) {
+  return fmt("no instant sampled: the recording (%.6f s) is shorter than", static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6) +
+         fmt(" --sample-every (%.6f s)", static_cast<double>(args.sample_every_us) * 1e-6);
 }
 
 void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
@@ -327,7 +340,12 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
     const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
     for (std::size_t m = 0; m < kMethods; ++m) {
       const MethodQuality& q = sharp.pooled[m];
-      sum << kMethodNames[m] << "," << sharp.samples.size() << "," << static_cast<double>(q.sharpness.active_pixels) / n
+      sum << kMethodNames[m] << "," << sharp.samples.size();
+      if (sharp.samples.empty()) {  // no instant: no figure (not the empty pool's defaults)
+        sum << ",,,,,,\n";
+        continue;
+      }
+      sum << "," << static_cast<double>(q.sharpness.active_pixels) / n
           << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
           << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
     }
@@ -388,8 +406,10 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
        << "<table><tr><th>method</th><th>drawn pixels / image</th><th>edge pixels / image</th>"
           "<th>thin-edge share</th><th>mean edge thickness</th><th>completeness</th>"
           "<th>completeness &times; thin-edge share</th></tr>\n";
-  {
-    const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
+  if (sharp.samples.empty()) {
+    html << "<tr><td colspan=\"7\">" << no_sharpness_instant(args, primary) << "</td></tr>\n";
+  } else {
+    const double n = static_cast<double>(sharp.samples.size());
     for (std::size_t m = 0; m < kMethods; ++m) {
       const MethodQuality& q = sharp.pooled[m];
       html << "<tr><td style=\"text-align:left\">" << kMethodNames[m] << "</td><td>"
@@ -403,8 +423,11 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
           " when, in addition, its horizontal or vertical run is &le; 2 px. Thin-edge share = thin-edge pixels /"
           " drawn pixels. Completeness = share of the edge pixels of the best fixed window at that instant (the one"
           " with the most thin-edge pixels) that the image draws within 1 px.</p>\n";
-  html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
-       << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n"
+  if (!sharp.compare_frame.empty()) {
+    html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
+         << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n";
+  }
+  html
        << "<h2>Figures</h2><img src=\"lifetime_histogram.png\"><img src=\"prediction_error_cdf.png\">"
           "<img src=\"velocity_histogram.png\"><img src=\"velocity_components.png\"><img src=\"sharpness.png\">\n"
        << "<p>The numbers behind every figure are in the CSV file of the same name.</p></body></html>\n";
@@ -494,7 +517,8 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
     if (args.frame_at_us > r.last_t_us - r.first_t_us)
       std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "
-                   "compare frame is drawn at the last sample\n", static_cast<double>(args.frame_at_us) * 1e-6);
+                   "compare frame is drawn at the last event (%.6f s)\n", static_cast<double>(args.frame_at_us) * 1e-6,
+                   static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
   }
   for (const auto& r : runs) {
     std::fprintf(out,
@@ -503,6 +527,10 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
                  100.0 * r.share_with_prediction(), r.median_lifetime_ms(),
                  100.0 * r.abs_error_us.cdf_at_bin_end(99), r.median_error_over_lifetime());
+  }
+  if (sharp.samples.empty()) {
+    if (!runs.empty()) std::fprintf(out, "  sharpness: %s\n", no_sharpness_instant(args, runs[ev.primary_index]).c_str());
+    return;
   }
   std::fprintf(out, "  over %zu instants: thin-edge share, mean edge thickness, completeness, score (product):\n",
                sharp.samples.size());

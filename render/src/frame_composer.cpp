@@ -41,6 +41,11 @@ std::vector<View> parse_view_mode(std::string_view mode) {
   if (mode.substr(0, 7) == "window:") {
     const std::int64_t w = parse_duration_us(mode.substr(7));
     if (w <= 0) throw std::invalid_argument("window must be longer than 0 in '" + std::string(mode) + "'");
+    if (w > FixedWindowMap::kLongestWindowUs) {
+      throw std::invalid_argument("window longer than the longest drawn exactly, " +
+                                  std::to_string(FixedWindowMap::kLongestWindowUs / 1'000'000) + " s, in '" +
+                                  std::string(mode) + "'");
+    }
     return {View{false, w, "fixed window " + format_duration(w)}};
   }
   throw std::invalid_argument("unknown mode '" + std::string(mode) +

@@ -1,8 +1,11 @@
 #include "evlife/render/frame_sink.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 
 #include "evlife/io/output_path.h"
@@ -50,12 +53,25 @@ VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
 
 VideoFrameSink::~VideoFrameSink() = default;
 
-void VideoFrameSink::open(int width, int height) {
-  if (!video_) video_ = open_video(path_, playback_fps_, cv::Size(width, height));
+void VideoFrameSink::check(int width, int height) const {
+  const std::filesystem::path out(path_);
+  const std::filesystem::path probe =
+      out.parent_path() / (".evlife-probe-" + std::to_string(::getpid()) + out.extension().string());
+  std::error_code ec;
+  try {
+    open_video(probe.string(), playback_fps_, cv::Size(width, height))->close();
+  } catch (const std::runtime_error& e) {
+    std::filesystem::remove(probe, ec);
+    std::string message = e.what();  // said of the output, not of the probe
+    for (auto at = message.find(probe.string()); at != std::string::npos; at = message.find(probe.string()))
+      message.replace(at, probe.string().size(), path_);
+    throw std::runtime_error(message);
+  }
+  std::filesystem::remove(probe, ec);
 }
 
 void VideoFrameSink::write(const FrameImage& frame, std::int64_t) {
-  open(frame.width, frame.height);
+  if (!video_) video_ = open_video(path_, playback_fps_, cv::Size(frame.width, frame.height));
   video_->write(as_mat(frame));
 }
 

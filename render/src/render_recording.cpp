@@ -56,7 +56,7 @@ RecordingRenderResult render_recording(
     if (options.video) {
       const double video_fps = std::min(kMaxVideoFps, options.video_fps.value_or(options.at_us.empty() ? options.fps : 10.0));
       auto video_sink = std::make_unique<VideoFrameSink>(options.output, video_fps);
-      video_sink->open(frame_size.width, frame_size.height);
+      video_sink->check(frame_size.width, frame_size.height);
       sink = std::move(video_sink);
     } else if (options.single_png) {
       sink = std::make_unique<ImageFileFrameSink>(options.output);

@@ -17,10 +17,11 @@
 #include <string_view>
 
 #include "evlife/algo/event.h"
+#include "evlife_bin_magic.h"
 
 namespace evlife::io::detail::augmented_bin {
 
-inline constexpr std::string_view kMagic = "EVLIFEAE";
+inline constexpr std::string_view kMagic = kAugmentedBinMagic;
 inline constexpr std::uint16_t kVersion = 1;
 inline constexpr std::size_t kHeaderBytes = 32;
 inline constexpr std::size_t kRecordBytes = 32;

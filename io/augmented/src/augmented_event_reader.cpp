@@ -8,34 +8,47 @@
 #include "augmented_bin_format.h"
 #include "augmented_formats.h"
 #include "input_file.h"
+#include "reader_registry.h"  // has_extension
 
 namespace evlife::io {
 
 namespace {
 
-bool starts_as_augmented_bin(const std::string& path) {
+// The first bytes of the file (fewer for a shorter one).
+std::string head_of(const std::string& path) {
   char head[8] = {};
-  {
-    const detail::InputFile file(path);
-    file.read_at(0, std::as_writable_bytes(std::span(head)));
-  }
-  return std::memcmp(head, detail::augmented_bin::kMagic.data(), 8) == 0;
+  const detail::InputFile file(path);
+  const std::size_t got = file.read_at(0, std::as_writable_bytes(std::span(head)));
+  return std::string(head, got);
 }
 
 }  // namespace
 
+bool names_augmented_bin(const std::string& path) { return detail::has_extension(path, ".bin"); }
+
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path) {
-  if (starts_as_augmented_bin(path)) return detail::open_augmented_bin_reader(path);
+  const std::string head = head_of(path);
+  if (head == detail::augmented_bin::kMagic) return detail::open_augmented_bin_reader(path);
+  if (names_augmented_bin(path)) {  // said as what it is named, not as a CSV without its header
+    throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head));
+  }
   return detail::open_augmented_csv_reader(path);  // checks its header
 }
 
 std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path) {
+  std::string head;
   try {
-    if (!starts_as_augmented_bin(path)) return detail::open_augmented_csv_reader(path);
-  } catch (const ReadError&) {  // not evlife's CSV, or no file (a folder: a ROS 2 bag): the caller's other readers say
+    head = head_of(path);
+  } catch (const ReadError&) {  // no file (a folder: a ROS 2 bag): the caller's other readers say
     return nullptr;
   }
-  return detail::open_augmented_bin_reader(path);  // its errors are this file's
+  // The magic, or the name: their errors are this file's.
+  if (head == detail::augmented_bin::kMagic || names_augmented_bin(path)) return open_augmented_reader(path);
+  try {
+    return detail::open_augmented_csv_reader(path);
+  } catch (const ReadError&) {  // not evlife's CSV: the caller's other readers say what it is
+    return nullptr;
+  }
 }
 
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,

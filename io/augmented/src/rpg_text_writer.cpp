@@ -52,11 +52,10 @@ std::unique_ptr<EventWriter> open_rpg_text_writer(const std::string& path) {
   return std::make_unique<RpgTextWriter>(path);
 }
 
-std::unique_ptr<EventWriter> open_event_writer(const std::string& path) {
-  if (detail::has_extension(path, ".txt")) return open_rpg_text_writer(path);
-  // HDF5 x,y,t,p (sensor size unknown here).
+std::unique_ptr<EventWriter> open_event_writer(const std::string& path, std::optional<SensorSize> sensor) {
+  if (detail::has_extension(path, ".txt")) return open_rpg_text_writer(path);  // no place for a sensor
   if (detail::has_extension(path, ".h5") || detail::has_extension(path, ".hdf5")) {
-    return open_hdf5_event_writer(path, std::nullopt);
+    return open_hdf5_event_writer(path, sensor);
   }
   throw WriteError(path, "unknown event output format: use a .txt (RPG text) or .h5 (HDF5) file name");
 }

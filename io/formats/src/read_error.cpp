@@ -63,6 +63,7 @@ ReadError::ReadError(const std::string& path, std::int64_t byte_offset, std::int
                      const std::string& what)
     : std::runtime_error(printable(compose(path, byte_offset, event_index, what))),
       path_(path),
+      reason_(printable(what)),
       byte_offset_(byte_offset),
       event_index_(event_index) {}
 

@@ -8,6 +8,7 @@
 
 #include "checked_event_reader.h"
 #include "cropping_event_reader.h"
+#include "evlife_bin_magic.h"
 #include "input_file.h"
 #include "prophesee_header.h"
 
@@ -107,6 +108,11 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
                         ": evlife decodes EVT 2.0, 2.1 and 3.0 only; record in one of those, or convert the file with "
                         "Metavision's metavision_file_to_csv (evlife reads its x,y,p,t CSV)");
   }
+  const std::string_view head_text(reinterpret_cast<const char*>(head.data()), head_size);
+  if (head_text.starts_with(detail::kAugmentedBinMagic)) {
+    throw ReadError(path, 0, -1, std::string(detail::kAugmentedBinIsNoRecording));
+  }
+  if (detail::has_extension(path, ".bin")) throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head_text));
   std::string known;
   for (const detail::ReaderFormat* f : detail::reader_formats())
     known += "\n  " + std::string(f->name) + ": " + std::string(f->description);

@@ -6,7 +6,9 @@
 // the output).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <span>
@@ -27,6 +29,9 @@ struct RenderBatch {
   std::size_t capacity;
   std::size_t count = 0;
   bool after_skip = false;  ///< events before this batch's first were dropped (policy drop)
+  /// With after_skip: when the last of the dropped events stops being active
+  /// (t + lifetime, us): frames up to then miss some of them.
+  std::int64_t skipped_active_until_us = INT64_MIN;
 };
 
 class RenderTap {
@@ -39,10 +44,15 @@ class RenderTap {
   /// and queues it; false when no batch is free. Never allocates or waits.
   bool try_offer(std::span<const AugmentedEvent> events) noexcept;
   /// Merger side: the span of the failed offer is dropped (policy drop); the
-  /// next batch offered says so (RenderBatch::after_skip).
-  void drop(std::size_t events) noexcept {
-    dropped_events.add(events);
+  /// next batch offered says so (RenderBatch::after_skip), and until when the
+  /// dropped events were active (a frame after the gap may lack long-lived ones).
+  void drop(std::span<const AugmentedEvent> events) noexcept {
+    dropped_events.add(events.size());
     skipped_since_offer_ = true;
+    for (const AugmentedEvent& a : events) {
+      const auto until = a.event.t_us + static_cast<std::int64_t>(a.lifetime_us);
+      skipped_active_until_us_ = std::max(skipped_active_until_us_, until);
+    }
   }
   /// Merger side: no more offers (the stream ended).
   void close() noexcept;
@@ -70,6 +80,7 @@ class RenderTap {
   std::unique_ptr<moodycamel::ProducerToken> free_token_;  // render's
   std::atomic<bool> closed_{false};
   bool skipped_since_offer_ = false;  // merger's
+  std::int64_t skipped_active_until_us_ = INT64_MIN;  // merger's, of the drops since the last offer
 };
 
 }  // namespace evlife::engine

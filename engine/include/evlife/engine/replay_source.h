@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evlife/engine/event_clock_pacer.h"
@@ -51,6 +52,9 @@ class ReplaySource final : public EventSource {
   SensorSize sensor_size() const noexcept override { return sensor_; }
   SourceKind kind() const noexcept override { return kind_; }
   std::string describe() const override { return description_; }
+  /// For readers that are not files (a generated scene): what the run's
+  /// summary calls the source instead of "file:PATH (format)".
+  void describe_as(std::string description) { description_ = std::move(description); }
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
   std::int64_t last_arrival_ns() const noexcept override { return last_arrival_ns_; }
   std::int64_t last_oldest_ns() const noexcept override { return last_oldest_ns_; }

@@ -70,9 +70,12 @@ class FixedWindowMap {
 
   static constexpr std::int32_t kNeverRel = std::numeric_limits<std::int32_t>::min();
   static constexpr std::int32_t kMaxRel = std::numeric_limits<std::int32_t>::max();
+  /// The longest window drawn exactly (about 537 s): the 32-bit times keep
+  /// that much history behind the newest event; longer windows are refused.
+  static constexpr std::int64_t kLongestWindowUs = std::int64_t{1} << 29;
 
  private:
-  static constexpr std::int64_t kKeepUs = std::int64_t{1} << 29;  // longest exact window
+  static constexpr std::int64_t kKeepUs = kLongestWindowUs;
   static constexpr std::int64_t kRebaseAfterUs = kMaxRel - kKeepUs;
   void rebase(std::int64_t t_us) noexcept;
 

@@ -78,8 +78,11 @@ class VideoFrameSink final : public FrameSink {
  public:
   VideoFrameSink(std::string path, double playback_fps);
   ~VideoFrameSink() override;
-  /// Opens the file now (to report an unwritable path before drawing).
-  void open(int width, int height);
+  /// Reports a missing encoder or an unwritable folder before any frame is
+  /// drawn, by opening and removing a video beside the output: the output
+  /// itself (an earlier video of that name) is replaced only by the first
+  /// frame written. Throws std::runtime_error naming the output.
+  void check(int width, int height) const;
   void write(const FrameImage& frame, std::int64_t t_us) override;
   void finish() override;
 

@@ -39,15 +39,20 @@ struct RecordFault {
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us);
 
-/// Sniffs the .bin magic, else expects the CSV header. Throws ReadError for a
-/// missing file or unknown content.
+/// Sniffs the .bin magic, else expects the CSV header (a file named .bin:
+/// the magic). Throws ReadError for a missing file or unknown content.
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);
+
+/// True for a path named like evlife's binary output (.bin, which no other
+/// format evlife reads uses): a file so named that no reader takes is
+/// reported as a bad .bin, not with the list of every format.
+bool names_augmented_bin(const std::string& path);
 
 /// evlife's own output when the content says so (the .bin magic, the
 /// augmented CSV header), else nullptr: for callers that take any recording
 /// (a stream's copy has no extension), also for a path that cannot be opened
 /// (the caller's other readers name the reason). Throws ReadError for a file
-/// with the .bin magic that does not read.
+/// with the .bin magic or name that does not read.
 std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path);
 
 /// The sensor of an augmented file: the one the file states (.bin) when it

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -27,7 +28,10 @@ class EventWriter {
 /// open_event_reader bit for bit. Throws WriteError if the file cannot be created.
 std::unique_ptr<EventWriter> open_rpg_text_writer(const std::string& path);
 
-/// By extension: `.txt` → RPG text. Throws WriteError for others.
-std::unique_ptr<EventWriter> open_event_writer(const std::string& path);
+/// By extension: `.txt` → RPG text, `.h5` / `.hdf5` → HDF5 x,y,t,p with the
+/// sensor as its width / height attributes (when given; the text format has
+/// no place for it). Throws WriteError for others.
+std::unique_ptr<EventWriter> open_event_writer(const std::string& path,
+                                               std::optional<SensorSize> sensor = std::nullopt);
 
 }  // namespace evlife::io

@@ -30,9 +30,12 @@ class ReadError : public std::runtime_error {
   const std::string& path() const noexcept { return path_; }
   std::int64_t byte_offset() const noexcept { return byte_offset_; }
   std::int64_t event_index() const noexcept { return event_index_; }
+  /// What went wrong, without the path and the location (what() has them).
+  const std::string& reason() const noexcept { return reason_; }
 
  private:
   std::string path_;
+  std::string reason_;
   std::int64_t byte_offset_;
   std::int64_t event_index_;
 };
