@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "evlife/algo/active_event_map.h"
@@ -108,6 +110,30 @@ TEST(ActiveEventMap, QueriesReturnTheActivePixelsWithTheirData) {
   EXPECT_EQ(nonzero, map.count_active(1000));
   EXPECT_EQ(image[2 * 32 + 30], 1000.5f);
   EXPECT_EQ(image[23 * 32 + 1], 2000.0f);
+}
+
+// Times far apart are compared without overflow: a query at the end of time
+// finds nothing active (it found the event of 100 us at t = 0: the difference
+// wrapped), an event ~71 min before the map's newest, at a pixel that never
+// fired, is counted late (its expiry wrapped into a ghost active for ever),
+// and times beyond +-2^62 us are counted and ignored.
+TEST(ActiveEventMap, TimesFarApartNeitherWrapNorLeaveGhosts) {
+  ActiveEventMap map(kSensor);
+  map.feed(at(0, 0, 0, 1, 100.0f, 0.0f, 0.0f));
+  EXPECT_EQ(map.count_active(0), 1u);
+  EXPECT_EQ(map.count_active(std::numeric_limits<std::int64_t>::max()), 0u);
+
+  const std::int64_t now = std::int64_t{1} << 30;
+  map.feed(at(2, 2, now, 1, 100.0f, 0.0f, 0.0f));
+  map.feed(at(1, 1, now - (std::int64_t{1} << 32), 1, 100.0f, 0.0f, 0.0f));
+  EXPECT_FALSE(map.is_active(1, 1, now + 50));
+  EXPECT_EQ(map.stats().late, 1u);
+
+  map.feed(at(3, 3, std::numeric_limits<std::int64_t>::min(), 1, 100.0f, 0.0f, 0.0f));
+  map.feed(at(3, 3, kMaxEventTimeUs + 1, 1, 100.0f, 0.0f, 0.0f));
+  EXPECT_EQ(map.stats().time_out_of_range, 2u);
+  EXPECT_FALSE(map.is_active(3, 3, kMaxEventTimeUs + 1));
+  EXPECT_EQ(map.count_active(now + 50), 1u);  // (2, 2) only
 }
 
 TEST(ActiveEventMap, FitsNamesTheSensorsTheConstructorAccepts) {

@@ -180,6 +180,19 @@ TEST(Dvs128Biases, ShippedBiasFileEqualsTheDefaults) {
   EXPECT_EQ(file.values, evlife::io::Dvs128Biases{}.values);
 }
 
+// A directory opens as a stream that reads nothing: it would have sent the
+// defaults without a word.
+TEST(Dvs128Biases, ADirectoryIsNoBiasFile) {
+  try {
+    evlife::io::Dvs128Biases::load_file(EVLIFE_BINARY_DIR);
+    FAIL() << "a directory accepted as a bias file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(std::string(EVLIFE_BINARY_DIR) + ": a directory, not a DVS128 bias file"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Dvs128Biases, UnknownNameIsAnErrorNamingFileAndLine) {
   const std::string path = std::string(EVLIFE_BINARY_DIR) + "/test_dvs128_bad_biases.yaml";
   {

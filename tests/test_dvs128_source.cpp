@@ -220,6 +220,37 @@ TEST(Dvs128Source, UnplugMidStreamEndsCleanlyWithEverythingReadAndAnError) {
   EXPECT_EQ(std::count(req.begin(), req.end(), 0xB4), 0);  // no STOP to a vanished device
 }
 
+// A transfer that fails (EPROTO) loses its events without saying how many
+// (it reports no data): the summary shows the failed transfer beside the
+// balance (before: "lost in source 0" and "balance: ... ok", nothing else).
+TEST(Dvs128Source, AFailedTransferIsShownNotSilentlyLost) {
+  UsbTestbed bed;
+  auto& cam = bed.add_dvs128();
+  int t_us = 0;
+  std::vector<Event> kept;
+  std::vector<Event> lost;
+  cam.fail_next_packet(EPROTO);
+  cam.push_packet(words_to_bytes(event_stream(100, t_us, &lost)));
+  cam.push_packet(words_to_bytes(event_stream(100, t_us, &kept)));
+
+  auto source = evlife::engine::make_dvs128_source("dvs128");
+  Collector out;
+  Engine engine(*source, &out.sink, quiet_options());
+  RunResult result;
+  std::thread runner([&] { result = engine.run(); });
+  EXPECT_TRUE(wait_until([&] { return out.count.load() >= kept.size(); }));
+  engine.request_stop();
+  runner.join();
+
+  EXPECT_EQ(out.events.size(), kept.size());
+  EXPECT_EQ(result.stats.source_failed_transfers, 1u);
+  const std::string summary = result.stats.summary();
+  EXPECT_NE(summary.find("(and 1 failed device transfers: their events are lost, not all counted)"), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("; lost before the engine: 0 events and 1 failed device transfers"), std::string::npos)
+      << summary;
+}
+
 TEST(Dvs128Source, NoCameraIsAClearError) {
   UsbTestbed bed;
   bed.add_other_device(0x1d6b, 0x0002, 1, 1);

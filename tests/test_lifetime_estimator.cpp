@@ -1,6 +1,7 @@
 // Unit tests of the estimator on exact scenes whose answer is known
 // analytically (a plane t = t0 + g.p sampled on the pixel grid).
 #include <gtest/gtest.h>
+
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -540,7 +542,61 @@ TEST(LifetimeEstimator, EveryNoiseEventIsCountedUnderOneReason) {
 
   const LifetimeStats& st = est.stats();
   EXPECT_EQ(st.noise, st.noise_few_samples + st.noise_unsupported + st.noise_unresolved + st.out_of_sensor +
-                          st.bad_polarity);
+                          st.bad_polarity + st.time_out_of_range);
+}
+
+// An hour without events, then the same edges again: the 32-bit surface
+// saturates the old times, and the differences taken with them must not
+// overflow (signed overflow, caught by the CI's UBSan pass: the shift of a
+// burst's samples to its arrival was taken in 32 bits). Times beyond +-2^62 us
+// are rejected and counted, as out-of-sensor events are.
+TEST(LifetimeEstimator, HoursOfIdleAndTimesAtTheEndsOfTheClockAreWellDefined) {
+  const SensorSize s{64, 64};
+  LifetimeEstimator est(options_for(s));
+  std::uint64_t with_lifetime[2] = {0, 0};
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int x = 0; x < 40; ++x) {
+      for (int y = 0; y < 10; ++y) {
+        const AugmentedEvent a = est.process(
+            Event{pass * std::int64_t{3'300'000'000} + x * 500, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), 1});
+        with_lifetime[pass] += a.is_noise() ? 0u : 1u;
+      }
+    }
+  }
+  EXPECT_GT(with_lifetime[0], 200u);
+  EXPECT_GT(with_lifetime[1], 200u);  // the edge after the hour is estimated as the first was
+
+  EXPECT_TRUE(est.process(Event{std::numeric_limits<std::int64_t>::min(), 1, 1, 1}).is_noise());
+  EXPECT_TRUE(est.process(Event{kMaxEventTimeUs + 1, 1, 1, 1}).is_noise());
+  EXPECT_FALSE(within_event_time_range(-kMaxEventTimeUs - 1));
+  EXPECT_TRUE(within_event_time_range(-kMaxEventTimeUs));
+  EXPECT_TRUE(within_event_time_range(kMaxEventTimeUs));
+  const LifetimeStats& st = est.stats();
+  EXPECT_EQ(st.time_out_of_range, 2u);
+  EXPECT_EQ(st.noise, st.noise_few_samples + st.noise_unsupported + st.noise_unresolved + st.out_of_sensor +
+                          st.bad_polarity + st.time_out_of_range);
+}
+
+// A moved-from estimator (std::optional, containers) has no per-pixel state
+// left: every event is labelled noise and counted out_of_sensor (it read a
+// null plane before); the estimator moved to works on.
+TEST(LifetimeEstimator, AMovedFromEstimatorReadsNothing) {
+  LifetimeEstimator a(options_for({64, 64}));
+  LifetimeEstimator b(std::move(a));
+  EXPECT_TRUE(a.process(Event{1000, 10, 10, 1}).is_noise());  // NOLINT(bugprone-use-after-move): the point
+  EXPECT_EQ(a.stats().out_of_sensor, 1u);
+  std::vector<Event> none(4, Event{2000, 11, 10, 1});
+  std::vector<AugmentedEvent> out(4);
+  EXPECT_EQ(a.process(none, out), 4u);  // the batch form's prefetch too
+  b.process(Event{1000, 10, 10, 1});
+  EXPECT_EQ(b.stats().out_of_sensor, 0u);
+  LifetimeEstimator c(options_for({8, 8}));
+  c = std::move(b);
+  EXPECT_EQ(b.stats().events, 1u);  // NOLINT(bugprone-use-after-move)
+  EXPECT_TRUE(b.process(Event{3000, 10, 10, 1}).is_noise());  // NOLINT(bugprone-use-after-move)
+  EXPECT_EQ(b.stats().out_of_sensor, 1u);  // NOLINT(bugprone-use-after-move)
+  EXPECT_EQ(c.process(Event{3000, 10, 10, 1}).event.x, 10);
+  EXPECT_EQ(c.stats().out_of_sensor, 0u);
 }
 
 TEST(LifetimeEstimator, ConstantVelocityEdgeIsPredictedWell) {

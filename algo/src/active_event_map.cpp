@@ -54,6 +54,10 @@ void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
     ++stats_.out_of_sensor;
     return;
   }
+  if (!within_event_time_range(e.t_us)) {
+    ++stats_.time_out_of_range;
+    return;
+  }
   last_fed_t_us_ = std::max(last_fed_t_us_, e.t_us);
   // NaN compares false, so !(> 0) also rejects a NaN lifetime.
   if (!(a.lifetime_us > 0.0f)) {
@@ -66,6 +70,10 @@ void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
     return;
   }
   if (!has_epoch_ || e.t_us - epoch_us_ > kMaxRel - kMaxLifetimeUs) rebase(e.t_us);
+  if (e.t_us - epoch_us_ <= kNeverRel) {  // before the 32-bit range: its expiry would wrap
+    ++stats_.late;
+    return;
+  }
   // Active while t - t_event < lifetime; with integer t that is t < t_event + ceil(lifetime).
   const double lifetime = std::min(static_cast<double>(a.lifetime_us), static_cast<double>(kMaxLifetimeUs));
   expire_rel_[i] = static_cast<std::int32_t>(e.t_us - epoch_us_ + static_cast<std::int64_t>(std::ceil(lifetime)));

@@ -58,7 +58,7 @@ std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
          pixels * (sizeof(PixelState) + sizeof(std::uint8_t));  // + burst_followers_
 }
 
-LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options) {
+LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options), bounds_(options.sensor) {
   if (const std::string err = validate_lifetime_options(options); !err.empty()) {
 #if defined(__cpp_exceptions)
     throw std::invalid_argument("LifetimeOptions." + err);
@@ -121,8 +121,8 @@ std::size_t LifetimeEstimator::process(std::span<const Event> in,
 }
 
 void LifetimeEstimator::prefetch(const Event& e) const noexcept {
-  const int W = options_.sensor.width;
-  const int H = options_.sensor.height;
+  const int W = bounds_.value.width;
+  const int H = bounds_.value.height;
   if (e.x >= W || e.y >= H) return;
   const int pol = e.p > 0 ? 1 : 0;
   const int x = e.x;
@@ -352,10 +352,15 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   AugmentedEvent out;
   out.event = e;
   ++stats_.events;
-  const int W = options_.sensor.width;
-  const int H = options_.sensor.height;
+  const int W = bounds_.value.width;
+  const int H = bounds_.value.height;
   if (e.x >= W || e.y >= H) {
     count_noise(stats_.out_of_sensor);
+    stage_end(Stage::head);
+    return out;
+  }
+  if (!within_event_time_range(e.t_us)) {
+    count_noise(stats_.time_out_of_range);
     stage_end(Stage::head);
     return out;
   }
@@ -496,7 +501,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
       const detail::PlaneCandidate own = best;
       float own_dt_us[detail::kSampleCapacity];  // to go back to the own plane's samples
       if (own_fresh) std::copy(nb.dt_us, nb.dt_us + nb.count, own_dt_us);
-      nb.shift_times(static_cast<float>(now_rel - previous_rel));
+      nb.shift_times(static_cast<float>(std::int64_t{now_rel} - previous_rel));
       best = best_plane(nb, rng, tol_floor2, tol_fraction2);
       anchor_rel = previous_rel;
       if (best.support < min_support && own_fresh) {
@@ -553,7 +558,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const double rms_us = fit.residual_rms(g);  // -1: too few samples to tell
   // A follower comes at most burst_window_lifetimes after its burst's arrival.
   if (anchor_rel != now_rel &&
-      !(static_cast<double>(now_rel - anchor_rel) <= options_.burst_window_lifetimes * lifetime_us)) {
+      !(static_cast<double>(std::int64_t{now_rel} - anchor_rel) <= options_.burst_window_lifetimes * lifetime_us)) {
     count_noise(stats_.noise_unsupported);
     stage_end(Stage::refit);
     return out;
@@ -594,7 +599,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   out.vx_px_s = static_cast<float>(gx / g2 * 1e6);
   out.vy_px_s = static_cast<float>(gy / g2 * 1e6);
   state.burst_lifetime_us = out.lifetime_us;
-  state.burst_latest_us = static_cast<float>(now_rel - anchor_rel);
+  state.burst_latest_us = static_cast<float>(std::int64_t{now_rel} - anchor_rel);
   burst_followers_[self] = 0;
   state.burst_vx_px_s = out.vx_px_s;
   state.burst_vy_px_s = out.vy_px_s;

@@ -307,6 +307,13 @@ RunArgs parse_run_args(int argc, char** argv) {
     throw UsageError("--video " + *refusal);
   if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
     throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
+  if (engine::is_dvs128_spec(r.source)) {  // a camera streams at its own pace, on its own sensor
+    for (const char* replay_only : {"realtime", "packet-us", "sensor"}) {
+      if (a.has(replay_only))
+        throw UsageError(std::string("--") + replay_only + " sets a replay or a synth: scene; the camera " + r.source +
+                         (std::string_view(replay_only) == "sensor" ? " is 128x128" : " streams at its own pace"));
+    }
+  }
   return r;
 }
 

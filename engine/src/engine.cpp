@@ -253,6 +253,7 @@ RunResult Engine::run() {
 
   // Monitor: stop requests, progress lines; never on the data path.
   bool stop_forwarded = false;
+  std::uint64_t failed_transfers_seen = 0;
   const auto period_ns = static_cast<std::int64_t>(options_.stats_period_s * 1e9);
   const std::int64_t started_ns = monotonic_ns();
   std::int64_t next_report_ns = started_ns + period_ns;
@@ -267,6 +268,11 @@ RunResult Engine::run() {
     }
     for (AuxStage* aux : pipeline_.aux_stages()) {
       if (const std::string notice = aux->take_notice(); !notice.empty()) spdlog::warn("render: {}", notice);
+    }
+    if (const std::uint64_t failed = source.failed_transfers(); failed > failed_transfers_seen) {
+      spdlog::warn("engine: {} device transfer(s) failed; their events are lost ({} in all)",
+                   failed - failed_transfers_seen, failed);
+      failed_transfers_seen = failed;
     }
     if (!stop_forwarded && pipeline_.merger().sink_failed()) {
       spdlog::error("engine: the output failed; stopping the source");

@@ -16,9 +16,14 @@ std::string EngineStats::progress_line() const {
 
 std::string EngineStats::summary() const {
   std::string s;
-  s += fmt::format("source : accepted {} events in {} chunks, lost in source {}, "
+  s += fmt::format("source : accepted {} events in {} chunks, lost in source {}{}, "
                    "waited for room {:.3f} s\n",
-                   events_in, chunks, source_lost, source_blocked_s);
+                   events_in, chunks, source_lost,
+                   source_failed_transfers == 0
+                       ? std::string()
+                       : fmt::format(" (and {} failed device transfers: their events are lost, not all counted)",
+                                     source_failed_transfers),
+                   source_blocked_s);
   s += fmt::format("router : dropped {} (of which whole chunks, no merge slot: {}), "
                    "merge-order hwm {}\n",
                    events_dropped, dropped_no_order, order_in_flight_hwm);
@@ -54,6 +59,10 @@ std::string EngineStats::summary() const {
                      render_offered, render_dropped);
   s += fmt::format("balance: in {} = out {} + dropped {} : {}", events_in, events_out,
                    events_dropped, events_in == events_out + events_dropped ? "ok" : "MISMATCH");
+  if (source_lost > 0 || source_failed_transfers > 0)  // before "in": the balance cannot show them
+    s += fmt::format("; lost before the engine: {} events{}", source_lost,
+                     source_failed_transfers == 0 ? std::string()
+                                                  : fmt::format(" and {} failed device transfers", source_failed_transfers));
   // "out" counts what reached the sink; a failed sink kept none of it after the failure.
   if (sink_failed > 0)
     s += fmt::format(", but {} of the out were not written (the output failed)", sink_failed);

@@ -31,6 +31,7 @@ EngineStats Pipeline::stats() const {
   const PipelineState& s = *state_;
   EngineStats st;
   st.source_lost = source_.lost_events();
+  st.source_failed_transfers = source_.failed_transfers();
   st.events_in = s.router_counters.events_in.get();
   st.events_dropped = s.router_counters.dropped.get();
   st.dropped_no_order = s.router_counters.dropped_no_order.get();

@@ -96,6 +96,7 @@ class Estimator {
     d["followers"] = s.followers;
     d["out_of_sensor"] = s.out_of_sensor;
     d["bad_polarity"] = s.bad_polarity;
+    d["time_out_of_range"] = s.time_out_of_range;
     return d;
   }
 
@@ -390,7 +391,7 @@ then nothing of this call is processed and the state is unchanged.)")
           "The effective options, {keyword: value}.")
       .def_property_readonly("stats", &Estimator::stats,
                              "Counters: events, noise (and why: noise_few_samples, noise_unsupported, noise_unresolved), predictions, "
-                             "followers, out_of_sensor, bad_polarity.");
+                             "followers, out_of_sensor, bad_polarity, time_out_of_range.");
 
   m.def(
       "process",

@@ -111,7 +111,8 @@ def test_chunked_equals_whole():
     parts = [est.process(c) for c in np.split(events, cuts)] + [est.process(events[:0])]
     assert_same_events(np.concatenate(parts), whole)
     assert est.stats["events"] == len(events)
-    reasons = ("noise_few_samples", "noise_unsupported", "noise_unresolved", "out_of_sensor", "bad_polarity")
+    reasons = ("noise_few_samples", "noise_unsupported", "noise_unresolved", "out_of_sensor", "bad_polarity",
+               "time_out_of_range")
     assert sum(est.stats[k] for k in reasons) == est.stats["noise"] > 0
     est.reset()
     assert_same_events(est.process(events), whole)  # reset forgets everything

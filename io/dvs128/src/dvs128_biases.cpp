@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -39,6 +40,9 @@ bool iequals(std::string_view a, std::string_view b) {
 // A deliberately small reader (flat `key: integer` YAML) so that io/ needs no
 // YAML library; anything else in the file is an error, not silently ignored.
 Dvs128Biases Dvs128Biases::load_file(const std::string& path) {
+  std::error_code no_stat;  // a path that cannot be examined is left to the open below
+  if (std::filesystem::is_directory(path, no_stat))  // opens, and reads as empty: all defaults, unsaid
+    throw std::runtime_error(path + ": a directory, not a DVS128 bias file");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the DVS128 bias file");
   Dvs128Biases biases;
@@ -73,6 +77,7 @@ Dvs128Biases Dvs128Biases::load_file(const std::string& path) {
     }
     biases.values[static_cast<std::size_t>(it - kNames.begin())] = static_cast<std::uint32_t>(v);
   }
+  if (in.bad()) fail("read error");
   return biases;
 }
 

@@ -35,7 +35,8 @@ struct ActiveEventMapStats {
   std::uint64_t stored = 0;         ///< events that became the latest of their pixel
   std::uint64_t noise = 0;          ///< lifetime 0: never active
   std::uint64_t out_of_sensor = 0;  ///< coordinates outside the sensor: ignored
-  std::uint64_t late = 0;           ///< older than the pixel's current event: ignored
+  std::uint64_t late = 0;           ///< older than the pixel's current event, or than the map's time range: ignored
+  std::uint64_t time_out_of_range = 0;  ///< |t| > kMaxEventTimeUs (event.h): ignored
   std::uint64_t thinned = 0;        ///< neighbours expired by edge thinning
 };
 
@@ -65,7 +66,9 @@ class ActiveEventMap {
   /// exceptions (check fits() first there).
   explicit ActiveEventMap(SensorSize sensor, bool edge_thinning = true);
 
-  /// Adds one augmented event. Events should come in non-decreasing time.
+  /// Adds one augmented event. Events should come in non-decreasing time; one
+  /// more than ~35 min older than the map's newest (its 32-bit range) is
+  /// counted late and ignored.
   void feed(const AugmentedEvent& a) noexcept;
   void feed(std::span<const AugmentedEvent> events) noexcept {
     for (const auto& a : events) feed(a);
@@ -110,9 +113,11 @@ class ActiveEventMap {
   /// half the memory; the epoch moves forward every ~9 minutes of recording.
   std::span<const std::int32_t> expire_map() const noexcept { return expire_rel_; }
   std::int64_t epoch_us() const noexcept { return epoch_us_; }
-  /// t - epoch, saturated into the int32 range (so comparisons stay exact).
+  /// t - epoch, saturated into the int32 range (so comparisons stay exact),
+  /// for any t (the difference is taken without overflow).
   std::int64_t relative_time(std::int64_t t_us) const noexcept {
-    const std::int64_t r = t_us - epoch_us_;
+    std::int64_t r = 0;
+    if (__builtin_sub_overflow(t_us, epoch_us_, &r)) return t_us < 0 ? kNeverRel : kMaxRel;
     return r < kNeverRel ? kNeverRel : (r > kMaxRel ? kMaxRel : r);
   }
 

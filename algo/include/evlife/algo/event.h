@@ -39,6 +39,17 @@ struct Event {
   std::uint8_t reserved[3] = {0, 0, 0};  ///< explicit, zeroed: byte-exact copies and files
 };
 static_assert(std::is_trivially_copyable_v<Event>);
+
+/// The event times the estimator and the active-event map take: |t_us| <=
+/// 2^62 us (about 146,000 years either side of the clock's zero), where no
+/// difference of two times overflows; events beyond are rejected and counted.
+inline constexpr std::int64_t kMaxEventTimeUs = std::int64_t{1} << 62;
+
+/// True for a time within [-kMaxEventTimeUs, kMaxEventTimeUs] (one compare).
+constexpr bool within_event_time_range(std::int64_t t_us) noexcept {
+  return static_cast<std::uint64_t>(t_us) + static_cast<std::uint64_t>(kMaxEventTimeUs) <=
+         2 * static_cast<std::uint64_t>(kMaxEventTimeUs);
+}
 static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");
 
 /// An event augmented with its lifetime and normal velocity (paper eq. 1).

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "evlife/algo/detail/large_page_allocator.h"
+#include "evlife/algo/detail/reset_on_move.h"
 #include "evlife/algo/event.h"
 #include "evlife/algo/lifetime_options.h"
 
@@ -27,7 +28,7 @@ class EventRng;
 /// Counters of what process() has seen (cheap, updated per event).
 struct LifetimeStats {
   std::uint64_t events = 0;
-  std::uint64_t noise = 0;             ///< events given lifetime 0: the reasons below, out_of_sensor, bad_polarity
+  std::uint64_t noise = 0;             ///< events given lifetime 0: the reasons below, and the rejected
   std::uint64_t noise_few_samples = 0; ///< noise: too few past events in the window to test a plane
   std::uint64_t noise_unsupported = 0; ///< noise: no plane with enough support, no edge to continue
   std::uint64_t noise_unresolved = 0;  ///< noise: the fitted lifetime is implausible or too uncertain
@@ -35,7 +36,9 @@ struct LifetimeStats {
   std::uint64_t followers = 0;         ///< events that inherited their burst's estimate
   std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
   std::uint64_t bad_polarity = 0;      ///< rejected: p not +1/-1
+  std::uint64_t time_out_of_range = 0; ///< rejected: |t| > kMaxEventTimeUs (event.h)
 };
+
 
 class LifetimeEstimator {
  public:
@@ -43,8 +46,10 @@ class LifetimeEstimator {
   explicit LifetimeEstimator(const LifetimeOptions& options);
 
   /// Estimates the lifetime and velocity of one event. Events must arrive in
-  /// non-decreasing time per polarity; an out-of-sensor event or a bad
-  /// polarity is returned as noise and counted, never read out of bounds.
+  /// non-decreasing time per polarity; an out-of-sensor event, a bad polarity
+  /// or a time beyond kMaxEventTimeUs is returned as noise and counted, never
+  /// read out of bounds. (A moved-from estimator counts every event
+  /// out_of_sensor.)
   AugmentedEvent process(const Event& event) noexcept;
 
   /// Batch form: out[i] = process(in[i]) for i < min(in.size(), out.size()).
@@ -83,8 +88,8 @@ class LifetimeEstimator {
     float burst_latest_us;  // the burst's latest event, us after its arrival
   };
   std::size_t pixel_index(int polarity_index, int x, int y) const noexcept {
-    return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(options_.sensor.height) +
-            static_cast<std::size_t>(y)) * static_cast<std::size_t>(options_.sensor.width) +
+    return (static_cast<std::size_t>(polarity_index) * static_cast<std::size_t>(bounds_.value.height) +
+            static_cast<std::size_t>(y)) * static_cast<std::size_t>(bounds_.value.width) +
            static_cast<std::size_t>(x);
   }
 
@@ -122,6 +127,7 @@ class LifetimeEstimator {
                          EdgePrior& prior) const noexcept;
 
   LifetimeOptions options_;
+  detail::ResetOnMove<SensorSize> bounds_;  // options_.sensor; 0 x 0 once moved from
   LifetimeStats stats_;
   int half_window_ = 2;
   int ransac_iterations_ = 0;

@@ -62,6 +62,7 @@ class Dvs128Source final : public EventSource {
   /// Failed transfers that report no data cannot be counted in events: see
   /// device().transfers_failed().
   std::uint64_t lost_events() const noexcept override { return device_->bytes_lost() / 4; }
+  std::uint64_t failed_transfers() const noexcept override { return device_->transfers_failed(); }
 
   /// Decoder counters (sync events, wraps, resets...). Source thread only.
   const io::Dvs128DecoderCounters& decoder_counters() const noexcept {

@@ -28,6 +28,7 @@ struct WorkerStats {
 
 struct EngineStats {
   std::uint64_t source_lost = 0;   ///< lost inside the source (device overflow)
+  std::uint64_t source_failed_transfers = 0;  ///< device reads that failed (their events lost, maybe uncounted)
   std::uint64_t events_in = 0;     ///< accepted from the source
   std::uint64_t events_out = 0;    ///< handed to the sink
   /// Recording time of the first and last event handed to the sink (us);

@@ -79,6 +79,10 @@ class EventSource {
   /// Events the source lost before handing them over (device overflow, lost
   /// transfers, events outside the sensor it refused). 0 for files.
   virtual std::uint64_t lost_events() const noexcept { return 0; }
+  /// Reads from the device that failed (a USB transfer ending in an error):
+  /// the events they held are lost, and when the failure reports no data,
+  /// lost_events() cannot count them; the summary shows both. 0 for files.
+  virtual std::uint64_t failed_transfers() const noexcept { return 0; }
 
   /// When the events of the last pull() arrived, steady-clock ns (the
   /// engine's latency starts there); 0 = "now" (the engine stamps the chunk

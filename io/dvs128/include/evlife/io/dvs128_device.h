@@ -115,9 +115,10 @@ class Dvs128Device {
   std::uint64_t bytes_received() const noexcept { return bytes_received_; }
   std::uint64_t transfers_completed() const noexcept { return transfers_completed_; }
   /// Transfers that completed with an error: their data, if any, is lost.
-  std::uint64_t transfers_failed() const noexcept { return transfers_failed_; }
+  /// (Atomic, as bytes_lost(): the engine's monitor reads them mid-run.)
+  std::uint64_t transfers_failed() const noexcept { return transfers_failed_.load(std::memory_order_relaxed); }
   /// Bytes the failed transfers reported having received (lost with them).
-  std::uint64_t bytes_lost() const noexcept { return bytes_lost_; }
+  std::uint64_t bytes_lost() const noexcept { return bytes_lost_.load(std::memory_order_relaxed); }
 
  private:
   struct Slot {
@@ -152,8 +153,8 @@ class Dvs128Device {
   std::string error_;
   std::uint64_t bytes_received_ = 0;
   std::uint64_t transfers_completed_ = 0;
-  std::uint64_t transfers_failed_ = 0;
-  std::uint64_t bytes_lost_ = 0;
+  std::atomic<std::uint64_t> transfers_failed_{0};  // written on the thread handling events only
+  std::atomic<std::uint64_t> bytes_lost_{0};
 };
 
 }  // namespace evlife::io
