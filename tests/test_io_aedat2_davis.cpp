@@ -168,6 +168,13 @@ TEST_F(IoAedat2Davis, V2eFilesReadAsTheDavisTheyWereWrittenFor) {
   EXPECT_EQ(r.sensor->width, 240);
   EXPECT_EQ(r.sensor->height, 180);
   expect_events(r.events, on240);
+  // The file names no sensor: the reader says its size is a guess (it said
+  // "stated by the file"), as `info` and `process` print it.
+  const auto reader = io::open_unchecked_event_reader(save("v2e240.aedat", v2e_file(240, 180, on240)));
+  EXPECT_NE(reader->sensor_size_note().find("guessed: v2e names no sensor"), std::string::npos);
+  EXPECT_EQ(io::open_unchecked_event_reader(save("chip.aedat", mixed("eu.seebetter.ini.chips.davis.DAVIS240C", 240, 180).bytes()))
+                ->sensor_size_note(),
+            "");  // an AEChip line states it
 }
 
 TEST_F(IoAedat2Davis, TruncationKeepsTheEventsBeforeAndNamesFileAndOffset) {

@@ -107,9 +107,10 @@ struct EventTally {
   }
 };
 
-void print_events(const EventTally& t, std::optional<SensorSize> stated) {
+void print_events(const EventTally& t, std::optional<SensorSize> stated, const std::string& guessed = {}) {
   if (stated) {
-    std::printf("sensor     %dx%d (stated by the file)\n", stated->width, stated->height);
+    std::printf("sensor     %dx%d (%s)\n", stated->width, stated->height,
+                guessed.empty() ? "stated by the file" : guessed.c_str());
   } else if (t.max_x >= 0) {
     std::printf("sensor     not stated; the events span %dx%d (max x + 1, max y + 1)\n", t.max_x + 1, t.max_y + 1);
   } else {
@@ -233,7 +234,7 @@ int run_info(int argc, char** argv) {
   std::printf("format     %s (%s)\n", format.c_str(), description.c_str());
   if (const std::string_view layout = reader->layout_name(); !layout.empty())
     std::printf("layout     %.*s\n", static_cast<int>(layout.size()), layout.data());
-  print_events(tally, reader->sensor_size());
+  print_events(tally, reader->sensor_size(), reader->sensor_size_note());
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",
               thousands(reader->skipped_record_count()).c_str());

@@ -153,6 +153,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
                    args.sensor->width, args.sensor->height, std::string(probe.format_name()).c_str(),
                    s->width, s->height);
     }
+    if (const std::string guessed = probe.sensor_size_note(); !guessed.empty()) return {*s, guessed};
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }
   if (args.sensor) return {*args.sensor, "--sensor"};

@@ -100,6 +100,12 @@ class Aedat2Reader final : public EventReader {
   std::optional<SensorSize> sensor_size() const override {
     return SensorSize{chip_->width, chip_->height};
   }
+  std::string sensor_size_note() const override {
+    if (!written_by_v2e_ || chip_line_) return {};
+    return chip_->width == 240 ? "guessed: v2e names no sensor, and no event lies beyond 240x180 (a DAVIS346 "
+                                 "recording whose events all do would read shifted)"
+                               : "guessed: v2e names no sensor, and events lie beyond 240x180";
+  }
   std::string_view format_name() const override { return "aedat2"; }
   std::string clock_wrap_note() const override { return decltype(clock_)::wrap_note(1); }
   const std::string& path() const override { return file_.path(); }

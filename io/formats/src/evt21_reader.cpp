@@ -116,6 +116,10 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
                              " outside the sensor");
           break;
         }
+        if (!time_high_.seen()) {  // no time yet: skipped, counted
+          before_time_base_count_ += static_cast<std::uint64_t>(std::popcount(mask));
+          continue;
+        }
         pending_word_ = w;
         pending_mask_ = mask;
         emit_pending();  // what does not fit stays pending for the next call

@@ -58,6 +58,10 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
                              " outside the sensor");
           break;
         }
+        if (!time_high_.seen()) {  // no time yet: skipped, counted
+          ++before_time_base_count_;
+          continue;
+        }
         out[n++] = Event{time_high_.us() | static_cast<std::int64_t>((w >> 22) & 0x3F), static_cast<std::uint16_t>(x),
                          static_cast<std::uint16_t>(y), type == 1 ? std::int8_t{1} : std::int8_t{-1}};
         ++event_count_;

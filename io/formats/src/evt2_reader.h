@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "chunked_file.h"
 #include "prophesee_time_high.h"
@@ -26,7 +27,12 @@ class Evt2Reader final : public EventReader {
   std::string_view format_name() const override { return "evt2"; }
   std::string clock_wrap_note() const override { return PropheseeTimeHigh::wrap_note(); }
   const std::string& path() const override { return file_.path(); }
-  std::uint64_t skipped_record_count() const override { return trigger_count_ + other_count_; }
+  std::uint64_t skipped_record_count() const override {
+    return trigger_count_ + other_count_ + before_time_base_count_;
+  }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override {
+    return prophesee_skipped_kinds(trigger_count_, other_count_, before_time_base_count_);
+  }
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());
   }
@@ -40,6 +46,7 @@ class Evt2Reader final : public EventReader {
   PropheseeTimeHigh time_high_;
   std::uint64_t trigger_count_ = 0;
   std::uint64_t other_count_ = 0;
+  std::uint64_t before_time_base_count_ = 0;  // events before the first TIME_HIGH
   std::int64_t event_count_ = 0;
   std::optional<ReadError> error_;
 };

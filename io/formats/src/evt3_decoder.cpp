@@ -41,6 +41,10 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
           fault = true;
           break;
         }
+        if (!has_time_base_) {  // its time is not known yet: skipped, counted
+          ++before_time_base_count_;
+          break;
+        }
         out[n++] = Event{t_us_, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y_),
                          (w & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
         break;
@@ -58,6 +62,10 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
           fault = true;
           break;
         }
+        if (!has_time_base_) {
+          before_time_base_count_ += static_cast<std::uint64_t>(std::popcount(mask));
+          mask = 0;
+        }
         while (mask != 0) {
           const int bit = std::countr_zero(mask);
           mask &= mask - 1u;
@@ -72,9 +80,12 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
         break;
       case 0x8: {  // TIME_HIGH
         const std::uint32_t high = w & 0xFFFu;
-        // A drop by more than half the range is a wrap of the 24-bit time.
-        if (high < time_high_ && time_high_ - high > kTimeHighRange / 2) wrap_us_ += kTimeRangeUs;
+        // Repeated every 16 us: the same value keeps TIME_LOW's bits. A drop
+        // by half the range or more is a wrap of the 24-bit time (OpenEB's rule).
+        if (has_time_base_ && high == time_high_) break;
+        if (has_time_base_ && high < time_high_ && time_high_ - high >= kTimeHighRange / 2) wrap_us_ += kTimeRangeUs;
         time_high_ = high;
+        has_time_base_ = true;
         t_us_ = wrap_us_ + (static_cast<std::int64_t>(high) << 12);
         break;
       }

@@ -4,8 +4,10 @@
 //
 // Words are little-endian u16, type in the top 4 bits. State words set the
 // row (ADDR_Y 0), the time (TIME_LOW 6: bits 0-11, TIME_HIGH 8: bits 12-23, a
-// 24-bit counter unwrapped to 64 bits: a drop of TIME_HIGH by more than half
-// its range is a wrap) and a vector base (VECT_BASE_X 3: x + polarity); events
+// 24-bit counter unwrapped to 64 bits: a drop of TIME_HIGH by half its range
+// or more is a wrap; a repeated TIME_HIGH keeps TIME_LOW's bits) and a vector
+// base (VECT_BASE_X 3: x + polarity); events before the first TIME_HIGH have
+// no time and are skipped and counted, as OpenEB's decoder does; events
 // come from ADDR_X 2 (one event) and VECT_12 4 / VECT_8 5 (a bit mask of up to
 // 12 / 8 events at base x + i, base x then advances by 12 / 8). EXT_TRIGGER 10
 // is counted (and handed to a TriggerSink if set); CONTINUED_4 7, OTHERS 14,
@@ -51,6 +53,8 @@ class Evt3Decoder {
 
   std::uint64_t trigger_count() const noexcept { return trigger_count_; }
   std::uint64_t other_count() const noexcept { return other_count_; }
+  /// Events before the stream's first TIME_HIGH (a file cut mid-stream): skipped.
+  std::uint64_t before_time_base_count() const noexcept { return before_time_base_count_; }
   void set_trigger_sink(Evt3TriggerSink* sink) noexcept { trigger_sink_ = sink; }
 
  private:
@@ -64,6 +68,8 @@ class Evt3Decoder {
   std::int64_t t_us_ = 0;
   std::uint64_t trigger_count_ = 0;
   std::uint64_t other_count_ = 0;
+  std::uint64_t before_time_base_count_ = 0;
+  bool has_time_base_ = false;  // a TIME_HIGH was seen
   Evt3TriggerSink* trigger_sink_ = nullptr;
   std::uint16_t fault_word_ = 0;
 };

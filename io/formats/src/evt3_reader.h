@@ -12,6 +12,7 @@
 #include "chunked_file.h"
 #include "evt3_decoder.h"
 #include "evlife/io/event_reader.h"
+#include "prophesee_time_high.h"  // prophesee_skipped_kinds
 
 namespace evlife::io {
 
@@ -25,7 +26,10 @@ class Evt3Reader final : public EventReader {
   std::string_view format_name() const override { return "evt3"; }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t skipped_record_count() const override {
-    return decoder_.trigger_count() + decoder_.other_count();
+    return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count();
+  }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override {
+    return prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(), decoder_.before_time_base_count());
   }
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());

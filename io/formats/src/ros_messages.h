@@ -85,6 +85,8 @@ class MessageDecoder {
   std::uint64_t trigger_count() const noexcept { return evt3_.trigger_count(); }
   /// Payload words that are neither events nor triggers (EVT 3.0 OTHERS...).
   std::uint64_t other_count() const noexcept { return evt3_.other_count(); }
+  /// EVT 3.0 events before the stream's first TIME_HIGH: no time, skipped.
+  std::uint64_t before_time_base_count() const noexcept { return evt3_.before_time_base_count(); }
   void set_trigger_sink(Evt3TriggerSink* sink) noexcept { evt3_.set_trigger_sink(sink); }
 
  private:

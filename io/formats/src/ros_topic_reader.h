@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "prophesee_time_high.h"  // prophesee_skipped_kinds
 #include "ros_messages.h"
 #include "rosbag2_messages.h"  // TopicInfo
 
@@ -35,7 +36,10 @@ class TopicEventReader : public EventReader {
   std::size_t read(std::span<Event> out) final;
   std::optional<SensorSize> sensor_size() const final { return sensor_; }
   std::uint64_t skipped_record_count() const final {
-    return decoder_.trigger_count() + decoder_.other_count();
+    return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count();
+  }
+  std::vector<SkippedKindCount> skipped_record_kinds() const final {
+    return prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(), decoder_.before_time_base_count());
   }
   std::uint64_t trigger_count() const final { return decoder_.trigger_count(); }
   std::vector<ContainerStream> streams() const final;

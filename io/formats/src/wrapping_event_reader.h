@@ -21,6 +21,7 @@ class WrappingEventReader : public EventReader {
   explicit WrappingEventReader(std::unique_ptr<EventReader> inner) : inner_(std::move(inner)) {}
 
   std::optional<SensorSize> sensor_size() const override { return inner_->sensor_size(); }
+  std::string sensor_size_note() const override { return inner_->sensor_size_note(); }
   std::string_view format_name() const override { return inner_->format_name(); }
   const std::string& path() const override { return inner_->path(); }
   std::uint64_t skipped_record_count() const override { return inner_->skipped_record_count(); }

@@ -79,6 +79,10 @@ class EventReader {
   /// (e.g. AEDAT 2.0 special/external events). Shown to the user.
   virtual std::uint64_t skipped_record_count() const { return 0; }
 
+  /// When sensor_size() is not stated by the file but guessed by the reader
+  /// (v2e's AEDAT 2.0 names no sensor): how, for the user; "" when stated.
+  virtual std::string sensor_size_note() const { return {}; }
+
   /// External trigger events seen so far (part of skipped_record_count(),
   /// never mixed into the events).
   virtual std::uint64_t trigger_count() const { return 0; }
