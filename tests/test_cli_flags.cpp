@@ -288,7 +288,8 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   EXPECT_EQ(unit.exit_code, 3) << unit.output;
   EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of other tools' CSV/text files")) << unit.output;
   // A replay's pacing and sensor on the camera (refused before it is opened: no camera needed here).
-  for (const std::string flag : {std::string("--realtime=0.5"), std::string("--packet-us 500"), std::string("--sensor 64x64")}) {
+  for (const char* given : {"--realtime=0.5", "--packet-us 500", "--sensor 64x64"}) {
+    const std::string flag = given;
     const RunResult camera = run("run --source dvs128 -q " + flag);
     EXPECT_EQ(camera.exit_code, 2) << flag << "\n" << camera.output;
     EXPECT_TRUE(has(camera, flag.substr(0, flag.find_first_of(" =")) + " sets a replay or a synth: scene; the camera dvs128"))

@@ -15,6 +15,7 @@
 #include "cli_runner.h"
 #include "davis_aedat2_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/sensor_size_from_data.h"
 #include "read_all.h"
 #include "scratch_dir.h"
 
@@ -175,6 +176,18 @@ TEST_F(IoAedat2Davis, V2eFilesReadAsTheDavisTheyWereWrittenFor) {
   EXPECT_EQ(io::open_unchecked_event_reader(save("chip.aedat", mixed("eu.seebetter.ini.chips.davis.DAVIS240C", 240, 180).bytes()))
                 ->sensor_size_note(),
             "");  // an AEChip line states it
+  // A DAVIS346 recording whose events all lie within raw 240 x 180: the file
+  // cannot tell, the guess (a DAVIS240) shifts it, the user's sensor decides.
+  const std::vector<Event> inner346 = {{10, 200, 100, 1}, {20, 300, 200, -1}};
+  const std::string inner = save("v2e346_inner.aedat", v2e_file(346, 260, inner346));
+  EXPECT_EQ(read_all(inner).sensor->width, 240);
+  io::ReaderOptions as346;
+  as346.sensor = evlife::SensorSize{346, 260};
+  r = evlife::test::read_all(inner, as346, 3);
+  ASSERT_FALSE(r.error) << r.error->what();
+  expect_events(r.events, inner346);
+  EXPECT_EQ(io::resolve_sensor_size(inner, evlife::SensorSize{346, 260}).size, (evlife::SensorSize{346, 260}));
+  EXPECT_EQ(io::resolve_sensor_size(inner, std::nullopt).size, (evlife::SensorSize{240, 180}));
 }
 
 TEST_F(IoAedat2Davis, TruncationKeepsTheEventsBeforeAndNamesFileAndOffset) {

@@ -831,6 +831,9 @@ TEST(SensorSizeScan, AStopEndsTheScanAfterTheEventsReadSoFar) {
   EXPECT_EQ(evlife::io::sensor_size_from_data(path, {}, &go_on), (SensorSize{201, 151}));
   EXPECT_EQ(evlife::io::sensor_size_from_data(path), (SensorSize{201, 151}));
   EXPECT_EQ(evlife::io::sensor_size_from_data(path, {}, &stop), (SensorSize{10, 7}));
+  // The rule every command uses passes the stop on (`run` ended by the signal, unsaid, before).
+  EXPECT_EQ(evlife::io::resolve_sensor_size(path, std::nullopt, {}, &stop).size, (SensorSize{10, 7}));
+  EXPECT_EQ(evlife::io::resolve_sensor_size(path, std::nullopt, {}, &go_on).size, (SensorSize{201, 151}));
 }
 
 }  // namespace

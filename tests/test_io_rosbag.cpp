@@ -331,6 +331,30 @@ TEST(Rosbag2Reader, TopicChoice) {
   }
 }
 
+// A message whose topic_id no topics row lists belongs to no topic: it is
+// not read, and `evlife info` lists it as such (it was counted nowhere).
+TEST(Rosbag2Reader, MessagesOfNoListedTopicAreCounted) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const std::string path = dir.file("orphan.db3");
+  write_two_event_topics(path, "/left/events", "/right/events", false);
+  {
+    Db db(path);
+    db.insert(3, 99, 2, std::vector<std::uint8_t>{1, 2, 3});
+    db.insert(4, 98, 3, std::vector<std::uint8_t>{4});
+  }
+  io::ReaderOptions options;
+  options.topic = "/right/events";
+  const auto reader = io::open_unchecked_event_reader(path, options);
+  const auto streams = reader->streams();
+  ASSERT_EQ(streams.size(), 3u);
+  EXPECT_EQ(streams[2].name, "(topic ids no topics row lists)");
+  EXPECT_EQ(streams[2].messages, 2u);
+  EXPECT_FALSE(streams[2].read);
+  const ReadAll right = read_all(path, "/right/events");
+  ASSERT_FALSE(right.error);
+  EXPECT_EQ(right.events.size(), 50u);  // the topic's own events, as before
+}
+
 // ---- the CLI, as a user runs it ----
 
 std::size_t count_lines(const std::string& text) {

@@ -317,7 +317,8 @@ RunArgs parse_run_args(int argc, char** argv) {
   return r;
 }
 
-std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
+// `stop`: a signal during a file's scan for its sensor size ends the scan.
+std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::atomic<bool>* stop) {
   std::string_view spec = r.source;
   if (engine::is_dvs128_spec(spec)) return engine::make_dvs128_source(spec, r.biases);
   if (spec.starts_with("synth:")) {
@@ -345,7 +346,8 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r) {
                                     static_cast<double>(duration_us) * 1e-6));
     return source;
   }
-  auto source = engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.sensor, r.speed, r.input_options);
+  auto source =
+      engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.sensor, r.speed, r.input_options, stop);
   source->set_packet_us(r.engine.replay_packet_us);
   return source;
 }
@@ -515,7 +517,13 @@ int run_engine(int argc, char** argv) {
 
   std::unique_ptr<engine::EventSource> source;
   try {
-    source = make_source(args);
+    const StopRequest stop;  // (a file's scan for its sensor size takes a while: Ctrl-C ends it)
+    source = make_source(args, stop.flag());
+    if (stop.requested()) {
+      std::fprintf(stderr, "evlife run: interrupted while scanning %s for its sensor size: nothing processed%s\n",
+                   args.source.c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
+      return kExitInterrupted;
+    }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "evlife run: %s\n", e.what());
     return kExitUsage;

@@ -143,8 +143,7 @@ StepResult RenderStage::step() noexcept {
   if (b->after_skip && b->count > 0 && last_t_us_ != INT64_MIN) {  // the events between were dropped
     skipped_from_us_ = last_t_us_;
     // Frames are incomplete until the next event received, or later while a
-    // dropped event would still be active (a long lifetime).
-    // An earlier skip's long-lived events may still be active.
+    // dropped event (of this skip or an earlier one) would still be active.
     skipped_to_us_ = std::max({skipped_to_us_, b->events[0].event.t_us, b->skipped_active_until_us + 1});
   }
   for (std::size_t i = 0; i < b->count; ++i) feed(b->events[i]);

@@ -28,10 +28,11 @@ constexpr std::int64_t kMaxPollNs = 60'000;
 std::unique_ptr<ReplaySource> ReplaySource::open_file(const std::string& path,
                                                       std::optional<SensorSize> sensor,
                                                       double speed,
-                                                      const io::ReaderOptions& input) {
+                                                      const io::ReaderOptions& input,
+                                                      const std::atomic<bool>* stop) {
   // The format's size, else the user's, else one scan of the data; then a
   // checked reader (bounds, time order) so bad data stops with its index.
-  const io::ResolvedSensorSize size = io::resolve_sensor_size(path, sensor, input);
+  const io::ResolvedSensorSize size = io::resolve_sensor_size(path, sensor, input, stop);
   io::ReaderOptions checked = input;
   checked.sensor = size.size;
   checked.require_time_order = true;

@@ -145,7 +145,7 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
                  io::ReaderOptions crop, bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
   const auto probe = io::open_unchecked_event_reader(path, whole_stream(crop));
-  if (const auto stated = probe->sensor_size()) run.sensor = *stated;
+  if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
   else run.sensor = io::sensor_size_from_data(path, whole_stream(crop));  // the CLI's rule
@@ -262,7 +262,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   {
     py::gil_scoped_release release;
     const auto probe = io::open_unchecked_event_reader(path, source);
-    if (const auto stated = probe->sensor_size()) run.sensor = *stated;
+    if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
     else if (user) run.sensor = *user;
     else if (r.sensor) run.sensor = *r.sensor;
     else run.sensor = io::sensor_size_from_data(path, source);

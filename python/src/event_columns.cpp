@@ -88,9 +88,10 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
     }
     if (x < 0 || y < 0 || x >= sensor.width || y >= sensor.height) {
       r.bad_index = i;
-      r.what = "event at (x " + std::to_string(x) + ", y " + std::to_string(y) +
-               ") is outside the " + std::to_string(sensor.width) + "x" +
-               std::to_string(sensor.height) + " sensor";
+      // (As written: a uint64 beyond INT64_MAX, not its clamped value.)
+      r.what = "event at (x " + (c.exact ? std::to_string(x) : c.x.text(i)) + ", y " +
+               (c.exact ? std::to_string(y) : c.y.text(i)) + ") is outside the " + std::to_string(sensor.width) +
+               "x" + std::to_string(sensor.height) + " sensor";
       break;
     }
     if (t < last) {

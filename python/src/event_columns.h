@@ -29,6 +29,11 @@ struct Column {
     return kind == 'u' && size == 8 && get_unsigned(i) > static_cast<std::uint64_t>(INT64_MAX);
   }
 
+  /// The value as written, for messages (an unsigned one above INT64_MAX too).
+  std::string text(std::size_t i) const {
+    return exceeds_int64(i) ? std::to_string(get_unsigned(i)) : std::to_string(get(i));
+  }
+
   std::uint64_t get_unsigned(std::size_t i) const noexcept {
     return load<std::uint64_t>(base + static_cast<py::ssize_t>(i) * stride);
   }

@@ -146,6 +146,11 @@ def test_bad_arrays_name_the_event_and_leave_the_state_unchanged():
     huge["t"][7] = np.uint64(2**63)
     with pytest.raises(evlife.InputError, match=r"9223372036854775808 us does not fit.*event index 7"):
         est.process(huge)
+    far = {f: events[f][1000:2000].copy() for f in "typ"}  # an unsigned x past int64: named as written
+    far["x"] = events["x"][1000:2000].astype(np.uint64)
+    far["x"][6] = np.uint64(2**63 + 5)
+    with pytest.raises(evlife.InputError, match=r"\(x 9223372036854775813, y .*outside the 128x128 sensor.*event index 6"):
+        est.process(far)
     rest = est.process(events[1000:])  # as if the bad calls never happened
     assert_same_events(np.concatenate([first, rest]), whole)
 

@@ -5,7 +5,8 @@
 // wrote it (its `created by AEDat2Output in v2e` line, no AEChip line): then a
 // DAVIS346's or, where every event lies within 240 x 180 raw pixels, a
 // DAVIS240's — the two sensors v2e's AEDAT 2.0 writer knows, in the DAVIS
-// layout, flipped as jAER's (a pass over the addresses tells them apart).
+// layout, flipped as jAER's (a pass over the addresses guesses which, said so
+// by sensor_size_note(); ReaderOptions::sensor, one of the two, decides).
 //
 // DVS128 (jAER DVS128.Extractor): bit 0 polarity (raw 0 = ON), bits 1-7 raw
 // x, bits 8-14 raw y, bit 15 external input event.
@@ -73,10 +74,22 @@ std::string hex_address(std::uint32_t v) {
 
 class Aedat2Reader final : public EventReader {
  public:
-  explicit Aedat2Reader(const std::string& path) : file_(path), chip_(&default_aedat2_chip()) {
+  Aedat2Reader(const std::string& path, std::optional<SensorSize> user_sensor)
+      : file_(path), chip_(&default_aedat2_chip()) {
     parse_header();
     buffer_.resize(kChunkRecords * kRecordBytes);
-    if (written_by_v2e_ && !chip_line_) chip_ = &v2e_chip();
+    if (written_by_v2e_ && !chip_line_) {
+      // The user's sensor, when it is one of v2e's two, decides; else the guess.
+      if (user_sensor && *user_sensor == SensorSize{240, 180}) {
+        chip_ = find_aedat2_chip("DAVIS240");
+        sensor_from_user_ = true;
+      } else if (user_sensor && *user_sensor == SensorSize{346, 260}) {
+        chip_ = find_aedat2_chip("Davis346");
+        sensor_from_user_ = true;
+      } else {
+        chip_ = &v2e_chip();
+      }
+    }
   }
 
   std::size_t read(std::span<Event> out) override {
@@ -102,6 +115,7 @@ class Aedat2Reader final : public EventReader {
   }
   std::string sensor_size_note() const override {
     if (!written_by_v2e_ || chip_line_) return {};
+    if (sensor_from_user_) return "given: v2e names no sensor";
     return chip_->width == 240 ? "guessed: v2e names no sensor, and no event lies beyond 240x180 (a DAVIS346 "
                                  "recording whose events all do would read shifted)"
                                : "guessed: v2e names no sensor, and events lie beyond 240x180";
@@ -306,6 +320,7 @@ class Aedat2Reader final : public EventReader {
   bool chip_line_ = false;
   bool davis_hardware_ = false;
   bool written_by_v2e_ = false;  // v2e's AEDAT 2.0 writer: DAVIS layout, no AEChip line
+  bool sensor_from_user_ = false;  // v2e's: ReaderOptions::sensor chose the chip
   std::vector<std::byte> buffer_;
   std::size_t buffer_pos_ = 0;
   std::size_t buffer_end_ = 0;
@@ -329,8 +344,8 @@ SniffResult sniff_aedat2(std::span<const std::byte> head, std::string_view path)
   return SniffResult::no;
 }
 
-std::unique_ptr<EventReader> open_aedat2(const std::string& path) {
-  return std::make_unique<Aedat2Reader>(path);
+std::unique_ptr<EventReader> open_aedat2(const std::string& path, const ReaderOptions& options) {
+  return std::make_unique<Aedat2Reader>(path, options.sensor);
 }
 
 }  // namespace
@@ -339,6 +354,6 @@ const ReaderFormat aedat2_format{"aedat2",
                                  "jAER AEDAT 2.0 from a DVS128 or a DAVIS, or v2e's ('#!AER-DAT2.0' header, "
                                  "big-endian u32 address + u32 timestamp in us; APS, IMU and "
                                  "external events skipped and counted)",
-                                 &sniff_aedat2, &open_aedat2};
+                                 &sniff_aedat2, nullptr, &open_aedat2};
 
 }  // namespace evlife::io::detail

@@ -58,11 +58,14 @@ class TopicEventReader : public EventReader {
   /// Call at the end of the derived constructor, after choosing `topic`
   /// among `topics`: decodes the first message (the sensor size).
   void start(const std::vector<TopicInfo>& topics, const TopicInfo& topic, Serialization serialization);
+  /// A rosbag2's messages whose topic_id no topics row lists (streams() shows them).
+  void set_unlisted_messages(std::uint64_t count) noexcept { unlisted_messages_ = count; }
 
  private:
   void load_message();
 
   std::vector<TopicInfo> topics_;
+  std::uint64_t unlisted_messages_ = 0;
   std::string topic_;
   MessageDecoder decoder_{MessageKind::not_events};
   std::optional<SensorSize> sensor_;

@@ -131,6 +131,9 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
         topics_[it->second].message_count += t.message_count;
       }
     }
+    db.prepare("SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)");
+    if (db.step("cannot count the messages of no topic"))
+      unlisted_messages_ += static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 0));
   }
 }
 

@@ -31,6 +31,9 @@ class Rosbag2Messages {
 
   /// Every topic of the bag (over all its files), with message counts.
   const std::vector<TopicInfo>& topics() const noexcept { return topics_; }
+  /// Messages whose topic_id no topics row lists (a damaged bag): no topic's,
+  /// never read, counted for `evlife info`.
+  std::uint64_t unlisted_message_count() const noexcept { return unlisted_messages_; }
 
   /// Starts streaming the messages of topic `name` (from the first file).
   void select(const std::string& name);
@@ -53,6 +56,7 @@ class Rosbag2Messages {
 
   std::vector<std::string> files_;
   std::vector<TopicInfo> topics_;
+  std::uint64_t unlisted_messages_ = 0;
   std::unique_ptr<Db> db_;
   std::size_t file_index_ = 0;
   std::string topic_;

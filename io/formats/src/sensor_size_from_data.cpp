@@ -49,12 +49,17 @@ std::string_view to_string(SensorSizeSource source) {
   return "?";
 }
 
+std::optional<SensorSize> stated_sensor_size(const EventReader& probe, std::optional<SensorSize> user) {
+  if (user && !probe.sensor_size_note().empty()) return std::nullopt;  // a guess yields to the user
+  return probe.sensor_size();
+}
+
 ResolvedSensorSize resolve_sensor_size(const std::string& path, std::optional<SensorSize> user,
-                                       const ReaderOptions& input) {
-  if (const std::optional<SensorSize> stated = open_unchecked_event_reader(path, input)->sensor_size())
+                                       const ReaderOptions& input, const std::atomic<bool>* stop) {
+  if (const auto stated = stated_sensor_size(*open_unchecked_event_reader(path, input), user))
     return {*stated, SensorSizeSource::format};
   if (user) return {*user, SensorSizeSource::user};
-  return {sensor_size_from_data(path, input), SensorSizeSource::data};
+  return {sensor_size_from_data(path, input, stop), SensorSizeSource::data};
 }
 
 }  // namespace evlife::io

@@ -50,7 +50,8 @@ class RenderTap {
     dropped_events.add(events.size());
     skipped_since_offer_ = true;
     for (const AugmentedEvent& a : events) {
-      const auto until = a.event.t_us + static_cast<std::int64_t>(a.lifetime_us);
+      if (!(a.lifetime_us > 0.0f)) continue;  // noise is never drawn (and NaN never cast)
+      const auto until = a.event.t_us + static_cast<std::int64_t>(std::min(a.lifetime_us, 1e12f));
       skipped_active_until_us_ = std::max(skipped_active_until_us_, until);
     }
   }

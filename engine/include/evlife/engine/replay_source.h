@@ -29,10 +29,12 @@ class ReplaySource final : public EventSource {
   /// Sensor: the format's where it states one, else `sensor`, else a scan of
   /// the data. Throws io::ReadError if the file cannot be opened.
   /// `input`: the input selection (topic...; its sensor is replaced).
+  /// `stop`, when set during the scan, ends it early (the caller checks it).
   static std::unique_ptr<ReplaySource> open_file(const std::string& path,
                                                  std::optional<SensorSize> sensor,
                                                  double speed = 0.0,
-                                                 const io::ReaderOptions& input = {});
+                                                 const io::ReaderOptions& input = {},
+                                                 const std::atomic<bool>* stop = nullptr);
 
   /// Replays any io reader (e.g. io::SyntheticSceneReader: a camera-free
   /// live source when kind == live). Throws std::invalid_argument without a

@@ -28,15 +28,21 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
 enum class SensorSizeSource { format, user, data };
 std::string_view to_string(SensorSizeSource source);
 
+/// The sensor size `probe`'s file states, unless the reader only guessed it
+/// (EventReader::sensor_size_note(): v2e's AEDAT 2.0) and the user gave one:
+/// the first step of every command's sensor rule.
+std::optional<SensorSize> stated_sensor_size(const EventReader& probe, std::optional<SensorSize> user);
+
 struct ResolvedSensorSize {
   SensorSize size;
   SensorSizeSource source = SensorSizeSource::format;
 };
 
 /// The format's sensor where it states one, else `user` (--sensor), else
-/// sensor_size_from_data(path). (Augmented files: io::sensor_size_of_augmented.)
+/// sensor_size_from_data(path, input, stop). (Augmented files: io::sensor_size_of_augmented.)
 ResolvedSensorSize resolve_sensor_size(const std::string& path,
                                        std::optional<SensorSize> user,
-                                       const ReaderOptions& input = {});
+                                       const ReaderOptions& input = {},
+                                       const std::atomic<bool>* stop = nullptr);
 
 }  // namespace evlife::io
