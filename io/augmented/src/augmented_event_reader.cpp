@@ -7,8 +7,8 @@
 
 #include "augmented_bin_format.h"
 #include "augmented_formats.h"
+#include "evlife_bin_magic.h"
 #include "input_file.h"
-#include "reader_registry.h"  // has_extension
 
 namespace evlife::io {
 
@@ -22,16 +22,20 @@ std::string head_of(const std::string& path) {
   return std::string(head, got);
 }
 
+// evlife's .bin by its magic or by its name (whose errors are then this
+// file's); nullptr for anything else.
+std::unique_ptr<AugmentedEventReader> open_as_bin(const std::string& path, const std::string& head) {
+  if (head == detail::augmented_bin::kMagic) return detail::open_augmented_bin_reader(path);
+  if (detail::named_like_augmented_bin(path)) throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head));
+  return nullptr;
+}
+
 }  // namespace
 
-bool names_augmented_bin(const std::string& path) { return detail::has_extension(path, ".bin"); }
+bool names_augmented_bin(const std::string& path) { return detail::named_like_augmented_bin(path); }
 
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path) {
-  const std::string head = head_of(path);
-  if (head == detail::augmented_bin::kMagic) return detail::open_augmented_bin_reader(path);
-  if (names_augmented_bin(path)) {  // said as what it is named, not as a CSV without its header
-    throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head));
-  }
+  if (auto bin = open_as_bin(path, head_of(path))) return bin;
   return detail::open_augmented_csv_reader(path);  // checks its header
 }
 
@@ -42,8 +46,7 @@ std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path)
   } catch (const ReadError&) {  // no file (a folder: a ROS 2 bag): the caller's other readers say
     return nullptr;
   }
-  // The magic, or the name: their errors are this file's.
-  if (head == detail::augmented_bin::kMagic || names_augmented_bin(path)) return open_augmented_reader(path);
+  if (auto bin = open_as_bin(path, head)) return bin;
   try {
     return detail::open_augmented_csv_reader(path);
   } catch (const ReadError&) {  // not evlife's CSV: the caller's other readers say what it is

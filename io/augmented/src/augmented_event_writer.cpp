@@ -2,6 +2,7 @@
 
 #include "augmented_formats.h"
 #include "evlife/io/hdf5_writer.h"
+#include "evlife_bin_magic.h"
 #include "reader_registry.h"  // has_extension
 
 namespace evlife::io {
@@ -9,7 +10,7 @@ namespace evlife::io {
 std::unique_ptr<AugmentedEventWriter> open_augmented_writer(const std::string& path,
                                                             SensorSize sensor) {
   if (detail::has_extension(path, ".csv")) return detail::open_augmented_csv_writer(path);
-  if (detail::has_extension(path, ".bin")) return detail::open_augmented_bin_writer(path, sensor);
+  if (detail::named_like_augmented_bin(path)) return detail::open_augmented_bin_writer(path, sensor);
   // HDF5 (h5py-readable columns).
   if (detail::has_extension(path, ".h5") || detail::has_extension(path, ".hdf5")) {
     return open_hdf5_augmented_writer(

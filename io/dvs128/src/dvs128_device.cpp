@@ -354,9 +354,8 @@ void Dvs128Device::handle_completion(Slot& slot) noexcept {
     default:
       // Data of a failed transfer is lost: count it, then try to carry on;
       // if the device is gone the resubmission reports it.
-      transfers_failed_.store(transfers_failed_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-      bytes_lost_.store(bytes_lost_.load(std::memory_order_relaxed) + static_cast<std::uint64_t>(std::max(t.actual_length, 0)),
-                        std::memory_order_relaxed);
+      transfers_failed_.fetch_add(1, std::memory_order_relaxed);
+      bytes_lost_.fetch_add(static_cast<std::uint64_t>(std::max(t.actual_length, 0)), std::memory_order_relaxed);
       if (state() == Dvs128State::streaming) {
         if (t.status == LIBUSB_TRANSFER_STALL) libusb_clear_halt(handle_, dvs128::kEventEndpoint);
         if (!submit(slot) && state() == Dvs128State::failed) {

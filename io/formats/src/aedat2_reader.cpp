@@ -72,6 +72,9 @@ std::string hex_address(std::uint32_t v) {
   return text;
 }
 
+// The two sensors v2e's AEDAT 2.0 writer knows (v2ecore/output/aedat2_output.py), smaller first.
+constexpr const char* kV2eChips[] = {"DAVIS240", "Davis346"};
+
 class Aedat2Reader final : public EventReader {
  public:
   Aedat2Reader(const std::string& path, std::optional<SensorSize> user_sensor)
@@ -80,15 +83,14 @@ class Aedat2Reader final : public EventReader {
     buffer_.resize(kChunkRecords * kRecordBytes);
     if (written_by_v2e_ && !chip_line_) {
       // The user's sensor, when it is one of v2e's two, decides; else the guess.
-      if (user_sensor && *user_sensor == SensorSize{240, 180}) {
-        chip_ = find_aedat2_chip("DAVIS240");
-        sensor_from_user_ = true;
-      } else if (user_sensor && *user_sensor == SensorSize{346, 260}) {
-        chip_ = find_aedat2_chip("Davis346");
-        sensor_from_user_ = true;
-      } else {
-        chip_ = &v2e_chip();
+      for (const char* name : kV2eChips) {
+        const Aedat2Chip* chip = find_aedat2_chip(name);
+        if (user_sensor && *user_sensor == SensorSize{chip->width, chip->height}) {
+          chip_ = chip;
+          sensor_from_user_ = true;
+        }
       }
+      if (!sensor_from_user_) chip_ = &v2e_chip();
     }
   }
 
@@ -293,8 +295,10 @@ class Aedat2Reader final : public EventReader {
       if (got < buffer_.size()) break;
       at += got;
     }
-    const Aedat2Chip* chip = find_aedat2_chip(max_x < 240 && max_y < 180 ? "DAVIS240" : "Davis346");
-    return *chip;
+    const Aedat2Chip* smaller = find_aedat2_chip(kV2eChips[0]);
+    const bool fits_smaller =
+        max_x < static_cast<std::uint32_t>(smaller->width) && max_y < static_cast<std::uint32_t>(smaller->height);
+    return fits_smaller ? *smaller : *find_aedat2_chip(kV2eChips[1]);
   }
 
   // Moves the partial record to the front and reads more. False at end of

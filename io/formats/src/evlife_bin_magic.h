@@ -7,9 +7,16 @@
 #include <string>
 #include <string_view>
 
+#include "reader_registry.h"  // has_extension
+
 namespace evlife::io::detail {
 
 inline constexpr std::string_view kAugmentedBinMagic = "EVLIFEAE";
+
+/// A path named like evlife's binary output (no other format evlife reads
+/// uses .bin): its writer is chosen by it, and a file so named that no reader
+/// takes is reported as a bad .bin.
+inline bool named_like_augmented_bin(std::string_view path) { return has_extension(path, ".bin"); }
 
 /// The reason a file named .bin whose first bytes are `head` is not evlife's.
 inline std::string not_augmented_bin_reason(std::string_view head) {

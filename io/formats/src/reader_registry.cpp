@@ -112,7 +112,7 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
   if (head_text.starts_with(detail::kAugmentedBinMagic)) {
     throw ReadError(path, 0, -1, std::string(detail::kAugmentedBinIsNoRecording));
   }
-  if (detail::has_extension(path, ".bin")) throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head_text));
+  if (detail::named_like_augmented_bin(path)) throw ReadError(path, 0, -1, detail::not_augmented_bin_reason(head_text));
   std::string known;
   for (const detail::ReaderFormat* f : detail::reader_formats())
     known += "\n  " + std::string(f->name) + ": " + std::string(f->description);
