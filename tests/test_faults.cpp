@@ -327,6 +327,44 @@ TEST(Faults, SighupStopsProcessAndRunCleanly) {
   interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGHUP, "run SIGHUP");
 }
 
+// A signal between the sensor scan and the engine's start (the output being
+// opened, the estimators allocated): the run starts stopped and ends as any
+// interrupted run, its output valid (before, the signal killed the process:
+// exit 143, an empty .bin, no summary). The output is a FIFO, so the process
+// waits in its open() until the test reads: the signal lands there for sure.
+TEST(Faults, ASignalWhileRunOpensItsOutputStopsItCleanly) {
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  const fs::path fifo = dir.path() / "out.bin";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const Child c = spawn_cli({"run", (dir.path() / "in.aedat").string(), "-o", fifo.string()}, dir, "fifo");
+  const fs::path wchan = "/proc/" + std::to_string(c.pid) + "/wchan";
+  const auto deadline = std::chrono::steady_clock::now() + 120s;
+  bool in_open = false;
+  while (!in_open && std::chrono::steady_clock::now() < deadline) {
+    int status = 0;
+    if (waitpid(c.pid, &status, WNOHANG) == c.pid) FAIL() << "ended before its output was read (status " << status << ")";
+    const std::string where = slurp(wchan);  // the kernel function the process sleeps in
+    in_open = where == "wait_for_partner" || where == "fifo_open";
+    if (!in_open) std::this_thread::sleep_for(2ms);
+  }
+  if (!in_open) {
+    kill(c.pid, SIGKILL);
+    wait_cli(c);
+    GTEST_SKIP() << "this kernel's /proc/PID/wchan does not show a process opening a FIFO";
+  }
+  ASSERT_EQ(kill(c.pid, SIGTERM), 0);
+  const fs::path copy = dir.path() / "copy.bin";
+  std::ofstream(copy, std::ios::binary) << std::ifstream(fifo, std::ios::binary).rdbuf();  // unblocks the open
+  const Finished f = wait_cli(c);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_EQ(f.code, 130) << describe(f);
+  EXPECT_TRUE(contains(f.err, "interrupted")) << describe(f);
+  const Finished info = run_cli({"info", copy.string()}, dir);  // a whole .bin: its header and records
+  EXPECT_EQ(info.code, 0) << describe(info);
+  EXPECT_TRUE(contains(info.out, "augmented-bin")) << describe(info);
+}
+
 // ---- configuration ----
 
 TEST(Faults, ConfigUnknownKeyIsNamed) {

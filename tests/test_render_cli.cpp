@@ -199,7 +199,7 @@ TEST_F(RenderCliTest, EvalReportsATextFileTheDiskRefused) {
     const std::string dir = path("full_" + name);
     fs::create_directories(dir);
     fs::create_symlink("/dev/full", dir + "/" + name);
-    const auto r = run("eval '" + kGarfield + "' --to 0.3 -o '" + dir + "' -q");
+    const auto r = run("eval '" + kGarfield + "' --to 0.1 -o '" + dir + "' -q");
     EXPECT_EQ(r.exit_code, 4) << name << ": " << r.output;
     EXPECT_NE(r.output.find("cannot write " + dir + "/" + name), std::string::npos) << r.output;
   }
@@ -341,10 +341,10 @@ TEST_F(RenderCliTest, EvalMediansAreTheValuesNotTheirBinsEdges) {
 // `run --frames` draws the frames of `evlife render`, upscaling included, on
 // any sensor (it kept FrameStyle's 4x: 1484x1086 px for render's 446x306).
 TEST_F(RenderCliTest, RunDrawsRendersFramesOnAnySensor) {
-  ASSERT_EQ(run("synth -q --scene edges-bar --sensor 346x260 --duration 0.6 -o '" + path("wide.h5") + "'").exit_code, 0);
-  ASSERT_EQ(run("render '" + path("wide.h5") + "' -q -o '" + path("by_render") + "' --at 0.5").exit_code, 0);
-  ASSERT_EQ(run("run '" + path("wide.h5") + "' -q --frames '" + path("by_run") + "' --fps 0 --at 0.5").exit_code, 0);
-  const std::string name = "/frame_000000_t0.500000s.png";
+  ASSERT_EQ(run("synth -q --scene edges-bar --sensor 346x260 --duration 0.3 -o '" + path("wide.h5") + "'").exit_code, 0);
+  ASSERT_EQ(run("render '" + path("wide.h5") + "' -q -o '" + path("by_render") + "' --at 0.25").exit_code, 0);
+  ASSERT_EQ(run("run '" + path("wide.h5") + "' -q --frames '" + path("by_run") + "' --fps 0 --at 0.25").exit_code, 0);
+  const std::string name = "/frame_000000_t0.250000s.png";
   const std::string drawn = evlife::test::read_text_file(path("by_render") + name);
   ASSERT_GT(drawn.size(), 1000u);
   EXPECT_TRUE(drawn == evlife::test::read_text_file(path("by_run") + name));

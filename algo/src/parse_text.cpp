@@ -32,7 +32,11 @@ std::optional<std::int64_t> parse_time_us(std::string_view text) noexcept {
   }
   const auto value = parse_decimal(number);
   if (!value || *value < 0.0 || *value * unit_us > 1e15) return std::nullopt;
-  return std::llround(*value * unit_us);
+  const std::int64_t us = std::llround(*value * unit_us);
+  // A positive time under half a microsecond is no time the clock holds: as
+  // 0 it would mean "none" to the keys where 0 turns a feature off.
+  if (us == 0 && *value > 0.0) return std::nullopt;
+  return us;
 }
 
 }  // namespace evlife

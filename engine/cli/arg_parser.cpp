@@ -154,6 +154,19 @@ void print_config(const config::LoadedConfig& c) {
                config::to_yaml(c.config, from_input).c_str());
 }
 
+std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const config::LoadedConfig& c) {
+  if (flag) return flag;
+  if (c.builder.user_origin_of_input_keys() != nullptr) return c.config.estimator.sensor;
+  return std::nullopt;
+}
+
+void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::string_view input, SensorSize used) {
+  if (flag == used) return;
+  std::fprintf(stderr, "evlife %.*s: warning: --sensor %dx%d ignored: %.*s states %dx%d\n",
+               static_cast<int>(command.size()), command.data(), flag.width, flag.height,
+               static_cast<int>(input.size()), input.data(), used.width, used.height);
+}
+
 SensorSize parse_sensor_size(std::string_view text) {
   const auto x = text.find_first_of("xX");
   auto number = [&](std::string_view s, int& v) {

@@ -109,6 +109,15 @@ config::LoadedConfig load_command_config(const ParsedArgs& a);
 /// --print-config: the effective configuration as YAML, on stdout.
 void print_config(const config::LoadedConfig& c);
 
+/// The sensor size the user gave, the second step of every command's sensor
+/// rule (the size the format states first, a scan of the data last):
+/// --sensor (`flag`), else estimator.sensor where --config or --set sets it.
+std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const config::LoadedConfig& c);
+
+/// "COMMAND: warning: --sensor WxH ignored: INPUT states WxH" when the size
+/// used is not the flag's (the format states its own).
+void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::string_view input, SensorSize used);
+
 /// "  --flag  doc [range]" lines of an option table's entries that have a flag.
 template <typename ForEach>
 std::string table_flags_help(ForEach for_each);

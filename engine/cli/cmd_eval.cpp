@@ -148,7 +148,7 @@ int eval_recording(int argc, char** argv) {
   render::eval::EvaluationOptions options;
   options.input = args.input;
   options.output = args.output;
-  options.sensor = args.sensor;
+  options.sensor = user_sensor_size(args.sensor, args.config);
   options.input_options = args.input_options;
   options.estimator = args.config.config.estimator;
   options.sample_every_us = args.sample_every_us;
@@ -169,6 +169,13 @@ int eval_recording(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "evlife eval: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;
+  }
+  if (args.sensor) warn_sensor_flag_ignored("eval", *args.sensor, args.input, evaluation.sensor);
+  if (!evaluation.runs.empty() && evaluation.runs[evaluation.primary_index].events == 0 && !evaluation.input_fault) {
+    const bool cropped = args.input_options.from_us || args.input_options.to_us;  // as process says it
+    std::fprintf(stderr, "evlife eval: warning: no event of %s%s: the report's figures are empty\n", args.input.c_str(),
+                 cropped ? " within --from/--to (times are seconds after its first event; `evlife info` gives its length)"
+                         : "");
   }
   try {
     render::eval::write_evaluation(options, evaluation);

@@ -148,11 +148,7 @@ struct ResolvedSensor {
 ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg,
                               const io::EventReader& probe, const StopRequest& stop) {
   if (const auto s = io::stated_sensor_size(probe, args.sensor)) {
-    if (args.sensor && *args.sensor != *s) {
-      std::fprintf(stderr, "evlife process: warning: --sensor %dx%d ignored: %s states %dx%d\n",
-                   args.sensor->width, args.sensor->height, std::string(probe.format_name()).c_str(),
-                   s->width, s->height);
-    }
+    if (args.sensor) warn_sensor_flag_ignored("process", *args.sensor, probe.format_name(), *s);
     if (const std::string guessed = probe.sensor_size_note(); !guessed.empty()) return {*s, guessed};
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }

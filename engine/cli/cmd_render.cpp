@@ -292,11 +292,9 @@ int run_render(int argc, char** argv) {
 
   std::unique_ptr<render::AugmentedSource> source;
   try {
-    source = render::open_augmented_source(args.input, args.config.config.estimator, args.sensor, args.input_options);
-    if (args.sensor && *args.sensor != source->sensor()) {  // as `process` says it
-      std::fprintf(stderr, "evlife render: warning: --sensor %dx%d ignored: %s states %dx%d\n", args.sensor->width,
-                   args.sensor->height, args.input.c_str(), source->sensor().width, source->sensor().height);
-    }
+    source = render::open_augmented_source(args.input, args.config.config.estimator,
+                                           user_sensor_size(args.sensor, args.config), args.input_options);
+    if (args.sensor) warn_sensor_flag_ignored("render", *args.sensor, args.input, source->sensor());
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
     return kExitInput;

@@ -182,7 +182,8 @@ void print_help(std::FILE* out) {
 
 struct RunArgs {
   std::string source;
-  std::optional<SensorSize> sensor;
+  std::optional<SensorSize> sensor;       // --sensor
+  std::optional<SensorSize> user_sensor;  // --sensor, else a configured estimator.sensor
   io::ReaderOptions input_options;  // --topic
   double speed = 0.0;
   std::string output;
@@ -265,6 +266,7 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (is_file_source(r.source) && file_of_source(r.source).empty())
     throw UsageError("--source " + r.source + ": a file source needs a path (file:PATH or PATH)");
   if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
+  r.user_sensor = user_sensor_size(r.sensor, r.config);
   r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
   if (const auto s = a.value("output")) r.output = *s;
@@ -313,6 +315,9 @@ RunArgs parse_run_args(int argc, char** argv) {
         throw UsageError(std::string("--") + replay_only + " sets a replay or a synth: scene; the camera " + r.source +
                          (std::string_view(replay_only) == "sensor" ? " is 128x128" : " streams at its own pace"));
     }
+  } else if (a.has("packet-us") && r.speed <= 0) {  // (the camera's case is refused above)
+    throw UsageError("--packet-us sets the packets of a paced replay: add --realtime (unpaced, a replay hands "
+                     "its events over as fast as the workers take them)");
   }
   return r;
 }
@@ -327,16 +332,20 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::at
     SensorSize sensor{};
     if (spec == "synth:textured") {  // generated whole (~70 B per event): a DAVIS346 by default
       io::TexturedSceneSpec texture;
-      texture.sensor = sensor = r.sensor.value_or(SensorSize{346, 260});
+      texture.sensor = sensor = r.user_sensor.value_or(SensorSize{346, 260});
       texture.duration_us = duration_us;
       if (const std::string why = io::validate_textured_scene_spec(texture); !why.empty()) throw UsageError(why);
+      if (const auto refusal = scene_memory_refusal(io::textured_scene_memory_bytes(texture), true))
+        throw UsageError("--source " + r.source + ": " + *refusal);
       scene = std::make_unique<io::SceneMemoryReader>(io::generate_textured_scene(texture));
     } else {
-      sensor = r.sensor.value_or(SensorSize{1280, 720});
+      sensor = r.user_sensor.value_or(SensorSize{1280, 720});
       const auto preset = io::scene_preset(spec.substr(6), sensor, duration_us, 1);
       if (!preset) {
         throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large, edges-bar, textured)");
       }
+      if (const auto refusal = scene_memory_refusal(io::scene_reader_memory_bytes(*preset), false))
+        throw UsageError("--source " + r.source + ": " + *refusal);
       scene = std::make_unique<io::SyntheticSceneReader>(*preset);
     }
     auto source = engine::ReplaySource::from_reader(std::move(scene), sensor, r.speed,
@@ -347,7 +356,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::at
     return source;
   }
   auto source =
-      engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.sensor, r.speed, r.input_options, stop);
+      engine::ReplaySource::open_file(std::string(file_of_source(spec)), r.user_sensor, r.speed, r.input_options, stop);
   source->set_packet_us(r.engine.replay_packet_us);
   return source;
 }
@@ -515,9 +524,13 @@ int run_engine(int argc, char** argv) {
   if (args.quiet) spdlog::set_level(spdlog::level::warn);
   if (args.quiet) args.engine.stats_period_s = 0.0;
 
+  // From here until the engine runs, a stop signal is noted, not fatal: the
+  // scan for a sensor size ends, or the engine starts stopped, so the output
+  // is closed valid with the summary (before, a signal while the output was
+  // opened or the estimators allocated killed the process: an empty .bin).
+  const StopRequest stop;
   std::unique_ptr<engine::EventSource> source;
   try {
-    const StopRequest stop;  // (a file's scan for its sensor size takes a while: Ctrl-C ends it)
     source = make_source(args, stop.flag());
     if (stop.requested()) {
       std::fprintf(stderr, "evlife run: interrupted while scanning %s for its sensor size: nothing processed%s\n",
@@ -531,6 +544,7 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
     return kExitInput;
   }
+  if (args.sensor) warn_sensor_flag_ignored("run", *args.sensor, file_of_source(args.source), source->sensor_size());
   // Every refusal before the output is opened: opening it empties a file of that name.
   if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
     std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
@@ -598,7 +612,8 @@ int run_engine(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   g_engine.store(&*eng);
   const engine::RunResult result = [&] {
-    const StopSignals stop_signals(on_run_signal);
+    const StopSignals stop_signals(on_run_signal);  // the setup's flag, checked after: no signal is lost
+    if (stop.requested()) eng->request_stop();
     return eng->run();
   }();
   g_engine.store(nullptr);

@@ -1,7 +1,8 @@
 // `evlife synth -o FILE`: writes a synthetic scene with known ground truth
 // (moving edges, a rotating bar that speeds up, jitter, background noise) as
 // an event recording — the bundled sample of the README and a test input for
-// anyone. Streams slice by slice (constant memory), deterministic per seed.
+// anyone. Streams slice by slice (the memory of one slice, which grows with the
+// background rate and the sensor: refused when it cannot fit), deterministic per seed.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include "evlife/io/textured_scene.h"
 #include "evlife/io/write_error.h"
 #include "exit_code.h"
+#include "memory_check.h"
 #include "stop_signals.h"
 
 namespace evlife::cli::synth_command {
@@ -249,13 +251,17 @@ int synth(int argc, char** argv) {
       spec.jitter_sigma_us = parse_number<double>("jitter-us", *j, 0.0, 1e5);
     }
     quiet = a.has("quiet");
-    if (!truth_path.empty() && truth_path == output) throw UsageError("--truth and -o name the same file");
+    if (!truth_path.empty() && io::outputs_name_one_file(truth_path, output))
+      throw UsageError("--truth and -o name the same file");
     if (is_textured) {
       textured = io::textured_scene_like(spec);
       if (const auto err = io::validate_textured_scene_spec(*textured); !err.empty()) throw UsageError(err);
     } else if (const auto err = io::validate_scene_spec(spec); !err.empty()) {
       throw UsageError(err);
     }
+    if (const auto refusal = textured ? scene_memory_refusal(io::textured_scene_memory_bytes(*textured), true)
+                                      : scene_memory_refusal(io::scene_reader_memory_bytes(spec), false))
+      throw UsageError(*refusal);
   })) {
     return *done;
   }

@@ -28,6 +28,20 @@ std::string gigabytes(std::uint64_t bytes) {
 
 }  // namespace
 
+std::optional<std::string> memory_shortfall(std::uint64_t bytes) {
+  const std::optional<std::uint64_t> available = available_memory_bytes();
+  if (!available || bytes <= *available) return std::nullopt;
+  return gigabytes(bytes) + ", more than the " + gigabytes(*available) + " of memory available";
+}
+
+std::optional<std::string> scene_memory_refusal(std::uint64_t bytes, bool whole) {
+  const std::optional<std::string> shortfall = memory_shortfall(bytes);
+  if (!shortfall) return std::nullopt;
+  return "the scene's background activity and hot pixels need " + *shortfall +
+         (whole ? " (the textured scene is generated whole): lower --noise-rate, the sensor or --duration"
+                : " (for each generation slice): lower --noise-rate or the sensor");
+}
+
 std::optional<std::string> estimator_memory_refusal(SensorSize sensor, int estimators) {
   const std::uint64_t each = LifetimeEstimator::state_bytes(sensor);
   const std::uint64_t needed = each * static_cast<std::uint64_t>(estimators);

@@ -1,6 +1,7 @@
 #include "evlife/engine/engine.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -254,7 +255,8 @@ RunResult Engine::run() {
   // Monitor: stop requests, progress lines; never on the data path.
   bool stop_forwarded = false;
   std::uint64_t failed_transfers_seen = 0;
-  const auto period_ns = static_cast<std::int64_t>(options_.stats_period_s * 1e9);
+  // Rounded up: a period under 1 ns is 1 ns (a line per wake-up), not 0 (none).
+  const auto period_ns = static_cast<std::int64_t>(std::ceil(options_.stats_period_s * 1e9));
   const std::int64_t started_ns = monotonic_ns();
   std::int64_t next_report_ns = started_ns + period_ns;
   while (!merger_done.load(std::memory_order_acquire) ||

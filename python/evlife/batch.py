@@ -68,8 +68,10 @@ def _output_names(paths, extension, out_dir=None):
     names, taken = [], set()
     if out_dir is not None:
         here = os.path.realpath(out_dir)
-        taken = {os.path.basename(p).lower() for p in paths
-                 if os.path.dirname(os.path.realpath(p)) == here}
+        # The file's own name, not a link's: a link elsewhere to out_dir/a.h5
+        # reserves a.h5 (another recording's a.h5 overwrote it).
+        taken = {os.path.basename(r).lower() for r in map(os.path.realpath, paths)
+                 if os.path.dirname(r) == here}
     for p in paths:
         stem = os.path.splitext(os.path.basename(p))[0] or "recording"
         name, n = stem + extension, 1

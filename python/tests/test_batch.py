@@ -62,6 +62,14 @@ def test_outputs_never_take_the_name_of_a_recording_in_the_output_folder(tmp_pat
     names = batch._output_names([tmp_path / "x.mat", tmp_path / "x.csv"], ".csv", tmp_path)
     assert names == ["x-2.csv", "x-3.csv"]
     assert batch._output_names(["elsewhere/x.csv"], ".csv", tmp_path) == ["x.csv"]
+    # A recording given by a link elsewhere: the file in the folder reserves
+    # its own name (rec.h5), not the link's (another recording's rec.h5
+    # overwrote it).
+    (tmp_path / "rec.h5").write_text("")
+    (tmp_path / "in").mkdir()
+    (tmp_path / "in" / "link.h5").symlink_to(tmp_path / "rec.h5")
+    names = batch._output_names([tmp_path / "in" / "link.h5", "in/rec.aedat"], ".h5", tmp_path)
+    assert names == ["link.h5", "rec-2.h5"]
 
 
 def test_bad_batch_arguments_fail_before_any_task(tmp_path):

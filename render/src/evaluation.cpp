@@ -515,7 +515,7 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
     std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
                  static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
                  static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
-    if (args.frame_at_us > r.last_t_us - r.first_t_us)
+    if (r.events > 0 && args.frame_at_us > r.last_t_us - r.first_t_us)
       std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "
                    "compare frame is drawn at the last event (%.6f s)\n", static_cast<double>(args.frame_at_us) * 1e-6,
                    static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);

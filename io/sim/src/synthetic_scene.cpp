@@ -227,6 +227,18 @@ std::string fmt_num(double v) {
 
 }  // namespace
 
+double background_events_per_s(SensorSize sensor, double noise_rate_hz_per_px, const PixelModel& pixel) {
+  const double hot = pixel.enabled ? pixel.hot_pixel_fraction * pixel.hot_pixel_rate_hz : 0.0;
+  return (noise_rate_hz_per_px + hot) * static_cast<double>(sensor.pixel_count());
+}
+
+std::uint64_t scene_reader_memory_bytes(const SceneSpec& spec) {
+  constexpr double kBytesPerHeldEvent = 220.0;
+  const double per_slice = background_events_per_s(spec.sensor, spec.noise_rate_hz_per_px, spec.pixel) *
+                           static_cast<double>(spec.slice_us) * 1e-6;
+  return static_cast<std::uint64_t>(per_slice * kBytesPerHeldEvent);
+}
+
 std::string validate_scene_spec(const SceneSpec& s) {
   if (s.sensor.width < 1 || s.sensor.height < 1 || s.sensor.width > 65535 || s.sensor.height > 65535)
     return "sensor: width and height must be in 1..65535";

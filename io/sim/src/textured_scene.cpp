@@ -381,6 +381,13 @@ TexturedSceneSpec textured_scene_like(const SceneSpec& scene) {
   return spec;
 }
 
+std::uint64_t textured_scene_memory_bytes(const TexturedSceneSpec& spec) {
+  constexpr double kBytesPerHeldEvent = 135.0;
+  const double events = background_events_per_s(spec.sensor, spec.noise_rate_hz_per_px, spec.pixel) *
+                        static_cast<double>(spec.duration_us) * 1e-6;
+  return static_cast<std::uint64_t>(events * kBytesPerHeldEvent);
+}
+
 SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec) {
   if (std::string why = validate_textured_scene_spec(spec); !why.empty()) {
     throw std::invalid_argument("textured scene: " + why);

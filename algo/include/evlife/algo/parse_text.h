@@ -14,10 +14,11 @@ namespace evlife {
 std::optional<double> parse_decimal(std::string_view text) noexcept;
 
 /// A time, >= 0, in microseconds: a number with a unit, "20us", "500ms",
-/// "1.5s", or a bare number in seconds ("0.5"). Else nullopt.
+/// "1.5s", or a bare number in seconds ("0.5"), rounded to the microsecond.
+/// Else nullopt, also for a positive time that rounds to 0.
 std::optional<std::int64_t> parse_time_us(std::string_view text) noexcept;
 
 /// What parse_time_us accepts, for error messages.
-inline constexpr std::string_view kTimeExamples = "a time such as 1.5s, 500ms, 20us or 0.5 (seconds)";
+inline constexpr std::string_view kTimeExamples = "a time such as 1.5s, 500ms, 20us or 0.5 (seconds), 0 or at least 1us";
 
 }  // namespace evlife

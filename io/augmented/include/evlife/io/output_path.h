@@ -18,6 +18,26 @@ inline std::optional<std::string> output_overwrites_input(const std::string& inp
   return output + " is the input file; refusing to overwrite it";
 }
 
+/// True when two outputs name one file: through links (a link whose target
+/// does not exist yet too), "." and "..", whether or not the file exists.
+inline bool outputs_name_one_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::equivalent(a, b, ec)) return true;
+  const auto resolved = [](fs::path p) {
+    std::error_code e;
+    for (int hops = 0; hops < 40 && fs::is_symlink(p, e); ++hops) {  // 40: the kernel's limit
+      const fs::path target = fs::read_symlink(p, e);
+      if (e) break;
+      p = target.is_absolute() ? target : p.parent_path() / target;
+    }
+    p = fs::absolute(p, e);  // (weakly_canonical leaves a relative path of no existing part relative)
+    const fs::path canonical = fs::weakly_canonical(p, e);
+    return e ? p.lexically_normal() : canonical;
+  };
+  return resolved(a) == resolved(b);
+}
+
 /// Creates the folders above `output` that do not exist yet. Returns why
 /// that failed ("cannot create the folder a/b: Permission denied"), for the
 /// open of the file itself to say instead of its own "No such file or

@@ -183,6 +183,16 @@ struct SyntheticScene {
 /// Returns "" when the spec is usable, else a message naming the field.
 std::string validate_scene_spec(const SceneSpec& spec);
 
+/// Events per second of the background: noise and hot pixels (mean). The
+/// part of a scene that grows with the sensor and the rates without bound.
+double background_events_per_s(SensorSize sensor, double noise_rate_hz_per_px, const PixelModel& pixel);
+
+/// What SyntheticSceneReader holds at once, for a refusal before it starts:
+/// a slice's background events at ~220 B each (event, truth, sequence, the
+/// slice's sort and merge: 726 MB peak for 3.3 M background events per slice,
+/// `evlife synth --noise-rate 10000 --sensor 128x128 --duration 0.04 -o x.h5`).
+std::uint64_t scene_reader_memory_bytes(const SceneSpec& spec);
+
 /// Human-readable names of the features (gratings first, then bars).
 std::vector<std::string> scene_feature_names(const SceneSpec& spec);
 
