@@ -167,6 +167,12 @@ void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::st
                static_cast<int>(input.size()), input.data(), used.width, used.height);
 }
 
+std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {
+  if (!selection.from_us && !selection.to_us) return "no event of " + input;
+  return "no event of " + input +
+         " within --from/--to (times are seconds after its first event; `evlife info` gives its length)";
+}
+
 SensorSize parse_sensor_size(std::string_view text) {
   const auto x = text.find_first_of("xX");
   auto number = [&](std::string_view s, int& v) {

@@ -118,6 +118,10 @@ std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const
 /// used is not the flag's (the format states its own).
 void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::string_view input, SensorSize used);
 
+/// "no event of INPUT", and where --from/--to selected the events, how to
+/// read them (a warning's text: process and eval say it alike).
+std::string no_event_text(const std::string& input, const io::ReaderOptions& selection);
+
 /// "  --flag  doc [range]" lines of an option table's entries that have a flag.
 template <typename ForEach>
 std::string table_flags_help(ForEach for_each);

@@ -172,10 +172,8 @@ int eval_recording(int argc, char** argv) {
   }
   if (args.sensor) warn_sensor_flag_ignored("eval", *args.sensor, args.input, evaluation.sensor);
   if (!evaluation.runs.empty() && evaluation.runs[evaluation.primary_index].events == 0 && !evaluation.input_fault) {
-    const bool cropped = args.input_options.from_us || args.input_options.to_us;  // as process says it
-    std::fprintf(stderr, "evlife eval: warning: no event of %s%s: the report's figures are empty\n", args.input.c_str(),
-                 cropped ? " within --from/--to (times are seconds after its first event; `evlife info` gives its length)"
-                         : "");
+    std::fprintf(stderr, "evlife eval: warning: %s: the report's figures are empty\n",
+                 no_event_text(args.input, args.input_options).c_str());
   }
   try {
     render::eval::write_evaluation(options, evaluation);

@@ -328,8 +328,7 @@ int process_recording(int argc, char** argv) {
   if (!args.quiet) print_summary(args, *reader, sensor, *estimator, summary, result, wall_s);
   if (summary.events() == 0 && !result.input_fault && !result.stopped &&
       (args.input_options.from_us || args.input_options.to_us)) {  // not silent: the crop held nothing
-    std::fprintf(stderr, "evlife process: warning: no event of %s within --from/--to (times are seconds "
-                 "after its first event; `evlife info` gives its length)\n", args.input.c_str());
+    std::fprintf(stderr, "evlife process: warning: %s\n", no_event_text(args.input, args.input_options).c_str());
   }
   return exit_status(args, result);
 }

@@ -335,7 +335,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::at
       texture.sensor = sensor = r.user_sensor.value_or(SensorSize{346, 260});
       texture.duration_us = duration_us;
       if (const std::string why = io::validate_textured_scene_spec(texture); !why.empty()) throw UsageError(why);
-      if (const auto refusal = scene_memory_refusal(io::textured_scene_memory_bytes(texture), true))
+      if (const auto refusal = scene_memory_refusal(texture))
         throw UsageError("--source " + r.source + ": " + *refusal);
       scene = std::make_unique<io::SceneMemoryReader>(io::generate_textured_scene(texture));
     } else {
@@ -344,7 +344,7 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::at
       if (!preset) {
         throw UsageError("--source " + r.source + ": unknown preset (edges, bar, mixed, large, edges-bar, textured)");
       }
-      if (const auto refusal = scene_memory_refusal(io::scene_reader_memory_bytes(*preset), false))
+      if (const auto refusal = scene_memory_refusal(*preset))
         throw UsageError("--source " + r.source + ": " + *refusal);
       scene = std::make_unique<io::SyntheticSceneReader>(*preset);
     }

@@ -259,8 +259,7 @@ int synth(int argc, char** argv) {
     } else if (const auto err = io::validate_scene_spec(spec); !err.empty()) {
       throw UsageError(err);
     }
-    if (const auto refusal = textured ? scene_memory_refusal(io::textured_scene_memory_bytes(*textured), true)
-                                      : scene_memory_refusal(io::scene_reader_memory_bytes(spec), false))
+    if (const auto refusal = textured ? scene_memory_refusal(*textured) : scene_memory_refusal(spec))
       throw UsageError(*refusal);
   })) {
     return *done;

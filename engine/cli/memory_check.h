@@ -1,24 +1,23 @@
-// Before allocating the estimators' state (~80 bytes per pixel each): a
-// refusal naming what it would take when that exceeds the memory this machine
-// has available, instead of an OOM kill or a bare std::bad_alloc.
+// Before allocating the estimators' state (~80 bytes per pixel each) or a
+// synthetic scene's background: a refusal naming what it would take when that
+// exceeds the memory this machine has available, instead of an OOM kill or a
+// bare std::bad_alloc.
 #pragma once
 
-#include <cstdint>
 #include <optional>
 #include <string>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/synthetic_scene.h"
+#include "evlife/io/textured_scene.h"
 
 namespace evlife::cli {
 
-/// "N GB, more than the A GB of memory available" when `bytes` exceed
-/// MemAvailable (/proc/meminfo); nothing when they fit or it is unknown.
-std::optional<std::string> memory_shortfall(std::uint64_t bytes);
-
 /// The refusal of a synthetic scene whose background (noise, hot pixels)
-/// would not fit: `bytes` held at once (io::scene_reader_memory_bytes, or
-/// io::textured_scene_memory_bytes when the scene is generated `whole`).
-std::optional<std::string> scene_memory_refusal(std::uint64_t bytes, bool whole);
+/// would not fit: one slice of it (the streamed scenes), or all of it (the
+/// textured scene, generated whole).
+std::optional<std::string> scene_memory_refusal(const io::SceneSpec& spec);
+std::optional<std::string> scene_memory_refusal(const io::TexturedSceneSpec& spec);
 
 /// "needs ..." when `estimators` estimators for `sensor` exceed MemAvailable
 /// (/proc/meminfo); nothing when they fit or it is unknown.
