@@ -334,9 +334,9 @@ TEST_F(CliFlags, EveryCommandTakesTheSensorByOneRule) {
   ASSERT_EQ(run("run " + sample() + " -o " + path("r.bin") + wide).exit_code, 0);
   EXPECT_TRUE(evlife::test::read_text_file(path("p.bin")) == evlife::test::read_text_file(path("r.bin")));
   const std::string stated = path("stated.h5");  // synth's HDF5 states its 128 x 128
-  ASSERT_EQ(run("synth -q --scene edges --duration 100ms -o " + stated).exit_code, 0);
+  ASSERT_EQ(run("synth -q --scene edges --duration 20ms -o " + stated).exit_code, 0);
   for (const std::string& command : {"process " + stated + " -o " + path("a.bin"), "run " + stated + " -o " + path("b.bin"),
-                                     "render " + stated + " -o " + path("c.png") + " --at 0.05",
+                                     "render " + stated + " -o " + path("c.png") + " --at 0.01",
                                      "eval " + stated + " -o " + path("ev")}) {
     const RunResult r = run(command + " --sensor 1x1 -q");
     EXPECT_EQ(r.exit_code, 0) << command << ": " << r.output;

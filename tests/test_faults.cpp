@@ -245,6 +245,26 @@ TEST(Faults, RunToFullDiskFailsClearlyAndNonZero) {
   EXPECT_TRUE(contains(f.err, "No space left on device")) << describe(f);
 }
 
+// synth writes two files batch by batch: a full disk under the ground truth
+// fails after the batch went to -o, so each file's count is its own (the one
+// count said "0 events handed to the writer" of a -o holding the scene).
+TEST(Faults, SynthToAFullDiskNamesTheFileAndWhatEachOutputGot) {
+  const ScratchDir dir("test_faults");
+  const fs::path events = dir.path() / "scene.txt", truth = dir.path() / "truth.csv";
+  fs::create_symlink("/dev/full", truth);
+  const Finished f = run_cli({"synth", "-o", events.string(), "--truth", truth.string(), "--duration", "0.01"}, dir);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_EQ(f.code, 4) << describe(f);
+  EXPECT_TRUE(contains(f.err, truth.string() + ": write failed: No space left on device")) << describe(f);
+  std::ifstream in(events);
+  std::size_t lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  ASSERT_GT(lines, 0u);
+  EXPECT_TRUE(contains(f.err, "(" + std::to_string(lines) + " events handed to the writer of " + events.string() +
+                                  ", 0 rows to that of " + truth.string() + " before it)"))
+      << lines << " events in " << events << "\n" << describe(f);
+}
+
 TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
   const ScratchDir dir("test_faults");
   write_aedat2(dir.path() / "in.aedat", 1000);

@@ -92,6 +92,13 @@ TEST_F(IoCrop, EveryCommandTakesTheFlags) {
   EXPECT_EQ(n, 1 + 3);  // header + x = 2, 3, 4
   EXPECT_EQ(run("eval '" + csv() + "' --polarity sideways -o '" + dir_.file("e") + "'").exit_code, 2);
   EXPECT_EQ(run("run --source 'file:" + csv() + "' --from 5ms --to 1ms").exit_code, 2);
+  // An empty range is refused, --to 0 too (from the first event to it: nothing;
+  // it read no event and exited 0).
+  for (const std::string range : {"--from 2ms --to 2ms", "--to 0", "--to 0us"}) {
+    r = run("process '" + csv() + "' --sensor 16x16 " + range + " -q -o '" + dir_.file("e.csv") + "'");
+    EXPECT_EQ(r.exit_code, 2) << range << ": " << r.output;
+    EXPECT_NE(r.output.find("--to must be after --from"), std::string::npos) << range << ": " << r.output;
+  }
   EXPECT_EQ(run("render '" + csv() + "' --polarity up -o '" + dir_.file("r") + "'").exit_code, 2);
 }
 

@@ -231,7 +231,8 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
     const std::int64_t us = parse_time_flag(name, *v);
     (std::string_view(name) == "from" ? options.from_us : options.to_us) = us;
   }
-  if (options.crop_is_empty()) throw UsageError("--to must be after --from");
+  if (options.crop_is_empty())
+    throw UsageError(options.from_us ? "--to must be after --from" : "--to must be after --from (0 without it)");
   return options;
 }
 

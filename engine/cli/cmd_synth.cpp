@@ -184,7 +184,7 @@ class TruthCsv {
                                   t.lifetime_us, t.nx, t.ny, static_cast<unsigned>(t.burst_index),
                                   t.is_hot ? 1 : 0);
       if (std::fwrite(line, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n)) {
-        throw io::WriteError(path_, "write failed (disk full?)");
+        throw io::WriteError(path_, std::string("write failed: ") + std::strerror(errno), errno);
       }
     }
   }
@@ -192,12 +192,12 @@ class TruthCsv {
     if (file_ == nullptr) return;
     const bool ok = std::fclose(file_) == 0;
     file_ = nullptr;
-    if (!ok) throw io::WriteError(path_, "cannot flush/close the file");
+    if (!ok) throw io::WriteError(path_, std::string("cannot flush/close the file: ") + std::strerror(errno), errno);
   }
 
  private:
   void put(const char* s) {
-    if (std::fputs(s, file_) < 0) throw io::WriteError(path_, "write failed");
+    if (std::fputs(s, file_) < 0) throw io::WriteError(path_, std::string("write failed: ") + std::strerror(errno), errno);
   }
   std::string path_;
   std::string folder_problem_;  // why the folders above path_ could not be made, if they could not
@@ -275,7 +275,7 @@ int synth(int argc, char** argv) {
       };
   std::vector<Event> events(kBatchEvents);
   std::vector<io::EventTruth> truth(kBatchEvents);
-  unsigned long long written = 0, noise = 0, hot = 0;
+  unsigned long long written = 0, truth_rows = 0, noise = 0, hot = 0;
   std::int64_t last_t_us = 0;
   bool stopped = false;
   try {
@@ -295,18 +295,24 @@ int synth(int argc, char** argv) {
       if ((stopped = stop.requested())) break;  // Ctrl-C: close a complete, shorter file
       last_t_us = events[n - 1].t_us;
       writer->write(std::span<const Event>(events.data(), n));
-      if (truth_csv) truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));
+      written += n;
+      if (truth_csv) {
+        truth_csv->write(std::span<const Event>(events.data(), n), std::span(truth.data(), n));
+        truth_rows += n;
+      }
       for (std::size_t i = 0; i < n; ++i) {
         noise += truth[i].is_noise ? 1 : 0;
         hot += truth[i].is_hot ? 1 : 0;
       }
-      written += n;
     }
     writer->close();
     if (truth_csv) truth_csv->close();
   } catch (const io::WriteError& e) {
-    std::fprintf(stderr, "evlife synth: output error: %s (%llu events handed to the writer before it)\n", e.what(),
-                 written);
+    // Each file's own count: a ground truth that fails after its batch went to -o has fewer rows.
+    std::fprintf(stderr, "evlife synth: output error: %s (%llu events handed to the writer of %s", e.what(), written,
+                 output.c_str());
+    if (!truth_path.empty()) std::fprintf(stderr, ", %llu rows to that of %s", truth_rows, truth_path.c_str());
+    std::fprintf(stderr, " before it)\n");
     return kExitOutput;
   }
   if (stopped) {

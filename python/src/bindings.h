@@ -35,7 +35,7 @@ inline std::string path_from_python(const py::handle& path) {
   } catch (const py::cast_error&) {  // pybind's RuntimeError otherwise
     throw py::type_error("expected a path (str, bytes or os.PathLike), got " +
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>() +
-                         " (a file object: give its name)");
+                         (py::hasattr(path, "read") || py::hasattr(path, "write") ? " (a file object: give its name)" : ""));
   }
 }
 

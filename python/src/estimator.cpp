@@ -127,6 +127,8 @@ struct FileRun {
   std::uint64_t skipped_records = 0;  // the format's non-event records (as the CLI's summary)
   std::vector<io::SkippedKindCount> skipped_kinds;
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
+  // Rejected by the estimator, labelled noise: the CLI summary's "rejected" line.
+  std::uint64_t out_of_sensor = 0, bad_polarity = 0, time_out_of_range = 0;
 
   void note_skipped(const io::EventReader& reader) {  // at the end of the pass
     skipped_records = reader.skipped_record_count();
@@ -173,6 +175,10 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
     sink(std::span<const AugmentedEvent>(out.data(), n));
   }
   run.note_skipped(*reader);
+  const LifetimeStats& stats = estimator.stats();
+  run.out_of_sensor = stats.out_of_sensor;
+  run.bad_polarity = stats.bad_polarity;
+  run.time_out_of_range = stats.time_out_of_range;
   return run;
 }
 
@@ -181,6 +187,27 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
 void add_skipped(py::dict& d, const FileRun& run) {
   d["skipped_records"] = run.skipped_records;
   d["skipped_record_kinds"] = skipped_kinds_dict(run.skipped_kinds);
+}
+
+// The events the estimator rejected (labelled noise), as process_file's
+// "rejected" (evlife process prints them as its "rejected" line).
+void add_rejected(py::dict& d, const FileRun& run) {
+  py::dict rejected;
+  rejected["out_of_sensor"] = run.out_of_sensor;
+  rejected["bad_polarity"] = run.bad_polarity;
+  rejected["time_out_of_range"] = run.time_out_of_range;
+  d["rejected"] = rejected;
+}
+
+// evlife.process(PATH) returns the events alone: rejected ones are warned of
+// (a RuntimeWarning; an exception where warnings are errors).
+void warn_rejected(const std::string& path, const FileRun& run) {
+  if (run.out_of_sensor + run.bad_polarity + run.time_out_of_range == 0) return;
+  const std::string text = "evlife.process: " + path + ": events rejected (labelled noise, lifetime 0): " +
+                           std::to_string(run.out_of_sensor) + " outside the sensor, " +
+                           std::to_string(run.bad_polarity) + " bad polarity, " +
+                           std::to_string(run.time_out_of_range) + " time beyond +-2^62 us";
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
 }
 
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
@@ -203,6 +230,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   }
   py::array result = adopt(std::move(out), augmented_dtype());  // .partial: empty, not None, as evlife.read's
   if (run.fault) raise_input_error(*run.fault, result);
+  warn_rejected(path, run);
   return result;
 }
 
@@ -246,6 +274,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);
   d["format"] = run.format;
   add_skipped(d, run);
+  add_rejected(d, run);
   return d;
 }
 
@@ -381,8 +410,8 @@ void bind_estimator(py::module_& m) {
 
 Returns a new array of evlife.AUGMENTED_DTYPE, one row per input event, in
 input order. Raises evlife.InputError (naming the event index) for an event
-outside the sensor, a timestamp before the previous one or a bad polarity;
-then nothing of this call is processed and the state is unchanged.)")
+outside the sensor, a timestamp before the previous one or beyond +-2^62 us,
+or a bad polarity; then nothing of this call is processed and the state is unchanged.)")
       .def("reset", &Estimator::reset, "Forget all history (keeps the options).")
       .def_property_readonly(
           "sensor", [](const Estimator& e) { return py::make_tuple(e.sensor().width, e.sensor().height); })
@@ -408,7 +437,10 @@ then nothing of this call is processed and the state is unchanged.)")
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
-        if (!sensor.is_none()) return Estimator("evlife.process", sensor, config, kw).process(input);
+        // The command line's rule: sensor=, else the configured estimator.sensor
+        // (config=; the events' own size replaced it), else the events' size.
+        if (!sensor.is_none() || resolve_options("evlife.process", sensor, config, kw).sensor)
+          return Estimator("evlife.process", sensor, config, kw).process(input);
         // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
         const SensorSize d = sensor_from_events(event_columns(input));
         const py::object inferred = py::make_tuple(std::max(d.width, 1), std::max(d.height, 1));
@@ -424,8 +456,8 @@ fields. Returns evlife.AUGMENTED_DTYPE, bit-identical to the records of
 `evlife process INPUT -o OUT.bin` with the same options.
 
 sensor: (width, height) when the format states none (as --sensor); without
-it the smallest sensor holding every event. Keywords and config=: as
-evlife.LifetimeEstimator. A recording is decoded ahead on a thread of its
+it estimator.sensor of config= when it sets one, else the smallest sensor
+holding every event. Keywords and config=: as evlife.LifetimeEstimator. A recording is decoded ahead on a thread of its
 own while the estimator runs (the same result, sooner); one_thread=True keeps
 everything on the calling thread (as --one-thread; for one process per core).
 from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
@@ -433,7 +465,10 @@ after the first event, as --from / --to; the estimator starts at from_s, and
 an HDF5 file is not decoded before it (evlife.read). topic (a path only): a ROS
 bag's event topic or an HDF5 file's camera (MVSEC, M3ED), as --topic (evlife.read).
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
-events before the fault, as the CLI writes them), ValueError for bad options.)");
+events before the fault, as the CLI writes them; an array's event beyond
++-2^62 us too), ValueError for bad options. Events of a recording that the
+estimator rejects (labelled noise; the CLI summary's "rejected" line) are
+warned of with a RuntimeWarning that counts them.)");
 
   m.def(
       "process_file",
@@ -449,9 +484,11 @@ events before the fault, as the CLI writes them), ValueError for bad options.)")
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
-'format', 'skipped_records', 'skipped_record_kinds'} (the format's records
-that are not events, e.g. triggers, IMU samples: a count, and a count per kind
-where the format tells them apart). On bad input the events before the fault
+'format', 'skipped_records', 'skipped_record_kinds', 'rejected'} (the format's
+records that are not events, e.g. triggers, IMU samples: a count, and a count
+per kind where the format tells them apart; 'rejected': {'out_of_sensor',
+'bad_polarity', 'time_out_of_range'}, the events the estimator labelled noise
+unexamined, the CLI summary's "rejected" line). On bad input the events before the fault
 are written, then evlife.InputError is raised (as the CLI exits 3) with
 .events_written: how many. The input is decoded ahead
 and the output written behind, each on a thread of its own (CSV formatting

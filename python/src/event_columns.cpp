@@ -86,6 +86,11 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
       }
       t = c.t.get(i), x = c.x.get(i), y = c.y.get(i), p = c.p.get(i);
     }
+    if (!within_event_time_range(t)) {  // the estimator would label it noise, uncounted here
+      r.bad_index = i;
+      r.what = "timestamp " + std::to_string(t) + " us is beyond +-2^62 us (evlife's time range)";
+      break;
+    }
     if (x < 0 || y < 0 || x >= sensor.width || y >= sensor.height) {
       r.bad_index = i;
       // (As written: a uint64 beyond INT64_MAX, not its clamped value.)
@@ -108,7 +113,7 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
         if (first_minus_one == SIZE_MAX) first_minus_one = i;
       } else if (p != 1) {
         r.bad_index = i;
-        r.what = "polarity " + std::to_string(p) + " is none of +1/-1, 0/1 or a bool";
+        r.what = "polarity " + (c.exact ? std::to_string(p) : c.p.text(i)) + " is none of +1/-1, 0/1 or a bool";
         break;
       }
       if (first_zero != SIZE_MAX && first_minus_one != SIZE_MAX) {

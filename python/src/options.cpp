@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bindings.h"
 #include "evlife/config/config_key.h"
 
 namespace evlife::python {
@@ -76,7 +77,8 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
   };
   if (from_s) options.from_us = to_us("from_s", *from_s);
   if (to_s) options.to_us = to_us("to_s", *to_s);
-  if (options.crop_is_empty()) throw py::value_error("to_s must be after from_s");
+  if (options.crop_is_empty())
+    throw py::value_error(from_s ? "to_s must be after from_s" : "to_s must be after from_s (0 without it)");
   return options;
 }
 
@@ -107,14 +109,30 @@ SensorSize sensor_from_python(const py::object& sensor) {
   return s;
 }
 
+namespace {
+
+// config= as --config: the documented default file when None, else a path
+// as evlife.read takes one (str(b'...') named a file "b'...'").
+void load_config_argument(config::ConfigBuilder& b, const py::object& config_path) {
+  if (config_path.is_none()) {
+    b.load_default_file_if_present();
+    return;
+  }
+  std::string path;
+  try {
+    path = path_from_python(config_path);
+  } catch (const py::type_error& e) {
+    throw py::type_error(std::string("config: ") + e.what());
+  }
+  b.load_file(path);
+}
+
+}  // namespace
+
 ResolvedOptions resolve_options(const std::string& where, const py::object& sensor,
                                 const py::object& config_path, const py::dict& options) {
   config::ConfigBuilder b;
-  if (config_path.is_none()) {
-    b.load_default_file_if_present();
-  } else {
-    b.load_file(py::str(config_path).cast<std::string>());
-  }
+  load_config_argument(b, config_path);
   for (const auto& [k, v] : options) {
     const std::string keyword = py::str(k).cast<std::string>();
     const std::string key = std::string(kEstimatorPrefix) + keyword;
@@ -151,8 +169,7 @@ void bind_options(py::module_& m) {
       "estimator_options",
       [](py::object config_path) {
         config::ConfigBuilder b;
-        if (config_path.is_none()) b.load_default_file_if_present();
-        else b.load_file(py::str(config_path).cast<std::string>());
+        load_config_argument(b, config_path);
         const config::Config c = b.build();
         py::dict out;
         for (const auto& k : config::config_keys()) {

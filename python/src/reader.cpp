@@ -122,9 +122,20 @@ class Reader {
     reader_.reset();
   }
 
-  const io::EventReader& reader() const {
-    if (!reader_) throw py::value_error("the reader is closed");
-    return *reader_;
+  /// f(reader) under the lock that read() and close() take, the GIL released
+  /// while waiting: a property read from another thread while one reads or
+  /// closes used a freed reader (a segfault) or raced its counters. f returns
+  /// plain C++ values; Python objects are made after, with the GIL.
+  template <class F>
+  auto query(F f) const {
+    std::optional<decltype(f(std::declval<const io::EventReader&>()))> value;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard lock(mutex_);
+      if (reader_) value.emplace(f(*reader_));
+    }
+    if (!value) throw py::value_error("the reader is closed");
+    return std::move(*value);
   }
   std::size_t chunk_events() const { return chunk_events_; }
 
@@ -132,7 +143,7 @@ class Reader {
   std::unique_ptr<io::EventReader> reader_;
   std::size_t chunk_events_;
   std::optional<io::ReadError> pending_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
 };
 
 }  // namespace
@@ -181,27 +192,29 @@ Iterating yields arrays of at most `chunk_events` events (evlife.EVENT_DTYPE)
 until the end; memory stays bounded whatever the file size. On a fault the
 good events come first, the next chunk raises evlife.InputError.)")
       .def_property_readonly(
-          "sensor", [](const Reader& r) { return sensor_tuple(r.reader().sensor_size()); },
+          "sensor", [](const Reader& r) { return sensor_tuple(r.query([](const io::EventReader& e) { return e.sensor_size(); })); },
           "(width, height) when the format states it (or sensor= was given), else None.")
       .def_property_readonly(
-          "format", [](const Reader& r) { return std::string(r.reader().format_name()); },
+          "format", [](const Reader& r) { return r.query([](const io::EventReader& e) { return std::string(e.format_name()); }); },
           "Short format name, e.g. 'mat', 'aedat2', 'evt3'.")
       .def_property_readonly(
-          "layout", [](const Reader& r) { return std::string(r.reader().layout_name()); },
+          "layout", [](const Reader& r) { return r.query([](const io::EventReader& e) { return std::string(e.layout_name()); }); },
           "Which of its format's layouts the file holds (HDF5: 'dsec', 'event_utils', 'prophesee', "
           "'mvsec', 'v2e', 'evlife'); '' where a format has one.")
-      .def_property_readonly("path", [](const Reader& r) { return r.reader().path(); })
+      .def_property_readonly("path", [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.path(); }); })
       .def_property_readonly("chunk_events", &Reader::chunk_events)
       .def_property_readonly(
           "bytes_consumed",
-          [](const Reader& r) { return r.reader().bytes_consumed(); },
+          [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.bytes_consumed(); }); },
           "Bytes of the file consumed so far (approximate for compressed formats).")
       .def_property_readonly(
-          "skipped_records", [](const Reader& r) { return r.reader().skipped_record_count(); },
+          "skipped_records", [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.skipped_record_count(); }); },
           "Records of the format read so far that are not events (triggers, IMU samples, frames).")
       .def_property_readonly(
           "skipped_record_kinds",
-          [](const Reader& r) { return skipped_kinds_dict(r.reader().skipped_record_kinds()); },
+          [](const Reader& r) {
+            return skipped_kinds_dict(r.query([](const io::EventReader& e) { return e.skipped_record_kinds(); }));
+          },
           "skipped_records by kind, {kind: count}, where the format tells them apart.")
       .def("read", &Reader::read, py::arg("max_events") = py::none(),
            "The next chunk of at most max_events (default chunk_events) events; empty at the end.")

@@ -50,6 +50,9 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   io::SceneSpec spec;
   const bool textured = scene_name == "textured";
   // As `evlife synth`: DVS pixels for the texture, ideal ones for the bars.
+  if (!pixel_arg.is_none() && !py::isinstance<py::str>(pixel_arg))  // pybind's cast error named nothing
+    throw py::type_error("pixel: expected 'ideal', 'dvs' or 'dvs-dim', got " +
+                         py::str(py::type::of(pixel_arg).attr("__name__")).cast<std::string>());
   const std::string pixel_name = pixel_arg.is_none() ? (textured ? "dvs" : "ideal") : pixel_arg.cast<std::string>();
   if (!textured) {
     const auto preset = io::scene_preset(scene_name, sensor, duration_us, seed);

@@ -50,6 +50,16 @@ def test_wrong_types_and_unknown_keywords_raise_typeerror():
         evlife.LifetimeEstimator(sensor=(0, 128))
     with pytest.raises(TypeError):
         evlife.process(data(RECORDINGS["mat"]), windowsize=5)
+    with pytest.raises(TypeError, match=r"^config: expected a path \(str, bytes or os.PathLike\), got int$"):
+        evlife.LifetimeEstimator(sensor=(128, 128), config=3)
+
+
+def test_config_paths_as_bytes_and_pathlike(tmp_path):
+    config = tmp_path / "c.yaml"
+    config.write_text("estimator:\n  window_size: 7\n")
+    for spelling in (str(config), bytes(config), config):  # bytes read as "b'...'" before: not found
+        assert evlife.LifetimeEstimator(sensor=(8, 8), config=spelling).options["window_size"] == 7
+        assert evlife.estimator_options(config=spelling)["window_size"]["default"] == 7
 
 
 def test_missing_file_is_filenotfounderror(tmp_path):
@@ -151,6 +161,15 @@ def test_bad_arrays_name_the_event_and_leave_the_state_unchanged():
     far["x"][6] = np.uint64(2**63 + 5)
     with pytest.raises(evlife.InputError, match=r"\(x 9223372036854775813, y .*outside the 128x128 sensor.*event index 6"):
         est.process(far)
+    beyond = events[1000:2000].copy()  # labelled noise uncounted before
+    beyond["t"][2], beyond["t"][3:] = 2**62, 2**62 + 1  # the last time within the range, then past it
+    with pytest.raises(evlife.InputError, match=r"timestamp 4611686018427387905 us is beyond \+-2\^62 us.*event index 3"):
+        est.process(beyond)
+    wide = {f: events[f][1000:2000].copy() for f in "txy"}  # an unsigned polarity: named as written
+    wide["p"] = np.ones(1000, np.uint64)
+    wide["p"][8] = np.uint64(2**64 - 1)
+    with pytest.raises(evlife.InputError, match=r"polarity 18446744073709551615 is none.*event index 8"):
+        est.process(wide)
     rest = est.process(events[1000:])  # as if the bad calls never happened
     assert_same_events(np.concatenate([first, rest]), whole)
 

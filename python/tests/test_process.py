@@ -45,6 +45,45 @@ def test_sensor_argument_as_cli_sensor(tmp_path):
     assert_same_events(evlife.process(path, sensor=(300, 200)), expected)
 
 
+def test_an_array_takes_the_configured_sensor_as_the_cli_does(tmp_path):
+    # sensor=, else estimator.sensor of config=, else the events' size: the
+    # array used the events' size over the configured one (an event outside a
+    # configured 64x64 passed, and a 300x300 run differed from the CLI's).
+    path = data(RECORDINGS["rpg-text"])
+    events = evlife.read(path)
+    for side in (64, 300):
+        config = tmp_path / ("s%d.yaml" % side)
+        config.write_text("estimator:\n  sensor: {width: %d, height: %d}\n" % (side, side))
+        if side == 64:
+            with pytest.raises(evlife.InputError, match="outside the 64x64 sensor"):
+                evlife.process(events, config=config)
+            continue
+        expected, sensor = cli_bin(tmp_path, path, "--config", config)
+        assert sensor == (300, 300)
+        assert_same_events(evlife.process(events, config=config), expected)
+    assert_same_events(evlife.process(events, sensor=(300, 300), config=tmp_path / "s64.yaml"),
+                       evlife.process(events, sensor=(300, 300)))  # sensor= first
+
+
+def test_rejected_events_of_a_recording_are_counted_as_the_cli_counts_them(tmp_path):
+    # Times beyond +-2^62 us: labelled noise unexamined. evlife.process(PATH)
+    # and process_file said nothing of them; the CLI prints "rejected".
+    events = evlife.process(evlife.read(data(RECORDINGS["rpg-text"]))[:3000], sensor=(240, 180))
+    events["t"][1000:] += 2**62 - int(events["t"][1000]) + 1
+    h5 = tmp_path / "far.h5"
+    evlife.write(h5, events, (240, 180))  # its t, x, y, p: a recording
+    summary = cli("process", h5, "-o", tmp_path / "cli.bin").stdout
+    assert "rejected            0 outside the sensor, 0 bad polarity, 2000 time beyond +-2^62 us" in summary
+    r = evlife.process_file(h5, tmp_path / "py.bin")
+    assert r["rejected"] == {"out_of_sensor": 0, "bad_polarity": 0, "time_out_of_range": 2000}
+    with pytest.warns(RuntimeWarning, match=r"far.h5: events rejected \(labelled noise, lifetime 0\): "
+                                            r"0 outside the sensor, 0 bad polarity, 2000 time beyond"):
+        out = evlife.process(h5)
+    assert len(out) == 3000 and (out["lifetime"][1000:] == 0).all()
+    assert evlife.process_file(data(RECORDINGS["rpg-text"]), tmp_path / "ok.bin")["rejected"] == {
+        "out_of_sensor": 0, "bad_polarity": 0, "time_out_of_range": 0}
+
+
 def test_process_path_gives_the_cli_bytes_record_for_record(tmp_path):
     # Every byte of the records, padding included, whatever buffers held
     # before (the reader thread's are reused and not zeroed): three calls.

@@ -73,3 +73,5 @@ def test_bad_arguments_raise():
         evlife.synth("bar", duration=0)
     with pytest.raises(TypeError, match="bogus"):
         evlife.synth("bar", pixel="dvs", bogus=1)
+    with pytest.raises(TypeError, match="pixel: expected 'ideal', 'dvs' or 'dvs-dim', got int"):
+        evlife.synth("bar", pixel=3)  # pybind's "Unable to cast" RuntimeError named nothing

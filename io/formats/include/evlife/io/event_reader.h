@@ -165,9 +165,10 @@ struct ReaderOptions {
   /// --polarity: only ON or only OFF events.
   PolarityFilter polarity = PolarityFilter::both;
 
-  /// --to not after --from: nothing would be read. The command line and
-  /// Python refuse it (each in its own words).
-  bool crop_is_empty() const noexcept { return from_us && to_us && *to_us <= *from_us; }
+  /// --to not after --from (the first event, 0, when --from is not given):
+  /// nothing would be read. The command line and Python refuse it (each in
+  /// its own words).
+  bool crop_is_empty() const noexcept { return to_us && *to_us <= from_us.value_or(0); }
 
   bool filters() const noexcept {
     return from_us.has_value() || to_us.has_value() || polarity != PolarityFilter::both;
