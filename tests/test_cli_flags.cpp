@@ -152,6 +152,33 @@ TEST_F(CliFlags, RenderAndRunShareTheirFrameFlags) {
   EXPECT_EQ(std::distance(fs::directory_iterator(path("k")), fs::directory_iterator{}), 1);
 }
 
+// A frame rate so slow that one interval overflowed the µs clock: render
+// looped forever (100 % CPU, deaf to SIGTERM, no frame); a video rate the
+// encoders refuse was reported as a video that cannot be opened (exit 4).
+TEST_F(CliFlags, FrameRatesTheClockOrTheEncodersCannotTakeAreRefused) {
+  const std::string in = sample();
+  for (const std::string fps : {"1e-13", "1e-300"}) {
+    const RunResult r = run("render " + in + " -o " + path("slow") + " --fps " + fps + " --to 0.2 -q");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r, "--fps " + fps + ": expected a number in [1e-06, 1e+06]")) << r.output;
+  }
+  const RunResult run_slow = run("run " + in + " -q --fps 1e-9 --frames " + path("h"));
+  EXPECT_EQ(run_slow.exit_code, 2) << run_slow.output;
+  EXPECT_TRUE(has(run_slow, "expected 0 (the --at instants only) or a number in [1e-06, 100000]")) << run_slow.output;
+  EXPECT_EQ(run("render " + in + " -o " + path("day") + " --fps 1e-6 -q").exit_code, 0);  // the slowest: one frame
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("day")), fs::directory_iterator{}), 1);
+  const RunResult video = run("render " + in + " -o " + path("v.avi") + " --fps 10 --video-fps 0.001 -q");
+  EXPECT_EQ(video.exit_code, 2) << video.output;
+  EXPECT_TRUE(has(video, "--video-fps 0.001: expected a number in [0.01, 60]")) << video.output;
+  const RunResult run_video = run("run " + in + " -q --fps 0.001 --video " + path("r.avi"));
+  EXPECT_EQ(run_video.exit_code, 2) << run_video.output;
+  EXPECT_TRUE(has(run_video, "--video plays at --fps: at least 0.01")) << run_video.output;
+  // render's video plays at --fps by default: within the encoders' range.
+  const RunResult slow_video = run("render " + in + " -o " + path("s.avi") + " --fps 0.001 -q");
+  EXPECT_EQ(slow_video.exit_code, 0) << slow_video.output;
+  EXPECT_GT(fs::file_size(path("s.avi")), 0u);
+}
+
 TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   const std::string in = sample();
   const RunResult p = run("process " + in + " -o " + path("a.bin"));

@@ -30,8 +30,8 @@ class Aedat3Writer {
     std::int32_t ts;
     bool valid = true;
   };
-  void polarity(std::int32_t overflow, const std::vector<Polarity>& events) {
-    packet(1, 8, overflow, static_cast<std::int32_t>(events.size()));
+  void polarity(std::int32_t overflow, const std::vector<Polarity>& events, std::int16_t source = 1) {
+    packet(1, 8, overflow, static_cast<std::int32_t>(events.size()), source);
     for (const Polarity& e : events) {
       put<std::uint32_t>((e.x << 17) | (e.y << 2) | (e.on ? 2u : 0u) | (e.valid ? 1u : 0u));
       put<std::int32_t>(e.ts);
@@ -63,9 +63,9 @@ class Aedat3Writer {
     const char* p = reinterpret_cast<const char*>(&v);
     bytes_.insert(bytes_.end(), p, p + sizeof(T));
   }
-  void packet(std::int16_t type, std::int32_t size, std::int32_t overflow, std::int32_t n) {
+  void packet(std::int16_t type, std::int32_t size, std::int32_t overflow, std::int32_t n, std::int16_t source = 1) {
     put<std::int16_t>(type);
-    put<std::int16_t>(1);  // source
+    put<std::int16_t>(source);
     put<std::int32_t>(size);
     put<std::int32_t>(4);  // timestamp offset inside the event
     put<std::int32_t>(overflow);
@@ -119,6 +119,24 @@ TEST_F(IoAedat3, PolarityPacketsWithOverflowOthersSkippedAndCounted) {
   EXPECT_EQ(r.skipped, 1u + 2u + 1u + 1u);  // invalid event, 2 IMU, 1 frame, 1 special
   // Per kind, in the order of the specification's type ids (evlife's own last).
   EXPECT_EQ(kinds_text(r), "special=1 frame=1 imu6=2 polarity-invalid=1 ");
+}
+
+// Two cameras of one cAER setup (sources 1 and 2): the second's polarity
+// packets were read as the first camera's events (a 301x201 "sensor" of two
+// interleaved ones). One camera is read, the other's events are counted.
+TEST_F(IoAedat3, PolarityOfASecondSourceIsCountedNotMixedIn) {
+  Aedat3Writer w;
+  w.polarity(0, {{1, 1, true, 10}, {2, 2, false, 20}}, 2);  // the first polarity packet: source 2
+  w.polarity(0, {{300, 200, true, 30}, {5, 5, true, 40}}, 1);
+  w.polarity(0, {{3, 3, true, 50}}, 2);
+  const ReadAll r = read_all(save("two.aedat", w.bytes()));
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), 3u);
+  EXPECT_EQ(r.events[0].t_us, 10);
+  EXPECT_EQ(r.events[1].t_us, 20);
+  EXPECT_EQ(r.events[2].t_us, 50);
+  EXPECT_EQ(r.skipped, 2u);
+  EXPECT_EQ(kinds_text(r), "polarity-other-source=2 ");
 }
 
 TEST_F(IoAedat3, ExternalInputSpecialEventsAreTheTriggers) {

@@ -780,6 +780,37 @@ TEST(IoFormatsTruncation, DatCutInsideARecord) {
   }
 }
 
+// The header's dataTablePosition says where the packets end. Pointed at an
+// earlier packet, the reading stopped there without a word (109,953 of
+// 111,954 events); the file table found there must list packets that end
+// there. A table cut short is a fault too, after every event.
+TEST(IoFormatsTruncation, Aedat4TableThatIsNotWhereThePacketsEnd) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<Event> full = read_all(kAedat4).events;
+  const std::vector<std::uint8_t> bytes = load(kAedat4);
+  constexpr std::int64_t kTable = 945'243, kLastEventPacket = 928'332;  // sample.aedat4's
+  std::int64_t stated = 0;
+  const auto field = std::search(bytes.begin(), bytes.begin() + 2334, reinterpret_cast<const std::uint8_t*>(&kTable),
+                                 reinterpret_cast<const std::uint8_t*>(&kTable) + 8);
+  ASSERT_NE(field, bytes.begin() + 2334) << "no dataTablePosition of " << kTable << " in the header";
+  std::memcpy(&stated, &*field, 8);
+  ASSERT_EQ(stated, kTable);
+  std::vector<std::uint8_t> early = bytes;
+  std::memcpy(&early[static_cast<std::size_t>(field - bytes.begin())], &kLastEventPacket, 8);
+  const ReadResult r = read_all(dir.save("early_table.aedat4", early), 1000);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->byte_offset(), kLastEventPacket) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find("(the header's dataTablePosition) does not decode"), std::string::npos)
+      << r.error->what();
+  EXPECT_LT(r.events.size(), full.size());
+  EXPECT_TRUE(is_prefix(r.events, full));
+  const std::vector<std::uint8_t> cut(bytes.begin(), bytes.begin() + kTable + 100);
+  const ReadResult c = read_all(dir.save("cut_table.aedat4", cut), 1000);
+  ASSERT_TRUE(c.error);
+  EXPECT_EQ(c.error->byte_offset(), kTable) << c.error->what();
+  EXPECT_EQ(c.events.size(), full.size());
+}
+
 TEST(IoFormatsTruncation, Aedat4CutAnywhere) {
   const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kAedat4).events;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <span>
 #include <string>
 #include <vector>
@@ -329,6 +330,35 @@ TEST(Rosbag2Reader, TopicChoice) {
       EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
     }
   }
+}
+
+// A split bag without metadata.yaml: its files bag_0 ... bag_11 are read in
+// the order they were recorded (as strings bag_10 came before bag_2: the time
+// went backwards at the third file and the rest was lost). A folder in MCAP
+// storage names the files to give instead.
+TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const fs::path folder = fs::path(dir.file("split"));
+  fs::create_directories(folder);
+  for (int i = 0; i < 12; ++i) {
+    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    const auto x = static_cast<std::uint16_t>(i);
+    db.insert(1, 1, i, event_array({ros::RosEvent{std::int64_t{i} * 1'000'000, x, x, 1}}, 64, 64));
+  }
+  const ReadAll r = read_all(folder.string());
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), 12u);
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_EQ(r.events[static_cast<std::size_t>(i)].t_us, i * 1000) << i;
+    EXPECT_EQ(r.events[static_cast<std::size_t>(i)].x, i) << i;
+  }
+  std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  storage_identifier: mcap\n"
+                                             "  relative_file_paths:\n    - bag_0.mcap\n";
+  const std::string what = evlife::test::open_error(folder.string());
+  EXPECT_NE(what.find("a rosbag2 bag in MCAP storage: give its .mcap file ("), std::string::npos) << what;
+  EXPECT_NE(what.find("bag_0.mcap)"), std::string::npos) << what;
 }
 
 // A message whose topic_id no topics row lists belongs to no topic: it is

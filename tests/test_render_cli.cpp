@@ -472,3 +472,24 @@ TEST_F(RenderCliTest, EvalDrawsTheCompareFrameWhereAskedAndSaysWhenNothingWasSam
 }
 
 }  // namespace
+
+// An augmented CSV (it states no sensor) cut short: the sensor scan stopped
+// at the fault before any frame, so render drew nothing (a recording in the
+// same state got its frames). Now the frames before the fault, then the fault.
+TEST_F(RenderCliTest, ATruncatedAugmentedCsvKeepsTheFramesBeforeTheFault) {
+  auto r = run("process '" + kGarfield + "' -o '" + path("g.csv") + "' --to 0.3 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string whole = evlife::test::read_text_file(path("g.csv"));
+  {
+    std::ofstream cut(path("cut.csv"), std::ios::binary);
+    cut << whole.substr(0, whole.size() * 2 / 3 + 5);  // 0.2 s of events, then half a line
+  }
+  r = run("render '" + path("cut.csv") + "' -o '" + path("frames") + "' --fps 10 -q");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("truncated (the file ends inside it)"), std::string::npos) << r.output;
+  ASSERT_TRUE(fs::is_directory(path("frames"))) << r.output;
+  const auto frames = std::distance(fs::directory_iterator(path("frames")), fs::directory_iterator{});
+  EXPECT_GE(frames, 1) << r.output;
+  EXPECT_NE(r.output.find("the " + std::to_string(frames) + " frames before the fault were written"), std::string::npos)
+      << r.output;
+}

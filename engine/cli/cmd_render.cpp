@@ -29,6 +29,7 @@
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/media.h"
 #include "evlife/render/output_kind.h"
@@ -100,7 +101,7 @@ void print_render_help(std::FILE* out) {
       "  --no-legend         no lifetime colour bar.\n"
       "  --no-thinning       disable edge thinning (to see what it does).\n"
       "  --video-fps F       frame rate written into a video (default: --fps, i.e. real\n"
-      "                      time; at most 60).\n"
+      "                      time; within [0.01, 60]).\n"
       "  --sensor WxH        sensor size when the input does not state it.\n"
       );
   std::fputs(std::string(kInputOptionsHelp).c_str(), out);
@@ -151,7 +152,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   if (r.job.single_png && r.job.at_us.size() != 1) {
     throw UsageError("-o " + r.job.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }
-  if (const auto f = a.value("fps")) r.job.fps = parse_positive("fps", *f, 1e6);
+  if (const auto f = a.value("fps")) r.job.fps = parse_number<double>("fps", *f, render::kMinFps, 1e6);
   if (const auto f = a.value("from")) r.job.from_us = parse_time_flag("from", *f);
   if (const auto f = a.value("to")) {
     r.job.to_us = parse_time_flag("to", *f);
@@ -182,7 +183,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto v = a.value("video-fps")) {
     if (!r.job.video) throw UsageError("--video-fps is a video's playback rate; -o " + r.job.output + " is no video");
-    r.job.video_fps = parse_positive("video-fps", *v, render::kMaxVideoFps);
+    r.job.video_fps = parse_number<double>("video-fps", *v, render::kMinVideoFps, render::kMaxVideoFps);
   }
 
   return r;

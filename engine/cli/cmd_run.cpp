@@ -44,7 +44,9 @@
 #include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/output_kind.h"
+#include "evlife/render/render_recording.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
@@ -287,10 +289,23 @@ RunArgs parse_run_args(int argc, char** argv) {
       throw UsageError("--video " + r.video + ": the video must end in .mp4 or .avi (--frames DIR for PNG frames)");
   }
   if (const auto s = a.value("mode")) r.render.mode = *s;
-  if (const auto s = a.value("fps")) r.render.fps = parse_number<double>("fps", *s, 0, 100000);
+  if (const auto s = a.value("fps")) {  // 0: only the --at instants
+    r.render.fps = parse_number<double>("fps", *s, 0, 100000);
+    if (r.render.fps != 0 && r.render.fps < render::kMinFps) {
+      char range[64];
+      std::snprintf(range, sizeof range, "0 (the --at instants only) or a number in [%g, 100000]", render::kMinFps);
+      throw UsageError("--fps " + *s + ": expected " + range);
+    }
+  }
   if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
   if (!r.video.empty() && r.render.fps == 0)
     throw UsageError("--video needs --fps > 0 (it plays at that rate)");
+  if (!r.video.empty() && r.render.fps < render::kMinVideoFps) {  // the encoders refuse it
+    char text[96];
+    std::snprintf(text, sizeof text, "--video plays at --fps: at least %g (a frame each %g s)", render::kMinVideoFps,
+                  1.0 / render::kMinVideoFps);
+    throw UsageError(text);
+  }
   r.window = a.has("window");
   if (int{!r.frames_dir.empty()} + int{!r.video.empty()} + int{r.window} > 1)
     throw UsageError("--frames, --video and --window: choose one");

@@ -54,7 +54,8 @@ RecordingRenderResult render_recording(
   std::unique_ptr<FrameSink> sink;
   try {
     if (options.video) {
-      const double video_fps = std::min(kMaxVideoFps, options.video_fps.value_or(options.at_us.empty() ? options.fps : 10.0));
+      const double video_fps = std::clamp(options.video_fps.value_or(options.at_us.empty() ? options.fps : 10.0),
+                                          kMinVideoFps, kMaxVideoFps);
       auto video_sink = std::make_unique<VideoFrameSink>(options.output, video_fps);
       video_sink->check(frame_size.width, frame_size.height);
       sink = std::move(video_sink);

@@ -92,11 +92,18 @@ SensorSize sensor_size_of_augmented(const std::string& path, std::optional<Senso
   if (user) return *user;
   std::vector<AugmentedEvent> buf(4096);
   SensorSize s{0, 0};
-  while (const std::size_t n = reader->read(buf)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      s.width = std::max(s.width, buf[i].event.x + 1);
-      s.height = std::max(s.height, buf[i].event.y + 1);
+  try {
+    while (const std::size_t n = reader->read(buf)) {
+      for (std::size_t i = 0; i < n; ++i) {
+        s.width = std::max(s.width, buf[i].event.x + 1);
+        s.height = std::max(s.height, buf[i].event.y + 1);
+      }
     }
+  } catch (const ReadError&) {
+    // A fault after some events: the sensor of the events before it, as for
+    // recordings (sensor_size_from_data); the drawing pass shows those, then
+    // reports the fault (it drew nothing).
+    if (s.width == 0) throw;
   }
   if (s.width == 0) throw ReadError(path, -1, -1, "holds no event: cannot tell the sensor size (give --sensor WxH)");
   return within_cameras(s, "has events spanning");

@@ -20,9 +20,13 @@
 // Every other valid special event (timestamp wrap and reset, DVS row only,
 // the generator's own edges 12/13, APS frame and exposure markers, ...) is
 // counted as "special", events without the valid bit as "special-invalid".
+// One camera: the source of the first polarity packet. Polarity packets of
+// another source (a second camera of a cAER setup) are skipped and counted
+// as "polarity-other-source" (they were read as the first camera's).
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include "input_file.h"
@@ -45,10 +49,11 @@ constexpr std::size_t kInvalidPolarity = 14;
 constexpr std::size_t kUnknownType = 15;
 constexpr std::size_t kTrigger = 16;
 constexpr std::size_t kInvalidSpecial = 17;
-constexpr std::array<std::string_view, 18> kAedat3SkippedNames{
+constexpr std::size_t kOtherSourcePolarity = 18;
+constexpr std::array<std::string_view, 19> kAedat3SkippedNames{
     "special", "polarity", "frame", "imu6", "imu9", "sample", "ear", "config", "point1d", "point2d",
     "point3d", "point4d", "spike", "matrix4x4", "polarity-invalid", "unknown-type", "trigger",
-    "special-invalid"};
+    "special-invalid", "polarity-other-source"};
 
 /// libcaer's special event types of an external input (a trigger).
 constexpr bool is_external_input(std::uint32_t type) {
@@ -114,9 +119,10 @@ class Aedat3Reader final : public EventReader {
     }
     std::array<std::byte, kPacketHeader> h{};
     if (file_.read_at(at, h) != h.size()) return fault(at, "truncated AEDAT 3.1 packet header");
-    std::int16_t type = 0;
+    std::int16_t type = 0, source = 0;
     std::int32_t size = 0, overflow = 0, number = 0;
     std::memcpy(&type, h.data(), 2);
+    std::memcpy(&source, h.data() + 2, 2);
     std::memcpy(&size, h.data() + 4, 4);
     std::memcpy(&overflow, h.data() + 12, 4);
     std::memcpy(&number, h.data() + 20, 4);
@@ -128,9 +134,11 @@ class Aedat3Reader final : public EventReader {
     const std::uint64_t body = at + kPacketHeader;
     const std::uint64_t available = std::min<std::uint64_t>(bytes, file_.size_bytes() - std::min(body, file_.size_bytes()));
     if (type == kSpecial) return load_special(at, size, available, bytes);
-    if (type != kPolarity) {
+    if (type == kPolarity && !camera_source_) camera_source_ = source;
+    if (type != kPolarity || source != *camera_source_) {
       const bool known = type >= 0 && static_cast<std::size_t>(type) < kInvalidPolarity;
-      skipped_.add(known ? static_cast<std::size_t>(type) : kUnknownType, static_cast<std::uint64_t>(number));
+      skipped_.add(type == kPolarity ? kOtherSourcePolarity : known ? static_cast<std::size_t>(type) : kUnknownType,
+                   static_cast<std::uint64_t>(number));
       if (available < bytes) return fault(body + available, "truncated AEDAT 3.1 packet");
       offset_ = body + bytes;
       return;
@@ -186,6 +194,7 @@ class Aedat3Reader final : public EventReader {
   SkippedKinds<kAedat3SkippedNames.size()> skipped_{kAedat3SkippedNames};
   bool ended_ = false;
   std::optional<ReadError> error_;
+  std::optional<std::int16_t> camera_source_;  // of the first polarity packet
 };
 
 SniffResult sniff_aedat3(std::span<const std::byte> head, std::string_view /*path*/) {
@@ -199,7 +208,7 @@ std::unique_ptr<EventReader> open_aedat3(const std::string& path) { return std::
 }  // namespace
 
 const ReaderFormat aedat3_format{"aedat3",
-                                 "iniVation cAER AEDAT 3.1 ('#!AER-DAT3.1'): polarity packets; external-input "
+                                 "iniVation cAER AEDAT 3.1 ('#!AER-DAT3.1'): polarity packets (of the first source); external-input "
                                  "special events counted as triggers; frames, IMU, other special events "
                                  "and other packets skipped and counted per kind",
                                  &sniff_aedat3, &open_aedat3};

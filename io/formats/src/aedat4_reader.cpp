@@ -181,9 +181,54 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
   return true;
 }
 
+bool Aedat4Reader::data_table_ends_the_packets() {
+  if (table_checked_ || data_end_ >= file_.size_bytes()) return true;  // checked, or no table
+  table_checked_ = true;
+  const std::int64_t at = data_end_;
+  const std::string whence = "the file table at byte " + std::to_string(at) + " (the header's dataTablePosition)";
+  const auto bytes = static_cast<std::uint64_t>(file_.size_bytes() - at);
+  if (bytes > kAedat4MaxPacketBytes) {
+    fail(at, whence + " is larger than 256 MiB: a corrupt header?");
+    return false;
+  }
+  std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
+  if (raw.size() < bytes) raw.resize(bytes);
+  (compression_ == Compression::none ? packet_bytes_ : compressed_bytes_) = bytes;
+  if (file_.read(raw.data(), bytes) != bytes) {
+    fail(at, whence + " cannot be read");
+    return false;
+  }
+  if (compression_ != Compression::none && !decompress(at)) {
+    fail(at, whence + " does not decode (" + error_->reason() + "): a corrupt header? the packets before it were read");
+    return false;
+  }
+  flatbuffers::Verifier verifier(packet_.data(), packet_bytes_);
+  if (!verifier.VerifySizePrefixedBuffer<aedat4::FileDataTable>(nullptr)) {
+    fail(at, whence + " does not verify (corrupt FlatBuffer): a corrupt header? the packets before it were read");
+    return false;
+  }
+  const auto* table = flatbuffers::GetSizePrefixedRoot<aedat4::FileDataTable>(packet_.data());
+  std::int64_t packets_end = -1;
+  if (table->definitions() != nullptr) {
+    for (const aedat4::FileDataDefinition* d : *table->definitions()) {
+      if (d == nullptr || d->packet_info() == nullptr) continue;
+      packets_end = std::max(packets_end, d->byte_offset() + d->packet_info()->size());
+    }
+  }
+  if (packets_end >= 0 && packets_end != at) {
+    fail(at, whence + " lists packets up to byte " + std::to_string(packets_end) +
+                 ": a corrupt header? the packets before byte " + std::to_string(at) + " were read");
+    return false;
+  }
+  return true;
+}
+
 bool Aedat4Reader::next_packet() {
   while (true) {
-    if (file_.offset() >= data_end_) return false;
+    if (file_.offset() >= data_end_) {
+      (void)data_table_ends_the_packets();  // a fault: error_, raised after the events before it
+      return false;
+    }
     const std::int64_t offset = file_.offset();
     if (file_.fill(8) < 8) {
       fail(offset, "truncated AEDAT 4.0 packet header");

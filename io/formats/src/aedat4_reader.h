@@ -47,6 +47,9 @@ class Aedat4Reader final : public EventReader {
   /// Loads the next event packet; false at the end or on a fault (error_ set).
   bool next_packet();
   bool decompress(std::int64_t packet_offset);
+  /// At data_end_: the file table there must decode and list packets that
+  /// end there (a corrupt dataTablePosition ended the reading early, silently).
+  bool data_table_ends_the_packets();
   void fail(std::int64_t byte_offset, const std::string& what);
 
   ChunkedFile file_;
@@ -67,6 +70,7 @@ class Aedat4Reader final : public EventReader {
   std::uint64_t skipped_packets_ = 0;
   std::int64_t event_count_ = 0;
   std::optional<ReadError> error_;
+  bool table_checked_ = false;
 };
 
 }  // namespace evlife::io

@@ -21,22 +21,42 @@ std::string trimmed(std::string s) {
   return s;
 }
 
+/// File names in the order rosbag2 splits them: digit runs compare as
+/// numbers (bag_2 before bag_10; as strings bag_10 came first and the bag's
+/// time went backwards at its third file).
+bool split_file_order_less(const std::string& a, const std::string& b) {
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      std::size_t ei = i, ej = j;
+      while (ei < a.size() && digit(a[ei])) ++ei;
+      while (ej < b.size() && digit(b[ej])) ++ej;
+      std::size_t zi = i, zj = j;  // leading zeros do not make a number larger
+      while (zi + 1 < ei && a[zi] == '0') ++zi;
+      while (zj + 1 < ej && b[zj] == '0') ++zj;
+      if (ei - zi != ej - zj) return ei - zi < ej - zj;
+      if (const int c = a.compare(zi, ei - zi, b, zj, ej - zj); c != 0) return c < 0;
+      i = ei, j = ej;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  if (a.size() - i != b.size() - j) return a.size() - i < b.size() - j;
+  return a < b;  // equal as numbers (bag_01, bag_1): any fixed order
+}
+
 /// The .db3 files of a bag folder, in reading order.
 std::vector<std::string> bag_folder_files(const std::string& dir) {
   std::vector<std::string> files;
   const fs::path metadata = fs::path(dir) / "metadata.yaml";
   if (std::ifstream in(metadata); in) {
-    std::string line;
+    std::string line, storage;
     bool in_list = false;
     while (std::getline(in, line)) {
       const std::string t = trimmed(line);
-      if (t.rfind("storage_identifier:", 0) == 0) {
-        const std::string id = trimmed(t.substr(19));
-        if (id != "sqlite3") {
-          throw ReadError(metadata.string(), -1, -1,
-                          "rosbag2 storage '" + id + "' is not readable (only sqlite3 .db3 bags)");
-        }
-      }
+      if (t.rfind("storage_identifier:", 0) == 0) storage = trimmed(t.substr(19));
       if (t == "relative_file_paths:") {
         in_list = true;
       } else if (in_list && t.rfind("- ", 0) == 0) {
@@ -44,6 +64,18 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
       } else if (in_list) {
         in_list = false;
       }
+    }
+    if (storage == "mcap") {  // the default storage since ROS 2 Iron: read by the MCAP reader
+      std::string names;
+      for (const std::string& f : files) names += (names.empty() ? "" : ", ") + f;
+      throw ReadError(metadata.string(), -1, -1,
+                      "a rosbag2 bag in MCAP storage: give its .mcap file" +
+                          std::string(files.size() > 1 ? "s one at a time" : "") + " (" +
+                          (names.empty() ? "none listed" : names) + ")");
+    }
+    if (!storage.empty() && storage != "sqlite3") {
+      throw ReadError(metadata.string(), -1, -1,
+                      "rosbag2 storage '" + storage + "' is not readable (sqlite3 .db3 bags, and .mcap files)");
     }
     if (files.empty())
       throw ReadError(metadata.string(), -1, -1, "rosbag2 metadata lists no relative_file_paths");
@@ -53,7 +85,7 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     if (entry.path().extension() == ".db3") files.push_back(entry.path().string());
   }
-  std::sort(files.begin(), files.end());
+  std::sort(files.begin(), files.end(), split_file_order_less);
   if (files.empty()) throw ReadError(dir, -1, -1, "folder without metadata.yaml or .db3 files");
   return files;
 }

@@ -11,6 +11,12 @@
 
 namespace evlife::render {
 
+/// The slowest frame rate taken (a frame each 11.6 days of recording): a
+/// frame's instant, k * 1e6 / fps, stays far within int64 µs for any k the
+/// times of a recording reach (at 1e-13 fps one interval overflowed it, and
+/// frame_count_through() looped forever).
+inline constexpr double kMinFps = 1e-6;
+
 inline std::int64_t frame_instant_us(std::int64_t from_us, std::uint64_t k, double fps) noexcept {
   return from_us + std::llround(static_cast<double>(k) * 1e6 / fps);
 }

@@ -23,6 +23,9 @@ namespace evlife::render {
 
 /// The highest frame rate written into a video (players and codecs beyond it vary).
 inline constexpr double kMaxVideoFps = 60.0;
+/// The lowest: a frame each 100 s (FFmpeg's encoders refused 0.001 fps: "the
+/// encoder timebase is not set", reported as a video that cannot be opened).
+inline constexpr double kMinVideoFps = 0.01;
 
 struct RecordingRenderOptions {
   std::string output;                ///< a folder, FILE.png or a video (.mp4, .avi)
