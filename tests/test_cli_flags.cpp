@@ -372,6 +372,77 @@ TEST_F(CliFlags, EveryCommandTakesTheSensorByOneRule) {
   }
 }
 
+// convert took --sensor only for a recording that states none: a stated
+// size silently won, and evlife's own output (an augmented CSV states none)
+// dropped it, checking nothing and storing no size in its HDF5.
+TEST_F(CliFlags, ConvertTakesTheSensorAsTheOtherCommands) {
+  const std::string stated = path("stated.h5");  // synth's HDF5 states its 128 x 128
+  ASSERT_EQ(run("synth -q --scene edges --duration 20ms -o " + stated).exit_code, 0);
+  const RunResult ignored = run("convert " + stated + " " + path("x.txt") + " --sensor 1x1 -q");
+  EXPECT_EQ(ignored.exit_code, 0) << ignored.output;
+  EXPECT_TRUE(has(ignored, "warning: --sensor 1x1 ignored: " + stated + " states 128x128")) << ignored.output;
+  ASSERT_EQ(run("process " + stated + " -o " + path("a.csv") + " -q").exit_code, 0);
+  ASSERT_EQ(run("convert " + path("a.csv") + " " + path("b.h5") + " --sensor 300x200 -q").exit_code, 0);
+  const RunResult info = run("info " + path("b.h5"));
+  EXPECT_TRUE(has(info, "300x200 (stated by the file)")) << info.output;
+  for (const std::string out : {"c.h5", "c.txt", "c.bin"}) {
+    const RunResult small = run("convert " + path("a.csv") + " " + path(out) + " --sensor 4x4 -q");
+    EXPECT_EQ(small.exit_code, 3) << out << ": " << small.output;
+    EXPECT_TRUE(has(small, "is outside the 4x4 sensor (event index ")) << out << ": " << small.output;
+  }
+  const RunResult flags = run("convert " + path("a.csv") + " " + path("d.txt") + " --unchecked --one-thread -q");
+  EXPECT_EQ(flags.exit_code, 0) << flags.output;
+  EXPECT_TRUE(has(flags, "warning: --unchecked and --one-thread ignored: ")) << flags.output;
+}
+
+// Accepted and ignored before: the estimator's settings for lifetimes that a
+// file already holds, lifetime colours where none are drawn, thinning of
+// fixed windows. Refused; where they act, they still change the frame.
+TEST_F(CliFlags, RenderAndEvalRefuseFlagsThatWouldChangeNothing) {
+  const std::string in = sample();
+  ASSERT_EQ(run("process " + in + " -o " + path("a.bin") + " -q").exit_code, 0);
+  for (const std::string& command :
+       {"render " + path("a.bin") + " -o " + path("k.png") + " --at 0.2 --set estimator.window_size=7",
+        "eval " + path("a.bin") + " -o " + path("ev") + " --set estimator.regularization=false"}) {
+    const RunResult r = run(command + " -q");
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.output;
+    EXPECT_TRUE(has(r, "--set estimator.")) << r.output;
+    EXPECT_TRUE(has(r, ": nothing to estimate in " + path("a.bin"))) << r.output;
+  }
+  const RunResult colours = run("render " + in + " -o " + path("c.png") + " --at 0.2 --color polarity --lifetime-range 1:10 -q");
+  EXPECT_EQ(colours.exit_code, 2) << colours.output;
+  EXPECT_TRUE(has(colours, "--lifetime-range sets the lifetime colours: --mode lifetime --color polarity draws none"))
+      << colours.output;
+  const RunResult thin = run("render " + in + " -o " + path("w.png") + " --at 0.2 --mode window:30ms --no-thinning -q");
+  EXPECT_EQ(thin.exit_code, 2) << thin.output;
+  EXPECT_TRUE(has(thin, "--no-thinning: --mode window:30ms draws no lifetime image to thin")) << thin.output;
+  // Where they act: the compare mode's lifetime panel.
+  ASSERT_EQ(run("render " + in + " -o " + path("c1.png") + " --at 0.2 --mode compare -q").exit_code, 0);
+  ASSERT_EQ(run("render " + in + " -o " + path("c2.png") + " --at 0.2 --mode compare --no-thinning -q").exit_code, 0);
+  ASSERT_EQ(run("render " + in + " -o " + path("c3.png") + " --at 0.2 --mode compare --lifetime-range 1:10 -q").exit_code,
+            0);
+  const std::string plain = evlife::test::read_text_file(path("c1.png"));
+  EXPECT_NE(plain, evlife::test::read_text_file(path("c2.png")));
+  EXPECT_NE(plain, evlife::test::read_text_file(path("c3.png")));
+}
+
+// A recording that states no sensor, with one event beyond any camera: the
+// sensor scan names it (render, eval and run said only "sensor.width: 5001
+// must be in [1, 4096]"; process that the sensor was "not usable").
+TEST_F(CliFlags, AnEventBeyondAnyCameraIsNamedByTheSensorScan) {
+  const std::string in = path("wide.txt");
+  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n0.000003 5000 3 1\n0.000004 4 4 1\n";
+  for (const std::string& command : {"process " + in + " -o " + path("a.bin"), "render " + in + " -o " + path("r.png") +
+                                     " --at 0", "eval " + in + " -o " + path("ev"), "run " + in + " -o " + path("b.bin")}) {
+    const RunResult r = run(command + " -q");
+    EXPECT_EQ(r.exit_code, 3) << command << ": " << r.output;
+    EXPECT_TRUE(has(r, in + ": event at (x 5000, y 3) is beyond any camera (at most 4096 px a side) and the file states "
+                        "no sensor"))
+        << command << ": " << r.output;
+    EXPECT_TRUE(has(r, "(event index 2)")) << command << ": " << r.output;
+  }
+}
+
 // synth's two outputs in one file by another spelling (./a.txt, a link, a
 // link to a file not yet there) interleaved the truth with the events; a
 // background that cannot fit in memory is refused before it is generated,

@@ -78,6 +78,14 @@ TEST_F(CliInfo, CsvAndHdf5AndErrors) {
   EXPECT_NE(r.output.find("1000 .. 2250 us"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("gap        longest without events 0.000750 s, after t = 1500 us"), std::string::npos)
       << r.output;
+  // One event, or every event at one time: there is no gap "after t = 0 us".
+  const fs::path one = dir_.path() / "one.csv", tie = dir_.path() / "tie.csv";
+  std::ofstream(one) << "10,20,1,5\n";
+  std::ofstream(tie) << "10,20,1,7\n11,20,1,7\n";
+  r = run("info '" + one.string() + "'");
+  EXPECT_NE(r.output.find("gap        none: one event\n"), std::string::npos) << r.output;
+  r = run("info '" + tie.string() + "'");
+  EXPECT_NE(r.output.find("gap        longest without events 0.000000 s, after t = 7 us"), std::string::npos) << r.output;
   const fs::path h5 = dir_.path() / "mv.h5";
   ASSERT_EQ(run("convert '" + csv.string() + "' '" + h5.string() + "' -q").exit_code, 0);
   r = run("info '" + h5.string() + "'");

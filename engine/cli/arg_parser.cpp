@@ -246,20 +246,28 @@ std::string selecting_flags(const io::ReaderOptions& options) {
   return flags;
 }
 
-void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input) {
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input,
+                                   const std::vector<std::string>& set_values) {
   const std::string flags = selecting_flags(options);
-  if (flags.empty()) return;
+  std::string estimator_sets;
+  for (const std::string& v : set_values)
+    if (v.starts_with("estimator.")) estimator_sets += (estimator_sets.empty() ? "--set " : ", --set ") + v;
+  if (flags.empty() && estimator_sets.empty()) return;
   bool augmented = false;
   try {
     augmented = io::open_if_augmented(input) != nullptr;
   } catch (const io::ReadError&) {  // a .bin that does not read: the command's reader says why
     augmented = true;
   }
-  if (augmented) {
+  if (!augmented) return;
+  if (!flags.empty()) {
     throw UsageError(flags + ": nothing to select in " + input +
                      ", evlife's output (read whole: its lifetimes came from the whole recording); "
                      "select when processing the recording");
   }
+  throw UsageError(estimator_sets + ": nothing to estimate in " + input +
+                   ", evlife's output (its lifetimes were estimated when the recording was processed); "
+                   "set it when processing the recording");
 }
 
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions) {

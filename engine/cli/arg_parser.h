@@ -137,8 +137,11 @@ SensorSize parse_sensor_size(std::string_view text);
 /// ignoring them.
 std::string selecting_flags(const io::ReaderOptions& options);
 
-/// The usage error of selecting_flags() for `input`, when there are any.
-void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input);
+/// The usage error of selecting_flags() for `input`, when there are any,
+/// and of `--set estimator.*` among `set_values` (render, eval: an
+/// augmented input's lifetimes are estimated already; they were ignored).
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input,
+                                   const std::vector<std::string>& set_values = {});
 
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions);
 

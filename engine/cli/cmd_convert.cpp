@@ -131,9 +131,10 @@ Outcome copy_all(Reader& reader, Writer& writer) {
 }
 
 // Augmented records as plain events (for .txt output of augmented input).
+template <typename AugmentedReader>
 class EventsOfAugmented {
  public:
-  explicit EventsOfAugmented(io::AugmentedEventReader& reader) : reader_(reader) {}
+  explicit EventsOfAugmented(AugmentedReader& reader) : reader_(reader) {}
   std::size_t read(std::span<Event> out) {
     buffer_.resize(out.size());
     const std::size_t n = reader_.read(buffer_);
@@ -142,7 +143,7 @@ class EventsOfAugmented {
   }
 
  private:
-  io::AugmentedEventReader& reader_;
+  AugmentedReader& reader_;
   std::vector<AugmentedEvent> buffer_;
 };
 
@@ -167,19 +168,48 @@ int report(const Outcome& o, const std::string& input, const std::string& output
   return kExitOk;
 }
 
+// Augmented records checked against the sensor (width 0: any; the .bin
+// reader checks its own): the records before the first outside it, then a
+// ReadError naming its index.
+class SensorCheckedAugmented {
+ public:
+  SensorCheckedAugmented(io::AugmentedEventReader& reader, SensorSize sensor) : reader_(reader), sensor_(sensor) {}
+  std::size_t read(std::span<AugmentedEvent> out) {
+    if (fault_) throw *fault_;
+    const std::size_t n = reader_.read(out);
+    const io::RecordFault bad = io::first_unreadable_record(out.first(n), sensor_, INT64_MIN);
+    if (bad.index < n) {
+      fault_.emplace(reader_.path(), -1, static_cast<std::int64_t>(delivered_ + bad.index), bad.what);
+      if (bad.index == 0) throw *fault_;
+    }
+    delivered_ += bad.index;
+    return bad.index;
+  }
+
+ private:
+  io::AugmentedEventReader& reader_;
+  SensorSize sensor_;
+  std::uint64_t delivered_ = 0;
+  std::optional<io::ReadError> fault_;
+};
+
 int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const std::string& input,
-                      const std::string& output, bool quiet) {
+                      const std::string& output, std::optional<SensorSize> sensor_arg, bool quiet) {
+  // --sensor for a file that states none: checked and stored, as for a
+  // recording's events (it was dropped); a stated size wins, with a warning.
+  const std::optional<SensorSize> stated = reader->sensor_size();
+  if (stated && sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *stated);
+  const SensorSize sensor = stated.value_or(sensor_arg.value_or(SensorSize{}));
+  SensorCheckedAugmented checked(*reader, sensor);
   try {
     if (has_extension(output, {".txt"})) {
       auto writer = io::open_event_writer(output);
-      EventsOfAugmented events(*reader);
+      EventsOfAugmented events(checked);
       return report(copy_all<Event>(events, *writer), input, output,
                     "events (lifetime/velocity columns dropped)", quiet);
     }
-    const SensorSize sensor = reader->sensor_size().value_or(SensorSize{});
     auto writer = io::open_augmented_writer(output, sensor);
-    return report(copy_all<AugmentedEvent>(*reader, *writer), input, output, "augmented events",
-                  quiet);
+    return report(copy_all<AugmentedEvent>(checked, *writer), input, output, "augmented events", quiet);
   } catch (const io::WriteError& e) {
     std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
     return kExitOutput;
@@ -206,6 +236,7 @@ int convert_events(const std::string& input, const std::string& output,
     } else {
       const auto probe = io::open_unchecked_event_reader(input, input_options);
       sensor = probe->sensor_size() ? probe->sensor_size() : sensor_arg;
+      if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);
       io::ReaderOptions checked = input_options;
       checked.sensor = sensor;
       reader = io::open_event_reader(input, checked);
@@ -277,7 +308,15 @@ int convert(int argc, char** argv) {
     std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
     return kExitInput;
   }
-  if (augmented) return convert_augmented(std::move(augmented), input, output, quiet);
+  if (augmented) {
+    // Nothing to act on: evlife's output is read whole, on one thread.
+    if (unchecked || one_thread) {
+      std::fprintf(stderr, "evlife convert: warning: %s ignored: %s is evlife's output (checked as it is read)\n",
+                   unchecked && one_thread ? "--unchecked and --one-thread" : unchecked ? "--unchecked" : "--one-thread",
+                   input.c_str());
+    }
+    return convert_augmented(std::move(augmented), input, output, sensor, quiet);
+  }
   return convert_events(input, output, sensor, input_options, unchecked, one_thread, quiet);
 }
 

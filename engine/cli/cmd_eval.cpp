@@ -118,7 +118,7 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kEvalOptions);
   EvalArgs e;
   if (!parse_common_args(a, e)) return e;
-  refuse_selection_of_augmented(e.input_options, e.input);
+  refuse_selection_of_augmented(e.input_options, e.input, a.values("set"));
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;

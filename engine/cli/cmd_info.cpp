@@ -126,8 +126,13 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated, const s
                                         "the first named below)",
                                         thousands(t.backwards))
                                 .c_str());
-    std::printf("gap        longest without events %.6f s, after t = %lld us\n",
-                static_cast<double>(t.longest_gap_us) * 1e-6, static_cast<long long>(t.longest_gap_after_us));
+    if (t.on + t.off == 1) {
+      std::printf("gap        none: one event\n");
+    } else {  // (no gap at all: every event at the first's time; "after t = 0" named none of them)
+      std::printf("gap        longest without events %.6f s, after t = %lld us\n",
+                  static_cast<double>(t.longest_gap_us) * 1e-6,
+                  static_cast<long long>(t.longest_gap_us > 0 ? t.longest_gap_after_us : t.first));
+    }
   }
 }
 

@@ -135,7 +135,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
   RenderArgs r;
   if (!parse_common_args(a, r, /*crop=*/false)) return r;  // --from/--to: the frames drawn
-  refuse_selection_of_augmented(r.input_options, r.input);
+  refuse_selection_of_augmented(r.input_options, r.input, a.values("set"));
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
   r.job.output = *out;
@@ -159,12 +159,19 @@ RenderArgs parse_render_args(int argc, char** argv) {
     if (*r.job.to_us < r.job.from_us) throw UsageError("--to is before --from");
   }
   if (const auto m = a.value("mode")) r.job.mode = *m;
+  bool lifetime_view = false;  // the active events drawn (lifetime, compare): what thinning and the colours act on
   try {
-    (void)render::parse_view_mode(r.job.mode);
+    for (const render::View& v : render::parse_view_mode(r.job.mode)) lifetime_view = lifetime_view || v.lifetime;
     if (const auto c = a.value("color")) r.job.color = render::parse_color_mode(*c);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+  // Flags that would change nothing (they were accepted and ignored).
+  if (!lifetime_view && a.has("no-thinning"))
+    throw UsageError("--no-thinning: --mode " + r.job.mode + " draws no lifetime image to thin");
+  if (a.has("lifetime-range") && (!lifetime_view || r.job.color != render::ColorMode::lifetime))
+    throw UsageError("--lifetime-range sets the lifetime colours: --mode " + r.job.mode + " --color " +
+                     std::string(a.value("color").value_or("lifetime")) + " draws none");
   if (const auto s = a.value("scale")) {
     constexpr int kMax = render::FrameStyle::kMaxScale;
     const double v = parse_number<double>("scale", *s, 1, kMax);

@@ -1,6 +1,8 @@
 #include "evlife/io/sensor_size_from_data.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
@@ -21,12 +23,26 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
   const std::unique_ptr<EventReader> reader = open_event_reader(path, options);
   std::vector<Event> buffer(1 << 16);
   int max_x = -1, max_y = -1;
+  std::int64_t scanned = 0;
   try {
     while (const std::size_t n = reader->read(buffer)) {
       for (std::size_t i = 0; i < n; ++i) {
         max_x = std::max<int>(max_x, buffer[i].x);
         max_y = std::max<int>(max_y, buffer[i].y);
       }
+      if (max_x >= kMaxSensorSide || max_y >= kMaxSensorSide) {
+        // No camera is this large: a corrupt record, most likely. Named here
+        // (the estimator's own check said only "sensor.width: 5001 must be in
+        // [1, 4096]", with no event to look at).
+        std::size_t i = 0;
+        while (buffer[i].x < kMaxSensorSide && buffer[i].y < kMaxSensorSide) ++i;
+        throw ReadError(path, -1, scanned + static_cast<std::int64_t>(i),
+                        "event at (x " + std::to_string(buffer[i].x) + ", y " + std::to_string(buffer[i].y) +
+                            ") is beyond any camera (at most " + std::to_string(kMaxSensorSide) +
+                            " px a side) and the file states no sensor: a corrupt record? (With --sensor WxH "
+                            "the events before it are processed, then it is reported)");
+      }
+      scanned += static_cast<std::int64_t>(n);
       if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
         return SensorSize{std::max(max_x, 0) + 1, std::max(max_y, 0) + 1};
       }
@@ -34,7 +50,7 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
   } catch (const ReadError&) {
     // A fault after some events: the sensor of the events before it; the
     // processing pass delivers those and then reports the fault (no loss).
-    if (max_x < 0) throw;
+    if (max_x < 0 || max_x >= kMaxSensorSide || max_y >= kMaxSensorSide) throw;
   }
   if (max_x < 0) throw ReadError(path, -1, -1, "no events: cannot infer the sensor size");
   return SensorSize{max_x + 1, max_y + 1};
