@@ -416,6 +416,15 @@ TEST_F(CliFlags, RenderAndEvalRefuseFlagsThatWouldChangeNothing) {
   const RunResult thin = run("render " + in + " -o " + path("w.png") + " --at 0.2 --mode window:30ms --no-thinning -q");
   EXPECT_EQ(thin.exit_code, 2) << thin.output;
   EXPECT_TRUE(has(thin, "--no-thinning: --mode window:30ms draws no lifetime image to thin")) << thin.output;
+  // A --config file's estimator keys: said, not refused (one file often
+  // configures every command); estimator.sensor.* still applies.
+  {
+    std::ofstream(path("dim.yaml")) << "estimator:\n  max_lifetime_standard_error: 0.5\n";
+    const RunResult r = run("render " + path("a.bin") + " -o " + path("k.png") + " --at 0.2 -q --config " + path("dim.yaml"));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(has(r, "warning: estimator.max_lifetime_standard_error of --config ignored: nothing to estimate in"))
+        << r.output;
+  }
   // Where they act: the compare mode's lifetime panel.
   ASSERT_EQ(run("render " + in + " -o " + path("c1.png") + " --at 0.2 --mode compare -q").exit_code, 0);
   ASSERT_EQ(run("render " + in + " -o " + path("c2.png") + " --at 0.2 --mode compare --no-thinning -q").exit_code, 0);
@@ -441,6 +450,24 @@ TEST_F(CliFlags, AnEventBeyondAnyCameraIsNamedByTheSensorScan) {
         << command << ": " << r.output;
     EXPECT_TRUE(has(r, "(event index 2)")) << command << ": " << r.output;
   }
+}
+
+// A rule across two keys names where each was set (it named neither), and
+// eval checks the configuration for each N it runs: one valid for the
+// configured N only stopped it half-way, as an input error, writing nothing.
+TEST_F(CliFlags, ARuleAcrossKeysNamesBothAndEvalChecksEveryWindowSize) {
+  const std::string in = sample();
+  std::ofstream(path("cms.yaml")) << "estimator:\n  window_size: 3\n  continuation_min_support: 6\n";
+  const RunResult r = run("process " + in + " -o " + path("x.csv") + " --config " + path("cms.yaml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r, "(estimator.continuation_min_support set at " + path("cms.yaml") +
+                         ":3; estimator.window_size set at " + path("cms.yaml") + ":2)"))
+      << r.output;
+  ASSERT_EQ(run("process " + in + " -o " + path("y.csv") + " -q --set estimator.continuation_min_support=12").exit_code, 0);
+  const RunResult e = run("eval " + in + " -o " + path("ev") + " -q --set estimator.continuation_min_support=12");
+  EXPECT_EQ(e.exit_code, 2) << e.output;
+  EXPECT_TRUE(has(e, "eval runs N = 3, 5 and 7 with the rest of the configuration; with window_size 3, "
+                     "estimator.continuation_min_support: 12 must be 0 or in 2..")) << e.output;
 }
 
 // synth's two outputs in one file by another spelling (./a.txt, a link, a

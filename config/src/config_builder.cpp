@@ -198,9 +198,17 @@ Config ConfigBuilder::build() const {
                         ") is out of range; allowed: " + k.allowed);
     }
   }
-  // Cross-field rules of the estimator itself (none today beyond the ranges).
+  // The estimator's rule across fields (continuation_min_support within
+  // window_size's window): where both were set, as for a range.
   const std::string err = validate_lifetime_options(config_.estimator);
-  if (!err.empty()) throw ConfigError("estimator." + err);
+  if (!err.empty()) {
+    std::string where;
+    for (const char* key : {"estimator.continuation_min_support", "estimator.window_size"}) {
+      const KeyOrigin* o = origin(key);
+      where += (where.empty() ? " (" : "; ") + std::string(key) + (o ? " set at " + o->where : " default");
+    }
+    throw ConfigError("estimator." + err + where + ")");
+  }
   return config_;
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "evlife/config/config_key.h"
 #include "evlife/io/augmented_event_reader.h"
 
 namespace evlife::cli {
@@ -246,28 +247,45 @@ std::string selecting_flags(const io::ReaderOptions& options) {
   return flags;
 }
 
-void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input,
-                                   const std::vector<std::string>& set_values) {
-  const std::string flags = selecting_flags(options);
-  std::string estimator_sets;
-  for (const std::string& v : set_values)
-    if (v.starts_with("estimator.")) estimator_sets += (estimator_sets.empty() ? "--set " : ", --set ") + v;
-  if (flags.empty() && estimator_sets.empty()) return;
-  bool augmented = false;
+bool is_evlife_output(const std::string& input) {
   try {
-    augmented = io::open_if_augmented(input) != nullptr;
+    return io::open_if_augmented(input) != nullptr;
   } catch (const io::ReadError&) {  // a .bin that does not read: the command's reader says why
-    augmented = true;
+    return true;
   }
-  if (!augmented) return;
-  if (!flags.empty()) {
-    throw UsageError(flags + ": nothing to select in " + input +
-                     ", evlife's output (read whole: its lifetimes came from the whole recording); "
-                     "select when processing the recording");
+}
+
+namespace {
+
+bool sizes_the_sensor(std::string_view key) { return key.starts_with("estimator.sensor."); }
+
+}  // namespace
+
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input) {
+  const std::string flags = selecting_flags(options);
+  if (flags.empty() || !is_evlife_output(input)) return;
+  throw UsageError(flags + ": nothing to select in " + input +
+                   ", evlife's output (read whole: its lifetimes came from the whole recording); "
+                   "select when processing the recording");
+}
+
+void refuse_estimator_settings_for_augmented(std::string_view command, const CommonArgs& args,
+                                             const std::vector<std::string>& set_values) {
+  std::string sets, from_files;
+  for (const std::string& v : set_values)
+    if (v.starts_with("estimator.") && !sizes_the_sensor(v)) sets += (sets.empty() ? "--set " : ", --set ") + v;
+  for (const config::ConfigKey& k : config::config_keys()) {
+    const config::KeyOrigin* o = args.config.builder.origin(k.name);
+    if (o != nullptr && o->by_user && !o->where.starts_with("--set") && k.name.starts_with("estimator.") &&
+        !sizes_the_sensor(k.name))
+      from_files += (from_files.empty() ? "" : ", ") + k.name;
   }
-  throw UsageError(estimator_sets + ": nothing to estimate in " + input +
-                   ", evlife's output (its lifetimes were estimated when the recording was processed); "
-                   "set it when processing the recording");
+  if ((sets.empty() && from_files.empty()) || !is_evlife_output(args.input)) return;
+  const std::string why = "nothing to estimate in " + args.input +
+                          ", evlife's output (its lifetimes were estimated when the recording was processed)";
+  if (!sets.empty()) throw UsageError(sets + ": " + why + "; set it when processing the recording");
+  std::fprintf(stderr, "evlife %.*s: warning: %s of --config ignored: %s\n", static_cast<int>(command.size()),
+               command.data(), from_files.c_str(), why.c_str());
 }
 
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions) {

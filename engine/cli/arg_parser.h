@@ -137,11 +137,20 @@ SensorSize parse_sensor_size(std::string_view text);
 /// ignoring them.
 std::string selecting_flags(const io::ReaderOptions& options);
 
-/// The usage error of selecting_flags() for `input`, when there are any,
-/// and of `--set estimator.*` among `set_values` (render, eval: an
-/// augmented input's lifetimes are estimated already; they were ignored).
-void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input,
-                                   const std::vector<std::string>& set_values = {});
+/// True for an augmented file of `evlife process` (and a .bin that does not
+/// read: the command's reader says why).
+bool is_evlife_output(const std::string& input);
+
+/// The usage error of selecting_flags() for `input`, when there are any.
+void refuse_selection_of_augmented(const io::ReaderOptions& options, const std::string& input);
+
+/// render and eval of evlife's output (its lifetimes estimated already):
+/// `--set estimator.*` is refused (a usage error), the estimator keys a
+/// --config file sets are warned of (a file often configures every command).
+/// Both were ignored without a word. (estimator.sensor.* still sizes a file
+/// that states none.)
+void refuse_estimator_settings_for_augmented(std::string_view command, const CommonArgs& args,
+                                             const std::vector<std::string>& set_values);
 
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions);
 

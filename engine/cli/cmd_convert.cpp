@@ -311,9 +311,11 @@ int convert(int argc, char** argv) {
   if (augmented) {
     // Nothing to act on: evlife's output is read whole, on one thread.
     if (unchecked || one_thread) {
+      const char* flags = unchecked && one_thread ? "--unchecked and --one-thread"
+                          : unchecked               ? "--unchecked"
+                                                    : "--one-thread";
       std::fprintf(stderr, "evlife convert: warning: %s ignored: %s is evlife's output (checked as it is read)\n",
-                   unchecked && one_thread ? "--unchecked and --one-thread" : unchecked ? "--unchecked" : "--one-thread",
-                   input.c_str());
+                   flags, input.c_str());
     }
     return convert_augmented(std::move(augmented), input, output, sensor, quiet);
   }

@@ -135,7 +135,8 @@ RenderArgs parse_render_args(int argc, char** argv) {
   const ParsedArgs a = parse_args(argc, argv, kRenderOptions);
   RenderArgs r;
   if (!parse_common_args(a, r, /*crop=*/false)) return r;  // --from/--to: the frames drawn
-  refuse_selection_of_augmented(r.input_options, r.input, a.values("set"));
+  refuse_selection_of_augmented(r.input_options, r.input);
+  refuse_estimator_settings_for_augmented("render", r, a.values("set"));
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
   r.job.output = *out;

@@ -197,7 +197,8 @@ class TruthCsv {
 
  private:
   void put(const char* s) {
-    if (std::fputs(s, file_) < 0) throw io::WriteError(path_, std::string("write failed: ") + std::strerror(errno), errno);
+    if (std::fputs(s, file_) < 0)
+      throw io::WriteError(path_, std::string("write failed: ") + std::strerror(errno), errno);
   }
   std::string path_;
   std::string folder_problem_;  // why the folders above path_ could not be made, if they could not

@@ -33,9 +33,10 @@ inline std::string path_from_python(const py::handle& path) {
   try {
     return py::cast<std::filesystem::path>(path).string();
   } catch (const py::cast_error&) {  // pybind's RuntimeError otherwise
+    const bool file_object = py::hasattr(path, "read") || py::hasattr(path, "write");
     throw py::type_error("expected a path (str, bytes or os.PathLike), got " +
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>() +
-                         (py::hasattr(path, "read") || py::hasattr(path, "write") ? " (a file object: give its name)" : ""));
+                         (file_object ? " (a file object: give its name)" : ""));
   }
 }
 

@@ -192,23 +192,36 @@ Iterating yields arrays of at most `chunk_events` events (evlife.EVENT_DTYPE)
 until the end; memory stays bounded whatever the file size. On a fault the
 good events come first, the next chunk raises evlife.InputError.)")
       .def_property_readonly(
-          "sensor", [](const Reader& r) { return sensor_tuple(r.query([](const io::EventReader& e) { return e.sensor_size(); })); },
+          "sensor",
+          [](const Reader& r) {
+            return sensor_tuple(r.query([](const io::EventReader& e) { return e.sensor_size(); }));
+          },
           "(width, height) when the format states it (or sensor= was given), else None.")
       .def_property_readonly(
-          "format", [](const Reader& r) { return r.query([](const io::EventReader& e) { return std::string(e.format_name()); }); },
+          "format",
+          [](const Reader& r) {
+            return r.query([](const io::EventReader& e) { return std::string(e.format_name()); });
+          },
           "Short format name, e.g. 'mat', 'aedat2', 'evt3'.")
       .def_property_readonly(
-          "layout", [](const Reader& r) { return r.query([](const io::EventReader& e) { return std::string(e.layout_name()); }); },
+          "layout",
+          [](const Reader& r) {
+            return r.query([](const io::EventReader& e) { return std::string(e.layout_name()); });
+          },
           "Which of its format's layouts the file holds (HDF5: 'dsec', 'event_utils', 'prophesee', "
           "'mvsec', 'v2e', 'evlife'); '' where a format has one.")
-      .def_property_readonly("path", [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.path(); }); })
+      .def_property_readonly("path",
+                             [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.path(); }); })
       .def_property_readonly("chunk_events", &Reader::chunk_events)
       .def_property_readonly(
           "bytes_consumed",
           [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.bytes_consumed(); }); },
           "Bytes of the file consumed so far (approximate for compressed formats).")
       .def_property_readonly(
-          "skipped_records", [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.skipped_record_count(); }); },
+          "skipped_records",
+          [](const Reader& r) {
+            return r.query([](const io::EventReader& e) { return e.skipped_record_count(); });
+          },
           "Records of the format read so far that are not events (triggers, IMU samples, frames).")
       .def_property_readonly(
           "skipped_record_kinds",

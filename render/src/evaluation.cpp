@@ -489,7 +489,7 @@ Evaluation evaluate(const EvaluationOptions& args) {
     };
     run_once(args.estimator.window_size, args.estimator.regularization, true);
     if (!runs.front().from_file) {
-      for (int n : {3, 5, 7})
+      for (const int n : kEstimatorWindowSizes)
         for (bool reg : {false, true})
           if (n != args.estimator.window_size || reg != args.estimator.regularization) run_once(n, reg, false);
       // Order the table by N, then regularization.

@@ -203,11 +203,24 @@ std::string validate_pixel_model(const PixelModel& m) {
   if (!in(m.contrast_log, 1e-3, 10.0)) return "contrast_log: must be in [0.001, 10]";
   if (!in(m.contrast_spread, 0.0, 0.99)) return "contrast_spread: must be in [0, 0.99]";
   if (!in(m.threshold_log, 0.01, 5.0)) return "threshold_log: must be in [0.01, 5]";
-  if (!in(m.threshold_mismatch_sigma, 0.0, m.threshold_log))
-    return "threshold_mismatch_sigma: must be in [0, threshold_log]";
+  // Cross-field rules name the user's parameters (`evlife synth --threshold-sigma`,
+  // Python's threshold_sigma=): "threshold_mismatch_sigma: must be in [0,
+  // threshold_log]" named neither for a --threshold below the default sigma.
+  const auto g = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return std::string(text);
+  };
+  if (!in(m.threshold_mismatch_sigma, 0.0, m.threshold_log)) {
+    return "threshold-sigma " + g(m.threshold_mismatch_sigma) + " is more than threshold " + g(m.threshold_log) +
+           ": lower threshold-sigma with it (the mismatch's sigma is at most the threshold)";
+  }
   // The threshold's floor is threshold_log / 4: at most 4 * 15 < 64 events per crossing.
-  if (m.contrast_log * (1.0 + m.contrast_spread) > 15.0 * m.threshold_log)
-    return "contrast_log: at most 15 thresholds per edge (with contrast_spread)";
+  if (m.contrast_log * (1.0 + m.contrast_spread) > 15.0 * m.threshold_log) {
+    const std::string spread = m.contrast_spread > 0.0 ? " (up to +" + g(100.0 * m.contrast_spread) + " % per edge)" : "";
+    return "contrast " + g(m.contrast_log) + spread + " is more than 15 thresholds of " + g(m.threshold_log) +
+           ": raise threshold or lower contrast";
+  }
   if (!in(m.edge_blur_px, 0.0, 10.0)) return "edge_blur_px: must be in [0, 10]";
   if (!in(m.latency_us, 0.0, 1e5)) return "latency_us: must be in [0, 1e5]";
   if (!in(m.latency_jitter_us, 0.0, 1e5)) return "latency_jitter_us: must be in [0, 1e5]";
@@ -216,6 +229,8 @@ std::string validate_pixel_model(const PixelModel& m) {
   if (!in(m.hot_pixel_rate_hz, 0.0, 1e5)) return "hot_pixel_rate_hz: must be in [0, 1e5]";
   if (!in(m.cutoff_hz, 0.0, 1e6)) return "cutoff_hz: must be in [0, 1e6]";
   if (!in(m.timestamp_quantum_us, 0.0, 1e5)) return "timestamp_quantum_us: must be in [0, 1e5]";
+  if (m.timestamp_quantum_us != std::floor(m.timestamp_quantum_us))  // 2.5 was half floored, half rounded
+    return "timestamp-quantum-us " + g(m.timestamp_quantum_us) + ": a whole number of us (stamps are whole us)";
   return {};
 }
 
@@ -234,8 +249,9 @@ double background_events_per_s(SensorSize sensor, double noise_rate_hz_per_px, c
 
 std::uint64_t scene_reader_memory_bytes(const SceneSpec& spec) {
   constexpr double kBytesPerHeldEvent = 220.0;
+  // A scene shorter than a slice is one slice of its duration (a 1 ms scene was refused as if 20 ms).
   const double per_slice = background_events_per_s(spec.sensor, spec.noise_rate_hz_per_px, spec.pixel) *
-                           static_cast<double>(spec.slice_us) * 1e-6;
+                           static_cast<double>(std::min(spec.slice_us, spec.duration_us)) * 1e-6;
   return static_cast<std::uint64_t>(per_slice * kBytesPerHeldEvent);
 }
 
@@ -249,7 +265,10 @@ std::string validate_scene_spec(const SceneSpec& s) {
   if (!(s.jitter_sigma_us >= 0.0) || s.jitter_sigma_us > 1e5)
     return "jitter_sigma_us: must be in [0, 1e5]";
   if (s.gratings.size() + s.bars.size() > 30000) return "too many features (max 30000)";
-  if (auto err = validate_pixel_model(s.pixel); !err.empty()) return "pixel." + err;
+  if (auto err = validate_pixel_model(s.pixel); !err.empty()) {
+    const bool names_a_field = err.find(':') < err.find(' ');  // "field: ...", not the user's parameters
+    return names_a_field ? "pixel." + err : err;
+  }
   for (std::size_t i = 0; i < s.gratings.size(); ++i) {
     const auto& g = s.gratings[i];
     const std::string where = "gratings[" + std::to_string(i) + "].";
@@ -311,8 +330,12 @@ void SyntheticSceneReader::generate_next_slice() {
 
   slice_.clear();
   auto push = [&](std::int64_t t_us, int x, int y, int p, const EventTruth& truth) {
+    // The scene is [0, duration): a crossing's latency or jitter that stamps
+    // it outside is not recorded (as the textured scene; clamped to 0 they
+    // piled up at t = 0, and a slow photoreceptor fired seconds past the end).
+    if (t_us < 0 || t_us >= spec_.duration_us) return;
     Pending e;
-    e.event.t_us = std::max<std::int64_t>(0, t_us);
+    e.event.t_us = t_us;
     e.event.x = static_cast<std::uint16_t>(x);
     e.event.y = static_cast<std::uint16_t>(y);
     e.event.p = static_cast<std::int8_t>(p);

@@ -112,6 +112,10 @@ struct RunResult {
 };
 
 // The images compared: fixed windows of these lengths, then the lifetimes.
+/// The window sizes N of the estimator runs compared (paper Fig. 9), each
+/// with and without regularization.
+inline constexpr int kEstimatorWindowSizes[] = {3, 5, 7};
+
 inline constexpr std::int64_t kWindowLengthsUs[] = {1000, 10000, 30000};
 inline constexpr std::size_t kMethods = std::size(kWindowLengthsUs) + 1;
 inline constexpr std::size_t kLifetimeMethod = kMethods - 1;
