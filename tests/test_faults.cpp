@@ -265,6 +265,25 @@ TEST(Faults, SynthToAFullDiskNamesTheFileAndWhatEachOutputGot) {
       << lines << " events in " << events << "\n" << describe(f);
 }
 
+// libhdf5 1.10 cannot terminate after a failed create: its exit handler
+// printed "HDF5: infinite loop closing library" and a line of FL,FL,... after
+// the command's own error.
+TEST(Faults, AnHdf5FileThatCannotBeCreatedLeavesNoLibraryNoise) {
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 1000);
+  const fs::path out = dir.path() / "full.h5";
+  fs::create_symlink("/dev/full", out);
+  const std::string in = (dir.path() / "in.aedat").string();
+  for (const auto& args : {std::vector<std::string>{"convert", in, out.string()},
+                           std::vector<std::string>{"process", in, "-o", out.string()}}) {
+    const Finished f = run_cli(args, dir);
+    ASSERT_TRUE(f.exited) << describe(f);
+    EXPECT_EQ(f.code, 4) << describe(f);
+    EXPECT_TRUE(contains(f.err, out.string() + ": cannot create the HDF5 file")) << describe(f);
+    EXPECT_FALSE(contains(f.err, "infinite loop")) << describe(f);
+  }
+}
+
 TEST(Faults, UnwritableOutputPathFailsClearlyAndNonZero) {
   const ScratchDir dir("test_faults");
   write_aedat2(dir.path() / "in.aedat", 1000);

@@ -22,4 +22,6 @@ std::unique_ptr<EventWriter> open_hdf5_event_writer(const std::string& path,
 
 bool hdf5_exit_would_crash() noexcept { return false; }
 
+bool hdf5_exit_would_loop() noexcept { return false; }
+
 }  // namespace evlife::io

@@ -31,6 +31,7 @@ constexpr unsigned kDeflateLevel = 1;  // fast; shuffle does most of the work
 constexpr std::uint64_t kCloseReserveBytes = 2u << 20;
 
 std::atomic<bool> g_close_failed{false};
+std::atomic<bool> g_create_failed{false};
 
 // Free bytes for an unprivileged writer on the file system holding `path`;
 // UINT64_MAX when unknown.
@@ -83,7 +84,10 @@ class Hdf5ColumnFile {
     }
     const Hdf5ErrorSilencer silence;
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (file_ < 0) throw WriteError(path, "cannot create the HDF5 file");
+    if (file_ < 0) {
+      g_create_failed.store(true);
+      throw WriteError(path, "cannot create the HDF5 file (its first write failed: disk full?)");
+    }
     try {
       const std::array<ColumnSpec, 8> specs{{
           {"x", H5T_STD_U16LE, H5T_NATIVE_UINT16, "px", "column, 0 = left"},
@@ -313,5 +317,7 @@ std::unique_ptr<EventWriter> open_hdf5_event_writer(const std::string& path,
 }
 
 bool hdf5_exit_would_crash() noexcept { return g_close_failed.load(); }
+
+bool hdf5_exit_would_loop() noexcept { return g_create_failed.load(); }
 
 }  // namespace evlife::io

@@ -33,4 +33,11 @@ std::unique_ptr<EventWriter> open_hdf5_event_writer(const std::string& path,
 /// leave with std::_Exit after flushing its own output.
 bool hdf5_exit_would_crash() noexcept;
 
+/// True once an HDF5 file could not be created (e.g. on a full disk). libhdf5
+/// 1.10's exit handler then cannot close the library and prints "HDF5:
+/// infinite loop closing library" and a line of "FL,FL,..." after the
+/// command's own error; the command line leaves with std::_Exit (its other
+/// files are closed by then). Nothing is lost: no file was made.
+bool hdf5_exit_would_loop() noexcept;
+
 }  // namespace evlife::io
