@@ -8,6 +8,7 @@
 # outputs are identical byte for byte. Wall times need an otherwise idle machine.
 #   bench/bench_process.sh [build/engine/evlife] [runs] [seconds of scene]
 #   FORMATS="bin csv h5" CONVERTS="h5:txt txt:h5" select rows ("" skips them).
+. "$(dirname "$0")/usage.sh"
 set -eu
 cli=${1:-build/engine/evlife}
 runs=${2:-5}

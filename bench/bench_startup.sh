@@ -3,6 +3,7 @@
 # `evlife --help` and of `evlife process` on a 3-event file, in ms; with perf,
 # their page faults and CPU time.
 #   bench/bench_startup.sh [build/engine/evlife]
+. "$(dirname "$0")/usage.sh"
 set -eu
 cli=${1:-build/engine/evlife}
 tmp=$(mktemp -d)

@@ -15,6 +15,7 @@
 # The previous output file is removed before each run, outside the timing.
 # Wall times need an otherwise idle machine; the CPU figures hold under load.
 #   bench/bench_workers.sh [build/engine/evlife] [runs] [dat|h5]
+. "$(dirname "$0")/usage.sh"
 set -eu
 cli=${1:-build/engine/evlife}
 runs=${2:-5}

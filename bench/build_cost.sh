@@ -5,6 +5,7 @@
 # Compare two settings in one session, e.g. the test bodies' optimization:
 #   bench/build_cost.sh /tmp/cost-og
 #   bench/build_cost.sh /tmp/cost-o3 -DEVLIFE_TEST_BODY_OPTIMIZATION=
+. "$(dirname "$0")/usage.sh"
 set -eu
 [ $# -ge 1 ] || { echo "usage: bench/build_cost.sh BUILD_DIR [CMAKE_ARGS...]" >&2; exit 2; }
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -179,8 +179,8 @@ TEST(RealRecordings, SupportCriterionHoldsForEveryWindowSize) {
 }
 
 // Paper Fig. 9 on garfield.mat: > 90 % of predictions err by less than
-// 10 ms (issue 11): 96.3 %. With estimator.prediction_expiry_lifetimes = 0,
-// 90.8 % (88.6 % before the tolerance floor followed the median residual):
+// 10 ms (issue 11): 95.9 %. With estimator.prediction_expiry_lifetimes = 0,
+// 89.7 % (90.8 % and 88.6 % with earlier estimators):
 // most misses were predictions for pixels the edge passed without firing,
 // answered by the next edge tens of ms later.
 TEST(RealRecordings, GarfieldPredictionErrorsMostlyBelow10ms) {

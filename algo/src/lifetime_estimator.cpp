@@ -21,6 +21,8 @@ constexpr std::int64_t kNoPrediction = std::numeric_limits<std::int64_t>::min();
 // Events ahead that process(span) prefetches: enough to overlap a DRAM
 // access (~100 ns) with the processing of the events before.
 constexpr std::size_t kPrefetchDistance = 4;
+// The adaptive RANSAC budget by [neighbours][inliers] (iterations_table_).
+constexpr std::size_t kIterationsTableEntries = (detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1);
 // Fits of fewer samples (new event included) store no timing noise: their
 // residual RMS, with fewer than 3 degrees of freedom (n - 3), is too loose an
 // estimate (a variance from k degrees of freedom scatters by sqrt(2 / k):
@@ -53,9 +55,13 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
 }
 
 std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
-  const auto pixels = 2 * static_cast<std::uint64_t>(sensor.pixel_count());  // both polarities
-  return (pixels + detail::kGatherOverreadPixels) * sizeof(SurfacePixel) +
-         pixels * (sizeof(PixelState) + sizeof(std::uint8_t));  // + burst_followers_
+  const auto pixels = 2 * static_cast<std::size_t>(sensor.pixel_count());  // both polarities
+  // As the constructor allocates: each plane rounded as allocate_large rounds
+  // it (it read 3.5 MB for the 5.2 MB a 240 x 180 sensor takes), and the table.
+  return detail::large_allocation_bytes((pixels + detail::kGatherOverreadPixels) * sizeof(SurfacePixel)) +
+         detail::large_allocation_bytes(pixels * sizeof(PixelState)) +
+         detail::large_allocation_bytes(pixels * sizeof(std::uint8_t)) +  // burst_followers_
+         kIterationsTableEntries * sizeof(int);
 }
 
 LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(options), bounds_(options.sensor) {
@@ -85,7 +91,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
   surface_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()) + detail::kGatherOverreadPixels);
   pixel_state_.resize(2 * static_cast<std::size_t>(options_.sensor.pixel_count()));
   burst_followers_.resize(pixel_state_.size());
-  iterations_table_.resize((detail::kMaxNeighbours + 1) * (detail::kMaxNeighbours + 1));
+  iterations_table_.resize(kIterationsTableEntries);
   for (int count = 1; count <= detail::kMaxNeighbours; ++count) {
     for (int inliers = 0; inliers <= count; ++inliers) {
       const double w = static_cast<double>(inliers) / count;
@@ -187,7 +193,7 @@ double LifetimeEstimator::prior_weight(double err_us) const noexcept {
 // whose prediction waits there: it passed without firing here.
 bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept {
   if (options_.prediction_expiry_lifetimes <= 0.0) return false;
-  const double err_us = std::fabs(static_cast<double>(t_us - state.prediction_t_us));
+  const double err_us = std::fabs(detail::difference_us(t_us, state.prediction_t_us));
   const double gx = static_cast<double>(state.prediction_gx_us_px);
   const double gy = static_cast<double>(state.prediction_gy_us_px);
   const double lifetime_us = std::sqrt(gx * gx + gy * gy);
@@ -416,7 +422,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     state.prediction_t_us = kNoPrediction;
   }
   if (state.prediction_t_us != kNoPrediction) {
-    const double err_us = static_cast<double>(e.t_us - state.prediction_t_us);
+    const double err_us = detail::difference_us(e.t_us, state.prediction_t_us);
     out.prediction_error_us = static_cast<float>(err_us);
     ++stats_.predictions;
     if (options_.regularization) {

@@ -28,10 +28,22 @@ constexpr std::int32_t kHighestRel = std::numeric_limits<std::int32_t>::max();
 constexpr std::int32_t kLowestRel = kOldestRel;
 constexpr std::int64_t kRebaseRel = std::int64_t{1} << 30;
 
+/// a - b in double: two event times (|t| <= 2^62, an epoch 2^30 below one)
+/// may lie more than 2^63 apart, where int64 subtraction overflows. For
+/// times under 2^53 us (285 years) the result is that of int64, bit for bit:
+/// both operands convert exactly, and the subtraction rounds the exact
+/// difference as the conversion of an int64 difference would.
+inline double difference_us(std::int64_t a, std::int64_t b) noexcept {
+  return static_cast<double>(a) - static_cast<double>(b);
+}
+
 /// True when t_us - epoch_us fits the plane (no rebase needed).
 inline bool fits_epoch(std::int64_t t_us, std::int64_t epoch_us) noexcept {
   // Unsigned compare of the offset from kLowestRel: one branch for both ends.
-  const auto off = static_cast<std::uint64_t>(t_us - epoch_us) - static_cast<std::uint64_t>(std::int64_t{kLowestRel});
+  // (Unsigned, so that times more than 2^63 apart wrap, well defined, to an
+  // offset outside the range instead of overflowing.)
+  const auto off = static_cast<std::uint64_t>(t_us) - static_cast<std::uint64_t>(epoch_us) -
+                   static_cast<std::uint64_t>(std::int64_t{kLowestRel});
   return off <= static_cast<std::uint64_t>(std::int64_t{kHighestRel} - kLowestRel);
 }
 
@@ -40,7 +52,13 @@ inline bool fits_epoch(std::int64_t t_us, std::int64_t epoch_us) noexcept {
 template <class Pixel>
 std::int64_t rebase(std::span<Pixel> plane, std::int64_t epoch_us, std::int64_t t_us) noexcept {
   const std::int64_t new_epoch = t_us - kRebaseRel;
-  const std::int64_t shift = new_epoch - epoch_us;
+  // A shift beyond 2^40 us saturates every stored time as the exact one
+  // would (the range is 2^32 wide); clamped, neither it nor a moved time can
+  // overflow (epochs up to 2^63 apart).
+  constexpr std::int64_t kShiftBound = std::int64_t{1} << 40;
+  std::int64_t shift = 0;
+  if (__builtin_sub_overflow(new_epoch, epoch_us, &shift)) shift = new_epoch > epoch_us ? kShiftBound : -kShiftBound;
+  shift = shift > kShiftBound ? kShiftBound : (shift < -kShiftBound ? -kShiftBound : shift);
   for (Pixel& p : plane) {
     if (p.t_rel == kNeverRel) continue;
     const std::int64_t moved = static_cast<std::int64_t>(p.t_rel) - shift;

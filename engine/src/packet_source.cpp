@@ -13,7 +13,7 @@ PacketSource::PacketSource(SensorSize sensor, std::size_t capacity_events, Sourc
 
 std::size_t PacketSource::push(std::span<const Event> events) noexcept {
   if (closed_ || stop_.load(std::memory_order_relaxed)) {
-    lost_ += events.size();
+    lost_.add(events.size());
     return 0;
   }
   const std::size_t n = std::min(events.size(), ring_.size() - count_);
@@ -23,7 +23,7 @@ std::size_t PacketSource::push(std::span<const Event> events) noexcept {
     tail = tail + 1 == ring_.size() ? 0 : tail + 1;
   }
   count_ += n;
-  lost_ += events.size() - n;
+  lost_.add(events.size() - n);
   return n;
 }
 

@@ -20,6 +20,7 @@ class InputError(ValueError):
     byte_offset: int
     event_index: int
     partial: Optional[npt.NDArray[np.void]]
+    events_written: Optional[int]  # process_file: the events its output holds
 
 def formats() -> list[Tuple[str, str]]: ...
 def read(path: StrPath, sensor: Optional[Sensor] = None, *, from_s: Optional[float] = None,

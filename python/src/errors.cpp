@@ -17,7 +17,8 @@ constexpr const char* kInputErrorDoc =
     "truncated data, an event outside the sensor, timestamps going backwards).\n"
     "A ValueError. The message is the command line's (file, byte offset, event\n"
     "index); the attributes path, byte_offset, event_index (-1 = unknown) and\n"
-    "partial (the good events before the fault, or None) say the same as data.";
+    "partial (the good events before the fault, or None) say the same as data;\n"
+    "events_written: how many events process_file's output holds (else None).";
 
 }  // namespace
 
@@ -39,6 +40,7 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
   error.attr("byte_offset") = e.byte_offset();
   error.attr("event_index") = e.event_index();
   error.attr("partial") = std::move(partial);
+  error.attr("events_written") = py::none();  // process_file sets it (the stub declares it)
   PyErr_SetObject(g_input_error, error.ptr());
   throw py::error_already_set();
 }

@@ -112,6 +112,7 @@ def test_truncated_file_keeps_the_events_before_the_fault(tmp_path):
     assert str(e.value) == expected
     assert e.value.event_index == len(written) and e.value.byte_offset > 0
     assert_same_events(e.value.partial, written)  # nothing good is lost
+    assert e.value.events_written is None  # declared by the stub for every InputError: only process_file's count
     for one_thread in (False, True):  # read ahead (and written behind) or not: the same
         with pytest.raises(evlife.InputError) as e:
             evlife.process(cut, one_thread=one_thread)

@@ -13,6 +13,7 @@
 namespace {
 std::atomic<bool> g_armed{false};
 std::atomic<long> g_allocations{0};
+std::atomic<unsigned long long> g_bytes{0};
 std::atomic<long> g_locks{0};
 }  // namespace
 
@@ -26,11 +27,13 @@ bool allocation_probe_available() noexcept { return true; }
 
 AllocationProbe::AllocationProbe() noexcept {
   g_allocations = 0;
+  g_bytes = 0;
   g_locks = 0;
   g_armed = true;
 }
 void AllocationProbe::disarm() noexcept { g_armed = false; }
 long AllocationProbe::allocations() const noexcept { return g_allocations.load(); }
+unsigned long long AllocationProbe::bytes() const noexcept { return g_bytes.load(); }
 long AllocationProbe::locks() const noexcept { return g_locks.load(); }
 
 }  // namespace evlife::test
@@ -51,8 +54,10 @@ void* __libc_memalign(std::size_t, std::size_t);
 }
 
 namespace {
-void note_allocation() noexcept {
-  if (g_armed.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+void note_allocation(std::size_t bytes) noexcept {
+  if (!g_armed.load(std::memory_order_relaxed)) return;
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  g_bytes.fetch_add(bytes, std::memory_order_relaxed);
 }
 }  // namespace
 
@@ -60,24 +65,24 @@ void note_allocation() noexcept {
 // caller in the process (the library object is pulled in by AllocationProbe).
 extern "C" {
 void* malloc(std::size_t n) {
-  note_allocation();
+  note_allocation(n);
   return __libc_malloc(n);
 }
 void* calloc(std::size_t a, std::size_t b) {
-  note_allocation();
+  note_allocation(a * b);
   return __libc_calloc(a, b);
 }
 void* realloc(void* p, std::size_t n) {
-  note_allocation();
+  note_allocation(n);
   return __libc_realloc(p, n);
 }
 int posix_memalign(void** out, std::size_t align, std::size_t n) {
-  note_allocation();
+  note_allocation(n);
   *out = __libc_memalign(align, n);
   return *out != nullptr ? 0 : ENOMEM;
 }
 void* aligned_alloc(std::size_t align, std::size_t n) {
-  note_allocation();
+  note_allocation(n);
   return __libc_memalign(align, n);
 }
 int pthread_mutex_lock(pthread_mutex_t* m) {
@@ -89,7 +94,7 @@ int pthread_mutex_lock(pthread_mutex_t* m) {
 }  // extern "C"
 
 void* operator new(std::size_t n) {
-  note_allocation();
+  note_allocation(n);
   if (void* p = __libc_malloc(n == 0 ? 1 : n)) return p;
   throw std::bad_alloc();
 }

@@ -19,6 +19,7 @@ class AllocationProbe {
 
   void disarm() noexcept;
   long allocations() const noexcept;
+  unsigned long long bytes() const noexcept;  ///< requested by those allocations
   long locks() const noexcept;
 };
 

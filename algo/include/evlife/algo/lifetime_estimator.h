@@ -67,9 +67,10 @@ class LifetimeEstimator {
   const LifetimeOptions& options() const noexcept { return options_; }
   const LifetimeStats& stats() const noexcept { return stats_; }
 
-  /// Bytes of per-pixel state an estimator for `sensor` allocates (both
-  /// polarities' surfaces and pixel states, ~82 per pixel): for a caller to
-  /// weigh against the memory it has before constructing one.
+  /// Bytes an estimator for `sensor` allocates: both polarities' surfaces
+  /// and pixel states (~82 per pixel; planes of 2 MiB or more in whole 2 MiB
+  /// pages) and its RANSAC table (202 KB): for a caller to weigh against the
+  /// memory it has before constructing one.
   static std::uint64_t state_bytes(SensorSize sensor) noexcept;
 
  private:

@@ -4,7 +4,7 @@
 // field and its allowed range instead of an estimator.
 //
 //   auto made = evlife::make_lifetime_estimator(options);
-//   if (!made) { report(made.error); return; }    // "LifetimeOptions.window_size: 4 must be odd, in 3..15"
+//   if (!made) { report(made.error); return; }    // "LifetimeOptions.window_size: 4 must be odd, in [3, 15]"
 //   evlife::LifetimeEstimator& estimator = *made.estimator;
 //
 // LifetimeEstimator's constructor stays as it is: it throws

@@ -34,7 +34,10 @@ struct OptionInfo {
   }
 
   /// "odd, [3, 15]", "-1 (auto) or [0, 1024]", "(0, 0.9]".
-  std::string range_text() const {
+  std::string range_text() const { return (odd ? "odd, " : "") + bounds_text(); }
+
+  /// range_text() without "odd, ": "[3, 15]".
+  std::string bounds_text() const {
     auto num = [](double v) {
       char buf[32];
       if (v == 18446744073709551615.0) return std::string("18446744073709551615");  // a uint64's whole range (2^64 as a double)
@@ -44,7 +47,7 @@ struct OptionInfo {
         std::snprintf(buf, sizeof buf, "%g", v);
       return std::string(buf);
     };
-    std::string s = odd ? "odd, " : "";
+    std::string s;
     if (auto_minus_one) s += "-1 (auto) or ";
     s.append(lo_open ? "(" : "[").append(num(lo)).append(", ").append(num(hi));
     s.append(hi_open ? ")" : "]");
@@ -52,11 +55,13 @@ struct OptionInfo {
   }
 };
 
-/// "<key>: <value> must be in <range>", or "" when `v` is allowed.
+/// "<key>: <value> must be in <range>" ("must be odd, in [3, 15]"), or ""
+/// when `v` is allowed.
 template <typename T>
 std::string check_option(const OptionInfo& info, T v) {
   if (info.contains(static_cast<double>(v))) return {};
-  return std::string(info.key) + ": " + std::to_string(v) + " must be in " + info.range_text();
+  return std::string(info.key) + ": " + std::to_string(v) + (info.odd ? " must be odd, in " : " must be in ") +
+         info.bounds_text();
 }
 
 }  // namespace evlife

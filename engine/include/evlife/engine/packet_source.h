@@ -6,7 +6,8 @@
 // be paused). close() ends the stream once the buffered events are pulled.
 //
 // Threads: push(), close() and the pipeline's pull() from ONE thread (the
-// host's Run()); request_stop() from any.
+// host's Run()); request_stop() and lost_events() (Pipeline::stats() of a
+// monitor) from any.
 #pragma once
 
 #include <atomic>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "evlife/engine/event_source.h"
+#include "evlife/engine/stage_counters.h"
 
 namespace evlife::engine {
 
@@ -39,7 +41,7 @@ class PacketSource final : public EventSource {
   SensorSize sensor_size() const noexcept override { return sensor_; }
   SourceKind kind() const noexcept override { return kind_; }
   std::string describe() const override { return "host packets"; }
-  std::uint64_t lost_events() const noexcept override { return lost_; }
+  std::uint64_t lost_events() const noexcept override { return lost_.get(); }
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
 
  private:
@@ -48,7 +50,7 @@ class PacketSource final : public EventSource {
   std::vector<Event> ring_;
   std::size_t head_ = 0;   // next to pull
   std::size_t count_ = 0;  // buffered
-  std::uint64_t lost_ = 0;
+  Counter lost_;  // one writer (push), read by stats() on any thread: a plain integer raced
   bool closed_ = false;
   std::atomic<bool> stop_{false};
 };

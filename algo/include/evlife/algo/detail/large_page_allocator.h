@@ -10,6 +10,10 @@
 
 namespace evlife::detail {
 
+/// What allocate_large(bytes) takes from the heap: whole 2 MiB pages from
+/// 2 MiB on (resident only once touched, but all of it under mlockall).
+std::size_t large_allocation_bytes(std::size_t bytes) noexcept;
+
 void* allocate_large(std::size_t bytes, std::size_t alignment);
 void deallocate_large(void* p, std::size_t bytes, std::size_t alignment) noexcept;
 
