@@ -378,9 +378,11 @@ TEST_F(CliFlags, EveryCommandTakesTheSensorByOneRule) {
 TEST_F(CliFlags, ConvertTakesTheSensorAsTheOtherCommands) {
   const std::string stated = path("stated.h5");  // synth's HDF5 states its 128 x 128
   ASSERT_EQ(run("synth -q --scene edges --duration 20ms -o " + stated).exit_code, 0);
-  const RunResult ignored = run("convert " + stated + " " + path("x.txt") + " --sensor 1x1 -q");
-  EXPECT_EQ(ignored.exit_code, 0) << ignored.output;
-  EXPECT_TRUE(has(ignored, "warning: --sensor 1x1 ignored: " + stated + " states 128x128")) << ignored.output;
+  for (const std::string unchecked : {"", " --unchecked"}) {
+    const RunResult ignored = run("convert " + stated + " " + path("x.txt") + " --sensor 1x1 -q" + unchecked);
+    EXPECT_EQ(ignored.exit_code, 0) << ignored.output;
+    EXPECT_TRUE(has(ignored, "warning: --sensor 1x1 ignored: " + stated + " states 128x128")) << ignored.output;
+  }
   ASSERT_EQ(run("process " + stated + " -o " + path("a.csv") + " -q").exit_code, 0);
   ASSERT_EQ(run("convert " + path("a.csv") + " " + path("b.h5") + " --sensor 300x200 -q").exit_code, 0);
   const RunResult info = run("info " + path("b.h5"));
@@ -424,6 +426,12 @@ TEST_F(CliFlags, RenderAndEvalRefuseFlagsThatWouldChangeNothing) {
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(has(r, "warning: estimator.max_lifetime_standard_error of --config ignored: nothing to estimate in"))
         << r.output;
+    // --print-config's file given back restates the defaults: nothing to say.
+    const RunResult printed = run("process --print-config");
+    std::ofstream(path("printed.yaml")) << printed.output;
+    const RunResult same = run("render " + path("a.bin") + " -o " + path("k.png") + " --at 0.2 -q --config " + path("printed.yaml"));
+    EXPECT_EQ(same.exit_code, 0) << same.output;
+    EXPECT_FALSE(has(same, "warning")) << same.output;
   }
   // Where they act: the compare mode's lifetime panel.
   ASSERT_EQ(run("render " + in + " -o " + path("c1.png") + " --at 0.2 --mode compare -q").exit_code, 0);

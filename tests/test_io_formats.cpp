@@ -629,7 +629,45 @@ std::vector<std::uint8_t> event_packet(const std::vector<Event>& events) {
   return b;
 }
 
-std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vector<std::vector<Event>>& packets) {
+// A size-prefixed FileDataTable listing `packets` (byte_offset, stream id,
+// size): one shared vtable for its definitions, laid out 8-aligned.
+struct ListedPacket {
+  std::int64_t byte_offset;
+  std::int32_t stream;
+  std::int32_t size;
+};
+std::vector<std::uint8_t> file_table(const std::vector<ListedPacket>& packets) {
+  const std::size_t n = packets.size();
+  const std::size_t first = (44 + 4 * n + 7) / 8 * 8;  // the first definition table
+  std::vector<std::uint8_t> b(first + 48 * n, 0);
+  put_u32(b, 0, static_cast<std::uint32_t>(b.size() - 4));  // size prefix
+  put_u32(b, 4, 16 - 4);                                    // root table at 16
+  put_u16(b, 8, 6);  // the root's vtable: its size, the table's size, field 0 at +4
+  put_u16(b, 10, 8);
+  put_u16(b, 12, 4);
+  put_u32(b, 16, 16 - 8);   // root -> its vtable
+  put_u32(b, 20, 40 - 20);  // -> the vector at 40
+  const std::uint16_t fields[] = {14, 48, 8, 16, 24, 32, 40};  // definitions' vtable at 24
+  for (std::size_t i = 0; i < 7; ++i) put_u16(b, 24 + 2 * i, fields[i]);
+  put_u32(b, 40, static_cast<std::uint32_t>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t table = first + 48 * i;
+    put_u32(b, 44 + 4 * i, static_cast<std::uint32_t>(table - (44 + 4 * i)));
+    put_u32(b, table, static_cast<std::uint32_t>(table - 24));
+    put_i64(b, table + 8, packets[i].byte_offset);
+    put_u32(b, table + 16, static_cast<std::uint32_t>(packets[i].stream));
+    put_u32(b, table + 20, static_cast<std::uint32_t>(packets[i].size));
+  }
+  return b;
+}
+
+// The file table a writer appends: none (a recording cut short), dv-processing's
+// (offsets of the packets' data, compressed as they are), jAER's (offsets of
+// their 8-byte headers, uncompressed: Aedat4FileOutputStream).
+enum class FileTable { none, dv, jaer };
+
+std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vector<std::vector<Event>>& packets,
+                                      FileTable table = FileTable::none) {
   const std::string xml =
       "<dv version=\"2.0\"><node name=\"outInfo\" path=\"/mainloop/Recorder/outInfo/\">"
       "<node name=\"3\" path=\"/mainloop/Recorder/outInfo/3/\">"
@@ -642,12 +680,19 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
   std::vector<std::uint8_t> file = {'#', '!', 'A', 'E', 'R', '-', 'D', 'A', 'T', '4', '.', '0', '\r', '\n'};
   const auto header = io_header(compression, xml);
   file.insert(file.end(), header.begin(), header.end());
-  const auto add_packet = [&](std::int32_t stream, std::vector<std::uint8_t> payload) {
+  const auto compressed = [&](std::vector<std::uint8_t> payload) {
     if (compression == 3) {
       std::vector<std::uint8_t> z(ZSTD_compressBound(payload.size()));
       z.resize(ZSTD_compress(z.data(), z.size(), payload.data(), payload.size(), 3));
       payload = z;
     }
+    return payload;
+  };
+  std::vector<ListedPacket> listed;
+  const auto add_packet = [&](std::int32_t stream, const std::vector<std::uint8_t>& data) {
+    const std::vector<std::uint8_t> payload = compressed(data);
+    const auto at = static_cast<std::int64_t>(file.size());
+    listed.push_back({table == FileTable::jaer ? at : at + 8, stream, static_cast<std::int32_t>(payload.size())});
     std::vector<std::uint8_t> head(8);
     put_u32(head, 0, static_cast<std::uint32_t>(stream));
     put_u32(head, 4, static_cast<std::uint32_t>(payload.size()));
@@ -657,6 +702,11 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
   for (const auto& p : packets) {
     add_packet(3, std::vector<std::uint8_t>(100, 0xAB));  // an IMU packet: skipped
     add_packet(7, event_packet(p));
+  }
+  if (table != FileTable::none) {
+    put_i64(file, 14 + 32, static_cast<std::int64_t>(file.size()));  // io_header()'s dataTablePosition
+    const std::vector<std::uint8_t> bytes = table == FileTable::dv ? compressed(file_table(listed)) : file_table(listed);
+    file.insert(file.end(), bytes.begin(), bytes.end());
   }
   return file;
 }
@@ -674,9 +724,14 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
   }
   std::vector<Event> expected;
   for (const auto& p : packets) expected.insert(expected.end(), p.begin(), p.end());
-  for (const std::int32_t compression : {0, 3}) {  // NONE, ZSTD
-    const ReadResult r = read_all(dir.save("synthetic.aedat4", aedat4_file(compression, packets)), 500, true);
-    ASSERT_FALSE(r.error) << "compression " << compression << ": " << r.error->what();
+  // Every file table the writers append: their offsets name the packets'
+  // data or headers, compressed or not; the reader checks they end at it.
+  for (const auto& [compression, table] : std::vector<std::pair<std::int32_t, FileTable>>{
+           {0, FileTable::none}, {0, FileTable::dv}, {0, FileTable::jaer},  // NONE
+           {3, FileTable::none}, {3, FileTable::dv}, {3, FileTable::jaer}}) {  // ZSTD
+    const ReadResult r = read_all(dir.save("synthetic.aedat4", aedat4_file(compression, packets, table)), 500, true);
+    ASSERT_FALSE(r.error) << "compression " << compression << ", table " << static_cast<int>(table) << ": "
+                          << r.error->what();
     EXPECT_EQ(r.format, "aedat4");
     ASSERT_TRUE(r.sensor.has_value());
     EXPECT_EQ(*r.sensor, (SensorSize{346, 260}));
@@ -800,7 +855,9 @@ TEST(IoFormatsTruncation, Aedat4TableThatIsNotWhereThePacketsEnd) {
   const ReadResult r = read_all(dir.save("early_table.aedat4", early), 1000);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.error->byte_offset(), kLastEventPacket) << r.error->what();
-  EXPECT_NE(std::string(r.error->what()).find("(the header's dataTablePosition) does not decode"), std::string::npos)
+  EXPECT_NE(std::string(r.error->what()).find("the header's dataTablePosition, byte 928332, holds no file table listing "
+                                              "the packets before it"),
+            std::string::npos)
       << r.error->what();
   EXPECT_LT(r.events.size(), full.size());
   EXPECT_TRUE(is_prefix(r.events, full));

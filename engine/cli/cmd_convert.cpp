@@ -236,7 +236,6 @@ int convert_events(const std::string& input, const std::string& output,
     } else {
       const auto probe = io::open_unchecked_event_reader(input, input_options);
       sensor = probe->sensor_size() ? probe->sensor_size() : sensor_arg;
-      if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);
       io::ReaderOptions checked = input_options;
       checked.sensor = sensor;
       reader = io::open_event_reader(input, checked);
@@ -245,6 +244,7 @@ int convert_events(const std::string& input, const std::string& output,
     std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
     return kExitInput;
   }
+  if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);  // a stated size wins
   std::unique_ptr<io::EventWriter> writer;
   try {
     writer = io::open_event_writer(output, sensor);

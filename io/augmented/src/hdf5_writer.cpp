@@ -86,7 +86,7 @@ class Hdf5ColumnFile {
     file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (file_ < 0) {
       g_create_failed.store(true);
-      throw WriteError(path, "cannot create the HDF5 file (its first write failed: disk full?)");
+      throw WriteError(path, "cannot create the HDF5 file (a full disk, or another program holding it open: HDF5 locks it)");
     }
     try {
       const std::array<ColumnSpec, 8> specs{{

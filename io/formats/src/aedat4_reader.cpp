@@ -181,46 +181,53 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
   return true;
 }
 
+namespace {
+
+// The packets a file table lists end where the table starts. Writers differ
+// in what an entry's byte_offset names: dv-processing the packet's data,
+// after its 8-byte header (sample.aedat4), jAER the header itself
+// (Aedat4FileOutputStream); either layout is a table of this file.
+bool table_ends_at(const std::uint8_t* bytes, std::size_t size, std::int64_t at) {
+  flatbuffers::Verifier verifier(bytes, size);
+  if (!verifier.VerifySizePrefixedBuffer<aedat4::FileDataTable>(nullptr)) return false;
+  const auto* table = flatbuffers::GetSizePrefixedRoot<aedat4::FileDataTable>(bytes);
+  if (table->definitions() == nullptr || table->definitions()->size() == 0) return true;  // lists nothing
+  std::int64_t data_end = -1;
+  for (const aedat4::FileDataDefinition* d : *table->definitions()) {
+    if (d != nullptr && d->packet_info() != nullptr)
+      data_end = std::max(data_end, d->byte_offset() + d->packet_info()->size());
+  }
+  return data_end == at || data_end + 8 == at;
+}
+
+}  // namespace
+
 bool Aedat4Reader::data_table_ends_the_packets() {
   if (table_checked_ || data_end_ >= file_.size_bytes()) return true;  // checked, or no table
   table_checked_ = true;
   const std::int64_t at = data_end_;
-  const std::string whence = "the file table at byte " + std::to_string(at) + " (the header's dataTablePosition)";
   const auto bytes = static_cast<std::uint64_t>(file_.size_bytes() - at);
+  const std::string whence = "the header's dataTablePosition, byte " + std::to_string(at) + ",";
   if (bytes > kAedat4MaxPacketBytes) {
-    fail(at, whence + " is larger than 256 MiB: a corrupt header?");
+    fail(at, whence + " leaves more than 256 MiB for the file table: a corrupt header?");
     return false;
   }
+  // The table is compressed as the packets (dv-processing) or not (jAER).
   std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
   if (raw.size() < bytes) raw.resize(bytes);
   (compression_ == Compression::none ? packet_bytes_ : compressed_bytes_) = bytes;
   if (file_.read(raw.data(), bytes) != bytes) {
-    fail(at, whence + " cannot be read");
+    fail(at, whence + " but the table cannot be read");
     return false;
   }
-  if (compression_ != Compression::none && !decompress(at)) {
-    fail(at, whence + " does not decode (" + error_->reason() + "): a corrupt header? the packets before it were read");
-    return false;
+  if (table_ends_at(raw.data(), bytes, at)) return true;
+  if (compression_ != Compression::none) {
+    if (decompress(at) && table_ends_at(packet_.data(), packet_bytes_, at)) return true;
+    error_.reset();  // decompress()'s own message would name a packet
   }
-  flatbuffers::Verifier verifier(packet_.data(), packet_bytes_);
-  if (!verifier.VerifySizePrefixedBuffer<aedat4::FileDataTable>(nullptr)) {
-    fail(at, whence + " does not verify (corrupt FlatBuffer): a corrupt header? the packets before it were read");
-    return false;
-  }
-  const auto* table = flatbuffers::GetSizePrefixedRoot<aedat4::FileDataTable>(packet_.data());
-  std::int64_t packets_end = -1;
-  if (table->definitions() != nullptr) {
-    for (const aedat4::FileDataDefinition* d : *table->definitions()) {
-      if (d == nullptr || d->packet_info() == nullptr) continue;
-      packets_end = std::max(packets_end, d->byte_offset() + d->packet_info()->size());
-    }
-  }
-  if (packets_end >= 0 && packets_end != at) {
-    fail(at, whence + " lists packets up to byte " + std::to_string(packets_end) +
-                 ": a corrupt header? the packets before byte " + std::to_string(at) + " were read");
-    return false;
-  }
-  return true;
+  fail(at, whence + " holds no file table listing the packets before it: a corrupt header? The packets before byte " +
+               std::to_string(at) + " were read");
+  return false;
 }
 
 bool Aedat4Reader::next_packet() {
