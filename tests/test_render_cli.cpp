@@ -471,7 +471,6 @@ TEST_F(RenderCliTest, EvalDrawsTheCompareFrameWhereAskedAndSaysWhenNothingWasSam
             std::string::npos);
 }
 
-}  // namespace
 
 // An augmented CSV (it states no sensor) cut short: the sensor scan stopped
 // at the fault before any frame, so render drew nothing (a recording in the
@@ -493,3 +492,5 @@ TEST_F(RenderCliTest, ATruncatedAugmentedCsvKeepsTheFramesBeforeTheFault) {
   EXPECT_NE(r.output.find("the " + std::to_string(frames) + " frames before the fault were written"), std::string::npos)
       << r.output;
 }
+
+}  // namespace
