@@ -54,6 +54,11 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
   return &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
 }
 
+std::string rejected_events_text(const LifetimeStats& stats) {
+  return std::to_string(stats.out_of_sensor) + " outside the sensor, " + std::to_string(stats.bad_polarity) +
+         " bad polarity, " + std::to_string(stats.time_out_of_range) + " time beyond +-2^62 us";
+}
+
 std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
   const auto pixels = 2 * static_cast<std::size_t>(sensor.pixel_count());  // both polarities
   // As the constructor allocates: each plane rounded as allocate_large rounds

@@ -274,16 +274,20 @@ void refuse_estimator_settings_for_augmented(std::string_view command, const Com
   std::string sets, from_files;
   for (const std::string& v : set_values)
     if (v.starts_with("estimator.") && !sizes_the_sensor(v)) sets += (sets.empty() ? "--set " : ", --set ") + v;
-  // Only values that differ from the defaults: `--print-config`'s file given
-  // back restates all of them and changes nothing.
-  config::ConfigBuilder defaults;
-  defaults.load_default_file_if_present();
-  const config::Config standard = defaults.build();
+  // A --config file's keys, but only values that differ from the defaults:
+  // `--print-config`'s file given back restates all of them, changing nothing.
+  std::optional<config::Config> standard;  // built when a file sets an estimator key
   for (const config::ConfigKey& k : config::config_keys()) {
     const config::KeyOrigin* o = args.config.builder.origin(k.name);
-    if (o != nullptr && o->by_user && !o->where.starts_with("--set") && k.name.starts_with("estimator.") &&
-        !sizes_the_sensor(k.name) && k.format(args.config.config) != k.format(standard))
-      from_files += (from_files.empty() ? "" : ", ") + k.name;
+    if (o == nullptr || !o->by_user || o->where.starts_with("--set") || !k.name.starts_with("estimator.") ||
+        sizes_the_sensor(k.name))
+      continue;
+    if (!standard) {
+      config::ConfigBuilder defaults;
+      defaults.load_default_file_if_present();
+      standard = defaults.build();
+    }
+    if (k.format(args.config.config) != k.format(*standard)) from_files += (from_files.empty() ? "" : ", ") + k.name;
   }
   if ((sets.empty() && from_files.empty()) || !is_evlife_output(args.input)) return;
   const std::string why = "nothing to estimate in " + args.input +

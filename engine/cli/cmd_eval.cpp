@@ -22,7 +22,6 @@
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"
-#include "evlife/algo/lifetime_options.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/render/evaluation.h"
@@ -121,19 +120,11 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   if (!parse_common_args(a, e)) return e;
   refuse_selection_of_augmented(e.input_options, e.input);
   refuse_estimator_settings_for_augmented("eval", e, a.values("set"));
-  // The comparison runs (N = 3, 5, 7) take the rest of the configuration: a
-  // setting valid for the configured N only stopped eval half-way, as an
-  // input error, with nothing written.
-  if (!is_evlife_output(e.input)) {
-    for (const int n : render::eval::kEstimatorWindowSizes) {
-      LifetimeOptions o = e.config.config.estimator;
-      o.window_size = n;
-      if (const std::string err = validate_lifetime_options(o); !err.empty()) {
-        throw UsageError("eval runs N = 3, 5 and 7 with the rest of the configuration; with window_size " +
-                         std::to_string(n) + ", estimator." + err);
-      }
-    }
-  }
+  // A setting valid for the configured N only stopped eval half-way, as an
+  // input error, with nothing written. (evlife's output is not re-estimated.)
+  if (const std::string refusal = render::eval::comparison_runs_refusal(e.config.config.estimator);
+      !refusal.empty() && !is_evlife_output(e.input))
+    throw UsageError(refusal);
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;

@@ -203,19 +203,13 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
                  static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
   }
   const LifetimeStats& st = estimator.stats();
-  const std::uint64_t rejected = st.out_of_sensor + st.bad_polarity + st.time_out_of_range;
-  if (st.noise > rejected) {
+  if (st.noise > st.rejected()) {
     std::fprintf(stdout, "  why noise           %llu few past events, %llu no plane with support, %llu fit unresolved\n",
                  static_cast<unsigned long long>(st.noise_few_samples),
                  static_cast<unsigned long long>(st.noise_unsupported),
                  static_cast<unsigned long long>(st.noise_unresolved));
   }
-  if (rejected > 0) {
-    std::fprintf(stdout, "  rejected            %llu outside the sensor, %llu bad polarity, %llu time beyond +-2^62 us\n",
-                 static_cast<unsigned long long>(st.out_of_sensor),
-                 static_cast<unsigned long long>(st.bad_polarity),
-                 static_cast<unsigned long long>(st.time_out_of_range));
-  }
+  if (st.rejected() > 0) std::fprintf(stdout, "  rejected            %s\n", rejected_events_text(st).c_str());
   std::fflush(stdout);
 }
 

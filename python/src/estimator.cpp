@@ -36,8 +36,9 @@ class Estimator {
  public:
   Estimator(const std::string& where, const py::object& sensor, const py::object& config,
             const py::dict& options)
-      : resolved_(resolve_options(where, sensor, config, options)),
-        estimator_(resolved_.config.estimator) {}
+      : Estimator(resolve_options(where, sensor, config, options)) {}
+  explicit Estimator(ResolvedOptions resolved)
+      : resolved_(std::move(resolved)), estimator_(resolved_.config.estimator) {}
 
   /// Checks `events` whole, then estimates them; on bad input raises
   /// InputError and leaves the state as it was.
@@ -127,8 +128,7 @@ struct FileRun {
   std::uint64_t skipped_records = 0;  // the format's non-event records (as the CLI's summary)
   std::vector<io::SkippedKindCount> skipped_kinds;
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
-  // Rejected by the estimator, labelled noise: the CLI summary's "rejected" line.
-  std::uint64_t out_of_sensor = 0, bad_polarity = 0, time_out_of_range = 0;
+  LifetimeStats stats;  // the estimator's, at the end (rejected(): the CLI summary's "rejected" line)
 
   void note_skipped(const io::EventReader& reader) {  // at the end of the pass
     skipped_records = reader.skipped_record_count();
@@ -175,10 +175,7 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
     sink(std::span<const AugmentedEvent>(out.data(), n));
   }
   run.note_skipped(*reader);
-  const LifetimeStats& stats = estimator.stats();
-  run.out_of_sensor = stats.out_of_sensor;
-  run.bad_polarity = stats.bad_polarity;
-  run.time_out_of_range = stats.time_out_of_range;
+  run.stats = estimator.stats();
   return run;
 }
 
@@ -193,20 +190,18 @@ void add_skipped(py::dict& d, const FileRun& run) {
 // "rejected" (evlife process prints them as its "rejected" line).
 void add_rejected(py::dict& d, const FileRun& run) {
   py::dict rejected;
-  rejected["out_of_sensor"] = run.out_of_sensor;
-  rejected["bad_polarity"] = run.bad_polarity;
-  rejected["time_out_of_range"] = run.time_out_of_range;
+  rejected["out_of_sensor"] = run.stats.out_of_sensor;
+  rejected["bad_polarity"] = run.stats.bad_polarity;
+  rejected["time_out_of_range"] = run.stats.time_out_of_range;
   d["rejected"] = rejected;
 }
 
 // evlife.process(PATH) returns the events alone: rejected ones are warned of
 // (a RuntimeWarning; an exception where warnings are errors).
 void warn_rejected(const std::string& path, const FileRun& run) {
-  if (run.out_of_sensor + run.bad_polarity + run.time_out_of_range == 0) return;
+  if (run.stats.rejected() == 0) return;
   const std::string text = "evlife.process: " + path + ": events rejected (labelled noise, lifetime 0): " +
-                           std::to_string(run.out_of_sensor) + " outside the sensor, " +
-                           std::to_string(run.bad_polarity) + " bad polarity, " +
-                           std::to_string(run.time_out_of_range) + " time beyond +-2^62 us";
+                           rejected_events_text(run.stats);
   if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
 }
 
@@ -439,12 +434,13 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
         // The command line's rule: sensor=, else the configured estimator.sensor
         // (config=; the events' own size replaced it), else the events' size.
-        if (!sensor.is_none() || resolve_options("evlife.process", sensor, config, kw).sensor)
-          return Estimator("evlife.process", sensor, config, kw).process(input);
-        // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
-        const SensorSize d = sensor_from_events(event_columns(input));
-        const py::object inferred = py::make_tuple(std::max(d.width, 1), std::max(d.height, 1));
-        return Estimator("evlife.process", inferred, config, kw).process(input);
+        ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw);
+        if (!r.sensor) {
+          // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
+          const SensorSize d = sensor_from_events(event_columns(input));
+          r.config.estimator.sensor = SensorSize{std::max(d.width, 1), std::max(d.height, 1)};
+        }
+        return Estimator(std::move(r)).process(input);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),

@@ -445,6 +445,23 @@ void write_outputs(const EvaluationOptions& args, const std::string& description
 
 }  // namespace
 
+std::string comparison_runs_refusal(const LifetimeOptions& configured) {
+  std::string sizes;  // "3, 5 and 7"
+  for (std::size_t i = 0; i < std::size(kEstimatorWindowSizes); ++i) {
+    sizes += (i == 0 ? "" : i + 1 == std::size(kEstimatorWindowSizes) ? " and " : ", ") +
+             std::to_string(kEstimatorWindowSizes[i]);
+  }
+  for (const int n : kEstimatorWindowSizes) {
+    LifetimeOptions o = configured;
+    o.window_size = n;
+    if (const std::string err = validate_lifetime_options(o); !err.empty()) {
+      return "eval runs N = " + sizes + " with the rest of the configuration; with window_size " + std::to_string(n) +
+             ", estimator." + err;
+    }
+  }
+  return {};
+}
+
 Evaluation evaluate(const EvaluationOptions& args) {
   Evaluation ev;
   auto& runs = ev.runs;

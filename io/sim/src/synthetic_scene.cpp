@@ -197,47 +197,45 @@ void hot_pixel_slice(const SceneSpec& spec, const std::vector<std::uint32_t>& ho
   }
 }
 
-std::string validate_pixel_model(const PixelModel& m) {
-  if (!m.enabled) return {};
-  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
-  if (!in(m.contrast_log, 1e-3, 10.0)) return "contrast_log: must be in [0.001, 10]";
-  if (!in(m.contrast_spread, 0.0, 0.99)) return "contrast_spread: must be in [0, 0.99]";
-  if (!in(m.threshold_log, 0.01, 5.0)) return "threshold_log: must be in [0.01, 5]";
-  // Cross-field rules name the user's parameters (`evlife synth --threshold-sigma`,
-  // Python's threshold_sigma=): "threshold_mismatch_sigma: must be in [0,
-  // threshold_log]" named neither for a --threshold below the default sigma.
-  const auto g = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return std::string(text);
-  };
-  if (!in(m.threshold_mismatch_sigma, 0.0, m.threshold_log)) {
-    return "threshold-sigma " + g(m.threshold_mismatch_sigma) + " is more than threshold " + g(m.threshold_log) +
-           ": lower threshold-sigma with it (the mismatch's sigma is at most the threshold)";
-  }
-  // The threshold's floor is threshold_log / 4: at most 4 * 15 < 64 events per crossing.
-  if (m.contrast_log * (1.0 + m.contrast_spread) > 15.0 * m.threshold_log) {
-    const std::string spread = m.contrast_spread > 0.0 ? " (up to +" + g(100.0 * m.contrast_spread) + " % per edge)" : "";
-    return "contrast " + g(m.contrast_log) + spread + " is more than 15 thresholds of " + g(m.threshold_log) +
-           ": raise threshold or lower contrast";
-  }
-  if (!in(m.edge_blur_px, 0.0, 10.0)) return "edge_blur_px: must be in [0, 10]";
-  if (!in(m.latency_us, 0.0, 1e5)) return "latency_us: must be in [0, 1e5]";
-  if (!in(m.latency_jitter_us, 0.0, 1e5)) return "latency_jitter_us: must be in [0, 1e5]";
-  if (!in(m.refractory_us, 0.0, 1e5)) return "refractory_us: must be in [0, 1e5]";
-  if (!in(m.hot_pixel_fraction, 0.0, 0.1)) return "hot_pixel_fraction: must be in [0, 0.1]";
-  if (!in(m.hot_pixel_rate_hz, 0.0, 1e5)) return "hot_pixel_rate_hz: must be in [0, 1e5]";
-  if (!in(m.cutoff_hz, 0.0, 1e6)) return "cutoff_hz: must be in [0, 1e6]";
-  if (!in(m.timestamp_quantum_us, 0.0, 1e5)) return "timestamp_quantum_us: must be in [0, 1e5]";
-  if (m.timestamp_quantum_us != std::floor(m.timestamp_quantum_us))  // 2.5 was half floored, half rounded
-    return "timestamp-quantum-us " + g(m.timestamp_quantum_us) + ": a whole number of us (stamps are whole us)";
-  return {};
-}
-
 std::string fmt_num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// "pixel.FIELD: ..." for a field out of its range (the struct's names), the
+// user's parameter names for the rules across fields (`evlife synth
+// --threshold-sigma`, Python's threshold_sigma=): "threshold_mismatch_sigma:
+// must be in [0, threshold_log]" named neither for a --threshold below the
+// default sigma.
+std::string validate_pixel_model(const PixelModel& m) {
+  if (!m.enabled) return {};
+  const auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  if (!in(m.contrast_log, 1e-3, 10.0)) return "pixel.contrast_log: must be in [0.001, 10]";
+  if (!in(m.contrast_spread, 0.0, 0.99)) return "pixel.contrast_spread: must be in [0, 0.99]";
+  if (!in(m.threshold_log, 0.01, 5.0)) return "pixel.threshold_log: must be in [0.01, 5]";
+  if (!in(m.threshold_mismatch_sigma, 0.0, m.threshold_log)) {
+    return "threshold-sigma " + fmt_num(m.threshold_mismatch_sigma) + " is more than threshold " +
+           fmt_num(m.threshold_log) + ": lower threshold-sigma with it (the mismatch's sigma is at most the threshold)";
+  }
+  // The threshold's floor is threshold_log / 4: at most 4 * 15 < 64 events per crossing.
+  if (m.contrast_log * (1.0 + m.contrast_spread) > 15.0 * m.threshold_log) {
+    const std::string spread =
+        m.contrast_spread > 0.0 ? " (up to +" + fmt_num(100.0 * m.contrast_spread) + " % per edge)" : "";
+    return "contrast " + fmt_num(m.contrast_log) + spread + " is more than 15 thresholds of " +
+           fmt_num(m.threshold_log) + ": raise threshold or lower contrast";
+  }
+  if (!in(m.edge_blur_px, 0.0, 10.0)) return "pixel.edge_blur_px: must be in [0, 10]";
+  if (!in(m.latency_us, 0.0, 1e5)) return "pixel.latency_us: must be in [0, 1e5]";
+  if (!in(m.latency_jitter_us, 0.0, 1e5)) return "pixel.latency_jitter_us: must be in [0, 1e5]";
+  if (!in(m.refractory_us, 0.0, 1e5)) return "pixel.refractory_us: must be in [0, 1e5]";
+  if (!in(m.hot_pixel_fraction, 0.0, 0.1)) return "pixel.hot_pixel_fraction: must be in [0, 0.1]";
+  if (!in(m.hot_pixel_rate_hz, 0.0, 1e5)) return "pixel.hot_pixel_rate_hz: must be in [0, 1e5]";
+  if (!in(m.cutoff_hz, 0.0, 1e6)) return "pixel.cutoff_hz: must be in [0, 1e6]";
+  if (!in(m.timestamp_quantum_us, 0.0, 1e5)) return "pixel.timestamp_quantum_us: must be in [0, 1e5]";
+  if (m.timestamp_quantum_us != std::floor(m.timestamp_quantum_us))  // 2.5 was half floored, half rounded
+    return "timestamp-quantum-us " + fmt_num(m.timestamp_quantum_us) + ": a whole number of us (stamps are whole us)";
+  return {};
 }
 
 }  // namespace
@@ -265,10 +263,7 @@ std::string validate_scene_spec(const SceneSpec& s) {
   if (!(s.jitter_sigma_us >= 0.0) || s.jitter_sigma_us > 1e5)
     return "jitter_sigma_us: must be in [0, 1e5]";
   if (s.gratings.size() + s.bars.size() > 30000) return "too many features (max 30000)";
-  if (auto err = validate_pixel_model(s.pixel); !err.empty()) {
-    const bool names_a_field = err.find(':') < err.find(' ');  // "field: ...", not the user's parameters
-    return names_a_field ? "pixel." + err : err;
-  }
+  if (auto err = validate_pixel_model(s.pixel); !err.empty()) return err;
   for (std::size_t i = 0; i < s.gratings.size(); ++i) {
     const auto& g = s.gratings[i];
     const std::string where = "gratings[" + std::to_string(i) + "].";

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "evlife/algo/detail/large_page_allocator.h"
@@ -37,7 +38,14 @@ struct LifetimeStats {
   std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
   std::uint64_t bad_polarity = 0;      ///< rejected: p not +1/-1
   std::uint64_t time_out_of_range = 0; ///< rejected: |t| > kMaxEventTimeUs (event.h)
+
+  /// Events labelled noise unexamined: the three counters above.
+  std::uint64_t rejected() const noexcept { return out_of_sensor + bad_polarity + time_out_of_range; }
 };
+
+/// "N outside the sensor, N bad polarity, N time beyond +-2^62 us": the
+/// rejected events, as `evlife process` and Python's evlife.process report them.
+std::string rejected_events_text(const LifetimeStats& stats);
 
 
 class LifetimeEstimator {

@@ -156,6 +156,11 @@ class EvaluationOutputError : public std::runtime_error {
 /// EvaluationOptions::stop was seen: the runs are cut short, nothing to write.
 struct EvaluationStopped {};
 
+/// Why the comparison runs cannot take the configured options (one that
+/// holds for the configured N only, e.g. continuation_min_support), or "":
+/// for a refusal before evaluate(), which would stop half-way.
+std::string comparison_runs_refusal(const LifetimeOptions& configured);
+
 Evaluation evaluate(const EvaluationOptions& options);
 void write_evaluation(const EvaluationOptions& options, const Evaluation& evaluation);
 void print_evaluation_summary(std::FILE* out, const EvaluationOptions& options,
