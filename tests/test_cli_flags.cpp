@@ -194,6 +194,9 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   const RunResult none = run("process " + in + " -o " + path("none.bin") + " --from 300000");
   EXPECT_EQ(none.exit_code, 0);
   EXPECT_TRUE(has(none, "warning: no event of")) << none.output;
+  const RunResult none_run = run("run " + in + " -o " + path("none_run.bin") + " --from 300000");
+  EXPECT_EQ(none_run.exit_code, 0);
+  EXPECT_TRUE(has(none_run, "warning: no event of " + in + " within --from/--to")) << none_run.output;
   const RunResult e = run("eval " + path("a.bin") + " -o " + path("ev") + " --at 2s");
   EXPECT_EQ(e.exit_code, 0) << e.output;
   EXPECT_TRUE(has(e, "time range")) << e.output;
@@ -340,6 +343,12 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   EXPECT_TRUE(has(period, "--stats-period 1e-9: expected a time such as")) << period.output;
   EXPECT_TRUE(has(period, "0 or at least 1us")) << period.output;
   EXPECT_EQ(run("run " + sample() + " --stats-period 0.6us -q").exit_code, 0);
+  // The same rule for its key (it read 1e-9 s as a period of 1 ns: a progress line every few ms).
+  const RunResult key = run("run " + sample() + " --set engine.stats_period_s=1e-9 -q");
+  EXPECT_EQ(key.exit_code, 2) << key.output;
+  EXPECT_TRUE(has(key, "engine.stats_period_s: 1e-09 must be 0 (no progress lines) or at least 1e-06 (1 us)"))
+      << key.output;
+  EXPECT_EQ(run("run " + sample() + " --set engine.stats_period_s=0.6e-6 -q").exit_code, 0);
 }
 
 // The sensor by one rule in every command: the size the file states, else

@@ -1176,6 +1176,24 @@ TEST(RunCommand, DrawsTheAskedInstantsInTimeOrderBesidesTheEventClock) {
   std::filesystem::remove_all(dir);
 }
 
+// An event the estimators reject unexamined (here a time beyond 2^62 us) is
+// named by `run`'s summary as by `process`'s (run counted it as output only).
+TEST(RunCommand, NamesTheRejectedEventsAsProcessDoes) {
+  const auto dir = std::filesystem::temp_directory_path() / "evlife_test_engine_rejected";
+  std::filesystem::create_directories(dir);
+  const std::string in = (dir / "in.txt").string();
+  std::ofstream(in) << "0.001 5 5 1\n0.002 6 5 1\n0.003 7 5 0\n5000000000000 5 5 1\n";
+  for (const std::string command : {"process", "run"}) {
+    const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, command + " " + in + " --sensor 16x16 -o " +
+                                                               (dir / (command + ".bin")).string(),
+                                         kCliLog);
+    ASSERT_EQ(r.exit_code, 0) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("0 outside the sensor, 0 bad polarity, 1 time beyond +-2^62 us"), std::string::npos)
+        << command << ": " << r.output;
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(RunCommand, ProgressLinesSayHowFarThroughTheFile) {
   const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/garfield.mat";
   const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source " + in + " --stats-period 1ms", kCliLog);

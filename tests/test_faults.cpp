@@ -53,14 +53,20 @@ struct Child {
   fs::path err_log;
 };
 
-Child spawn_cli(const std::vector<std::string>& args, const ScratchDir& dir, const std::string& tag) {
+// `stdout_fd` >= 0: the child's standard output (else a log file).
+Child spawn_cli(const std::vector<std::string>& args, const ScratchDir& dir, const std::string& tag,
+                int stdout_fd = -1) {
   Child c;
   c.out_log = dir.path() / (tag + ".stdout");
   c.err_log = dir.path() / (tag + ".stderr");
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 1, c.out_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (stdout_fd >= 0) {
+    posix_spawn_file_actions_adddup2(&fa, stdout_fd, 1);
+  } else {
+    posix_spawn_file_actions_addopen(&fa, 1, c.out_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  }
   posix_spawn_file_actions_addopen(&fa, 2, c.err_log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::vector<std::string> all{EVLIFE_CLI_PATH};
   all.insert(all.end(), args.begin(), args.end());
@@ -263,6 +269,45 @@ TEST(Faults, SynthToAFullDiskNamesTheFileAndWhatEachOutputGot) {
   EXPECT_TRUE(contains(f.err, "(" + std::to_string(lines) + " events handed to the writer of " + events.string() +
                                   ", 0 rows to that of " + truth.string() + " before it)"))
       << lines << " events in " << events << "\n" << describe(f);
+}
+
+// A reader that leaves the pipe it reads from: the output behind -o (a FIFO)
+// or the standard output. The next write fails (EPIPE): an output error, exit
+// 4, that names the output behind -o (before, SIGPIPE killed the process:
+// exit 141, no message, no summary).
+TEST(Faults, AReaderLeavingThePipeIsAnOutputError) {
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 200'000);  // several MB: more than the pipe holds
+  const std::string in = (dir.path() / "in.aedat").string();
+  for (const std::string cmd : {"process", "run"}) {
+    const fs::path fifo = dir.path() / (cmd + ".bin");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const Child c = spawn_cli({cmd, in, "-o", fifo.string()}, dir, cmd);
+    {
+      std::ifstream reader(fifo, std::ios::binary);  // meets the writer's open
+      std::vector<char> head(1000);
+      reader.read(head.data(), static_cast<std::streamsize>(head.size()));
+      ASSERT_EQ(reader.gcount(), 1000);
+    }  // and leaves
+    const Finished f = wait_cli(c);
+    ASSERT_TRUE(f.exited) << cmd << ": " << describe(f);
+    EXPECT_EQ(f.code, 4) << cmd << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, fifo.string())) << cmd << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, "Broken pipe")) << cmd << ": " << describe(f);
+  }
+  // Short help (written at the exit's flush) and long help (written while printing).
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"--help"},
+                                               std::vector<std::string>{"convert", "--help"}}) {
+    int ends[2];
+    ASSERT_EQ(pipe(ends), 0);
+    close(ends[0]);  // nobody reads
+    const Child c = spawn_cli(args, dir, "help", ends[1]);
+    close(ends[1]);
+    const Finished f = wait_cli(c);
+    ASSERT_TRUE(f.exited) << args.front() << ": " << describe(f);
+    EXPECT_EQ(f.code, 4) << args.front() << ": " << describe(f);
+    EXPECT_EQ(f.err, "") << args.front() << ": a reader that left on purpose (`| head`) needs no message\n" << describe(f);
+  }
 }
 
 // libhdf5 1.10 cannot terminate after a failed create: its exit handler

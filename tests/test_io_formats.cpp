@@ -814,6 +814,41 @@ TEST(IoFormatsTruncation, Evt2CutInsideAWord) {
   }
 }
 
+// A recording cut while it is being read (a copy still in progress, a disk
+// filling up): the reader had the file's size at opening, so its end short of
+// that is an error after every event before it, never a quiet end of file.
+TEST(IoFormatsTruncation, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::uint8_t> bytes = load(kEvt2);
+  const std::size_t data = prophesee_header_end(bytes);
+  const std::size_t kept_words = 300'000;  // past the reader's first 1 MiB buffer
+  ASSERT_GT(data + 4 * kept_words, std::size_t{1} << 20);
+  ASSERT_LT(data + 4 * kept_words, bytes.size());
+  std::size_t cd = 0;  // independent count of the CD words kept
+  for (std::size_t k = 0; k < kept_words; ++k) cd += (bytes[data + 4 * k + 3] >> 4) <= 1;
+  for (const bool checked : {false, true}) {
+    const std::string path = dir.save("evt2_shrinking.raw", bytes);
+    auto reader = checked ? evlife::io::open_event_reader(path) : evlife::io::open_unchecked_event_reader(path);
+    std::vector<Event> chunk(1000), events;
+    std::size_t n = reader->read(chunk);
+    events.insert(events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+    fs::resize_file(path, data + 4 * kept_words);
+    std::optional<ReadError> error;
+    try {
+      while ((n = reader->read(chunk)) > 0) {
+        events.insert(events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+      }
+    } catch (const ReadError& e) {
+      error = e;
+    }
+    ASSERT_TRUE(error) << "checked " << checked << ": the cut passed for the end of the file";
+    EXPECT_NE(std::string(error->what()).find("cut while being read"), std::string::npos) << error->what();
+    EXPECT_EQ(error->byte_offset(), static_cast<std::int64_t>(data + 4 * kept_words)) << error->what();
+    EXPECT_EQ(events.size(), cd) << "checked " << checked;
+    EXPECT_TRUE(is_prefix(events, read_all(kEvt2).events));
+  }
+}
+
 TEST(IoFormatsTruncation, Evt3CutInsideAWord) {
   const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kEvt3).events;

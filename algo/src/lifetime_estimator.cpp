@@ -365,18 +365,8 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   ++stats_.events;
   const int W = bounds_.value.width;
   const int H = bounds_.value.height;
-  if (e.x >= W || e.y >= H) {
-    count_noise(stats_.out_of_sensor);
-    stage_end(Stage::head);
-    return out;
-  }
-  if (!within_event_time_range(e.t_us)) {
-    count_noise(stats_.time_out_of_range);
-    stage_end(Stage::head);
-    return out;
-  }
-  if (e.p != 1 && e.p != -1) {
-    count_noise(stats_.bad_polarity);
+  if (const Rejection why = rejection_of(e, bounds_.value); why != Rejection::none) {
+    count_noise(stats_.rejected_counter(why));
     stage_end(Stage::head);
     return out;
   }

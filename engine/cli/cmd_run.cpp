@@ -382,7 +382,8 @@ std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::at
 // Runs on the thread that merges; read after the run.
 class CountingSink final : public engine::AugmentedSink {
  public:
-  CountingSink(engine::AugmentedSink* next, std::optional<SensorSize> sensor) : next_(next), busy_pixels_(sensor) {}
+  CountingSink(engine::AugmentedSink* next, std::optional<SensorSize> sensor)
+      : next_(next), sensor_(sensor), busy_pixels_(sensor) {}
   void write(std::span<const AugmentedEvent> events) override {
     if (next_ != nullptr) next_->write(events);  // a refused block is not counted
     if (!events.empty()) {
@@ -393,6 +394,10 @@ class CountingSink final : public engine::AugmentedSink {
     for (const AugmentedEvent& a : events) {
       noise_ += a.is_noise();
       predictions_ += a.has_prediction();
+      // The estimators' rule, here once for all workers (a tile's margin feeds an event to several).
+      if (const Rejection why = sensor_ ? rejection_of(a.event, *sensor_) : Rejection::none; why != Rejection::none) {
+        ++rejected_.rejected_counter(why);
+      }
       busy_pixels_.add(a);
     }
   }
@@ -406,6 +411,9 @@ class CountingSink final : public engine::AugmentedSink {
     std::fprintf(out, "output : %llu events to the writer, labelled noise %.1f %%, with a prediction %.1f %% "
                  "(lifetimes: evlife process)\n",
                  static_cast<unsigned long long>(events_), share(noise_), share(predictions_));
+    if (rejected_.rejected() > 0) {
+      std::fprintf(out, "rejected: %s (labelled noise unexamined)\n", rejected_events_text(rejected_).c_str());
+    }
     if (const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_)) {
       const std::string meaning = busy->pixels > 0 ? std::string(" (") + BusyPixels::kMeaning + ")" : "";
       std::fprintf(out, "pixels : at >= %.0f Hz %s%s\n", BusyPixels::kMinRateHz, busy->text.c_str(),
@@ -415,6 +423,8 @@ class CountingSink final : public engine::AugmentedSink {
 
  private:
   engine::AugmentedSink* next_;
+  std::optional<SensorSize> sensor_;
+  LifetimeStats rejected_;  // its rejection counters only
   std::uint64_t events_ = 0;
   std::uint64_t noise_ = 0;
   std::uint64_t predictions_ = 0;
@@ -638,6 +648,11 @@ int run_engine(int argc, char** argv) {
   if (!args.quiet && result.status != engine::RunStatus::realtime_error) {
     print_run_summary(args, *source, result, render_stage.get(), wall_s);
     counting_sink.print(stdout);
+  }
+  if (result.status == engine::RunStatus::completed && result.stats.events_in == 0 &&
+      (args.input_options.from_us || args.input_options.to_us)) {  // as process: the crop held nothing
+    std::fprintf(stderr, "evlife run: warning: %s\n",
+                 no_event_text(std::string(file_of_source(args.source)), args.input_options).c_str());
   }
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
   return run_exit_status(result, render_stage.get());

@@ -1,6 +1,10 @@
 // `evlife <command> [args]`: dispatches to the registered subcommands.
+#include <poll.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -55,18 +59,32 @@ void print_usage(std::FILE* out) {
                "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n");
 }
 
+// True when stdout is a pipe whose reader has left (poll flags its write end).
+bool stdout_reader_left() {
+  pollfd out{STDOUT_FILENO, 0, 0};
+  return errno == EPIPE || (::poll(&out, 1, 0) == 1 && (out.revents & POLLERR) != 0);
+}
+
 // What a command printed must reach its reader: a full disk or a closed pipe
 // behind stdout (`evlife info x > /dev/full`) is an output error, not exit 0.
+// A reader that left on purpose (`evlife convert --help | head`) needs no
+// message: exit 4 only.
 int with_stdout_written(const char* command, int code) {
   errno = 0;
   if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
-  std::fprintf(stderr, "evlife%s%s: cannot write the standard output: %s\n", command[0] ? " " : "", command,
-               errno != 0 ? std::strerror(errno) : "write error");
+  if (!stdout_reader_left()) {
+    std::fprintf(stderr, "evlife%s%s: cannot write the standard output: %s\n", command[0] ? " " : "", command,
+                 errno != 0 ? std::strerror(errno) : "write error");
+  }
   return code == 0 ? evlife::kExitOutput : code;
 }
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A reader leaving a pipe (`-o fifo`, `evlife info x | head`) makes the next
+  // write fail with EPIPE, reported as any output error (exit 4, the output
+  // named, what was written kept), instead of killing the process silently.
+  std::signal(SIGPIPE, SIG_IGN);
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);
     return with_stdout_written("", argc < 2 ? 2 : 0);

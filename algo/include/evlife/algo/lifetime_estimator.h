@@ -26,6 +26,17 @@ struct PlaneCandidate;
 class EventRng;
 }  // namespace detail
 
+/// Why process() rejects an event unexamined (labelled noise and counted), in
+/// the order it checks; `none`: the event is estimated.
+enum class Rejection : std::uint8_t { none, out_of_sensor, time_out_of_range, bad_polarity };
+
+constexpr Rejection rejection_of(const Event& e, SensorSize sensor) noexcept {
+  if (!sensor.contains(e.x, e.y)) return Rejection::out_of_sensor;
+  if (!within_event_time_range(e.t_us)) return Rejection::time_out_of_range;
+  if (e.p != 1 && e.p != -1) return Rejection::bad_polarity;
+  return Rejection::none;
+}
+
 /// Counters of what process() has seen (cheap, updated per event).
 struct LifetimeStats {
   std::uint64_t events = 0;
@@ -41,6 +52,12 @@ struct LifetimeStats {
 
   /// Events labelled noise unexamined: the three counters above.
   std::uint64_t rejected() const noexcept { return out_of_sensor + bad_polarity + time_out_of_range; }
+  /// The counter of a rejection (not `none`).
+  std::uint64_t& rejected_counter(Rejection why) noexcept {
+    return why == Rejection::out_of_sensor ? out_of_sensor
+           : why == Rejection::bad_polarity ? bad_polarity
+                                            : time_out_of_range;
+  }
 };
 
 /// "N outside the sensor, N bad polarity, N time beyond +-2^62 us": the
