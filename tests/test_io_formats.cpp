@@ -815,8 +815,8 @@ TEST(IoFormatsTruncation, Evt2CutInsideAWord) {
 }
 
 // A recording cut while it is being read (a copy still in progress, a disk
-// filling up): the reader had the file's size at opening, so its end short of
-// that is an error after every event before it, never a quiet end of file.
+// filling up): its stream ends in an error after every event before the cut
+// (the file's size at opening is known), never in a quiet end of file.
 TEST(IoFormatsTruncation, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
   const ScratchDir dir("test_io_formats");
   const std::vector<std::uint8_t> bytes = load(kEvt2);
@@ -845,6 +845,7 @@ TEST(IoFormatsTruncation, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
     EXPECT_NE(std::string(error->what()).find("cut while being read"), std::string::npos) << error->what();
     EXPECT_EQ(error->byte_offset(), static_cast<std::int64_t>(data + 4 * kept_words)) << error->what();
     EXPECT_EQ(events.size(), cd) << "checked " << checked;
+    EXPECT_EQ(error->event_index(), static_cast<std::int64_t>(cd)) << error->what();
     EXPECT_TRUE(is_prefix(events, read_all(kEvt2).events));
   }
 }

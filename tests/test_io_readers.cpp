@@ -65,6 +65,24 @@ bool same(const Event& a, const Event& b) {
   return a.t_us == b.t_us && a.x == b.x && a.y == b.y && a.p == b.p;
 }
 
+// Reads `path` 1000 events at a time, cutting the file to `cut_bytes` after
+// the first read: a recording cut while being read (a copy in progress, a
+// full disk). The readers know the size they opened.
+ReadAll read_cut_after_the_first_read(const std::string& path, std::uintmax_t cut_bytes) {
+  ReadAll r;
+  try {
+    auto reader = evlife::io::open_event_reader(path);
+    std::vector<Event> chunk(1000);
+    for (std::size_t n = 0, reads = 0; (n = reader->read(chunk)) > 0;) {
+      r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+      if (++reads == 1) std::filesystem::resize_file(path, cut_bytes);
+    }
+  } catch (const ReadError& e) {
+    r.error = e;
+  }
+  return r;
+}
+
 // A scratch folder per test, for the tests that write files.
 class ScratchFiles : public ::testing::Test {
  protected:
@@ -468,6 +486,21 @@ TEST_F(Aedat2Files, TruncatedAtEveryByteOfARecord) {
   EXPECT_NE(std::string(r.error->what()).find(path), std::string::npos);
 }
 
+// Cut at a record's end past the reader's first buffer: the whole records
+// before the cut, then an error (a quiet end of file before).
+TEST_F(Aedat2Files, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
+  std::vector<char> bytes = header();
+  const std::size_t header_bytes = bytes.size();
+  for (int i = 0; i < 200'000; ++i) record(bytes, address(i % 128, (i / 128) % 128, 1), static_cast<std::uint32_t>(i));
+  const std::size_t kept = 100'000;  // records; the reader buffers 65,536 at a time
+  const ReadAll r = read_cut_after_the_first_read(write("cut.aedat", bytes), header_bytes + 8 * kept);
+  ASSERT_TRUE(r.error) << "the cut passed for the end of the file (" << r.events.size() << " events)";
+  EXPECT_NE(std::string(r.error->what()).find("cut while being read"), std::string::npos) << r.error->what();
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(header_bytes + 8 * kept)) << r.error->what();
+  ASSERT_EQ(r.events.size(), kept);
+  EXPECT_EQ(r.events.back().t_us, static_cast<std::int64_t>(kept - 1));
+}
+
 TEST_F(Aedat2Files, CorruptAddressAndBackwardTimestampGiveIndexAndOffset) {
   std::vector<char> good = header();
   const std::size_t h = good.size();
@@ -561,6 +594,23 @@ TEST_F(RpgFiles, CommentsBlankLinesCrlfSensorLineAndExactRounding) {
   EXPECT_TRUE(same(r.events[2], Event{1000001, 5, 6, 1}));
   EXPECT_TRUE(same(r.events[3], Event{123456999999LL, 239, 179, -1}));
   EXPECT_TRUE(same(r.events[4], Event{4000000000100000LL, 0, 0, 1}));
+}
+
+TEST_F(RpgFiles, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
+  std::string text;
+  std::size_t cut = 0, lines_kept = 0;
+  for (int i = 0; i < 150'000; ++i) {
+    text += std::to_string(i) + "e-6 " + std::to_string(i % 128) + " " + std::to_string((i / 128) % 128) + " 1\n";
+    if (text.size() <= (std::size_t{3} << 19)) {  // 1.5 MiB: past the reader's 1 MiB buffer
+      cut = text.size();
+      lines_kept = static_cast<std::size_t>(i) + 1;
+    }
+  }
+  ASSERT_LT(cut, text.size());
+  const ReadAll r = read_cut_after_the_first_read(write_text("cut.txt", text), cut);
+  ASSERT_TRUE(r.error) << "the cut passed for the end of the file (" << r.events.size() << " events)";
+  EXPECT_NE(std::string(r.error->what()).find("cut while being read"), std::string::npos) << r.error->what();
+  EXPECT_EQ(r.events.size(), lines_kept);
 }
 
 TEST_F(RpgFiles, BadLineStopsWithLineOffsetAndIndex) {

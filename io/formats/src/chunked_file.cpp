@@ -39,8 +39,7 @@ std::size_t ChunkedFile::fill(std::size_t min_bytes) {
         throw ReadError(path_, offset() + static_cast<std::int64_t>(end_), -1,
                         "I/O error while reading");
       }
-      on_end_of_file(offset() + static_cast<std::int64_t>(end_));
-      break;
+      break;  // end of file
     }
     end_ += got;
   }
@@ -60,21 +59,10 @@ std::size_t ChunkedFile::read(void* dst, std::size_t n) {
     done += got;
     if (got == 0) {
       if (std::ferror(file_) != 0) throw ReadError(path_, offset(), -1, "I/O error while reading");
-      on_end_of_file(offset());
       break;
     }
   }
   return done;
-}
-
-void ChunkedFile::on_end_of_file(std::int64_t at) {
-  if (at >= size_bytes_) return;  // the whole file (a file growing while read: more)
-  if (ended_short_) {
-    throw ReadError(path_, at, -1,
-                    "reading stopped here: the file is now shorter than the " + std::to_string(size_bytes_) +
-                        " bytes it had when opened (cut while being read; the events before were kept)");
-  }
-  ended_short_ = true;
 }
 
 void ChunkedFile::seek(std::int64_t offset) {

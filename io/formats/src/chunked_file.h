@@ -33,14 +33,10 @@ class ChunkedFile {
   void consume(std::size_t n) noexcept { pos_ += n; }
 
   /// Makes at least `min_bytes` (<= capacity) available unless the file ends
-  /// first; returns available(). Throws ReadError on an I/O error, and when
-  /// the file ends again short of its size at opening (cut while being read:
-  /// the first short end returns, so that the reader hands out the events
-  /// before it, as for a truncated record).
+  /// first; returns available(). Throws ReadError on an I/O error.
   std::size_t fill(std::size_t min_bytes);
 
-  /// Copies the next `n` bytes (any size) to `dst`; returns how many there
-  /// were. Throws as fill() does.
+  /// Copies the next `n` bytes (any size) to `dst`; returns how many there were.
   std::size_t read(void* dst, std::size_t n);
 
   /// Moves to an absolute offset (drops the buffer).
@@ -54,10 +50,6 @@ class ChunkedFile {
   std::size_t end_ = 0;
   std::int64_t buffer_offset_ = 0;
   std::int64_t size_bytes_ = 0;
-  bool ended_short_ = false;  // the file ended once before size_bytes_
-
-  // At an end of file (fread gave 0 bytes without an error) at file offset `at`.
-  void on_end_of_file(std::int64_t at);
 };
 
 }  // namespace evlife::io

@@ -4,6 +4,7 @@
 #include <array>
 #include <cctype>
 #include <filesystem>
+#include <system_error>
 #include <vector>
 
 #include "checked_event_reader.h"
@@ -11,6 +12,7 @@
 #include "evlife_bin_magic.h"
 #include "input_file.h"
 #include "prophesee_header.h"
+#include "size_checking_event_reader.h"
 
 namespace evlife::io {
 namespace detail {
@@ -71,7 +73,12 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
 
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
                                                          const ReaderOptions& options) {
+  std::error_code ec;
+  const std::uintmax_t size_at_open = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
   std::unique_ptr<EventReader> reader = open_decoder(path, options);
+  if (!ec && size_at_open > 0) {
+    reader = std::make_unique<detail::SizeCheckingEventReader>(std::move(reader), size_at_open);
+  }
   if (!options.filters()) return reader;
   return std::make_unique<detail::CroppingEventReader>(std::move(reader), options);
 }

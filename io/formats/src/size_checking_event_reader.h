@@ -1,0 +1,34 @@
+// Private: wraps the decoder of a regular file and, where the decoder ends
+// its stream, checks that the file is not shorter than when it was opened: a
+// recording cut while being read (a copy still in progress, a disk filling
+// up) ends in a ReadError after every event before the cut, never in a quiet
+// end of stream that hides the lost tail. A file that grew is fine.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+
+#include "wrapping_event_reader.h"
+
+namespace evlife::io::detail {
+
+class SizeCheckingEventReader final : public WrappingEventReader {
+ public:
+  /// `inner` reads the file inner->path(), `size_at_open` bytes long.
+  SizeCheckingEventReader(std::unique_ptr<EventReader> inner, std::uintmax_t size_at_open);
+
+  std::size_t read(std::span<Event> out) override;
+  std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
+    return inner_->byte_offset_of_event(event_index);
+  }
+  std::int64_t skip_events_before(std::int64_t t_us) override;
+  std::optional<std::int64_t> first_event_time_us() const override { return inner_->first_event_time_us(); }
+
+ private:
+  std::uintmax_t size_at_open_;
+  std::int64_t delivered_ = 0;  // events returned or skipped so far: the index of the next
+};
+
+}  // namespace evlife::io::detail
