@@ -152,6 +152,23 @@ TEST_F(CliInfo, EvlifeOutputsShowTheirLifetimes) {
   EXPECT_NE(r.output.find("truncated: the header needs"), std::string::npos) << r.output;
 }
 
+// Times that span the whole clock (an evlife output written from any int64
+// times): the durations of info, process's summary and eval are positive (the
+// int64 difference overflowed: "duration -9223372036854.775391 s").
+TEST_F(CliInfo, ATimeSpanOfTheWholeClockHasAPositiveDuration) {
+  const fs::path csv = dir_.path() / "span.csv";
+  std::ofstream(csv) << "x,y,t,p,lifetime,vx,vy,prediction_error\n1,1,-5,1,100,0,0,\n"
+                     << "2,2,9223372036854775807,1,100,0,0,\n";
+  const auto info = run("info '" + csv.string() + "'");
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("duration 9223372036854.775"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find(" -9223372036854"), std::string::npos) << info.output;
+  const auto eval = run("eval '" + csv.string() + "' -o '" + (dir_.path() / "ev").string() + "' --sensor 8x8");
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("(9223372036854.775"), std::string::npos) << eval.output;
+  EXPECT_EQ(eval.output.find("-9223372036854"), std::string::npos) << eval.output;
+}
+
 // An output whose events span more than any camera (a stray coordinate) or
 // whose header states such a sensor: `info` describes it without per-pixel
 // counts (they would take gigabytes: the process was killed), `render` says

@@ -472,6 +472,29 @@ TEST_F(RenderCliTest, EvalDrawsTheCompareFrameWhereAskedAndSaysWhenNothingWasSam
 }
 
 
+// A pause of an hour (an outlier's timestamp, a recording resumed): its 72,000
+// instants, where no fixed window draws a pixel, are counted, not sampled (they
+// were rows of sharpness.csv, for minutes, deaf to Ctrl-C; 2^63 us never ended).
+TEST_F(RenderCliTest, EvalCountsTheInstantsOfAPauseInsteadOfSamplingThem) {
+  const std::string scene = path("scene.txt");
+  ASSERT_EQ(run("synth -q --duration 0.3 -o '" + scene + "'").exit_code, 0);
+  {
+    std::ofstream(scene, std::ios::app) << "3600.000000 5 5 1\n3600.001000 6 6 1\n";
+  }
+  ASSERT_EQ(run("process -q '" + scene + "' --sensor 128x128 -o '" + path("paused.bin") + "'").exit_code, 0);
+  const auto r = run("eval '" + path("paused.bin") + "' -o '" + path("ev") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::size_t at = r.output.find("  over ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const std::size_t instants = std::stoul(r.output.substr(at + 7));
+  EXPECT_GE(instants, 6u) << r.output;  // 0.05 .. 0.30 s at least
+  EXPECT_LE(instants, 8u) << r.output;
+  EXPECT_NE(r.output.find(" instants of pauses (no fixed window draws a pixel), left out"), std::string::npos) << r.output;
+  // One row per method and sampled instant.
+  const std::string csv = evlife::test::read_text_file(path("ev") + "/sharpness.csv");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), 1 + 4 * instants);
+}
+
 // An augmented CSV (it states no sensor) cut short: the sensor scan stopped
 // at the fault before any frame, so render drew nothing (a recording in the
 // same state got its frames). Now the frames before the fault, then the fault.

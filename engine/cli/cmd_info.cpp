@@ -120,7 +120,7 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated, const s
               thousands(t.off).c_str());
   if (t.on + t.off > 0) {
     std::printf("time       %lld .. %lld us, duration %.6f s%s\n", static_cast<long long>(t.first),
-                static_cast<long long>(t.last), static_cast<double>(t.last - t.first) * 1e-6,
+                static_cast<long long>(t.last), seconds_between(t.first, t.last),
                 t.ordered ? ""
                           : fmt::format(" (timestamps go backwards: {} events earlier than one before them, "
                                         "the first named below)",

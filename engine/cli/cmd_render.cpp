@@ -262,7 +262,7 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  "evlife render: warning: %zu of the --at instants lie after the last event "
                  "(the recording is %.6f s long; --at takes seconds from the first event, or "
                  "a unit: 500ms, 20us)\n",
-                 r.after_end, static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
+                 r.after_end, seconds_between(r.first_t_us, r.last_t_us));
   }
   warn_earlier_frames("render", args.job.output, r.earlier_frames);
   if (r.output_fault) {

@@ -414,7 +414,7 @@ class CountingSink final : public engine::AugmentedSink {
     if (rejected_.rejected() > 0) {
       std::fprintf(out, "rejected: %s (labelled noise unexamined)\n", rejected_events_text(rejected_).c_str());
     }
-    if (const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_)) {
+    if (const auto busy = busy_pixels_.report(seconds_between(first_t_us_, last_t_us_), events_)) {
       const std::string meaning = busy->pixels > 0 ? std::string(" (") + BusyPixels::kMeaning + ")" : "";
       std::fprintf(out, "pixels : at >= %.0f Hz %s%s\n", BusyPixels::kMinRateHz, busy->text.c_str(),
                    meaning.c_str());

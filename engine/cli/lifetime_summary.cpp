@@ -35,7 +35,7 @@ void LifetimeSummary::add(std::span<const AugmentedEvent> events) noexcept {
 std::string format_time_range(std::int64_t first_t_us, std::int64_t last_t_us) {
   char buf[128];
   std::snprintf(buf, sizeof buf, "t = %lld .. %lld us (%.6f s long)", static_cast<long long>(first_t_us),
-                static_cast<long long>(last_t_us), static_cast<double>(last_t_us - first_t_us) * 1e-6);
+                static_cast<long long>(last_t_us), seconds_between(first_t_us, last_t_us));
   return buf;
 }
 
@@ -117,7 +117,7 @@ void LifetimeSummary::print_notes(std::FILE* out) const {
   constexpr double kWarmupNoticeLifetimes = 20.0;
   if (lifetime_us_.total() > 0 && last_t_us_ > first_t_us_) {
     const double lifetimes_long =
-        static_cast<double>(last_t_us_ - first_t_us_) / std::max(lifetime_us_.percentile(0.50), 1.0);
+        seconds_between(first_t_us_, last_t_us_) * 1e6 / std::max(lifetime_us_.percentile(0.50), 1.0);
     if (lifetimes_long < kWarmupNoticeLifetimes) {
       std::fprintf(out,
                    "  warm-up             the recording is %.1f median lifetimes long; in the first ~10 of\n"
@@ -126,7 +126,7 @@ void LifetimeSummary::print_notes(std::FILE* out) const {
                    lifetimes_long);
     }
   }
-  const auto busy = busy_pixels_.report(static_cast<double>(last_t_us_ - first_t_us_) * 1e-6, events_);
+  const auto busy = busy_pixels_.report(seconds_between(first_t_us_, last_t_us_), events_);
   if (busy) {
     char label[32];
     std::snprintf(label, sizeof label, "pixels >= %.0f Hz", BusyPixels::kMinRateHz);

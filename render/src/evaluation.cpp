@@ -71,25 +71,48 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   // At --frame-at itself (not the sample after it), or at the last event when
   // the recording ends before it. The cursor is never past that instant here.
   const auto draw_compare_frame = [&] {
-    std::int64_t t = *first + args.frame_at_us;
+    std::int64_t t = 0;
+    if (__builtin_add_overflow(*first, args.frame_at_us, &t)) t = INT64_MAX;
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
-    composer.compose(set, window, t, t - *first).copyTo(sharp.compare_frame);
-    sharp.compare_t_s = static_cast<double>(t - *first) * 1e-6;
+    const std::uint64_t since_first_us = static_cast<std::uint64_t>(t) - static_cast<std::uint64_t>(*first);
+    composer.compose(set, window, t, static_cast<std::int64_t>(std::min<std::uint64_t>(since_first_us, INT64_MAX)))
+        .copyTo(sharp.compare_frame);
+    sharp.compare_t_s = seconds_between(*first, t);
   };
-  for (std::int64_t rel = args.sample_every_us;; rel += args.sample_every_us) {
-    const std::int64_t t = *first + rel;
+  const std::int64_t step = args.sample_every_us;
+  for (std::int64_t rel = step;;) {
+    // The loop reads no event itself: a pause of an hour is 72,000 instants.
+    if (args.stop != nullptr && args.stop->load(std::memory_order_relaxed)) throw EvaluationStopped{};
+    std::int64_t t = 0;
+    if (__builtin_add_overflow(*first, rel, &t)) break;  // past the clock's end
     if (sharp.compare_frame.empty() && args.frame_at_us <= rel) draw_compare_frame();
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     for (std::size_t m = 0; m < kLifetimeMethod; ++m) render::window_mask(window, t, kWindowLengthsUs[m], masks[m]);
     render::active_mask(set, t, masks[kLifetimeMethod]);
-    SharpnessSample s;
-    s.t_s = static_cast<double>(rel) * 1e-6;
-    const auto quality = render::compare_images(masks, kLifetimeMethod);
-    std::copy(quality.begin(), quality.end(), s.methods.begin());
-    for (std::size_t m = 0; m < kMethods; ++m) sharp.pooled[m] += s.methods[m];
-    sharp.samples.push_back(s);
+    if (std::all_of(masks.begin(), masks.begin() + kLifetimeMethod, [](const cv::Mat& m) { return cv::countNonZero(m) == 0; })) {
+      // A pause: no event within the longest window, so no fixed window draws
+      // a pixel and completeness has no reference; nor does one at any
+      // instant before the next event read (a window only loses events while
+      // none comes). Those instants are counted, not sampled (an event of a
+      // corrupt lifetime, active for ever, kept an hour's pause sampled).
+      const auto next = cursor.next_t_us();
+      const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+      std::uint64_t last_empty_rel = u(rel);
+      if (next && *next > t) last_empty_rel = (u(*next) - u(*first) - 1) / u(step) * u(step);
+      sharp.empty_instants += (last_empty_rel - u(rel)) / u(step) + 1;
+      if (last_empty_rel > u(INT64_MAX)) break;
+      rel = static_cast<std::int64_t>(last_empty_rel);
+    } else {
+      SharpnessSample s;
+      s.t_s = static_cast<double>(rel) * 1e-6;
+      const auto quality = render::compare_images(masks, kLifetimeMethod);
+      std::copy(quality.begin(), quality.end(), s.methods.begin());
+      for (std::size_t m = 0; m < kMethods; ++m) sharp.pooled[m] += s.methods[m];
+      sharp.samples.push_back(s);
+    }
+    if (__builtin_add_overflow(rel, step, &rel)) break;
   }
   if (sharp.compare_frame.empty()) draw_compare_frame();  // --frame-at after the last sample
   cursor.advance_to(INT64_MAX);  // the statistics cover the whole recording
@@ -208,9 +231,20 @@ std::string fmt(const char* format, double v) {
 }
 
 // Why the sharpness has no instant (its table would be the empty pool's defaults).
-std::string no_sharpness_instant(const EvaluationOptions& args, const RunResult& r) {
-  return fmt("no instant sampled: the recording (%.6f s) is shorter than", static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6) +
+std::string no_sharpness_instant(const EvaluationOptions& args, const RunResult& r, const SharpnessResult& sharp) {
+  if (sharp.empty_instants > 0) {
+    return "no instant sampled: no fixed window drew a pixel at any of the " + std::to_string(sharp.empty_instants) +
+           " instants";
+  }
+  return fmt("no instant sampled: the recording (%.6f s) is shorter than", seconds_between(r.first_t_us, r.last_t_us)) +
          fmt(" --sample-every (%.6f s)", static_cast<double>(args.sample_every_us) * 1e-6);
+}
+
+// ", and N instants of pauses (no fixed window draws a pixel), left out" (empty without them).
+std::string empty_instants_note(const SharpnessResult& sharp) {
+  if (sharp.empty_instants == 0) return {};
+  return ", and " + std::to_string(sharp.empty_instants) +
+         " instants of pauses (no fixed window draws a pixel), left out";
 }
 
 void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
@@ -402,12 +436,13 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
          << pct(r.abs_error_us.cdf_at_bin_end(99)) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
   }
   html << "</table>\n<h2>Sharpness (" << sharp.samples.size() << " instants, every "
-       << static_cast<double>(args.sample_every_us) / 1000.0 << " ms; " << primary.label << ")</h2>\n"
+       << static_cast<double>(args.sample_every_us) / 1000.0 << " ms" << empty_instants_note(sharp) << "; "
+       << primary.label << ")</h2>\n"
        << "<table><tr><th>method</th><th>drawn pixels / image</th><th>edge pixels / image</th>"
           "<th>thin-edge share</th><th>mean edge thickness</th><th>completeness</th>"
           "<th>completeness &times; thin-edge share</th></tr>\n";
   if (sharp.samples.empty()) {
-    html << "<tr><td colspan=\"7\">" << no_sharpness_instant(args, primary) << "</td></tr>\n";
+    html << "<tr><td colspan=\"7\">" << no_sharpness_instant(args, primary, sharp) << "</td></tr>\n";
   } else {
     const double n = static_cast<double>(sharp.samples.size());
     for (std::size_t m = 0; m < kMethods; ++m) {
@@ -531,11 +566,11 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
     const RunResult& r = runs[ev.primary_index];
     std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
                  static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
-                 static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
-    if (r.events > 0 && args.frame_at_us > r.last_t_us - r.first_t_us)
+                 seconds_between(r.first_t_us, r.last_t_us));
+    if (r.events > 0 && args.frame_at_us > seconds_between(r.first_t_us, r.last_t_us) * 1e6)
       std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "
                    "compare frame is drawn at the last event (%.6f s)\n", static_cast<double>(args.frame_at_us) * 1e-6,
-                   static_cast<double>(r.last_t_us - r.first_t_us) * 1e-6);
+                   seconds_between(r.first_t_us, r.last_t_us));
   }
   for (const auto& r : runs) {
     std::fprintf(out,
@@ -546,11 +581,11 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  100.0 * r.abs_error_us.cdf_at_bin_end(99), r.median_error_over_lifetime());
   }
   if (sharp.samples.empty()) {
-    if (!runs.empty()) std::fprintf(out, "  sharpness: %s\n", no_sharpness_instant(args, runs[ev.primary_index]).c_str());
+    if (!runs.empty()) std::fprintf(out, "  sharpness: %s\n", no_sharpness_instant(args, runs[ev.primary_index], sharp).c_str());
     return;
   }
-  std::fprintf(out, "  over %zu instants: thin-edge share, mean edge thickness, completeness, score (product):\n",
-               sharp.samples.size());
+  std::fprintf(out, "  over %zu instants%s: thin-edge share, mean edge thickness, completeness, score (product):\n",
+               sharp.samples.size(), empty_instants_note(sharp).c_str());
   for (std::size_t m = 0; m < kMethods; ++m) {
     const MethodQuality& q = sharp.pooled[m];
     std::fprintf(out, "    %-20s %5.1f %%  %5.2f px  %5.1f %%  %.3f\n", kMethodNames[m],

@@ -52,6 +52,13 @@ constexpr bool within_event_time_range(std::int64_t t_us) noexcept {
 }
 static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");
 
+/// last_us - first_us in seconds, for any two times (no int64 overflow: a
+/// file's times may span the whole clock); as exact as the plain difference
+/// while both are within 2^53 us.
+constexpr double seconds_between(std::int64_t first_us, std::int64_t last_us) noexcept {
+  return (static_cast<double>(last_us) - static_cast<double>(first_us)) * 1e-6;
+}
+
 /// An event augmented with its lifetime and normal velocity (paper eq. 1).
 /// Noise events have lifetime 0 and velocity 0.
 struct AugmentedEvent {

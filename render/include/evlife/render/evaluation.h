@@ -132,6 +132,8 @@ struct SharpnessSample {
 struct SharpnessResult {
   std::vector<SharpnessSample> samples;
   std::array<MethodQuality, kMethods> pooled;  // over samples
+  /// Instants where no fixed window drew a pixel (pauses of the recording): not samples.
+  std::uint64_t empty_instants = 0;
   cv::Mat compare_frame;
   double compare_t_s = 0.0;
 };
