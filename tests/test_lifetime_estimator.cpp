@@ -609,6 +609,30 @@ TEST(LifetimeEstimator, EdgesAtBothEndsOfTheTimeRangeAreEstimatedAlike) {
   EXPECT_EQ(est.stats().time_out_of_range, 0u);
 }
 
+// Prediction errors are differences of two nearby times: near 2^62 us they
+// keep the microsecond (they were rounded to 1024 us, most of them to 0).
+TEST(LifetimeEstimator, PredictionErrorsNearTheEndOfTheTimeRangeKeepTheMicrosecond) {
+  std::vector<double> errors[2];
+  for (int pass = 0; pass < 2; ++pass) {
+    LifetimeEstimator est(options_for({40, 10}));
+    const std::int64_t start = pass == 0 ? 0 : kMaxEventTimeUs - 40 * 500;
+    for (int x = 0; x < 40; ++x) {
+      for (int y = 0; y < 10; ++y) {
+        const std::int64_t jitter_us = (x * 7 + y * 13) % 11;  // latency jitter: errors of a few us
+        const AugmentedEvent a = est.process(
+            Event{start + x * 500 + jitter_us, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), 1});
+        if (a.has_prediction()) errors[pass].push_back(std::fabs(static_cast<double>(a.prediction_error_us)));
+      }
+    }
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    ASSERT_GT(errors[pass].size(), 100u) << "pass " << pass;
+    const auto zeros = std::count(errors[pass].begin(), errors[pass].end(), 0.0);
+    EXPECT_LT(static_cast<double>(zeros), 0.2 * static_cast<double>(errors[pass].size())) << "pass " << pass;
+    EXPECT_LT(*std::max_element(errors[pass].begin(), errors[pass].end()), 100.0) << "pass " << pass;
+  }
+}
+
 // A moved-from estimator (std::optional, containers) has no per-pixel state
 // left: every event is labelled noise and counted out_of_sensor (it read a
 // null plane before); the estimator moved to works on.

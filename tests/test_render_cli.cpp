@@ -400,13 +400,14 @@ TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
-// Ctrl-C during `run --fps` over a timestamp outlier (a month ahead: 78 M
+// Ctrl-C during `run --fps` over a timestamp outlier (ten years ahead: 9.5 G
 // empty frames at 30 fps) ends the run: the frames not drawn yet are skipped
 // and counted, every event is written. Before, the render thread drew on
-// through the gap and the run never ended.
+// through the gap and the run never ended; then, a signal that came while it
+// drew the gap's frames stepped through them one by one (minutes).
 TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
   const std::string csv = path("month.csv");
-  write_events_then_outlier(csv, 2'600'000'000'000);
+  write_events_then_outlier(csv, 315'360'000'000'000);
   const auto r = evlife::test::run_cli("timeout", "--preserve-status -s INT -k 60 5 '" + kCli + "' run '" + csv +
                                                       "' --frames '" + path("month") + "' --fps 30 -o '" +
                                                       path("month.bin") + "'",
@@ -414,6 +415,29 @@ TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
   EXPECT_EQ(r.exit_code, 130) << r.output;  // 137 if it had to be killed
   EXPECT_NE(r.output.find("more not drawn: stopped"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("all 2001 accepted events were written"), std::string::npos) << r.output;
+}
+
+// An evlife output whose times reach the ends of the clock (a corrupt
+// timestamp at 2^63 - 1 us): render stops before the gap as before any other
+// (it hung at 90 % CPU, deaf to signals: a frame's instant wrapped), and one
+// event there is one frame (exit 1, "render times must not decrease").
+TEST_F(RenderCliTest, TimesAtTheEndOfTheClockAreAGapOrAFrameAsAnyOther) {
+  const std::string csv = path("clock_end.csv");
+  {
+    std::ofstream f(csv);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n";
+    for (int i = 0; i < 2000; ++i) f << (i % 64) << ',' << (i / 64) % 64 << ',' << i * 50 << ",1,1000,0,0,\n";
+    f << "5,5,9223372036854775807,1,1000,0,0,\n";
+  }
+  auto r = run("render '" + csv + "' --sensor 64x64 -o '" + path("end") + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("a timestamp outlier? Stopped before them"), std::string::npos) << r.output;
+  EXPECT_GE(std::distance(fs::directory_iterator(path("end")), fs::directory_iterator{}), 1) << r.output;
+  const std::string single = path("single.csv");
+  std::ofstream(single) << "x,y,t,p,lifetime,vx,vy,prediction_error\n5,5,9223372036854775807,1,1000,0,0,\n";
+  r = run("render '" + single + "' --sensor 64x64 -o '" + path("single") + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("frames              1 "), std::string::npos) << r.output;
 }
 
 // Ctrl-C in synth closes a complete, shorter file and says how much it holds

@@ -79,7 +79,7 @@ struct EventTally {
   std::uint64_t backwards = 0;  // events earlier than one before them (the other commands stop at the first)
   std::uint64_t first_backwards_index = 0;
   std::int64_t first_backwards_t_us = 0, first_backwards_after_us = 0;
-  std::int64_t longest_gap_us = 0;  // between events in file order: a timestamp outlier shows here
+  std::uint64_t longest_gap_us = 0;  // between events in file order: a timestamp outlier shows here
   std::int64_t longest_gap_after_us = 0;
 
   std::uint64_t count() const noexcept { return on + off; }
@@ -95,8 +95,9 @@ struct EventTally {
       ordered = false;
       ++backwards;
     }
-    if (e.t_us - last > longest_gap_us) {
-      longest_gap_us = e.t_us - last;
+    // Unsigned: a gap may span all of int64 (-2^63 .. 2^63 - 1).
+    if (e.t_us > last && static_cast<std::uint64_t>(e.t_us) - static_cast<std::uint64_t>(last) > longest_gap_us) {
+      longest_gap_us = static_cast<std::uint64_t>(e.t_us) - static_cast<std::uint64_t>(last);
       longest_gap_after_us = last;
     }
     last = std::max(last, e.t_us);

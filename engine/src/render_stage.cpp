@@ -37,7 +37,7 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
   }
   try {
     // Caption and file name: time from the first event, as `evlife render`.
-    const std::int64_t rel_us = t_us - first_t_us_;
+    const std::int64_t rel_us = render::clock_span_us(first_t_us_, t_us);
     sink_.write(render::as_frame(drawing_->composer.compose(set_, window_, t_us, rel_us)), rel_us);
     frames_.store(frames_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
     if (t_us > skipped_from_us_ && t_us < skipped_to_us_)
@@ -57,27 +57,31 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
   if (last_t_us_ == INT64_MIN) {  // the first event: the instants count from it
     first_t_us_ = t;
-    for (auto& at : at_us_) at += t;
+    for (auto& at : at_us_) {
+      if (__builtin_add_overflow(at, t, &at)) at = INT64_MAX;  // past the clock's end: after the last event
+    }
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
-  if (fps_ > 0 && t > next_frame_t_us_) {
+  if (fps_ > 0 && t > next_frame_t_us_ && gap_state_.load(std::memory_order_relaxed) == 0) {
     // The clock frames this event passes.
     const std::uint64_t passed = render::frames_before(first_t_us_, next_frame_, t, fps_);
-    if (gap_state_.load(std::memory_order_relaxed) == 0) {
-      if (const auto gap = render::event_gap_to_notice(next_frame_t_us_ - first_t_us_, t - first_t_us_, passed)) {
-        gap_ = *gap;
-        gap_state_.store(1, std::memory_order_release);
-      }
-    }
-    if (stop_.load(std::memory_order_relaxed)) {  // skip them at once (counted), not one by one
-      next_frame_ += passed;
-      next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
-      not_drawn_.store(not_drawn_.load(std::memory_order_relaxed) + passed, std::memory_order_relaxed);
+    if (const auto gap = render::event_gap_to_notice(render::clock_span_us(first_t_us_, next_frame_t_us_),
+                                                     render::clock_span_us(first_t_us_, t), passed)) {
+      gap_ = *gap;
+      gap_state_.store(1, std::memory_order_release);
     }
   }
   // Every event up to a frame's instant is in: draw the frames passed, the
   // clock's and the asked-for ones, in time order.
   for (;;) {
+    if (fps_ > 0 && t > next_frame_t_us_ && stop_.load(std::memory_order_relaxed)) {
+      // Stopped (before or while drawing a gap's frames): skip the clock's
+      // frames at once, counted, not one by one (a gap of years is 10^10).
+      const std::uint64_t passed = render::frames_before(first_t_us_, next_frame_, t, fps_);
+      next_frame_ += passed;
+      next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
+      not_drawn_.store(not_drawn_.load(std::memory_order_relaxed) + passed, std::memory_order_relaxed);
+    }
     const bool clock_due = fps_ > 0 && t > next_frame_t_us_;
     const bool at_due = next_at_ < at_us_.size() && t > at_us_[next_at_];
     if (!clock_due && !at_due) break;
@@ -121,7 +125,8 @@ StepResult RenderStage::step() noexcept {
         // The clock frames through the run's last event; those past this
         // thread's last event were skipped with its events (counted).
         const std::int64_t run_last = std::max(last_t_us_, tap_.last_offered_t_us.load(std::memory_order_relaxed));
-        const std::uint64_t owed = render::frames_before(first_t_us_, next_frame_, run_last + 1, fps_);
+        const std::uint64_t owed =
+            render::frames_before(first_t_us_, next_frame_, run_last == INT64_MAX ? INT64_MAX : run_last + 1, fps_);
         const bool draws_last = next_frame_t_us_ <= last_t_us_ && !at_draws_it;
         if (draws_last) emit(next_frame_t_us_);
         missed_.store(owed - std::min<std::uint64_t>(owed, draws_last || at_draws_it ? 1 : 0),

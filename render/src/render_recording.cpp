@@ -89,7 +89,11 @@ RecordingRenderResult render_recording(
   for (std::size_t k = 0; !(stop && stop->load(std::memory_order_relaxed)); ++k) {
     if (total > 0 && k >= total) break;
     const std::int64_t rel = frame_time(k);
-    const std::int64_t t = *first_t + rel;
+    std::int64_t t = 0;
+    if (__builtin_add_overflow(*first_t, rel, &t)) {  // past the clock's end
+      if (options.at_us.empty() && !options.to_us) break;  // --fps: no frame there
+      t = INT64_MAX;  // an asked-for instant: after the last event
+    }
     try {
       cursor.advance_to(t);
     } catch (const io::ReadError& e) {
@@ -101,7 +105,7 @@ RecordingRenderResult render_recording(
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
     if (!gap_told && options.at_us.empty() && !options.to_us) {
       if (const auto next = cursor.next_t_us()) {
-        const std::int64_t next_rel = *next - *first_t;
+        const std::int64_t next_rel = clock_span_us(*first_t, *next);
         if (const auto gap = event_gap_to_notice(rel, next_rel, frames_before(options.from_us, k, next_rel, options.fps))) {
           gap_told = true;
           if (gap->empty_frames >= kEventGapStopFrames) {

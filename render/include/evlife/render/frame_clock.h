@@ -17,8 +17,19 @@ namespace evlife::render {
 /// frame_count_through() looped forever).
 inline constexpr double kMinFps = 1e-6;
 
+/// later_us - earlier_us (later >= earlier), INT64_MAX when the span is
+/// longer than the clock holds: a file's times may span all of int64.
+inline std::int64_t clock_span_us(std::int64_t earlier_us, std::int64_t later_us) noexcept {
+  const std::uint64_t span = static_cast<std::uint64_t>(later_us) - static_cast<std::uint64_t>(earlier_us);
+  return span > static_cast<std::uint64_t>(INT64_MAX) ? INT64_MAX : static_cast<std::int64_t>(span);
+}
+
+/// Frame k's instant; INT64_MAX, never reached, for one past the clock's end.
 inline std::int64_t frame_instant_us(std::int64_t from_us, std::uint64_t k, double fps) noexcept {
-  return from_us + std::llround(static_cast<double>(k) * 1e6 / fps);
+  const double offset_us = static_cast<double>(k) * 1e6 / fps;
+  std::int64_t t = 0;
+  if (!(offset_us < 0x1p63) || __builtin_add_overflow(from_us, std::llround(offset_us), &t)) return INT64_MAX;
+  return t;
 }
 
 /// Frames of `fps` from `from_us` up to `to_us` inclusive (0 when to < from):
@@ -26,9 +37,16 @@ inline std::int64_t frame_instant_us(std::int64_t from_us, std::uint64_t k, doub
 /// 0.2 s (a count of (to - from) * 1e-6 * fps floored gave 1.999... -> 1).
 inline std::uint64_t frame_count_through(std::int64_t from_us, std::int64_t to_us, double fps) noexcept {
   if (to_us < from_us) return 0;
-  auto k = static_cast<std::uint64_t>(std::floor(static_cast<double>(to_us - from_us) * fps / 1e6));
-  while (frame_instant_us(from_us, k + 1, fps) <= to_us) ++k;
-  while (k > 0 && frame_instant_us(from_us, k, fps) > to_us) --k;
+  // A frame past the clock's end (INT64_MAX) is none; the estimate is within
+  // a few frames of the count (double's precision at 2^63 us: ~2 ms).
+  const auto drawn = [&](std::uint64_t j) {
+    const std::int64_t t = frame_instant_us(from_us, j, fps);
+    return t <= to_us && t != INT64_MAX;
+  };
+  const double estimate = std::floor(static_cast<double>(clock_span_us(from_us, to_us)) * fps / 1e6);
+  auto k = static_cast<std::uint64_t>(std::min(estimate, 1.8e19));
+  while (drawn(k + 1)) ++k;
+  while (k > 0 && !drawn(k)) --k;
   return k + 1;
 }
 
