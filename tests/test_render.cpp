@@ -22,6 +22,7 @@
 #include "evlife/render/histogram.h"
 #include "evlife/render/plot.h"
 #include "evlife/render/lifetime_colormap.h"
+#include "evlife/render/output_kind.h"
 #include "evlife/render/render_cursor.h"
 #include "evlife/render/sharpness.h"
 
@@ -507,6 +508,35 @@ TEST(FrameClock, CountThroughIncludesTheLastInstantOnTheGrid) {
       }
     }
   }
+}
+
+// Instants past the clock's end are none (INT64_MAX, never reached): counts
+// up to 2^63 - 1 us end, from either end of the clock (they looped for ever:
+// an instant wrapped to INT64_MIN).
+TEST(FrameClock, CountsEndAtTheEndOfTheClock) {
+  using evlife::render::clock_span_us;
+  using evlife::render::frame_count_through;
+  using evlife::render::frame_instant_us;
+  EXPECT_EQ(frame_instant_us(INT64_MAX - 10, 1, 30.0), INT64_MAX);
+  EXPECT_EQ(frame_instant_us(0, std::uint64_t{1} << 62, 1e-3), INT64_MAX);
+  EXPECT_EQ(clock_span_us(INT64_MIN, INT64_MAX), INT64_MAX);
+  EXPECT_EQ(clock_span_us(-5, 5), 10);
+  const std::uint64_t all = frame_count_through(0, INT64_MAX, 30.0);  // ~2.8e14 frames
+  EXPECT_NEAR(static_cast<double>(all), 9.223372036854775807e18 * 30.0 / 1e6, 1e3);
+  EXPECT_LE(frame_instant_us(0, all - 1, 30.0), INT64_MAX - 1);
+  EXPECT_EQ(frame_count_through(INT64_MAX, INT64_MAX, 30.0), 1u);  // frame 0 at the last instant
+  EXPECT_EQ(frame_count_through(INT64_MIN, INT64_MIN + 1, 30.0), 1u);
+}
+
+// The video's codec follows the extension whatever its case (.MP4 asked
+// OpenCV for MJPG in an MP4 container: a fallback warning, twice).
+TEST(OutputKind, VideoExtensionsInAnyCaseNameTheirCodec) {
+  using evlife::render::OutputKind;
+  for (const char* mp4 : {"v.mp4", "dir/V.MP4", "v.Mp4"}) {
+    EXPECT_EQ(evlife::render::output_kind(mp4), OutputKind::video) << mp4;
+    EXPECT_STREQ(evlife::render::video_codec(mp4), "mp4v") << mp4;
+  }
+  for (const char* avi : {"v.avi", "V.AVI"}) EXPECT_STREQ(evlife::render::video_codec(avi), "MJPG") << avi;
 }
 
 }  // namespace

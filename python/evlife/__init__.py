@@ -128,11 +128,20 @@ def _leave_before_hdf5_crashes():
     # An HDF5 output that failed to close (its OSError was raised) leaves
     # libhdf5 1.10 unable to run its exit handler without a crash (HDF5 issue
     # #2257): flush, say so and leave before it runs, with status 1.
+    import os
+    import sys
+    if _evlife._hdf5_exit_would_loop() and not _evlife._hdf5_exit_would_crash():
+        # A file that could not be created (its OSError was raised) leaves
+        # libhdf5's exit handler, after this one, printing "HDF5: infinite loop
+        # closing library" and a line of FL,FL,...: nothing was lost (no file
+        # was made), so that noise goes to /dev/null; the exit status stays
+        # the program's.
+        sys.stderr.flush()
+        os.dup2(os.open(os.devnull, os.O_WRONLY), 2)
+        return
     if not _evlife._hdf5_exit_would_crash():
         return
     import logging
-    import os
-    import sys
     logging.shutdown()
     sys.stdout.flush()
     print("evlife: an HDF5 file failed to close (disk full?); leaving without libhdf5's exit "

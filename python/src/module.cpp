@@ -32,4 +32,6 @@ PYBIND11_MODULE(_evlife, m) {
       "Every input format, [(name, description)], in sniffing order.");
   m.def("_hdf5_exit_would_crash", &evlife::io::hdf5_exit_would_crash,
         "True once an HDF5 file failed to close: libhdf5 1.10's exit handler would crash.");
+  m.def("_hdf5_exit_would_loop", &evlife::io::hdf5_exit_would_loop,
+        "True once an HDF5 file could not be created: libhdf5 1.10's exit handler would print noise.");
 }

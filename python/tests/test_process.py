@@ -1,6 +1,8 @@
 """evlife.process / LifetimeEstimator / process_file: the same results as `evlife process`."""
 import errno
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -128,6 +130,35 @@ def test_process_file_reports_a_full_disk_and_stops(tmp_path):
         with pytest.raises(OSError, match="full.bin") as e:
             evlife.process_file(data("reference/garfield.mat"), full, one_thread=one_thread)
         assert e.value.errno == errno.ENOSPC
+
+
+# An .h5 that cannot be created (a full disk) raises OSError; the program that
+# caught it ends as it chooses, without libhdf5's exit noise after it ("HDF5:
+# infinite loop closing library" and a line of FL,FL,...: the CLI leaves with
+# _Exit, Python printed it). In a subprocess: the noise comes at its exit.
+CREATE_ON_FULL_DISK = """
+import sys
+import numpy as np
+import evlife
+events = np.zeros(3, evlife.AUGMENTED_DTYPE)
+events["t"] = [1, 2, 3]
+events["p"] = 1
+try:
+    evlife.write(sys.argv[1], events, (8, 8))
+except OSError as e:
+    print("caught:", e)
+"""
+
+
+def test_an_hdf5_file_that_cannot_be_created_leaves_no_library_noise(tmp_path):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    full = tmp_path / "full.h5"
+    os.symlink("/dev/full", full)
+    r = subprocess.run([sys.executable, "-c", CREATE_ON_FULL_DISK, str(full)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "caught:" in r.stdout and "full.h5" in r.stdout, r.stdout
+    assert "infinite loop" not in r.stderr and "FL,FL" not in r.stderr, r.stderr
 
 
 def test_process_file_never_writes_over_its_input(tmp_path):

@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include "evlife/render/frame_sink.h"
+#include "evlife/render/output_kind.h"
 
 namespace evlife::render {
 
@@ -25,11 +26,6 @@ inline FrameImage as_frame(const cv::Mat& image) {
 inline cv::Mat as_mat(const FrameImage& frame) {
   return cv::Mat(frame.height, frame.width, CV_8UC3, const_cast<std::uint8_t*>(frame.bgr),
                  frame.stride_bytes);
-}
-
-/// The codec of a video file, from its extension: "mp4v" for .mp4, else "MJPG".
-inline const char* video_codec(std::string_view path) {
-  return path.size() >= 4 && path.substr(path.size() - 4) == ".mp4" ? "mp4v" : "MJPG";
 }
 
 /// Writes `image` (CV_8UC3 or CV_8UC1; format from the extension, e.g. .png).
