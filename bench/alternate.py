@@ -56,14 +56,23 @@ def run_once(binary, args, out_path):
            f"--benchmark_out={out_path}", "--benchmark_out_format=json"] + args.arg
     # stderr to a file too (the engine's bench logs there): read only after the run.
     err_path = out_path + ".stderr"
+    if os.path.exists(out_path):
+        os.remove(out_path)  # never the previous run's results for this one's
     with open(os.devnull, "wb") as null, open(err_path, "wb") as err:
         done = subprocess.run(cmd, stdout=null, stderr=err, check=False)
     if done.returncode != 0:
         with open(err_path, "rb") as err:
             tail = err.read()[-500:].decode(errors="replace")
         raise RuntimeError(f"{binary} exited with status {done.returncode}: {tail}")
+    if not os.path.exists(out_path):
+        raise RuntimeError(f"{binary} wrote no results to --benchmark_out: not a Google Benchmark binary?")
+    if os.path.getsize(out_path) == 0:  # Google Benchmark's output when the filter matches nothing
+        raise RuntimeError(f"{binary}: no benchmark matches --filter '{args.filter}'")
     with open(out_path, encoding="utf-8") as f:
-        report = json.load(f)
+        try:
+            report = json.load(f)
+        except json.JSONDecodeError as e:
+            raise RuntimeError(f"{binary}: its --benchmark_out is not JSON ({e})") from e
     values = {}
     for b in report.get("benchmarks", []):
         if b.get("run_type", "iteration") != "iteration":

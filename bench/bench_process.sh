@@ -13,6 +13,8 @@ set -eu
 cli=${1:-build/engine/evlife}
 runs=${2:-5}
 seconds=${3:-10}
+need_executable "$cli"
+need_count runs "$runs"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$cli" synth --scene mixed --sensor 346x260 --duration "$seconds" -o "$tmp/scene.h5" --quiet

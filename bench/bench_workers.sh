@@ -20,6 +20,8 @@ set -eu
 cli=${1:-build/engine/evlife}
 runs=${2:-5}
 format=${3:-dat}
+need_executable "$cli"
+need_count runs "$runs"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 synth="--scene large --sensor 240x180 --duration 0.6 --quiet"

@@ -83,6 +83,8 @@ def run_one(binary, name, workdir):
         raise RuntimeError(f"{binary} {name}: exit {done.returncode}\n{done.stderr[-2000:]}")
     with open(result) as f:
         bench = json.load(f)["benchmarks"][0]
+    if "events" not in bench:
+        raise ValueError(f"{binary} {name}: no 'events' counter: not a bench_estimator build?")
     events = bench["iterations"] * bench["events"]
     inclusive = annotate_counts(subprocess.run(["callgrind_annotate", "--inclusive=yes", profile],
                                                capture_output=True, text=True, check=True).stdout)
@@ -105,10 +107,22 @@ def main(argv):
     for binary in args.binaries:
         if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
             sys.exit(f"instructions.py: {binary}: not an executable file (a bench_estimator build)")
+    try:
+        names = benchmark_names(args.binaries[0], args.filter)
+    except (ValueError, subprocess.CalledProcessError) as e:
+        sys.exit(f"instructions.py: {e}")
     for tool in ("valgrind", "callgrind_annotate"):
         if shutil.which(tool) is None:
             sys.exit(f"instructions.py: {tool} not found (Debian: apt-get install valgrind)")
-    names = benchmark_names(args.binaries[0], args.filter)
+    try:
+        report(args, names)
+    except (ValueError, RuntimeError, OSError, subprocess.CalledProcessError) as e:
+        sys.exit(f"instructions.py: {e}")
+    return 0
+
+
+def report(args, names):
+    """Prints each benchmark's instructions per event for every binary."""
     with tempfile.TemporaryDirectory() as workdir:
         for name in names:
             print(name)
@@ -120,7 +134,6 @@ def main(argv):
                 print(f"  {binary}: {per_event:,.0f} instructions/event{ratio}")
                 for count, function in own[:args.top]:
                     print(f"    {count:8,.1f}  {function[:110]}")
-    return 0
 
 
 if __name__ == "__main__":

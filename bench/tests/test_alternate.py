@@ -91,3 +91,25 @@ def test_a_missing_binary_is_a_usage_error(tmp_path):
     done = run(tmp_path, [str(tmp_path / "absent")], {})
     assert done.returncode == 2
     assert "absent: not an executable file" in done.stderr
+
+
+def test_a_binary_that_writes_no_results_is_an_error_not_the_previous_ones(tmp_path):
+    # One JSON path serves every run: a binary that exits 0 without writing it
+    # was credited with the run before it (ratio 1.000, exit 0).
+    a = make_fake(tmp_path, "a")
+    silent = tmp_path / "silent"
+    silent.write_text("#!/bin/sh\nexit 0\n")
+    silent.chmod(silent.stat().st_mode | stat.S_IXUSR)
+    done = run(tmp_path, ["--rounds", "1", "--repetitions", "1", a, str(silent)], {"a": {"BM_x": [1.0]}})
+    assert done.returncode == 1, done.stdout
+    assert f"{silent} wrote no results" in done.stderr
+
+
+def test_a_filter_that_matches_nothing_says_so(tmp_path):
+    # Google Benchmark leaves an empty --benchmark_out then (a JSON error before).
+    empty = tmp_path / "empty"
+    empty.write_text("#!/bin/sh\nfor a; do case $a in --benchmark_out=*) : > \"${a#--benchmark_out=}\";; esac; done\n")
+    empty.chmod(empty.stat().st_mode | stat.S_IXUSR)
+    done = run(tmp_path, ["--filter", "NOPE", str(empty)], {})
+    assert done.returncode == 1
+    assert "no benchmark matches --filter 'NOPE'" in done.stderr

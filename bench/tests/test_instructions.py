@@ -44,3 +44,11 @@ def test_a_missing_binary_is_named(tmp_path):
     missing = str(tmp_path / "bench_estimator")
     with pytest.raises(SystemExit, match="bench_estimator: not an executable file"):
         instructions.main([missing])
+
+
+def test_a_filter_that_matches_nothing_is_named_without_a_traceback(tmp_path):
+    binary = tmp_path / "bench_estimator"
+    binary.write_text("#!/bin/sh\nexit 0\n")  # lists no benchmark
+    binary.chmod(0o755)
+    with pytest.raises(SystemExit, match="no benchmark matches --filter 'NOPE'"):
+        instructions.main(["--filter", "NOPE", str(binary)])

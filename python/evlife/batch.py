@@ -68,10 +68,14 @@ def _output_names(paths, extension, out_dir=None):
     names, taken = [], set()
     if out_dir is not None:
         here = os.path.realpath(out_dir)
-        # The file's own name, not a link's: a link elsewhere to out_dir/a.h5
-        # reserves a.h5 (another recording's a.h5 overwrote it).
-        taken = {os.path.basename(r).lower() for r in map(os.path.realpath, paths)
-                 if os.path.dirname(r) == here}
+        # The file's own name (a link elsewhere to out_dir/a.h5 reserves a.h5:
+        # another recording's a.h5 overwrote it), and the name of a link or
+        # hard link in out_dir (out_dir/link.h5 was given out as its output).
+        for p in map(os.fspath, paths):
+            for name_path in (os.path.realpath(p), os.path.join(os.path.realpath(os.path.dirname(p) or "."),
+                                                                 os.path.basename(p))):
+                if os.path.dirname(name_path) == here:
+                    taken.add(os.path.basename(name_path).lower())
     for p in paths:
         stem = os.path.splitext(os.path.basename(p))[0] or "recording"
         name, n = stem + extension, 1

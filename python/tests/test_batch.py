@@ -70,6 +70,13 @@ def test_outputs_never_take_the_name_of_a_recording_in_the_output_folder(tmp_pat
     (tmp_path / "in" / "link.h5").symlink_to(tmp_path / "rec.h5")
     names = batch._output_names([tmp_path / "in" / "link.h5", "in/rec.aedat"], ".h5", tmp_path)
     assert names == ["link.h5", "rec-2.h5"]
+    # A link or a hard link in the folder to a file elsewhere: its own name is
+    # reserved too (it was given out, and the row failed "is the input file").
+    (tmp_path / "in" / "src.h5").write_text("")
+    (tmp_path / "soft.h5").symlink_to(tmp_path / "in" / "src.h5")
+    os.link(tmp_path / "in" / "src.h5", tmp_path / "hard.h5")
+    names = batch._output_names([tmp_path / "soft.h5", tmp_path / "hard.h5"], ".h5", tmp_path)
+    assert names == ["soft-2.h5", "hard-2.h5"]
 
 
 def test_bad_batch_arguments_fail_before_any_task(tmp_path):
