@@ -72,6 +72,20 @@ TEST(Dvs128Cli, DevicesWithoutCameraSaysWhatToCheck) {
   EXPECT_NE(r.err.find("99-evlife-dvs128.rules"), std::string::npos) << r.err;
 }
 
+// A camera listed with a problem (here it does not answer: its serial number
+// stalls) is not usable: exit 3 and what to check, as with none (exit 0 and
+// the problem on its line before, while the README promised exit 3).
+TEST(Dvs128Cli, DevicesWithOnlyAnUnusableCameraSaysWhatToCheck) {
+  UsbTestbed bed;
+  bed.add_dvs128("SN-7", 14, 1, 5).set_strings_stall(true);
+  const auto r = run_cli("devices", "unusable");
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("bus 1 device 5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("-- cannot read the serial number"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("no usable event camera"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("99-evlife-dvs128.rules"), std::string::npos) << r.err;
+}
+
 TEST(Dvs128Cli, RunFromTheCameraWritesEverythingReadThenReportsTheUnplug) {
   UsbTestbed bed;
   auto& cam = bed.add_dvs128("SN-9");

@@ -1,5 +1,6 @@
 // `evlife devices`: lists the attached event cameras (DVS128 over USB) and,
 // when there is none, what libusb sees and what to check.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -18,7 +19,8 @@ void print_help(std::FILE* out) {
                "Lists the attached event cameras (iniVation DVS128, USB 152a:8400), one per line,\n"
                "starting with the --source spec that selects it for `evlife run`:\n"
                "  dvs128:SERIAL   DVS128 serial SERIAL (bus B device D, firmware F)\n\n"
-               "Exit status: 0 at least one camera listed, 3 none found (the USB devices seen\n"
+               "A camera that cannot be used is listed with the reason after \"--\".\n\n"
+               "Exit status: 0 at least one usable camera listed, 3 none (the USB devices seen\n"
                "and what to check are printed), 1 libusb cannot start.\n");
 }
 
@@ -35,9 +37,14 @@ int run_devices(int argc, char** argv) {
       std::printf("%-20s %s%s%s\n", spec.c_str(), cam.describe().c_str(),
                   cam.problem.empty() ? "" : "  -- ", cam.problem.c_str());
     }
-    if (!cameras.empty()) return kExitOk;
+    const bool usable = std::any_of(cameras.begin(), cameras.end(), [](const auto& cam) { return cam.problem.empty(); });
+    if (usable) return kExitOk;
     const auto usb = io::list_usb_devices();
-    std::fprintf(stderr, "evlife devices: no event camera found (DVS128 = USB 152a:8400).\n");
+    if (cameras.empty()) {
+      std::fprintf(stderr, "evlife devices: no event camera found (DVS128 = USB 152a:8400).\n");
+    } else {
+      std::fprintf(stderr, "evlife devices: no usable event camera: each one listed says why.\n");
+    }
     std::fprintf(stderr, "USB devices seen: %zu\n", usb.size());
     for (const auto& d : usb) {
       std::fprintf(stderr, "  %04x:%04x  bus %d device %d\n", d.vendor_id, d.product_id, d.bus,

@@ -79,6 +79,7 @@ struct EmulatedDvs128::Impl {
   std::vector<ControlRequest> controls;
   bool unplugged = false;
   bool busy = false;
+  bool strings_stall = false;
   int fail_next_errno = 0;
   int claims = 0;
   int releases = 0;
@@ -217,7 +218,7 @@ void EmulatedDvs128::Impl::answer_control(PendingUrb& u) {
   if ((c.request_type & 0x80) == 0) {  // OUT: record the data stage
     c.data.assign(setup + 8, setup + 8 + w_length);
     f->actual_length = w_length;
-  } else if (c.request_type == 0x80 && c.request == 0x06 && (c.value >> 8) == 0x03) {
+  } else if (c.request_type == 0x80 && c.request == 0x06 && (c.value >> 8) == 0x03 && !strings_stall) {
     // GET_DESCRIPTOR(string): 0 = languages, 1 manufacturer, 2 product, 3 serial.
     const int index = c.value & 0xFF;
     std::vector<std::uint8_t> d = index == 0   ? std::vector<std::uint8_t>{4, 3, 0x09, 0x04}
@@ -327,6 +328,11 @@ void EmulatedDvs128::unplug() {
 void EmulatedDvs128::set_busy(bool busy) {
   std::lock_guard lock(impl_->mutex);
   impl_->busy = busy;
+}
+
+void EmulatedDvs128::set_strings_stall(bool stall) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->strings_stall = stall;
 }
 
 void EmulatedDvs128::fail_next_packet(int errno_value) {

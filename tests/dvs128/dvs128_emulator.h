@@ -73,6 +73,9 @@ class EmulatedDvs128 {
   void unplug();
   /// Another program holds the camera: CLAIMINTERFACE fails with EBUSY.
   void set_busy(bool busy);
+  /// A camera that does not answer: its string descriptors (the serial
+  /// number) stall.
+  void set_strings_stall(bool stall);
   /// The next bulk packet's URB completes with -errno_value instead (a
   /// transfer error, e.g. EPROTO); the packet's data is lost.
   void fail_next_packet(int errno_value);
