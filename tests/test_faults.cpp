@@ -404,6 +404,53 @@ TEST(Faults, RunSigtermLeavesValidPrefixAndSummary) {
   interrupt_mid_run({"run", "--source", "file:INPUT", "-o", "OUTPUT"}, SIGTERM, "run SIGTERM");
 }
 
+// True once process `pid` catches signal `sig` (its handler is installed:
+// /proc/PID/status, SigCgt), false if it ended or `wait` passed first.
+bool catches(pid_t pid, int sig, std::chrono::milliseconds wait) {
+  const auto deadline = std::chrono::steady_clock::now() + wait;
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::istringstream status(slurp("/proc/" + std::to_string(pid) + "/status"));
+    for (std::string line; std::getline(status, line);) {
+      if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1) & 1U) != 0) {
+        return true;
+      }
+    }
+    std::this_thread::sleep_for(1ms);
+  }
+  return false;
+}
+
+// convert, info and render (scanning a text file for its sensor size) stop
+// on a signal as process does: exit 130, the output closed with the events
+// before the stop (they were killed: an .h5 that opens nowhere, a stdin copy
+// left in $TMPDIR). The signal comes as soon as the command catches it,
+// before it reads much.
+TEST(Faults, ConvertInfoAndRenderStopCleanlyOnASignal) {
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "long.aedat", 3'000'000);
+  const std::string in = (dir.path() / "long.aedat").string();
+  const fs::path txt = dir.path() / "long.txt";
+  ASSERT_EQ(run_cli({"convert", in, txt.string(), "-q"}, dir).code, 0);  // a text file states no sensor
+  const fs::path h5 = dir.path() / "out.h5";
+  const std::vector<std::vector<std::string>> commands = {
+      {"convert", in, h5.string()},
+      {"info", in},
+      {"render", txt.string(), "-o", (dir.path() / "f.png").string(), "--at", "1"}};
+  for (const auto& args : commands) {
+    const Child c = spawn_cli(args, dir, args.front());
+    const bool caught = catches(c.pid, SIGTERM, 10s);  // before it reads (it never did: killed)
+    kill(c.pid, SIGTERM);
+    const Finished f = wait_cli(c);
+    EXPECT_TRUE(caught) << args.front() << ": SIGTERM never caught";
+    ASSERT_TRUE(f.exited) << args.front() << ": " << describe(f);
+    EXPECT_EQ(f.code, 130) << args.front() << ": " << describe(f);
+    EXPECT_TRUE(contains(f.err, args.front() == "render" ? "interrupted while scanning" : "interrupted"))
+        << args.front() << ": " << describe(f);
+  }
+  const Finished info = run_cli({"info", h5.string()}, dir);  // the .h5 closed: it opens
+  EXPECT_EQ(info.code, 0) << describe(info);
+}
+
 // A closed terminal or ssh session: the same clean stop (it killed the
 // process with its output unclosed before).
 TEST(Faults, SighupStopsProcessAndRunCleanly) {

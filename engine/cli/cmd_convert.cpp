@@ -22,6 +22,7 @@
 #include "evlife/io/hdf5_writer.h"
 #include "exit_code.h"
 #include "input_spool.h"
+#include "stop_signals.h"
 #include "skipped_kinds_text.h"
 
 namespace evlife::cli::convert_command {
@@ -96,16 +97,22 @@ void print_help(std::FILE* out) {
 
 struct Outcome {
   unsigned long long written = 0;
+  bool stopped = false;  // a stop signal: the events before it were written
   std::optional<std::string> input_fault;
   std::optional<std::string> output_fault;
 };
 
-// Copies batches from `read` to `write` until the end or a fault; closes the writer.
+// Copies batches from `read` to `write` until the end, a fault or a stop
+// signal; closes the writer.
 template <typename Record, typename Reader, typename Writer>
-Outcome copy_all(Reader& reader, Writer& writer) {
+Outcome copy_all(Reader& reader, Writer& writer, const StopRequest& stop) {
   Outcome o;
   std::vector<Record> batch(kBatchEvents);
   while (true) {
+    if (stop.requested()) {
+      o.stopped = true;
+      break;
+    }
     std::size_t n = 0;
     try {
       n = reader.read(batch);
@@ -165,6 +172,11 @@ int report(const Outcome& o, const std::string& input, const std::string& output
                  o.input_fault->c_str(), o.written, output.c_str());
     return kExitInput;
   }
+  if (o.stopped) {
+    std::fprintf(stderr, "evlife convert: interrupted; the first %llu events were written to %s\n", o.written,
+                 output.c_str());
+    return kExitInterrupted;
+  }
   return kExitOk;
 }
 
@@ -194,7 +206,8 @@ class SensorCheckedAugmented {
 };
 
 int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const std::string& input,
-                      const std::string& output, std::optional<SensorSize> sensor_arg, bool quiet) {
+                      const std::string& output, std::optional<SensorSize> sensor_arg, bool quiet,
+                      const StopRequest& stop) {
   // --sensor for a file that states none: checked and stored, as for a
   // recording's events (it was dropped); a stated size wins, with a warning.
   const std::optional<SensorSize> stated = reader->sensor_size();
@@ -205,11 +218,11 @@ int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const st
     if (has_extension(output, {".txt"})) {
       auto writer = io::open_event_writer(output);
       EventsOfAugmented events(checked);
-      return report(copy_all<Event>(events, *writer), input, output,
+      return report(copy_all<Event>(events, *writer, stop), input, output,
                     "events (lifetime/velocity columns dropped)", quiet);
     }
     auto writer = io::open_augmented_writer(output, sensor);
-    return report(copy_all<AugmentedEvent>(checked, *writer), input, output, "augmented events", quiet);
+    return report(copy_all<AugmentedEvent>(checked, *writer, stop), input, output, "augmented events", quiet);
   } catch (const io::WriteError& e) {
     std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
     return kExitOutput;
@@ -218,7 +231,7 @@ int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const st
 
 int convert_events(const std::string& input, const std::string& output,
                    std::optional<SensorSize> sensor_arg, const io::ReaderOptions& input_options,
-                   bool unchecked, bool one_thread, bool quiet) {
+                   bool unchecked, bool one_thread, bool quiet, const StopRequest& stop) {
   if (has_extension(output, {".csv", ".bin"})) {
     std::fprintf(stderr,
                  "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
@@ -253,7 +266,7 @@ int convert_events(const std::string& input, const std::string& output,
     return kExitOutput;
   }
   if (!one_thread) reader = std::make_unique<engine::PrefetchReader>(std::move(reader));
-  const Outcome o = copy_all<Event>(*reader, *writer);
+  const Outcome o = copy_all<Event>(*reader, *writer, stop);
   const std::string format(reader->format_name());
   std::string what = "events (" + format;
   if (sensor) what += ", sensor " + std::to_string(sensor->width) + "x" + std::to_string(sensor->height);
@@ -298,6 +311,9 @@ int convert(int argc, char** argv) {
   }
   std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
   if (const auto done = spool_stream_input("convert", input, quiet, spool)) return *done;
+  // Ctrl-C: the output closed with the events before it (an .h5 killed
+  // unclosed opens nowhere), the stream's copy removed.
+  const StopRequest stop;
   // Output of `evlife process` converts as augmented events: a .bin by its
   // name (its reader's error for one that is not), else by content (stdin's
   // copy has no extension); a .csv of other tools is read as events.
@@ -317,9 +333,9 @@ int convert(int argc, char** argv) {
       std::fprintf(stderr, "evlife convert: warning: %s ignored: %s is evlife's output (checked as it is read)\n",
                    flags, input.c_str());
     }
-    return convert_augmented(std::move(augmented), input, output, sensor, quiet);
+    return convert_augmented(std::move(augmented), input, output, sensor, quiet, stop);
   }
-  return convert_events(input, output, sensor, input_options, unchecked, one_thread, quiet);
+  return convert_events(input, output, sensor, input_options, unchecked, one_thread, quiet, stop);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "input_spool.h"
 #include "lifetime_summary.h"
 #include "skipped_kinds_text.h"
+#include "stop_signals.h"
 
 namespace evlife::cli::info_command {
 namespace {
@@ -137,12 +138,13 @@ void print_events(const EventTally& t, std::optional<SensorSize> stated, const s
   }
 }
 
-// Every event of `reader` into `tally` (when given) and `lifetimes`; the
-// message of the read error that stopped it, if one did.
-std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, LifetimeSummary& lifetimes) {
+// Every event of `reader` (up to a stop signal) into `tally` (when given)
+// and `lifetimes`; the message of the read error that stopped it, if one did.
+std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, LifetimeSummary& lifetimes,
+                           const StopRequest& stop) {
   std::vector<AugmentedEvent> batch(1 << 14);
   try {
-    while (const std::size_t n = reader.read(batch)) {
+    while (const std::size_t n = stop.requested() ? 0 : reader.read(batch)) {
       const std::span<const AugmentedEvent> got(batch.data(), n);
       if (tally != nullptr) {
         for (const AugmentedEvent& a : got) tally->add(a.event);
@@ -155,20 +157,30 @@ std::string read_augmented(io::AugmentedEventReader& reader, EventTally* tally, 
   return {};
 }
 
+// After the description: exit 130 when a stop signal ended the reading (the
+// description covers the events read), else 0.
+int interrupted_exit(const StopRequest& stop, std::uint64_t events_read) {
+  if (!stop.requested()) return kExitOk;
+  std::fprintf(stderr, "evlife info: interrupted; the description covers the first %llu events\n",
+               static_cast<unsigned long long>(events_read));
+  return kExitInterrupted;
+}
+
 // An evlife output (.bin, or .csv with lifetime columns): the events, then the
 // lifetimes as `evlife process` summarised them when it wrote the file. A file
 // that states no sensor size (the CSV, a .bin `convert` wrote of events of no
 // known sensor) is read a second time with the span its
 // events cover as the sensor, for the pixels firing at hot-pixel rates.
-int describe_augmented(const std::string& path, const std::string& shown, io::AugmentedEventReader& reader) {
+int describe_augmented(const std::string& path, const std::string& shown, io::AugmentedEventReader& reader,
+                       const StopRequest& stop) {
   EventTally tally;
   const std::optional<SensorSize> stated = reader.sensor_size();
   std::optional<LifetimeSummary> lifetimes(std::in_place, stated);
-  const std::string fault = read_augmented(reader, &tally, *lifetimes);
+  const std::string fault = read_augmented(reader, &tally, *lifetimes, stop);
   if (const SensorSize spanned{tally.max_x + 1, tally.max_y + 1}; !stated && spanned.within_camera_limits()) {
     if (const auto again = io::open_if_augmented(path)) {
       lifetimes.emplace(spanned);
-      read_augmented(*again, nullptr, *lifetimes);  // stops where the first pass did (its fault is reported)
+      read_augmented(*again, nullptr, *lifetimes, stop);  // stops where the first pass did (its fault is reported)
     }
   }
   std::printf("file       %s\n", shown.c_str());
@@ -181,7 +193,7 @@ int describe_augmented(const std::string& path, const std::string& shown, io::Au
     std::fprintf(stderr, "evlife info: %s\n", fault.c_str());
     return kExitInput;
   }
-  return kExitOk;
+  return interrupted_exit(stop, tally.count());
 }
 
 int run_info(int argc, char** argv) {
@@ -199,10 +211,11 @@ int run_info(int argc, char** argv) {
   std::optional<InputSpool> spool;  // FILE `-` or a pipe: read from a copy
   if (const auto done = spool_stream_input("info", path, true, spool)) return *done;
   const std::string shown = spool ? spool->stream() + " (a stream, read from its copy " + path + ")" : path;
+  const StopRequest stop;  // Ctrl-C: the events read so far are described, the stream's copy removed
   // evlife's own outputs first (as `render` reads them): their CSV would
   // otherwise pass for a plain x,y,t,p file and the .bin for no format.
   try {
-    if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented);
+    if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented, stop);
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
@@ -219,7 +232,7 @@ int run_info(int argc, char** argv) {
   std::string fault;
   std::string backwards;  // the first event earlier than one before it, as the checked readers name it
   try {
-    while (const std::size_t n = reader->read(batch)) {
+    while (const std::size_t n = stop.requested() ? 0 : reader->read(batch)) {
       for (std::size_t i = 0; i < n; ++i) tally.add(batch[i]);
       if (!tally.ordered && backwards.empty()) {  // offsets are known for the batch just read
         const auto index = static_cast<std::int64_t>(tally.first_backwards_index);
@@ -263,7 +276,7 @@ int run_info(int argc, char** argv) {
     std::fprintf(stderr, "evlife info: %s\n", fault.c_str());
     return kExitInput;
   }
-  return backwards.empty() ? kExitOk : kExitInput;
+  return backwards.empty() ? interrupted_exit(stop, tally.count()) : kExitInput;
 }
 
 }  // namespace

@@ -299,10 +299,17 @@ int run_render(int argc, char** argv) {
     return kExitOk;
   }
 
+  const StopRequest stop;  // also over the scan of a file for its sensor size
   std::unique_ptr<render::AugmentedSource> source;
   try {
     source = render::open_augmented_source(args.input, args.config.config.estimator,
-                                           user_sensor_size(args.sensor, args.config), args.input_options);
+                                           user_sensor_size(args.sensor, args.config), args.input_options,
+                                           stop.flag());
+    if (stop.requested()) {
+      std::fprintf(stderr, "evlife render: interrupted while scanning %s for its sensor size: nothing drawn\n",
+                   args.input.c_str());
+      return kExitInterrupted;
+    }
     if (args.sensor) warn_sensor_flag_ignored("render", *args.sensor, args.input, source->sensor());
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
@@ -313,7 +320,6 @@ int run_render(int argc, char** argv) {
   }
   FrameProgress progress(!args.quiet);
   const render::RecordingRenderResult result = [&] {
-    const StopRequest stop;
     return render::render_recording(
         *source, args.job,
         [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },

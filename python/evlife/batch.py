@@ -244,6 +244,22 @@ def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, op
 _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records
 
 
+def _join_parts(output, parts):
+    """One header, then every slice's records in order, into `output`."""
+    try:
+        with open(output, "wb") as out:
+            for k, part in enumerate(parts):
+                with open(part, "rb") as f:
+                    if k > 0:
+                        f.seek(_BIN_HEADER_BYTES)
+                    shutil.copyfileobj(f, out, 1 << 20)
+    except OSError as e:
+        raise OSError(e.errno, "%s: cannot join the slices' part files into it: %s" % (
+            output, e.strerror or e)) from e
+    for part in parts:
+        os.remove(part)
+
+
 def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
                    sensor=None, config=None, progress=True, topic=None, **options):
     """One long recording cut into `slices` equal time slices processed in parallel.
@@ -256,7 +272,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     is identical. Writes `output` (.bin, the format of `evlife process`) with
     the slices in order; returns a BatchResult with one row per slice
     (path "PATH[k]"). scheduler, workers, sensor, config, topic, **options: as
-    process_files. Raises on failure (the slices are one result).
+    process_files. Raises on failure (the slices are one result: no part file
+    stays, nor a partial output).
     """
     path = os.path.abspath(os.fspath(path))
     output = os.path.abspath(os.fspath(output))  # the parts are written where the workers run
@@ -276,6 +293,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
     from distributed import wait
     client, to_close = _client(scheduler, workers)
+    futures, joining = [], False
     try:
         run = uuid.uuid4().hex[:8]
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k], cuts[k + 1],
@@ -291,14 +309,20 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
                 print("evlife.batch: slice %d/%d of %s (%d events, %.2f s)" % (
                     k + 1, slices, path, events, seconds), file=sys.stderr, flush=True)
         wait(futures)
+        joining = True
+        _join_parts(output, parts)
+    except BaseException as e:
+        # The slices are one result: no part file, nor a partial output, stays
+        # (an output that was there before is kept unless the join began).
+        if futures and isinstance(e, Exception):
+            wait(futures)  # no slice writes its part after the removal
+        for leftover in parts + ([output] if joining else []):
+            try:
+                os.remove(leftover)
+            except OSError:
+                pass
+        raise
     finally:
         for c in to_close:
             c.close()
-    with open(output, "wb") as out:  # one header, then every slice's records in order
-        for k, part in enumerate(parts):
-            with open(part, "rb") as f:
-                if k > 0:
-                    f.seek(_BIN_HEADER_BYTES)
-                shutil.copyfileobj(f, out, 1 << 20)
-            os.remove(part)
     return BatchResult(rows)

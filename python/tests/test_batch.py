@@ -107,6 +107,12 @@ def test_time_slices_in_parallel(tmp_path):
     for f in "txyp":
         assert (cold[f] == whole[f]).all()
     assert (cold["lifetime"] != whole["lifetime"]).any()
+    # The join fails (the output is a folder): an error naming it, and no
+    # part file left (the three stayed, 11 MB, and the error named nothing).
+    (tmp_path / "taken.bin").mkdir()
+    with pytest.raises(OSError, match="taken.bin: cannot join the slices"):
+        batch.process_slices(path, tmp_path / "taken.bin", slices=3, workers=2)
+    assert not [p for p in os.listdir(tmp_path) if ".part" in p]
 
 
 def test_slices_of_an_hdf5_file_start_at_their_warm_up(tmp_path):

@@ -61,7 +61,8 @@ class EstimatingSource final : public AugmentedSource {
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                                                        const LifetimeOptions& estimator,
                                                        std::optional<SensorSize> sensor,
-                                                       const io::ReaderOptions& input) {
+                                                       const io::ReaderOptions& input,
+                                                       const std::atomic<bool>* stop) {
   std::unique_ptr<io::AugmentedEventReader> augmented;
   io::ReadError augmented_error(path, -1, -1, "");
   try {
@@ -82,7 +83,7 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                         e.reason() + " (and not an augmented file: " + augmented_error.reason() + ")");
   }
   LifetimeOptions options = estimator;
-  options.sensor = io::resolve_sensor_size(path, sensor, input).size;
+  options.sensor = io::resolve_sensor_size(path, sensor, input, stop).size;
   // The checked reader: coordinates outside the sensor and time going
   // backwards are reported (file, event index, offset), never silently used.
   io::ReaderOptions checked = input;

@@ -511,7 +511,8 @@ Evaluation evaluate(const EvaluationOptions& args) {
       o.window_size = n;
       o.regularization = reg;
       const auto t0 = std::chrono::steady_clock::now();
-      auto source = render::open_augmented_source(args.input, o, args.sensor, args.input_options);
+      auto source = render::open_augmented_source(args.input, o, args.sensor, args.input_options, args.stop);
+      if (args.stop != nullptr && args.stop->load(std::memory_order_relaxed)) throw EvaluationStopped{};  // in the scan
       RunResult r;
       r.from_file = source->estimator_stats() == nullptr;
       r.window_size = r.from_file ? 0 : n;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <span>
@@ -41,10 +42,13 @@ std::unique_ptr<AugmentedSource> make_estimating_source(std::unique_ptr<io::Even
 /// `estimator` (its sensor replaced by the resolved one). `sensor`: the size
 /// when the file states none (or one no camera has). Throws io::ReadError (file at fault, both attempts
 /// explained) or std::invalid_argument (bad options). `input`: the input
-/// selection for event files (topic...; its sensor is replaced).
+/// selection for event files (topic...; its sensor is replaced). `stop` (a
+/// command's stop flag) ends the scan of a file for its sensor size early:
+/// check it after the call, the source then holds a partial size.
 std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
                                                        const LifetimeOptions& estimator,
                                                        std::optional<SensorSize> sensor = {},
-                                                       const io::ReaderOptions& input = {});
+                                                       const io::ReaderOptions& input = {},
+                                                       const std::atomic<bool>* stop = nullptr);
 
 }  // namespace evlife::render
