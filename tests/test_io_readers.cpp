@@ -613,6 +613,29 @@ TEST_F(RpgFiles, AFileCutWhileBeingReadEndsInAnErrorAfterItsEvents) {
   EXPECT_EQ(r.events.size(), lines_kept);
 }
 
+// Another, smaller file renamed over the path while the first is read (a
+// recorder or rsync replacing it): the opened file is read whole, no cut said
+// (the size was taken by name: "cut while being read", exit 3).
+TEST_F(RpgFiles, AFileRenamedOverThePathWhileReadIsNoCut) {
+  std::string text;
+  for (int i = 0; i < 150'000; ++i) text += std::to_string(i) + "e-6 " + std::to_string(i % 128) + " 5 1\n";
+  const std::string path = write_text("replaced.txt", text);
+  const std::string other = write_text("other.txt", "0.5 1 1 1\n");
+  ReadAll r;
+  try {
+    auto reader = evlife::io::open_event_reader(path);
+    std::vector<Event> chunk(1000);
+    for (std::size_t n = 0, reads = 0; (n = reader->read(chunk)) > 0;) {
+      r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
+      if (++reads == 1) std::filesystem::rename(other, path);
+    }
+  } catch (const ReadError& e) {
+    r.error = e;
+  }
+  EXPECT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 150'000u);
+}
+
 TEST_F(RpgFiles, BadLineStopsWithLineOffsetAndIndex) {
   const std::string good = "0.1 1 1 1\n0.2 2 2 0\n";
   for (const char* bad : {"0.3 3 3 2\n", "0.3 3\n", "0.3 x 3 1\n", "0.3 3 3 1 9\n",

@@ -2,6 +2,7 @@
 // frames at chosen instants, videos, exit codes, and the evaluation's numbers
 // checked against `evlife process` output decoded here.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -122,6 +123,21 @@ TEST_F(RenderCliTest, ReadmeFramesAreTheCurrentEstimatorsOutput) {
     const double share = cv::countNonZero(changed) / static_cast<double>(changed.total());
     EXPECT_LE(share, 0.001) << readme_frame << " is stale: regenerate it with `evlife render " << input << " -o "
                             << readme_frame << " --at 0.5 --mode compare`";
+  }
+}
+
+// A video to a FIFO (or a device): refused up front, exit 4. Its writes
+// fail unreported (a reader that left), and the check of the finished file,
+// read back, waited for ever on the FIFO, deaf to Ctrl-C.
+TEST_F(RenderCliTest, AVideoIsWrittenToARegularFileOnly) {
+  const std::string fifo = path("pipe.avi");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& command : {"render '" + kGarfield + "' -o '" + fifo + "' --fps 20 --to 0.3",
+                                     "run '" + kGarfield + "' --video '" + fifo + "' --to 0.3 -o '" + path("r.bin") + "'"}) {
+    const auto r = evlife::test::run_cli("timeout", "-k 5 60 '" + kCli + "' " + command, dir_.path() / "cli.log");
+    EXPECT_EQ(r.exit_code, 4) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(fifo + ": not a regular file (a folder, a pipe or a device)"), std::string::npos)
+        << r.output;
   }
 }
 

@@ -73,12 +73,7 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
 
 std::unique_ptr<EventReader> open_unchecked_event_reader(const std::string& path,
                                                          const ReaderOptions& options) {
-  std::error_code ec;
-  const std::uintmax_t size_at_open = std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
-  std::unique_ptr<EventReader> reader = open_decoder(path, options);
-  if (!ec && size_at_open > 0) {
-    reader = std::make_unique<detail::SizeCheckingEventReader>(std::move(reader), size_at_open);
-  }
+  std::unique_ptr<EventReader> reader = detail::SizeCheckingEventReader::wrap(open_decoder(path, options), path);
   if (!options.filters()) return reader;
   return std::make_unique<detail::CroppingEventReader>(std::move(reader), options);
 }

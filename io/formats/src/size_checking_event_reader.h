@@ -2,7 +2,9 @@
 // its stream, checks that the file is not shorter than when it was opened: a
 // recording cut while being read (a copy still in progress, a disk filling
 // up) ends in a ReadError after every event before the cut, never in a quiet
-// end of stream that hides the lost tail. A file that grew is fine.
+// end of stream that hides the lost tail. A file that grew is fine. The size
+// is the opened file's (a descriptor of its own), not the path's: a file
+// renamed over the path meanwhile is not the one read.
 #pragma once
 
 #include <cstdint>
@@ -16,8 +18,15 @@ namespace evlife::io::detail {
 
 class SizeCheckingEventReader final : public WrappingEventReader {
  public:
-  /// `inner` reads the file inner->path(), `size_at_open` bytes long.
-  SizeCheckingEventReader(std::unique_ptr<EventReader> inner, std::uintmax_t size_at_open);
+  /// `inner` reads the regular file inner->path(); `fd` is a descriptor of
+  /// that file (owned: closed by the destructor), `size_at_open` its size.
+  SizeCheckingEventReader(std::unique_ptr<EventReader> inner, int fd, std::int64_t size_at_open);
+  ~SizeCheckingEventReader() override;
+  SizeCheckingEventReader(const SizeCheckingEventReader&) = delete;
+  SizeCheckingEventReader& operator=(const SizeCheckingEventReader&) = delete;
+
+  /// `inner` wrapped when `path` is a regular file that opens, else `inner` itself.
+  static std::unique_ptr<EventReader> wrap(std::unique_ptr<EventReader> inner, const std::string& path);
 
   std::size_t read(std::span<Event> out) override;
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
@@ -27,7 +36,8 @@ class SizeCheckingEventReader final : public WrappingEventReader {
   std::optional<std::int64_t> first_event_time_us() const override { return inner_->first_event_time_us(); }
 
  private:
-  std::uintmax_t size_at_open_;
+  int fd_;
+  std::int64_t size_at_open_;
   std::int64_t delivered_ = 0;  // events returned or skipped so far: the index of the next
 };
 
