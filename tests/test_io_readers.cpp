@@ -65,22 +65,28 @@ bool same(const Event& a, const Event& b) {
   return a.t_us == b.t_us && a.x == b.x && a.y == b.y && a.p == b.p;
 }
 
-// Reads `path` 1000 events at a time, cutting the file to `cut_bytes` after
-// the first read: a recording cut while being read (a copy in progress, a
-// full disk). The readers know the size they opened.
-ReadAll read_cut_after_the_first_read(const std::string& path, std::uintmax_t cut_bytes) {
+// Reads `path` 1000 events at a time, calling `change` (the file changes
+// while being read) after the first read.
+ReadAll read_changing_after_the_first_read(const std::string& path, const std::function<void()>& change) {
   ReadAll r;
   try {
     auto reader = evlife::io::open_event_reader(path);
     std::vector<Event> chunk(1000);
     for (std::size_t n = 0, reads = 0; (n = reader->read(chunk)) > 0;) {
       r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
-      if (++reads == 1) std::filesystem::resize_file(path, cut_bytes);
+      if (++reads == 1) change();
     }
   } catch (const ReadError& e) {
     r.error = e;
   }
   return r;
+}
+
+// The file cut to `cut_bytes` after the first read: a recording cut while
+// being read (a copy in progress, a full disk). The readers know the size
+// they opened.
+ReadAll read_cut_after_the_first_read(const std::string& path, std::uintmax_t cut_bytes) {
+  return read_changing_after_the_first_read(path, [&] { std::filesystem::resize_file(path, cut_bytes); });
 }
 
 // A scratch folder per test, for the tests that write files.
@@ -621,17 +627,7 @@ TEST_F(RpgFiles, AFileRenamedOverThePathWhileReadIsNoCut) {
   for (int i = 0; i < 150'000; ++i) text += std::to_string(i) + "e-6 " + std::to_string(i % 128) + " 5 1\n";
   const std::string path = write_text("replaced.txt", text);
   const std::string other = write_text("other.txt", "0.5 1 1 1\n");
-  ReadAll r;
-  try {
-    auto reader = evlife::io::open_event_reader(path);
-    std::vector<Event> chunk(1000);
-    for (std::size_t n = 0, reads = 0; (n = reader->read(chunk)) > 0;) {
-      r.events.insert(r.events.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
-      if (++reads == 1) std::filesystem::rename(other, path);
-    }
-  } catch (const ReadError& e) {
-    r.error = e;
-  }
+  const ReadAll r = read_changing_after_the_first_read(path, [&] { std::filesystem::rename(other, path); });
   EXPECT_FALSE(r.error) << r.error->what();
   EXPECT_EQ(r.events.size(), 150'000u);
 }
