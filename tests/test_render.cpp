@@ -147,6 +147,21 @@ AcceleratingEdge accelerating_edge() {
   return e;
 }
 
+// Times at both ends of int64 (an evlife output may hold any): windows stay
+// exact, no difference overflows (UBSan: t - epoch in feed, the rebase and
+// the window bounds).
+TEST(FixedWindowMap, TimesAtBothEndsOfTheClock) {
+  evlife::render::FixedWindowMap map({4, 1});
+  map.feed(Event{INT64_MIN, 0, 0, 1});
+  EXPECT_EQ(map.count_active(INT64_MIN, 1000), 1u);
+  map.feed(Event{-5, 1, 0, 1});
+  EXPECT_EQ(map.count_active(-5, 1000), 1u);  // INT64_MIN is long past
+  map.feed(Event{INT64_MAX, 2, 0, -1});
+  EXPECT_EQ(map.count_active(INT64_MAX, 1000), 1u);
+  EXPECT_EQ(map.count_active(INT64_MAX, evlife::render::FixedWindowMap::kLongestWindowUs), 1u);
+  EXPECT_EQ(map.polarity(2), -1);
+}
+
 TEST(ActiveEventMap, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
   const auto edge = accelerating_edge();
   const std::int64_t t = edge.times[100] + 10;  // speed there ~ 2000 px/s, 10x the estimate

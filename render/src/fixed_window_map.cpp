@@ -34,12 +34,15 @@ std::size_t FixedWindowMap::count_active(std::int64_t t_us, std::int64_t window_
 // Moves the epoch so that t_us sits near the start of the int32 range;
 // timestamps older than the longest exact window become "never".
 void FixedWindowMap::rebase(std::int64_t t_us) noexcept {
-  const std::int64_t new_epoch = t_us - kKeepUs;
+  std::int64_t new_epoch = 0;
+  if (__builtin_sub_overflow(t_us, kKeepUs, &new_epoch)) new_epoch = INT64_MIN;  // near the clock's start
   if (has_epoch_) {
-    const std::int64_t shift = new_epoch - epoch_us_;
+    // The epoch only moves forward (times come in order), by up to 2^64 - 1 us.
+    const std::uint64_t shift = since_epoch_us(new_epoch);
     for (std::int32_t& v : last_rel_) {
       if (v == kNeverRel) continue;
-      const std::int64_t moved = static_cast<std::int64_t>(v) - shift;
+      const std::int64_t moved = shift > std::uint64_t{1} << 33 ? kNeverRel : static_cast<std::int64_t>(v) -
+                                                                             static_cast<std::int64_t>(shift);
       v = moved <= kNeverRel ? kNeverRel : static_cast<std::int32_t>(moved);
     }
   }

@@ -25,9 +25,11 @@ class FixedWindowMap {
       ++out_of_sensor_;
       return;
     }
-    if (!has_epoch_ || e.t_us - epoch_us_ > kRebaseAfterUs) rebase(e.t_us);
+    // Unsigned: times fed in order are at or after the epoch, but may lie
+    // more than 2^63 us from it (a file's times may span all of int64).
+    if (!has_epoch_ || since_epoch_us(e.t_us) > static_cast<std::uint64_t>(kRebaseAfterUs)) rebase(e.t_us);
     const std::size_t i = static_cast<std::size_t>(e.y) * static_cast<std::size_t>(sensor_.width) + e.x;
-    const auto rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
+    const auto rel = static_cast<std::int32_t>(since_epoch_us(e.t_us));
     if (rel >= last_rel_[i]) {
       last_rel_[i] = rel;
       polarity_[i] = e.p;
@@ -46,10 +48,9 @@ class FixedWindowMap {
     std::int64_t hi;
   };
   RelWindow relative_window(std::int64_t t_us, std::int64_t window_us) const noexcept {
-    auto sat = [](std::int64_t r) {
-      return r <= kNeverRel ? std::int64_t{kNeverRel} + 1 : (r > kMaxRel ? std::int64_t{kMaxRel} : r);
-    };
-    return {sat(t_us - window_us - epoch_us_), sat(t_us - epoch_us_)};
+    std::int64_t start_us = 0;
+    if (__builtin_sub_overflow(t_us, window_us, &start_us)) start_us = INT64_MIN;  // before the clock
+    return {saturated_rel(start_us), saturated_rel(t_us)};
   }
   bool is_active_rel(std::size_t i, RelWindow w) const noexcept {
     const std::int64_t last = last_rel_[i];
@@ -78,6 +79,15 @@ class FixedWindowMap {
   static constexpr std::int64_t kKeepUs = kLongestWindowUs;
   static constexpr std::int64_t kRebaseAfterUs = kMaxRel - kKeepUs;
   void rebase(std::int64_t t_us) noexcept;
+  std::uint64_t since_epoch_us(std::int64_t t_us) const noexcept {
+    return static_cast<std::uint64_t>(t_us) - static_cast<std::uint64_t>(epoch_us_);
+  }
+  // t_us - epoch within (kNeverRel, kMaxRel], saturated, for any two times.
+  std::int64_t saturated_rel(std::int64_t t_us) const noexcept {
+    std::int64_t r = 0;
+    if (__builtin_sub_overflow(t_us, epoch_us_, &r)) r = t_us > epoch_us_ ? INT64_MAX : INT64_MIN;
+    return r <= kNeverRel ? std::int64_t{kNeverRel} + 1 : (r > kMaxRel ? std::int64_t{kMaxRel} : r);
+  }
 
   SensorSize sensor_;
   std::uint64_t out_of_sensor_ = 0;
