@@ -97,8 +97,8 @@ struct EventTally {
       ++backwards;
     }
     // Unsigned: a gap may span all of int64 (-2^63 .. 2^63 - 1).
-    if (e.t_us > last && static_cast<std::uint64_t>(e.t_us) - static_cast<std::uint64_t>(last) > longest_gap_us) {
-      longest_gap_us = static_cast<std::uint64_t>(e.t_us) - static_cast<std::uint64_t>(last);
+    if (e.t_us > last && span_us(last, e.t_us) > longest_gap_us) {
+      longest_gap_us = span_us(last, e.t_us);
       longest_gap_after_us = last;
     }
     last = std::max(last, e.t_us);

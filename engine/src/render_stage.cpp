@@ -57,9 +57,7 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
   const std::int64_t t = a.event.t_us;
   if (last_t_us_ == INT64_MIN) {  // the first event: the instants count from it
     first_t_us_ = t;
-    for (auto& at : at_us_) {
-      if (__builtin_add_overflow(at, t, &at)) at = INT64_MAX;  // past the clock's end: after the last event
-    }
+    for (auto& at : at_us_) at = render::clock_add_us(t, at);  // past the clock's end: after the last event
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
   if (fps_ > 0 && t > next_frame_t_us_ && gap_state_.load(std::memory_order_relaxed) == 0) {

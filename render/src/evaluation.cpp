@@ -19,6 +19,7 @@
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/frame_painter.h"
 #include "evlife/render/image_quality.h"
@@ -71,13 +72,10 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   // At --frame-at itself (not the sample after it), or at the last event when
   // the recording ends before it. The cursor is never past that instant here.
   const auto draw_compare_frame = [&] {
-    std::int64_t t = 0;
-    if (__builtin_add_overflow(*first, args.frame_at_us, &t)) t = INT64_MAX;
+    std::int64_t t = render::clock_add_us(*first, args.frame_at_us);
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
-    const std::uint64_t since_first_us = static_cast<std::uint64_t>(t) - static_cast<std::uint64_t>(*first);
-    composer.compose(set, window, t, static_cast<std::int64_t>(std::min<std::uint64_t>(since_first_us, INT64_MAX)))
-        .copyTo(sharp.compare_frame);
+    composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
     sharp.compare_t_s = seconds_between(*first, t);
   };
   const std::int64_t step = args.sample_every_us;
@@ -98,11 +96,10 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
       // none comes). Those instants are counted, not sampled (an event of a
       // corrupt lifetime, active for ever, kept an hour's pause sampled).
       const auto next = cursor.next_t_us();
-      const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
-      std::uint64_t last_empty_rel = u(rel);
-      if (next && *next > t) last_empty_rel = (u(*next) - u(*first) - 1) / u(step) * u(step);
-      sharp.empty_instants += (last_empty_rel - u(rel)) / u(step) + 1;
-      if (last_empty_rel > u(INT64_MAX)) break;
+      const auto step_u = static_cast<std::uint64_t>(step), rel_u = static_cast<std::uint64_t>(rel);
+      const std::uint64_t last_empty_rel = next && *next > t ? (span_us(*first, *next) - 1) / step_u * step_u : rel_u;
+      sharp.empty_instants += (last_empty_rel - rel_u) / step_u + 1;
+      if (last_empty_rel > static_cast<std::uint64_t>(INT64_MAX)) break;
       rel = static_cast<std::int64_t>(last_empty_rel);
     } else {
       SharpnessSample s;

@@ -52,6 +52,12 @@ constexpr bool within_event_time_range(std::int64_t t_us) noexcept {
 }
 static_assert(sizeof(Event) == 16, "Event must stay 16 bytes");
 
+/// later_us - earlier_us for later >= earlier, exact for any two times (as
+/// unsigned: they may lie more than 2^63 us apart).
+constexpr std::uint64_t span_us(std::int64_t earlier_us, std::int64_t later_us) noexcept {
+  return static_cast<std::uint64_t>(later_us) - static_cast<std::uint64_t>(earlier_us);
+}
+
 /// last_us - first_us in seconds, for any two times (no int64 overflow: a
 /// file's times may span the whole clock); as exact as the plain difference
 /// while both are within 2^53 us.

@@ -79,9 +79,7 @@ class FixedWindowMap {
   static constexpr std::int64_t kKeepUs = kLongestWindowUs;
   static constexpr std::int64_t kRebaseAfterUs = kMaxRel - kKeepUs;
   void rebase(std::int64_t t_us) noexcept;
-  std::uint64_t since_epoch_us(std::int64_t t_us) const noexcept {
-    return static_cast<std::uint64_t>(t_us) - static_cast<std::uint64_t>(epoch_us_);
-  }
+  std::uint64_t since_epoch_us(std::int64_t t_us) const noexcept { return span_us(epoch_us_, t_us); }
   // t_us - epoch within (kNeverRel, kMaxRel], saturated, for any two times.
   std::int64_t saturated_rel(std::int64_t t_us) const noexcept {
     std::int64_t r = 0;

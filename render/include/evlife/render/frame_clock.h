@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "evlife/algo/event.h"
+
 namespace evlife::render {
 
 /// The slowest frame rate taken (a frame each 11.6 days of recording): a
@@ -20,16 +22,20 @@ inline constexpr double kMinFps = 1e-6;
 /// later_us - earlier_us (later >= earlier), INT64_MAX when the span is
 /// longer than the clock holds: a file's times may span all of int64.
 inline std::int64_t clock_span_us(std::int64_t earlier_us, std::int64_t later_us) noexcept {
-  const std::uint64_t span = static_cast<std::uint64_t>(later_us) - static_cast<std::uint64_t>(earlier_us);
+  const std::uint64_t span = span_us(earlier_us, later_us);
   return span > static_cast<std::uint64_t>(INT64_MAX) ? INT64_MAX : static_cast<std::int64_t>(span);
+}
+
+/// t_us + offset_us (offset >= 0), INT64_MAX past the clock's end.
+inline std::int64_t clock_add_us(std::int64_t t_us, std::int64_t offset_us) noexcept {
+  std::int64_t sum = 0;
+  return __builtin_add_overflow(t_us, offset_us, &sum) ? INT64_MAX : sum;
 }
 
 /// Frame k's instant; INT64_MAX, never reached, for one past the clock's end.
 inline std::int64_t frame_instant_us(std::int64_t from_us, std::uint64_t k, double fps) noexcept {
   const double offset_us = static_cast<double>(k) * 1e6 / fps;
-  std::int64_t t = 0;
-  if (!(offset_us < 0x1p63) || __builtin_add_overflow(from_us, std::llround(offset_us), &t)) return INT64_MAX;
-  return t;
+  return offset_us < 0x1p63 ? clock_add_us(from_us, std::llround(offset_us)) : INT64_MAX;
 }
 
 /// Frames of `fps` from `from_us` up to `to_us` inclusive (0 when to < from):
