@@ -237,9 +237,9 @@ TEST_F(CliFlags, PrintedConfigurationGivenBackConfiguresTheSameRun) {
   const RunResult again = run("process -q " + scene + " -o " + path("b.bin") + " --config " + path("printed.yaml"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(evlife::test::read_text_file(path("a.bin")), evlife::test::read_text_file(path("b.bin")));
-  // Set by the user, the size is printed as a value, both sides of it.
-  const RunResult set = run("process --print-config --set estimator.sensor.width=300");
-  EXPECT_TRUE(has(set, "    width: 300\n    height: 128\n")) << set.output;
+  // Set by the user, the size is printed as values (both keys: one alone is refused).
+  const RunResult set = run("process --print-config --set estimator.sensor.width=300 --set estimator.sensor.height=200");
+  EXPECT_TRUE(has(set, "    width: 300\n    height: 200\n")) << set.output;
   // `run` prints the engine's flags as the configuration they make, and checks them.
   const RunResult engine = run("run --print-config --workers 3 --tiles 2x2");
   EXPECT_TRUE(has(engine, "workers: 3\n")) << engine.output;
@@ -262,6 +262,12 @@ TEST_F(CliFlags, ConfigurationFilesThatSayTooMuchOrNothingAreNamed) {
   config_error("estimator:\n  window_size: 7\n---\nestimator:\n  window_size: 9\n", "a second YAML document");
   config_error("estimator:\n  window_size: {a: 1}\n", "estimator.window_size must be a single value");
   config_error("estimator: 5\n", "estimator is a section");
+  // An INI file: its "[estimator]" is a YAML list, what follows it a second document.
+  config_error("[estimator]\nwindow_size = 7\n", "c.yaml:1: expected a map of sections at top level (an INI-style [section]");
+  config_error(std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), "c.yaml: not a YAML text file (a NUL byte at offset 8)");
+  // Half a sensor size would pair with the other key's default (128), not with the input's size.
+  config_error("estimator:\n  sensor:\n    width: 300\n",
+               "estimator.sensor.width is set at " + path("c.yaml") + ":3, estimator.sensor.height is not: set both");
   const RunResult dir = run("process --print-config --config " + dir_.path().string());
   EXPECT_EQ(dir.exit_code, 2) << dir.output;
   EXPECT_TRUE(has(dir, "is a directory, not a configuration file")) << dir.output;
@@ -269,6 +275,34 @@ TEST_F(CliFlags, ConfigurationFilesThatSayTooMuchOrNothingAreNamed) {
   // A section whose keys are all commented out sets nothing.
   std::ofstream(path("c.yaml")) << "estimator:\n  sensor:\n    # width: 300\n";
   EXPECT_EQ(run("process --print-config --config " + path("c.yaml")).exit_code, 0);
+}
+
+// The help names the configuration read without --config: the compiled-in
+// file, not a path relative to the working directory (which is not read);
+// and -i where the commands take it (synth and devices do not).
+TEST_F(CliFlags, HelpNamesTheConfigurationReadAndWhoTakesInput) {
+  const std::string shipped = std::string(EVLIFE_SOURCE_DIR) + "/config/evlife.yaml";
+  for (const std::string command : {"process", "render", "eval", "run"}) {
+    const RunResult help = run(command + " --help");
+    EXPECT_TRUE(has(help, shipped)) << command << help.output;
+    EXPECT_FALSE(has(help, "default: config/evlife.yaml")) << command << help.output;
+  }
+  EXPECT_TRUE(has(run("--help"), "without --config: " + shipped)) << run("--help").output;
+  for (const std::string command : {"process", "render", "eval", "run", "info", "convert"}) {
+    const RunResult r = run(command + " -i " + path("missing.txt") + " -o " + path("x.bin"));
+    EXPECT_FALSE(has(r, "unknown option '-i'")) << command << r.output;
+  }
+  EXPECT_TRUE(has(run("--help"), "all but synth and devices take\n-i/--input FILE")) << run("--help").output;
+  EXPECT_TRUE(has(run("synth -i x"), "unknown option '-i'"));
+}
+
+// A lifetime range's MIN has one range, whether zero or negative.
+TEST_F(CliFlags, LifetimeRangeNamesOneRangeForEveryValueOutsideIt) {
+  for (const std::string range : {"-1:5", "0:30", "x:30"}) {
+    const RunResult r = run("render " + sample() + " -o " + path("l.png") + " --at 0.1 --lifetime-range " + range);
+    EXPECT_EQ(r.exit_code, 2) << range << r.output;
+    EXPECT_TRUE(has(r, ": expected a number in (0, 1000000000]")) << range << r.output;
+  }
 }
 
 // A whole-number flag given a fraction names its own range, not int64's.
@@ -343,11 +377,15 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   EXPECT_TRUE(has(period, "--stats-period 1e-9: expected a time such as")) << period.output;
   EXPECT_TRUE(has(period, "0 or at least 1us")) << period.output;
   EXPECT_EQ(run("run " + sample() + " --stats-period 0.6us -q").exit_code, 0);
-  // The same rule for its key (it read 1e-9 s as a period of 1 ns: a progress line every few ms).
-  const RunResult key = run("run " + sample() + " --set engine.stats_period_s=1e-9 -q");
-  EXPECT_EQ(key.exit_code, 2) << key.output;
-  EXPECT_TRUE(has(key, "engine.stats_period_s: 1e-09 must be 0 (no progress lines) or at least 1e-06 (1 us)"))
-      << key.output;
+  // The same rule for its key (it read 1e-9 s as a period of 1 ns: a progress line every few ms),
+  // as a configuration error naming where it was set, in every command (process took it).
+  for (const char* command : {"run ", "process "}) {
+    const RunResult key = run(command + sample() + " -o " + path("period.bin") + " --set engine.stats_period_s=1e-9 -q");
+    EXPECT_EQ(key.exit_code, 2) << command << key.output;
+    EXPECT_TRUE(has(key, "engine.stats_period_s = 1e-09 (set at --set engine.stats_period_s=1e-9) must be 0 (no "
+                         "progress lines) or at least 1e-06 (1 us; from 5e-07 it rounds to 1 us)"))
+        << command << key.output;
+  }
   EXPECT_EQ(run("run " + sample() + " --set engine.stats_period_s=0.6e-6 -q").exit_code, 0);
 }
 
@@ -357,6 +395,10 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
 // output then differed from process's), and run and eval said nothing of a
 // --sensor the file's stated size overrode.
 TEST_F(CliFlags, EveryCommandTakesTheSensorByOneRule) {
+  const RunResult half = run("process " + sample() + " -o " + path("half.bin") + " --set estimator.sensor.width=300");
+  EXPECT_EQ(half.exit_code, 2) << half.output;
+  EXPECT_TRUE(has(half, "estimator.sensor.width is set at --set estimator.sensor.width=300, estimator.sensor.height is not"))
+      << half.output;
   const std::string small = " --set estimator.sensor.width=64 --set estimator.sensor.height=64";
   for (const std::string& command : {"process " + sample() + " -o " + path("a.bin"), "run " + sample() + " -o " + path("b.bin"),
                                      "render " + sample() + " -o " + path("c.png") + " --at 0.2",

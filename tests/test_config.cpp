@@ -208,6 +208,7 @@ TEST(Config, SetOverridesFileAndDefaults) {
   b.set("estimator.regularization = false");
   b.set("estimator.seed=0x10");
   b.set("estimator.sensor.width=346");
+  b.set("estimator.sensor.height=260");  // a size is both keys (one alone: ConfigError)
   const Config c = b.build();
   EXPECT_EQ(c.estimator.window_size, 9);              // --set beats the file
   EXPECT_EQ(c.estimator.inlier_tolerance_us, 250.0);  // from the file

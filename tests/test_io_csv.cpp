@@ -136,6 +136,32 @@ TEST(IoCsv, ATimeGoingBackwardsNamesItsLinesByteOffset) {
   EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(text.find("5,6,1,150")));
 }
 
+// Excel's "CSV UTF-8", PowerShell and Notepad start the file with a UTF-8
+// byte-order mark: it is no part of the header's first name, nor of the first
+// number; byte offsets stay the file's.
+TEST(IoCsv, AByteOrderMarkBeforeTheFirstLineIsSkipped) {
+  const ScratchDir dir("test_io_csv");
+  const std::string bom = "\xEF\xBB\xBF";
+  const ReadAll header = read_all(dir.save("excel.csv", bom + "x,y,t,p\r\n10,20,1000,1\r\n11,21,1500,0\r\n639,479,2250,1\r\n"));
+  ASSERT_FALSE(header.error) << header.error->what();
+  EXPECT_EQ(header.format, "csv");
+  EXPECT_TRUE(same(header.events, kExpected));
+  // No header, named .txt: found by content, so the sniffer must skip the mark too.
+  const ReadAll metavision = read_all(dir.save("mv.txt", bom + "10,20,1,1000\n11,21,0,1500\n639,479,1,2250\n"));
+  ASSERT_FALSE(metavision.error) << metavision.error->what();
+  EXPECT_EQ(metavision.format, "csv");
+  EXPECT_TRUE(same(metavision.events, kExpected));
+  const ReadAll rpg = read_all(dir.save("rpg.dat", bom + "0.001 10 20 1\n0.0015 11 21 0\n0.00225 639 479 1\n"));
+  ASSERT_FALSE(rpg.error) << rpg.error->what();
+  EXPECT_EQ(rpg.format, "rpg-text");
+  EXPECT_TRUE(same(rpg.events, kExpected));
+  const std::string text = bom + "x,y,p,t\n1,2,1,100\n3,4,0,200\n5,6,1,150\n";
+  const ReadAll back = read_all(dir.save("back.csv", text));
+  ASSERT_TRUE(back.error);
+  EXPECT_EQ(back.events.size(), 2u);
+  EXPECT_EQ(back.error->byte_offset(), static_cast<std::int64_t>(text.find("5,6,1,150")));
+}
+
 TEST(IoCsv, SpaceSeparatedSecondsStayRpgText) {
   const ReadAll r = read_all(std::string(EVLIFE_SHARED_DATA_DIR) + "/rpg_txt/slider_depth_events_chunk.txt");
   ASSERT_FALSE(r.error);

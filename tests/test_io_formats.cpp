@@ -344,6 +344,22 @@ TEST(IoFormatsWordStreams, RawOfAnotherEvtVersionNamesItsVersion) {
   EXPECT_TRUE(r.events.empty());
 }
 
+TEST(IoFormatsWordStreams, MatlabV73FileSaysHowToSaveItAsV5) {
+  // MATLAB's save -v7.3 writes HDF5 behind a 512-byte text header.
+  const ScratchDir dir("test_io_formats");
+  std::string bytes = "MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: Mon Nov 30 12:00:00 2026 HDF5 schema 1.00 .";
+  bytes.resize(512, ' ');
+  bytes += std::string("\x89HDF\r\n\x1a\n", 8) + std::string(64, '\0');
+  const std::string path = dir.save("events.mat", bytes);
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string message = r.error->what();
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("MATLAB v7.3"), std::string::npos) << message;
+  EXPECT_NE(message.find("'-v7'"), std::string::npos) << message;
+  EXPECT_EQ(message.find("unknown event file format"), std::string::npos) << message;
+}
+
 // EVT 2.1 words as Prophesee's EVT 2.1 page lays them out (64 bits: type
 // 63-60, then t low 59-54, x 53-43, y 42-32, mask 31-0 for events; t >> 6 at
 // 59-32 for TIME_HIGH), written in either byte order the page names.

@@ -3,6 +3,7 @@
 // (so the expected values do not come from the code under test).
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <lzf.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +21,7 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "evlife/io/augmented_event_writer.h"
@@ -804,6 +806,94 @@ TEST(IoFormatsHdf5, MissingDsecDatasetIsNamed) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(std::string(r.error->what()).find("'events/p' is missing"), std::string::npos)
       << r.error->what();
+}
+
+// A DSEC file whose four columns are chunked and stored through filter
+// `filter_id` (optional, as h5py sets LZF) with `cd_values`; each chunk's
+// stored bytes come from `store(raw chunk) -> (bytes, filter mask)`, written
+// with H5Dwrite_chunk, so that no filter of this process encodes them.
+template <typename Store>
+void write_filtered_dsec_file(const std::string& path, std::size_t count, hsize_t chunk_rows, int filter_id,
+                              const std::vector<unsigned>& cd_values, Store store) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t rows[1] = {count};
+  const hid_t space = H5Screate_simple(1, rows, nullptr);
+  const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(properties, 1, &chunk_rows);
+  H5Pset_filter(properties, static_cast<H5Z_filter_t>(filter_id), H5Z_FLAG_OPTIONAL, cd_values.size(), cd_values.data());
+  for (const char* name : {"x", "y", "t", "p"}) {
+    // Every column u32 (DSEC's t; its x, y, p are narrower, which the reader converts).
+    const hid_t dataset = H5Dcreate2(group, name, H5T_STD_U32LE, space, H5P_DEFAULT, properties, H5P_DEFAULT);
+    ASSERT_GE(dataset, 0) << name;
+    for (hsize_t first = 0; first < count; first += chunk_rows) {
+      std::vector<std::uint32_t> chunk(chunk_rows, 0);  // the last chunk padded with zeros
+      for (hsize_t i = first; i < std::min<hsize_t>(count, first + chunk_rows); ++i) {
+        const std::uint32_t values[4] = {static_cast<std::uint32_t>(i % 640), static_cast<std::uint32_t>((i / 3) % 480),
+                                         static_cast<std::uint32_t>(10 * i), static_cast<std::uint32_t>(i % 2)};
+        chunk[i - first] = values[std::string("xytp").find(name[0])];
+      }
+      const auto [bytes, mask] = store(chunk);
+      const hsize_t offset[1] = {first};
+      ASSERT_GE(H5Dwrite_chunk(dataset, H5P_DEFAULT, mask, offset, bytes.size(), bytes.data()), 0);
+    }
+    H5Dclose(dataset);
+  }
+  H5Pclose(properties);
+  H5Sclose(space);
+  H5Gclose(group);
+  H5Fclose(file);
+}
+
+// h5py's compression="lzf" (filter 32000, chunk size in cd_values[2]), as
+// h5py stores it: chunks compressed by liblzf, and chunks that would not
+// shrink as they are, with the filter's mask bit set (here every third chunk,
+// whatever its data). Read with no plugin installed.
+TEST(IoFormatsHdf5, LzfCompressedColumnsAsH5pyWritesThem) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_lzf.h5");
+  const std::size_t count = 70'001;  // > one reader chunk; a partial last chunk
+  const hsize_t chunk_rows = 4096;
+  std::size_t stored = 0, raw_chunks = 0;
+  write_filtered_dsec_file(path, count, chunk_rows, 32000, {4, 1, static_cast<unsigned>(chunk_rows * 4)},
+                           [&](const std::vector<std::uint32_t>& chunk) {
+                             const auto in_bytes = static_cast<unsigned>(chunk.size() * sizeof(std::uint32_t));
+                             std::vector<char> out(in_bytes);
+                             const unsigned packed = lzf_compress(chunk.data(), in_bytes, out.data(), in_bytes);
+                             if (packed == 0 || ++stored % 3 == 0) {  // stored raw, filter skipped
+                               ++raw_chunks;
+                               const auto* begin = reinterpret_cast<const char*>(chunk.data());
+                               return std::pair{std::vector<char>(begin, begin + in_bytes), 1U};
+                             }
+                             out.resize(packed);
+                             return std::pair{out, 0U};
+                           });
+  EXPECT_GT(raw_chunks, 0U);  // both kinds of chunk are read
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Event expected{static_cast<std::int64_t>(10 * i), static_cast<std::uint16_t>(i % 640),
+                         static_cast<std::uint16_t>((i / 3) % 480), i % 2 != 0 ? std::int8_t{1} : std::int8_t{-1}};
+    ASSERT_TRUE(same(r.events[i], expected)) << i;
+  }
+}
+
+// A compression filter this HDF5 cannot load (an id from the range HDF5
+// keeps for testing) is named when the file is opened, with the dataset.
+TEST(IoFormatsHdf5, FilterThatCannotBeLoadedIsNamed) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("dsec_unknown_filter.h5");
+  write_filtered_dsec_file(path, 100, 64, 300, {}, [](const std::vector<std::uint32_t>& chunk) {
+    const auto* begin = reinterpret_cast<const char*>(chunk.data());
+    return std::pair{std::vector<char>(begin, begin + chunk.size() * sizeof(std::uint32_t)), 0U};
+  });
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  const std::string message = r.error->what();
+  EXPECT_NE(message.find("'events/x' is compressed with HDF5 filter 300"), std::string::npos) << message;
+  EXPECT_NE(message.find("HDF5_PLUGIN_PATH"), std::string::npos) << message;
+  EXPECT_NE(message.find(path), std::string::npos) << message;
 }
 
 TEST(IoFormatsHdf5, TruncatedFilesFailCleanly) {

@@ -3,15 +3,33 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
+#include "evlife/engine/engine_options.h"
 
 namespace evlife::config {
 namespace {
+
+// Offset of the first NUL byte in `path` (-1: none, or unreadable: the parser
+// then says why). A configuration is text; a binary file is not worth parsing.
+std::int64_t first_nul_byte(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char buffer[4096];
+  std::int64_t offset = 0;
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (const void* nul = std::memchr(buffer, '\0', got)) return offset + (static_cast<const char*>(nul) - buffer);
+    offset += static_cast<std::int64_t>(got);
+  }
+  return -1;
+}
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> row(b.size() + 1);
@@ -107,6 +125,9 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   if (std::filesystem::is_directory(path)) {
     throw ConfigError(path + ": is a directory, not a configuration file");
   }
+  if (const std::int64_t at = first_nul_byte(path); at >= 0) {  // yaml-cpp would name an odd escape
+    throw ConfigError(path + ": not a YAML text file (a NUL byte at offset " + std::to_string(at) + ")");
+  }
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAllFromFile(path);
@@ -117,16 +138,22 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
     throw ConfigError(path + ": cannot read the configuration file: " + e.what());
   }
   if (documents.empty()) return;  // empty file: defaults stand
+  const YAML::Node& root = documents.front();
+  auto where = [&](const YAML::Node& n) {
+    return path + ":" + std::to_string(n.Mark().line + 1);
+  };
+  // Before a second document: what else follows a first line that is no map
+  // (an INI file's "[estimator]" is a YAML list) says nothing more.
+  if (!root.IsNull() && !root.IsMap()) {
+    throw ConfigError(where(root) + ": expected a map of sections at top level (" +
+                      (root.IsSequence() ? "an INI-style [section] is a YAML list; " : "") +
+                      "write 'estimator:' and its keys indented below it)");
+  }
   if (documents.size() > 1) {
     throw ConfigError(path + ":" + std::to_string(documents[1].Mark().line + 1) +
                       ": a second YAML document: a configuration file holds one");
   }
-  const YAML::Node& root = documents.front();
   if (root.IsNull()) return;  // only comments: defaults stand
-  auto where = [&](const YAML::Node& n) {
-    return path + ":" + std::to_string(n.Mark().line + 1);
-  };
-  if (!root.IsMap()) throw ConfigError(where(root) + ": expected a map of sections at top level");
 
   // Depth-first over maps; leaves are scalars named by their dotted path.
   // yaml-cpp keeps a key written twice: the second one is an error here, not
@@ -197,6 +224,23 @@ Config ConfigBuilder::build() const {
                         (o ? "set at " + o->where : std::string("default")) +
                         ") is out of range; allowed: " + k.allowed);
     }
+  }
+  const auto set_at = [&](std::string_view key) {
+    const KeyOrigin* o = origin(key);
+    return o ? "set at " + o->where : std::string("default");
+  };
+  if (const auto problem = engine::stats_period_problem(config_.engine.stats_period_s)) {
+    throw ConfigError("engine.stats_period_s = " + find_config_key("engine.stats_period_s")->format(config_) + " (" +
+                      set_at("engine.stats_period_s") + ") " + *problem);
+  }
+  // A sensor size is both keys or neither: one alone would pair with the
+  // other's default (128) instead of the size the input gives.
+  const bool width_set = origin("estimator.sensor.width") != nullptr;
+  if (width_set != (origin("estimator.sensor.height") != nullptr)) {
+    const char* set = width_set ? "estimator.sensor.width" : "estimator.sensor.height";
+    const char* unset = width_set ? "estimator.sensor.height" : "estimator.sensor.width";
+    throw ConfigError(std::string(set) + " is " + set_at(set) + ", " + unset +
+                      " is not: set both, or neither (the size then comes from the input or --sensor)");
   }
   // The estimator's rule across fields (continuation_min_support within
   // window_size's window): where both were set, as for a range.

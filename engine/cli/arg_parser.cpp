@@ -138,6 +138,15 @@ bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
   return true;
 }
 
+std::string config_options_help() {
+  const std::string path = config::default_config_path();
+  return "  --config FILE      YAML configuration; without it " +
+         (path.empty() ? std::string("the built-in defaults") : path + " if present") +
+         ".\n"
+         "  --set KEY=VALUE    override one key, e.g. --set estimator.window_size=7.\n"
+         "  --print-config     print the effective configuration (YAML) and exit.\n";
+}
+
 config::LoadedConfig load_command_config(const ParsedArgs& a) {
   const auto path = a.value("config");
   if (path && path->empty()) throw UsageError("--config needs a file name");

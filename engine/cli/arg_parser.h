@@ -46,10 +46,9 @@ inline constexpr OptionSpec kInputOptionSpec{"input", 'i', true, true};
 inline constexpr OptionSpec kConfigOptionSpec{"config", 0, true, false};
 inline constexpr OptionSpec kSetOptionSpec{"set", 0, true, true};
 inline constexpr OptionSpec kPrintConfigOptionSpec{"print-config", 0, false, false};
-inline constexpr std::string_view kConfigOptionsHelp =
-    "  --config FILE      YAML configuration (default: config/evlife.yaml when present).\n"
-    "  --set KEY=VALUE    override one key, e.g. --set estimator.window_size=7.\n"
-    "  --print-config     print the effective configuration (YAML) and exit.\n";
+/// --help's lines of --config, --set and --print-config (with the default
+/// file's path, config::default_config_path()).
+std::string config_options_help();
 
 class ParsedArgs {
  public:

@@ -101,7 +101,7 @@ void print_eval_help(std::FILE* out) {
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
       "  -q, --quiet            no progress and no summary on stdout.\n");
-  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fputs(config_options_help().c_str(), out);
   std::fprintf(out,
       "\n"
       "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"

@@ -107,7 +107,7 @@ void print_render_help(std::FILE* out) {
   std::fputs(std::string(kInputOptionsHelp).c_str(), out);
   std::fprintf(out,
       "  -q, --quiet         no progress and no summary.\n");
-  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fputs(config_options_help().c_str(), out);
   std::fprintf(out,
       "\n"
       "Progress (frames, recording time) goes to stderr; the summary to stdout.\n"
@@ -126,9 +126,11 @@ struct RenderArgs : CommonArgs {
 };
 
 double parse_positive(const std::string& option, const std::string& text, double max) {
-  const double v = parse_number<double>(option, text, 0.0, max);
-  if (v == 0.0) throw UsageError("--" + option + " " + text + ": expected a number in (0, " + std::to_string(static_cast<long long>(max)) + "]");
-  return v;
+  // One message for every value outside (0, max], zero and negatives alike.
+  const auto v = parse_decimal(text);
+  if (!v || !(*v > 0.0 && *v <= max))
+    throw UsageError("--" + option + " " + text + ": expected a number in (0, " + std::to_string(static_cast<long long>(max)) + "]");
+  return *v;
 }
 
 RenderArgs parse_render_args(int argc, char** argv) {

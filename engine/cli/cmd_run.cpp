@@ -163,7 +163,7 @@ void print_help(std::FILE* out) {
       "                       (needs CAP_IPC_LOCK or a large enough ulimit -l).\n"
       "                       The summary's `realtime` line states what was applied.\n"
       "  -q, --quiet          no progress and no summary.\n");
-  std::fputs(kConfigOptionsHelp.data(), out);
+  std::fputs(config_options_help().c_str(), out);
   std::fprintf(out,
       "\n"
       "At the end (and on SIGINT, SIGTERM or SIGHUP, after finishing the queued\n"

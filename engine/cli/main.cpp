@@ -52,11 +52,14 @@ void print_usage(std::FILE* out) {
                "  evlife render recording.mat -o f.png --at 0.5 --mode compare   # 1 ms | 30 ms | lifetime\n"
                "  evlife run --source dvs128 -o live.bin          # live DVS128, real-time engine\n"
                "\nEvery event is active from t to t + lifetime, so a sharp edge image exists at any instant.\n"
-               "Every command takes -i/--input FILE (or FILE), --help and --version; those that\n"
-               "estimate take --config FILE, --set key=value and --print-config (config/evlife.yaml).\n"
+               "Every command takes --help and --version, and all but synth and devices take\n"
+               "-i/--input FILE (or FILE); those that estimate take --config FILE, --set key=value\n"
+               "and --print-config (without --config: %s).\n"
                "Times: 1.5s, 500ms, 20us, or a bare number of seconds. Exit status 0 ok,\n"
                "1 unexpected failure (devices: libusb cannot start), 2 usage, 3 input error,\n"
-               "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n");
+               "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n",
+               evlife::config::default_config_path().empty() ? "the built-in defaults"
+                                                     : evlife::config::default_config_path().c_str());
 }
 
 // True when stdout is a pipe whose reader has left (poll flags its write end).

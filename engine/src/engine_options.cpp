@@ -25,10 +25,8 @@ std::string validate_engine_options(const EngineOptions& o) {
       err = "engine." + check_option(info, field(o));
   });
   if (!err.empty()) return err;
-  // As --stats-period's parser (kTimeExamples): a positive time that rounds to 0 us is refused.
-  if (o.stats_period_s > 0.0 && o.stats_period_s < 0.5e-6)
-    return "engine.stats_period_s: " + fmt::format("{:g}", o.stats_period_s) +
-           " must be 0 (no progress lines) or at least 1e-06 (1 us)";
+  if (const auto problem = stats_period_problem(o.stats_period_s))
+    return "engine.stats_period_s: " + fmt::format("{:g}", o.stats_period_s) + " " + *problem;
   static_assert(TileLayout::kMaxWorkers == 32, "engine.workers' range in engine_options.h");
   if (o.render_batches > 1024)
     return "engine.render_batches: must be 0..1024 (got " + std::to_string(o.render_batches) + ")";

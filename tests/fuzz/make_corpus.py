@@ -314,3 +314,33 @@ for i in range(40):
     x, y, on = vrng.randrange(346), vrng.randrange(260), vrng.randrange(2)
     v2e_recs.append(struct.pack('>II', ((345 - x) << 12) | ((259 - y) << 22) | (on << 11), 1000 + 33 * i))
 put('aedat2', 'v2e_346x260.aedat', v2e_head + b''.join(v2e_recs))
+
+# ---- h5py's LZF chunks (fuzz_hdf5_lzf): 4 bytes of the stated chunk size
+# (little-endian; 0 = not stated), then an LZF stream built by hand from the
+# format's two record kinds: a literal run (control byte < 32: that many + 1
+# bytes follow) and a back reference (length - 2 in the control byte's top 3
+# bits, 7 = one more length byte; then the offset - 1, 13 bits).
+
+
+def lzf_literal(data):
+    return b''.join(bytes([len(data[i:i + 32]) - 1]) + data[i:i + 32] for i in range(0, len(data), 32))
+
+
+def lzf_reference(offset, length):
+    n, o = length - 2, offset - 1
+    if n < 7:
+        return bytes([(n << 5) | (o >> 8), o & 0xFF])
+    return bytes([(7 << 5) | (o >> 8), n - 7, o & 0xFF])
+
+
+def lzf_seed(stated, stream):
+    return struct.pack('<I', stated) + stream
+
+
+# A u32 column of DSEC-like x values: 4 distinct rows, then repeats (a long reference).
+column = b''.join(struct.pack('<I', v) for v in (17, 18, 19, 20))
+column_stream = lzf_literal(column) + lzf_reference(16, 240)
+put('hdf5_lzf', 'column_256b.bin', lzf_seed(256, column_stream))
+put('hdf5_lzf', 'column_no_size.bin', lzf_seed(0, column_stream))
+put('hdf5_lzf', 'short_refs_64b.bin', lzf_seed(64, lzf_literal(bytes(range(16))) + lzf_reference(8, 5) +
+                                             lzf_reference(16, 8) + lzf_literal(bytes(range(35)))))

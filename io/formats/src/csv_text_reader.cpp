@@ -399,8 +399,8 @@ class CsvTextReader final : public EventReader {
 
 SniffResult sniff_csv_text(std::span<const std::byte> head, std::string_view path) {
   const bool csv = has_extension(path, ".csv") || has_extension(path, ".tsv");
-  const char* p = reinterpret_cast<const char*>(head.data());
-  const Detection d = detect(p, p + head.size());
+  const std::string_view text = without_byte_order_mark({reinterpret_cast<const char*>(head.data()), head.size()});
+  const Detection d = detect(text.data(), text.data() + text.size());
   // Space-separated `t x y p` with t in seconds stays the rpg-text reader's.
   if (d.ok && !d.rpg_like) return SniffResult::by_content;
   return csv ? SniffResult::by_extension : SniffResult::no;

@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 #include <type_traits>
 
 #include "hdf5_error_silencer.h"
+#include "hdf5_lzf_filter.h"
 #include "hdf5_open_probe.h"
 #include "reader_registry.h"
 
@@ -66,10 +68,36 @@ std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
   return value;
 }
 
-// Reads `count` elements from `first` of 1-D `dataset` as `memory_type` into `out`.
-// libhdf5 allocates a whole storage chunk to read any part of it; a corrupt
-// chunk size (fuzzing found 4 GB) must not reach that allocation.
-constexpr std::uint64_t kHdf5MaxChunkBytes = std::uint64_t{256} << 20;
+// A filter of `dataset`'s pipeline that this HDF5 cannot load, said with where
+// to get it; nullopt when every filter is there. Without it, every read of the
+// dataset fails with an error that does not say why.
+std::optional<std::string> missing_filter(hid_t dataset) {
+  const hid_t properties = H5Dget_create_plist(dataset);
+  if (properties < 0) return std::nullopt;
+  std::optional<std::string> missing;
+  const int filters = H5Pget_nfilters(properties);
+  for (int i = 0; i < filters && !missing; ++i) {
+    unsigned flags = 0, filter_config = 0;
+    std::size_t values = 0;
+    char name[96] = {};
+    const H5Z_filter_t id = H5Pget_filter2(properties, static_cast<unsigned>(i), &flags, &values, nullptr,
+                                           sizeof name, name, &filter_config);
+    if (id < 0 || H5Zfilter_avail(id) > 0) continue;
+    // Debian 12's packages of the filters event datasets use (DSEC: Blosc).
+    const char* package = id == 32001                ? "hdf5-filter-plugin-blosc-serial"
+                          : id == 307 || id == 32004 ? "hdf5-filter-plugin"
+                          : id == 32013              ? "hdf5-filter-plugin-zfp-serial"
+                                                     : nullptr;
+    missing = "compressed with HDF5 filter " + std::to_string(id) + (name[0] != '\0' ? " ('" + std::string(name) + "')" : "") +
+              ", which this HDF5 cannot load: " +
+              (package != nullptr ? "install Debian's " + std::string(package) + ", or put the filter's plugin on HDF5_PLUGIN_PATH"
+                                  : std::string("put the filter's plugin on HDF5_PLUGIN_PATH"));
+  }
+  H5Pclose(properties);
+  return missing;
+}
+
+using detail::kHdf5MaxChunkBytes;
 
 // Bytes of one storage chunk of `dataset` (0 when it is not chunked).
 std::uint64_t chunk_bytes(hid_t dataset) {
@@ -232,6 +260,7 @@ constexpr Hdf5Reader::TableColumns kV2eColumns{0, 1, 2, 3};    // rows t, x, y, 
 
 Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path_(path) {
   const Hdf5ErrorSilencer silence;
+  detail::register_hdf5_lzf_filter();
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     throw ReadError(path, 0, -1, "not an HDF5 file (or cannot be opened)");
   }
@@ -247,6 +276,11 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
     if (dataset < 0) {
       close_handles();
       throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
+    }
+    if (const auto missing = missing_filter(dataset)) {
+      H5Dclose(dataset);
+      close_handles();
+      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' is " + *missing);
     }
     const std::uint64_t bytes = chunk_bytes(dataset);
     if (bytes > kHdf5MaxChunkBytes) {

@@ -4,7 +4,13 @@
 
 namespace evlife::io::detail {
 
-LineReader::LineReader(const std::string& path) : file_(path), buffer_(kBufferBytes) { refill(); }
+LineReader::LineReader(const std::string& path) : file_(path), buffer_(kBufferBytes) {
+  refill();
+  if (buffered().starts_with(kUtf8ByteOrderMark)) {
+    pos_ += kUtf8ByteOrderMark.size();
+    offset_ += kUtf8ByteOrderMark.size();
+  }
+}
 
 std::string LineReader::too_long_note() {
   return "(line longer than " + std::to_string(kBufferBytes) + " bytes)";

@@ -15,13 +15,23 @@
 
 namespace evlife::io::detail {
 
+/// A UTF-8 byte-order mark, which Excel's "CSV UTF-8", PowerShell and
+/// Notepad write before the first line: not part of that line.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
+/// `head` without a leading byte-order mark (for the sniffers, which see raw bytes).
+inline std::string_view without_byte_order_mark(std::string_view head) noexcept {
+  return head.starts_with(kUtf8ByteOrderMark) ? head.substr(kUtf8ByteOrderMark.size()) : head;
+}
+
 class LineReader {
  public:
   static constexpr std::size_t kBufferBytes = 1 << 20;
 
   enum class Next { line, end_of_file, too_long };
 
-  /// Opens `path` (InputFile's errors) and reads the first buffer.
+  /// Opens `path` (InputFile's errors) and reads the first buffer, past a
+  /// byte-order mark (offsets stay the file's).
   explicit LineReader(const std::string& path);
 
   /// The next line without its '\n' (the last line may lack one), valid

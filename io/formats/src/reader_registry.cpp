@@ -111,6 +111,11 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
                         "Metavision's metavision_file_to_csv (evlife reads its x,y,p,t CSV)");
   }
   const std::string_view head_text(reinterpret_cast<const char*>(head.data()), head_size);
+  if (head_text.starts_with("MATLAB 7.3 MAT-file")) {  // MATLAB's save -v7.3: HDF5 behind a 512-byte header
+    throw ReadError(path, 0, -1,
+                    "a MATLAB v7.3 MAT-file (HDF5 inside): evlife reads MAT v5 files (N×4 'events', rows x y p t); "
+                    "save it in MATLAB with save(FILE, 'events', '-v7')");
+  }
   if (head_text.starts_with(detail::kAugmentedBinMagic)) {
     throw ReadError(path, 0, -1, std::string(detail::kAugmentedBinIsNoRecording));
   }

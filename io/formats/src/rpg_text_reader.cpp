@@ -223,8 +223,9 @@ class RpgTextReader final : public EventReader {
 // Text with a first data line that parses as an event (or "width height").
 SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view path) {
   const bool txt = has_extension(path, ".txt");
-  const char* p = reinterpret_cast<const char*>(head.data());
-  const char* end = p + head.size();
+  const std::string_view text = without_byte_order_mark({reinterpret_cast<const char*>(head.data()), head.size()});
+  const char* p = text.data();
+  const char* end = p + text.size();
   while (p < end) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     if (nl == nullptr) break;  // need a whole line

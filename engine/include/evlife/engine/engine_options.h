@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -104,6 +105,14 @@ void for_each_engine_option(F&& f) {
   f(OptionInfo{"replay_packet_us", "packet-us", 0, 1000000, false, false, false, false,
                "paced replays: packet period, us; 0: none"},
     [](auto& o) -> auto& { return o.replay_packet_us; });
+}
+
+/// stats_period_s beyond its range: 0 (no progress lines) or a period that
+/// --stats-period's parser would take (rounding to at least 1 us). nullopt
+/// when valid, else why not (one rule for the flag's and the key's errors).
+inline std::optional<std::string> stats_period_problem(double seconds) {
+  if (!(seconds > 0.0 && seconds < 0.5e-6)) return std::nullopt;
+  return "must be 0 (no progress lines) or at least 1e-06 (1 us; from 5e-07 it rounds to 1 us)";
 }
 
 /// The overload policy's configuration key and its values.
