@@ -1,9 +1,16 @@
 """Many recordings at once on Dask distributed: one task per recording.
 
     from evlife import batch
-    table = batch.process_files(paths, "out/", window_size=7)   # LocalCluster here
-    table = batch.process_files(paths, "out/", scheduler="tcp://host:8786")
-    print(table)
+
+    if __name__ == "__main__":   # a script must guard what starts a LocalCluster
+        table = batch.process_files(paths, "out/", window_size=7)   # LocalCluster here
+        table = batch.process_files(paths, "out/", scheduler="tcp://host:8786")
+        print(table)
+
+Without the guard a script hangs: Dask starts the LocalCluster's workers as
+new Python processes that import the script again (multiprocessing's spawn),
+so each worker would start a cluster of its own and dies; Dask restarts them
+for ever. Interactive sessions and notebooks need no guard.
 
 One long recording can also be cut into time slices processed in parallel,
 each estimator starting a warm-up before its slice (process_slices); the result
