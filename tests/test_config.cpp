@@ -244,6 +244,21 @@ TEST(Config, KeyThatIsNotANameIsAnError) {
   }
 }
 
+// PowerShell 5 writes UTF-16 with a byte-order mark; YAML reads it (a text
+// file with NUL bytes, unlike a binary one, which is refused as such).
+TEST(Config, Utf16FileReadsAsYaml) {
+  const std::string text = "estimator:\n  window_size: 7\n";
+  std::string utf16 = "\xFF\xFE";
+  for (const char c : text) utf16 += std::string{c, '\0'};
+  const auto path = write_temp("utf16.yaml", utf16);
+  ConfigBuilder b;
+  b.load_file(path);
+  EXPECT_EQ(b.build().estimator.window_size, 7);
+  const auto binary = write_temp("binary.yaml", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(binary); });
+  EXPECT_NE(msg.find("not a YAML text file (a NUL byte at offset 8)"), std::string::npos) << msg;
+}
+
 TEST(Config, DumpReadsBackIdentically) {
   ConfigBuilder b;
   b.set("estimator.window_size=11");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <lzf.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -879,19 +880,80 @@ TEST(IoFormatsHdf5, LzfCompressedColumnsAsH5pyWritesThem) {
   }
 }
 
-// A compression filter this HDF5 cannot load (an id from the range HDF5
-// keeps for testing) is named when the file is opened, with the dataset.
-TEST(IoFormatsHdf5, FilterThatCannotBeLoadedIsNamed) {
+// LZF parameters that do not state the dataset's chunk size, and a chunk
+// that decompresses to less than the chunk: input errors, never a short
+// buffer that libhdf5 would read past (heap bytes read back as events).
+TEST(IoFormatsHdf5, LzfChunksOfTheWrongSizeAreRefused) {
   const ScratchDir dir("test_io_formats_hdf5");
-  const std::string path = dir.file("dsec_unknown_filter.h5");
-  write_filtered_dsec_file(path, 100, 64, 300, {}, [](const std::vector<std::uint32_t>& chunk) {
-    const auto* begin = reinterpret_cast<const char*>(chunk.data());
-    return std::pair{std::vector<char>(begin, begin + chunk.size() * sizeof(std::uint32_t)), 0U};
+  const auto compressed = [](const std::vector<std::uint32_t>& chunk) {
+    const auto in_bytes = static_cast<unsigned>(chunk.size() * sizeof(std::uint32_t));
+    std::vector<char> out(in_bytes);
+    const unsigned packed = lzf_compress(chunk.data(), in_bytes, out.data(), in_bytes);
+    if (packed == 0) {  // does not shrink: stored raw, as h5py does
+      const auto* begin = reinterpret_cast<const char*>(chunk.data());
+      return std::pair{std::vector<char>(begin, begin + in_bytes), 1U};
+    }
+    out.resize(packed);
+    return std::pair{out, 0U};
+  };
+  const std::string stated_wrong = dir.file("lzf_stated_wrong.h5");
+  // In a child without evlife's filter: its set_local would state the right size.
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (H5Zfilter_avail(32000) > 0) H5Zunregister(32000);
+    write_filtered_dsec_file(stated_wrong, 1000, 256, 32000, {4, 1, 2}, compressed);
+    _exit(testing::Test::HasFailure() ? 1 : 0);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const ReadResult wrong = read_all(stated_wrong);
+  ASSERT_TRUE(wrong.error);
+  EXPECT_NE(std::string(wrong.error->what()).find("'events/x': its LZF filter states chunks of 2 bytes, its chunks hold 1024"),
+            std::string::npos)
+      << wrong.error->what();
+  std::size_t calls = 0;
+  const std::string short_chunk = dir.file("lzf_short_chunk.h5");
+  write_filtered_dsec_file(short_chunk, 1000, 256, 32000, {4, 1, 1024}, [&](const std::vector<std::uint32_t>& chunk) {
+    // The first chunk of x: a valid LZF stream of 2 bytes ("AA": one literal run).
+    return ++calls == 1 ? std::pair{std::vector<char>{'\x01', 'A', 'A'}, 0U} : compressed(chunk);
   });
+  const ReadResult cut = read_all(short_chunk);
+  ASSERT_TRUE(cut.error);
+  EXPECT_TRUE(cut.events.empty());
+  EXPECT_NE(std::string(cut.error->what()).find("'events/x' cannot be read from event 0"), std::string::npos)
+      << cut.error->what();
+}
+
+// A compression filter this HDF5 cannot load (an id from the range HDF5
+// keeps for testing): chunks stored without it (an optional filter, as h5py
+// stores a chunk LZF does not shrink) read, as does an empty dataset; a read
+// that needs it names the filter and the dataset.
+TEST(IoFormatsHdf5, FilterThatCannotBeLoadedIsNamedWhereAReadNeedsIt) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const auto stored = [](unsigned mask) {
+    return [mask](const std::vector<std::uint32_t>& chunk) {
+      const auto* begin = reinterpret_cast<const char*>(chunk.data());
+      return std::pair{std::vector<char>(begin, begin + chunk.size() * sizeof(std::uint32_t)), mask};
+    };
+  };
+  const std::string raw = dir.file("unknown_filter_raw_chunks.h5");
+  write_filtered_dsec_file(raw, 100, 64, 300, {}, stored(1U));
+  const ReadResult readable = read_all(raw);
+  ASSERT_FALSE(readable.error) << readable.error->what();
+  EXPECT_EQ(readable.events.size(), 100U);
+  const std::string empty = dir.file("unknown_filter_empty.h5");
+  write_filtered_dsec_file(empty, 0, 64, 300, {}, stored(0U));
+  const ReadResult none = read_all(empty);
+  ASSERT_FALSE(none.error) << none.error->what();
+  EXPECT_TRUE(none.events.empty());
+  const std::string path = dir.file("unknown_filter.h5");
+  write_filtered_dsec_file(path, 100, 64, 300, {}, stored(0U));
   const ReadResult r = read_all(path);
   ASSERT_TRUE(r.error);
   const std::string message = r.error->what();
-  EXPECT_NE(message.find("'events/x' is compressed with HDF5 filter 300"), std::string::npos) << message;
+  EXPECT_NE(message.find("(dataset 'events/x' is compressed with HDF5 filter 300"), std::string::npos) << message;
   EXPECT_NE(message.find("HDF5_PLUGIN_PATH"), std::string::npos) << message;
   EXPECT_NE(message.find(path), std::string::npos) << message;
 }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
@@ -19,9 +20,17 @@ namespace {
 
 // Offset of the first NUL byte in `path` (-1: none, or unreadable: the parser
 // then says why). A configuration is text; a binary file is not worth parsing.
+// UTF-16 and UTF-32 text is YAML's too (PowerShell writes UTF-16): YAML tells
+// them by a NUL among the first 4 bytes or a byte-order mark, and so does this.
 std::int64_t first_nul_byte(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char buffer[4096];
+  const auto head = static_cast<std::size_t>(in.read(buffer, 4).gcount());
+  const std::string_view start(buffer, head);
+  if (start.find('\0') != std::string_view::npos || start.starts_with("\xFF\xFE") || start.starts_with("\xFE\xFF"))
+    return -1;
+  in.clear();
+  in.seekg(0);
   std::int64_t offset = 0;
   while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
     const auto got = static_cast<std::size_t>(in.gcount());

@@ -1,7 +1,7 @@
 // libFuzzer target: the HDF5 reader's LZF filter (io/formats/src/hdf5_lzf_filter.cpp),
 // called as libhdf5 calls it on a chunk read from a file. Input: 4 bytes of
 // the chunk size h5py states (cd_values[2], little-endian, kept below 1 MiB
-// so that every input runs fast; 0 = not stated), then the stored chunk.
+// so that every input runs fast; 0 = not stated: refused), then the stored chunk.
 // A finding: a sanitizer report, or a chunk that decompresses and then does
 // not come back the same through the filter's own compression.
 #include <hdf5.h>

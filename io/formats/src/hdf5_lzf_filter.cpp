@@ -3,9 +3,8 @@
 #include <hdf5.h>
 #include <lzf.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <climits>
+#include <cstdint>
 #include <mutex>
 
 #include "hdf5_error_silencer.h"
@@ -32,31 +31,50 @@ std::size_t hdf5_lzf_filter(unsigned flags, std::size_t cd_nelmts, const unsigne
     *buf_size = nbytes;
     return packed;
   }
+  // The chunk's size, as h5py's set_local (and set_lzf_chunk_size below)
+  // states it: libhdf5 copies a whole chunk out of what the filter returns,
+  // so anything but exactly that many bytes is refused (the reader checks the
+  // stated size against the dataset's chunks when it opens the file).
   const std::size_t stated = cd_nelmts >= 3 ? cd_values[2] : 0;
-  std::size_t out_size = stated != 0 ? stated : *buf_size;
-  for (;;) {
-    if (out_size == 0 || out_size > kHdf5MaxChunkBytes) return 0;
-    void* out = H5allocate_memory(out_size, /*clear=*/true);  // a short chunk leaves zeros, never garbage
-    if (out == nullptr) return 0;
-    errno = 0;
-    const unsigned got = lzf_decompress(*buf, static_cast<unsigned>(nbytes), out, static_cast<unsigned>(out_size));
-    if (got != 0 && stated != 0 && got != stated) {  // not the chunk h5py compressed: corrupt
-      H5free_memory(out);
-      return 0;
-    }
-    if (got != 0) {
-      H5free_memory(*buf);
-      *buf = out;
-      *buf_size = out_size;
-      return got;
-    }
+  if (stated == 0 || stated > kHdf5MaxChunkBytes) return 0;
+  void* out = H5allocate_memory(stated, false);
+  if (out == nullptr) return 0;
+  const unsigned got = lzf_decompress(*buf, static_cast<unsigned>(nbytes), out, static_cast<unsigned>(stated));
+  if (got != stated) {  // corrupt (EINVAL), longer (E2BIG) or shorter than the chunk
     H5free_memory(out);
-    // E2BIG: a chunk larger than it said (or no size given): twice the room,
-    // up to the largest chunk read. Anything else (EINVAL): corrupt data.
-    if (errno != E2BIG || out_size == kHdf5MaxChunkBytes) return 0;
-    out_size = std::min<std::size_t>(2 * out_size, kHdf5MaxChunkBytes);
+    return 0;
   }
+  H5free_memory(*buf);
+  *buf = out;
+  *buf_size = stated;
+  return got;
 }
+
+namespace {
+
+// set_local (H5Z_set_local_func_t): states the dataset's chunk size in
+// cd_values[2], as h5py does, so that a chunk this process writes decodes.
+herr_t set_lzf_chunk_size(hid_t properties, hid_t type, hid_t /*space*/) {
+  hsize_t dims[H5S_MAX_RANK] = {};
+  const int rank = H5Pget_chunk(properties, H5S_MAX_RANK, dims);
+  const std::size_t element = H5Tget_size(type);
+  if (rank <= 0 || element == 0) return -1;
+  std::uint64_t bytes = element;
+  for (int i = 0; i < rank; ++i) {
+    if (dims[i] == 0 || bytes > kHdf5MaxChunkBytes / dims[i]) return -1;
+    bytes *= dims[i];
+  }
+  unsigned flags = 0;
+  std::size_t count = 3;
+  unsigned values[3] = {};
+  if (H5Pget_filter_by_id2(properties, kHdf5LzfFilterId, &flags, &count, values, 0, nullptr, nullptr) < 0) return -1;
+  values[0] = 4;       // h5py's filter version
+  values[1] = 0x0105;  // liblzf's version (LZF_VERSION)
+  values[2] = static_cast<unsigned>(bytes);
+  return H5Pmodify_filter(properties, kHdf5LzfFilterId, flags, 3, values);
+}
+
+}  // namespace
 
 void register_hdf5_lzf_filter() {
   static std::once_flag once;
@@ -66,7 +84,7 @@ void register_hdf5_lzf_filter() {
     static const H5Z_class2_t lzf = {
         H5Z_CLASS_T_VERS, kHdf5LzfFilterId,
         /*encoder_present=*/1, /*decoder_present=*/1, "lzf (evlife's, over liblzf)",
-        /*can_apply=*/nullptr, /*set_local=*/nullptr, &hdf5_lzf_filter};
+        /*can_apply=*/nullptr, &set_lzf_chunk_size, &hdf5_lzf_filter};
     H5Zregister(&lzf);
   });
 }

@@ -25,7 +25,8 @@ void register_hdf5_lzf_filter();
 /// `*buf_size`) by its decompression (H5Z_FLAG_REVERSE) or compression;
 /// returns the bytes used, 0 on corrupt input (or a chunk that does not
 /// shrink). `cd_values[2]`, where h5py stores it, is the chunk's size in
-/// bytes. Public for the fuzz target.
+/// bytes: a chunk decompresses to exactly that, or is refused. Public for
+/// the fuzz target.
 std::size_t hdf5_lzf_filter(unsigned flags, std::size_t cd_nelmts, const unsigned cd_values[], std::size_t nbytes,
                             std::size_t* buf_size, void** buf);
 

@@ -69,8 +69,9 @@ std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
 }
 
 // A filter of `dataset`'s pipeline that this HDF5 cannot load, said with where
-// to get it; nullopt when every filter is there. Without it, every read of the
-// dataset fails with an error that does not say why.
+// to get it; nullopt when every filter is there. Chunks stored without it (an
+// optional filter that did not shrink them, as h5py's LZF) still read, so it
+// is said when a read fails, not at opening.
 std::optional<std::string> missing_filter(hid_t dataset) {
   const hid_t properties = H5Dget_create_plist(dataset);
   if (properties < 0) return std::nullopt;
@@ -98,6 +99,26 @@ std::optional<std::string> missing_filter(hid_t dataset) {
 }
 
 using detail::kHdf5MaxChunkBytes;
+
+// LZF parameters that do not state the dataset's chunk size `bytes` (a corrupt
+// file): its decoder could not tell a short chunk from a whole one.
+std::optional<std::string> lzf_chunk_size_mismatch(hid_t dataset, std::uint64_t bytes) {
+  const hid_t properties = H5Dget_create_plist(dataset);
+  if (properties < 0) return std::nullopt;
+  unsigned flags = 0;
+  std::size_t count = 3;
+  unsigned values[3] = {};
+  std::optional<std::string> mismatch;
+  if (H5Pget_filter_by_id2(properties, detail::kHdf5LzfFilterId, &flags, &count, values, 0, nullptr, nullptr) >= 0) {
+    const std::uint64_t stated = count >= 3 ? values[2] : 0;
+    if (stated != bytes) {
+      mismatch = "its LZF filter states chunks of " + std::to_string(stated) + " bytes, its chunks hold " +
+                 std::to_string(bytes) + " (corrupt?)";
+    }
+  }
+  H5Pclose(properties);
+  return mismatch;
+}
 
 // Bytes of one storage chunk of `dataset` (0 when it is not chunked).
 std::uint64_t chunk_bytes(hid_t dataset) {
@@ -277,11 +298,6 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
       close_handles();
       throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
     }
-    if (const auto missing = missing_filter(dataset)) {
-      H5Dclose(dataset);
-      close_handles();
-      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' is " + *missing);
-    }
     const std::uint64_t bytes = chunk_bytes(dataset);
     if (bytes > kHdf5MaxChunkBytes) {
       H5Dclose(dataset);
@@ -289,6 +305,14 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
       throw ReadError(path, -1, -1,
                       "HDF5 dataset '" + name + "' is stored in chunks of more than " +
                           std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
+    }
+    if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) {
+      H5Dclose(dataset);
+      close_handles();
+      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "': " + *mismatch);
+    }
+    if (const auto missing = missing_filter(dataset); missing && unloadable_filter_.empty()) {
+      unloadable_filter_ = "'" + name + "' is " + *missing;
     }
     return dataset;
   };
@@ -524,7 +548,9 @@ void Hdf5Reader::load_chunk() {
     error_.emplace(path_, -1, next_,
                    "HDF5 dataset '" + std::string(what) + "' cannot be read from event " +
                        std::to_string(next_) +
-                       " (corrupt data, wrong type or a compression filter this HDF5 lacks)");
+                       (unloadable_filter_.empty()
+                            ? std::string(" (corrupt data, wrong type or a compression filter this HDF5 lacks)")
+                            : " (dataset " + unloadable_filter_ + ")"));
     return;
   }
   chunk_size_ = count;

@@ -113,6 +113,7 @@ class Hdf5Reader final : public EventReader {
   std::size_t chunk_size_ = 0;
   std::size_t chunk_pos_ = 0;
   std::optional<ReadError> error_;
+  std::string unloadable_filter_;  // a dataset's filter this HDF5 cannot load, and where to get it (read errors say it)
 };
 
 }  // namespace evlife::io
