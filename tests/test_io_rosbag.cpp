@@ -359,6 +359,42 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
   const std::string what = evlife::test::open_error(folder.string());
   EXPECT_NE(what.find("a rosbag2 bag in MCAP storage: give its .mcap file ("), std::string::npos) << what;
   EXPECT_NE(what.find("bag_0.mcap)"), std::string::npos) << what;
+  // Up to version 3 rosbag2 listed the files with the folder's name in front (Dashing, Eloquent).
+  std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 3\n  storage_identifier: sqlite3\n"
+                                             "  relative_file_paths:\n    - split/bag_0.db3\n    - split/bag_1.db3\n";
+  const ReadAll old_bag = read_all(folder.string());
+  ASSERT_FALSE(old_bag.error) << old_bag.error->what();
+  EXPECT_EQ(old_bag.events.size(), 2u);
+  // Compressed bags (ros2 bag record --compression-mode file|message) are refused as such.
+  for (const char* mode : {"FILE", "MESSAGE"}) {
+    std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
+                                               "  relative_file_paths:\n    - bag_0.db3\n  compression_format: zstd\n"
+                                               "  compression_mode: " << mode << "\n";
+    const std::string compressed = evlife::test::open_error(folder.string());
+    EXPECT_NE(compressed.find("a rosbag2 bag compressed with zstd (compression_mode " + std::string(mode) +
+                              "): evlife reads uncompressed bags"),
+              std::string::npos)
+        << compressed;
+  }
+}
+
+// Two connections of one topic name with two types: refused naming both
+// (each was decoded with the first type's layout: a misleading fault).
+TEST(Rosbag2Reader, ATopicOfTwoTypesIsRefusedNamingThem) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const fs::path folder = fs::path(dir.file("mixed"));
+  fs::create_directories(folder);
+  for (int i = 0; i < 2; ++i) {
+    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
+    create_tables(db.db);
+    exec(db.db, std::string("INSERT INTO topics VALUES (1, '/events', '") +
+                    (i == 0 ? "dvs_msgs/msg/EventArray" : "event_camera_msgs/msg/EventPacket") + "', 'cdr', '')");
+  }
+  const std::string what = evlife::test::open_error(folder.string());
+  EXPECT_NE(what.find("topic '/events' holds messages of two types, dvs_msgs/msg/EventArray and "
+                      "event_camera_msgs/msg/EventPacket"),
+            std::string::npos)
+      << what;
 }
 
 // A message whose topic_id no topics row lists belongs to no topic: it is

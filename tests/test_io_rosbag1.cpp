@@ -120,6 +120,20 @@ TEST_F(Rosbag1Faults, UnknownCompressionTruncatedAndNotIndexed) {
   const std::string cut = save("cut.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(full.size() / 2)));
   const std::string cut_error = evlife::test::open_error(cut);
   EXPECT_NE(cut_error.find("not indexed"), std::string::npos) << cut_error;
+  // Cut where the index begins (it read no index, then "no event topic"), and inside it.
+  const std::size_t field = find_all(full, "index_pos=").at(0) + 10;
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, full.data() + field, sizeof index_pos);
+  ASSERT_LT(index_pos, full.size());
+  const auto cut_at = [&](std::size_t size) {
+    return evlife::test::open_error(save("cut_at.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(size))));
+  };
+  const std::string at_index = cut_at(index_pos);
+  EXPECT_NE(at_index.find("not indexed"), std::string::npos) << at_index;
+  const std::string in_index = cut_at(index_pos + 30);
+  EXPECT_NE(in_index.find("(in the bag's index, after its chunks: a file cut short; run `rosbag reindex` on it)"),
+            std::string::npos)
+      << in_index;
 }
 
 }  // namespace

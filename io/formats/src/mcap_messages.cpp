@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "evlife/io/event_reader.h"
+#include "ros_topics.h"
 
 namespace evlife::io::mcap {
 namespace {
@@ -176,13 +177,8 @@ void McapMessages::build_topics(const std::map<std::uint16_t, std::uint64_t>& co
     const auto schema = schemas_.find(c.schema_id);
     const auto count = counts.find(id);
     const std::uint64_t n = count != counts.end() ? count->second : 0;
-    const auto [it, added] = by_name.emplace(c.topic, topics_.size());
-    if (added) {
-      topics_.push_back(ros::TopicInfo{c.topic, schema != schemas_.end() ? schema->second.name : "",
-                                       c.message_encoding, n});
-    } else {
-      topics_[it->second].message_count += n;
-    }
+    ros::add_topic(topics_, by_name,
+                   ros::TopicInfo{c.topic, schema != schemas_.end() ? schema->second.name : "", c.message_encoding, n, {}});
   }
 }
 

@@ -33,7 +33,10 @@ std::size_t TopicEventReader::read(std::span<Event> out) {
 
 std::vector<ContainerStream> TopicEventReader::streams() const {
   std::vector<ContainerStream> s;
-  for (const TopicInfo& t : topics_) s.push_back(ContainerStream{t.name, t.type, t.message_count, t.name == topic_});
+  for (const TopicInfo& t : topics_) {
+    s.push_back(ContainerStream{t.name, t.other_type.empty() ? t.type : t.type + " and " + t.other_type,
+                                t.message_count, t.name == topic_});
+  }
   if (unlisted_messages_ > 0)
     s.push_back(ContainerStream{"(topic ids no topics row lists)", "(unknown: not read)", unlisted_messages_, false});
   return s;

@@ -80,7 +80,9 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::uint64_t index_pos = 0;
     if (!field(f, "op", op) || op != kBagHeader || !field(f, "index_pos", index_pos))
       throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1, "ROS 1 bag without its bag header record");
-    if (index_pos == 0 || index_pos > file_.size_bytes())
+    // At the file's end: cut where the index begins (a copy or recording
+    // stopped there), no index record left.
+    if (index_pos == 0 || index_pos >= file_.size_bytes())
       throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1,
                       "ROS 1 bag not indexed (index_pos " + std::to_string(index_pos) +
                           "; an interrupted recording: run `rosbag reindex` on it)");
@@ -106,7 +108,11 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   };
 
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {
-    throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(offset), what);
+    // In the index (past the chunks): a file cut there, whose chunks reindexing keeps.
+    throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(offset),
+                              reading_index_ ? what + " (in the bag's index, after its chunks: a file cut short; run "
+                                                      "`rosbag reindex` on it)"
+                                             : what);
   }
 
   /// Reads the record at `at`: its header fields and where its data is;
@@ -137,6 +143,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
 
   /// Connections and message counts from the index section.
   void read_index() {
+    reading_index_ = true;
     HeaderFields f;
     HeaderFields conn_fields;
     std::vector<std::uint8_t> data;
@@ -166,15 +173,9 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       }
       at = next;
     }
+    reading_index_ = false;
     std::map<std::string, std::size_t> by_topic;
-    for (const auto& [id, c] : connections_) {
-      const auto [it, added] = by_topic.emplace(c.topic, topics_.size());
-      if (added) {
-        topics_.push_back(ros::TopicInfo{c.topic, c.type, "ros1", c.messages});
-      } else {
-        topics_[it->second].message_count += c.messages;
-      }
-    }
+    for (const auto& [id, c] : connections_) ros::add_topic(topics_, by_topic, ros::TopicInfo{c.topic, c.type, "ros1", c.messages, {}});
   }
 
   /// Decompresses the chunk record at `at` into chunk_.
@@ -263,6 +264,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::vector<std::uint32_t> wanted_;
   std::uint64_t first_record_ = 0;
   std::uint64_t index_pos_ = 0;
+  bool reading_index_ = false;  // fail() says where a fault lies
   std::uint64_t pos_ = 0;  // next top-level record
   std::vector<std::uint8_t> header_;
   std::vector<std::uint8_t> compressed_;

@@ -3,11 +3,15 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <string_view>
 
 #include "evlife/io/event_reader.h"
+#include "ros_messages.h"
+#include "ros_topics.h"
 
 namespace evlife::io::ros {
 namespace {
@@ -52,18 +56,42 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
   std::vector<std::string> files;
   const fs::path metadata = fs::path(dir) / "metadata.yaml";
   if (std::ifstream in(metadata); in) {
-    std::string line, storage;
+    std::string line, storage, compression_format, compression_mode, version;
+    std::vector<std::string> listed;
     bool in_list = false;
+    const auto value_of = [](const std::string& t, std::string_view key, std::string& out) {
+      if (t.rfind(key, 0) == 0 && out.empty()) out = trimmed(t.substr(key.size()));
+    };
     while (std::getline(in, line)) {
       const std::string t = trimmed(line);
-      if (t.rfind("storage_identifier:", 0) == 0) storage = trimmed(t.substr(19));
+      value_of(t, "storage_identifier:", storage);
+      value_of(t, "version:", version);  // the bag's: the first in the file
+      value_of(t, "compression_format:", compression_format);
+      value_of(t, "compression_mode:", compression_mode);
       if (t == "relative_file_paths:") {
         in_list = true;
       } else if (in_list && t.rfind("- ", 0) == 0) {
-        files.push_back((fs::path(dir) / trimmed(t.substr(2))).string());
+        listed.push_back(trimmed(t.substr(2)));
       } else if (in_list) {
         in_list = false;
       }
+    }
+    // Up to version 3 rosbag2 wrote the paths with the bag folder's name in
+    // front (relative to the folder's parent), as its reader resolves them.
+    const int bag_version = std::atoi(version.c_str());
+    const fs::path base = bag_version >= 1 && bag_version <= 3 ? fs::path(dir).parent_path() : fs::path(dir);
+    for (const std::string& f : listed) files.push_back((base / f).string());
+    const auto quoted_off = [](std::string v) {
+      if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'') && v.back() == v.front()) v = v.substr(1, v.size() - 2);
+      return v;
+    };
+    compression_format = quoted_off(compression_format);
+    compression_mode = quoted_off(compression_mode);
+    if (!compression_format.empty() && compression_mode != "NONE" && compression_mode != "none" &&
+        !compression_mode.empty()) {
+      throw ReadError(metadata.string(), -1, -1,
+                      "a rosbag2 bag compressed with " + compression_format + " (compression_mode " + compression_mode +
+                          "): " + std::string(kCompressedBagAdvice));
     }
     if (storage == "mcap") {  // the default storage since ROS 2 Iron: read by the MCAP reader
       std::string names;
@@ -154,14 +182,8 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
         "SELECT t.name, t.type, t.serialization_format, "
         "(SELECT COUNT(*) FROM messages m WHERE m.topic_id = t.id) FROM topics t ORDER BY t.id");
     while (db.step("cannot read the topics table")) {
-      TopicInfo t{db.text(0), db.text(1), db.text(2),
-                  static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 3))};
-      const auto [it, added] = by_name.emplace(t.name, topics_.size());
-      if (added) {
-        topics_.push_back(std::move(t));
-      } else {
-        topics_[it->second].message_count += t.message_count;
-      }
+      add_topic(topics_, by_name,
+                TopicInfo{db.text(0), db.text(1), db.text(2), static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 3)), {}});
     }
     db.prepare("SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)");
     if (db.step("cannot count the messages of no topic"))

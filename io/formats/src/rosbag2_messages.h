@@ -19,6 +19,7 @@ struct TopicInfo {
   std::string type;
   std::string serialization;
   std::uint64_t message_count = 0;
+  std::string other_type;  ///< a second message type on the same topic (another connection or channel)
 };
 
 class Rosbag2Messages {

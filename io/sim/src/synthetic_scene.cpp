@@ -373,7 +373,8 @@ void SyntheticSceneReader::generate_next_slice() {
     for (const auto& bar : spec_.bars) bar_slice(bar, feature++, ctx, emit_ideal);
   }
 
-  // Background noise: Poisson-like count by randomized rounding of the mean.
+  // Background noise: per slice, the mean count rounded at random (right
+  // rates, not a Poisson process within a slice: README, "Not modelled").
   const double mean = spec_.noise_rate_hz_per_px * static_cast<double>(spec_.sensor.pixel_count()) *
                       static_cast<double>(b - a) * 1e-6;
   auto count = static_cast<std::uint64_t>(mean);

@@ -106,7 +106,9 @@ struct PixelModel {
   /// Width of the edge profile in pixels (optics, pixel aperture, motion blur
   /// in the photoreceptor): L ramps over edge_blur_px * tau around t_c.
   double edge_blur_px = 1.5;
-  /// Mean pixel latency (us), from the threshold crossing to the timestamp.
+  /// Pixel latency (us), from the threshold crossing to the timestamp: the
+  /// centre of the Gaussian below (its truncation at 0 raises the mean when
+  /// the jitter is a good part of it: 500 +- 300 us gives 531 us).
   /// DVS128: 15 us in bright light, growing as the photocurrent falls
   /// (Lichtsteiner 2008);
   /// the readout of a busy array adds tens of us.
