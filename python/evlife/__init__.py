@@ -16,7 +16,9 @@ Test data:  synth (the scenes of `evlife synth`, with ground truth per event)
 Writing:    write (.bin / .csv / .h5 as `evlife process -o`)
 Many files: evlife.batch.process_files, process_slices (Dask distributed)
 Errors:     InputError (a ValueError; bad input, with file, event index and
-            byte offset), FileNotFoundError, ValueError (bad options), OSError.
+            byte offset), FileNotFoundError, ValueError (bad options), OSError;
+            Interrupted (a KeyboardInterrupt: Ctrl-C in a long call, with what
+            was done: .partial, .events_processed, .events_written).
 Streams:    a named pipe or socket (`<(zcat x.txt.gz)`, /dev/stdin) given to
             read, open, scan, process or process_file is first copied into a
             temporary file in $TMPDIR (the readers read a file's start twice).
@@ -33,6 +35,7 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     EVENT_DTYPE,
     TRUTH_DTYPE,
     InputError,
+    Interrupted,
     LifetimeEstimator,
     Reader,
     estimator_options,
@@ -57,7 +60,7 @@ process_file = _streams.reading_streams(process_file, "input")
 open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
 
 __all__ = [
-    "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "LifetimeEstimator", "Reader",
+    "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "Interrupted", "LifetimeEstimator", "Reader",
     "estimator_options", "formats", "frame", "open", "process", "process_file", "read", "read_augmented",
     "scan", "synth", "write", "batch",
 ]

@@ -22,6 +22,11 @@ class InputError(ValueError):
     partial: Optional[npt.NDArray[np.void]]
     events_written: Optional[int]  # process_file: the events its output holds
 
+class Interrupted(KeyboardInterrupt):  # Ctrl-C during process(), process_file() or LifetimeEstimator.process()
+    partial: Optional[npt.NDArray[np.void]]  # the outputs of the events processed
+    events_processed: int
+    events_written: Optional[int]  # process_file: the events its output holds
+
 def formats() -> list[Tuple[str, str]]: ...
 def read(path: StrPath, sensor: Optional[Sensor] = None, *, from_s: Optional[float] = None,
          to_s: Optional[float] = None, topic: Optional[str] = None) -> npt.NDArray[np.void]: ...

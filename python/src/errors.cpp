@@ -11,6 +11,15 @@ namespace evlife::python {
 namespace {
 
 PyObject* g_input_error = nullptr;  // evlife.InputError, owned by the module
+PyObject* g_interrupted = nullptr;  // evlife.Interrupted
+
+constexpr const char* kInterruptedDoc =
+    "Ctrl-C (SIGINT) during a long call: a KeyboardInterrupt, raised between\n"
+    "blocks of 65536 events, with what was done: partial (the outputs of the\n"
+    "events processed, or None), events_processed, events_written (how many\n"
+    "events process_file's output holds, else None). LifetimeEstimator.process:\n"
+    "its state includes the events processed; go on with events[events_processed:].";
+constexpr auto kSignalCheckPeriod = std::chrono::milliseconds(100);
 
 constexpr const char* kInputErrorDoc =
     "Bad input: a file or array evlife cannot use (unknown format, corrupt or\n"
@@ -45,10 +54,47 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
   throw py::error_already_set();
 }
 
+bool SignalCheck::pending() {
+  if (type_) return true;
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_check_) return false;
+  next_check_ = now + kSignalCheckPeriod;
+  const py::gil_scoped_acquire gil;
+  return fetch();
+}
+
+bool SignalCheck::pending_now() { return type_ || fetch(); }
+
+bool SignalCheck::fetch() {
+  if (PyErr_CheckSignals() == 0) return false;
+  PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
+  PyErr_Fetch(&type, &value, &traceback);
+  type_ = py::reinterpret_steal<py::object>(type);
+  value_ = py::reinterpret_steal<py::object>(value);
+  traceback_ = py::reinterpret_steal<py::object>(traceback);
+  return true;
+}
+
+void SignalCheck::raise(const std::string& message, py::object partial, std::uint64_t events_processed,
+                        py::object events_written) {
+  if (!PyErr_GivenExceptionMatches(type_.ptr(), PyExc_KeyboardInterrupt)) {
+    PyErr_Restore(type_.release().ptr(), value_.release().ptr(), traceback_.release().ptr());
+    throw py::error_already_set();
+  }
+  py::object error = py::reinterpret_borrow<py::object>(g_interrupted)(message);
+  error.attr("partial") = std::move(partial);
+  error.attr("events_processed") = events_processed;
+  error.attr("events_written") = std::move(events_written);
+  PyErr_SetObject(g_interrupted, error.ptr());
+  throw py::error_already_set();
+}
+
 void bind_errors(py::module_& m) {
   g_input_error = PyErr_NewExceptionWithDoc("evlife.InputError", kInputErrorDoc, PyExc_ValueError,
                                             nullptr);
   m.attr("InputError") = py::handle(g_input_error);
+  g_interrupted = PyErr_NewExceptionWithDoc("evlife.Interrupted", kInterruptedDoc, PyExc_KeyboardInterrupt, nullptr);
+  m.attr("Interrupted") = py::handle(g_interrupted);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

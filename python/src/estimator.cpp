@@ -41,34 +41,45 @@ class Estimator {
       : resolved_(std::move(resolved)), estimator_(resolved_.config.estimator) {}
 
   /// Checks `events` whole, then estimates them; on bad input raises
-  /// InputError and leaves the state as it was.
+  /// InputError and leaves the state as it was. In blocks (chunks give the
+  /// one-call result), Ctrl-C checked between them: evlife.Interrupted.
   py::array process(const py::handle& events) {
     const EventColumns cols = event_columns(events);
     py::array out(augmented_dtype(), std::vector<py::ssize_t>{static_cast<py::ssize_t>(cols.size)},
                   std::vector<py::ssize_t>{static_cast<py::ssize_t>(sizeof(AugmentedEvent))});
     auto* dst = static_cast<AugmentedEvent*>(out.mutable_data());
     EventCheck check;
+    SignalCheck signals;
+    std::size_t processed = 0;
     {
       py::gil_scoped_release release;
       std::lock_guard lock(mutex_);
       check = check_events(cols, estimator_.options().sensor, last_t_us_);
       if (check.bad_index == SIZE_MAX) {
-        if (!check.convert) {
-          estimator_.process(std::span(cols.exact, cols.size), std::span(dst, cols.size));
-        } else {
-          std::vector<Event> block(std::min(cols.size, kBlockEvents));
-          for (std::size_t first = 0; first < cols.size; first += block.size()) {
-            const std::size_t n = std::min(block.size(), cols.size - first);
-            convert_events(cols, first, std::span(block.data(), n));
-            estimator_.process(std::span<const Event>(block.data(), n), std::span(dst + first, n));
+        std::vector<Event> block(check.convert ? std::min(cols.size, kBlockEvents) : 0);
+        while (processed < cols.size && !(processed > 0 && signals.pending())) {
+          const std::size_t n = std::min(kBlockEvents, cols.size - processed);
+          if (!check.convert) {
+            estimator_.process(std::span(cols.exact + processed, n), std::span(dst + processed, n));
+            last_t_us_ = cols.exact[processed + n - 1].t_us;
+          } else {
+            convert_events(cols, processed, std::span(block.data(), n));
+            estimator_.process(std::span<const Event>(block.data(), n), std::span(dst + processed, n));
+            last_t_us_ = block[n - 1].t_us;
           }
+          processed += n;
         }
-        last_t_us_ = check.last_t_us;
       }
     }
     if (check.bad_index != SIZE_MAX) {
       raise_input_error(io::ReadError("events", -1, static_cast<std::int64_t>(check.bad_index),
                                       check.what + "; no event of this call was processed"));
+    }
+    if (processed < cols.size || signals.pending_now()) {
+      signals.raise("interrupted after " + std::to_string(processed) + " of " + std::to_string(cols.size) +
+                        " events; the estimator's state includes them: go on with events[" +
+                        std::to_string(processed) + ":]",
+                    out[py::slice(0, static_cast<py::ssize_t>(processed), 1)], processed, py::none());
     }
     return out;
   }
@@ -128,6 +139,7 @@ struct FileRun {
   std::uint64_t skipped_records = 0;  // the format's non-event records (as the CLI's summary)
   std::vector<io::SkippedKindCount> skipped_kinds;
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
+  bool interrupted = false;            // Ctrl-C: the events before were handed to the sink
   LifetimeStats stats;  // the estimator's, at the end (rejected(): the CLI summary's "rejected" line)
 
   void note_skipped(const io::EventReader& reader) {  // at the end of the pass
@@ -141,10 +153,10 @@ struct FileRun {
 // each block of augmented events goes to `sink`, then `on_sensor` has been
 // called once before. Unless `one_thread`, the file is decoded ahead on a
 // thread of its own (as `evlife process` without --one-thread: the same
-// events, sooner). Runs without the GIL.
+// events, sooner). Runs without the GIL; stops between blocks on Ctrl-C.
 template <class OnSensor, class Sink>
 FileRun run_file(const std::string& path, std::optional<SensorSize> user, ResolvedOptions r,
-                 io::ReaderOptions crop, bool one_thread, OnSensor&& on_sensor, Sink&& sink) {
+                 io::ReaderOptions crop, bool one_thread, SignalCheck& signals, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
   const auto probe = io::open_unchecked_event_reader(path, whole_stream(crop));
   if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
@@ -161,6 +173,10 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   std::vector<Event> in(kBlockEvents);
   std::vector<AugmentedEvent> out(kBlockEvents);
   for (;;) {
+    if (run.events > 0 && signals.pending()) {
+      run.interrupted = true;
+      break;
+    }
     std::size_t n = 0;
     try {
       n = reader->read(in);
@@ -212,10 +228,11 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   std::vector<AugmentedEvent> out;
   FileRun run;
+  SignalCheck signals;
   {
     py::gil_scoped_release release;
     try {
-      run = run_file(path, user, r, crop, one_thread, [](SensorSize) {},
+      run = run_file(path, user, r, crop, one_thread, signals, [](SensorSize) {},
                      [&](std::span<const AugmentedEvent> block) {
         out.insert(out.end(), block.begin(), block.end());
       });
@@ -225,6 +242,10 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   }
   py::array result = adopt(std::move(out), augmented_dtype());  // .partial: empty, not None, as evlife.read's
   if (run.fault) raise_input_error(*run.fault, result);
+  if (run.interrupted || signals.pending_now()) {
+    signals.raise(path + ": interrupted; the first " + std::to_string(run.events) + " events were processed (.partial)",
+                  result, run.events, py::none());
+  }
   warn_rejected(path, run);
   return result;
 }
@@ -239,12 +260,13 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   if (const auto refusal = io::output_overwrites_input(path, output)) throw std::invalid_argument(*refusal);
   FileRun run;
+  SignalCheck signals;
   {
     py::gil_scoped_release release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
     try {
       run = run_file(
-          path, user, r, crop, one_thread,
+          path, user, r, crop, one_thread, signals,
           [&](SensorSize s) {
             writer = io::open_augmented_writer(output, s);
             if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
@@ -262,6 +284,10 @@ py::dict process_to_file(const std::string& path, const std::string& output,
       error.value().attr("events_written") = run.events;  // the output holds these
       throw;
     }
+  }
+  if (run.interrupted || signals.pending_now()) {  // as `evlife process` on SIGINT
+    signals.raise("interrupted; the first " + std::to_string(run.events) + " events were written to " + output,
+                  py::none(), run.events, py::int_(run.events));
   }
   py::dict d;
   d["events"] = run.events;

@@ -1,0 +1,67 @@
+"""Ctrl-C during a long call: evlife.Interrupted (a KeyboardInterrupt) soon,
+with what was done kept, as `evlife process` on SIGINT (it was noticed only
+after the whole input, and the result was lost)."""
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import evlife
+from conftest import assert_same_events, cli, data
+
+
+def interrupt_during(call):
+    """call() with a SIGINT 50 ms in: the evlife.Interrupted it raised. A
+    signal that lands before the call (a busy machine) is retried."""
+    for _ in range(5):
+        timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+        try:
+            timer.start()
+            call()
+            timer.join()
+        except evlife.Interrupted as e:
+            timer.join()
+            return e
+        except KeyboardInterrupt:  # before the call, in Python: not evlife's to say
+            timer.join()
+    pytest.fail("no SIGINT landed inside the call in 5 tries")
+
+
+def stripes_tiled(copies):
+    """stripes.mat repeated `copies` times, each copy after the last in time."""
+    events = evlife.read(data("reference/stripes.mat"))
+    span = int(events["t"][-1]) + 1000
+    big = np.tile(events, copies)
+    big["t"] = np.concatenate([events["t"] + k * span for k in range(copies)])
+    return big
+
+
+def test_an_interrupted_estimator_goes_on_where_it_stopped():
+    big = stripes_tiled(12)  # 4.1 M events: seconds of work, 50 ms before the signal
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    e = interrupt_during(lambda: est.process(big))
+    assert isinstance(e, KeyboardInterrupt)
+    assert 0 < e.events_processed <= len(big)
+    assert len(e.partial) == e.events_processed and e.events_written is None
+    assert "go on with events[%d:]" % e.events_processed in str(e)
+    rest = est.process(big[e.events_processed:])  # the state holds the events processed
+    whole = evlife.LifetimeEstimator(sensor=(128, 128)).process(big)
+    assert_same_events(np.concatenate([e.partial, rest]), whole)
+
+
+def test_an_interrupted_file_keeps_what_was_written(tmp_path):
+    recording = tmp_path / "large.h5"
+    cli("synth", "-q", "--scene", "large", "--duration", "3", "-o", recording)  # 6 M events
+    out = tmp_path / "out.bin"
+    e = interrupt_during(lambda: evlife.process_file(str(recording), str(out)))
+    assert e.events_written == e.events_processed > 0
+    assert "interrupted; the first %d events were written to %s" % (e.events_written, out) in str(e)
+    written, _ = evlife.read_augmented(str(out))
+    assert len(written) == e.events_written
+    whole = evlife.process(str(recording))
+    assert_same_events(written, whole[:len(written)])
+    e = interrupt_during(lambda: evlife.process(str(recording)))
+    assert len(e.partial) == e.events_processed > 0
+    assert_same_events(e.partial, whole[:len(e.partial)])
