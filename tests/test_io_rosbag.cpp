@@ -362,9 +362,11 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
   // Up to version 3 rosbag2 listed the files with the folder's name in front (Dashing, Eloquent).
   std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 3\n  storage_identifier: sqlite3\n"
                                              "  relative_file_paths:\n    - split/bag_0.db3\n    - split/bag_1.db3\n";
-  const ReadAll old_bag = read_all(folder.string());
-  ASSERT_FALSE(old_bag.error) << old_bag.error->what();
-  EXPECT_EQ(old_bag.events.size(), 2u);
+  for (const std::string& given : {folder.string(), folder.string() + "/", folder.string() + "/."}) {
+    const ReadAll old_bag = read_all(given);
+    ASSERT_FALSE(old_bag.error) << given << ": " << old_bag.error->what();
+    EXPECT_EQ(old_bag.events.size(), 2u) << given;
+  }
   // Compressed bags (ros2 bag record --compression-mode file|message) are refused as such.
   for (const char* mode : {"FILE", "MESSAGE"}) {
     std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"

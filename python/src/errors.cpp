@@ -18,7 +18,9 @@ constexpr const char* kInterruptedDoc =
     "blocks of 65536 events, with what was done: partial (the outputs of the\n"
     "events processed, or None), events_processed, events_written (how many\n"
     "events process_file's output holds, else None). LifetimeEstimator.process:\n"
-    "its state includes the events processed; go on with events[events_processed:].";
+    "its state includes the events processed; go on with events[events_processed:].\n"
+    "On the main thread, with Python's default SIGINT handler (a handler of your\n"
+    "own runs after the call, as before).";
 constexpr auto kSignalCheckPeriod = std::chrono::milliseconds(100);
 
 constexpr const char* kInputErrorDoc =
@@ -54,33 +56,30 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
   throw py::error_already_set();
 }
 
+SignalCheck::SignalCheck(bool long_call) {
+  if (!long_call) return;
+  const py::module_ threading = py::module_::import("threading");
+  const py::module_ signal = py::module_::import("signal");
+  enabled_ = threading.attr("current_thread")().is(threading.attr("main_thread")()) &&
+             signal.attr("getsignal")(signal.attr("SIGINT")).is(signal.attr("default_int_handler"));
+}
+
 bool SignalCheck::pending() {
-  if (type_) return true;
+  if (interrupted_ || !enabled_) return interrupted_;
   const auto now = std::chrono::steady_clock::now();
   if (now < next_check_) return false;
   next_check_ = now + kSignalCheckPeriod;
   const py::gil_scoped_acquire gil;
-  return fetch();
+  return interrupted_ = PyOS_InterruptOccurred() != 0;
 }
 
-bool SignalCheck::pending_now() { return type_ || fetch(); }
-
-bool SignalCheck::fetch() {
-  if (PyErr_CheckSignals() == 0) return false;
-  PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
-  PyErr_Fetch(&type, &value, &traceback);
-  type_ = py::reinterpret_steal<py::object>(type);
-  value_ = py::reinterpret_steal<py::object>(value);
-  traceback_ = py::reinterpret_steal<py::object>(traceback);
-  return true;
+bool SignalCheck::pending_now() {
+  if (!interrupted_ && enabled_) interrupted_ = PyOS_InterruptOccurred() != 0;
+  return interrupted_;
 }
 
 void SignalCheck::raise(const std::string& message, py::object partial, std::uint64_t events_processed,
                         py::object events_written) {
-  if (!PyErr_GivenExceptionMatches(type_.ptr(), PyExc_KeyboardInterrupt)) {
-    PyErr_Restore(type_.release().ptr(), value_.release().ptr(), traceback_.release().ptr());
-    throw py::error_already_set();
-  }
   py::object error = py::reinterpret_borrow<py::object>(g_interrupted)(message);
   error.attr("partial") = std::move(partial);
   error.attr("events_processed") = events_processed;

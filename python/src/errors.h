@@ -26,26 +26,31 @@ namespace py = pybind11;
 [[noreturn]] void raise_input_error(const io::ReadError& e, py::object partial = py::none());
 
 /// Ctrl-C during a long call that runs without the GIL: pending(), called
-/// between blocks of events, asks Python at most every 100 ms whether a
-/// signal handler raised (SIGINT's: KeyboardInterrupt). Construct and
-/// destroy it with the GIL held; pending() runs without it.
+/// between blocks of events, asks Python at most every 100 ms whether SIGINT
+/// came (PyOS_InterruptOccurred: no handler runs inside the call, which holds
+/// the estimator's lock). Only on the main thread (the one Python's handlers
+/// run on; another may be a daemon at the interpreter's exit) and while
+/// SIGINT's handler is Python's default (KeyboardInterrupt): a handler of the
+/// user's runs after the call, as before. Construct it with the GIL held;
+/// pending() runs without it.
 class SignalCheck {
  public:
+  /// `long_call` false (a call of one block): never checks (no cost).
+  explicit SignalCheck(bool long_call = true);
   bool pending();
   /// With the GIL, at the end of the call: pending() now, without its 100 ms
   /// wait (a Ctrl-C during the last block is said with the whole result).
   bool pending_now();
   /// With the GIL, after pending(): raises evlife.Interrupted (a
   /// KeyboardInterrupt) with `message` and the attributes partial,
-  /// events_processed and events_written; or what the handler raised if it
-  /// raised something else.
-  [[noreturn]] void raise(const std::string& message, py::object partial, std::uint64_t events_processed,
-                          py::object events_written);
+  /// events_processed and events_written.
+  [[noreturn]] static void raise(const std::string& message, py::object partial, std::uint64_t events_processed,
+                                 py::object events_written);
 
  private:
-  bool fetch();  // with the GIL: runs Python's signal handlers, keeps what they raised
+  bool enabled_ = false;
+  bool interrupted_ = false;
   std::chrono::steady_clock::time_point next_check_{};
-  py::object type_, value_, traceback_;  // the handler's exception, once raised
 };
 
 void bind_errors(py::module_& m);

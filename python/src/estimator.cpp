@@ -49,7 +49,7 @@ class Estimator {
                   std::vector<py::ssize_t>{static_cast<py::ssize_t>(sizeof(AugmentedEvent))});
     auto* dst = static_cast<AugmentedEvent*>(out.mutable_data());
     EventCheck check;
-    SignalCheck signals;
+    SignalCheck signals(/*long_call=*/cols.size > kBlockEvents);
     std::size_t processed = 0;
     {
       py::gil_scoped_release release;

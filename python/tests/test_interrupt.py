@@ -43,7 +43,7 @@ def test_an_interrupted_estimator_goes_on_where_it_stopped():
     est = evlife.LifetimeEstimator(sensor=(128, 128))
     e = interrupt_during(lambda: est.process(big))
     assert isinstance(e, KeyboardInterrupt)
-    assert 0 < e.events_processed <= len(big)
+    assert 0 < e.events_processed < len(big)  # stopped early (seconds of work, stopped within ~0.2 s)
     assert len(e.partial) == e.events_processed and e.events_written is None
     assert "go on with events[%d:]" % e.events_processed in str(e)
     rest = est.process(big[e.events_processed:])  # the state holds the events processed
@@ -55,13 +55,37 @@ def test_an_interrupted_file_keeps_what_was_written(tmp_path):
     recording = tmp_path / "large.h5"
     cli("synth", "-q", "--scene", "large", "--duration", "3", "-o", recording)  # 6 M events
     out = tmp_path / "out.bin"
+    whole = evlife.process(str(recording))
     e = interrupt_during(lambda: evlife.process_file(str(recording), str(out)))
-    assert e.events_written == e.events_processed > 0
+    assert 0 < e.events_written == e.events_processed < len(whole)
     assert "interrupted; the first %d events were written to %s" % (e.events_written, out) in str(e)
     written, _ = evlife.read_augmented(str(out))
     assert len(written) == e.events_written
-    whole = evlife.process(str(recording))
     assert_same_events(written, whole[:len(written)])
     e = interrupt_during(lambda: evlife.process(str(recording)))
-    assert len(e.partial) == e.events_processed > 0
+    assert 0 < len(e.partial) == e.events_processed < len(whole)
     assert_same_events(e.partial, whole[:len(e.partial)])
+
+
+def test_a_handler_of_the_users_runs_after_the_call_as_before():
+    # It may read the estimator (whose lock the call holds: a handler run
+    # inside the call would wait for it for ever) and raise what it likes.
+    big = stripes_tiled(6)
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    seen = []
+
+    def handler(signum, frame):
+        seen.append(est.stats["events"])
+        raise TimeoutError("the user's")
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        timer = threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT))
+        with pytest.raises(TimeoutError):
+            timer.start()
+            est.process(big)
+            timer.join()
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert seen and seen[0] in (0, len(big))  # before the call (a busy machine) or after it, never inside

@@ -79,7 +79,11 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
     // Up to version 3 rosbag2 wrote the paths with the bag folder's name in
     // front (relative to the folder's parent), as its reader resolves them.
     const int bag_version = std::atoi(version.c_str());
-    const fs::path base = bag_version >= 1 && bag_version <= 3 ? fs::path(dir).parent_path() : fs::path(dir);
+    // ("bag/", "." and "./" name the folder too: its parent is that of the absolute path).
+    std::error_code cwd_error;  // no working directory: the path as given
+    fs::path folder = fs::absolute(dir, cwd_error).lexically_normal();
+    if (!folder.has_filename()) folder = folder.parent_path();
+    const fs::path base = bag_version >= 1 && bag_version <= 3 ? folder.parent_path() : fs::path(dir);
     for (const std::string& f : listed) files.push_back((base / f).string());
     const auto quoted_off = [](std::string v) {
       if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'') && v.back() == v.front()) v = v.substr(1, v.size() - 2);
