@@ -5,6 +5,7 @@
 // choice; faults (events before them kept, file + message index named).
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <zstd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -367,17 +368,60 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
     ASSERT_FALSE(old_bag.error) << given << ": " << old_bag.error->what();
     EXPECT_EQ(old_bag.events.size(), 2u) << given;
   }
-  // Compressed bags (ros2 bag record --compression-mode file|message) are refused as such.
-  for (const char* mode : {"FILE", "MESSAGE"}) {
+  // A file-compressed bag (ros2 bag record --compression-mode file) is refused as such; message
+  // compression reads (ZstdCompressedMessagesReadAsTheirUncompressedBag).
+  const auto with_compression = [&](const char* mode) {
     std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
                                                "  relative_file_paths:\n    - bag_0.db3\n  compression_format: zstd\n"
                                                "  compression_mode: " << mode << "\n";
-    const std::string compressed = evlife::test::open_error(folder.string());
-    EXPECT_NE(compressed.find("a rosbag2 bag compressed with zstd (compression_mode " + std::string(mode) +
-                              "): evlife reads uncompressed bags"),
-              std::string::npos)
-        << compressed;
-  }
+  };
+  with_compression("FILE");
+  const std::string compressed = evlife::test::open_error(folder.string());
+  EXPECT_NE(compressed.find("a rosbag2 bag compressed with zstd (compression_mode FILE): evlife reads uncompressed bags"),
+            std::string::npos)
+      << compressed;
+  with_compression("MESSAGE");
+  const ReadAll by_message = read_all(folder.string());
+  ASSERT_FALSE(by_message.error) << by_message.error->what();
+  EXPECT_EQ(by_message.events.size(), 1u);
+}
+
+// ros2 bag record --compression-mode message --compression-format zstd: every
+// message a zstd frame (ZSTD_compress, as rosbag2's compressor). They read as
+// the same bag uncompressed; a corrupt frame is an error after the events before.
+TEST(Rosbag2Reader, ZstdCompressedMessagesReadAsTheirUncompressedBag) {
+  const RosMessages mono = decode_db3(kMonoBag);
+  const ScratchDir dir{"test_io_rosbag"};
+  const auto write_bag = [&](const std::string& path, bool compressed, std::size_t corrupt_at) {
+    Db db(path);
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    for (std::size_t i = 0; i < mono.size(); ++i) {
+      std::vector<std::uint8_t> message = event_array(mono[i], 640, 480);
+      if (compressed) {
+        std::vector<std::uint8_t> frame(ZSTD_compressBound(message.size()));
+        frame.resize(ZSTD_compress(frame.data(), frame.size(), message.data(), message.size(), 3));
+        if (i == corrupt_at) frame.resize(frame.size() - 5);  // cut: its blocks end short
+        message = frame;
+      }
+      db.insert(static_cast<int>(i + 1), 1, static_cast<std::int64_t>(i), message);
+    }
+  };
+  const std::string plain = dir.file("plain.db3"), zstd = dir.file("zstd.db3"), cut = dir.file("cut.db3");
+  write_bag(plain, false, SIZE_MAX);
+  write_bag(zstd, true, SIZE_MAX);
+  write_bag(cut, true, 1);  // the second of the bag's two messages
+  const ReadAll reference = read_all(plain);
+  ASSERT_FALSE(reference.error) << reference.error->what();
+  const ReadAll r = read_all(zstd);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), reference.events.size());
+  EXPECT_EQ(0, std::memcmp(r.events.data(), reference.events.data(), r.events.size() * sizeof(Event)));
+  const ReadAll broken = read_all(cut);
+  ASSERT_TRUE(broken.error);
+  const std::string what = broken.error->what();
+  EXPECT_NE(what.find("message 1 of topic '/events': corrupt zstd-compressed message"), std::string::npos) << what;
+  EXPECT_EQ(broken.events.size(), mono[0].size());
 }
 
 // Two connections of one topic name with two types: refused naming both

@@ -344,3 +344,29 @@ put('hdf5_lzf', 'column_256b.bin', lzf_seed(256, column_stream))
 put('hdf5_lzf', 'column_no_size.bin', lzf_seed(0, column_stream))
 put('hdf5_lzf', 'short_refs_64b.bin', lzf_seed(64, lzf_literal(bytes(range(16))) + lzf_reference(8, 5) +
                                              lzf_reference(16, 8) + lzf_literal(bytes(range(35)))))
+
+# ---- rosbag2 with message compression (fuzz_rosbag2): the mono bag with each
+# message a zstd frame of one stored block (built by hand from the zstd format:
+# magic, a single-segment frame header stating the size, a raw last block).
+
+
+def zstd_stored_frame(data):
+    n = len(data)
+    assert n < 256 + 65536 and n < 128 * 1024
+    header = bytes([0x20, n]) if n < 256 else bytes([0x60]) + struct.pack('<H', n - 256)
+    return b'\x28\xb5\x2f\xfd' + header + struct.pack('<I', (n << 3) | 1)[:3] + data
+
+
+def zstd_messages_bag(rel, out_name):
+    import shutil
+    out = os.path.join(CORPUS, 'rosbag2', out_name)
+    shutil.copyfile(os.path.join(DATA, rel), out)
+    db = sqlite3.connect(out)
+    for rowid, data in db.execute('SELECT id, data FROM messages').fetchall():
+        db.execute('UPDATE messages SET data = ? WHERE id = ?', (zstd_stored_frame(bytes(data)), rowid))
+    db.commit()
+    db.execute('VACUUM')
+    db.close()
+
+
+zstd_messages_bag('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3', 'mono_cd_zstd_messages.db3')

@@ -210,15 +210,9 @@ std::optional<MessageFault> MessageDecoder::decode(std::span<const std::uint8_t>
   }
   if (message.size() < kEncapsulationBytes)
     return MessageFault{0, "message shorter than its CDR encapsulation header"};
-  if (message[0] != 0 || message[1] > 1) {
-    // 28 B5 2F FD: a Zstandard frame (rosbag2's --compression-mode message).
-    const bool zstd = message.size() >= 4 && message[0] == 0x28 && message[1] == 0xB5 && message[2] == 0x2F &&
-                      message[3] == 0xFD;
-    return MessageFault{0, zstd ? "a zstd-compressed message (a rosbag2 bag recorded with --compression-mode "
-                                  "message): " + std::string(kCompressedBagAdvice)
-                                : "not a CDR message (encapsulation " + std::to_string(message[0]) + "," +
-                                      std::to_string(message[1]) + ")"};
-  }
+  if (message[0] != 0 || message[1] > 1)
+    return MessageFault{0, "not a CDR message (encapsulation " + std::to_string(message[0]) + "," +
+                               std::to_string(message[1]) + ")"};
   if (message[1] == 0) return MessageFault{0, "big-endian CDR messages are not supported"};
   return kind_ == MessageKind::event_packet ? decode_packet(message, kEncapsulationBytes, out)
                                             : decode_array(message, kEncapsulationBytes, out);

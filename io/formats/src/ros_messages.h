@@ -34,10 +34,6 @@
 
 namespace evlife::io::ros {
 
-/// What to do with a compressed rosbag2 bag (file or message compression).
-inline constexpr std::string_view kCompressedBagAdvice =
-    "evlife reads uncompressed bags; write an uncompressed copy with `ros2 bag convert`";
-
 /// One decoded event; t in ns (the unit of ROS times).
 struct RosEvent {
   std::int64_t t_ns;

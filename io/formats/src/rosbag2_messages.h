@@ -4,6 +4,8 @@
 // order; without metadata.yaml, every *.db3 in name order). Tables used:
 // topics(id, name, type, serialization_format) and messages(id, topic_id,
 // timestamp, data). One topic's messages stream in (timestamp, id) order.
+// Messages compressed one by one (a bag recorded with --compression-mode
+// message: each a zstd frame) are decompressed; file compression is refused.
 #pragma once
 
 #include <cstdint>
@@ -54,6 +56,9 @@ class Rosbag2Messages {
  private:
   struct Db;
   void open_file(std::size_t i);
+  /// rosbag2's message compression (compression_mode: message): the zstd
+  /// `frame` decompressed into inflated_. Throws ReadError.
+  std::span<const std::uint8_t> inflate(std::span<const std::uint8_t> frame);
 
   std::vector<std::string> files_;
   std::vector<TopicInfo> topics_;
@@ -63,6 +68,7 @@ class Rosbag2Messages {
   std::string topic_;
   std::uint64_t next_index_ = 0;
   bool selected_ = false;
+  std::vector<std::uint8_t> inflated_;  // the last message, decompressed
 };
 
 /// True when `path` is a directory holding a rosbag2 sqlite3 bag
