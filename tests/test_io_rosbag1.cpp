@@ -1,7 +1,8 @@
 // ROS 1 bags (v2.0) written by Debian's python3-rosbag (tests/data/ros1/
 // make_bags.py) from the shared ROS 2 bags' messages: uncompressed, bz2 and
 // lz4 chunks decode to the same events as the .db3 they come from; topic
-// choice, `info` streams, corrupt chunks and unknown compression.
+// choice, `info` streams, corrupt chunks and unknown compression; bags
+// without a usable index (cut, or a recording that stopped before closing).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -109,31 +110,111 @@ TEST_F(Rosbag1Faults, CorruptSecondChunkKeepsTheFirstChunksEvents) {
   EXPECT_TRUE(same(r.events, reference, r.events.size()));
 }
 
-TEST_F(Rosbag1Faults, UnknownCompressionTruncatedAndNotIndexed) {
+TEST_F(Rosbag1Faults, UnknownCompressionIsNamed) {
   std::vector<char> bytes = load(kBags + "evt3_lz4.bag");
   for (const std::size_t at : find_all(bytes, "compression=lz4")) bytes[at + 12] = 'z';
-  ReadAll r = read_all(save("zz4.bag", bytes));
+  const ReadAll r = read_all(save("zz4.bag", bytes));
   ASSERT_TRUE(r.error);
   EXPECT_NE(std::string(r.error->what()).find("'zz4'"), std::string::npos) << r.error->what();
-  // Cut in half: the index at the end is gone.
+}
+
+/// A closed bag cut short: the chunks before the cut are read without the
+/// index, then the cut is the error, naming the file and its offset.
+TEST_F(Rosbag1Faults, ACutBagDeliversItsWholeChunksThenTheCut) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
   const std::vector<char> full = load(kBags + "evt3_none.bag");
-  const std::string cut = save("cut.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(full.size() / 2)));
-  const std::string cut_error = evlife::test::open_error(cut);
-  EXPECT_NE(cut_error.find("not indexed"), std::string::npos) << cut_error;
-  // Cut where the index begins (it read no index, then "no event topic"), and inside it.
+  const auto read_cut = [&](std::size_t size) {
+    return read_all(save("cut.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(size))));
+  };
+  // In half: inside a chunk.
+  const ReadAll half = read_cut(full.size() / 2);
+  ASSERT_TRUE(half.error);
+  EXPECT_NE(std::string(half.error->what()).find("cut.bag"), std::string::npos) << half.error->what();
+  EXPECT_NE(half.error->reason().find("runs past the end of the file"), std::string::npos) << half.error->what();
+  EXPECT_GT(half.error->byte_offset(), 0);
+  EXPECT_LT(half.error->byte_offset(), static_cast<std::int64_t>(full.size() / 2));
+  EXPECT_GT(half.events.size(), 0u);
+  EXPECT_LT(half.events.size(), reference.size());
+  EXPECT_TRUE(same(half.events, reference, half.events.size()));
+
   const std::size_t field = find_all(full, "index_pos=").at(0) + 10;
   std::uint64_t index_pos = 0;
   std::memcpy(&index_pos, full.data() + field, sizeof index_pos);
   ASSERT_LT(index_pos, full.size());
-  const auto cut_at = [&](std::size_t size) {
-    return evlife::test::open_error(save("cut_at.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(size))));
-  };
-  const std::string at_index = cut_at(index_pos);
-  EXPECT_NE(at_index.find("not indexed"), std::string::npos) << at_index;
-  const std::string in_index = cut_at(index_pos + 30);
-  EXPECT_NE(in_index.find("(in the bag's index, after its chunks: a file cut short; run `rosbag reindex` on it)"),
+  // Where the index begins, and inside it: every chunk is whole, every event read.
+  const ReadAll at_index = read_cut(index_pos);
+  ASSERT_TRUE(at_index.error);
+  EXPECT_NE(at_index.error->reason().find("its index, at offset " + std::to_string(index_pos) + ", lies past the file's end"),
             std::string::npos)
-      << in_index;
+      << at_index.error->what();
+  EXPECT_EQ(at_index.error->byte_offset(), static_cast<std::int64_t>(index_pos));
+  const ReadAll in_index = read_cut(index_pos + 30);
+  ASSERT_TRUE(in_index.error);
+  EXPECT_NE(std::string(in_index.error->what())
+                .find("(in the bag's index, after its chunks: a file cut short; the chunks were read without it)"),
+            std::string::npos)
+      << in_index.error->what();
+  for (const ReadAll* r : {&at_index, &in_index}) {
+    ASSERT_EQ(r->events.size(), reference.size());
+    EXPECT_TRUE(same(r->events, reference, reference.size()));
+    ASSERT_EQ(r->streams.size(), 1u);
+    EXPECT_EQ(r->streams[0].messages, 30u);
+  }
+}
+
+/// What a recording that stopped before closing its bag leaves (Debian's
+/// python3-rosbag, flushed before close(): make_bags.py): index_pos 0, no
+/// index, the last chunk with placeholder sizes. Read as `rosbag reindex`
+/// would: every message, no error.
+TEST_F(Rosbag1Faults, AnInterruptedRecordingReadsWholeWithoutItsIndex) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
+  const std::string active = kBags + "evt3_interrupted.bag.active";
+  const ReadAll r = read_all(active);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.format, "rosbag1");
+  EXPECT_EQ(r.sensor, (SensorSize{1280, 720}));
+  ASSERT_EQ(r.events.size(), reference.size());
+  EXPECT_TRUE(same(r.events, reference, reference.size()));
+  ASSERT_EQ(r.streams.size(), 1u);
+  EXPECT_EQ(r.streams[0].name, "/event_camera/events");
+  EXPECT_EQ(r.streams[0].type, "event_camera_msgs/EventPacket");
+  EXPECT_EQ(r.streams[0].messages, 30u);
+
+  // The open chunk: its header's placeholder sizes, then its records to the file's end.
+  const std::vector<char> bytes = load(active);
+  const std::size_t open_chunk = find_all(bytes, "compression=none").back();
+  ASSERT_GT(open_chunk, bytes.size() / 2);
+  // Cut inside its last record: the records before are read, then the cut.
+  const ReadAll cut = read_all(save("cut.bag.active", std::vector<char>(bytes.begin(), bytes.end() - 100)));
+  ASSERT_TRUE(cut.error);
+  EXPECT_NE(cut.error->reason().find("cut inside a record of the chunk being written when the recording stopped"),
+            std::string::npos)
+      << cut.error->what();
+  EXPECT_GT(cut.error->byte_offset(), static_cast<std::int64_t>(open_chunk));
+  EXPECT_LT(cut.events.size(), reference.size());
+  EXPECT_GT(cut.events.size(), reference.size() / 2);  // the closed chunks and the open one's first records
+  EXPECT_TRUE(same(cut.events, reference, cut.events.size()));
+  // Stopped right after that chunk's header: the closed chunks, no error (nothing on disk unread).
+  const std::size_t header_end = static_cast<std::size_t>(
+      std::search(bytes.begin() + static_cast<long>(open_chunk), bytes.end(), std::begin("size="), std::end("size=") - 1) -
+      bytes.begin()) + 5 + 4 + 4;  // the size field, then the data length
+  const ReadAll empty_open = read_all(save("empty.bag.active", std::vector<char>(bytes.begin(), bytes.begin() + static_cast<long>(header_end))));
+  ASSERT_FALSE(empty_open.error) << empty_open.error->what();
+  EXPECT_LT(empty_open.events.size(), cut.events.size());
+  EXPECT_GT(empty_open.events.size(), 0u);
+  EXPECT_TRUE(same(empty_open.events, reference, empty_open.events.size()));
+  // A compressed open chunk has no size to decompress to: an error after the closed chunks' events.
+  std::vector<char> compressed = bytes;
+  std::memcpy(compressed.data() + open_chunk + 12, "zstd", 4);
+  const ReadAll unreadable = read_all(save("zstd.bag.active", compressed));
+  ASSERT_TRUE(unreadable.error);
+  EXPECT_NE(unreadable.error->reason().find("being written when the recording stopped (compression 'zstd'"),
+            std::string::npos)
+      << unreadable.error->what();
+  // Its record starts with the header length, then the field "op=\x05" (and its length) before this one's length.
+  EXPECT_EQ(unreadable.error->byte_offset(), static_cast<std::int64_t>(open_chunk) - 4 - 4 - 4 - 4);
+  EXPECT_EQ(unreadable.events.size(), empty_open.events.size());
+  EXPECT_TRUE(same(unreadable.events, reference, unreadable.events.size()));
 }
 
 }  // namespace

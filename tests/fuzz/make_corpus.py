@@ -370,3 +370,41 @@ def zstd_messages_bag(rel, out_name):
 
 
 zstd_messages_bag('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3', 'mono_cd_zstd_messages.db3')
+
+
+def ros1_records(data, pos):
+    """(offset, header fields, data) of the ROS 1 records from `pos` on."""
+    while pos < len(data):
+        hlen, = struct.unpack_from('<I', data, pos)
+        header, fields, i = data[pos + 4:pos + 4 + hlen], {}, 0
+        while i < hlen:
+            n, = struct.unpack_from('<I', header, i)
+            name, value = header[i + 4:i + 4 + n].split(b'=', 1)
+            fields[name], i = value, i + 4 + n
+        dlen, = struct.unpack_from('<I', data, pos + 4 + hlen)
+        yield pos, fields, data[pos + 8 + hlen:pos + 8 + hlen + dlen]
+        pos += 8 + hlen + dlen
+
+
+def ros1_header(fields):
+    body = b''.join(struct.pack('<I', len(k) + 1 + len(v)) + k + b'=' + v for k, v in fields.items())
+    return struct.pack('<I', len(body)) + body
+
+
+def interrupted_ros1_bag(src, out_name):
+    """The bag as a recording that stopped before close() leaves it: index_pos 0, no index, the
+    last chunk with placeholder sizes (0) followed by its records to the file's end."""
+    data = open(os.path.join(HERE, '..', 'data', 'ros1', src), 'rb').read()
+    records = list(ros1_records(data, 13))
+    header_at, header_fields, header_data = records[0]
+    index_pos, = struct.unpack('<Q', header_fields[b'index_pos'])
+    chunks = [(at, f, d) for at, f, d in records if f[b'op'] == b'\x05' and at < index_pos]
+    last_at, last_fields, last_data = chunks[-1]
+    assert last_fields[b'compression'] == b'none'
+    out = data[:header_at] + ros1_header({**header_fields, b'index_pos': struct.pack('<Q', 0)})
+    out += struct.pack('<I', len(header_data)) + header_data + data[records[1][0]:last_at]
+    out += ros1_header({**last_fields, b'size': struct.pack('<I', 0)}) + struct.pack('<I', 0) + last_data
+    put('rosbag1', out_name, out)
+
+
+interrupted_ros1_bag('mono_dvs.bag', 'mono_dvs_interrupted.bag.active')

@@ -8,13 +8,20 @@
 // streamed chunk by chunk in file order and decoded by ros::MessageDecoder
 // in ROS 1 serialization (ros_messages.h: types, encodings, time rule) and
 // delivered by ros::TopicEventReader (faults: ros_topic_reader.h).
+// Without a usable index (a recording that stopped before closing its bag:
+// index_pos 0 and the chunk being written still bearing its placeholder
+// sizes; or an index cut short) the chunks are scanned for connections and
+// counts, as `rosbag reindex` does, and the fault that ended the scan is
+// raised after the events before it.
 #include <bzlib.h>
 #include <lz4frame.h>
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "input_file.h"
 #include "reader_registry.h"
@@ -80,15 +87,27 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::uint64_t index_pos = 0;
     if (!field(f, "op", op) || op != kBagHeader || !field(f, "index_pos", index_pos))
       throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1, "ROS 1 bag without its bag header record");
-    // At the file's end: cut where the index begins (a copy or recording
-    // stopped there), no index record left.
-    if (index_pos == 0 || index_pos >= file_.size_bytes())
-      throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1,
-                      "ROS 1 bag not indexed (index_pos " + std::to_string(index_pos) +
-                          "; an interrupted recording: run `rosbag reindex` on it)");
     first_record_ = next;
-    index_pos_ = index_pos;
-    read_index();
+    const bool indexed = index_pos != 0 && index_pos < file_.size_bytes();
+    if (indexed) {
+      index_pos_ = index_pos;
+      try {
+        read_index();
+        chunks_end_ = index_pos_;
+      } catch (const ros::ContainerFault& index_fault) {
+        reading_index_ = false;
+        scan_chunks(index_pos_, false);
+        // The chunks read whole: the events are all there, the index is what was cut.
+        if (!fault_) fault_ = index_fault;
+      }
+    } else {
+      // index_pos 0: rosbag writes it when it closes the bag. Past the end: cut where the index began.
+      scan_chunks(file_.size_bytes(), index_pos == 0);
+      if (index_pos != 0 && !fault_)
+        fault_.emplace(path, static_cast<std::int64_t>(file_.size_bytes()),
+                       "ROS 1 bag cut short: its index, at offset " + std::to_string(index_pos) +
+                           ", lies past the file's end; the chunks before it were read whole");
+    }
     const ros::TopicInfo& topic = ros::choose_topic(path, topics_, options.topic);
     for (const auto& [conn, c] : connections_)
       if (c.topic == topic.name) wanted_.push_back(conn);
@@ -107,11 +126,19 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::uint64_t messages = 0;
   };
 
+  /// A record of a chunk: its op, connection and data.
+  struct ChunkRecord {
+    std::uint8_t op = 0;
+    std::uint32_t conn = 0;
+    bool has_conn = false;
+    std::span<const std::uint8_t> data;
+  };
+
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {
-    // In the index (past the chunks): a file cut there, whose chunks reindexing keeps.
+    // In the index (past the chunks): a file cut there; its chunks are then scanned.
     throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(offset),
-                              reading_index_ ? what + " (in the bag's index, after its chunks: a file cut short; run "
-                                                      "`rosbag reindex` on it)"
+                              reading_index_ ? what + " (in the bag's index, after its chunks: a file cut short; the "
+                                                      "chunks were read without it)"
                                              : what);
   }
 
@@ -154,12 +181,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       std::uint8_t op = 0;
       field(f, "op", op);
       if (op == kConnection) {
-        std::uint32_t conn = 0;
         read_data(data_at, data_len, data);
-        if (!field(f, "conn", conn) || !parse_fields(data, conn_fields)) fail(at, "corrupt ROS 1 connection record");
-        Connection& c = connections_[conn];
-        c.topic = f.count("topic") ? f.at("topic") : "";
-        c.type = conn_fields.count("type") ? conn_fields.at("type") : "";
+        if (!add_connection(f, data)) fail(at, "corrupt ROS 1 connection record");
       } else if (op == kChunkInfo) {
         std::uint32_t count = 0;
         read_data(data_at, data_len, data);
@@ -174,8 +197,122 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       at = next;
     }
     reading_index_ = false;
+    list_topics();
+  }
+
+  /// A connection record (header fields `f`, data `data`); false if corrupt.
+  bool add_connection(const HeaderFields& f, std::span<const std::uint8_t> data) {
+    std::uint32_t conn = 0;
+    if (!field(f, "conn", conn) || !parse_fields(data, connection_fields_)) return false;
+    Connection& c = connections_[conn];
+    c.topic = f.count("topic") ? f.at("topic") : "";
+    c.type = connection_fields_.count("type") ? connection_fields_.at("type") : "";
+    return true;
+  }
+
+  void list_topics() {
+    topics_.clear();
     std::map<std::string, std::size_t> by_topic;
     for (const auto& [id, c] : connections_) ros::add_topic(topics_, by_topic, ros::TopicInfo{c.topic, c.type, "ros1", c.messages, {}});
+  }
+
+  /// Connections and message counts from the chunks before `end` (no usable
+  /// index). The first fault ends the scan: kept in fault_, raised after the
+  /// events before it. `may_be_open`: the bag was never closed, so a chunk
+  /// with placeholder sizes is the one being written when it stopped.
+  void scan_chunks(std::uint64_t end, bool may_be_open) {
+    connections_.clear();
+    HeaderFields f;
+    std::uint64_t at = first_record_;
+    try {
+      while (at < end) {
+        std::uint64_t data_at = 0;
+        std::uint32_t data_len = 0;
+        const std::uint64_t next = read_record(at, f, data_at, data_len);
+        std::uint8_t op = 0;
+        std::uint32_t size = 0;
+        if (field(f, "op", op) && op == kChunk) {
+          if (may_be_open && data_len == 0 && field(f, "size", size) && size == 0) {
+            scan_open_chunk(at, f, data_at);
+            at = file_.size_bytes();
+            break;
+          }
+          load_chunk(at, f, data_at, data_len);
+          ChunkRecord r;
+          while (next_chunk_record(r)) count_record(r, at);
+        }
+        at = next;
+      }
+    } catch (const ros::ContainerFault& fault) {
+      fault_ = fault;
+      if (at == open_chunk_at_) at = file_.size_bytes();  // its complete records are read
+    }
+    chunks_end_ = at;
+    in_chunk_ = false;
+    list_topics();
+  }
+
+  /// The chunk being written when the recording stopped: uncompressed, its
+  /// records run to the file's end, the last one maybe cut (its complete
+  /// records are read, open_chunk_size_ bytes); compressed, its data cannot
+  /// be read without the size the closed chunk's header would give.
+  void scan_open_chunk(std::uint64_t at, const HeaderFields& f, std::uint64_t data_at) {
+    open_chunk_at_ = at;
+    open_chunk_size_ = 0;
+    const std::uint64_t left = file_.size_bytes() - data_at;
+    const auto compression = f.find("compression");
+    if (left == 0) return;  // stopped before its first record reached the file
+    if (compression == f.end() || compression->second != "none")
+      fail(at, "the ROS 1 chunk being written when the recording stopped (compression '" +
+                   (compression == f.end() ? std::string() : compression->second) + "', " + std::to_string(left) +
+                   " bytes to the file's end) cannot be read without its size; the events of the chunks before it are read");
+    if (left > kMaxRecordPart) fail(at, "ROS 1 chunk of " + std::to_string(left) + " bytes (limit " + std::to_string(kMaxRecordPart) + ")");
+    read_data(data_at, static_cast<std::uint32_t>(left), chunk_);
+    chunk_at_ = at;
+    chunk_pos_ = 0;
+    in_chunk_ = true;
+    ChunkRecord r;
+    while (true) {
+      bool more = false;
+      try {
+        more = next_chunk_record(r);
+      } catch (const ros::ContainerFault&) {
+        fail(data_at + open_chunk_size_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
+                                         "stopped (" + std::to_string(left - open_chunk_size_) + " bytes at this offset not read)");
+      }
+      if (!more) break;
+      count_record(r, at);
+      open_chunk_size_ = chunk_pos_;
+    }
+  }
+
+  void count_record(const ChunkRecord& r, std::uint64_t chunk_at) {
+    if (r.op == kConnection) {
+      if (!add_connection(record_fields_, r.data)) fail(chunk_at, "corrupt ROS 1 connection record in the chunk at this offset");
+    } else if (r.op == kMessage && r.has_conn) {
+      ++connections_[r.conn].messages;
+    }
+  }
+
+  /// The next record of chunk_ (its header in record_fields_); false at its end.
+  bool next_chunk_record(ChunkRecord& r) {
+    if (chunk_pos_ >= chunk_.size()) return false;
+    const std::size_t at = chunk_pos_;
+    const auto bad = [&] { fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk"); };
+    std::uint32_t hlen = 0, dlen = 0;
+    if (chunk_.size() - at < 4) bad();
+    std::memcpy(&hlen, chunk_.data() + at, 4);
+    if (hlen > chunk_.size() - at - 4 || chunk_.size() - at - 4 - hlen < 4) bad();
+    if (!parse_fields(std::span(chunk_.data() + at + 4, hlen), record_fields_)) bad();
+    std::memcpy(&dlen, chunk_.data() + at + 4 + hlen, 4);
+    const std::size_t data = at + 8 + hlen;
+    if (dlen > chunk_.size() - data) bad();
+    chunk_pos_ = data + dlen;
+    r.op = 0;
+    field(record_fields_, "op", r.op);
+    r.has_conn = field(record_fields_, "conn", r.conn);
+    r.data = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
+    return true;
   }
 
   /// Decompresses the chunk record at `at` into chunk_.
@@ -190,7 +327,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     bool ok = false;
     if (kind == "none") {
       ok = data_len == size;
-      if (ok) std::memcpy(chunk_.data(), compressed_.data(), size);
+      if (ok && size != 0) std::memcpy(chunk_.data(), compressed_.data(), size);  // empty vectors: null data()
     } else if (kind == "bz2") {
       unsigned int out_len = size;
       ok = BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(chunk_.data()), &out_len,
@@ -214,38 +351,41 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     in_chunk_ = true;
   }
 
-  /// The next message of the wanted topic: its data in `message`; false at the end.
+  /// The next message of the wanted topic: its data in `message`; false at
+  /// the end. Where a scan stopped at a fault, the fault, once the events
+  /// before it are out.
   bool next_in_chunks(std::span<const std::uint8_t>& message) {
     HeaderFields f;
+    ChunkRecord r;
     while (true) {
       if (in_chunk_) {
-        while (chunk_pos_ < chunk_.size()) {
-          const std::size_t at = chunk_pos_;
-          const auto bad = [&] { fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk"); };
-          std::uint32_t hlen = 0, dlen = 0;
-          if (chunk_.size() - at < 4) bad();
-          std::memcpy(&hlen, chunk_.data() + at, 4);
-          if (hlen > chunk_.size() - at - 4 || chunk_.size() - at - 4 - hlen < 4) bad();
-          if (!parse_fields(std::span(chunk_.data() + at + 4, hlen), f)) bad();
-          std::memcpy(&dlen, chunk_.data() + at + 4 + hlen, 4);
-          const std::size_t data = at + 8 + hlen;
-          if (dlen > chunk_.size() - data) bad();
-          chunk_pos_ = data + dlen;
-          std::uint8_t op = 0;
-          std::uint32_t conn = 0;
-          if (field(f, "op", op) && op == kMessage && field(f, "conn", conn) &&
-              std::find(wanted_.begin(), wanted_.end(), conn) != wanted_.end()) {
-            message = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
+        while (next_chunk_record(r))
+          if (r.op == kMessage && r.has_conn && std::find(wanted_.begin(), wanted_.end(), r.conn) != wanted_.end()) {
+            message = r.data;
             return true;
           }
-        }
         in_chunk_ = false;
       }
-      if (pos_ >= index_pos_) return false;
+      if (pos_ >= chunks_end_) {
+        if (fault_) {
+          const ros::ContainerFault fault = *fault_;
+          fault_.reset();
+          throw fault;
+        }
+        return false;
+      }
       std::uint64_t data_at = 0;
       std::uint32_t data_len = 0;
       const std::uint64_t at = pos_;
       pos_ = read_record(at, f, data_at, data_len);
+      if (at == open_chunk_at_) {
+        read_data(data_at, static_cast<std::uint32_t>(open_chunk_size_), chunk_);
+        chunk_at_ = at;
+        chunk_pos_ = 0;
+        in_chunk_ = true;
+        pos_ = chunks_end_;
+        continue;
+      }
       std::uint8_t op = 0;
       if (field(f, "op", op) && op == kChunk) load_chunk(at, f, data_at, data_len);
     }
@@ -264,6 +404,12 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::vector<std::uint32_t> wanted_;
   std::uint64_t first_record_ = 0;
   std::uint64_t index_pos_ = 0;
+  std::uint64_t chunks_end_ = 0;  // where the chunks end: index_pos, or where a scan stopped
+  std::optional<ros::ContainerFault> fault_;  // that stopped the scan; raised after the events before it
+  std::uint64_t open_chunk_at_ = std::numeric_limits<std::uint64_t>::max();  // the chunk being written when recording stopped
+  std::size_t open_chunk_size_ = 0;  // its complete records' bytes
+  HeaderFields connection_fields_;
+  HeaderFields record_fields_;
   bool reading_index_ = false;  // fail() says where a fault lies
   std::uint64_t pos_ = 0;  // next top-level record
   std::vector<std::uint8_t> header_;
@@ -293,7 +439,7 @@ std::unique_ptr<EventReader> open_rosbag1(const std::string& path, const ReaderO
 
 const ReaderFormat rosbag1_format{
     "rosbag1",
-    "ROS 1 bag v2.0 (.bag; chunks uncompressed, bz2 or lz4): event_camera_msgs/EventPacket "
+    "ROS 1 bag v2.0 (.bag, or the .bag.active of an interrupted recording; chunks uncompressed, bz2 or lz4): event_camera_msgs/EventPacket "
     "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
     &sniff_rosbag1, nullptr, &open_rosbag1, nullptr, "topic"};
 

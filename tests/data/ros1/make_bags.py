@@ -7,6 +7,11 @@
                            uncompressed / bz2 / lz4, small chunks so that the bag has several
   mono_dvs.bag             the 100 events of test_data_mono_cd as dvs_msgs/EventArray (2
                            messages), plus a std_msgs/String topic that is not events
+  evt3_interrupted.bag.active
+                           the 30 messages of evt3_none.bag as a recording that stopped
+                           without closing its bag (rosbag record killed, power lost): the
+                           bytes on disk before close(), i.e. index_pos 0, no index, the
+                           chunk being written with its placeholder sizes
 
   /usr/bin/python3 tests/data/ros1/make_bags.py [SHARED_DATA_DIR]
 The EventPacket md5sum written is a placeholder (no reader here checks it). Deterministic;
@@ -14,6 +19,7 @@ the checked-in bags are its output. Needs the Debian package python3-rosbag (not
 the bags are checked in).
 """
 import os
+import shutil
 import sqlite3
 import struct
 import sys
@@ -91,6 +97,17 @@ for compression in ('none', 'bz2', 'lz4'):
                     chunk_threshold=64 * 1024) as bag:
         for msg, t in packets:
             bag.write('/event_camera/events', msg, rospy.Time(nsecs=t), raw=False)
+
+# The same packets as a recording that stopped before close(): uncompressed chunks go to the file
+# as they are written, so a flush shows what a killed recorder leaves.
+active = os.path.join(HERE, 'evt3_interrupted.bag.active')
+bag = rosbag.Bag(active + '.tmp', 'w', compression='none', chunk_threshold=64 * 1024)
+for msg, t in packets:
+    bag.write('/event_camera/events', msg, rospy.Time(nsecs=t), raw=False)
+bag._file.flush()
+shutil.copyfile(active + '.tmp', active)
+bag.close()
+os.remove(active + '.tmp')
 
 # mono bag events -> dvs_msgs/EventArray (ts = time_base + dt as ROS time).
 with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
