@@ -7,10 +7,13 @@
 #include <sqlite3.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <span>
 #include <string>
 #include <vector>
@@ -368,22 +371,138 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
     ASSERT_FALSE(old_bag.error) << given << ": " << old_bag.error->what();
     EXPECT_EQ(old_bag.events.size(), 2u) << given;
   }
-  // A file-compressed bag (ros2 bag record --compression-mode file) is refused as such; message
-  // compression reads (ZstdCompressedMessagesReadAsTheirUncompressedBag).
-  const auto with_compression = [&](const char* mode) {
+  // zstd compression by message (ZstdCompressedMessagesReadAsTheirUncompressedBag) and by file
+  // (AFileCompressedBagReadsAsItsFilesUncompressed) reads; another format is refused as such.
+  const auto with_compression = [&](const char* format, const char* mode) {
     std::ofstream(folder / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
-                                               "  relative_file_paths:\n    - bag_0.db3\n  compression_format: zstd\n"
-                                               "  compression_mode: " << mode << "\n";
+                                               "  relative_file_paths:\n    - bag_0.db3\n  compression_format: " << format
+                                            << "\n  compression_mode: " << mode << "\n";
   };
-  with_compression("FILE");
+  with_compression("lz4", "FILE");
   const std::string compressed = evlife::test::open_error(folder.string());
-  EXPECT_NE(compressed.find("a rosbag2 bag compressed with zstd (compression_mode FILE): evlife reads uncompressed bags"),
+  EXPECT_NE(compressed.find("a rosbag2 bag compressed with lz4 (compression_mode FILE): evlife reads uncompressed bags"),
             std::string::npos)
       << compressed;
-  with_compression("MESSAGE");
+  with_compression("zstd", "MESSAGE");
   const ReadAll by_message = read_all(folder.string());
   ASSERT_FALSE(by_message.error) << by_message.error->what();
   EXPECT_EQ(by_message.events.size(), 1u);
+}
+
+/// `file` compressed as rosbag2's compressor does it (--compression-mode
+/// file): one zstd stream fed in pieces, ended with the last, to `out`.
+void zstd_file(const std::string& file, const std::string& out_path) {
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
+  std::vector<char> out;
+  ZSTD_CCtx* ctx = ZSTD_createCCtx();
+  std::vector<char> buffer(ZSTD_CStreamOutSize());
+  const std::size_t piece = 4096;  // several pieces even for a small file
+  for (std::size_t at = 0; at < bytes.size(); at += piece) {
+    const bool last = at + piece >= bytes.size();
+    ZSTD_inBuffer input{bytes.data() + at, std::min(piece, bytes.size() - at), 0};
+    std::size_t left = 0;
+    do {
+      ZSTD_outBuffer output{buffer.data(), buffer.size(), 0};
+      left = ZSTD_compressStream2(ctx, &output, &input, last ? ZSTD_e_end : ZSTD_e_continue);
+      EXPECT_EQ(ZSTD_isError(left), 0u);
+      out.insert(out.end(), buffer.data(), buffer.data() + output.pos);
+    } while (last ? left != 0 : input.pos < input.size);
+  }
+  ZSTD_freeCCtx(ctx);
+  std::ofstream(out_path, std::ios::binary).write(out.data(), static_cast<std::streamsize>(out.size()));
+}
+
+// ros2 bag record --compression-mode file --compression-format zstd: each
+// closed file becomes NAME.db3.zstd. The bag reads as its files uncompressed,
+// through temporary copies that are gone afterwards; so does a recording that
+// stopped uncleanly (no metadata.yaml, the last file still a .db3). A later
+// file that is corrupt or cut is an error after the earlier files' events.
+TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const fs::path plain = dir.file("plain"), zstd = dir.file("zstd"), temp = dir.file("tmp");
+  fs::create_directories(plain);
+  fs::create_directories(zstd);
+  fs::create_directories(temp);
+  ASSERT_EQ(::setenv("TMPDIR", temp.c_str(), 1), 0);  // where the copies go
+  std::string listed;
+  for (int i = 0; i < 3; ++i) {
+    const std::string name = "bag_" + std::to_string(i) + ".db3";
+    {
+      Db db((plain / name).string());
+      create_tables(db.db);
+      exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+      for (int m = 0; m < 2; ++m) {
+        std::vector<ros::RosEvent> events;
+        for (int k = 0; k < 50; ++k) {
+          const int n = (i * 2 + m) * 50 + k;
+          events.push_back(ros::RosEvent{std::int64_t{n} * 1000, static_cast<std::uint16_t>(n % 64),
+                                         static_cast<std::uint16_t>(n / 64), static_cast<std::int8_t>(n % 2)});
+        }
+        db.insert(m + 1, 1, i * 2 + m, event_array(events, 64, 64));
+      }
+    }
+    zstd_file((plain / name).string(), (zstd / (name + ".zstd")).string());
+    listed += "    - " + name + ".zstd\n";
+  }
+  std::ofstream(zstd / "metadata.yaml") << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
+                                           "  relative_file_paths:\n" << listed
+                                        << "  compression_format: zstd\n  compression_mode: FILE\n";
+  const ReadAll reference = read_all(plain.string());
+  ASSERT_FALSE(reference.error) << reference.error->what();
+  ASSERT_EQ(reference.events.size(), 300u);
+  const auto same_as_reference = [&](const ReadAll& r, std::size_t n) {
+    return r.events.size() == n && std::memcmp(r.events.data(), reference.events.data(), n * sizeof(Event)) == 0;
+  };
+  const ReadAll r = read_all(zstd.string());
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.format, "rosbag2");
+  EXPECT_TRUE(same_as_reference(r, 300));
+  ASSERT_EQ(r.streams.size(), 1u);
+  EXPECT_EQ(r.streams[0].messages, 6u);
+  EXPECT_TRUE(fs::is_empty(temp));  // the decompressed copies are removed
+  // One file alone, by its name and content.
+  const ReadAll first = read_all((zstd / "bag_0.db3.zstd").string());
+  ASSERT_FALSE(first.error) << first.error->what();
+  EXPECT_EQ(first.format, "rosbag2");
+  EXPECT_TRUE(same_as_reference(first, 100));
+  // Stopped uncleanly: no metadata.yaml, the file being written not compressed yet.
+  fs::remove(zstd / "metadata.yaml");
+  fs::rename(zstd / "bag_2.db3.zstd", temp.parent_path() / "bag_2.db3.zstd");
+  fs::copy_file(plain / "bag_2.db3", zstd / "bag_2.db3");
+  const ReadAll unclean = read_all(zstd.string());
+  ASSERT_FALSE(unclean.error) << unclean.error->what();
+  EXPECT_TRUE(same_as_reference(unclean, 300));
+  // A later file cut short, or corrupt: the files before it, then the fault naming it.
+  fs::remove(zstd / "bag_2.db3");
+  const std::string last = (zstd / "bag_2.db3.zstd").string();
+  fs::copy_file(temp.parent_path() / "bag_2.db3.zstd", last);
+  fs::resize_file(last, fs::file_size(last) / 2);
+  const ReadAll cut = read_all(zstd.string());
+  ASSERT_TRUE(cut.error);
+  EXPECT_EQ(cut.error->path(), last);
+  EXPECT_NE(cut.error->reason().find("ends short"), std::string::npos) << cut.error->what();
+  EXPECT_TRUE(same_as_reference(cut, 200));
+  std::vector<char> bytes;
+  {
+    std::ifstream in(temp.parent_path() / "bag_2.db3.zstd", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // The first block's type made the reserved one (the stream has no checksum: rosbag2's
+  // compressor sets none, so flipped literal bytes would pass as data).
+  ASSERT_EQ(bytes[4] & 0x20, 0);  // no single segment: a window byte, then the block header at 6
+  bytes[6] = static_cast<char>(bytes[6] | 0x06);
+  std::ofstream(last, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const ReadAll corrupt = read_all(zstd.string());
+  ASSERT_TRUE(corrupt.error);
+  EXPECT_EQ(corrupt.error->path(), last);
+  EXPECT_NE(corrupt.error->reason().find("corrupt zstd data"), std::string::npos) << corrupt.error->what();
+  EXPECT_TRUE(same_as_reference(corrupt, 200)) << corrupt.error->what();
+  // The first file: nothing before it, an open error.
+  fs::copy_file(last, zstd / "bag_0.db3.zstd", fs::copy_options::overwrite_existing);
+  EXPECT_NE(evlife::test::open_error(zstd.string()).find("bag_0.db3.zstd"), std::string::npos);
+  EXPECT_TRUE(fs::is_empty(temp));
+  ::unsetenv("TMPDIR");
 }
 
 // ros2 bag record --compression-mode message --compression-format zstd: every

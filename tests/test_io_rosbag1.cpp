@@ -4,6 +4,7 @@
 // choice, `info` streams, corrupt chunks and unknown compression; bags
 // without a usable index (cut, or a recording that stopped before closing).
 #include <gtest/gtest.h>
+#include <lz4frame.h>
 
 #include <algorithm>
 #include <cstring>
@@ -203,18 +204,148 @@ TEST_F(Rosbag1Faults, AnInterruptedRecordingReadsWholeWithoutItsIndex) {
   EXPECT_LT(empty_open.events.size(), cut.events.size());
   EXPECT_GT(empty_open.events.size(), 0u);
   EXPECT_TRUE(same(empty_open.events, reference, empty_open.events.size()));
-  // A compressed open chunk has no size to decompress to: an error after the closed chunks' events.
+  // An open chunk of a compression no reader knows: an error after the closed chunks' events.
   std::vector<char> compressed = bytes;
   std::memcpy(compressed.data() + open_chunk + 12, "zstd", 4);
   const ReadAll unreadable = read_all(save("zstd.bag.active", compressed));
   ASSERT_TRUE(unreadable.error);
-  EXPECT_NE(unreadable.error->reason().find("being written when the recording stopped (compression 'zstd'"),
-            std::string::npos)
+  EXPECT_NE(unreadable.error->reason().find("ROS 1 chunk compressed with 'zstd'"), std::string::npos)
       << unreadable.error->what();
   // Its record starts with the header length, then the field "op=\x05" (and its length) before this one's length.
   EXPECT_EQ(unreadable.error->byte_offset(), static_cast<std::int64_t>(open_chunk) - 4 - 4 - 4 - 4);
   EXPECT_EQ(unreadable.events.size(), empty_open.events.size());
   EXPECT_TRUE(same(unreadable.events, reference, unreadable.events.size()));
+}
+
+/// `closed` as a recorder that streams compressed chunks to disk (librosbag's
+/// ChunkedFile) leaves it when killed inside its chunk number `chunk` (kLast:
+/// the last): index_pos 0, that chunk's sizes the placeholders (0), `keep`
+/// bytes of its data (kHalf: half of it), nothing after.
+constexpr std::size_t kHalf = SIZE_MAX;
+constexpr std::size_t kLast = SIZE_MAX;
+std::vector<char> stopped_inside_chunk(const std::vector<char>& closed, std::size_t chunk, std::size_t keep) {
+  const auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, closed.data() + at, 4);
+    return std::size_t{v};
+  };
+  const auto field_at = [&](std::size_t header, std::size_t len, const std::string& name) {
+    for (std::size_t at = header; at < header + len; at += 4 + u32(at))
+      if (std::string_view(closed.data() + at + 4, name.size()) == name) return at + 4 + name.size();
+    return std::string::npos;
+  };
+  const std::size_t bag_header = 13;
+  const std::size_t index_pos_at = field_at(bag_header + 4, u32(bag_header), "index_pos=");
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, closed.data() + index_pos_at, 8);
+  std::size_t last_chunk = 0;
+  std::size_t chunks = 0;
+  for (std::size_t at = bag_header; at < index_pos && chunks <= chunk; at += 8 + u32(at) + u32(at + 4 + u32(at)))
+    if (field_at(at + 4, u32(at), "op=") != std::string::npos && closed[field_at(at + 4, u32(at), "op=")] == 0x05) {
+      last_chunk = at;
+      ++chunks;
+    }
+  std::vector<char> bag(closed.begin(), closed.end());
+  std::memset(bag.data() + index_pos_at, 0, 8);
+  const std::size_t header_len = u32(last_chunk);
+  std::memset(bag.data() + field_at(last_chunk + 4, header_len, "size="), 0, 4);
+  const std::size_t data_len_at = last_chunk + 4 + header_len;
+  std::memset(bag.data() + data_len_at, 0, 4);
+  bag.resize(data_len_at + 4 + (keep == kHalf ? u32(data_len_at) / 2 : std::min(keep, u32(data_len_at))));
+  return bag;
+}
+
+/// A recording with compressed chunks killed inside one: the records of its
+/// whole bz2 / LZ4 blocks on disk are read, then the cut is the error; killed
+/// before a block reached the file (the LZ4 frame's header only, or nothing),
+/// the closed chunks are all there is, and no error.
+TEST_F(Rosbag1Faults, ACompressedChunkCutShortKeepsItsWholeBlocks) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
+  for (const std::string c : {"bz2", "lz4"}) {
+    const std::vector<char> closed = load(kBags + "evt3_" + c + ".bag");
+    const ReadAll header_only = read_all(save("h.bag.active", stopped_inside_chunk(closed, kLast, c == "lz4" ? 7 : 0)));
+    ASSERT_FALSE(header_only.error) << c << ": " << header_only.error->what();
+    EXPECT_GT(header_only.events.size(), 0u) << c;
+    EXPECT_LT(header_only.events.size(), reference.size()) << c;
+    EXPECT_TRUE(same(header_only.events, reference, header_only.events.size())) << c;
+    const ReadAll cut = read_all(save("cut.bag.active", stopped_inside_chunk(closed, kLast, kHalf)));
+    ASSERT_TRUE(cut.error) << c;
+    EXPECT_NE(cut.error->reason().find("cut inside the chunk being written when the recording stopped (" + c),
+              std::string::npos)
+        << cut.error->what();
+    EXPECT_EQ(cut.events.size(), header_only.events.size()) << c << ": the chunk is one block, cut";
+    EXPECT_TRUE(same(cut.events, reference, cut.events.size())) << c;
+  }
+  // An LZ4 chunk of several blocks (rosbag record --lz4 with large chunks): the
+  // first chunk of the uncompressed bag (66 KiB) in 64 KiB LZ4 blocks, cut in its second.
+  std::vector<char> bag = stopped_inside_chunk(load(kBags + "evt3_none.bag"), 0, SIZE_MAX - 1);
+  const std::size_t open_chunk = find_all(bag, "compression=none").back();
+  const std::size_t header_at = open_chunk - 16;  // header length, "op" field, this field's length
+  std::uint32_t header_len = 0;
+  std::memcpy(&header_len, bag.data() + header_at, 4);
+  const std::vector<char> records(bag.begin() + static_cast<long>(header_at + 4 + header_len + 4), bag.end());
+  ASSERT_GT(records.size(), 65536u);
+  LZ4F_preferences_t prefs{};
+  prefs.frameInfo.blockSizeID = LZ4F_max64KB;
+  std::vector<char> frame(LZ4F_compressFrameBound(records.size(), &prefs));
+  frame.resize(LZ4F_compressFrame(frame.data(), frame.size(), records.data(), records.size(), &prefs));
+  bag.resize(header_at);
+  const std::string fields[] = {std::string("op=\x05", 4), "compression=lz4", std::string("size=\0\0\0\0", 9)};
+  std::uint32_t len = 0;
+  for (const std::string& f : fields) len += 4 + static_cast<std::uint32_t>(f.size());
+  const auto put_u32 = [&](std::uint32_t v) { bag.insert(bag.end(), reinterpret_cast<char*>(&v), reinterpret_cast<char*>(&v) + 4); };
+  put_u32(len);
+  for (const std::string& f : fields) {
+    put_u32(static_cast<std::uint32_t>(f.size()));
+    bag.insert(bag.end(), f.begin(), f.end());
+  }
+  put_u32(0);  // the placeholder data length
+  bag.insert(bag.end(), frame.begin(), frame.end() - 50);  // inside the second, last block (2 KiB of records)
+  const ReadAll blocks = read_all(save("blocks.bag.active", bag));
+  ASSERT_TRUE(blocks.error);
+  EXPECT_NE(blocks.error->reason().find("the records of its whole lz4 blocks were read"), std::string::npos)
+      << blocks.error->what();
+  EXPECT_GT(blocks.events.size(), 0u) << "the first block's records";
+  EXPECT_LT(blocks.events.size(), reference.size());
+  EXPECT_TRUE(same(blocks.events, reference, blocks.events.size()));
+}
+
+/// A scan that stops at a fault before any connection: that fault, with its
+/// offset (not "no event topic"); a bag never closed before its first message.
+TEST_F(Rosbag1Faults, AFaultBeforeAnyTopicIsTheError) {
+  const std::vector<char> full = load(kBags + "evt3_none.bag");
+  const std::string cut = evlife::test::open_error(save("first.bag", std::vector<char>(full.begin(), full.begin() + 5000)));
+  EXPECT_NE(cut.find("runs past the end of the file (byte offset "), std::string::npos) << cut;
+  const std::vector<char> active = load(kBags + "evt3_interrupted.bag.active");
+  const std::size_t first_chunk = find_all(active, "compression=none").at(0);
+  const std::string header_only = evlife::test::open_error(
+      save("empty.bag.active", std::vector<char>(active.begin(), active.begin() + static_cast<long>(first_chunk) - 16)));
+  EXPECT_NE(header_only.find("stopped before its first message reached the file"), std::string::npos) << header_only;
+}
+
+/// A closed bag cut at a record boundary inside its index (the bag header's
+/// conn_count and chunk_count tell): read from the chunks, then the error.
+TEST_F(Rosbag1Faults, AnIndexCutAtARecordBoundaryIsNoticed) {
+  const std::vector<Event> reference = db3_events(kShared + "test_data_evt3_trigger", 30);
+  const std::vector<char> full = load(kBags + "evt3_none.bag");
+  const std::size_t field = find_all(full, "index_pos=").at(0) + 10;
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, full.data() + field, sizeof index_pos);
+  // The index's first record: a connection record; cut right after it.
+  std::uint32_t header_len = 0, data_len = 0;
+  std::memcpy(&header_len, full.data() + index_pos, 4);
+  std::memcpy(&data_len, full.data() + index_pos + 4 + header_len, 4);
+  const std::size_t end = index_pos + 8 + header_len + data_len;
+  ASSERT_LT(end, full.size());
+  const ReadAll r = read_all(save("idx.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(end))));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error->reason().find("ROS 1 bag index ends after 1 of its 1 connection records and 0 of its"),
+            std::string::npos)
+      << r.error->what();
+  ASSERT_EQ(r.events.size(), reference.size());
+  EXPECT_TRUE(same(r.events, reference, reference.size()));
+  ASSERT_EQ(r.streams.size(), 1u);
+  EXPECT_EQ(r.streams[0].messages, 30u);  // counted in the chunks, not the cut index's 0
 }
 
 }  // namespace

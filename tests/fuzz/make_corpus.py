@@ -408,3 +408,17 @@ def interrupted_ros1_bag(src, out_name):
 
 
 interrupted_ros1_bag('mono_dvs.bag', 'mono_dvs_interrupted.bag.active')
+
+
+def zstd_streamed_frame(data, piece=4096):
+    """A zstd frame as a streaming compressor ends it (rosbag2's file compression): no content
+    size in its header, a 128 KiB window, here raw blocks of `piece` bytes."""
+    out = b'\x28\xb5\x2f\xfd' + bytes([0x00, 7 << 3])
+    for at in range(0, len(data), piece):
+        block = data[at:at + piece]
+        last = 1 if at + piece >= len(data) else 0
+        out += struct.pack('<I', last | (len(block) << 3))[:3] + block
+    return out
+
+
+put('rosbag2_zstd', 'mono_cd.db3.zstd', zstd_streamed_frame(read('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3')))

@@ -17,6 +17,7 @@
 #include <lz4frame.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -72,6 +73,56 @@ bool field(const HeaderFields& f, std::string_view name, T& v) {
   return true;
 }
 
+/// A bz2 stream cut short (the chunk being written when a recording
+/// stopped) decoded as far as whole blocks go into `out`; true if bytes were
+/// left that no whole block holds (all but the 4-byte stream header "BZh9",
+/// unless the stream ended; bz2 blocks are not byte-aligned, so a cut exactly
+/// at a block's end is not told apart).
+bool inflate_cut_bz2(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out) {
+  constexpr std::size_t kStreamHeaderBytes = 4;
+  out.clear();
+  bz_stream s{};
+  if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) return !in.empty();
+  std::array<char, 1 << 16> buffer{};
+  s.next_in = const_cast<char*>(reinterpret_cast<const char*>(in.data()));  // bzlib's API: not written
+  s.avail_in = static_cast<unsigned int>(in.size());
+  int rc = BZ_OK;
+  while (rc == BZ_OK && out.size() <= kMaxRecordPart) {
+    s.next_out = buffer.data();
+    s.avail_out = buffer.size();
+    rc = BZ2_bzDecompress(&s);
+    const std::size_t produced = buffer.size() - s.avail_out;
+    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(produced));
+    if (produced == 0 && s.avail_in == 0) break;
+  }
+  BZ2_bzDecompressEnd(&s);
+  return rc != BZ_STREAM_END && in.size() > kStreamHeaderBytes;
+}
+
+/// The same for an LZ4 frame: true if a block was begun and not finished
+/// (LZ4F asks for exactly a block header's 4 bytes between blocks).
+bool inflate_cut_lz4(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out) {
+  constexpr std::size_t kBlockHeaderBytes = 4;
+  out.clear();
+  LZ4F_dctx* ctx = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) return !in.empty();
+  std::array<std::uint8_t, 1 << 16> buffer{};
+  std::size_t at = 0;
+  std::size_t hint = 1;
+  while (out.size() <= kMaxRecordPart) {
+    std::size_t out_len = buffer.size();
+    std::size_t in_len = in.size() - at;
+    hint = LZ4F_decompress(ctx, buffer.data(), &out_len, in.data() + at, &in_len, nullptr);
+    if (LZ4F_isError(hint)) break;
+    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(out_len));
+    at += in_len;
+    if (hint == 0 || (out_len == 0 && in_len == 0)) break;  // the frame's end, or all there is
+  }
+  LZ4F_freeDecompressionContext(ctx);
+  if (LZ4F_isError(hint)) return true;
+  return hint != 0 && hint != kBlockHeaderBytes && !in.empty();
+}
+
 class Rosbag1Reader final : public ros::TopicEventReader {
  public:
   Rosbag1Reader(const std::string& path, const ReaderOptions& options) : file_(path) {
@@ -88,6 +139,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     if (!field(f, "op", op) || op != kBagHeader || !field(f, "index_pos", index_pos))
       throw ReadError(path, static_cast<std::int64_t>(kRosbag1Magic.size()), -1, "ROS 1 bag without its bag header record");
     first_record_ = next;
+    // What the index must hold (rosbag writes both; a cut at a record boundary leaves fewer).
+    has_counts_ = field(f, "conn_count", conn_count_) && field(f, "chunk_count", chunk_count_);
     const bool indexed = index_pos != 0 && index_pos < file_.size_bytes();
     if (indexed) {
       index_pos_ = index_pos;
@@ -108,7 +161,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
                        "ROS 1 bag cut short: its index, at offset " + std::to_string(index_pos) +
                            ", lies past the file's end; the chunks before it were read whole");
     }
-    const ros::TopicInfo& topic = ros::choose_topic(path, topics_, options.topic);
+    const ros::TopicInfo& topic = choose_topic(options.topic, index_pos == 0);
     for (const auto& [conn, c] : connections_)
       if (c.topic == topic.name) wanted_.push_back(conn);
     pos_ = first_record_;
@@ -133,6 +186,25 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     bool has_conn = false;
     std::span<const std::uint8_t> data;
   };
+
+  /// ros::choose_topic; when the topic is not there and a scan stopped at a
+  /// fault before the chunks' end, the fault (the topic's connection may lie
+  /// beyond it).
+  const ros::TopicInfo& choose_topic(const std::string& wanted, bool never_closed) {
+    try {
+      return ros::choose_topic(file_.path(), topics_, wanted);
+    } catch (const ReadError&) {
+      const bool not_found = topics_.empty() || (!wanted.empty() && std::none_of(topics_.begin(), topics_.end(), [&](const auto& t) {
+                                                   return t.name == wanted;
+                                                 }));
+      if (fault_ && scan_stopped_early_ && not_found) throw ros::ContainerFault(*fault_);
+      if (never_closed && connections_.empty())
+        throw ReadError(file_.path(), static_cast<std::int64_t>(file_.size_bytes()), -1,
+                        "ROS 1 bag of a recording that stopped before its first message reached the file (never "
+                        "closed: index_pos 0, no message in its chunks)");
+      throw;
+    }
+  }
 
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {
     // In the index (past the chunks): a file cut there; its chunks are then scanned.
@@ -174,6 +246,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     HeaderFields f;
     HeaderFields conn_fields;
     std::vector<std::uint8_t> data;
+    std::uint32_t connection_records = 0, chunk_infos = 0;
     for (std::uint64_t at = index_pos_; at < file_.size_bytes();) {
       std::uint64_t data_at = 0;
       std::uint32_t data_len = 0;
@@ -183,7 +256,9 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       if (op == kConnection) {
         read_data(data_at, data_len, data);
         if (!add_connection(f, data)) fail(at, "corrupt ROS 1 connection record");
+        ++connection_records;
       } else if (op == kChunkInfo) {
+        ++chunk_infos;
         std::uint32_t count = 0;
         read_data(data_at, data_len, data);
         if (!field(f, "count", count) || data.size() < std::size_t{count} * 8) fail(at, "corrupt ROS 1 chunk info record");
@@ -196,6 +271,10 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       }
       at = next;
     }
+    if (has_counts_ && (connection_records < conn_count_ || chunk_infos < chunk_count_))
+      fail(file_.size_bytes(), "ROS 1 bag index ends after " + std::to_string(connection_records) + " of its " +
+                                   std::to_string(conn_count_) + " connection records and " + std::to_string(chunk_infos) +
+                                   " of its " + std::to_string(chunk_count_) + " chunk infos");
     reading_index_ = false;
     list_topics();
   }
@@ -245,6 +324,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       }
     } catch (const ros::ContainerFault& fault) {
       fault_ = fault;
+      scan_stopped_early_ = true;
       if (at == open_chunk_at_) at = file_.size_bytes();  // its complete records are read
     }
     chunks_end_ = at;
@@ -252,38 +332,64 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     list_topics();
   }
 
-  /// The chunk being written when the recording stopped: uncompressed, its
-  /// records run to the file's end, the last one maybe cut (its complete
-  /// records are read, open_chunk_size_ bytes); compressed, its data cannot
-  /// be read without the size the closed chunk's header would give.
+  /// The chunk being written when the recording stopped (its header's sizes
+  /// still placeholders): its records run to the file's end, the last maybe
+  /// cut. The complete records are counted and read (open_chunk_size_ bytes
+  /// of it); what follows them is the fault raised after their events.
   void scan_open_chunk(std::uint64_t at, const HeaderFields& f, std::uint64_t data_at) {
     open_chunk_at_ = at;
     open_chunk_size_ = 0;
-    const std::uint64_t left = file_.size_bytes() - data_at;
-    const auto compression = f.find("compression");
-    if (left == 0) return;  // stopped before its first record reached the file
-    if (compression == f.end() || compression->second != "none")
-      fail(at, "the ROS 1 chunk being written when the recording stopped (compression '" +
-                   (compression == f.end() ? std::string() : compression->second) + "', " + std::to_string(left) +
-                   " bytes to the file's end) cannot be read without its size; the events of the chunks before it are read");
-    if (left > kMaxRecordPart) fail(at, "ROS 1 chunk of " + std::to_string(left) + " bytes (limit " + std::to_string(kMaxRecordPart) + ")");
-    read_data(data_at, static_cast<std::uint32_t>(left), chunk_);
-    chunk_at_ = at;
-    chunk_pos_ = 0;
-    in_chunk_ = true;
+    const OpenChunk open = load_open_chunk(at, f, data_at);
     ChunkRecord r;
+    bool cut_record = false;
     while (true) {
       bool more = false;
       try {
         more = next_chunk_record(r);
       } catch (const ros::ContainerFault&) {
-        fail(data_at + open_chunk_size_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
-                                         "stopped (" + std::to_string(left - open_chunk_size_) + " bytes at this offset not read)");
+        cut_record = true;
       }
       if (!more) break;
       count_record(r, at);
       open_chunk_size_ = chunk_pos_;
     }
+    if (!cut_record && !open.tail_left) return;
+    if (open.compression == "none")
+      fail(data_at + open_chunk_size_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
+                                       "stopped (" + std::to_string(open.bytes_on_disk - open_chunk_size_) +
+                                       " bytes at this offset not read)");
+    fail(at, "ROS 1 bag cut inside the chunk being written when the recording stopped (" + open.compression + ", " +
+                 std::to_string(open.bytes_on_disk) + " bytes on disk): the records of its whole " + open.compression +
+                 " blocks were read, the data after them is cut short");
+  }
+
+  struct OpenChunk {
+    std::string compression;
+    std::uint64_t bytes_on_disk = 0;
+    bool tail_left = false;  // compressed bytes left that no whole block holds
+  };
+
+  /// chunk_ := the open chunk's records as far as they are on disk: its bytes,
+  /// or what a streaming decoder makes of its bz2 / lz4 data cut short.
+  OpenChunk load_open_chunk(std::uint64_t at, const HeaderFields& f, std::uint64_t data_at) {
+    OpenChunk open;
+    const auto compression = f.find("compression");
+    open.compression = compression == f.end() ? std::string() : compression->second;
+    open.bytes_on_disk = file_.size_bytes() - data_at;
+    if (open.bytes_on_disk > kMaxRecordPart)
+      fail(at, "ROS 1 chunk of " + std::to_string(open.bytes_on_disk) + " bytes (limit " + std::to_string(kMaxRecordPart) + ")");
+    chunk_at_ = at;
+    chunk_pos_ = 0;
+    in_chunk_ = true;
+    if (open.compression == "none") {
+      read_data(data_at, static_cast<std::uint32_t>(open.bytes_on_disk), chunk_);
+      return open;
+    }
+    if (open.compression != "bz2" && open.compression != "lz4")
+      fail(at, "ROS 1 chunk compressed with '" + open.compression + "' (readable: none, bz2, lz4)");
+    read_data(data_at, static_cast<std::uint32_t>(open.bytes_on_disk), compressed_);
+    open.tail_left = open.compression == "bz2" ? inflate_cut_bz2(compressed_, chunk_) : inflate_cut_lz4(compressed_, chunk_);
+    return open;
   }
 
   void count_record(const ChunkRecord& r, std::uint64_t chunk_at) {
@@ -379,10 +485,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       const std::uint64_t at = pos_;
       pos_ = read_record(at, f, data_at, data_len);
       if (at == open_chunk_at_) {
-        read_data(data_at, static_cast<std::uint32_t>(open_chunk_size_), chunk_);
-        chunk_at_ = at;
-        chunk_pos_ = 0;
-        in_chunk_ = true;
+        load_open_chunk(at, f, data_at);
+        chunk_.resize(open_chunk_size_);  // its complete records
         pos_ = chunks_end_;
         continue;
       }
@@ -404,6 +508,10 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::vector<std::uint32_t> wanted_;
   std::uint64_t first_record_ = 0;
   std::uint64_t index_pos_ = 0;
+  bool scan_stopped_early_ = false;  // at fault_, before the chunks' end
+  bool has_counts_ = false;  // the bag header's conn_count and chunk_count
+  std::uint32_t conn_count_ = 0;
+  std::uint32_t chunk_count_ = 0;
   std::uint64_t chunks_end_ = 0;  // where the chunks end: index_pos, or where a scan stopped
   std::optional<ros::ContainerFault> fault_;  // that stopped the scan; raised after the events before it
   std::uint64_t open_chunk_at_ = std::numeric_limits<std::uint64_t>::max();  // the chunk being written when recording stopped

@@ -3,14 +3,20 @@
 #include <sqlite3.h>
 #include <zstd.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <string_view>
 
 #include "evlife/io/event_reader.h"
+#include "input_file.h"
 #include "ros_topics.h"
 
 namespace evlife::io::ros {
@@ -25,6 +31,15 @@ constexpr unsigned long long kMaxInflatedMessageBytes = 256ULL << 20;
 bool is_zstd_frame(std::span<const std::uint8_t> data) {
   return data.size() >= 4 && data[0] == 0x28 && data[1] == 0xB5 && data[2] == 0x2F && data[3] == 0xFD;
 }
+
+/// A .db3 of a file-compressed bag: rosbag2's compressor names it NAME.db3.zstd.
+bool is_compressed_db3_name(const fs::path& p) {
+  return p.extension() == ".zstd" && p.stem().extension() == ".db3";
+}
+
+/// The free space the decompressed copy leaves at least (a corrupt stream
+/// that inflates without end must not fill the disk).
+constexpr std::uint64_t kTempHeadroomBytes = 256ULL << 20;
 
 std::string trimmed(std::string s) {
   const auto not_space = [](char c) { return c != ' ' && c != '\t' && c != '\r' && c != '"' && c != '\''; };
@@ -99,12 +114,12 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
     };
     compression_format = quoted_off(compression_format);
     compression_mode = quoted_off(compression_mode);
-    const bool by_message = compression_mode == "MESSAGE" || compression_mode == "message";
+    // zstd by message (each message a frame) or by file (NAME.db3.zstd): both read.
     if (!compression_format.empty() && compression_mode != "NONE" && compression_mode != "none" &&
-        !compression_mode.empty() && !(by_message && compression_format == "zstd")) {
+        !compression_mode.empty() && compression_format != "zstd") {
       throw ReadError(metadata.string(), -1, -1,
                       "a rosbag2 bag compressed with " + compression_format + " (compression_mode " + compression_mode +
-                          "): evlife reads uncompressed bags and zstd message compression; write an uncompressed "
+                          "): evlife reads uncompressed bags and zstd compression; write an uncompressed "
                           "copy with `ros2 bag convert`");
     }
     if (storage == "mcap") {  // the default storage since ROS 2 Iron: read by the MCAP reader
@@ -123,9 +138,11 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
       throw ReadError(metadata.string(), -1, -1, "rosbag2 metadata lists no relative_file_paths");
     return files;
   }
+  // No metadata.yaml: a recording that did not stop cleanly (rosbag2 writes it
+  // at the end); with file compression its closed files are NAME.db3.zstd.
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.path().extension() == ".db3") files.push_back(entry.path().string());
+    if (entry.path().extension() == ".db3" || is_compressed_db3_name(entry.path())) files.push_back(entry.path().string());
   }
   std::sort(files.begin(), files.end(), split_file_order_less);
   if (files.empty()) throw ReadError(dir, -1, -1, "folder without metadata.yaml or .db3 files");
@@ -134,23 +151,114 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
 
 }  // namespace
 
+/// A .db3 of a file-compressed bag (one zstd stream of the whole file, as
+/// rosbag2's compressor writes NAME.db3.zstd) decompressed into a temporary
+/// file for SQLite, which needs a file; removed with this object.
+class InflatedDb3 {
+ public:
+  explicit InflatedDb3(const std::string& compressed) {
+    std::error_code ec;
+    fs::path dir = fs::temp_directory_path(ec);
+    if (ec) dir = "/tmp";
+    std::string name = (dir / "evlife-rosbag2-XXXXXX.db3").string();
+    const int fd = ::mkstemps(name.data(), 4);
+    if (fd < 0)
+      throw ReadError(compressed, -1, -1,
+                      "cannot create its decompressed copy in " + dir.string() + ": " + std::strerror(errno) + " (set TMPDIR)");
+    path_ = name;
+    try {
+      inflate(compressed, fd, dir);
+    } catch (...) {
+      ::close(fd);
+      remove_files();
+      throw;
+    }
+    if (::close(fd) != 0) {
+      const std::string why = std::strerror(errno);
+      remove_files();
+      throw ReadError(compressed, -1, -1, "cannot write its decompressed copy in " + dir.string() + ": " + why);
+    }
+  }
+  ~InflatedDb3() { remove_files(); }
+  InflatedDb3(const InflatedDb3&) = delete;
+  InflatedDb3& operator=(const InflatedDb3&) = delete;
+  const std::string& path() const noexcept { return path_; }
+
+ private:
+  void inflate(const std::string& compressed, int fd, const fs::path& dir) {
+    const detail::InputFile in(compressed);
+    std::error_code ec;
+    const fs::space_info space = fs::space(dir, ec);
+    const std::uint64_t room = ec || space.available < kTempHeadroomBytes ? 0 : space.available - kTempHeadroomBytes;
+    std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+    std::vector<std::byte> in_buf(ZSTD_DStreamInSize());
+    std::vector<std::byte> out_buf(ZSTD_DStreamOutSize());
+    std::uint64_t at = 0, written = 0;
+    std::size_t last = 1;  // ZSTD_decompressStream's hint: 0 once a frame is complete
+    while (at < in.size_bytes()) {
+      const std::size_t got = in.read_at(at, in_buf);
+      if (got == 0) throw ReadError(compressed, static_cast<std::int64_t>(at), -1, "cannot read the file here");
+      ZSTD_inBuffer input{in_buf.data(), got, 0};
+      while (input.pos < input.size) {
+        ZSTD_outBuffer output{out_buf.data(), out_buf.size(), 0};
+        last = ZSTD_decompressStream(ctx.get(), &output, &input);
+        if (ZSTD_isError(last) != 0U)
+          throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
+                          std::string("corrupt zstd data in a file-compressed rosbag2 .db3 (") + ZSTD_getErrorName(last) + ")");
+        if (written + output.pos > room)
+          throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
+                          "its decompressed copy would leave less than 256 MiB free in " + dir.string() + " (" +
+                              std::to_string(written) + " bytes written; set TMPDIR to a folder with room)");
+        for (std::size_t done = 0; done < output.pos;) {
+          const ssize_t n = ::write(fd, out_buf.data() + done, output.pos - done);
+          if (n <= 0)
+            throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
+                            "cannot write its decompressed copy in " + dir.string() + ": " + std::strerror(errno));
+          done += static_cast<std::size_t>(n);
+        }
+        written += output.pos;
+      }
+      at += got;
+    }
+    if (last != 0)
+      throw ReadError(compressed, static_cast<std::int64_t>(in.size_bytes()), -1,
+                      "the zstd stream of a file-compressed rosbag2 .db3 ends short (file cut?)");
+  }
+
+  void remove_files() noexcept {
+    std::error_code ec;
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"}) fs::remove(path_ + suffix, ec);
+  }
+
+  std::string path_;
+};
+
+namespace {
+
+}  // namespace
+
 bool is_rosbag2_directory(const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(path, ec)) return false;
   if (fs::exists(fs::path(path) / "metadata.yaml", ec)) return true;
   for (const auto& entry : fs::directory_iterator(path, ec)) {
-    if (entry.path().extension() == ".db3") return true;
+    if (entry.path().extension() == ".db3" || is_compressed_db3_name(entry.path())) return true;
   }
   return false;
 }
 
+bool is_zstd_compressed_db3(std::span<const std::byte> head, std::string_view path) {
+  return is_compressed_db3_name(fs::path(path)) &&
+         is_zstd_frame(std::span(reinterpret_cast<const std::uint8_t*>(head.data()), head.size()));
+}
+
 struct Rosbag2Messages::Db {
-  std::string path;
+  std::string path;  // as the user named it (a .db3.zstd's, not its decompressed copy's)
   sqlite3* db = nullptr;
   sqlite3_stmt* stmt = nullptr;
 
-  explicit Db(std::string p) : path(std::move(p)) {
-    if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=
+  Db(const std::string& open_path, std::string shown_path) : path(std::move(shown_path)) {
+    if (sqlite3_open_v2(open_path.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=
         SQLITE_OK) {
       const std::string why = db != nullptr ? sqlite3_errmsg(db) : "out of memory";
       sqlite3_close(db);
@@ -190,8 +298,26 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
   std::error_code ec;
   files_ = fs::is_directory(path, ec) ? bag_folder_files(path) : std::vector<std::string>{path};
   std::map<std::string, std::size_t> by_name;
-  for (const std::string& file : files_) {
-    Db db(file);
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    try {
+      read_topics(i, by_name);
+    } catch (const ReadError& fault) {
+      if (i == 0) throw;
+      // A later file of a split bag: the files before it are read, then the fault.
+      fault_.emplace(fault);
+      files_.resize(i);
+      inflated_files_.resize(i);
+      break;
+    }
+  }
+}
+
+void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size_t>& by_name) {
+  const std::string& file = files_[i];
+  inflated_files_.emplace_back();
+  if (is_compressed_db3_name(fs::path(file))) inflated_files_.back() = std::make_unique<InflatedDb3>(file);
+  {
+    Db db(sqlite_path(i), file);
     db.prepare(
         "SELECT t.name, t.type, t.serialization_format, "
         "(SELECT COUNT(*) FROM messages m WHERE m.topic_id = t.id) FROM topics t ORDER BY t.id");
@@ -205,12 +331,16 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
   }
 }
 
+const std::string& Rosbag2Messages::sqlite_path(std::size_t i) const {
+  return inflated_files_[i] ? inflated_files_[i]->path() : files_[i];
+}
+
 Rosbag2Messages::~Rosbag2Messages() = default;
 
 void Rosbag2Messages::open_file(std::size_t i) {
   file_index_ = i;
   db_.reset();
-  db_ = std::make_unique<Db>(files_[i]);
+  db_ = std::make_unique<Db>(sqlite_path(i), files_[i]);
   db_->prepare(
       "SELECT m.data, m.timestamp FROM messages m JOIN topics t ON m.topic_id = t.id "
       "WHERE t.name = ?1 ORDER BY m.timestamp, m.id");
@@ -231,6 +361,11 @@ bool Rosbag2Messages::next(Message& m) {
     if (db_ && db_->step("cannot read message " + std::to_string(next_index_))) break;
     if (file_index_ + 1 >= files_.size()) {
       db_.reset();
+      if (fault_) {
+        const ReadError fault = *fault_;
+        fault_.reset();
+        throw fault;
+      }
       return false;
     }
     open_file(file_index_ + 1);

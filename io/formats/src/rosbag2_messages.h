@@ -5,14 +5,22 @@
 // topics(id, name, type, serialization_format) and messages(id, topic_id,
 // timestamp, data). One topic's messages stream in (timestamp, id) order.
 // Messages compressed one by one (a bag recorded with --compression-mode
-// message: each a zstd frame) are decompressed; file compression is refused.
+// message: each a zstd frame) are decompressed; so are the files of a bag
+// recorded with --compression-mode file (NAME.db3.zstd), each into a
+// temporary copy for SQLite. A later file of a split bag that cannot be
+// read is a fault raised after the messages of the files before it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "evlife/io/event_reader.h"
 
 namespace evlife::io::ros {
 
@@ -23,6 +31,8 @@ struct TopicInfo {
   std::uint64_t message_count = 0;
   std::string other_type;  ///< a second message type on the same topic (another connection or channel)
 };
+
+class InflatedDb3;  // rosbag2_messages.cpp
 
 class Rosbag2Messages {
  public:
@@ -50,17 +60,22 @@ class Rosbag2Messages {
   /// The next message of the selected topic; false at the end. Throws ReadError.
   bool next(Message& m);
 
-  /// The .db3 files, in reading order.
+  /// The .db3 (or .db3.zstd) files, in reading order.
   const std::vector<std::string>& files() const noexcept { return files_; }
 
  private:
   struct Db;
+  void read_topics(std::size_t i, std::map<std::string, std::size_t>& by_name);
+  /// What SQLite opens for file i: the file, or its decompressed copy.
+  const std::string& sqlite_path(std::size_t i) const;
   void open_file(std::size_t i);
   /// rosbag2's message compression (compression_mode: message): the zstd
   /// `frame` decompressed into inflated_. Throws ReadError.
   std::span<const std::uint8_t> inflate(std::span<const std::uint8_t> frame);
 
   std::vector<std::string> files_;
+  std::vector<std::unique_ptr<InflatedDb3>> inflated_files_;  // per file: its decompressed copy, if compressed
+  std::optional<ReadError> fault_;  // of a later file, raised after the files before it
   std::vector<TopicInfo> topics_;
   std::uint64_t unlisted_messages_ = 0;
   std::unique_ptr<Db> db_;
@@ -72,7 +87,9 @@ class Rosbag2Messages {
 };
 
 /// True when `path` is a directory holding a rosbag2 sqlite3 bag
-/// (metadata.yaml or *.db3 files).
+/// (metadata.yaml, *.db3 or *.db3.zstd files).
 bool is_rosbag2_directory(const std::string& path);
+/// True for a file-compressed bag's NAME.db3.zstd (its name and zstd magic).
+bool is_zstd_compressed_db3(std::span<const std::byte> head, std::string_view path);
 
 }  // namespace evlife::io::ros

@@ -56,7 +56,8 @@ SniffResult sniff_rosbag2(std::span<const std::byte> head, std::string_view path
                  [](char a, std::byte b) { return static_cast<std::byte>(a) == b; })) {
     return SniffResult::by_content;
   }
-  return has_extension(path, ".db3") ? SniffResult::by_extension : SniffResult::no;
+  if (ros::is_zstd_compressed_db3(head, path)) return SniffResult::by_content;  // a file-compressed bag's
+  return has_extension(path, ".db3") || has_extension(path, ".db3.zstd") ? SniffResult::by_extension : SniffResult::no;
 }
 
 std::unique_ptr<EventReader> open_rosbag2(const std::string& path, const ReaderOptions& options) {
@@ -69,7 +70,7 @@ bool claims_rosbag2_directory(const std::string& path) { return ros::is_rosbag2_
 
 const ReaderFormat rosbag2_format{
     "rosbag2",
-    "ROS 2 bag, sqlite3 storage (.db3 or its folder with metadata.yaml): "
+    "ROS 2 bag, sqlite3 storage (.db3, a file-compressed bag's .db3.zstd, or the bag folder): "
     "event_camera_msgs/EventPacket (evt3, libcaer, mono), dvs_msgs/EventArray, "
     "prophesee_event_msgs/EventArray",
     &sniff_rosbag2, nullptr, &open_rosbag2, &claims_rosbag2_directory, "topic"};
