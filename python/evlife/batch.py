@@ -7,10 +7,12 @@
         table = batch.process_files(paths, "out/", scheduler="tcp://host:8786")
         print(table)
 
-Without the guard a script hangs: Dask starts the LocalCluster's workers as
-new Python processes that import the script again (multiprocessing's spawn),
-so each worker would start a cluster of its own and dies; Dask restarts them
-for ever. Interactive sessions and notebooks need no guard.
+Without the guard a script would hang: Dask starts the LocalCluster's workers
+as new Python processes that import the script again (multiprocessing's
+spawn), so each worker would start a cluster of its own and die, and Dask
+would restart them for ever. So a LocalCluster started from a script's top
+level outside the guard is refused with a RuntimeError naming the line.
+Interactive sessions and notebooks need no guard.
 
 One long recording can also be cut into time slices processed in parallel,
 each estimator starting a warm-up before its slice (process_slices); the result
@@ -141,11 +143,75 @@ def local_cluster(workers=2):
     processes of one thread each, Dask's housekeeping slowed down
     (LOCAL_WORKER_CONFIG). process_files makes one when no scheduler is given;
     make it yourself to reuse it across calls: process_files(..., scheduler=cluster)."""
+    _check_main_guard()
     import dask
     from distributed import LocalCluster
     with dask.config.set(LOCAL_WORKER_CONFIG):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                             dashboard_address=":0")
+
+
+def _main_script_reimported():
+    """The file multiprocessing's spawn runs again in every new process (the
+    main module's, when it was run as a script or with -m), else None
+    (interactive sessions, notebooks, python -c)."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if path is None or not os.path.isfile(path):
+        return None
+    return os.path.realpath(path)
+
+
+def _is_main_test(test):
+    """True for an if-test that compares __name__ with "__main__" (alone or within and/or)."""
+    import ast
+    for node in ast.walk(test):
+        if isinstance(node, ast.Compare):
+            names = [node.left] + list(node.comparators)
+            if any(isinstance(n, ast.Name) and n.id == "__name__" for n in names) and \
+                    any(isinstance(n, ast.Constant) and n.value == "__main__" for n in names):
+                return True
+    return False
+
+
+def _unguarded_call_site():
+    """(file, line) of the main script's top-level statement that this call
+    comes from, when no `if __name__ == "__main__":` encloses it; else None."""
+    import ast
+    import inspect
+    script = _main_script_reimported()
+    if script is None:
+        return None
+    top = None
+    frame = inspect.currentframe()
+    while frame is not None:
+        code = frame.f_code
+        if code.co_name == "<module>" and os.path.realpath(code.co_filename) == script:
+            top = frame
+        frame = frame.f_back
+    if top is None:
+        return None
+    line = top.f_lineno
+    try:
+        with open(script, encoding="utf-8") as f:
+            tree = ast.parse(f.read(), script)
+    except (OSError, SyntaxError, ValueError, UnicodeDecodeError):
+        return None  # cannot tell: no false alarm
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and node.lineno <= line <= (node.end_lineno or node.lineno) \
+                and _is_main_test(node.test):
+            return None
+    return script, line
+
+
+def _check_main_guard():
+    site = _unguarded_call_site()
+    if site is not None:
+        raise RuntimeError(
+            '%s:%d starts a Dask LocalCluster outside `if __name__ == "__main__":`. Its worker '
+            "processes import the script again and would each start a cluster of their own, "
+            "for ever. Put the call under that guard (see help(evlife.batch)), or pass "
+            "scheduler= the address of a running scheduler." % site)
 
 
 def _client(scheduler, workers):

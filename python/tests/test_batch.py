@@ -148,3 +148,32 @@ def test_local_cluster_workers_run_without_the_stack_profiler():
     assert len(seen) == 2
     assert all(v == (False, "1s") for v in seen.values()), seen
     assert dask.config.get("distributed.worker.profile.enabled")  # this process keeps Dask's default
+
+
+def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
+    # Dask's spawned workers import the script again: unguarded, each would
+    # start a cluster of its own for ever (the script hung, printing tracebacks).
+    import subprocess
+    import sys
+    bag = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "ros1", "mono_dvs.bag")
+    call = 'batch.process_files([%r], %r, workers=1, progress=False)' % (bag, str(tmp_path / "out"))
+    scripts = {
+        "top.py": "from evlife import batch\nprint(%s)\n" % call,
+        "in_main.py": "from evlife import batch\ndef main():\n    %s\nmain()\n" % call,
+        "guarded.py": "from evlife import batch\ndef main():\n    print(%s)\n"
+                      "if __name__ == '__main__':\n    main()\n" % call,
+    }
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(evlife.__file__)))
+    results = {}
+    for name, text in scripts.items():
+        (tmp_path / name).write_text(text)
+        results[name] = subprocess.run([sys.executable, str(tmp_path / name)], env=env, cwd=tmp_path,
+                                       capture_output=True, text=True, timeout=120)
+    for name, line in (("top.py", 2), ("in_main.py", 4)):
+        r = results[name]
+        assert r.returncode != 0, name
+        assert "%s:%d starts a Dask LocalCluster outside `if __name__ == \"__main__\":`" % (
+            tmp_path / name, line) in r.stderr, r.stderr[-2000:]
+        assert "Restarting worker" not in r.stderr
+    assert results["guarded.py"].returncode == 0, results["guarded.py"].stderr[-2000:]
+    assert "mono_dvs.bag" in results["guarded.py"].stdout and " ok" in results["guarded.py"].stdout
