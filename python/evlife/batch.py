@@ -148,7 +148,24 @@ def local_cluster(workers=2):
     from distributed import LocalCluster
     with dask.config.set(LOCAL_WORKER_CONFIG):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                            dashboard_address=":0")
+                            dashboard_address=":0", loop=_shared_loop())
+
+
+_loop_runner = None
+
+
+def _shared_loop():
+    """One event loop (in a thread of its own) for every cluster and client this
+    module makes: Dask's own loop per synchronous cluster or client is never
+    closed (this Dask, 2022.12: 3 descriptors, an epoll and a socket pair, per
+    process_files call, until the process ran out of them)."""
+    global _loop_runner
+    if _loop_runner is None:
+        from distributed.utils import LoopRunner
+        runner = LoopRunner(asynchronous=False)
+        runner.start()
+        _loop_runner = runner
+    return _loop_runner.loop
 
 
 def _main_script_reimported():
@@ -219,11 +236,14 @@ def _client(scheduler, workers):
     from distributed import Client
     if scheduler is None:
         cluster = local_cluster(workers)
-        client = Client(cluster)
+        client = Client(cluster, loop=_shared_loop())
         return client, [client, cluster]
     if isinstance(scheduler, Client):
         return scheduler, []
-    client = Client(scheduler)  # an address ("tcp://host:8786") or a cluster object
+    if isinstance(scheduler, str):  # an address ("tcp://host:8786")
+        client = Client(scheduler, loop=_shared_loop())
+    else:  # a cluster object: its own loop
+        client = Client(scheduler)
     return client, [client]
 
 

@@ -177,3 +177,28 @@ def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
         assert "Restarting worker" not in r.stderr
     assert results["guarded.py"].returncode == 0, results["guarded.py"].stderr[-2000:]
     assert "mono_dvs.bag" in results["guarded.py"].stdout and " ok" in results["guarded.py"].stdout
+
+
+def test_repeated_batches_keep_no_descriptors(tmp_path):
+    # Dask's loop per synchronous cluster and client was never closed: an epoll
+    # and a socket pair per call, until the process ran out of descriptors.
+    from evlife import batch
+    bag = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "ros1", "mono_dvs.bag")
+
+    def descriptors():
+        return len(os.listdir("/proc/self/fd"))
+
+    def settled(limit):
+        # the loop thread closes the last comms a moment after the call returns
+        import time
+        deadline = time.monotonic() + 10
+        while descriptors() > limit and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return descriptors()
+
+    counts = []
+    for k in range(5):
+        table = batch.process_files([bag], tmp_path / str(k), workers=1, progress=False)
+        assert table.failed == []
+        counts.append(settled(counts[0] + 2) if counts else descriptors())
+    assert counts[-1] - counts[0] < 3, counts  # 12 more after four calls before
