@@ -461,6 +461,15 @@ TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
   ASSERT_EQ(r.streams.size(), 1u);
   EXPECT_EQ(r.streams[0].messages, 6u);
   EXPECT_TRUE(fs::is_empty(temp));  // the decompressed copies are removed
+  const auto copies = [&] { return std::distance(fs::directory_iterator(temp), fs::directory_iterator()); };
+  {
+    // One copy at a time, shared by the readers open on a file at once (a
+    // command's probe and its reader): the first file's, until it is read.
+    const auto a = io::open_event_reader(zstd.string());
+    const auto b = io::open_event_reader(zstd.string());
+    EXPECT_EQ(copies(), 1);
+  }
+  EXPECT_EQ(copies(), 0);
   // One file alone, by its name and content.
   const ReadAll first = read_all((zstd / "bag_0.db3.zstd").string());
   ASSERT_FALSE(first.error) << first.error->what();
@@ -473,6 +482,15 @@ TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
   const ReadAll unclean = read_all(zstd.string());
   ASSERT_FALSE(unclean.error) << unclean.error->what();
   EXPECT_TRUE(same_as_reference(unclean, 300));
+  // Stopped while compressing bag_1: its .zstd begun, the .db3 not yet removed: the .db3 is read.
+  fs::copy_file(plain / "bag_1.db3", zstd / "bag_1.db3");
+  const std::string begun = (zstd / "bag_1.db3.zstd").string();
+  fs::resize_file(begun, fs::file_size(begun) / 2);
+  const ReadAll compressing = read_all(zstd.string());
+  ASSERT_FALSE(compressing.error) << compressing.error->what();
+  EXPECT_TRUE(same_as_reference(compressing, 300));
+  fs::remove(zstd / "bag_1.db3");
+  zstd_file((plain / "bag_1.db3").string(), begun);
   // A later file cut short, or corrupt: the files before it, then the fault naming it.
   fs::remove(zstd / "bag_2.db3");
   const std::string last = (zstd / "bag_2.db3.zstd").string();
@@ -498,10 +516,25 @@ TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
   EXPECT_EQ(corrupt.error->path(), last);
   EXPECT_NE(corrupt.error->reason().find("corrupt zstd data"), std::string::npos) << corrupt.error->what();
   EXPECT_TRUE(same_as_reference(corrupt, 200)) << corrupt.error->what();
+  // The event topic only in the failed file: its fault, not "no event topic".
+  const fs::path other = dir.file("other");
+  fs::create_directories(other);
+  {
+    Db db((other / "bag_0.db3").string());
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/notes', 'std_msgs/msg/String', 'cdr', '')");
+  }
+  fs::copy_file(last, other / "bag_1.db3.zstd");
+  const std::string only_later = evlife::test::open_error(other.string());
+  EXPECT_NE(only_later.find("bag_1.db3.zstd: corrupt zstd data"), std::string::npos) << only_later;
   // The first file: nothing before it, an open error.
   fs::copy_file(last, zstd / "bag_0.db3.zstd", fs::copy_options::overwrite_existing);
   EXPECT_NE(evlife::test::open_error(zstd.string()).find("bag_0.db3.zstd"), std::string::npos);
   EXPECT_TRUE(fs::is_empty(temp));
+  // A TMPDIR that is no folder is named, not replaced by /tmp.
+  ASSERT_EQ(::setenv("TMPDIR", (temp / "missing").c_str(), 1), 0);
+  const std::string no_tmp = evlife::test::open_error((other / "bag_1.db3.zstd").string());
+  EXPECT_NE(no_tmp.find("TMPDIR " + (temp / "missing").string() + " is not a folder"), std::string::npos) << no_tmp;
   ::unsetenv("TMPDIR");
 }
 

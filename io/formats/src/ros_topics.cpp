@@ -42,10 +42,11 @@ void add_topic(std::vector<TopicInfo>& topics, std::map<std::string, std::size_t
 
 /// The event topic to read: `wanted` if given, else the only one.
 const TopicInfo& choose_topic(const std::string& path, const std::vector<TopicInfo>& topics,
-                                   const std::string& wanted) {
+                              const std::string& wanted, const ReadError* listing_cut) {
   if (!wanted.empty()) {
     const auto it = std::find_if(topics.begin(), topics.end(),
                                  [&](const TopicInfo& t) { return t.name == wanted; });
+    if (it == topics.end() && listing_cut != nullptr) throw *listing_cut;
     if (it == topics.end())
       throw ReadError(path, -1, -1, "no topic '" + wanted + "' in the bag; its topics:" + topic_list(topics));
     if (message_kind(it->type) == MessageKind::not_events) {
@@ -60,6 +61,7 @@ const TopicInfo& choose_topic(const std::string& path, const std::vector<TopicIn
   for (const TopicInfo& t : topics)
     if (message_kind(t.type) != MessageKind::not_events) events.push_back(&t);
   if (events.size() == 1) return of_one_type(path, *events.front());
+  if (events.empty() && listing_cut != nullptr) throw *listing_cut;
   if (events.empty()) {
     throw ReadError(path, -1, -1,
                     "no event topic in the bag (readable types: " +

@@ -18,8 +18,10 @@ namespace evlife::io::ros {
 void add_topic(std::vector<TopicInfo>& topics, std::map<std::string, std::size_t>& by_name, TopicInfo topic);
 
 /// `wanted` if given (it must exist and be an event type), else the only
-/// event topic; throws ReadError naming `path` and listing the topics.
+/// event topic; throws ReadError naming `path` and listing the topics. Where
+/// the topic is not there and `listing_cut` (the fault of a later file or
+/// chunk, whose topics were not listed) is given, throws that fault instead.
 const TopicInfo& choose_topic(const std::string& path, const std::vector<TopicInfo>& topics,
-                              const std::string& wanted);
+                              const std::string& wanted, const ReadError* listing_cut = nullptr);
 
 }  // namespace evlife::io::ros

@@ -187,23 +187,14 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::span<const std::uint8_t> data;
   };
 
-  /// ros::choose_topic; when the topic is not there and a scan stopped at a
-  /// fault before the chunks' end, the fault (the topic's connection may lie
-  /// beyond it).
+  /// ros::choose_topic, given the fault of a scan that stopped before the
+  /// chunks' end (the topic's connection may lie beyond it).
   const ros::TopicInfo& choose_topic(const std::string& wanted, bool never_closed) {
-    try {
-      return ros::choose_topic(file_.path(), topics_, wanted);
-    } catch (const ReadError&) {
-      const bool not_found = topics_.empty() || (!wanted.empty() && std::none_of(topics_.begin(), topics_.end(), [&](const auto& t) {
-                                                   return t.name == wanted;
-                                                 }));
-      if (fault_ && scan_stopped_early_ && not_found) throw ros::ContainerFault(*fault_);
-      if (never_closed && connections_.empty())
-        throw ReadError(file_.path(), static_cast<std::int64_t>(file_.size_bytes()), -1,
-                        "ROS 1 bag of a recording that stopped before its first message reached the file (never "
-                        "closed: index_pos 0, no message in its chunks)");
-      throw;
-    }
+    if (never_closed && connections_.empty() && !fault_)
+      throw ReadError(file_.path(), static_cast<std::int64_t>(file_.size_bytes()), -1,
+                      "ROS 1 bag of a recording that stopped before its first message reached the file (never "
+                      "closed: index_pos 0, no message in its chunks)");
+    return ros::choose_topic(file_.path(), topics_, wanted, scan_stopped_early_ && fault_ ? &*fault_ : nullptr);
   }
 
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {

@@ -3,21 +3,16 @@
 #include <sqlite3.h>
 #include <zstd.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <string_view>
 
 #include "evlife/io/event_reader.h"
-#include "input_file.h"
 #include "ros_topics.h"
+#include "zstd_temp_copy.h"
 
 namespace evlife::io::ros {
 namespace {
@@ -36,10 +31,6 @@ bool is_zstd_frame(std::span<const std::uint8_t> data) {
 bool is_compressed_db3_name(const fs::path& p) {
   return p.extension() == ".zstd" && p.stem().extension() == ".db3";
 }
-
-/// The free space the decompressed copy leaves at least (a corrupt stream
-/// that inflates without end must not fill the disk).
-constexpr std::uint64_t kTempHeadroomBytes = 256ULL << 20;
 
 std::string trimmed(std::string s) {
   const auto not_space = [](char c) { return c != ' ' && c != '\t' && c != '\r' && c != '"' && c != '\''; };
@@ -140,100 +131,18 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
   }
   // No metadata.yaml: a recording that did not stop cleanly (rosbag2 writes it
   // at the end); with file compression its closed files are NAME.db3.zstd.
+  // Both NAME.db3 and NAME.db3.zstd: stopped while compressing it (rosbag2
+  // removes the .db3 once its .zstd is whole), so the .db3 is the one to read.
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.path().extension() == ".db3" || is_compressed_db3_name(entry.path())) files.push_back(entry.path().string());
+    const fs::path& p = entry.path();
+    if (p.extension() == ".db3" || (is_compressed_db3_name(p) && !fs::exists(p.parent_path() / p.stem(), ec)))
+      files.push_back(p.string());
   }
   std::sort(files.begin(), files.end(), split_file_order_less);
   if (files.empty()) throw ReadError(dir, -1, -1, "folder without metadata.yaml or .db3 files");
   return files;
 }
-
-}  // namespace
-
-/// A .db3 of a file-compressed bag (one zstd stream of the whole file, as
-/// rosbag2's compressor writes NAME.db3.zstd) decompressed into a temporary
-/// file for SQLite, which needs a file; removed with this object.
-class InflatedDb3 {
- public:
-  explicit InflatedDb3(const std::string& compressed) {
-    std::error_code ec;
-    fs::path dir = fs::temp_directory_path(ec);
-    if (ec) dir = "/tmp";
-    std::string name = (dir / "evlife-rosbag2-XXXXXX.db3").string();
-    const int fd = ::mkstemps(name.data(), 4);
-    if (fd < 0)
-      throw ReadError(compressed, -1, -1,
-                      "cannot create its decompressed copy in " + dir.string() + ": " + std::strerror(errno) + " (set TMPDIR)");
-    path_ = name;
-    try {
-      inflate(compressed, fd, dir);
-    } catch (...) {
-      ::close(fd);
-      remove_files();
-      throw;
-    }
-    if (::close(fd) != 0) {
-      const std::string why = std::strerror(errno);
-      remove_files();
-      throw ReadError(compressed, -1, -1, "cannot write its decompressed copy in " + dir.string() + ": " + why);
-    }
-  }
-  ~InflatedDb3() { remove_files(); }
-  InflatedDb3(const InflatedDb3&) = delete;
-  InflatedDb3& operator=(const InflatedDb3&) = delete;
-  const std::string& path() const noexcept { return path_; }
-
- private:
-  void inflate(const std::string& compressed, int fd, const fs::path& dir) {
-    const detail::InputFile in(compressed);
-    std::error_code ec;
-    const fs::space_info space = fs::space(dir, ec);
-    const std::uint64_t room = ec || space.available < kTempHeadroomBytes ? 0 : space.available - kTempHeadroomBytes;
-    std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
-    std::vector<std::byte> in_buf(ZSTD_DStreamInSize());
-    std::vector<std::byte> out_buf(ZSTD_DStreamOutSize());
-    std::uint64_t at = 0, written = 0;
-    std::size_t last = 1;  // ZSTD_decompressStream's hint: 0 once a frame is complete
-    while (at < in.size_bytes()) {
-      const std::size_t got = in.read_at(at, in_buf);
-      if (got == 0) throw ReadError(compressed, static_cast<std::int64_t>(at), -1, "cannot read the file here");
-      ZSTD_inBuffer input{in_buf.data(), got, 0};
-      while (input.pos < input.size) {
-        ZSTD_outBuffer output{out_buf.data(), out_buf.size(), 0};
-        last = ZSTD_decompressStream(ctx.get(), &output, &input);
-        if (ZSTD_isError(last) != 0U)
-          throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
-                          std::string("corrupt zstd data in a file-compressed rosbag2 .db3 (") + ZSTD_getErrorName(last) + ")");
-        if (written + output.pos > room)
-          throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
-                          "its decompressed copy would leave less than 256 MiB free in " + dir.string() + " (" +
-                              std::to_string(written) + " bytes written; set TMPDIR to a folder with room)");
-        for (std::size_t done = 0; done < output.pos;) {
-          const ssize_t n = ::write(fd, out_buf.data() + done, output.pos - done);
-          if (n <= 0)
-            throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
-                            "cannot write its decompressed copy in " + dir.string() + ": " + std::strerror(errno));
-          done += static_cast<std::size_t>(n);
-        }
-        written += output.pos;
-      }
-      at += got;
-    }
-    if (last != 0)
-      throw ReadError(compressed, static_cast<std::int64_t>(in.size_bytes()), -1,
-                      "the zstd stream of a file-compressed rosbag2 .db3 ends short (file cut?)");
-  }
-
-  void remove_files() noexcept {
-    std::error_code ec;
-    for (const char* suffix : {"", "-journal", "-wal", "-shm"}) fs::remove(path_ + suffix, ec);
-  }
-
-  std::string path_;
-};
-
-namespace {
 
 }  // namespace
 
@@ -306,7 +215,6 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
       // A later file of a split bag: the files before it are read, then the fault.
       fault_.emplace(fault);
       files_.resize(i);
-      inflated_files_.resize(i);
       break;
     }
   }
@@ -314,10 +222,12 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
 
 void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size_t>& by_name) {
   const std::string& file = files_[i];
-  inflated_files_.emplace_back();
-  if (is_compressed_db3_name(fs::path(file))) inflated_files_.back() = std::make_unique<InflatedDb3>(file);
+  // One copy at a time: the first file's is kept for select(), the others'
+  // are made again when their messages are read.
+  const auto copy = copy_of(i);
+  if (i == 0) copy_ = copy;
   {
-    Db db(sqlite_path(i), file);
+    Db db(copy ? copy->path() : file, file);
     db.prepare(
         "SELECT t.name, t.type, t.serialization_format, "
         "(SELECT COUNT(*) FROM messages m WHERE m.topic_id = t.id) FROM topics t ORDER BY t.id");
@@ -331,8 +241,8 @@ void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size
   }
 }
 
-const std::string& Rosbag2Messages::sqlite_path(std::size_t i) const {
-  return inflated_files_[i] ? inflated_files_[i]->path() : files_[i];
+std::shared_ptr<const detail::ZstdTempCopy> Rosbag2Messages::copy_of(std::size_t i) const {
+  return is_compressed_db3_name(fs::path(files_[i])) ? detail::ZstdTempCopy::of(files_[i]) : nullptr;
 }
 
 Rosbag2Messages::~Rosbag2Messages() = default;
@@ -340,7 +250,11 @@ Rosbag2Messages::~Rosbag2Messages() = default;
 void Rosbag2Messages::open_file(std::size_t i) {
   file_index_ = i;
   db_.reset();
-  db_ = std::make_unique<Db>(sqlite_path(i), files_[i]);
+  if (i != 0 || !copy_) {  // (the first file's copy is kept from the constructor)
+    copy_.reset();  // the previous file's, before the next one's is made
+    copy_ = copy_of(i);
+  }
+  db_ = std::make_unique<Db>(copy_ ? copy_->path() : files_[i], files_[i]);
   db_->prepare(
       "SELECT m.data, m.timestamp FROM messages m JOIN topics t ON m.topic_id = t.id "
       "WHERE t.name = ?1 ORDER BY m.timestamp, m.id");

@@ -7,8 +7,9 @@
 // Messages compressed one by one (a bag recorded with --compression-mode
 // message: each a zstd frame) are decompressed; so are the files of a bag
 // recorded with --compression-mode file (NAME.db3.zstd), each into a
-// temporary copy for SQLite. A later file of a split bag that cannot be
-// read is a fault raised after the messages of the files before it.
+// temporary copy for SQLite, one file at a time (zstd_temp_copy.h). A later
+// file of a split bag that cannot be read is a fault raised after the
+// messages of the files before it (deferred_fault()).
 #pragma once
 
 #include <cstddef>
@@ -22,6 +23,10 @@
 
 #include "evlife/io/event_reader.h"
 
+namespace evlife::io::detail {
+class ZstdTempCopy;  // zstd_temp_copy.h
+}  // namespace evlife::io::detail
+
 namespace evlife::io::ros {
 
 struct TopicInfo {
@@ -31,8 +36,6 @@ struct TopicInfo {
   std::uint64_t message_count = 0;
   std::string other_type;  ///< a second message type on the same topic (another connection or channel)
 };
-
-class InflatedDb3;  // rosbag2_messages.cpp
 
 class Rosbag2Messages {
  public:
@@ -62,19 +65,22 @@ class Rosbag2Messages {
 
   /// The .db3 (or .db3.zstd) files, in reading order.
   const std::vector<std::string>& files() const noexcept { return files_; }
+  /// The fault of a later file whose topics could not be read, raised by
+  /// next() after the earlier files' messages (none: nullptr).
+  const ReadError* deferred_fault() const noexcept { return fault_ ? &*fault_ : nullptr; }
 
  private:
   struct Db;
   void read_topics(std::size_t i, std::map<std::string, std::size_t>& by_name);
-  /// What SQLite opens for file i: the file, or its decompressed copy.
-  const std::string& sqlite_path(std::size_t i) const;
+  /// File i's decompressed copy if it is a .db3.zstd, else nullptr.
+  std::shared_ptr<const detail::ZstdTempCopy> copy_of(std::size_t i) const;
   void open_file(std::size_t i);
   /// rosbag2's message compression (compression_mode: message): the zstd
   /// `frame` decompressed into inflated_. Throws ReadError.
   std::span<const std::uint8_t> inflate(std::span<const std::uint8_t> frame);
 
   std::vector<std::string> files_;
-  std::vector<std::unique_ptr<InflatedDb3>> inflated_files_;  // per file: its decompressed copy, if compressed
+  std::shared_ptr<const detail::ZstdTempCopy> copy_;  // of the file being read, if compressed
   std::optional<ReadError> fault_;  // of a later file, raised after the files before it
   std::vector<TopicInfo> topics_;
   std::uint64_t unlisted_messages_ = 0;

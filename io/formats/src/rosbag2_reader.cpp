@@ -15,7 +15,7 @@ namespace {
 class Rosbag2Reader final : public ros::TopicEventReader {
  public:
   Rosbag2Reader(const std::string& path, const ReaderOptions& options) : path_(path), bag_(path) {
-    const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic);
+    const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic, bag_.deferred_fault());
     if (topic.serialization != "cdr") {
       throw ReadError(path, -1, -1, "topic '" + topic.name + "' is serialized as '" +
                                         topic.serialization + "', not cdr");
