@@ -26,6 +26,7 @@ installed package) and the paths readable where they run.
 import os
 import shutil
 import sys
+import threading
 import time
 import uuid
 from collections import namedtuple
@@ -152,6 +153,17 @@ def local_cluster(workers=2):
 
 
 _loop_runner = None
+_loop_lock = threading.Lock()
+
+
+def _forget_loop_in_child():
+    # A forked child has the runner but not its thread: it makes its own.
+    global _loop_runner, _loop_lock
+    _loop_runner = None
+    _loop_lock = threading.Lock()
+
+
+os.register_at_fork(after_in_child=_forget_loop_in_child)
 
 
 def _shared_loop():
@@ -160,35 +172,53 @@ def _shared_loop():
     closed (this Dask, 2022.12: 3 descriptors, an epoll and a socket pair, per
     process_files call, until the process ran out of them)."""
     global _loop_runner
-    if _loop_runner is None:
-        from distributed.utils import LoopRunner
-        runner = LoopRunner(asynchronous=False)
-        runner.start()
-        _loop_runner = runner
-    return _loop_runner.loop
+    with _loop_lock:
+        if _loop_runner is None:
+            from distributed.utils import LoopRunner
+            runner = LoopRunner(asynchronous=False)
+            runner.start()
+            _loop_runner = runner
+        return _loop_runner.loop
 
 
-def _main_script_reimported():
-    """The file multiprocessing's spawn runs again in every new process (the
-    main module's, when it was run as a script or with -m), else None
-    (interactive sessions, notebooks, python -c)."""
+def _main_module_reimported():
+    """The main module as multiprocessing's spawn (Dask's default start method
+    for its workers; forkserver too) runs it again in every new process: its
+    file, "<stdin>" for a script read from standard input, or None where
+    nothing runs again (fork, interactive sessions, notebooks, python -c, a
+    package's __main__ run with -m)."""
+    import dask
+    if dask.config.get("distributed.worker.multiprocessing-method", "spawn") == "fork":
+        return None
     main = sys.modules.get("__main__")
+    name = getattr(getattr(main, "__spec__", None), "name", None)
+    if name is not None and (name == "__main__" or name.endswith(".__main__")):
+        return None  # multiprocessing's _fixup_main_from_name skips these
     path = getattr(main, "__file__", None)
+    if path == "<stdin>":
+        return path
     if path is None or not os.path.isfile(path):
         return None
     return os.path.realpath(path)
 
 
-def _is_main_test(test):
-    """True for an if-test that compares __name__ with "__main__" (alone or within and/or)."""
+def _is_main_guard(node):
+    """True for an `if` or `match` that tests __name__ against "__main__" in any
+    form (==, in a tuple, a case pattern): leniently, as a false refusal is
+    worse than a missed one."""
     import ast
-    for node in ast.walk(test):
-        if isinstance(node, ast.Compare):
-            names = [node.left] + list(node.comparators)
-            if any(isinstance(n, ast.Name) and n.id == "__name__" for n in names) and \
-                    any(isinstance(n, ast.Constant) and n.value == "__main__" for n in names):
-                return True
-    return False
+    if isinstance(node, ast.If):
+        parts = [node.test]
+    elif isinstance(node, getattr(ast, "Match", ())):
+        parts = [node.subject] + [c.pattern for c in node.cases]
+    else:
+        return False
+    names = constants = False
+    for part in parts:
+        for n in ast.walk(part):
+            names = names or (isinstance(n, ast.Name) and n.id == "__name__")
+            constants = constants or (isinstance(n, ast.Constant) and n.value == "__main__")
+    return names and constants
 
 
 def _unguarded_call_site():
@@ -196,8 +226,8 @@ def _unguarded_call_site():
     comes from, when no `if __name__ == "__main__":` encloses it; else None."""
     import ast
     import inspect
-    script = _main_script_reimported()
-    if script is None:
+    script = _main_module_reimported()
+    if script is None or script == "<stdin>":
         return None
     top = None
     frame = inspect.currentframe()
@@ -211,17 +241,27 @@ def _unguarded_call_site():
     line = top.f_lineno
     try:
         with open(script, encoding="utf-8") as f:
-            tree = ast.parse(f.read(), script)
+            source = f.read()
+        tree = ast.parse(source, script)
+        running = compile(source, script, "exec")
     except (OSError, SyntaxError, ValueError, UnicodeDecodeError):
         return None  # cannot tell: no false alarm
+    if running.co_code != top.f_code.co_code or \
+            list(running.co_lines()) != list(top.f_code.co_lines()):
+        return None  # the file changed since the script started: its lines are not the running ones
     for node in ast.walk(tree):
-        if isinstance(node, ast.If) and node.lineno <= line <= (node.end_lineno or node.lineno) \
-                and _is_main_test(node.test):
+        if node is not tree and hasattr(node, "lineno") and \
+                node.lineno <= line <= (node.end_lineno or node.lineno) and _is_main_guard(node):
             return None
     return script, line
 
 
 def _check_main_guard():
+    if _main_module_reimported() == "<stdin>":
+        raise RuntimeError(
+            "a script read from standard input cannot start a Dask LocalCluster: its worker "
+            "processes would import <stdin> again and be restarted for ever. Save the script "
+            "to a file, or pass scheduler= the address of a running scheduler.")
     site = _unguarded_call_site()
     if site is not None:
         raise RuntimeError(

@@ -162,6 +162,7 @@ def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
         "in_main.py": "from evlife import batch\ndef main():\n    %s\nmain()\n" % call,
         "guarded.py": "from evlife import batch\ndef main():\n    print(%s)\n"
                       "if __name__ == '__main__':\n    main()\n" % call,
+        "in_tuple.py": "from evlife import batch\nif __name__ in ('__main__',):\n    print(%s)\n" % call,
     }
     env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(evlife.__file__)))
     results = {}
@@ -175,8 +176,20 @@ def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
         assert "%s:%d starts a Dask LocalCluster outside `if __name__ == \"__main__\":`" % (
             tmp_path / name, line) in r.stderr, r.stderr[-2000:]
         assert "Restarting worker" not in r.stderr
-    assert results["guarded.py"].returncode == 0, results["guarded.py"].stderr[-2000:]
-    assert "mono_dvs.bag" in results["guarded.py"].stdout and " ok" in results["guarded.py"].stdout
+    for name in ("guarded.py", "in_tuple.py"):
+        assert results[name].returncode == 0, (name, results[name].stderr[-2000:])
+        assert "mono_dvs.bag" in results[name].stdout and " ok" in results[name].stdout, name
+    # A package's __main__ run with -m is never imported again by spawn: no guard needed.
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "__init__.py").write_text("")
+    (tmp_path / "pkg" / "__main__.py").write_text(scripts["top.py"])
+    by_module = subprocess.run([sys.executable, "-m", "pkg"], env=env, cwd=tmp_path,
+                               capture_output=True, text=True, timeout=120)
+    assert by_module.returncode == 0 and " ok" in by_module.stdout, by_module.stderr[-2000:]
+    # From standard input, workers cannot import the script again, guarded or not.
+    from_stdin = subprocess.run([sys.executable, "-"], input=scripts["guarded.py"], env=env, cwd=tmp_path,
+                                capture_output=True, text=True, timeout=120)
+    assert from_stdin.returncode != 0 and "a script read from standard input cannot start" in from_stdin.stderr
 
 
 def test_repeated_batches_keep_no_descriptors(tmp_path):
@@ -202,3 +215,23 @@ def test_repeated_batches_keep_no_descriptors(tmp_path):
         assert table.failed == []
         counts.append(settled(counts[0] + 2) if counts else descriptors())
     assert counts[-1] - counts[0] < 3, counts  # 12 more after four calls before
+
+
+def _batch_in_forked_child(args):
+    from evlife import batch
+    bag, out, address = args
+    return [r.error for r in batch.process_files([bag], out, scheduler=address, progress=False)]
+
+
+def test_a_forked_child_makes_its_own_event_loop(tmp_path):
+    # The module's shared loop runs in a thread a forked child does not have:
+    # the child's calls waited for ever on it.
+    import multiprocessing
+    from evlife import batch
+    bag = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "ros1", "mono_dvs.bag")
+    with batch.local_cluster(1) as cluster:
+        address = cluster.scheduler_address
+        assert _batch_in_forked_child((bag, str(tmp_path / "parent"), address)) == [None]
+        with multiprocessing.get_context("fork").Pool(1) as pool:
+            result = pool.apply_async(_batch_in_forked_child, ((bag, str(tmp_path / "child"), address),))
+            assert result.get(timeout=120) == [None]
