@@ -145,7 +145,7 @@ TEST_F(Rosbag1Faults, ACutBagDeliversItsWholeChunksThenTheCut) {
   // Where the index begins, and inside it: every chunk is whole, every event read.
   const ReadAll at_index = read_cut(index_pos);
   ASSERT_TRUE(at_index.error);
-  EXPECT_NE(at_index.error->reason().find("its index, at offset " + std::to_string(index_pos) + ", lies past the file's end"),
+  EXPECT_NE(at_index.error->reason().find("its index, at offset " + std::to_string(index_pos) + ", is not in the file"),
             std::string::npos)
       << at_index.error->what();
   EXPECT_EQ(at_index.error->byte_offset(), static_cast<std::int64_t>(index_pos));
@@ -316,6 +316,14 @@ TEST_F(Rosbag1Faults, AFaultBeforeAnyTopicIsTheError) {
   const std::vector<char> full = load(kBags + "evt3_none.bag");
   const std::string cut = evlife::test::open_error(save("first.bag", std::vector<char>(full.begin(), full.begin() + 5000)));
   EXPECT_NE(cut.find("runs past the end of the file (byte offset "), std::string::npos) << cut;
+  // Cut right after the bag header record, at a record boundary: no chunk at all.
+  std::uint32_t header_len = 0, data_len = 0;
+  std::memcpy(&header_len, full.data() + 13, 4);
+  std::memcpy(&data_len, full.data() + 13 + 4 + header_len, 4);
+  const std::size_t first_record = 13 + 8 + header_len + data_len;
+  const std::string no_chunk =
+      evlife::test::open_error(save("none.bag", std::vector<char>(full.begin(), full.begin() + static_cast<long>(first_record))));
+  EXPECT_NE(no_chunk.find("is not in the file"), std::string::npos) << no_chunk;
   const std::vector<char> active = load(kBags + "evt3_interrupted.bag.active");
   const std::size_t first_chunk = find_all(active, "compression=none").at(0);
   const std::string header_only = evlife::test::open_error(
@@ -346,6 +354,34 @@ TEST_F(Rosbag1Faults, AnIndexCutAtARecordBoundaryIsNoticed) {
   EXPECT_TRUE(same(r.events, reference, reference.size()));
   ASSERT_EQ(r.streams.size(), 1u);
   EXPECT_EQ(r.streams[0].messages, 30u);  // counted in the chunks, not the cut index's 0
+}
+
+/// A corrupt record inside a closed chunk: the records before it are
+/// delivered, with the index or without it (the scan counts what it delivers).
+TEST_F(Rosbag1Faults, ACorruptRecordInAChunkStopsThereWithOrWithoutTheIndex) {
+  std::vector<char> bytes = load(kBags + "evt3_none.bag");
+  const std::size_t last_chunk = find_all(bytes, "compression=none").back() - 16;
+  std::uint32_t header_len = 0, first_record_header = 0, first_record_data = 0;
+  std::memcpy(&header_len, bytes.data() + last_chunk, 4);
+  const std::size_t records = last_chunk + 8 + header_len;  // the chunk's data: its records
+  std::memcpy(&first_record_header, bytes.data() + records, 4);
+  std::memcpy(&first_record_data, bytes.data() + records + 4 + first_record_header, 4);
+  const std::size_t second = records + 8 + first_record_header + first_record_data;
+  const std::uint32_t absurd = 0x7fffffff;
+  std::memcpy(bytes.data() + second, &absurd, 4);  // the second record's header length
+  const ReadAll indexed = read_all(save("indexed.bag", bytes));
+  ASSERT_TRUE(indexed.error);
+  const std::size_t field = find_all(bytes, "index_pos=").at(0) + 10;
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, bytes.data() + field, sizeof index_pos);
+  bytes.resize(index_pos + 30);  // the index cut: the chunks are scanned
+  const ReadAll scanned = read_all(save("scanned.bag", bytes));
+  ASSERT_TRUE(scanned.error);
+  EXPECT_NE(scanned.error->reason().find("corrupt record at byte"), std::string::npos) << scanned.error->what();
+  EXPECT_GT(scanned.events.size(), 0u);
+  ASSERT_EQ(scanned.events.size(), indexed.events.size());
+  EXPECT_EQ(0, std::memcmp(scanned.events.data(), indexed.events.data(), scanned.events.size() * sizeof(Event)));
+  ASSERT_EQ(scanned.streams.size(), 1u);
 }
 
 }  // namespace

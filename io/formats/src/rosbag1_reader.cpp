@@ -156,10 +156,13 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     } else {
       // index_pos 0: rosbag writes it when it closes the bag. Past the end: cut where the index began.
       scan_chunks(file_.size_bytes(), index_pos == 0);
-      if (index_pos != 0 && !fault_)
+      if (index_pos != 0 && !fault_) {
         fault_.emplace(path, static_cast<std::int64_t>(file_.size_bytes()),
                        "ROS 1 bag cut short: its index, at offset " + std::to_string(index_pos) +
-                           ", lies past the file's end; the chunks before it were read whole");
+                           ", is not in the file; the whole chunks before the cut were read");
+        // Cut before index_pos: chunks are missing, so a topic may be too.
+        scan_stopped_early_ = index_pos > file_.size_bytes();
+      }
     }
     const ros::TopicInfo& topic = choose_topic(options.topic, index_pos == 0);
     for (const auto& [conn, c] : connections_)
@@ -308,15 +311,24 @@ class Rosbag1Reader final : public ros::TopicEventReader {
             break;
           }
           load_chunk(at, f, data_at, data_len);
+          // Until its records all parse, the chunk a fault may stop the scan in:
+          // what was counted of it is delivered.
+          stopped_chunk_at_ = at;
+          stopped_chunk_end_ = next;
+          stopped_chunk_bytes_ = 0;
           ChunkRecord r;
-          while (next_chunk_record(r)) count_record(r, at);
+          while (next_chunk_record(r)) {
+            count_record(r, at);
+            stopped_chunk_bytes_ = chunk_pos_;
+          }
+          stopped_chunk_at_ = kNoChunk;
         }
         at = next;
       }
     } catch (const ros::ContainerFault& fault) {
       fault_ = fault;
       scan_stopped_early_ = true;
-      if (at == open_chunk_at_) at = file_.size_bytes();  // its complete records are read
+      if (at == stopped_chunk_at_) at = stopped_chunk_end_;  // its complete records are read
     }
     chunks_end_ = at;
     in_chunk_ = false;
@@ -325,11 +337,13 @@ class Rosbag1Reader final : public ros::TopicEventReader {
 
   /// The chunk being written when the recording stopped (its header's sizes
   /// still placeholders): its records run to the file's end, the last maybe
-  /// cut. The complete records are counted and read (open_chunk_size_ bytes
+  /// cut. The complete records are counted and read (stopped_chunk_bytes_ bytes
   /// of it); what follows them is the fault raised after their events.
   void scan_open_chunk(std::uint64_t at, const HeaderFields& f, std::uint64_t data_at) {
-    open_chunk_at_ = at;
-    open_chunk_size_ = 0;
+    stopped_chunk_at_ = at;
+    stopped_chunk_end_ = file_.size_bytes();
+    stopped_chunk_open_ = true;
+    stopped_chunk_bytes_ = 0;
     const OpenChunk open = load_open_chunk(at, f, data_at);
     ChunkRecord r;
     bool cut_record = false;
@@ -342,12 +356,12 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       }
       if (!more) break;
       count_record(r, at);
-      open_chunk_size_ = chunk_pos_;
+      stopped_chunk_bytes_ = chunk_pos_;
     }
     if (!cut_record && !open.tail_left) return;
     if (open.compression == "none")
-      fail(data_at + open_chunk_size_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
-                                       "stopped (" + std::to_string(open.bytes_on_disk - open_chunk_size_) +
+      fail(data_at + stopped_chunk_bytes_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
+                                       "stopped (" + std::to_string(open.bytes_on_disk - stopped_chunk_bytes_) +
                                        " bytes at this offset not read)");
     fail(at, "ROS 1 bag cut inside the chunk being written when the recording stopped (" + open.compression + ", " +
                  std::to_string(open.bytes_on_disk) + " bytes on disk): the records of its whole " + open.compression +
@@ -475,9 +489,13 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       std::uint32_t data_len = 0;
       const std::uint64_t at = pos_;
       pos_ = read_record(at, f, data_at, data_len);
-      if (at == open_chunk_at_) {
-        load_open_chunk(at, f, data_at);
-        chunk_.resize(open_chunk_size_);  // its complete records
+      if (at == stopped_chunk_at_) {
+        if (stopped_chunk_open_) {
+          load_open_chunk(at, f, data_at);
+        } else {
+          load_chunk(at, f, data_at, data_len);
+        }
+        chunk_.resize(stopped_chunk_bytes_);  // the records the scan counted
         pos_ = chunks_end_;
         continue;
       }
@@ -505,8 +523,13 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::uint32_t chunk_count_ = 0;
   std::uint64_t chunks_end_ = 0;  // where the chunks end: index_pos, or where a scan stopped
   std::optional<ros::ContainerFault> fault_;  // that stopped the scan; raised after the events before it
-  std::uint64_t open_chunk_at_ = std::numeric_limits<std::uint64_t>::max();  // the chunk being written when recording stopped
-  std::size_t open_chunk_size_ = 0;  // its complete records' bytes
+  // The chunk a scan stopped in (a record cut or corrupt), or the one being
+  // written when a recording stopped: delivered up to its complete records.
+  static constexpr std::uint64_t kNoChunk = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t stopped_chunk_at_ = kNoChunk;
+  std::uint64_t stopped_chunk_end_ = 0;  // where the next top-level record would be
+  bool stopped_chunk_open_ = false;
+  std::size_t stopped_chunk_bytes_ = 0;  // its complete records' bytes
   HeaderFields connection_fields_;
   HeaderFields record_fields_;
   bool reading_index_ = false;  // fail() says where a fault lies

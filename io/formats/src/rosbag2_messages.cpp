@@ -222,10 +222,10 @@ Rosbag2Messages::Rosbag2Messages(const std::string& path) {
 
 void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size_t>& by_name) {
   const std::string& file = files_[i];
-  // One copy at a time: the first file's is kept for select(), the others'
+  // One copy at a time: a lone file's is kept for select(); a split bag's
   // are made again when their messages are read.
   const auto copy = copy_of(i);
-  if (i == 0) copy_ = copy;
+  if (files_.size() == 1) copy_ = copy;
   {
     Db db(copy ? copy->path() : file, file);
     db.prepare(
@@ -250,7 +250,7 @@ Rosbag2Messages::~Rosbag2Messages() = default;
 void Rosbag2Messages::open_file(std::size_t i) {
   file_index_ = i;
   db_.reset();
-  if (i != 0 || !copy_) {  // (the first file's copy is kept from the constructor)
+  if (i != 0 || !copy_) {  // (a lone file's copy is kept from the constructor)
     copy_.reset();  // the previous file's, before the next one's is made
     copy_ = copy_of(i);
   }

@@ -113,7 +113,8 @@ void ZstdTempCopy::inflate(const std::string& compressed, int fd, const std::str
                         std::string("corrupt zstd data (") + ZSTD_getErrorName(last) + ")");
       if (written + output.pos > room)
         throw ReadError(compressed, static_cast<std::int64_t>(at + input.pos), -1,
-                        "its decompressed copy would leave less than 256 MiB free in " + dir + " (" +
+                        "its decompressed copy would leave less than " + std::to_string(kHeadroomBytes >> 20) +
+                            " MiB free in " + dir + " (" +
                             std::to_string(written) + " bytes written; set TMPDIR to a folder with room)");
       for (std::size_t done = 0; done < output.pos;) {
         const ssize_t n = ::write(fd, out_buf.data() + done, output.pos - done);

@@ -15,7 +15,8 @@ class ZstdTempCopy {
   /// The copy of `compressed`, made in TMPDIR (/tmp when unset) unless a
   /// reader holds one already. Throws ReadError naming `compressed` (and the
   /// byte offset of a corrupt or cut stream): also where TMPDIR is not a
-  /// folder, or where the copy would leave less than 256 MiB free there.
+  /// folder, or where the copy would leave too little free space there
+  /// (kHeadroomBytes, zstd_temp_copy.cpp).
   static std::shared_ptr<const ZstdTempCopy> of(const std::string& compressed);
 
   ~ZstdTempCopy();
