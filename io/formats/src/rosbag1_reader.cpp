@@ -24,6 +24,7 @@
 #include <memory>
 #include <optional>
 
+#include "cut_stream.h"
 #include "input_file.h"
 #include "reader_registry.h"
 #include "ros_topic_reader.h"
@@ -71,56 +72,6 @@ bool field(const HeaderFields& f, std::string_view name, T& v) {
   if (it == f.end() || it->second.size() != sizeof(T)) return false;
   std::memcpy(&v, it->second.data(), sizeof(T));
   return true;
-}
-
-/// A bz2 stream cut short (the chunk being written when a recording
-/// stopped) decoded as far as whole blocks go into `out`; true if bytes were
-/// left that no whole block holds (all but the 4-byte stream header "BZh9",
-/// unless the stream ended; bz2 blocks are not byte-aligned, so a cut exactly
-/// at a block's end is not told apart).
-bool inflate_cut_bz2(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out) {
-  constexpr std::size_t kStreamHeaderBytes = 4;
-  out.clear();
-  bz_stream s{};
-  if (BZ2_bzDecompressInit(&s, 0, 0) != BZ_OK) return !in.empty();
-  std::array<char, 1 << 16> buffer{};
-  s.next_in = const_cast<char*>(reinterpret_cast<const char*>(in.data()));  // bzlib's API: not written
-  s.avail_in = static_cast<unsigned int>(in.size());
-  int rc = BZ_OK;
-  while (rc == BZ_OK && out.size() <= kMaxRecordPart) {
-    s.next_out = buffer.data();
-    s.avail_out = buffer.size();
-    rc = BZ2_bzDecompress(&s);
-    const std::size_t produced = buffer.size() - s.avail_out;
-    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(produced));
-    if (produced == 0 && s.avail_in == 0) break;
-  }
-  BZ2_bzDecompressEnd(&s);
-  return rc != BZ_STREAM_END && in.size() > kStreamHeaderBytes;
-}
-
-/// The same for an LZ4 frame: true if a block was begun and not finished
-/// (LZ4F asks for exactly a block header's 4 bytes between blocks).
-bool inflate_cut_lz4(std::span<const std::uint8_t> in, std::vector<std::uint8_t>& out) {
-  constexpr std::size_t kBlockHeaderBytes = 4;
-  out.clear();
-  LZ4F_dctx* ctx = nullptr;
-  if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) return !in.empty();
-  std::array<std::uint8_t, 1 << 16> buffer{};
-  std::size_t at = 0;
-  std::size_t hint = 1;
-  while (out.size() <= kMaxRecordPart) {
-    std::size_t out_len = buffer.size();
-    std::size_t in_len = in.size() - at;
-    hint = LZ4F_decompress(ctx, buffer.data(), &out_len, in.data() + at, &in_len, nullptr);
-    if (LZ4F_isError(hint)) break;
-    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(out_len));
-    at += in_len;
-    if (hint == 0 || (out_len == 0 && in_len == 0)) break;  // the frame's end, or all there is
-  }
-  LZ4F_freeDecompressionContext(ctx);
-  if (LZ4F_isError(hint)) return true;
-  return hint != 0 && hint != kBlockHeaderBytes && !in.empty();
 }
 
 class Rosbag1Reader final : public ros::TopicEventReader {
@@ -393,7 +344,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     if (open.compression != "bz2" && open.compression != "lz4")
       fail(at, "ROS 1 chunk compressed with '" + open.compression + "' (readable: none, bz2, lz4)");
     read_data(data_at, static_cast<std::uint32_t>(open.bytes_on_disk), compressed_);
-    open.tail_left = open.compression == "bz2" ? inflate_cut_bz2(compressed_, chunk_) : inflate_cut_lz4(compressed_, chunk_);
+    open.tail_left = open.compression == "bz2" ? detail::inflate_cut_bz2(compressed_, chunk_, kMaxRecordPart)
+                                                 : detail::inflate_cut_lz4(compressed_, chunk_, kMaxRecordPart);
     return open;
   }
 
