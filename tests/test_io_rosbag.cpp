@@ -470,11 +470,14 @@ TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
     EXPECT_EQ(copies(), 1);
   }
   EXPECT_EQ(copies(), 0);
-  // One file alone, by its name and content.
-  const ReadAll first = read_all((zstd / "bag_0.db3.zstd").string());
-  ASSERT_FALSE(first.error) << first.error->what();
-  EXPECT_EQ(first.format, "rosbag2");
-  EXPECT_TRUE(same_as_reference(first, 100));
+  // One file alone, by its name and content; by its content alone (standard input's copy has no name).
+  for (const std::string name : {"bag_0.db3.zstd", "piped"}) {
+    if (name == "piped") fs::copy_file(zstd / "bag_0.db3.zstd", temp.parent_path() / name);
+    const ReadAll first = read_all((name == "piped" ? temp.parent_path() / name : zstd / name).string());
+    ASSERT_FALSE(first.error) << first.error->what();
+    EXPECT_EQ(first.format, "rosbag2");
+    EXPECT_TRUE(same_as_reference(first, 100)) << name;
+  }
   // Stopped uncleanly: no metadata.yaml, the file being written not compressed yet.
   fs::remove(zstd / "metadata.yaml");
   fs::rename(zstd / "bag_2.db3.zstd", temp.parent_path() / "bag_2.db3.zstd");

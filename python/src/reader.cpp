@@ -151,11 +151,19 @@ class Reader {
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
                       std::optional<double> to_s, const std::optional<std::string>& topic) {
   std::unique_ptr<io::EventReader> reader;
+  std::optional<io::ReadError> fault;
   {
     const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic);
     py::gil_scoped_release release;
-    reader = io::open_event_reader(path, options);
+    try {
+      reader = io::open_event_reader(path, options);
+    } catch (const io::ReadError& e) {
+      fault.emplace(e);
+    }
   }
+  // A fault at open (a bag cut before its first message): no event before it,
+  // an empty .partial as for a fault at the first event, not None.
+  if (fault) raise_input_error(*fault, adopt(std::vector<Event>{}, event_dtype()));
   return read_all(*reader);
 }
 

@@ -1,5 +1,6 @@
 """Errors: Python exceptions carrying the command line's messages."""
 import errno
+import os
 
 import numpy as np
 import pytest
@@ -290,3 +291,16 @@ def test_one_path_is_not_a_list_of_recordings(tmp_path):
 def test_a_subnormal_option_value_reads_back():
     e = evlife.LifetimeEstimator(sensor=(64, 64), inlier_tolerance_us=1e-320)
     assert e.options["inlier_tolerance_us"] == 1e-320
+
+
+def test_a_fault_before_the_first_event_gives_an_empty_partial(tmp_path):
+    # A ROS bag cut before its first chunk fails as it is opened: .partial is
+    # still an array (it was None for evlife.read), as evlife.process gives it.
+    bag = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "ros1", "evt3_none.bag")
+    cut = tmp_path / "cut.bag"
+    cut.write_bytes(open(bag, "rb").read()[:5000])
+    for call in (evlife.read, evlife.process):
+        with pytest.raises(evlife.InputError) as e:
+            call(cut)
+        assert "cut.bag" in str(e.value)
+        assert e.value.partial is not None and len(e.value.partial) == 0, call.__name__

@@ -52,11 +52,9 @@ void TopicEventReader::load_message() {
       return;
     }
   } catch (const ReadError& e) {
-    const auto* fault = dynamic_cast<const ContainerFault*>(&e);
-    std::string reason = fault != nullptr ? fault->reason() : e.what();
-    if (fault == nullptr && reason.rfind(e.path() + ": ", 0) == 0) reason.erase(0, e.path().size() + 2);
+    // The bare reason: the location is this error's own (what() repeated the byte offset).
     error_.emplace(e.path(), e.byte_offset(), delivered_,
-                   reason + " (after " + std::to_string(messages_) + " messages of the topic)");
+                   e.reason() + " (after " + std::to_string(messages_) + " messages of the topic)");
     return;
   }
   const std::uint64_t index = messages_++;

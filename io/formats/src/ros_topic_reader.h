@@ -19,16 +19,12 @@
 
 namespace evlife::io::ros {
 
-/// A fault of a bag container (truncation, corrupt chunk, ...): a ReadError
-/// that also keeps its bare reason, re-reported with the message count.
+/// A fault of a bag container (truncation, corrupt chunk, ...), re-reported
+/// with the message count.
 class ContainerFault : public ReadError {
  public:
   ContainerFault(const std::string& path, std::int64_t byte_offset, const std::string& reason)
-      : ReadError(path, byte_offset, -1, reason), reason_(reason) {}
-  const std::string& reason() const noexcept { return reason_; }
-
- private:
-  std::string reason_;
+      : ReadError(path, byte_offset, -1, reason) {}
 };
 
 class TopicEventReader : public EventReader {

@@ -4,6 +4,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <string_view>
 
 #include "evlife/io/event_reader.h"
+#include "input_file.h"
 #include "ros_topics.h"
 #include "zstd_temp_copy.h"
 
@@ -156,9 +158,8 @@ bool is_rosbag2_directory(const std::string& path) {
   return false;
 }
 
-bool is_zstd_compressed_db3(std::span<const std::byte> head, std::string_view path) {
-  return is_compressed_db3_name(fs::path(path)) &&
-         is_zstd_frame(std::span(reinterpret_cast<const std::uint8_t*>(head.data()), head.size()));
+bool is_zstd_stream(std::span<const std::byte> head) {
+  return is_zstd_frame(std::span(reinterpret_cast<const std::uint8_t*>(head.data()), head.size()));
 }
 
 struct Rosbag2Messages::Db {
@@ -242,7 +243,10 @@ void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size
 }
 
 std::shared_ptr<const detail::ZstdTempCopy> Rosbag2Messages::copy_of(std::size_t i) const {
-  return is_compressed_db3_name(fs::path(files_[i])) ? detail::ZstdTempCopy::of(files_[i]) : nullptr;
+  // By content: a .db3.zstd piped in (evlife's copy of standard input) has no name to go by.
+  std::array<std::byte, 4> magic{};
+  const std::size_t got = detail::InputFile(files_[i]).read_at(0, magic);
+  return is_zstd_stream(std::span(magic.data(), got)) ? detail::ZstdTempCopy::of(files_[i]) : nullptr;
 }
 
 Rosbag2Messages::~Rosbag2Messages() = default;

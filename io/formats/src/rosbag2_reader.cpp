@@ -56,7 +56,10 @@ SniffResult sniff_rosbag2(std::span<const std::byte> head, std::string_view path
                  [](char a, std::byte b) { return static_cast<std::byte>(a) == b; })) {
     return SniffResult::by_content;
   }
-  if (ros::is_zstd_compressed_db3(head, path)) return SniffResult::by_content;  // a file-compressed bag's
+  // A file-compressed bag's NAME.db3.zstd: its name and magic; the magic alone
+  // (standard input) ranks as a name would, zstd being no format of its own.
+  if (ros::is_zstd_stream(head))
+    return has_extension(path, ".db3.zstd") ? SniffResult::by_content : SniffResult::by_extension;
   return has_extension(path, ".db3") || has_extension(path, ".db3.zstd") ? SniffResult::by_extension : SniffResult::no;
 }
 
