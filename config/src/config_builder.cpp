@@ -159,8 +159,7 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
                       "write 'estimator:' and its keys indented below it)");
   }
   if (documents.size() > 1) {
-    throw ConfigError(path + ":" + std::to_string(documents[1].Mark().line + 1) +
-                      ": a second YAML document: a configuration file holds one");
+    throw ConfigError(where(documents[1]) + ": a second YAML document: a configuration file holds one");
   }
   if (root.IsNull()) return;  // only comments: defaults stand
 

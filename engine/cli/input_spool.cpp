@@ -7,12 +7,12 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
 
+#include "evlife/io/temp_dir.h"
 #include "exit_code.h"
 #include "stop_signals.h"
 
@@ -48,8 +48,7 @@ InputSpool::InputSpool(const std::string& input, const char* command, bool quiet
   // The copy lives in a private folder under the stream's own name ("stdin",
   // or the pipe's file name), so that every reader message that names the
   // copy also says which stream it came from: `/tmp/evlife-Ab12Cd/stdin: ...`.
-  const char* tmpdir = std::getenv("TMPDIR");
-  std::string folder = std::string(tmpdir != nullptr && *tmpdir != '\0' ? tmpdir : "/tmp") + "/evlife-XXXXXX";
+  std::string folder = io::temp_dir() + "/evlife-XXXXXX";
   if (::mkdtemp(folder.data()) == nullptr) {
     throw std::runtime_error(stream_ + ": cannot create a temporary folder to hold the stream (" + folder +
                              "): " + std::strerror(errno) + "; set TMPDIR to a folder with room");

@@ -221,14 +221,12 @@ def _is_main_guard(node):
     return names and constants
 
 
-def _unguarded_call_site():
-    """(file, line) of the main script's top-level statement that this call
-    comes from, when no `if __name__ == "__main__":` encloses it; else None."""
+def _unguarded_call_site(script):
+    """(file, line) of the top-level statement of `script` (the main script,
+    a real path) that this call comes from, when no `if __name__ ==
+    "__main__":` encloses it; else None."""
     import ast
     import inspect
-    script = _main_module_reimported()
-    if script is None or script == "<stdin>":
-        return None
     top = None
     frame = inspect.currentframe()
     while frame is not None:
@@ -257,12 +255,15 @@ def _unguarded_call_site():
 
 
 def _check_main_guard():
-    if _main_module_reimported() == "<stdin>":
+    script = _main_module_reimported()
+    if script is None:
+        return
+    if script == "<stdin>":
         raise RuntimeError(
             "a script read from standard input cannot start a Dask LocalCluster: its worker "
             "processes would import <stdin> again and be restarted for ever. Save the script "
             "to a file, or pass scheduler= the address of a running scheduler.")
-    site = _unguarded_call_site()
+    site = _unguarded_call_site(script)
     if site is not None:
         raise RuntimeError(
             '%s:%d starts a Dask LocalCluster outside `if __name__ == "__main__":`. Its worker '

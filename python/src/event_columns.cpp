@@ -125,7 +125,6 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
     }
     last = t;
   }
-  r.last_t_us = last;
   return r;
 }
 

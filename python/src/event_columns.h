@@ -90,7 +90,6 @@ struct EventCheck {
   std::size_t bad_index = SIZE_MAX;  ///< first event at fault, SIZE_MAX = none
   std::string what;                  ///< the fault, in the readers' words
   bool convert = false;              ///< polarity 0/1 or bool: convert into blocks
-  std::int64_t last_t_us = INT64_MIN;
 };
 
 /// Checks every event (no GIL needed): coordinates inside `sensor`, time

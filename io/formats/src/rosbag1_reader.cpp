@@ -266,12 +266,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
           // what was counted of it is delivered.
           stopped_chunk_at_ = at;
           stopped_chunk_end_ = next;
-          stopped_chunk_bytes_ = 0;
-          ChunkRecord r;
-          while (next_chunk_record(r)) {
-            count_record(r, at);
-            stopped_chunk_bytes_ = chunk_pos_;
-          }
+          count_chunk_records(at, false);
           stopped_chunk_at_ = kNoChunk;
         }
         at = next;
@@ -294,21 +289,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     stopped_chunk_at_ = at;
     stopped_chunk_end_ = file_.size_bytes();
     stopped_chunk_open_ = true;
-    stopped_chunk_bytes_ = 0;
     const OpenChunk open = load_open_chunk(at, f, data_at);
-    ChunkRecord r;
-    bool cut_record = false;
-    while (true) {
-      bool more = false;
-      try {
-        more = next_chunk_record(r);
-      } catch (const ros::ContainerFault&) {
-        cut_record = true;
-      }
-      if (!more) break;
-      count_record(r, at);
-      stopped_chunk_bytes_ = chunk_pos_;
-    }
+    const bool cut_record = count_chunk_records(at, true);
     if (!cut_record && !open.tail_left) return;
     if (open.compression == "none")
       fail(data_at + stopped_chunk_bytes_, "ROS 1 bag cut inside a record of the chunk being written when the recording "
@@ -334,26 +316,38 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     open.bytes_on_disk = file_.size_bytes() - data_at;
     if (open.bytes_on_disk > kMaxRecordPart)
       fail(at, "ROS 1 chunk of " + std::to_string(open.bytes_on_disk) + " bytes (limit " + std::to_string(kMaxRecordPart) + ")");
-    chunk_at_ = at;
-    chunk_pos_ = 0;
-    in_chunk_ = true;
+    begin_chunk(at);
     if (open.compression == "none") {
       read_data(data_at, static_cast<std::uint32_t>(open.bytes_on_disk), chunk_);
       return open;
     }
-    if (open.compression != "bz2" && open.compression != "lz4")
-      fail(at, "ROS 1 chunk compressed with '" + open.compression + "' (readable: none, bz2, lz4)");
+    if (open.compression != "bz2" && open.compression != "lz4") refuse_compression(at, open.compression);
     read_data(data_at, static_cast<std::uint32_t>(open.bytes_on_disk), compressed_);
     open.tail_left = open.compression == "bz2" ? detail::inflate_cut_bz2(compressed_, chunk_, kMaxRecordPart)
                                                  : detail::inflate_cut_lz4(compressed_, chunk_, kMaxRecordPart);
     return open;
   }
 
-  void count_record(const ChunkRecord& r, std::uint64_t chunk_at) {
-    if (r.op == kConnection) {
-      if (!add_connection(record_fields_, r.data)) fail(chunk_at, "corrupt ROS 1 connection record in the chunk at this offset");
-    } else if (r.op == kMessage && r.has_conn) {
-      ++connections_[r.conn].messages;
+  /// Counts the connections and messages of chunk_ (loaded from `chunk_at`);
+  /// stopped_chunk_bytes_: the bytes of its whole records. A record that
+  /// does not parse: with `cut_allowed` (the open chunk's last, cut by the
+  /// stop) returns true, else throws; a corrupt connection record throws.
+  bool count_chunk_records(std::uint64_t chunk_at, bool cut_allowed) {
+    stopped_chunk_bytes_ = 0;
+    ChunkRecord r;
+    while (true) {
+      try {
+        if (!next_chunk_record(r)) return false;
+      } catch (const ros::ContainerFault&) {
+        if (!cut_allowed) throw;
+        return true;
+      }
+      if (r.op == kConnection) {
+        if (!add_connection(record_fields_, r.data)) fail(chunk_at, "corrupt ROS 1 connection record in the chunk at this offset");
+      } else if (r.op == kMessage && r.has_conn) {
+        ++connections_[r.conn].messages;
+      }
+      stopped_chunk_bytes_ = chunk_pos_;
     }
   }
 
@@ -406,9 +400,18 @@ class Rosbag1Reader final : public ros::TopicEventReader {
         LZ4F_freeDecompressionContext(ctx);
       }
     } else {
-      fail(at, "ROS 1 chunk compressed with '" + kind + "' (readable: none, bz2, lz4)");
+      refuse_compression(at, kind);
     }
     if (!ok) fail(at, "corrupt ROS 1 chunk (" + kind + " data does not decompress to its " + std::to_string(size) + " bytes)");
+    begin_chunk(at);
+  }
+
+  [[noreturn]] void refuse_compression(std::uint64_t chunk_at, const std::string& kind) const {
+    fail(chunk_at, "ROS 1 chunk compressed with '" + kind + "' (readable: none, bz2, lz4)");
+  }
+
+  /// chunk_ (loaded from the chunk record at `at`) is read from its start.
+  void begin_chunk(std::uint64_t at) {
     chunk_at_ = at;
     chunk_pos_ = 0;
     in_chunk_ = true;

@@ -25,10 +25,6 @@ namespace fs = std::filesystem;
 // event message of a camera at 20 M events/s over 1 s is under 200 MiB).
 constexpr unsigned long long kMaxInflatedMessageBytes = 256ULL << 20;
 
-bool is_zstd_frame(std::span<const std::uint8_t> data) {
-  return data.size() >= 4 && data[0] == 0x28 && data[1] == 0xB5 && data[2] == 0x2F && data[3] == 0xFD;
-}
-
 /// A .db3 of a file-compressed bag: rosbag2's compressor names it NAME.db3.zstd.
 bool is_compressed_db3_name(const fs::path& p) {
   return p.extension() == ".zstd" && p.stem().extension() == ".db3";
@@ -159,7 +155,8 @@ bool is_rosbag2_directory(const std::string& path) {
 }
 
 bool is_zstd_stream(std::span<const std::byte> head) {
-  return is_zstd_frame(std::span(reinterpret_cast<const std::uint8_t*>(head.data()), head.size()));
+  return head.size() >= 4 && head[0] == std::byte{0x28} && head[1] == std::byte{0xB5} && head[2] == std::byte{0x2F} &&
+         head[3] == std::byte{0xFD};
 }
 
 struct Rosbag2Messages::Db {
@@ -295,7 +292,7 @@ bool Rosbag2Messages::next(Message& m) {
   m.bag_time_ns = sqlite3_column_int64(db_->stmt, 1);
   m.index = next_index_++;
   m.file = &files_[file_index_];
-  if (is_zstd_frame(m.data)) m.data = inflate(m.data);  // a CDR message starts 00 01
+  if (is_zstd_stream(std::as_bytes(m.data))) m.data = inflate(m.data);  // a CDR message starts 00 01
   return true;
 }
 

@@ -95,8 +95,9 @@ class Rosbag2Messages {
 /// True when `path` is a directory holding a rosbag2 sqlite3 bag
 /// (metadata.yaml, *.db3 or *.db3.zstd files).
 bool is_rosbag2_directory(const std::string& path);
-/// True for data starting with a zstd frame's magic: a file-compressed
-/// bag's NAME.db3.zstd, the only whole-file zstd evlife reads.
+/// True for data starting with a zstd frame's magic: a message compressed
+/// by rosbag2, or a file-compressed bag's NAME.db3.zstd (the only whole-file
+/// zstd evlife reads).
 bool is_zstd_stream(std::span<const std::byte> head);
 
 }  // namespace evlife::io::ros

@@ -7,7 +7,6 @@
 
 #include <cerrno>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "evlife/io/temp_dir.h"
 #include "input_file.h"
 
 namespace evlife::io::detail {
@@ -26,11 +26,10 @@ namespace fs = std::filesystem;
 /// without end must not fill the disk).
 constexpr std::uint64_t kHeadroomBytes = 256ULL << 20;
 
-/// TMPDIR, or /tmp when unset; a TMPDIR that is no folder is an error (a
-/// silent fall-back would put gigabytes where the user said not to).
-std::string temp_dir(const std::string& compressed) {
-  const char* env = std::getenv("TMPDIR");
-  const std::string dir = env != nullptr && *env != '\0' ? env : "/tmp";
+/// io::temp_dir(); one that is no folder is an error (a silent fall-back
+/// would put gigabytes where the user said not to).
+std::string checked_temp_dir(const std::string& compressed) {
+  const std::string dir = temp_dir();
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw ReadError(compressed, -1, -1,
@@ -61,7 +60,7 @@ std::shared_ptr<const ZstdTempCopy> ZstdTempCopy::of(const std::string& compress
 }
 
 ZstdTempCopy::ZstdTempCopy(const std::string& compressed) {
-  const std::string dir = temp_dir(compressed);
+  const std::string dir = checked_temp_dir(compressed);
   std::string name = (fs::path(dir) / "evlife-zstd-XXXXXX.db3").string();
   const int fd = ::mkstemps(name.data(), 4);
   if (fd < 0)
