@@ -14,6 +14,7 @@
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
 #include "evlife/engine/engine_options.h"
+#include "evlife/io/installed_file.h"
 
 namespace evlife::config {
 namespace {
@@ -277,6 +278,10 @@ const KeyOrigin* ConfigBuilder::user_origin_of_input_keys() const {
 }
 
 std::string default_config_path() {
+  // An installed tool reads its own copy (share/evlife/ beside bin/), a build tree the source's.
+  if (std::string installed = io::installed_file(EVLIFE_INSTALLED_CONFIG); !installed.empty()) {
+    return installed;
+  }
 #ifdef EVLIFE_DEFAULT_CONFIG
   return EVLIFE_DEFAULT_CONFIG;
 #else

@@ -6,17 +6,21 @@
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "evlife/io/installed_file.h"
 #include "media_backend.h"
 
 namespace evlife::render {
 namespace {
 
-// The plugin: $EVLIFE_MEDIA_PLUGIN when set, else the build tree's (when
-// this build tree still exists), else where `cmake --install` put it, else
-// the loader's search path.
+// The plugin: $EVLIFE_MEDIA_PLUGIN when set, else an installed tool's own
+// (relative to the executable: whatever prefix it was installed to), else the
+// build tree's (when this build tree still exists), else where the configured
+// prefix would put it, else the loader's search path.
 detail::MediaBackend& backend() {
   static std::once_flag once;
   static detail::MediaBackend* loaded = nullptr;
@@ -25,11 +29,17 @@ detail::MediaBackend& backend() {
     std::string tried;
     // EVLIFE_MEDIA_PLUGIN: an explicit path (a relocated install; tests).
     const char* user = std::getenv("EVLIFE_MEDIA_PLUGIN");
-    const std::vector<const char*> candidates =
-        user != nullptr && *user != '\0'
-            ? std::vector<const char*>{user}
-            : std::vector<const char*>{EVLIFE_MEDIA_BUILD_PATH, EVLIFE_MEDIA_INSTALL_PATH, "libevlife_media.so"};
-    for (const char* candidate : candidates) {
+    std::vector<std::string> candidates;
+    if (user != nullptr && *user != '\0') {
+      candidates = {user};
+    } else {
+      if (std::string own = io::installed_file(EVLIFE_MEDIA_INSTALLED_REL); !own.empty()) {
+        candidates.push_back(std::move(own));
+      }
+      candidates.insert(candidates.end(), {EVLIFE_MEDIA_BUILD_PATH, EVLIFE_MEDIA_INSTALL_PATH, "libevlife_media.so"});
+    }
+    for (const std::string& path : candidates) {
+      const char* candidate = path.c_str();
       std::error_code ec;
       const bool absolute = candidate[0] == '/';
       if (absolute && !std::filesystem::exists(candidate, ec)) {

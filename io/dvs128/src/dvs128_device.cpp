@@ -76,7 +76,8 @@ bool is_dvs128(const libusb_device_descriptor& d) {
 std::string open_problem(int code, int bus, int address) {
   if (code == LIBUSB_ERROR_ACCESS) {
     return "permission denied on " + device_node(bus, address) +
-           ": install the udev rule config/99-evlife-dvs128.rules and replug";
+           ": install the udev rule 99-evlife-dvs128.rules (config/ in the source, share/evlife/ when "
+           "installed) and replug";
   }
   return "cannot open " + device_node(bus, address) + ": " + usb_error(code);
 }
@@ -127,8 +128,9 @@ std::string Dvs128DeviceInfo::describe() const {
 std::string dvs128_troubleshooting() {
   return "Check: (1) the cable and that the camera is powered (`lsusb` should list 152a:8400);\n"
          "       (2) permissions: a non-root user needs the udev rule shipped in\n"
-         "           config/99-evlife-dvs128.rules (copy it to /etc/udev/rules.d/, run\n"
-         "           `udevadm control --reload-rules`, replug) or membership of group plugdev;\n"
+         "           config/99-evlife-dvs128.rules (installed: share/evlife/): copy it to\n"
+         "           /etc/udev/rules.d/, run `udevadm control --reload-rules` and replug;\n"
+         "           or membership of group plugdev;\n"
          "       (3) in a container or VM, that /dev/bus/usb is passed through;\n"
          "       (4) that no other program (jAER, DV, another evlife) holds the camera.";
 }

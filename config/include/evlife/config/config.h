@@ -91,7 +91,8 @@ class ConfigBuilder {
   std::map<std::string, KeyOrigin, std::less<>> origins_;
 };
 
-/// Path of the documented default file compiled into the library.
+/// Path of the documented default file: an installed tool's own copy
+/// (share/evlife/evlife.yaml beside its bin/), else the source tree's.
 std::string default_config_path();
 
 /// A configuration as every command loads it, with where it came from.
