@@ -80,6 +80,21 @@ def test_savetxt_of_read_events_reads_back(tmp_path):
         assert_same_events(evlife.read(path), events, ["t", "x", "y", "p"])
 
 
+def test_np_save_of_read_events_reads_back(tmp_path):
+    # What a NumPy user keeps: np.save of evlife.read's array, of a re-typed copy, of
+    # an N x 4 column stack; the command line reads the same file alike.
+    events = evlife.read(data(RECORDINGS["rpg-text"]))[:5000]
+    retyped = np.zeros(len(events), [("ts", "<f8"), ("x", "<i4"), ("y", "<i4"), ("polarity", "?")])
+    retyped["ts"], retyped["x"], retyped["y"], retyped["polarity"] = events["t"] / 1e6, events["x"], events["y"], events["p"] > 0
+    stacked = np.column_stack([events["x"], events["y"], events["t"], events["p"] > 0]).astype(np.int64)
+    for name, array in [("read.npy", events), ("retyped.npy", retyped), ("stacked.npy", stacked)]:
+        path = tmp_path / name
+        np.save(path, array)
+        assert_same_events(evlife.read(path), events, ["t", "x", "y", "p"])
+    processed, _ = cli_bin(tmp_path, tmp_path / "stacked.npy")
+    assert_same_events(processed, events, ["t", "x", "y", "p"])
+
+
 def test_from_and_to_read_what_the_cli_reads(tmp_path):
     """from_s/to_s: seconds after the first event, as --from/--to; an HDF5
     file starts there by a search on t, the others decode up to it."""

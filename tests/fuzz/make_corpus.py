@@ -248,6 +248,20 @@ SAVETXT = b't,x,y,p\n' + b''.join(b'%.18e,%.18e,%.18e,%.18e\n' % (1e-6 * (i + 1)
 put('csv_text', 'savetxt_txyp.csv', SAVETXT)
 put('rpg_text', 'savetxt_txyp.txt', SAVETXT.split(b'\n', 1)[1].replace(b',', b' '))
 
+# ---- NumPy .npy (fuzz_npy): files NumPy wrote (tests/data/npy/make_npy.py),
+# cut to their first 40 records (the shape says 40): structured (padded, big-endian, datetime,
+# extra fields, versions 2 and 3) and plain N x 4 layouts.
+NPY = os.path.join(HERE, '..', 'data', 'npy')
+for name in ('structured_i8', 'evlife_read', 'seconds_f8', 'big_endian', 'datetime_ns', 'extra_fields',
+             'version3', 'plain_txyp', 'plain_xypt_seconds'):
+    with open(os.path.join(NPY, name + '.npy'), 'rb') as f:
+        data = f.read()
+    header_len = struct.unpack_from('<H' if data[6] == 1 else '<I', data, 8)[0]
+    data_at = (10 if data[6] == 1 else 12) + header_len
+    record = (len(data) - data_at) // 200
+    header = data[:data_at].replace(b'(200,', b'(40, ')  # the shape, padded to the same length
+    put('npy', name + '.npy', header + data[data_at:data_at + 40 * record])
+
 # ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
 # timestamp overflow, one invalid event), an IMU and a special packet.
 def aedat3_packet(type_, size, overflow, events):

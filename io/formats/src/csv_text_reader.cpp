@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "batch_line_offsets.h"
+#include "column_layout.h"
 #include "decimal_number.h"
 #include "line_reader.h"
 #include "reader_registry.h"
@@ -36,10 +37,6 @@ constexpr const char* kLayouts =
     "tabs or spaces; an optional header line naming the columns (x, y, t|ts|time|timestamp, "
     "p|pol|polarity; other columns ignored); t in seconds written as a fraction or integer µs "
     "(or say it with --time-unit s|ms|us|ns)";
-
-enum Role { kX = 0, kY = 1, kT = 2, kP = 3 };
-/// Column index of x, y, t, p.
-using Layout = std::array<int, 4>;
 
 struct Field {
   const char* begin;
@@ -90,34 +87,6 @@ std::string lower(Field f) {
   return s;
 }
 
-/// ns per unit named `u` (s, ms, us, µs, ns...), 0 if unknown.
-std::int64_t unit_ns(std::string u) {
-  u.erase(std::remove_if(u.begin(), u.end(), [](char c) { return c == ' ' || c == '_' || c == '(' || c == ')' || c == '[' || c == ']'; }), u.end());
-  if (u == "s" || u == "sec" || u == "seconds" || u == "second") return 1'000'000'000;
-  if (u == "ms" || u == "msec" || u == "milliseconds") return 1'000'000;
-  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "microseconds") return 1'000;
-  if (u == "ns" || u == "nsec" || u == "nanoseconds") return 1;
-  return 0;
-}
-
-/// The role of a header name (-1: other column); `unit` set for a time name with a unit.
-int header_role(const std::string& name, std::int64_t& unit) {
-  if (name == "x") return kX;
-  if (name == "y") return kY;
-  if (name == "p" || name == "pol" || name == "polarity") return kP;
-  for (const char* base : {"timestamp", "time", "ts", "t"}) {
-    const std::size_t n = std::strlen(base);
-    if (name.compare(0, n, base) != 0) continue;
-    const std::string rest = name.substr(n);
-    if (rest.empty()) return kT;
-    if (const std::int64_t u = unit_ns(rest)) {
-      unit = u;
-      return kT;
-    }
-  }
-  return -1;
-}
-
 char separator_of(const char* p, const char* end) {
   if (std::memchr(p, ',', static_cast<std::size_t>(end - p)) != nullptr) return ',';
   if (std::memchr(p, '\t', static_cast<std::size_t>(end - p)) != nullptr) return '\t';
@@ -166,7 +135,7 @@ Detection detect(const char* p, const char* end) {
         d.layout = {-1, -1, -1, -1};
         for (std::size_t i = 0; i < std::min(n, f.size()); ++i) {
           std::int64_t unit = 0;
-          const int role = header_role(lower(f[i]), unit);
+          const int role = column_role(lower(f[i]), unit);
           if (role >= 0 && d.layout[role] < 0) d.layout[role] = static_cast<int>(i);
           if (role == kT && unit != 0) d.unit_ns = unit;
         }
@@ -201,53 +170,33 @@ Detection detect(const char* p, const char* end) {
     d.why = "no event line found";
     return d;
   }
-  std::array<bool, 4> pol{}, frac{}, nondec{}, coord{};
-  for (int c = 0; c < 4; ++c) {
-    pol[c] = frac[c] = false;
-    nondec[c] = coord[c] = pol[c] = true;
+  std::array<ColumnTraits, 4> traits{};
+  for (std::size_t c = 0; c < 4; ++c) {
+    ColumnTraits& tc = traits[c];
     for (std::size_t r = 0; r < rows.size(); ++r) {
-      const DecimalNumber& v = rows[r][static_cast<std::size_t>(c)];
-      frac[c] = frac[c] || written_as_fraction(v);
-      pol[c] = pol[c] && v.integral && v.int_part <= 1;
-      coord[c] = coord[c] && !v.negative && v.integral && v.int_part <= 65535;
+      const DecimalNumber& v = rows[r][c];
+      tc.fractional = tc.fractional || written_as_fraction(v);
+      tc.polarity = tc.polarity && v.integral && v.int_part <= 1;
+      tc.coordinate = tc.coordinate && !v.negative && v.integral && v.int_part <= 65535;
       if (r > 0) {
         std::int64_t a = 0, b = 0;
-        to_us(rows[r - 1][static_cast<std::size_t>(c)], 1'000'000'000, a);
+        to_us(rows[r - 1][c], 1'000'000'000, a);
         to_us(v, 1'000'000'000, b);
-        nondec[c] = nondec[c] && b >= a;
+        tc.non_decreasing = tc.non_decreasing && b >= a;
       }
     }
+    tc.moving = rows.size() > 1 && rows.front()[c].int_part != rows.back()[c].int_part;
   }
-  constexpr std::array<Layout, 3> kCandidates = {{{0, 1, 3, 2}, {0, 1, 2, 3}, {1, 2, 0, 3}}};
-  std::vector<Layout> valid;
-  for (const Layout& l : kCandidates) {
-    if (pol[l[kP]] && nondec[l[kT]] && coord[l[kX]] && coord[l[kY]]) valid.push_back(l);
-  }
-  // A time column with decimals settles it among the candidates.
-  if (valid.size() > 1) {
-    std::vector<Layout> with_frac;
-    for (const Layout& l : valid)
-      if (frac[l[kT]]) with_frac.push_back(l);
-    if (with_frac.size() == 1) valid = with_frac;
-  }
-  // Else a time column that moves, where the other candidate's does not.
-  if (valid.size() > 1) {
-    std::vector<Layout> moving;
-    for (const Layout& l : valid) {
-      const std::size_t t = static_cast<std::size_t>(l[kT]);
-      if (rows.size() > 1 && rows.front()[t].int_part != rows.back()[t].int_part) moving.push_back(l);
-    }
-    if (moving.size() == 1) valid = moving;
-  }
-  if (valid.size() != 1) {
-    d.why = valid.empty() ? "no accepted layout fits the first lines"
-                          : "the first lines fit several layouts (add a header line, e.g. x,y,t,p)";
+  const LayoutChoice choice = choose_layout(traits);
+  if (choice.fitting != 1) {
+    d.why = choice.fitting == 0 ? "no accepted layout fits the first lines"
+                                : "the first lines fit several layouts (add a header line, e.g. x,y,t,p)";
     return d;
   }
   d.ok = true;
-  d.layout = valid.front();
+  d.layout = choice.layout;
   d.columns = 4;
-  d.rpg_like = d.layout == Layout{1, 2, 0, 3} && frac[0] && d.sep == ' ';
+  d.rpg_like = d.layout == Layout{1, 2, 0, 3} && traits[0].fractional && d.sep == ' ';
   return d;
 }
 
@@ -367,15 +316,7 @@ class CsvTextReader final : public EventReader {
   }
 
   void fail(std::uint64_t line_offset, const std::string& text, bool time_too_large = false) {
-    static constexpr const char* kRole = "xytp";
-    std::string layout;
-    std::array<char, 64> names{};
-    for (int r = 0; r < 4; ++r)
-      if (layout_[r] < static_cast<int>(names.size())) names[static_cast<std::size_t>(layout_[r])] = kRole[r];
-    for (int c = 0; c < columns_ && c < static_cast<int>(names.size()); ++c) {
-      if (c > 0) layout += ',';
-      layout += names[static_cast<std::size_t>(c)] != 0 ? std::string(1, names[static_cast<std::size_t>(c)]) : "_";
-    }
+    const std::string layout = layout_text(layout_, columns_);
     pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
                      "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
                          " fields '" + layout +

@@ -53,7 +53,7 @@ std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::s
                                       " file has one stream");
   }
   if (!options.time_unit.empty() && f.options_taken != "time-unit") {
-    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text files; this " +
+    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text and .npy files; this " +
                                       format + " file has its own");
   }
   return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);

@@ -1,0 +1,78 @@
+#include "column_layout.h"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+namespace evlife::io::detail {
+
+std::string layout_text(const Layout& layout, int columns) {
+  static constexpr const char* kRoleNames = "xytp";
+  std::string text;
+  for (int c = 0; c < columns; ++c) {
+    if (c > 0) text += ',';
+    char name = '_';
+    for (int r = 0; r < 4; ++r)
+      if (layout[static_cast<std::size_t>(r)] == c) name = kRoleNames[r];
+    text += name;
+  }
+  return text;
+}
+
+std::int64_t unit_ns(std::string u) {
+  u.erase(std::remove_if(u.begin(), u.end(), [](char c) { return c == ' ' || c == '_' || c == '(' || c == ')' || c == '[' || c == ']'; }), u.end());
+  if (u == "s" || u == "sec" || u == "seconds" || u == "second") return 1'000'000'000;
+  if (u == "ms" || u == "msec" || u == "milliseconds") return 1'000'000;
+  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "microseconds") return 1'000;
+  if (u == "ns" || u == "nsec" || u == "nanoseconds") return 1;
+  return 0;
+}
+
+int column_role(const std::string& name, std::int64_t& unit) {
+  if (name == "x") return kX;
+  if (name == "y") return kY;
+  if (name == "p" || name == "pol" || name == "polarity") return kP;
+  for (const char* base : {"timestamp", "time", "ts", "t"}) {
+    const std::size_t n = std::strlen(base);
+    if (name.compare(0, n, base) != 0) continue;
+    const std::string rest = name.substr(n);
+    if (rest.empty()) return kT;
+    if (const std::int64_t u = unit_ns(rest)) {
+      unit = u;
+      return kT;
+    }
+  }
+  return -1;
+}
+
+LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& c) {
+  constexpr std::array<Layout, 3> kCandidates = {{{0, 1, 3, 2}, {0, 1, 2, 3}, {1, 2, 0, 3}}};
+  auto at = [&c](const Layout& l, Role r) -> const ColumnTraits& {
+    return c[static_cast<std::size_t>(l[static_cast<std::size_t>(r)])];
+  };
+  std::vector<Layout> valid;
+  for (const Layout& l : kCandidates) {
+    if (at(l, kP).polarity && at(l, kT).non_decreasing && at(l, kX).coordinate && at(l, kY).coordinate)
+      valid.push_back(l);
+  }
+  // A fractional time column settles it among the candidates.
+  if (valid.size() > 1) {
+    std::vector<Layout> with_frac;
+    for (const Layout& l : valid)
+      if (at(l, kT).fractional) with_frac.push_back(l);
+    if (with_frac.size() == 1) valid = with_frac;
+  }
+  // Else a time column that moves, where the other candidate's does not.
+  if (valid.size() > 1) {
+    std::vector<Layout> moving;
+    for (const Layout& l : valid)
+      if (at(l, kT).moving) moving.push_back(l);
+    if (moving.size() == 1) valid = moving;
+  }
+  LayoutChoice choice;
+  choice.fitting = static_cast<int>(valid.size());
+  if (choice.fitting == 1) choice.layout = valid.front();
+  return choice;
+}
+
+}  // namespace evlife::io::detail

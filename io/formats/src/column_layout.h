@@ -1,0 +1,48 @@
+// Private: which of four columns holds x, y, t and p, for readers of tables
+// without a fixed layout (CSV/text, NumPy .npy): by name (a header line, a
+// structured array's fields) or, unnamed, by what the first rows hold.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace evlife::io::detail {
+
+enum Role { kX = 0, kY = 1, kT = 2, kP = 3 };
+/// Column index of x, y, t, p.
+using Layout = std::array<int, 4>;
+
+/// "x,y,t,p"-style text of a layout over `columns` columns ('_' for the others).
+std::string layout_text(const Layout& layout, int columns);
+
+/// ns per unit named `u` (s, ms, us, µs, ns...; blanks, '_' and brackets
+/// ignored), 0 if unknown.
+std::int64_t unit_ns(std::string u);
+
+/// The role of a lower-case column name: x, y, p|pol|polarity,
+/// t|ts|time|timestamp, the time optionally with a unit (t_us,
+/// timestamp(ns), t [s]; then `unit` is set); -1 for any other name.
+int column_role(const std::string& name, std::int64_t& unit);
+
+/// What the first rows of one unnamed column hold.
+struct ColumnTraits {
+  bool polarity = true;        ///< integers in [-1, 1] only
+  bool coordinate = true;      ///< integers in [0, 65535] only
+  bool non_decreasing = true;  ///< never decreases from row to row
+  bool fractional = false;     ///< some value written or stored as a fraction
+  bool moving = false;         ///< its first and last rows differ in their integer part
+};
+
+struct LayoutChoice {
+  int fitting = 0;  ///< how many layouts fit: 1 is a choice, 0 or more are not
+  Layout layout{};  ///< when fitting == 1
+};
+
+/// The unnamed layouts read, x,y,p,t (metavision_file_to_csv), x,y,t,p and
+/// t,x,y,p: the one the traits allow (p polarity, t non-decreasing, x and y
+/// coordinates); among several, the only one whose t is fractional, else the
+/// only one whose t moves; else none.
+LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& columns);
+
+}  // namespace evlife::io::detail

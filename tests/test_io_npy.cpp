@@ -1,0 +1,127 @@
+// NumPy .npy files written by NumPy itself (tests/data/npy/make_npy.py): the
+// same 200 events in every layout and type users save them in decode to the
+// events the script's formula gives; files that are not events are refused
+// with a reason, and faults part-way come after the events before them.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "evlife/io/event_reader.h"
+#include "read_all.h"
+
+namespace {
+
+using evlife::Event;
+namespace io = evlife::io;
+using evlife::test::ReadAll;
+
+const std::string kNpy = std::string(EVLIFE_SOURCE_DIR) + "/tests/data/npy/";
+
+/// make_npy.py's events: t = 1000 + 37 i µs, x = i % 50, y = 7 i % 40, ON when i % 3 == 0.
+std::vector<Event> expected(int n = 200) {
+  std::vector<Event> events;
+  for (int i = 0; i < n; ++i) {
+    events.push_back(Event{1000 + 37 * i, static_cast<std::uint16_t>(i % 50), static_cast<std::uint16_t>((7 * i) % 40),
+                           i % 3 == 0 ? std::int8_t{1} : std::int8_t{-1}});
+  }
+  return events;
+}
+
+void expect_events(const std::vector<Event>& got, const std::vector<Event>& want, const std::string& what) {
+  ASSERT_EQ(got.size(), want.size()) << what;
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    ASSERT_EQ(got[i].t_us, want[i].t_us) << what << " event " << i;
+    ASSERT_EQ(got[i].x, want[i].x) << what << " event " << i;
+    ASSERT_EQ(got[i].y, want[i].y) << what << " event " << i;
+    ASSERT_EQ(got[i].p, want[i].p) << what << " event " << i;
+  }
+}
+
+TEST(Npy, EveryLayoutAndTypeNumPyWritesReadsAsTheSameEvents) {
+  for (const char* name : {"structured_i8", "evlife_read", "seconds_f8", "big_endian", "datetime_ns", "t_ns",
+                           "extra_fields", "version2", "version3", "plain_txyp", "plain_xypt_seconds",
+                           "plain_xytp"}) {
+    const ReadAll r = evlife::test::read_all(kNpy + name + ".npy", {}, 37);
+    ASSERT_FALSE(r.error) << name << ": " << r.error->what();
+    EXPECT_EQ(r.format, "npy") << name;
+    EXPECT_FALSE(r.sensor) << name << ": a .npy states no sensor";
+    expect_events(r.events, expected(), name);
+  }
+}
+
+TEST(Npy, TheTimeUnitGivenOverridesTheRule) {
+  io::ReaderOptions ms;
+  ms.time_unit = "ms";  // the int64 µs column read as ms: every time x 1000
+  const ReadAll r = evlife::test::read_all(kNpy + "structured_i8.npy", ms);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), 200u);
+  EXPECT_EQ(r.events[1].t_us, 1'037'000);
+  io::ReaderOptions bad;
+  bad.time_unit = "fortnights";
+  EXPECT_NE(evlife::test::open_error(kNpy + "structured_i8.npy", bad).find("unknown time unit 'fortnights'"),
+            std::string::npos);
+}
+
+TEST(Npy, ArraysThatAreNotEventsAreRefusedWithTheirReason) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"ambiguous", "fit several layouts"},
+      {"fortran", "Fortran-ordered"},
+      {"five_columns", "5 columns, not 4"},
+      {"objects", "'|O' (Python objects"},
+      {"no_polarity", "its fields (x, y, t) do not name x, y, t and p"},
+  };
+  for (const auto& [name, why] : cases) {
+    const std::string message = evlife::test::open_error(kNpy + name + ".npy");
+    EXPECT_NE(message.find(name + ".npy"), std::string::npos) << message;
+    EXPECT_NE(message.find(why), std::string::npos) << name << ": " << message;
+  }
+}
+
+TEST(Npy, AFaultPartWayComesAfterTheEventsBeforeIt) {
+  {
+    const ReadAll r = evlife::test::read_all(kNpy + "cut.npy");
+    ASSERT_TRUE(r.error);
+    expect_events(r.events, expected(120), "cut");
+    EXPECT_EQ(r.error->event_index(), 120);
+    EXPECT_NE(std::string(r.error->what()).find("ends inside record 120 of the 200"), std::string::npos)
+        << r.error->what();
+  }
+  {
+    const ReadAll r = evlife::test::read_all(kNpy + "bad_x.npy");
+    ASSERT_TRUE(r.error);
+    expect_events(r.events, expected(50), "bad_x");
+    EXPECT_EQ(r.error->event_index(), 50);
+    // The header, then 50 records of 4 int64.
+    const std::int64_t data_offset = r.error->byte_offset() - 50 * 32;
+    EXPECT_GT(data_offset, 0);
+    EXPECT_EQ(data_offset % 64, 0) << "numpy aligns the data to 64 bytes";
+    EXPECT_NE(std::string(r.error->what()).find("field 'x' = -1 is not a coordinate"), std::string::npos)
+        << r.error->what();
+  }
+  {
+    const ReadAll r = evlife::test::read_all(kNpy + "trailing.npy");
+    ASSERT_TRUE(r.error);
+    expect_events(r.events, expected(), "trailing");
+    EXPECT_NE(std::string(r.error->what()).find("5 bytes follow the 200 records"), std::string::npos)
+        << r.error->what();
+  }
+}
+
+TEST(Npy, AFileNamedNpyWithoutItsMagicIsRefusedByTheNpyReader) {
+  // Content no format claims: the name decides, and the message says what is missing.
+  const std::string junk = ::testing::TempDir() + "/junk.npy";
+  {
+    std::FILE* f = std::fopen(junk.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fputs("\x01\x02 not an array\n", f);
+    std::fclose(f);
+  }
+  const std::string message = evlife::test::open_error(junk);
+  EXPECT_NE(message.find("junk.npy"), std::string::npos) << message;
+  EXPECT_NE(message.find("not a readable .npy file: no .npy magic"), std::string::npos) << message;
+}
+
+}  // namespace
