@@ -77,6 +77,14 @@ std::vector<int> active_columns(const ActiveEventMap& set, int y, std::int64_t t
   return cols;
 }
 
+TEST(LifetimeColormap, LegendLabelsSayTheirTicksValue) {
+  EXPECT_EQ(evlife::render::lifetime_tick_label(10), "0.01 ms");  // was "0.0 ms"
+  EXPECT_EQ(evlife::render::lifetime_tick_label(50), "0.05 ms");  // was "0.1 ms"
+  EXPECT_EQ(evlife::render::lifetime_tick_label(500), "0.5 ms");
+  EXPECT_EQ(evlife::render::lifetime_tick_label(20'000), "20 ms");
+  EXPECT_EQ(evlife::render::lifetime_tick_label(1e8), "100 s");  // "100000 ms" ran off the panel
+}
+
 TEST(ActiveEventMap, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {
   for (const double speed : {40.0, 230.0, 1000.0, 4700.0, 25000.0}) {
     for (const bool thinning : {true, false}) {

@@ -168,6 +168,77 @@ TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
     EXPECT_EQ(entry.path().filename().string().rfind(".evlife-probe", 0), std::string::npos) << entry.path();
 }
 
+// Videos of frames an encoder cannot take as they are: a few pixels wide (libswscale wrote past
+// its buffers: heap corruption, exit 134) or of odd sides (the last column and row were lost).
+// The frames are padded black to even sides of at least 16 px; every drawn pixel is in the video.
+TEST_F(RenderCliTest, VideoFramesOfAnySizeArePaddedForTheEncoderNotCutOrOverrun) {
+  const std::string tiny = path("tiny.csv");
+  {
+    std::ofstream f(tiny);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n0,0,0,1,1000,0,0,\n1,1,1000000,1,1000,0,0,\n";
+  }
+  const std::string odd = path("odd.csv");
+  {
+    std::ofstream f(odd);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n0,0,0,1,100000,0,0,\n240,180,10,1,100000,0,0,\n"
+      << "120,90,100,-1,100000,0,0,\n";
+  }
+  for (const char* ext : {"avi", "mp4"}) {
+    const std::string video = path(std::string("tiny.") + ext);
+    const auto r = run("render '" + tiny + "' -o '" + video + "' --fps 1 --no-caption --no-legend --scale 1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("video size          16x24 px: frames padded"), std::string::npos) << r.output;
+    cv::VideoCapture cap(video);
+    ASSERT_TRUE(cap.isOpened()) << video;
+    int frames = 0;
+    cv::Mat f;
+    while (cap.read(f)) {
+      EXPECT_EQ(f.size(), cv::Size(16, 24)) << video;
+      ++frames;
+    }
+    EXPECT_EQ(frames, 2) << video;
+
+    const std::string odd_video = path(std::string("odd.") + ext);
+    const auto o = run("render '" + odd + "' -o '" + odd_video +
+                       "' --at 50us --no-caption --no-legend --scale 1 --color plain -q");
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    cv::VideoCapture odd_cap(odd_video);
+    ASSERT_TRUE(odd_cap.isOpened() && odd_cap.read(f)) << odd_video;
+    EXPECT_EQ(f.size(), cv::Size(242, 204)) << odd_video;  // 241x203: the 241x181 sensor under a 22 px title
+    cv::Mat grey;
+    cv::cvtColor(f, grey, cv::COLOR_BGR2GRAY);
+    // The event at the sensor's last column and row (lossy codecs: bright, not exactly white).
+    EXPECT_GT(grey.at<std::uint8_t>(202, 240), 100) << odd_video;
+    EXPECT_LT(grey.at<std::uint8_t>(203, 241), 60) << odd_video << ": the padding is black";
+  }
+}
+
+// `render --fps` without --to stops before every gap of kEventGapStopFrames (100,000) empty
+// frames or more, not only the first gap it sees, and whatever the gap lasts in seconds.
+TEST_F(RenderCliTest, AFrameRateStopsBeforeEveryHugeGapNotOnlyTheFirst) {
+  const std::string gaps = path("gaps.csv");
+  {
+    std::ofstream f(gaps);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n0,0,0,1,1000,0,0,\n1,1,1000,1,1000,0,0,\n"
+      << "1,0,1100000000,1,1000,0,0,\n0,1,201100000000,1,1000,0,0,\n";
+  }
+  auto r = run("render '" + gaps + "' --sensor 4x2 -o '" + path("gaps") + "' --fps 1 --no-caption --no-legend --scale 1");
+  EXPECT_EQ(r.exit_code, 3) << r.output;  // before: the first gap warned, then 199,999 empty frames were drawn
+  EXPECT_NE(r.output.find("1099 empty frames at 1 fps come first"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("200000 empty frames at 1 fps come first; a timestamp outlier? Stopped before them"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the 1100 frames before the fault"), std::string::npos) << r.output;
+  // 30 s without events at 5000 fps: 150,000 frames, though shorter than the 60 s a warning needs.
+  const std::string pause = path("pause.csv");
+  {
+    std::ofstream f(pause);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n0,0,0,1,1000,0,0,\n1,1,30000000,1,1000,0,0,\n";
+  }
+  r = run("render '" + pause + "' --sensor 4x2 -o '" + path("pause") + "' --fps 5000 --scale 1 -q");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("150000 empty frames at 5000 fps"), std::string::npos) << r.output;
+}
+
 // A fixed window is drawn exactly up to its longest (537 s of 32-bit history
 // behind the newest event); a longer one is refused (before: window:3600s
 // silently left out events older than ~45 min).

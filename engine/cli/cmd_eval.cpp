@@ -95,7 +95,7 @@ void print_eval_help(std::FILE* out) {
       "                         completeness has no reference) are counted, not sampled.\n"
       "  -i, --input FILE       the INPUT (also as the first argument).\n"
       "  --frame-at T, --at T   instant of compare_frame.png, seconds from the first event\n"
-      "                         (default 0.5; the last sample if the recording is shorter).\n"
+      "                         (default 0.5; the last event if the recording is shorter).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
       );
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
@@ -104,7 +104,8 @@ void print_eval_help(std::FILE* out) {
   std::fputs(config_options_help().c_str(), out);
   std::fprintf(out,
       "\n"
-      "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"
+      "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error;\n"
+      "             130 interrupted (nothing written).\n"
       "\n"
       "Example:\n"
       "  evlife eval stripes.mat -o eval_stripes && xdg-open eval_stripes/summary.html\n");

@@ -31,6 +31,7 @@
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 #include "evlife/render/output_kind.h"
 #include "evlife/render/render_cursor.h"
@@ -100,8 +101,9 @@ void print_render_help(std::FILE* out) {
       "  --no-caption        no 'time / mode' line under the frame.\n"
       "  --no-legend         no lifetime colour bar.\n"
       "  --no-thinning       disable edge thinning (to see what it does).\n"
-      "  --video-fps F       frame rate written into a video (default: --fps, i.e. real\n"
-      "                      time; within [0.01, 60]).\n"
+      "  --video-fps F       frame rate written into a video, within [0.01, 60]\n"
+      "                      (default: --fps, i.e. real time, up to 60: slow motion\n"
+      "                      beyond; 10 with --at). The summary says the rate used.\n"
       "  --sensor WxH        sensor size when the input does not state it.\n"
       );
   std::fputs(std::string(kInputOptionsHelp).c_str(), out);
@@ -238,6 +240,14 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
   std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
                r.frames, r.frame_size.width, r.frame_size.height, source.sensor().width, source.sensor().height, r.scale,
                args.job.mode.c_str(), std::string(render::to_string(args.job.color)).c_str());
+  if (render::output_kind(args.job.output) == render::OutputKind::video) {
+    const render::VideoFrameSize video = render::video_frame_size(r.frame_size.width, r.frame_size.height);
+    std::fprintf(stdout, "  video               plays at %g fps%s\n", r.video_fps,
+                 args.job.at_us.empty() && r.video_fps < args.job.fps ? " (slow motion: --fps is higher)" : "");
+    if (video != render::VideoFrameSize{r.frame_size.width, r.frame_size.height})
+      std::fprintf(stdout, "  video size          %dx%d px: frames padded black at the right and bottom (encoders need "
+                           "even sides of at least %d px)\n", video.width, video.height, render::kMinVideoSidePx);
+  }
   std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
                static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
                static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
@@ -326,6 +336,7 @@ int run_render(int argc, char** argv) {
         *source, args.job,
         [&](std::size_t frames, std::size_t total, double t_s) { progress.update(frames, total, t_s); },
         stop.flag(), [&](const render::EventGap& gap) {
+          progress.finish();  // a terminal's progress line cleared first, not run on into
           std::fprintf(stderr,
                        "evlife render: warning: %s --to T stops before it (Ctrl-C stops here, keeping the "
                        "frames drawn)\n",

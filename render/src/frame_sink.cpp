@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -45,6 +47,11 @@ ImageFileFrameSink::ImageFileFrameSink(std::string path) : path_(std::move(path)
 
 void ImageFileFrameSink::write(const FrameImage& frame, std::int64_t) { write_image(path_, as_mat(frame)); }
 
+VideoFrameSize video_frame_size(int width, int height) {
+  const auto side = [](int n) { return std::max(kMinVideoSidePx, n + (n & 1)); };
+  return {side(width), side(height)};
+}
+
 VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
     : path_(std::move(path)), playback_fps_(playback_fps) {
   if (const std::string problem = io::create_output_folders(path_); !problem.empty())
@@ -68,7 +75,8 @@ void VideoFrameSink::check(int width, int height) const {
       out.parent_path() / (".evlife-probe-" + std::to_string(::getpid()) + out.extension().string());
   std::error_code ec;
   try {
-    open_video(probe.string(), playback_fps_, cv::Size(width, height))->close();
+    const VideoFrameSize size = video_frame_size(width, height);
+    open_video(probe.string(), playback_fps_, cv::Size(size.width, size.height))->close();
   } catch (const std::runtime_error& e) {
     std::filesystem::remove(probe, ec);
     std::string message = e.what();  // said of the output, not of the probe
@@ -80,8 +88,19 @@ void VideoFrameSink::check(int width, int height) const {
 }
 
 void VideoFrameSink::write(const FrameImage& frame, std::int64_t) {
-  if (!video_) video_ = open_video(path_, playback_fps_, cv::Size(frame.width, frame.height));
-  video_->write(as_mat(frame));
+  const VideoFrameSize size = video_frame_size(frame.width, frame.height);
+  if (!video_) video_ = open_video(path_, playback_fps_, cv::Size(size.width, size.height));
+  if (size == VideoFrameSize{frame.width, frame.height}) {
+    video_->write(as_mat(frame));
+    return;
+  }
+  const std::size_t stride = static_cast<std::size_t>(size.width) * 3;
+  padded_.assign(stride * static_cast<std::size_t>(size.height), 0);
+  for (int y = 0; y < frame.height; ++y) {
+    std::memcpy(padded_.data() + static_cast<std::size_t>(y) * stride,
+                frame.bgr + static_cast<std::size_t>(y) * frame.stride_bytes, static_cast<std::size_t>(frame.width) * 3);
+  }
+  video_->write(as_mat(FrameImage{padded_.data(), size.width, size.height, stride}));
 }
 
 void VideoFrameSink::finish() {

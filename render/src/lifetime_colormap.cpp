@@ -62,7 +62,7 @@ cv::Mat LifetimeColormap::legend(int height) const {
     cv::line(img, {6, top + r}, {6 + bar_w, top + r}, cv::Scalar(lut_[static_cast<std::size_t>(b)]));
   }
   cv::rectangle(img, {6, top}, {6 + bar_w, top + bar_h - 1}, {200, 200, 200}, 1);
-  // Ticks at 1-2-5 steps between min and max, labelled in ms.
+  // Ticks at 1-2-5 steps between min and max, labelled in ms (s from 1 s).
   std::vector<double> ticks;
   const int first_exp = static_cast<int>(std::floor(std::log10(min_us_)));
   const int last_exp = static_cast<int>(std::ceil(std::log10(max_us_)));
@@ -83,16 +83,20 @@ cv::Mat LifetimeColormap::legend(int height) const {
     const double u = (std::log(v) - log_min_) * inv_log_span_;
     const int y = top + static_cast<int>(std::lround((1.0 - u) * (bar_h - 1)));
     cv::line(img, {6 + bar_w, y}, {10 + bar_w, y}, {255, 255, 255}, 1);
-    char label[32];
-    const double ms = v / 1000.0;
-    if (ms >= 1.0)
-      std::snprintf(label, sizeof label, "%g ms", ms);
-    else
-      std::snprintf(label, sizeof label, "%.1f ms", ms);
-    cv::putText(img, label, {13 + bar_w, y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1,
+    cv::putText(img, lifetime_tick_label(v), {13 + bar_w, y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1,
                 cv::LINE_AA);
   }
   return img;
+}
+
+std::string lifetime_tick_label(double lifetime_us) {
+  // %g: 0.05 ms (it was "%.1f": 0.0 ms for 10 and 20 µs); seconds from 1 s on, so that long ones fit the panel.
+  char label[32];
+  if (lifetime_us >= 1e6)
+    std::snprintf(label, sizeof label, "%g s", lifetime_us / 1e6);
+  else
+    std::snprintf(label, sizeof label, "%g ms", lifetime_us / 1000.0);
+  return label;
 }
 
 }  // namespace evlife::render

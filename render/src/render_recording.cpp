@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "evlife/io/event_reader.h"
@@ -56,6 +57,7 @@ RecordingRenderResult render_recording(
     if (options.video) {
       const double video_fps = std::clamp(options.video_fps.value_or(options.at_us.empty() ? options.fps : 10.0),
                                           kMinVideoFps, kMaxVideoFps);
+      result.video_fps = video_fps;
       auto video_sink = std::make_unique<VideoFrameSink>(options.output, video_fps);
       video_sink->check(frame_size.width, frame_size.height);
       sink = std::move(video_sink);
@@ -85,7 +87,8 @@ RecordingRenderResult render_recording(
   auto& input_fault = result.input_fault;
   auto& output_fault = result.output_fault;
   double& draw_s = result.draw_s;
-  bool gap_told = false;
+  // The next event of the last gap looked at: each gap is stopped at or said once, every gap (not only the first).
+  std::optional<std::int64_t> gap_seen_next;
   for (std::size_t k = 0; !(stop && stop->load(std::memory_order_relaxed)); ++k) {
     if (total > 0 && k >= total) break;
     const std::int64_t rel = frame_time(k);
@@ -103,15 +106,18 @@ RecordingRenderResult render_recording(
     // --fps without --to: stop after the last event.
     if (options.at_us.empty() && !options.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
-    if (!gap_told && options.at_us.empty() && !options.to_us) {
-      if (const auto next = cursor.next_t_us()) {
-        const std::int64_t next_rel = clock_span_us(*first_t, *next);
-        if (const auto gap = event_gap_to_notice(rel, next_rel, frames_before(options.from_us, k, next_rel, options.fps))) {
-          gap_told = true;
-          if (gap->empty_frames >= kEventGapStopFrames) {
-            input_fault = gap->text(options.fps) + " Stopped before them (--to T draws through it)";
-            break;
-          }
+    if (options.at_us.empty() && !options.to_us) {
+      const auto next = cursor.next_t_us();
+      const std::optional<std::int64_t> next_rel =
+          next ? std::optional<std::int64_t>(clock_span_us(*first_t, *next)) : std::nullopt;
+      if (next_rel && next_rel != gap_seen_next) {
+        const std::uint64_t empty = frames_before(options.from_us, k, *next_rel, options.fps);
+        if (empty >= kEventGapStopFrames) {
+          input_fault = EventGap{rel, *next_rel, empty}.text(options.fps) + " Stopped before them (--to T draws through it)";
+          break;
+        }
+        if (const auto gap = event_gap_to_notice(rel, *next_rel, empty)) {
+          gap_seen_next = next_rel;
           if (on_gap) on_gap(*gap);
         }
       }

@@ -84,9 +84,10 @@ struct EventGap {
   }
 };
 
-/// A gap of this many empty frames (an hour at 30 fps) ends `evlife render`
-/// as an input fault unless --to asks for them: a timestamp outlier would
-/// otherwise fill the disk with millions of blank frames.
+/// A gap of this many empty frames (an hour at 30 fps), wherever it is and
+/// however long in seconds, ends `evlife render` as an input fault unless --to
+/// asks for them: a timestamp outlier would otherwise fill the disk with
+/// millions of blank frames.
 constexpr std::uint64_t kEventGapStopFrames = 100'000;
 
 /// Said when it holds at least this many frames and lasts this long.

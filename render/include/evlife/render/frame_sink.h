@@ -10,6 +10,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace evlife::render {
 
@@ -71,6 +72,18 @@ class ImageFileFrameSink final : public FrameSink {
   std::string path_;
 };
 
+/// The size a video encodes a width x height frame at: padded with black on
+/// the right and at the bottom to even sides of at least kMinVideoSidePx.
+/// Encoders need even sides (an odd one lost its last column or row) and
+/// libswscale wrote past its buffers on frames a few pixels wide.
+inline constexpr int kMinVideoSidePx = 16;
+struct VideoFrameSize {
+  int width = 0;
+  int height = 0;
+  bool operator==(const VideoFrameSize&) const = default;
+};
+VideoFrameSize video_frame_size(int width, int height);
+
 /// A video (.mp4: codec mp4v, else MJPG; render/media.h) played at
 /// `playback_fps`; opened by open() or at the first frame (its size). Creates
 /// the parent folders. Throws std::runtime_error naming the file and codec.
@@ -90,6 +103,7 @@ class VideoFrameSink final : public FrameSink {
   std::string path_;
   double playback_fps_;
   std::unique_ptr<VideoFile> video_;
+  std::vector<std::uint8_t> padded_;  // a frame padded to video_frame_size(), reused
 };
 
 }  // namespace evlife::render

@@ -13,6 +13,9 @@
 
 namespace evlife::render {
 
+/// A legend tick's label: "0.05 ms", "20 ms", "100 s" (seconds from 1 s on).
+std::string lifetime_tick_label(double lifetime_us);
+
 class LifetimeColormap {
  public:
   /// Lifetimes at or below min_us get the first colour, at or above max_us

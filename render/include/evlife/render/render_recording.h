@@ -58,6 +58,7 @@ struct RecordingRenderResult {
   double draw_s = 0.0;                ///< time spent composing frames
   cv::Size frame_size;
   int scale = 1;
+  double video_fps = 0;               ///< the rate a video plays at (0: no video)
   ActiveEventSetStats stats;
   std::int64_t first_t_us = 0;        ///< the recording's first event
   std::int64_t last_t_us = 0;         ///< the last event read
@@ -66,8 +67,9 @@ struct RecordingRenderResult {
 
 /// Draws the frames `options` asks for from `source`. `progress(frames,
 /// total (0: unknown), t_s)` after each frame; `stop` ends the loop early;
-/// `on_gap` once, at the first EventGap long enough to notice (--fps without
-/// --to), before its frames are drawn.
+/// `on_gap` at each EventGap long enough to notice (--fps without --to),
+/// before its frames are drawn; a gap of kEventGapStopFrames or more ends the
+/// drawing before it, as an input fault.
 RecordingRenderResult render_recording(
     AugmentedSource& source, const RecordingRenderOptions& options,
     const std::function<void(std::size_t, std::size_t, double)>& progress,
