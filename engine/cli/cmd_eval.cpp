@@ -95,7 +95,8 @@ void print_eval_help(std::FILE* out) {
       "                         completeness has no reference) are counted, not sampled.\n"
       "  -i, --input FILE       the INPUT (also as the first argument).\n"
       "  --frame-at T, --at T   instant of compare_frame.png, seconds from the first event\n"
-      "                         (default 0.5; the last event if the recording is shorter).\n"
+      "                         (default 0.5; the last event if the recording is shorter;\n"
+      "                         with --from, from the first event read).\n"
       "  --sensor WxH           sensor size when the input does not state it.\n"
       );
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
