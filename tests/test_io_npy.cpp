@@ -1,7 +1,8 @@
-// NumPy .npy files written by NumPy itself (tests/data/npy/make_npy.py): the
-// same 200 events in every layout and type users save them in decode to the
-// events the script's formula gives; files that are not events are refused
-// with a reason, and faults part-way come after the events before them.
+// NumPy .npy files and .npz archives written by NumPy itself
+// (tests/data/npy/make_npy.py): the same 200 events in every layout and type
+// users save them in decode to the events the script's formula gives; files
+// that are not events are refused with a reason, and faults part-way come
+// after the events before them.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -69,7 +70,7 @@ TEST(Npy, ArraysThatAreNotEventsAreRefusedWithTheirReason) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"ambiguous", "fit several layouts"},
       {"fortran", "Fortran-ordered"},
-      {"five_columns", "5 columns, not 4"},
+      {"five_columns", "an array of shape (200, 5)"},
       {"objects", "'|O' (Python objects"},
       {"no_polarity", "its fields (x, y, t) do not name x, y, t and p"},
   };
@@ -122,6 +123,47 @@ TEST(Npy, AFileNamedNpyWithoutItsMagicIsRefusedByTheNpyReader) {
   const std::string message = evlife::test::open_error(junk);
   EXPECT_NE(message.find("junk.npy"), std::string::npos) << message;
   EXPECT_NE(message.find("not a readable .npy file: no .npy magic"), std::string::npos) << message;
+}
+
+TEST(Npz, AnArrayOfEventsOrOneArrayPerColumnStoredOrCompressedReadsAsTheSameEvents) {
+  for (const char* name : {"events", "events_compressed", "columns", "columns_compressed"}) {
+    const ReadAll r = evlife::test::read_all(kNpy + name + ".npz", {}, 37);
+    ASSERT_FALSE(r.error) << name << ": " << r.error->what();
+    EXPECT_EQ(r.format, "npz") << name;
+    expect_events(r.events, expected(), name);
+  }
+}
+
+TEST(Npz, TopicChoosesAmongSeveralArraysOfEvents) {
+  EXPECT_NE(evlife::test::open_error(kNpy + "two_event_arrays.npz").find("several arrays of events; --topic NAME "
+                                                                         "chooses one (arrays: a (200,), b (50,))"),
+            std::string::npos);
+  for (const char* topic : {"b", "b.npy"}) {
+    io::ReaderOptions b;
+    b.topic = topic;
+    const ReadAll r = evlife::test::read_all(kNpy + "two_event_arrays.npz", b);
+    ASSERT_FALSE(r.error) << r.error->what();
+    expect_events(r.events, expected(50), topic);
+  }
+  io::ReaderOptions missing;
+  missing.topic = "c";
+  EXPECT_NE(evlife::test::open_error(kNpy + "two_event_arrays.npz", missing).find("--topic c: no such array"),
+            std::string::npos);
+}
+
+TEST(Npz, ArchivesWithoutEventsAreRefusedWithTheirArrays) {
+  EXPECT_NE(evlife::test::open_error(kNpy + "no_events.npz").find("no array of events (arrays: image (4, 5))"),
+            std::string::npos);
+  EXPECT_NE(evlife::test::open_error(kNpy + "unequal_columns.npz").find("differ in length"), std::string::npos);
+}
+
+TEST(Npz, ACorruptionOnlyItsChecksumTellsIsAnErrorAfterTheEvents) {
+  // A polarity byte changed (ON -> OFF at record 120): every value is plausible, the member's CRC-32 is not.
+  const ReadAll r = evlife::test::read_all(kNpy + "crc.npz");
+  ASSERT_TRUE(r.error);
+  ASSERT_EQ(r.events.size(), 200u);
+  EXPECT_EQ(r.events[120].p, -1);
+  EXPECT_NE(std::string(r.error->what()).find("its CRC-32 does not match"), std::string::npos) << r.error->what();
 }
 
 }  // namespace

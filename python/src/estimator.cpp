@@ -447,17 +447,19 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
          bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
-         const std::optional<std::string>& topic, const py::kwargs& kw) -> py::array {
+         const std::optional<std::string>& topic, const std::optional<std::string>& time_unit,
+         const py::kwargs& kw) -> py::array {
         if (py::isinstance<py::str>(input) || py::isinstance<py::bytes>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = path_from_python(input);
-          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic), one_thread, config,
-                              kw);
+          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic, time_unit), one_thread,
+                              config, kw);
         }
         if (py::hasattr(input, "read") && !py::hasattr(input, "dtype"))  // not an array of events: "no field 't'" said less
           throw py::type_error("input: a file object; give its path (or an array with t, x, y, p fields)");
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
+        if (time_unit) throw py::value_error("time_unit is a file's; an array's t is in microseconds");
         // The command line's rule: sensor=, else the configured estimator.sensor
         // (config=; the events' own size replaced it), else the events' size.
         ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw);
@@ -470,7 +472,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
       R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
 
 input: a path (every format of `evlife process`) or an array with t, x, y, p
@@ -485,7 +487,8 @@ everything on the calling thread (as --one-thread; for one process per core).
 from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
 after the first event, as --from / --to; the estimator starts at from_s, and
 an HDF5 file is not decoded before it (evlife.read). topic (a path only): a ROS
-bag's event topic or an HDF5 file's camera (MVSEC, M3ED), as --topic (evlife.read).
+bag's event topic, an HDF5 file's camera (MVSEC, M3ED) or an .npz array, as --topic;
+time_unit (a path only): as --time-unit (evlife.read).
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them; an array's event beyond
 +-2^62 us too), ValueError for bad options. Events of a recording that the
@@ -496,13 +499,14 @@ warned of with a RuntimeWarning that counts them.)");
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
          const py::object& config, bool one_thread, std::optional<double> from_s,
-         std::optional<double> to_s, const std::optional<std::string>& topic, const py::kwargs& kw) {
+         std::optional<double> to_s, const std::optional<std::string>& topic,
+         const std::optional<std::string>& time_unit, const py::kwargs& kw) {
         return process_to_file(path_from_python(input), path_from_python(output), sensor,
-                               reader_options(std::nullopt, from_s, to_s, topic), one_thread, config, kw);
+                               reader_options(std::nullopt, from_s, to_s, topic, time_unit), one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',

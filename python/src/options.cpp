@@ -63,11 +63,17 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
 }  // namespace
 
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
-                                 std::optional<double> to_s, const std::optional<std::string>& topic) {
+                                 std::optional<double> to_s, const std::optional<std::string>& topic,
+                                 const std::optional<std::string>& time_unit) {
   io::ReaderOptions options(sensor, true);
   if (topic) {
     if (topic->empty()) throw py::value_error("topic: empty topic name");
     options.topic = *topic;
+  }
+  if (time_unit) {
+    if (*time_unit != "s" && *time_unit != "ms" && *time_unit != "us" && *time_unit != "ns")
+      throw py::value_error("time_unit: expected 's', 'ms', 'us' or 'ns', got '" + *time_unit + "'");
+    options.time_unit = *time_unit;
   }
   const auto to_us = [](const char* name, double seconds) {
     if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN

@@ -45,11 +45,13 @@ std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
 /// What evlife.read, open, process and process_file read: `sensor`, the
 /// CLI's --from / --to as from_s / to_s, seconds after the first event of the
-/// file, and --topic (a ROS bag's event topic, an HDF5 file's camera).
+/// file, --topic (a ROS bag's event topic, an HDF5 file's camera, an .npz
+/// array) and --time-unit (CSV/text and NumPy files: s, ms, us or ns).
 /// ValueError for a negative time, to_s not after from_s or an empty topic
 /// (as the CLI).
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
-                                 std::optional<double> to_s, const std::optional<std::string>& topic = std::nullopt);
+                                 std::optional<double> to_s, const std::optional<std::string>& topic = std::nullopt,
+                                 const std::optional<std::string>& time_unit = std::nullopt);
 
 void bind_options(py::module_& m);
 

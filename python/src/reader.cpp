@@ -149,11 +149,13 @@ class Reader {
 }  // namespace
 
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
-                      std::optional<double> to_s, const std::optional<std::string>& topic) {
+                      std::optional<double> to_s, const std::optional<std::string>& topic,
+                      const std::optional<std::string>& time_unit) {
   std::unique_ptr<io::EventReader> reader;
   std::optional<io::ReadError> fault;
   {
-    const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic);
+    const io::ReaderOptions options =
+        reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
     py::gil_scoped_release release;
     try {
       reader = io::open_event_reader(path, options);
@@ -171,11 +173,12 @@ void bind_reader(py::module_& m) {
   m.def(
       "read",
       [](const std::filesystem::path& path, const py::object& sensor, std::optional<double> from_s,
-         std::optional<double> to_s, const std::optional<std::string>& topic) {
-        return read_events(path.string(), sensor, from_s, to_s, topic);
+         std::optional<double> to_s, const std::optional<std::string>& topic,
+         const std::optional<std::string>& time_unit) {
+        return read_events(path.string(), sensor, from_s, to_s, topic, time_unit);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::kw_only(), py::arg("from_s") = py::none(),
-      py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
+      py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
         R"(Read every event of a recording into a NumPy structured array.
 
 Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
@@ -188,7 +191,10 @@ seconds after the first event of the file, as `evlife process --from --to`;
 HDF5 files (DSEC, Prophesee, evlife's) start there by a binary search on t,
 without decoding the events before it. topic: a ROS bag's event topic (needed
 when it has several; the error lists them), or an HDF5 file's camera (MVSEC
-davis/right/events, M3ED prophesee/right; the left by default), as --topic. Raises FileNotFoundError for a missing file and
+davis/right/events, M3ED prophesee/right; the left by default), or an .npz
+archive's array of events, as --topic. time_unit: 's', 'ms', 'us' or 'ns', the
+unit of a CSV/text or NumPy file's time column, as --time-unit (default: its
+name's, else seconds for fractions, else us). Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
@@ -248,13 +254,16 @@ good events come first, the next chunk raises evlife.InputError.)")
   m.def(
       "open",
       [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
-         std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& topic) {
-        const io::ReaderOptions options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic);
+         std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& topic,
+         const std::optional<std::string>& time_unit) {
+        const io::ReaderOptions options =
+            reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
         py::gil_scoped_release release;
         return std::make_unique<Reader>(path.string(), options, chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
+      py::arg("time_unit") = py::none(),
       R"(Open a recording for reading in chunks (recordings larger than memory).
 
 Returns an evlife.Reader with .sensor ((width, height) or None), .format and
@@ -264,7 +273,7 @@ iteration over chunks of at most chunk_events events:
         for chunk in r:
             ...
 
-from_s, to_s, topic and errors as evlife.read.)");
+from_s, to_s, topic, time_unit and errors as evlife.read.)");
 
   m.def(
       "read_augmented",

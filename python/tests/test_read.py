@@ -95,6 +95,31 @@ def test_np_save_of_read_events_reads_back(tmp_path):
     assert_same_events(processed, events, ["t", "x", "y", "p"])
 
 
+def test_np_savez_of_read_events_reads_back(tmp_path):
+    # np.savez / np.savez_compressed: one array of events among others, or one array per column.
+    events = evlife.read(data(RECORDINGS["rpg-text"]))[:5000]
+    np.savez(tmp_path / "one.npz", events=events, labels=np.arange(3))
+    np.savez_compressed(tmp_path / "columns.npz", xs=events["x"], ys=events["y"], ts=events["t"] / 1e6,
+                        polarity=events["p"] > 0)
+    np.savez(tmp_path / "two.npz", a=events, b=events[:10])
+    for name in ("one.npz", "columns.npz"):
+        assert_same_events(evlife.read(tmp_path / name), events, ["t", "x", "y", "p"])
+    assert_same_events(evlife.read(tmp_path / "two.npz", topic="b"), events[:10], ["t", "x", "y", "p"])
+    with pytest.raises(evlife.InputError, match="several arrays of events; --topic NAME chooses one"):
+        evlife.read(tmp_path / "two.npz")
+
+
+def test_time_unit_reads_a_column_in_another_unit(tmp_path):
+    events = evlife.read(data(RECORDINGS["rpg-text"]))[:100]
+    np.save(tmp_path / "ms.npy", np.column_stack([events["t"], events["x"], events["y"], events["p"] > 0]))
+    as_ms = evlife.read(tmp_path / "ms.npy", time_unit="ms")
+    np.testing.assert_array_equal(as_ms["t"], events["t"] * 1000)
+    with evlife.open(tmp_path / "ms.npy", time_unit="ms") as reader:
+        np.testing.assert_array_equal(next(iter(reader))["t"], events["t"] * 1000)
+    with pytest.raises(ValueError, match="time_unit: expected"):
+        evlife.read(tmp_path / "ms.npy", time_unit="fortnights")
+
+
 def test_from_and_to_read_what_the_cli_reads(tmp_path):
     """from_s/to_s: seconds after the first event, as --from/--to; an HDF5
     file starts there by a search on t, the others decode up to it."""

@@ -262,6 +262,12 @@ for name in ('structured_i8', 'evlife_read', 'seconds_f8', 'big_endian', 'dateti
     header = data[:data_at].replace(b'(200,', b'(40, ')  # the shape, padded to the same length
     put('npy', name + '.npy', header + data[data_at:data_at + 40 * record])
 
+# ---- NumPy .npz (fuzz_npz): archives NumPy wrote (tests/data/npy/make_npy.py), as
+# they are (a few KB): one array of events or one per column, stored or deflated.
+for name in ('events', 'events_compressed', 'columns', 'columns_compressed', 'two_event_arrays'):
+    with open(os.path.join(NPY, name + '.npz'), 'rb') as f:
+        put('npz', name + '.npz', f.read())
+
 # ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
 # timestamp overflow, one invalid event), an IMU and a special packet.
 def aedat3_packet(type_, size, overflow, events):

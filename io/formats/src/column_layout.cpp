@@ -1,10 +1,16 @@
 #include "column_layout.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <vector>
 
 namespace evlife::io::detail {
+
+std::string lower_ascii(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
 
 std::string layout_text(const Layout& layout, int columns) {
   static constexpr const char* kRoleNames = "xytp";
@@ -23,20 +29,24 @@ std::int64_t unit_ns(std::string u) {
   u.erase(std::remove_if(u.begin(), u.end(), [](char c) { return c == ' ' || c == '_' || c == '(' || c == ')' || c == '[' || c == ']'; }), u.end());
   if (u == "s" || u == "sec" || u == "seconds" || u == "second") return 1'000'000'000;
   if (u == "ms" || u == "msec" || u == "milliseconds") return 1'000'000;
-  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "microseconds") return 1'000;
+  // µs with the micro sign or the Greek mu (both UTF-8).
+  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "\xce\xbcs" || u == "microseconds") return 1'000;
   if (u == "ns" || u == "nsec" || u == "nanoseconds") return 1;
   return 0;
 }
 
 int column_role(const std::string& name, std::int64_t& unit) {
-  if (name == "x") return kX;
-  if (name == "y") return kY;
-  if (name == "p" || name == "pol" || name == "polarity") return kP;
-  for (const char* base : {"timestamp", "time", "ts", "t"}) {
+  if (name == "x" || name == "xs") return kX;
+  if (name == "y" || name == "ys") return kY;
+  if (name == "p" || name == "ps" || name == "pol" || name == "polarity") return kP;
+  for (const char* base : {"timestamps", "timestamp", "times", "time", "ts", "t"}) {
     const std::size_t n = std::strlen(base);
     if (name.compare(0, n, base) != 0) continue;
     const std::string rest = name.substr(n);
     if (rest.empty()) return kT;
+    // A unit after a separator only: "tss" is no "ts" in seconds.
+    const char sep = rest.front();
+    if (sep != '_' && sep != ' ' && sep != '(' && sep != '[') continue;
     if (const std::int64_t u = unit_ns(rest)) {
       unit = u;
       return kT;

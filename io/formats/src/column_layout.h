@@ -13,6 +13,9 @@ enum Role { kX = 0, kY = 1, kT = 2, kP = 3 };
 /// Column index of x, y, t, p.
 using Layout = std::array<int, 4>;
 
+/// `s` with ASCII letters in lower case (names are matched so).
+std::string lower_ascii(std::string s);
+
 /// "x,y,t,p"-style text of a layout over `columns` columns ('_' for the others).
 std::string layout_text(const Layout& layout, int columns);
 
@@ -20,9 +23,10 @@ std::string layout_text(const Layout& layout, int columns);
 /// ignored), 0 if unknown.
 std::int64_t unit_ns(std::string u);
 
-/// The role of a lower-case column name: x, y, p|pol|polarity,
-/// t|ts|time|timestamp, the time optionally with a unit (t_us,
-/// timestamp(ns), t [s]; then `unit` is set); -1 for any other name.
+/// The role of a lower-case column name: x|xs, y|ys, p|ps|pol|polarity,
+/// t|ts|time|times|timestamp|timestamps, the time optionally with a unit
+/// after a separator (t_us, timestamp(ns), t [s]; then `unit` is set); -1 for
+/// any other name. A table naming one role twice is refused by its reader.
 int column_role(const std::string& name, std::int64_t& unit);
 
 /// What the first rows of one unnamed column hold.

@@ -136,8 +136,14 @@ Detection detect(const char* p, const char* end) {
         for (std::size_t i = 0; i < std::min(n, f.size()); ++i) {
           std::int64_t unit = 0;
           const int role = column_role(lower(f[i]), unit);
-          if (role >= 0 && d.layout[role] < 0) d.layout[role] = static_cast<int>(i);
-          if (role == kT && unit != 0) d.unit_ns = unit;
+          if (role < 0) continue;
+          if (d.layout[role] >= 0) {  // which one holds it? (before: the first, silently)
+            d.why = "the header line names " + std::string(1, "xytp"[role]) + " twice ('" +
+                    lower(f[static_cast<std::size_t>(d.layout[role])]) + "' and '" + lower(f[i]) + "')";
+            return d;
+          }
+          d.layout[role] = static_cast<int>(i);
+          if (role == kT) d.unit_ns = unit;  // the unit of the time column read, not of another
         }
         d.columns = static_cast<int>(n);
         if (*std::min_element(d.layout.begin(), d.layout.end()) < 0) {

@@ -21,6 +21,7 @@
 #include <limits>
 #include <vector>
 
+#include "byte_cursor.h"
 #include "input_file.h"
 #include "reader_registry.h"
 
@@ -36,7 +37,6 @@ enum : std::uint32_t { mxDOUBLE_CLASS = 6, mxUINT64_CLASS = 15 };
 
 constexpr std::size_t kHeaderBytes = 128;
 constexpr std::size_t kChunkEvents = 16384;
-constexpr std::size_t kInputBytes = 1 << 16;
 
 std::size_t storage_bytes(std::uint32_t type) {
   switch (type) {
@@ -53,134 +53,6 @@ std::uint32_t load_le32(const std::byte* p) {
   std::memcpy(&v, p, 4);
   return v;  // little-endian host (x86/ARM); big-endian files are rejected
 }
-
-// A sequential byte source over part of the file; reports failure (corrupt or
-// truncated data) through error() instead of throwing, so that the values
-// read before the fault can still be delivered.
-class Cursor {
- public:
-  virtual ~Cursor() = default;
-  /// Fills `out` fully unless the data ends or is corrupt; returns bytes read.
-  virtual std::size_t read(std::span<std::byte> out) = 0;
-  /// Called after the last value: checks what follows (for deflate data, the
-  /// stream end and its Adler-32 checksum). False on failure (see error()).
-  virtual bool finish() { return error_.empty(); }
-  const std::string& error() const { return error_; }
-
- protected:
-  std::string error_;
-};
-
-class RawCursor final : public Cursor {
- public:
-  RawCursor(const InputFile& file, std::uint64_t offset, std::uint64_t end)
-      : file_(file), offset_(offset), end_(end) {}
-  std::size_t read(std::span<std::byte> out) override {
-    const std::uint64_t want = std::min<std::uint64_t>(out.size(), end_ - offset_);
-    const std::size_t got = file_.read_at(offset_, out.first(static_cast<std::size_t>(want)));
-    offset_ += got;
-    if (got < out.size() && error_.empty())
-      error_ = offset_ < end_ ? "file truncated" : "data element shorter than its matrix";
-    return got;
-  }
-  std::uint64_t offset() const { return offset_; }
-
- private:
-  const InputFile& file_;
-  std::uint64_t offset_, end_;
-};
-
-class MemoryCursor final : public Cursor {
- public:
-  explicit MemoryCursor(std::vector<std::byte> bytes) : bytes_(std::move(bytes)) {}
-  std::size_t read(std::span<std::byte> out) override {
-    const std::size_t k = std::min(out.size(), bytes_.size() - pos_);
-    std::memcpy(out.data(), bytes_.data() + pos_, k);
-    pos_ += k;
-    if (k < out.size() && error_.empty()) error_ = "data element shorter than its matrix";
-    return k;
-  }
-
- private:
-  std::vector<std::byte> bytes_;
-  std::size_t pos_ = 0;
-};
-
-class InflateCursor final : public Cursor {
- public:
-  InflateCursor(const InputFile& file, std::uint64_t offset, std::uint64_t end)
-      : file_(file), next_(offset), end_(end), input_(kInputBytes) {
-    if (inflateInit(&z_) != Z_OK) throw ReadError(file.path(), -1, -1, "zlib initialisation failed");
-  }
-  InflateCursor(const InflateCursor& other)
-      : Cursor(other), file_(other.file_), next_(other.next_), end_(other.end_),
-        input_(other.input_), ended_(other.ended_) {
-    if (inflateCopy(&z_, const_cast<z_stream*>(&other.z_)) != Z_OK)
-      throw ReadError(file_.path(), -1, -1, "zlib state copy failed");
-    z_.next_in = reinterpret_cast<Bytef*>(input_.data()) +
-                 (other.z_.next_in - reinterpret_cast<const Bytef*>(other.input_.data()));
-  }
-  InflateCursor& operator=(const InflateCursor&) = delete;
-  ~InflateCursor() override { inflateEnd(&z_); }
-
-  std::size_t read(std::span<std::byte> out) override {
-    z_.next_out = reinterpret_cast<Bytef*>(out.data());
-    z_.avail_out = static_cast<uInt>(out.size());
-    while (z_.avail_out > 0 && error_.empty()) {
-      if (ended_) {
-        error_ = "data element shorter than its matrix";
-        break;
-      }
-      if (z_.avail_in == 0) {
-        const std::size_t want = static_cast<std::size_t>(
-            std::min<std::uint64_t>(input_.size(), end_ - next_));
-        const std::size_t got = file_.read_at(next_, std::span(input_).first(want));
-        next_ += got;
-        if (got == 0) {
-          error_ = next_ < end_ || end_ > file_.size_bytes() ? "file truncated"
-                                                              : "compressed data ends early";
-          break;
-        }
-        z_.next_in = reinterpret_cast<Bytef*>(input_.data());
-        z_.avail_in = static_cast<uInt>(got);
-      }
-      const int rc = inflate(&z_, Z_NO_FLUSH);
-      if (rc == Z_STREAM_END) {
-        ended_ = true;
-      } else if (rc != Z_OK && rc != Z_BUF_ERROR) {
-        error_ = std::string("corrupt compressed data (zlib: ") + (z_.msg ? z_.msg : "error") + ")";
-      }
-    }
-    return out.size() - z_.avail_out;
-  }
-
-  bool finish() override {
-    // Up to 7 bytes of padding may follow the data inside the element.
-    std::byte scratch[8];
-    const std::size_t extra = read(scratch);
-    if (extra == sizeof scratch && error_.empty()) error_ = "data element longer than its matrix";
-    if (error_ == "data element shorter than its matrix") error_.clear();  // = reached the end
-    return ended_ && error_.empty();
-  }
-
-  /// Discards `n` bytes; false on failure (see error()).
-  bool skip(std::uint64_t n) {
-    std::vector<std::byte> scratch(kInputBytes);
-    while (n > 0) {
-      const std::size_t step = static_cast<std::size_t>(std::min<std::uint64_t>(n, scratch.size()));
-      if (read(std::span(scratch).first(step)) != step) return false;
-      n -= step;
-    }
-    return true;
-  }
-
- private:
-  const InputFile& file_;
-  std::uint64_t next_, end_;  // compressed bytes not yet fed to zlib
-  std::vector<std::byte> input_;
-  z_stream z_{};
-  bool ended_ = false;
-};
 
 // What a matrix element says about itself.
 struct MatrixHeader {
@@ -409,7 +281,8 @@ class MatReader final : public EventReader {
       };
       std::unique_ptr<Cursor> probe;
       if (type == miCOMPRESSED) {
-        probe = std::make_unique<InflateCursor>(file_, payload, payload + bytes);
+        probe = std::make_unique<InflateCursor>(file_, payload, payload + bytes, InflateCursor::Wrapping::zlib,
+                                                /*padding_bytes=*/7);  // an element padded to 8 bytes
       } else if (type == miMATRIX) {
         probe = std::make_unique<RawCursor>(file_, offset, payload + bytes);
       }

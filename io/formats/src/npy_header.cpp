@@ -1,5 +1,6 @@
 #include "npy_header.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string_view>
@@ -9,11 +10,8 @@
 namespace evlife::io::detail {
 namespace {
 
-/// numpy writes headers of a few hundred bytes; a file with thousands of
-/// fields stays well below this.
-constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 constexpr int kMaxDepth = 16;
-constexpr std::size_t kMaxRecordBytes = std::size_t{1} << 30;
+constexpr std::size_t kMaxSizedRecordBytes = std::size_t{1} << 30;
 
 /// A value of the Python literal subset numpy's headers use.
 struct PyValue {
@@ -161,61 +159,79 @@ const PyValue* lookup(const PyValue& dict, std::string_view key) {
 }
 
 /// Bytes of one element of any type string numpy writes ('<U10' holds 10
-/// UCS-4 characters); 0 for an unknown one, or Python objects ('|O').
-std::size_t type_bytes(const std::string& text) {
+/// UCS-4 characters; 0 is a size, of a zero-length field); empty for an
+/// unknown one, or Python objects ('|O').
+std::optional<std::size_t> type_bytes(const std::string& text) {
   std::size_t i = 0;
   if (i < text.size() && (text[i] == '<' || text[i] == '>' || text[i] == '|' || text[i] == '=')) ++i;
-  if (i >= text.size()) return 0;
+  if (i >= text.size()) return std::nullopt;
   const char kind = text[i++];
   std::size_t n = 0;
   const std::size_t digits_at = i;
-  while (i < text.size() && text[i] >= '0' && text[i] <= '9' && n < kMaxRecordBytes) n = n * 10 + static_cast<std::size_t>(text[i++] - '0');
-  if (i == digits_at || n >= kMaxRecordBytes) return 0;
-  if (i < text.size() && text[i] != '[') return 0;
+  while (i < text.size() && text[i] >= '0' && text[i] <= '9' && n < kMaxSizedRecordBytes) n = n * 10 + static_cast<std::size_t>(text[i++] - '0');
+  if (i == digits_at || n >= kMaxSizedRecordBytes) return std::nullopt;
+  if (i < text.size() && text[i] != '[') return std::nullopt;
   switch (kind) {
     case 'b': case 'i': case 'u': case 'f': case 'c': case 'S': case 'a': case 'V': case 'M': case 'm':
       return n;
     case 'U':
       return n * 4;
     default:
-      return 0;
+      return std::nullopt;
   }
 }
 
 /// The size of a field's type: a type string, or a nested structured list;
-/// `shape` (a sub-array) multiplies it. 0 when unknown.
-std::size_t descr_bytes(const PyValue& type, const PyValue* shape, int depth);
+/// `shape` (a sub-array) multiplies it. Empty when unknown.
+std::optional<std::size_t> descr_bytes(const PyValue& type, const PyValue* shape, int depth);
 
-std::size_t list_bytes(const PyValue& list, int depth) {
-  if (depth > kMaxDepth) return 0;
+std::optional<std::size_t> list_bytes(const PyValue& list, int depth) {
+  if (depth > kMaxDepth) return std::nullopt;
   std::size_t total = 0;
   for (const PyValue& field : list.items) {
-    if (field.kind != PyValue::Kind::sequence || field.items.size() < 2 || field.items.size() > 3) return 0;
-    const std::size_t bytes =
+    if (field.kind != PyValue::Kind::sequence || field.items.size() < 2 || field.items.size() > 3) return std::nullopt;
+    const std::optional<std::size_t> bytes =
         descr_bytes(field.items[1], field.items.size() == 3 ? &field.items[2] : nullptr, depth + 1);
-    if (bytes == 0 || total + bytes > kMaxRecordBytes) return 0;
-    total += bytes;
+    if (!bytes || total + *bytes > kMaxSizedRecordBytes) return std::nullopt;
+    total += *bytes;
   }
   return total;
 }
 
-std::size_t descr_bytes(const PyValue& type, const PyValue* shape, int depth) {
-  std::size_t bytes = type.kind == PyValue::Kind::string     ? type_bytes(type.text)
-                      : type.kind == PyValue::Kind::sequence ? list_bytes(type, depth)
-                                                             : 0;
-  if (shape == nullptr || bytes == 0) return bytes;
+std::optional<std::size_t> descr_bytes(const PyValue& type, const PyValue* shape, int depth) {
+  std::optional<std::size_t> bytes = type.kind == PyValue::Kind::string     ? type_bytes(type.text)
+                                     : type.kind == PyValue::Kind::sequence ? list_bytes(type, depth)
+                                                                            : std::nullopt;
+  if (shape == nullptr || !bytes) return bytes;
   const auto one = [&bytes](const PyValue& dim) {
     if (dim.kind != PyValue::Kind::integer || dim.integer < 0 ||
-        (dim.integer > 0 && bytes > kMaxRecordBytes / static_cast<std::size_t>(dim.integer)))
+        (dim.integer > 0 && *bytes > kMaxSizedRecordBytes / static_cast<std::size_t>(dim.integer)))
       return false;
-    bytes *= static_cast<std::size_t>(dim.integer);
+    *bytes *= static_cast<std::size_t>(dim.integer);
     return true;
   };
-  if (shape->kind == PyValue::Kind::integer) return one(*shape) ? bytes : 0;
-  if (shape->kind != PyValue::Kind::sequence) return 0;
+  if (shape->kind == PyValue::Kind::integer) return one(*shape) ? bytes : std::nullopt;
+  if (shape->kind != PyValue::Kind::sequence) return std::nullopt;
   for (const PyValue& dim : shape->items)
-    if (!one(dim)) return 0;
+    if (!one(dim)) return std::nullopt;
   return bytes;
+}
+
+/// numpy writes version 1 and 2 headers in Latin-1 (a field named 't (µs)'
+/// holds the byte 0xB5), version 3 in UTF-8: the text as UTF-8.
+std::string header_text_as_utf8(std::string_view text, int major) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto b = static_cast<unsigned char>(c);
+    if (major >= 3 || b < 0x80) {
+      out.push_back(c);
+    } else {
+      out.push_back(static_cast<char>(0xC0 | (b >> 6)));
+      out.push_back(static_cast<char>(0x80 | (b & 0x3F)));
+    }
+  }
+  return out;
 }
 
 std::string field_name(const PyValue& name) {
@@ -225,6 +241,12 @@ std::string field_name(const PyValue& name) {
 }
 
 }  // namespace
+
+std::string npy_shape_text(const NpyHeader& h) {
+  std::string text;
+  for (const std::int64_t d : h.shape) text += (text.empty() ? "" : ", ") + std::to_string(d);
+  return "(" + text + (h.shape.size() == 1 ? ",)" : ")");
+}
 
 std::optional<NpyScalar> parse_npy_scalar(const std::string& text) {
   NpyScalar s;
@@ -275,8 +297,14 @@ std::optional<NpyScalar> parse_npy_scalar(const std::string& text) {
 NpyHeaderResult parse_npy_header(std::span<const std::byte> head) {
   NpyHeaderResult r;
   const auto byte = [&head](std::size_t i) { return static_cast<unsigned char>(head[i]); };
-  if (head.size() < 10 || std::memcmp(head.data(), kNpyMagic, kNpyMagicBytes) != 0) {
+  if (head.empty() || std::memcmp(head.data(), kNpyMagic, std::min(head.size(), kNpyMagicBytes)) != 0) {
     r.why = "no .npy magic (\\x93NUMPY)";
+    return r;
+  }
+  if (head.size() < 10) {
+    r.needs_bytes = 10;
+    r.why = "the file ends inside its header";
+    r.offset = static_cast<std::int64_t>(head.size());
     return r;
   }
   NpyHeader h;
@@ -295,7 +323,7 @@ NpyHeaderResult parse_npy_header(std::span<const std::byte> head) {
   }
   std::size_t header_len = 0;
   for (std::size_t i = 0; i < length_bytes; ++i) header_len |= static_cast<std::size_t>(byte(length_at + i)) << (8 * i);
-  if (header_len > kMaxHeaderBytes) {
+  if (header_len > kNpyMaxHeaderBytes) {
     r.why = "a header of " + std::to_string(header_len) + " bytes (at most 1 MiB is read)";
     r.offset = static_cast<std::int64_t>(length_at);
     return r;
@@ -308,7 +336,8 @@ NpyHeaderResult parse_npy_header(std::span<const std::byte> head) {
     r.offset = static_cast<std::int64_t>(head.size());
     return r;
   }
-  const std::string_view text(reinterpret_cast<const char*>(head.data()) + text_at, header_len);
+  const std::string text =
+      header_text_as_utf8({reinterpret_cast<const char*>(head.data()) + text_at, header_len}, h.major);
   LiteralParser parser(text);
   const std::optional<PyValue> dict = parser.parse_all();
   const auto fail = [&](std::string why, std::size_t at) {
@@ -333,15 +362,17 @@ NpyHeaderResult parse_npy_header(std::span<const std::byte> head) {
   if (descr->kind == PyValue::Kind::string) {
     h.scalar_text = descr->text;
     h.scalar = parse_npy_scalar(descr->text);
-    h.record_bytes = type_bytes(descr->text);
-    if (h.record_bytes == 0) return fail("the type '" + descr->text + "' (Python objects or unknown)", 0);
+    const std::optional<std::size_t> bytes = type_bytes(descr->text);
+    if (!bytes || *bytes == 0) return fail("the type '" + descr->text + "' (Python objects or unknown)", 0);
+    h.record_bytes = *bytes;
   } else if (descr->kind == PyValue::Kind::sequence) {
     std::size_t offset = 0;
     for (const PyValue& f : descr->items) {
       if (f.kind != PyValue::Kind::sequence || f.items.size() < 2 || f.items.size() > 3)
         return fail("a field of 'descr' is not (name, type[, shape])", 0);
-      const std::size_t bytes = descr_bytes(f.items[1], f.items.size() == 3 ? &f.items[2] : nullptr, 1);
-      if (bytes == 0) return fail("a field's type is one evlife cannot size (Python objects?)", 0);
+      const std::optional<std::size_t> bytes =
+          descr_bytes(f.items[1], f.items.size() == 3 ? &f.items[2] : nullptr, 1);
+      if (!bytes) return fail("a field's type is one evlife cannot size (Python objects?)", 0);
       NpyField field;
       field.name = field_name(f.items[0]);
       field.offset = offset;
@@ -352,11 +383,11 @@ NpyHeaderResult parse_npy_header(std::span<const std::byte> head) {
         field.type_text = "a nested structure";
       }
       if (f.items.size() == 3) field.type_text += " (a sub-array)";
-      offset += bytes;
-      if (offset > kMaxRecordBytes) return fail("records of more than 1 GiB", 0);
+      offset += *bytes;
+      if (offset > kMaxSizedRecordBytes) return fail("records of more than 1 GiB", 0);
       h.fields.push_back(std::move(field));
     }
-    if (h.fields.empty()) return fail("a structured type without fields", 0);
+    if (h.fields.empty() || offset == 0) return fail("a structured type without fields or bytes", 0);
     h.record_bytes = offset;
   } else {
     return fail("'descr' is neither a type string nor a list of fields", 0);

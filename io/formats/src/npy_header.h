@@ -17,6 +17,9 @@ namespace evlife::io::detail {
 
 inline constexpr char kNpyMagic[] = "\x93NUMPY";
 inline constexpr std::size_t kNpyMagicBytes = 6;
+/// numpy writes headers of a few hundred bytes; a file with thousands of
+/// fields stays well below this.
+inline constexpr std::size_t kNpyMaxHeaderBytes = std::size_t{1} << 20;
 
 /// One scalar type of a .npy dtype ('<i8', '|u1', '>f4', '|b1', '<M8[us]').
 struct NpyScalar {
@@ -58,6 +61,9 @@ struct NpyHeaderResult {
 
 /// Parses the header from the first bytes of a file. Never throws.
 NpyHeaderResult parse_npy_header(std::span<const std::byte> head);
+
+/// The shape as Python writes it: "(200,)", "(200, 4)".
+std::string npy_shape_text(const NpyHeader& h);
 
 /// Parses one scalar type string ('<i8'); empty when evlife does not read it.
 std::optional<NpyScalar> parse_npy_scalar(const std::string& text);

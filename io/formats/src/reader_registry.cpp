@@ -48,13 +48,14 @@ namespace {
 std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::string& path,
                                      const ReaderOptions& options) {
   const std::string format(f.name);
-  if (!options.topic.empty() && f.options_taken != "topic") {
-    throw ReadError(path, -1, -1, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file; this " + format +
-                                      " file has one stream");
+  const auto takes = [&f](std::string_view option) { return f.options_taken.find(option) != std::string_view::npos; };
+  if (!options.topic.empty() && !takes("topic")) {
+    throw ReadError(path, -1, -1, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; "
+                                  "this " + format + " file has one stream");
   }
-  if (!options.time_unit.empty() && f.options_taken != "time-unit") {
-    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text and .npy files; this " +
-                                      format + " file has its own");
+  if (!options.time_unit.empty() && !takes("time-unit")) {
+    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text and NumPy "
+                                  "files; this " + format + " file has its own");
   }
   return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);
 }

@@ -45,8 +45,8 @@ struct ReaderFormat {
   /// one of theirs. Must not throw.
   bool (*claims_directory)(const std::string& path) = nullptr;
   /// The selection open_with_options reads beyond every format's (crop,
-  /// polarity, sensor): "topic" or "time-unit". Another given is refused
-  /// (ReadError), not ignored.
+  /// polarity, sensor): "topic", "time-unit" or both ("topic, time-unit").
+  /// Another given is refused (ReadError), not ignored.
   std::string_view options_taken = {};
 };
 

@@ -26,6 +26,16 @@ an N x 4 array), plus files that must be refused or fail part-way:
   cut.npy                  structured_i8.npy cut inside record 120
   trailing.npy             structured_i8.npy and 5 more bytes
   bad_x.npy                structured_i8.npy with x = -1 at record 50
+and NumPy .npz archives (np.savez: stored members; np.savez_compressed: deflated):
+  events.npz               structured_i8 as `events`, beside a `labels` array
+  events_compressed.npz    the same, compressed
+  columns.npz              1-D arrays x, y, t (int64 µs), p (bool)
+  columns_compressed.npz   1-D arrays xs, ys, ts (float64 s), polarity, compressed
+  two_event_arrays.npz     two arrays of events, `a` and `b` (b: the first 50 events)
+  no_events.npz            an image only
+  unequal_columns.npz      x, y, p of 200 values, t of 199
+  crc.npz                  events.npz with one polarity byte changed (1 -> 0 at record 120): only
+                           its CRC-32 tells
 
   /usr/bin/python3 tests/data/npy/make_npy.py
 Deterministic; the checked-in files are its output.
@@ -99,3 +109,26 @@ with open(os.path.join(HERE, 'trailing.npy'), 'wb') as f:
 bad = tonic.copy()
 bad['x'][50] = -1
 save('bad_x.npy', bad)
+
+with open(os.path.join(HERE, 'events.npz'), 'wb') as f:
+    np.savez(f, events=tonic, labels=np.arange(7))
+with open(os.path.join(HERE, 'events_compressed.npz'), 'wb') as f:
+    np.savez_compressed(f, events=tonic, labels=np.arange(7))
+with open(os.path.join(HERE, 'columns.npz'), 'wb') as f:
+    np.savez(f, x=X, y=Y, t=T, p=ON)
+with open(os.path.join(HERE, 'columns_compressed.npz'), 'wb') as f:
+    np.savez_compressed(f, xs=X.astype(np.uint16), ys=Y.astype(np.uint16), ts=T / 1e6, polarity=ON)
+with open(os.path.join(HERE, 'two_event_arrays.npz'), 'wb') as f:
+    np.savez(f, a=tonic, b=tonic[:50])
+with open(os.path.join(HERE, 'no_events.npz'), 'wb') as f:
+    np.savez(f, image=np.zeros((4, 5), np.uint8))
+with open(os.path.join(HERE, 'unequal_columns.npz'), 'wb') as f:
+    np.savez(f, x=X, y=Y, t=T[:-1], p=ON)
+# One polarity byte of record 120 (p is the 4th int64 of a 32-byte record; 1 there, ON) set to 0:
+# a plausible OFF event, told only by the member's CRC-32.
+zipped = bytearray(open(os.path.join(HERE, 'events.npz'), 'rb').read())
+at = zipped.find(tonic.tobytes()[:64])
+assert at > 0 and ON[120]
+zipped[at + 120 * 32 + 24] = 0
+with open(os.path.join(HERE, 'crc.npz'), 'wb') as f:
+    f.write(bytes(zipped))
