@@ -81,3 +81,70 @@ def test_two_columns_of_one_role_are_refused_naming_both(tmp_path):
     (tmp_path / "dup.csv").write_text("t,x,y,p,ts_ms\n1,2,3,1,4\n")
     with pytest.raises(evlife.InputError, match="names t twice"):
         evlife.read(tmp_path / "dup.csv")
+
+
+def npz_stating_size(path, array, stated_size):
+    """One deflated events.npy member whose directory entry states `stated_size` (ZIP64)."""
+    import io
+    import struct
+    import zlib
+    buffer = io.BytesIO()
+    np.save(buffer, array)
+    data = buffer.getvalue()
+    packer = zlib.compressobj(6, zlib.DEFLATED, -15)
+    packed = packer.compress(data) + packer.flush()
+    crc, name = zlib.crc32(data), b"events.npy"
+    local = struct.pack("<IHHHHHIIIHH", 0x04034B50, 45, 0, 8, 0, 0, crc, len(packed), len(data), len(name), 0)
+    extra = struct.pack("<HHQ", 1, 8, stated_size)
+    entry = struct.pack("<IHHHHHHIIIHHHHHII", 0x02014B50, 45, 45, 0, 8, 0, 0, crc, len(packed), 0xFFFFFFFF,
+                        len(name), len(extra), 0, 0, 0, 0, 0) + name + extra
+    end = struct.pack("<IHHHHIIH", 0x06054B50, 0, 0, 1, 1, len(entry), len(local) + len(name) + len(packed), 0)
+    path.write_bytes(local + name + packed + entry + end)
+
+
+def events_array():
+    return structured([("t", "<i8"), ("x", "<u2"), ("y", "<u2"), ("p", "i1")], t=T, x=X, y=Y, p=np.where(ON, 1, -1))
+
+
+def test_a_stated_size_beyond_the_data_is_refused_not_read_past(tmp_path):
+    # 2^64 - 16: before, a heap overflow (or 0 events and no error); 2^40: "bytes follow" that are not there.
+    npz_stating_size(tmp_path / "huge.npz", events_array(), 0xFFFFFFFFFFFFFFF0)
+    with pytest.raises(evlife.InputError, match="states a size beyond 2\\^62 bytes"):
+        evlife.read(tmp_path / "huge.npz")
+    npz_stating_size(tmp_path / "big.npz", events_array(), 1 << 40)
+    with pytest.raises(evlife.InputError, match="its stated size is [0-9]+ bytes more than its data") as e:
+        evlife.read(tmp_path / "big.npz")
+    check(e.value.partial)
+
+
+def test_archives_as_numpy_reads_them(tmp_path):
+    import zipfile
+    events = events_array()
+    # A side array of Python objects is passed over (it made the archive unreadable).
+    np.savez(tmp_path / "meta.npz", events=events, meta={"sensor": (240, 180)})
+    check(evlife.read(tmp_path / "meta.npz"))
+    # Bytes after the end record, as some tools append them.
+    np.savez(tmp_path / "trail.npz", events=events)
+    with open(tmp_path / "trail.npz", "ab") as f:
+        f.write(b"\0" * 16)
+    check(evlife.read(tmp_path / "trail.npz"))
+    # Two members of one name: the last, as np.load.
+    np.savez(tmp_path / "dup.npz", events=events[:10])
+    with pytest.warns(UserWarning, match="Duplicate name"):
+        with zipfile.ZipFile(tmp_path / "dup.npz", "a") as z, z.open("events.npy", "w") as member:
+            np.lib.format.write_array(member, events)
+    check(evlife.read(tmp_path / "dup.npz", topic="events"))
+    # Arrays of other lengths whose names are columns' (frame times) pass over.
+    np.savez(tmp_path / "side.npz", events=events, timestamps=np.arange(5), t=np.arange(3.0))
+    check(evlife.read(tmp_path / "side.npz"))
+    np.savez(tmp_path / "columns.npz", x=X, y=Y, t=T, p=ON, timestamps=np.arange(7))
+    check(evlife.read(tmp_path / "columns.npz"))
+
+
+def test_a_bad_value_names_its_array(tmp_path):
+    bad = events_array()
+    bad["p"][30] = 5
+    np.savez_compressed(tmp_path / "two.npz", good=events_array(), bad=bad)
+    with pytest.raises(evlife.InputError, match="array 'bad.npy': record 30: its field 'p' = 5 is not a polarity") as e:
+        evlife.read(tmp_path / "two.npz", topic="bad")
+    assert len(e.value.partial) == 30

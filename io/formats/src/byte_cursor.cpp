@@ -42,6 +42,18 @@ InflateCursor::InflateCursor(const InflateCursor& other)
 InflateCursor::~InflateCursor() { inflateEnd(&z_); }
 
 std::size_t InflateCursor::read(std::span<std::byte> out) {
+  // zlib counts in 32 bits: a larger read is done in steps.
+  std::size_t done = 0;
+  while (done < out.size()) {
+    const std::size_t step = std::min<std::size_t>(out.size() - done, std::size_t{1} << 30);
+    const std::size_t got = read_step(out.subspan(done, step));
+    done += got;
+    if (got < step) break;
+  }
+  return done;
+}
+
+std::size_t InflateCursor::read_step(std::span<std::byte> out) {
   z_.next_out = reinterpret_cast<Bytef*>(out.data());
   z_.avail_out = static_cast<uInt>(out.size());
   while (z_.avail_out > 0 && error_.empty()) {

@@ -84,6 +84,7 @@ class InflateCursor final : public Cursor {
 
  private:
   static constexpr std::size_t kInputBytes = 1 << 16;
+  std::size_t read_step(std::span<std::byte> out);  // at most 2^30 bytes
 
   const InputFile& file_;
   std::uint64_t next_, end_;  // compressed bytes not yet fed to zlib

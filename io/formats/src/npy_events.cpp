@@ -140,8 +140,8 @@ struct Records {
     std::memmove(buffer.data(), buffer.data() + pos, end - pos);
     end -= pos;
     pos = 0;
-    const auto want = static_cast<std::size_t>(std::min<std::int64_t>(
-        static_cast<std::int64_t>(buffer.size() - end), unread_bytes));
+    const auto want = static_cast<std::size_t>(
+        std::clamp<std::int64_t>(unread_bytes, 0, static_cast<std::int64_t>(buffer.size() - end)));
     const std::size_t got = array.bytes->read(std::as_writable_bytes(std::span(buffer)).subspan(end, want));
     end += got;
     unread_bytes -= static_cast<std::int64_t>(got);
@@ -170,6 +170,7 @@ class NpyEventReader final : public EventReader {
       if (r.record_bytes > kMaxReadRecordBytes)
         refuse(where(r) + "records of " + std::to_string(r.record_bytes) + " bytes (at most " +
                std::to_string(kMaxReadRecordBytes >> 20) + " MiB are read)");
+      r.array.available_bytes = std::max<std::int64_t>(r.array.available_bytes, 0);
       r.whole_records = std::min(r.records, r.array.available_bytes / static_cast<std::int64_t>(r.record_bytes));
       r.buffer.resize(std::max(kBufferBytes / r.record_bytes, std::size_t{1}) * r.record_bytes);
       r.unread_bytes = r.array.available_bytes;
@@ -213,12 +214,16 @@ class NpyEventReader final : public EventReader {
   std::string_view layout_name() const override { return layout_; }
   const std::string& path() const override { return path_; }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
-    const Records& r = records_.front();
-    if (records_.size() != 1 || r.array.file_offset < 0) return -1;
-    return r.array.file_offset + event_index * static_cast<std::int64_t>(r.record_bytes);
+    return records_.size() == 1 ? offset_in(0, event_index) : -1;
   }
 
  private:
+  /// The file offset of record `index` of an array (-1 when compressed).
+  std::int64_t offset_in(std::size_t array, std::int64_t index) const {
+    const Records& r = records_[array];
+    return r.array.file_offset < 0 ? -1 : r.array.file_offset + index * static_cast<std::int64_t>(r.record_bytes);
+  }
+
   [[noreturn]] void refuse(const std::string& why) const {
     throw ReadError(path_, -1, -1, std::string(format_ == "npy" ? "not a readable .npy file: " : "not readable events: ") + why + "; " + kNpyLayouts);
   }
@@ -282,7 +287,7 @@ class NpyEventReader final : public EventReader {
       if (r.records != records_.front().records)
         refuse("its arrays of x, y, t and p differ in length (" + records_.front().array.name + ": " +
                std::to_string(records_.front().records) + ", " + r.array.name + ": " + std::to_string(r.records) + ")");
-      columns_[role] = Column{role, *h.scalar, 0, "array '" + r.array.name + "'"};
+      columns_[role] = Column{role, *h.scalar, 0, "value"};
       if (role == kT) {
         std::int64_t unit = 0;
         std::string base = lower_ascii(r.array.name);
@@ -383,8 +388,9 @@ class NpyEventReader final : public EventReader {
 
   bool fail(Role role, const Number& v, const std::string& why) {
     const Column& c = columns_[static_cast<std::size_t>(role)];
-    pending_.emplace(path_, byte_offset_of_event(next_), next_,
-                     "record " + std::to_string(next_) + ": its " + c.name + " = " + number_text(v) + " is " + why);
+    pending_.emplace(path_, offset_in(c.array, next_), next_,
+                     where(records_[c.array]) + "record " + std::to_string(next_) + ": its " + c.name + " = " +
+                         number_text(v) + " is " + why);
     return false;
   }
 
@@ -407,9 +413,17 @@ class NpyEventReader final : public EventReader {
       }
       const std::int64_t extra = r.array.available_bytes - r.records * static_cast<std::int64_t>(r.record_bytes);
       if (extra > 0) {
+        // A stated size (a compressed archive member's) is checked by reading: are the bytes there?
+        std::byte probe[1];
+        const bool there = r.end > r.pos || r.array.bytes->read(probe) == 1;  // buffered, or still to read
         pending_.emplace(path_, byte_offset_of_event(r.records), r.records,
-                         where(r) + std::to_string(extra) + " bytes follow the " + std::to_string(r.records) +
-                             " records its header states");
+                         where(r) + (there ? std::to_string(extra) + " bytes follow the " + std::to_string(r.records) +
+                                                 " records its header states"
+                                           : "its stated size is " + std::to_string(extra) +
+                                                 " bytes more than its data (" +
+                                                 (r.array.bytes->error().empty() ? "a corrupt directory?"
+                                                                                 : r.array.bytes->error()) +
+                                                 ")"));
         return;
       }
       if (!r.array.bytes->finish()) {  // a compressed array: its stream's end and checksum

@@ -21,21 +21,27 @@
 namespace evlife::io::detail {
 namespace {
 
-/// np.savez archives hold a few arrays; each is opened to read its header.
+/// np.savez archives hold a few arrays; without --topic each is opened to
+/// read its header, up to this many, and this many header bytes in all.
 constexpr std::size_t kMaxArrays = 4096;
+constexpr std::uint64_t kMaxHeaderBytesInAll = 64ULL << 20;
 
 std::string base_name(const std::string& member) {
   return member.ends_with(".npy") ? member.substr(0, member.size() - 4) : member;
 }
 
+/// What an archive's array is, kept small (a header's fields are not).
 struct Listed {
-  const ZipMember* member;
-  NpyHeader header;
+  const ZipMember* member = nullptr;
+  std::string text;           ///< "name (200,)", or "name (not read: why)"
+  bool events = false;        ///< holds events by itself
+  int role = -1;              ///< a 1-D column's role by its name
+  std::int64_t length = 0;    ///< a column's values
 };
 
 std::string listing(const std::vector<Listed>& arrays) {
   std::string text;
-  for (const Listed& a : arrays) text += (text.empty() ? "" : ", ") + base_name(a.member->name) + " " + npy_shape_text(a.header);
+  for (const Listed& a : arrays) text += (text.empty() ? "" : ", ") + a.text;
   return text.empty() ? "none" : text;
 }
 
@@ -46,69 +52,122 @@ NpyArray open_array(const std::shared_ptr<const InputFile>& file, const ZipMembe
   a.file = file;
   a.bytes = open_zip_member(*file, m);
   a.header = read_npy_header(*a.bytes, path, "array '" + m.name + "'");
+  if (static_cast<std::int64_t>(m.size_bytes) < a.header.data_offset)
+    throw ReadError(path, -1, -1, "array '" + m.name + "': its stated size is less than its header");
   a.available_bytes = static_cast<std::int64_t>(m.size_bytes) - a.header.data_offset;
   const std::int64_t data_at = zip_member_data_offset(*file, m);
   a.file_offset = data_at < 0 ? -1 : data_at + a.header.data_offset;
   return a;
 }
 
+/// The members np.load sees: the .npy ones, the last of several of one name.
+std::vector<const ZipMember*> arrays_of(const std::vector<ZipMember>& members) {
+  std::vector<const ZipMember*> arrays;
+  for (const ZipMember& m : members) {
+    if (!m.name.ends_with(".npy")) continue;  // np.savez writes NAME.npy only
+    const auto same = std::find_if(arrays.begin(), arrays.end(), [&m](const ZipMember* a) { return a->name == m.name; });
+    if (same != arrays.end()) arrays.erase(same);
+    arrays.push_back(&m);
+  }
+  return arrays;
+}
+
+/// Reads an array's header to list it; an array that cannot be read (Python
+/// objects, an encrypted or bzip2 member) is listed as such and passed over.
+Listed list_array(const InputFile& file, const ZipMember& m, const std::string& path, std::uint64_t& header_bytes) {
+  Listed a;
+  a.member = &m;
+  try {
+    const std::unique_ptr<Cursor> bytes = open_zip_member(file, m);
+    const NpyHeader h = read_npy_header(*bytes, path, "array '" + m.name + "'");
+    header_bytes += static_cast<std::uint64_t>(h.data_offset);
+    a.text = base_name(m.name) + " " + npy_shape_text(h);
+    a.events = holds_events(h);
+    std::int64_t unit = 0;
+    a.role = holds_a_column(h) ? column_role(lower_ascii(base_name(m.name)), unit) : -1;
+    a.length = h.shape.empty() ? 0 : h.shape[0];
+  } catch (const ReadError& e) {
+    a.text = base_name(m.name) + " (not read: " + e.reason() + ")";
+  }
+  return a;
+}
+
 std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptions& options) {
   auto file = std::make_shared<const InputFile>(path);
   const std::vector<ZipMember> members = read_zip_directory(*file);
+  const std::vector<const ZipMember*> names = arrays_of(members);
+  const auto one = [&](const ZipMember& m) {
+    std::vector<NpyArray> chosen;
+    chosen.push_back(open_array(file, m, path));
+    if (!holds_events(chosen.front().header))
+      throw ReadError(path, -1, -1, "--topic " + options.topic + " is not an array of events (" +
+                                        npy_shape_text(chosen.front().header) + "); " + kNpyLayouts);
+    return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options);
+  };
+  if (!options.topic.empty()) {  // only that array is opened
+    for (const ZipMember* m : names)
+      if (m->name == options.topic || base_name(m->name) == options.topic) return one(*m);
+    std::string known;
+    for (const ZipMember* m : names) known += (known.empty() ? "" : ", ") + base_name(m->name);
+    throw ReadError(path, -1, -1, "--topic " + options.topic + ": no such array (arrays: " +
+                                      (known.empty() ? "none" : known) + ")");
+  }
+  if (names.size() > kMaxArrays)
+    throw ReadError(path, -1, -1, std::to_string(names.size()) + " arrays, more than the " +
+                                      std::to_string(kMaxArrays) + " looked through: --topic NAME names the one to read");
   std::vector<Listed> arrays;
-  for (const ZipMember& m : members) {
-    if (!m.name.ends_with(".npy")) continue;  // np.savez writes NAME.npy only
-    if (arrays.size() == kMaxArrays)
-      throw ReadError(path, -1, -1, "more than " + std::to_string(kMaxArrays) + " arrays: not an archive of events");
-    const std::unique_ptr<Cursor> bytes = open_zip_member(*file, m);
-    arrays.push_back(Listed{&m, read_npy_header(*bytes, path, "array '" + m.name + "'")});
+  std::uint64_t header_bytes = 0;
+  for (const ZipMember* m : names) {
+    arrays.push_back(list_array(*file, *m, path, header_bytes));
+    if (header_bytes > kMaxHeaderBytesInAll)
+      throw ReadError(path, -1, -1, "its arrays' headers exceed " + std::to_string(kMaxHeaderBytesInAll >> 20) +
+                                        " MiB in all: --topic NAME names the one to read");
   }
   const auto refuse = [&](const std::string& why) -> std::unique_ptr<EventReader> {
     throw ReadError(path, -1, -1,
                     "not readable events: " + why + " (arrays: " + listing(arrays) + "); " + kNpyLayouts +
                         ", or 1-D arrays named x, y, t and p");
   };
-  const auto one = [&](const Listed& a) {
-    std::vector<NpyArray> chosen;
-    chosen.push_back(open_array(file, *a.member, path));
-    return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options);
-  };
-  if (!options.topic.empty()) {
-    for (const Listed& a : arrays) {
-      if (a.member->name == options.topic || base_name(a.member->name) == options.topic) {
-        if (!holds_events(a.header)) return refuse("--topic " + options.topic + " is not an array of events");
-        return one(a);
+  // An array of events first; several: the user chooses.
+  std::vector<const Listed*> events;
+  for (const Listed& a : arrays)
+    if (a.events) events.push_back(&a);
+  if (events.size() == 1) return one(*events.front()->member);
+  if (events.size() > 1) return refuse("several arrays of events; --topic NAME chooses one");
+  // Else one 1-D array per column, of one length (arrays of other lengths, e.g. frame times, passed over).
+  std::array<std::vector<const Listed*>, 4> by_role;
+  for (const Listed& a : arrays)
+    if (a.role >= 0) by_role[static_cast<std::size_t>(a.role)].push_back(&a);
+  std::vector<std::int64_t> lengths;
+  for (const Listed* a : by_role[kX]) lengths.push_back(a->length);
+  for (const std::int64_t length : lengths) {
+    std::array<const Listed*, 4> chosen{};
+    bool unique = true;
+    for (std::size_t role = 0; role < 4 && unique; ++role) {
+      for (const Listed* a : by_role[role]) {
+        if (a->length != length) continue;
+        unique = chosen[role] == nullptr;
+        if (!unique) {
+          return refuse("arrays '" + base_name(chosen[role]->member->name) + "' and '" + base_name(a->member->name) +
+                        "' both name " + std::string(1, "xytp"[role]));
+        }
+        chosen[role] = a;
       }
     }
-    return refuse("--topic " + options.topic + ": no such array");
+    if (std::find(chosen.begin(), chosen.end(), nullptr) != chosen.end()) continue;
+    std::vector<NpyArray> columns;
+    for (const Listed* c : chosen) columns.push_back(open_array(file, *c->member, path));
+    return make_npy_event_reader(path, "npz", std::move(columns), NpyLayout::column_arrays, options);
   }
-  std::vector<const Listed*> events;
-  std::array<const Listed*, 4> columns{};
-  for (const Listed& a : arrays) {
-    if (holds_events(a.header)) events.push_back(&a);
-    std::int64_t unit = 0;
-    const int role = holds_a_column(a.header) ? column_role(lower_ascii(base_name(a.member->name)), unit) : -1;
-    if (role < 0) continue;
-    if (columns[static_cast<std::size_t>(role)] != nullptr) {
-      return refuse("arrays '" + base_name(columns[static_cast<std::size_t>(role)]->member->name) + "' and '" +
-                    base_name(a.member->name) + "' both name " + std::string(1, "xytp"[role]));
-    }
-    columns[static_cast<std::size_t>(role)] = &a;
-  }
-  const bool all_columns = std::find(columns.begin(), columns.end(), nullptr) == columns.end();
-  if (events.size() == 1 && !all_columns) return one(*events.front());
-  if (events.empty() && all_columns) {
-    std::vector<NpyArray> chosen;
-    for (const Listed* c : columns) chosen.push_back(open_array(file, *c->member, path));
-    return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::column_arrays, options);
-  }
-  if (events.empty()) return refuse("no array of events");
-  return refuse("several arrays of events; --topic NAME chooses one");
+  const bool some_columns = std::any_of(by_role.begin(), by_role.end(), [](const auto& v) { return !v.empty(); });
+  return refuse(some_columns ? "no array of events, and no x, y, t and p arrays of one length" : "no array of events");
 }
 
 SniffResult sniff_npz(std::span<const std::byte> head, std::string_view path) {
-  // A ZIP's first local header whose name ends in .npy: what np.savez writes first.
-  if (head.size() >= 30 && std::memcmp(head.data(), "PK\x03\x04", 4) == 0) {
+  // A ZIP's first local header whose name ends in .npy: what np.savez writes first. Another
+  // ZIP is this reader's too, weakly (no other reads ZIP): it says what the archive holds.
+  const bool zip = head.size() >= 4 && std::memcmp(head.data(), "PK\x03\x04", 4) == 0;
+  if (zip && head.size() >= 30) {
     const auto u16 = [&head](std::size_t at) {
       return static_cast<std::size_t>(static_cast<unsigned char>(head[at])) |
              static_cast<std::size_t>(static_cast<unsigned char>(head[at + 1])) << 8;
@@ -119,7 +178,7 @@ SniffResult sniff_npz(std::span<const std::byte> head, std::string_view path) {
       if (name.ends_with(".npy")) return SniffResult::by_content;
     }
   }
-  return has_extension(path, ".npz") ? SniffResult::by_extension : SniffResult::no;
+  return zip || has_extension(path, ".npz") ? SniffResult::by_extension : SniffResult::no;
 }
 
 }  // namespace

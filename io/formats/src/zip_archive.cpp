@@ -23,6 +23,8 @@ constexpr std::size_t kEntryBytes = 46;
 constexpr std::size_t kLocalBytes = 30;
 /// np.savez archives list a handful of arrays: a directory beyond this is not one.
 constexpr std::uint64_t kMaxDirectoryBytes = 64ULL << 20;
+/// Sizes beyond this are corrupt (and would overflow signed offsets).
+constexpr std::uint64_t kMaxMemberBytes = 1ULL << 62;
 
 std::uint64_t le(const std::uint8_t* p, int bytes) {
   std::uint64_t v = 0;
@@ -50,7 +52,8 @@ std::uint64_t find_end_record(const InputFile& file) {
   const std::uint64_t tail_at = size - tail_bytes;
   const std::vector<std::uint8_t> tail = read_exact(file, tail_at, static_cast<std::size_t>(tail_bytes), "its end");
   for (std::size_t i = tail.size() - kEndBytes + 1; i-- > 0;) {
-    if (le(&tail[i], 4) == kEndOfDirectory && i + kEndBytes + le(&tail[i + 20], 2) == tail.size())
+    // Its comment within the file (bytes after it, as some tools append, are allowed: zipfile reads them).
+    if (le(&tail[i], 4) == kEndOfDirectory && i + kEndBytes + le(&tail[i + 20], 2) <= tail.size())
       return tail_at + i;
   }
   fail(file, size, "no end of central directory record");
@@ -184,6 +187,8 @@ std::vector<ZipMember> read_zip_directory(const InputFile& file) {
                       offset_big);
     if (size_big || compressed_big || offset_big)
       fail(file, offset, "member '" + m.name + "': 32-bit sizes without their ZIP64 values");
+    if (m.size_bytes > kMaxMemberBytes || m.compressed_bytes > kMaxMemberBytes)
+      fail(file, offset, "member '" + m.name + "' states a size beyond 2^62 bytes");
     members.push_back(std::move(m));
     at += kEntryBytes + name_bytes + extra_bytes + comment_bytes;
   }
