@@ -223,7 +223,8 @@ good events come first, the next chunk raises evlife.InputError.)")
             return r.query([](const io::EventReader& e) { return std::string(e.layout_name()); });
           },
           "Which of its format's layouts the file holds (HDF5: 'dsec', 'event_utils', 'prophesee', "
-          "'mvsec', 'v2e', 'evlife'); '' where a format has one.")
+          "'mvsec', 'v2e', 'evlife'; .npy: 'structured' or the columns', 't,x,y,p'; .npz: also which "
+          "array, 'structured, array events.npy', or 'arrays x.npy, ...'); '' where a format has one.")
       .def_property_readonly("path",
                              [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.path(); }); })
       .def_property_readonly("chunk_events", &Reader::chunk_events)

@@ -178,6 +178,8 @@ class NpyEventReader final : public EventReader {
       whole_count_ = std::min(whole_count_, r.whole_records);
     }
     if (layout == NpyLayout::one_array && records_.front().array.header.fields.empty()) choose_plain_layout();
+    if (layout == NpyLayout::one_array && !records_.front().array.name.empty())
+      layout_ += ", array " + records_.front().array.name;  // which of an archive's arrays
     choose_time_unit(options);
   }
 
@@ -296,6 +298,7 @@ class NpyEventReader final : public EventReader {
       }
     }
     layout_ = "arrays";
+    for (const Records& r : records_) layout_ += (&r == &records_.front() ? " " : ", ") + r.array.name;
   }
 
   /// The first rows of every array (at most kSampleRows), for the layout and time unit.
