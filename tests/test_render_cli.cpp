@@ -487,17 +487,47 @@ TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
-// Ctrl-C during `run --fps` over a timestamp outlier (ten years ahead: 9.5 G
-// empty frames at 30 fps) ends the run: the frames not drawn yet are skipped
-// and counted, every event is written. Before, the render thread drew on
-// through the gap and the run never ended; then, a signal that came while it
-// drew the gap's frames stepped through them one by one (minutes).
-TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
-  const std::string csv = path("month.csv");
+// `run --fps` skips a stretch without events of 100,000 frames or more (a
+// timestamp outlier ten years ahead: 9.5 G empty frames at 30 fps), counted
+// and said, as `render` stops before it; every event is written. Before, the
+// render thread drew on through the gap and the run never ended. Each long
+// stretch is said, not only the first.
+TEST_F(RenderCliTest, ARunSkipsEveryHugeGapAndSaysEachLongOne) {
+  const std::string csv = path("decade.csv");
   write_events_then_outlier(csv, 315'360'000'000'000);
+  auto r = evlife::test::run_cli("timeout", "-k 5 60 '" + kCli + "' run '" + csv + "' --frames '" + path("decade") +
+                                               "' --fps 30 -o '" + path("decade.bin") + "'",
+                                 dir_.path() / "cli.log");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("9460799997 empty frames at 30 fps come first; a timestamp outlier? Skipped, not drawn"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(9460799997 of stretches without events skipped"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("output : 2001 events to the writer"), std::string::npos) << r.output;
+  const std::string gaps = path("gaps.csv");
+  {
+    std::ofstream f(gaps);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n0,0,0,1,1000,0,0,\n1,1,1000,1,1000,0,0,\n"
+      << "1,0,1100000000,1,1000,0,0,\n0,1,201100000000,1,1000,0,0,\n";
+  }
+  r = run("run '" + gaps + "' --sensor 4x2 --frames '" + path("gaps") + "' --fps 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("1099 empty frames at 1 fps come first"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("200000 empty frames at 1 fps come first; a timestamp outlier? Skipped"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("frames : 1101 written"), std::string::npos) << r.output;
+}
+
+// Ctrl-C while `run` draws a long stretch without events (under the skip's
+// 100,000 frames, at 1280x720: minutes of frames) ends the run at once: the
+// frames not drawn yet are skipped and counted, every event is written.
+// Before, a signal that came while it drew the gap's frames stepped through
+// them one by one.
+TEST_F(RenderCliTest, CtrlCEndsARunDrawingThroughAGap) {
+  const std::string csv = path("hour.csv");
+  write_events_then_outlier(csv, 3'300'000'000);  // 99,000 frames at 30 fps
   const auto r = evlife::test::run_cli("timeout", "--preserve-status -s INT -k 60 5 '" + kCli + "' run '" + csv +
-                                                      "' --frames '" + path("month") + "' --fps 30 -o '" +
-                                                      path("month.bin") + "'",
+                                                      "' --sensor 1280x720 --frames '" + path("hour") +
+                                                      "' --fps 30 -o '" + path("hour.bin") + "'",
                                        dir_.path() / "cli.log");
   EXPECT_EQ(r.exit_code, 130) << r.output;  // 137 if it had to be killed
   EXPECT_NE(r.output.find("more not drawn: stopped"), std::string::npos) << r.output;

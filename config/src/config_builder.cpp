@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -277,10 +278,16 @@ const KeyOrigin* ConfigBuilder::user_origin_of_input_keys() const {
   return nullptr;
 }
 
+namespace {
+std::atomic<bool> g_installed_configuration{false};
+}  // namespace
+
+void use_installed_configuration() { g_installed_configuration.store(true); }
+
 std::string default_config_path() {
   // An installed tool reads its own copy (share/evlife/ beside bin/), a build tree the source's.
-  if (std::string installed = io::installed_file(EVLIFE_INSTALLED_CONFIG); !installed.empty()) {
-    return installed;
+  if (g_installed_configuration.load()) {
+    if (std::string installed = io::installed_file(EVLIFE_INSTALLED_CONFIG); !installed.empty()) return installed;
   }
 #ifdef EVLIFE_DEFAULT_CONFIG
   return EVLIFE_DEFAULT_CONFIG;

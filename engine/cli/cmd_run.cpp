@@ -5,6 +5,7 @@
 // completes a chunk (a backstop thread finishes the stream).
 // SIGINT/SIGTERM/SIGHUP end the run cleanly: everything accepted is processed and
 // written, the summary printed.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -140,7 +141,8 @@ void print_help(std::FILE* out) {
       "  --frames DIR         a render thread draws the active events (each event\n"
       "                       shown for its lifetime, coloured by it) to numbered PNGs\n"
       "                       DIR/frame_NNNNNN_t<seconds>s.png, as `evlife render` ...\n"
-      "  --video FILE         ... or to a video (.mp4 or .avi) playing at --fps.\n"
+      "  --video FILE         ... or to a video (.mp4 or .avi) playing at --fps (real\n"
+      "                       time) up to 60 fps; slow motion beyond.\n"
       "  --window             ... or to an on-screen window (needs a display; q, Esc\n"
       "                       or closing the window stops the run as SIGINT does).\n"
       "                       With --realtime it plays at the recording's pace.\n"
@@ -459,8 +461,13 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  args.window ? "shown in" : "written to",
                  args.window ? "a window" :
                  args.frames_dir.empty() ? args.video.c_str() : args.frames_dir.c_str());
+    if (!args.video.empty() && args.render.fps > render::kMaxVideoFps)
+      std::fprintf(stdout, " (the video plays at %g fps: slow motion)", render::kMaxVideoFps);
     if (const std::uint64_t skipped = render_stage->frames_not_drawn(); skipped > 0)
       std::fprintf(stdout, " (%llu more not drawn: stopped)", static_cast<unsigned long long>(skipped));
+    if (const std::uint64_t gaps = render_stage->frames_in_skipped_gaps(); gaps > 0)
+      std::fprintf(stdout, " (%llu of stretches without events skipped, not drawn: see the warnings)",
+                   static_cast<unsigned long long>(gaps));
     if (const std::uint64_t incomplete = render_stage->frames_incomplete(); incomplete > 0)
       std::fprintf(stdout, " (%llu of them at instants whose events the render thread skipped: blank or partial; "
                            "frames after such a stretch may lack its long-lived events)",
@@ -588,7 +595,9 @@ int run_engine(int argc, char** argv) {
     if (!args.frames_dir.empty()) {
       frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
     } else if (!args.video.empty()) {
-      frame_sink = std::make_unique<render::VideoFrameSink>(args.video, args.render.fps);
+      // As `evlife render`: real time up to kMaxVideoFps, slow motion beyond (an .avi at
+      // thousands of fps was written corrupt).
+      frame_sink = std::make_unique<render::VideoFrameSink>(args.video, std::min(args.render.fps, render::kMaxVideoFps));
     }
   } catch (const std::runtime_error& e) {
     std::fprintf(stderr, "evlife run: output error: %s%s\n", e.what(),

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <exception>
 #include <new>
 #include <string_view>
@@ -33,6 +34,14 @@ const char* version_text() {
 }  // namespace evlife::cli
 
 namespace {
+// The configuration read without --config: its path, or the built-in defaults when it is absent.
+std::string default_config_text() {
+  const std::string path = evlife::config::default_config_path();
+  std::error_code ec;
+  if (!path.empty() && std::filesystem::exists(path, ec)) return path;
+  return "the built-in defaults" + (path.empty() ? std::string{} : " (" + path + " is absent)");
+}
+
 void print_usage(std::FILE* out) {
   auto commands = evlife::cli::command_registry();
   std::sort(commands.begin(), commands.end(),
@@ -58,8 +67,7 @@ void print_usage(std::FILE* out) {
                "Times: 1.5s, 500ms, 20us, or a bare number of seconds. Exit status 0 ok,\n"
                "1 unexpected failure (devices: libusb cannot start), 2 usage, 3 input error,\n"
                "4 output error, 5 a real-time setting refused (run), 130 interrupted.\n",
-               evlife::config::default_config_path().empty() ? "the built-in defaults"
-                                                     : evlife::config::default_config_path().c_str());
+               default_config_text().c_str());
 }
 
 // True when stdout is a pipe whose reader has left (poll flags its write end).
@@ -88,6 +96,7 @@ int main(int argc, char** argv) {
   // write fail with EPIPE, reported as any output error (exit 4, the output
   // named, what was written kept), instead of killing the process silently.
   std::signal(SIGPIPE, SIG_IGN);
+  evlife::config::use_installed_configuration();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);
     return with_stdout_written("", argc < 2 ? 2 : 0);

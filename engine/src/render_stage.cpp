@@ -3,6 +3,7 @@
 #include "evlife/engine/render_stage.h"
 
 #include <exception>
+#include <optional>
 #include <stdexcept>
 
 #include "evlife/render/frame_clock.h"
@@ -60,13 +61,29 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
     for (auto& at : at_us_) at = render::clock_add_us(t, at);  // past the clock's end: after the last event
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
-  if (fps_ > 0 && t > next_frame_t_us_ && gap_state_.load(std::memory_order_relaxed) == 0) {
-    // The clock frames this event passes.
+  if (fps_ > 0 && t > next_frame_t_us_) {
+    // The clock frames this event passes: every long gap is said; one of
+    // render::kEventGapStopFrames or more is skipped, counted, not drawn (a
+    // timestamp outlier would have the run fill the disk with blank frames).
     const std::uint64_t passed = render::frames_before(first_t_us_, next_frame_, t, fps_);
-    if (const auto gap = render::event_gap_to_notice(render::clock_span_us(first_t_us_, next_frame_t_us_),
-                                                     render::clock_span_us(first_t_us_, t), passed)) {
-      gap_ = *gap;
-      gap_state_.store(1, std::memory_order_release);
+    const std::int64_t from_rel = render::clock_span_us(first_t_us_, next_frame_t_us_);
+    const std::int64_t to_rel = render::clock_span_us(first_t_us_, t);
+    const bool skip = passed >= render::kEventGapStopFrames;
+    std::optional<render::EventGap> gap = render::event_gap_to_notice(from_rel, to_rel, passed);
+    if (skip && !gap) gap = render::EventGap{from_rel, to_rel, passed};
+    if (gap) {
+      if (gap_state_.load(std::memory_order_acquire) == 1) {  // the last one not said yet: counted
+        untold_gaps_.store(untold_gaps_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+      } else {
+        gap_ = *gap;
+        gap_skipped_ = skip;
+        gap_state_.store(1, std::memory_order_release);
+      }
+    }
+    if (skip) {
+      next_frame_ += passed;
+      next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
+      gap_frames_.store(gap_frames_.load(std::memory_order_relaxed) + passed, std::memory_order_relaxed);
     }
   }
   // Every event up to a frame's instant is in: draw the frames passed, the
@@ -104,8 +121,12 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
 
 std::string RenderStage::take_notice() {
   if (gap_state_.load(std::memory_order_acquire) != 1) return {};
-  gap_state_.store(2, std::memory_order_relaxed);
-  return gap_.text(fps_) + " Ctrl-C stops the drawing (the events are still written)";
+  std::string text = gap_.text(fps_) + (gap_skipped_ ? " Skipped, not drawn (evlife render --from/--to draws them)"
+                                                     : " Ctrl-C stops the drawing (the events are still written)");
+  if (const std::uint64_t more = untold_gaps_.exchange(0, std::memory_order_relaxed); more > 0)
+    text += " (" + std::to_string(more) + " more such stretches before it)";
+  gap_state_.store(2, std::memory_order_release);  // the render thread may record the next
+  return text;
 }
 
 StepResult RenderStage::step() noexcept {

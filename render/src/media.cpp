@@ -33,7 +33,8 @@ detail::MediaBackend& backend() {
     if (user != nullptr && *user != '\0') {
       candidates = {user};
     } else {
-      if (std::string own = io::installed_file(EVLIFE_MEDIA_INSTALLED_REL); !own.empty()) {
+      // Listed when absent too: an installed tool's error then names where its plugin belongs.
+      if (std::string own = io::beside_executable(EVLIFE_MEDIA_INSTALLED_REL); !own.empty()) {
         candidates.push_back(std::move(own));
       }
       candidates.insert(candidates.end(), {EVLIFE_MEDIA_BUILD_PATH, EVLIFE_MEDIA_INSTALL_PATH, "libevlife_media.so"});

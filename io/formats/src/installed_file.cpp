@@ -5,12 +5,17 @@
 
 namespace evlife::io {
 
-std::string installed_file(const std::string& relative) {
+std::string beside_executable(const std::string& relative) {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec || relative.empty()) return {};
-  const std::filesystem::path candidate = (exe.parent_path() / relative).lexically_normal();
-  return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string{};
+  return (exe.parent_path() / relative).lexically_normal().string();
+}
+
+std::string installed_file(const std::string& relative) {
+  std::string candidate = beside_executable(relative);
+  std::error_code ec;
+  return !candidate.empty() && std::filesystem::is_regular_file(candidate, ec) ? candidate : std::string{};
 }
 
 }  // namespace evlife::io

@@ -91,9 +91,15 @@ class ConfigBuilder {
   std::map<std::string, KeyOrigin, std::less<>> origins_;
 };
 
-/// Path of the documented default file: an installed tool's own copy
-/// (share/evlife/evlife.yaml beside its bin/), else the source tree's.
+/// Path of the documented default file: after use_installed_configuration(),
+/// an installed tool's own copy (share/evlife/evlife.yaml beside its bin/)
+/// when there is one; else the source tree's.
 std::string default_config_path();
+
+/// The evlife tool calls this at start: it looks for its own installed
+/// configuration beside its executable. A library in another program (the
+/// Python module in python3) does not: it would look beside that program.
+void use_installed_configuration();
 
 /// A configuration as every command loads it, with where it came from.
 struct LoadedConfig {

@@ -52,13 +52,18 @@ class RenderStage final : public AuxStage {
 
   /// Ctrl-C: frames not drawn yet are skipped (counted: frames_not_drawn()).
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
-  /// The gap warning of `evlife render`: a stretch of 60+ s and 1000+ frames
-  /// without events ahead of the clock (a timestamp outlier), said before
-  /// its empty frames are drawn.
+  /// The gap warnings of `evlife render`, each stretch without events ahead
+  /// of the clock of 60+ s and 1000+ frames (a timestamp outlier), said
+  /// before its empty frames are drawn; one of render::kEventGapStopFrames
+  /// frames or more is skipped (counted in frames_not_drawn()), as `render`
+  /// stops before it.
   std::string take_notice() override;
 
   std::uint64_t frames_written() const noexcept { return frames_.load(std::memory_order_relaxed); }
+  /// Clock frames not drawn because the run was stopped.
   std::uint64_t frames_not_drawn() const noexcept { return not_drawn_.load(std::memory_order_relaxed); }
+  /// Clock frames of the stretches without events that were skipped (see take_notice()).
+  std::uint64_t frames_in_skipped_gaps() const noexcept { return gap_frames_.load(std::memory_order_relaxed); }
   /// Clock frames due before the run's last event that were never drawn:
   /// the events after the last one this thread received were skipped
   /// (policy drop, the render thread behind). Known once finished.
@@ -92,6 +97,7 @@ class RenderStage final : public AuxStage {
   std::atomic<std::int64_t> requested_t_us_{kNoRequest};
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<std::uint64_t> not_drawn_{0};
+  std::atomic<std::uint64_t> gap_frames_{0};
   std::atomic<std::uint64_t> missed_{0};
   std::atomic<std::uint64_t> incomplete_{0};
   // A stretch of event time (from, to) whose events were skipped: the frames
@@ -99,10 +105,13 @@ class RenderStage final : public AuxStage {
   std::int64_t skipped_from_us_ = INT64_MAX;
   std::int64_t skipped_to_us_ = INT64_MIN;
   std::atomic<bool> stop_{false};
-  // The gap: written by the render thread, then gap_state_ 1 (release); the
-  // monitor reads it after an acquire and sets 2.
+  // The gap: written by the render thread while gap_state_ is not 1, then 1
+  // (release); the monitor reads it after an acquire and sets 2 (release):
+  // the render thread may write the next. Gaps met while one waits are counted.
   std::atomic<int> gap_state_{0};
   render::EventGap gap_;
+  bool gap_skipped_ = false;
+  std::atomic<std::uint64_t> untold_gaps_{0};
   std::string error_;
   bool finished_ = false;
 };
