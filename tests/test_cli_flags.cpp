@@ -573,7 +573,8 @@ TEST_F(CliFlags, RenderStopsBeforeAnHourOfBlankFrames) {
   EXPECT_TRUE(has(r, "empty frames at 30 fps come first; a timestamp outlier? Stopped before them")) << r.output;
   std::size_t frames = 0;
   for ([[maybe_unused]] const auto& f : fs::directory_iterator(path("frames"))) ++frames;
-  EXPECT_EQ(frames, 9u);  // 0 .. 0.267 s at 30 fps; the gap starts with the frame at 0.3 s
+  // 0 .. 0.3 s at 30 fps: the frame at 0.3 s shows the last events (0.2999 s), the empty ones begin at 0.333 s.
+  EXPECT_EQ(frames, 10u);
   EXPECT_EQ(run("render " + outlier + " -q -o " + path("frames_to") + " --fps 30 --to 1").exit_code, 0);
 }
 

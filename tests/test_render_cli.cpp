@@ -224,10 +224,11 @@ TEST_F(RenderCliTest, AFrameRateStopsBeforeEveryHugeGapNotOnlyTheFirst) {
   }
   auto r = run("render '" + gaps + "' --sensor 4x2 -o '" + path("gaps") + "' --fps 1 --no-caption --no-legend --scale 1");
   EXPECT_EQ(r.exit_code, 3) << r.output;  // before: the first gap warned, then 199,999 empty frames were drawn
-  EXPECT_NE(r.output.find("1099 empty frames at 1 fps come first"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("200000 empty frames at 1 fps come first; a timestamp outlier? Stopped before them"),
+  EXPECT_NE(r.output.find("1098 empty frames at 1 fps come first"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("199999 empty frames at 1 fps come first; a timestamp outlier? Stopped before them"),
             std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("the 1100 frames before the fault"), std::string::npos) << r.output;
+  // Frame 1100 at 1100 s shows the event there (before: it was not drawn).
+  EXPECT_NE(r.output.find("the 1101 frames before the fault"), std::string::npos) << r.output;
   // 30 s without events at 5000 fps: 150,000 frames, though shorter than the 60 s a warning needs.
   const std::string pause = path("pause.csv");
   {
@@ -236,7 +237,7 @@ TEST_F(RenderCliTest, AFrameRateStopsBeforeEveryHugeGapNotOnlyTheFirst) {
   }
   r = run("render '" + pause + "' --sensor 4x2 -o '" + path("pause") + "' --fps 5000 --scale 1 -q");
   EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_NE(r.output.find("150000 empty frames at 5000 fps"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("149999 empty frames at 5000 fps"), std::string::npos) << r.output;
 }
 
 // A fixed window is drawn exactly up to its longest (537 s of 32-bit history
@@ -466,7 +467,7 @@ TEST_F(RenderCliTest, AFrameFolderUsedTwiceWarnsOfTheEarlierFramesLeft) {
 TEST_F(RenderCliTest, AFrameRateWarnsOfALongStretchWithoutEventsAhead) {
   const std::string csv = path("outlier.csv");
   write_events_then_outlier(csv, 100'000'000);  // 100 s: 99.9 s without an event
-  const std::string warning = "no event from 0.181818 s to 100.000000 s (the next event): 1098 empty frames";
+  const std::string warning = "no event from 0.272727 s to 100.000000 s (the next event): 1097 empty frames";
   const struct {
     std::string args;
     bool warns;
@@ -499,9 +500,9 @@ TEST_F(RenderCliTest, ARunSkipsEveryHugeGapAndSaysEachLongOne) {
                                                "' --fps 30 -o '" + path("decade.bin") + "'",
                                  dir_.path() / "cli.log");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("9460799997 empty frames at 30 fps come first; a timestamp outlier? Skipped, not drawn"),
+  EXPECT_NE(r.output.find("9460799996 empty frames at 30 fps come first; a timestamp outlier? Skipped, not drawn"),
             std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("(9460799997 of stretches without events skipped"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(9460799996 of stretches without events skipped"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("output : 2001 events to the writer"), std::string::npos) << r.output;
   const std::string gaps = path("gaps.csv");
   {
@@ -511,10 +512,27 @@ TEST_F(RenderCliTest, ARunSkipsEveryHugeGapAndSaysEachLongOne) {
   }
   r = run("run '" + gaps + "' --sensor 4x2 --frames '" + path("gaps") + "' --fps 1");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("1099 empty frames at 1 fps come first"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("200000 empty frames at 1 fps come first; a timestamp outlier? Skipped"), std::string::npos)
+  EXPECT_NE(r.output.find("1098 empty frames at 1 fps come first"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("199999 empty frames at 1 fps come first; a timestamp outlier? Skipped"), std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("frames : 1101 written"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames : 1102 written"), std::string::npos) << r.output;  // 1100 s and 201100 s drawn
+  // Three huge stretches in a row: each said, each event's frame drawn (before: one notice, "2 more
+  // such stretches before it", and the events between them in no frame).
+  const std::string three = path("three.csv");
+  {
+    std::ofstream f(three);
+    f << "x,y,t,p,lifetime,vx,vy,prediction_error\n";
+    for (const long long t : {0LL, 1000LL, 1'000'000'000'000LL, 2'000'000'000'000LL, 3'000'000'000'000LL})
+      f << "0,0," << t << ",1,1000,0,0,\n";
+  }
+  r = run("run '" + three + "' --sensor 4x2 --frames '" + path("three") + "' --fps 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::size_t said = 0;
+  for (auto at = r.output.find("Skipped, not drawn"); at != std::string::npos; at = r.output.find("Skipped, not drawn", at + 1))
+    ++said;
+  EXPECT_EQ(said, 3u) << r.output;
+  EXPECT_TRUE(fs::exists(path("three") + "/frame_000004_t3000000.000000s.png")) << r.output;
+  EXPECT_TRUE(fs::exists(path("three") + "/frame_000003_t2000000.000000s.png")) << r.output;
 }
 
 // Ctrl-C while `run` draws a long stretch without events (under the skip's

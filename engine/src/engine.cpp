@@ -259,6 +259,11 @@ RunResult Engine::run() {
   const auto period_ns = static_cast<std::int64_t>(std::ceil(options_.stats_period_s * 1e9));
   const std::int64_t started_ns = monotonic_ns();
   std::int64_t next_report_ns = started_ns + period_ns;
+  const auto say_notices = [this] {
+    for (AuxStage* aux : pipeline_.aux_stages())
+      for (std::string notice = aux->take_notice(); !notice.empty(); notice = aux->take_notice())
+        spdlog::warn("render: {}", notice);
+  };
   while (!merger_done.load(std::memory_order_acquire) ||
          aux_running.load(std::memory_order_acquire) > 0) {
     monitor_wake.wait(10'000);
@@ -268,9 +273,7 @@ RunResult Engine::run() {
       for (AuxStage* aux : pipeline_.aux_stages()) aux->request_stop();
       stop_forwarded = true;
     }
-    for (AuxStage* aux : pipeline_.aux_stages()) {
-      if (const std::string notice = aux->take_notice(); !notice.empty()) spdlog::warn("render: {}", notice);
-    }
+    say_notices();
     if (const std::uint64_t failed = source.failed_transfers(); failed > failed_transfers_seen) {
       spdlog::warn("engine: {} device transfer(s) failed; their events are lost ({} in all)",
                    failed - failed_transfers_seen, failed);
@@ -292,6 +295,7 @@ RunResult Engine::run() {
     }
   }
   for (auto& t : threads) t.join();
+  say_notices();  // those made after the loop's last look
 
   RunResult result;
   result.realtime = applied;

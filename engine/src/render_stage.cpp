@@ -51,7 +51,22 @@ void RenderStage::emit(std::int64_t t_us) noexcept {
 }
 
 void RenderStage::advance_clock() noexcept {
-  next_frame_t_us_ = render::frame_instant_us(first_t_us_, ++next_frame_, fps_);
+  if (++next_frame_ == skip_from_frame_) {  // a huge stretch without events: its frames counted, not drawn
+    next_frame_ += skip_frames_;
+    gap_frames_.store(gap_frames_.load(std::memory_order_relaxed) + skip_frames_, std::memory_order_relaxed);
+    skip_from_frame_ = 0;
+  }
+  next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
+}
+
+void RenderStage::record_gap(const render::EventGap& gap, bool skipped) noexcept {
+  const std::uint64_t written = gaps_written_.load(std::memory_order_relaxed);
+  if (written - gaps_read_.load(std::memory_order_acquire) >= kGapSlots) {  // the monitor is behind: counted
+    gaps_unsaid_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  gaps_[written % kGapSlots] = SaidGap{gap, skipped};
+  gaps_written_.store(written + 1, std::memory_order_release);
 }
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
@@ -62,28 +77,16 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
     if (fps_ > 0) next_frame_t_us_ = t;  // frame 0 at the first event, as `evlife render`
   }
   if (fps_ > 0 && t > next_frame_t_us_) {
-    // The clock frames this event passes: every long gap is said; one of
+    // A stretch without events after the next clock frame (which shows the
+    // last events before it, and is drawn): every long one is said; one of
     // render::kEventGapStopFrames or more is skipped, counted, not drawn (a
     // timestamp outlier would have the run fill the disk with blank frames).
-    const std::uint64_t passed = render::frames_before(first_t_us_, next_frame_, t, fps_);
-    const std::int64_t from_rel = render::clock_span_us(first_t_us_, next_frame_t_us_);
-    const std::int64_t to_rel = render::clock_span_us(first_t_us_, t);
-    const bool skip = passed >= render::kEventGapStopFrames;
-    std::optional<render::EventGap> gap = render::event_gap_to_notice(from_rel, to_rel, passed);
-    if (skip && !gap) gap = render::EventGap{from_rel, to_rel, passed};
-    if (gap) {
-      if (gap_state_.load(std::memory_order_acquire) == 1) {  // the last one not said yet: counted
-        untold_gaps_.store(untold_gaps_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-      } else {
-        gap_ = *gap;
-        gap_skipped_ = skip;
-        gap_state_.store(1, std::memory_order_release);
-      }
-    }
-    if (skip) {
-      next_frame_ += passed;
-      next_frame_t_us_ = render::frame_instant_us(first_t_us_, next_frame_, fps_);
-      gap_frames_.store(gap_frames_.load(std::memory_order_relaxed) + passed, std::memory_order_relaxed);
+    const render::GapAhead ahead =
+        render::gap_after_frame(0, next_frame_, fps_, render::clock_span_us(first_t_us_, t));
+    if (ahead.gap) record_gap(*ahead.gap, ahead.too_long);
+    if (ahead.too_long) {
+      skip_from_frame_ = next_frame_ + 1;
+      skip_frames_ = ahead.gap->empty_frames;
     }
   }
   // Every event up to a frame's instant is in: draw the frames passed, the
@@ -120,12 +123,17 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
 }
 
 std::string RenderStage::take_notice() {
-  if (gap_state_.load(std::memory_order_acquire) != 1) return {};
-  std::string text = gap_.text(fps_) + (gap_skipped_ ? " Skipped, not drawn (evlife render --from/--to draws them)"
-                                                     : " Ctrl-C stops the drawing (the events are still written)");
-  if (const std::uint64_t more = untold_gaps_.exchange(0, std::memory_order_relaxed); more > 0)
-    text += " (" + std::to_string(more) + " more such stretches before it)";
-  gap_state_.store(2, std::memory_order_release);  // the render thread may record the next
+  const std::uint64_t read = gaps_read_.load(std::memory_order_relaxed);
+  if (read == gaps_written_.load(std::memory_order_acquire)) {
+    const std::uint64_t unsaid = gaps_unsaid_.exchange(0, std::memory_order_relaxed);
+    return unsaid == 0 ? std::string{}
+                       : std::to_string(unsaid) + " more stretches without events, not said (the warnings came faster "
+                                                  "than they were printed)";
+  }
+  const SaidGap& said = gaps_[read % kGapSlots];
+  std::string text = said.gap.text(fps_) + (said.skipped ? " Skipped, not drawn (evlife render --from/--to draws them)"
+                                                         : " Ctrl-C stops the drawing (the events are still written)");
+  gaps_read_.store(read + 1, std::memory_order_release);  // its slot may be written again
   return text;
 }
 

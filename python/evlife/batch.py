@@ -290,7 +290,7 @@ def _client(scheduler, workers):
 
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
                   extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
-                  topic=None, **options):
+                  topic=None, time_unit=None, **options):
     """Process many recordings on Dask distributed, one task per recording.
 
     paths: recordings (any format of `evlife process`).
@@ -300,9 +300,10 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     scheduler: None = a LocalCluster of `workers` processes on this machine
     (one thread each), or a scheduler address ("tcp://host:8786"), a
     distributed.Client or a cluster object.
-    sensor, config, from_s, to_s, topic, **options: as evlife.process (every
-    estimator keyword); checked here before any task starts (ValueError /
-    TypeError). topic: the same ROS topic (or HDF5 camera) in every file.
+    sensor, config, from_s, to_s, topic, time_unit, **options: as
+    evlife.process (every estimator keyword); checked here before any task
+    starts (ValueError / TypeError). topic: the same ROS topic (or HDF5
+    camera, .npz array) in every file; time_unit: of every CSV/NumPy file.
     one_thread: True (the default) runs each recording on its worker's one
     thread: with one worker per core, reading ahead and writing behind would
     only compete with the other workers' estimators.
@@ -324,7 +325,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
     _evlife._check_crop(from_s, to_s)
     _check_topic(topic)
-    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic)) if v is not None}
+    _check_time_unit(time_unit)
+    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic), ("time_unit", time_unit))
+            if v is not None}
     os.makedirs(out_dir, exist_ok=True)
     outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension, out_dir)]
     if not paths:
@@ -365,13 +368,18 @@ def _check_topic(topic):
         raise ValueError("topic: a ROS topic or an HDF5 file's camera, got %r" % (topic,))
 
 
-def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, options):
+def _check_time_unit(time_unit):
+    if time_unit is not None and time_unit not in ("s", "ms", "us", "ns"):
+        raise ValueError("time_unit: expected 's', 'ms', 'us' or 'ns', got %r" % (time_unit,))
+
+
+def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, time_unit, options):
     """The task of one slice: its augmented events written to `part` (.bin) as
     they are estimated (constant memory, however long the slice)."""
     from evlife import _evlife as core
     start = time.perf_counter()
     r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
-                                 topic=topic, **options)
+                                 topic=topic, time_unit=time_unit, **options)
     return r["events"], r["with_lifetime"], time.perf_counter() - start
 
 
@@ -395,7 +403,7 @@ def _join_parts(output, parts):
 
 
 def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
-                   sensor=None, config=None, progress=True, topic=None, **options):
+                   sensor=None, config=None, progress=True, topic=None, time_unit=None, **options):
     """One long recording cut into `slices` equal time slices processed in parallel.
 
     Each slice's estimator starts `warmup_ms` before its slice (those events
@@ -405,7 +413,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     measured share). With warmup_ms at least the recording's length the result
     is identical. Writes `output` (.bin, the format of `evlife process`) with
     the slices in order; returns a BatchResult with one row per slice
-    (path "PATH[k]"). scheduler, workers, sensor, config, topic, **options: as
+    (path "PATH[k]"). scheduler, workers, sensor, config, topic, time_unit, **options: as
     process_files. Raises on failure (the slices are one result: no part file
     stays, nor a partial output).
     """
@@ -419,7 +427,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     _check_topic(topic)
-    info = _evlife.scan(path, sensor, config=config, topic=topic)
+    _check_time_unit(time_unit)
+    info = _evlife.scan(path, sensor, config=config, topic=topic, time_unit=time_unit)
     t0, t1 = info["t_first"], info["t_last"] + 1
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
     # Beyond 2^62 us (146,000 years) every warm-up is the whole recording: int64 for the workers.
@@ -431,7 +440,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     try:
         run = uuid.uuid4().hex[:8]
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k], cuts[k + 1],
-                                 warmup_us, config, topic, dict(options), pure=False,
+                                 warmup_us, config, topic, time_unit, dict(options), pure=False,
                                  key="evlife-slice-%s-%d" % (run, k))
                    for k in range(slices)]
         rows = []

@@ -302,10 +302,10 @@ py::dict process_to_file(const std::string& path, const std::string& output,
 // The sensor `evlife process` would use for `path`, the time span and the
 // event count: one pass (what a caller needs to cut a recording into slices).
 py::dict scan_file(const std::string& path, const py::object& sensor, const py::object& config,
-                   const std::optional<std::string>& topic) {
+                   const std::optional<std::string>& topic, const std::optional<std::string>& time_unit) {
   const ResolvedOptions r = resolve_options("evlife.scan", py::none(), config, py::dict());
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
-  io::ReaderOptions source = reader_options(std::nullopt, std::nullopt, std::nullopt, topic);
+  io::ReaderOptions source = reader_options(std::nullopt, std::nullopt, std::nullopt, topic, time_unit);
   std::int64_t first = 0, last = 0;
   std::uint64_t count = 0;
   FileRun run;
@@ -345,11 +345,12 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
 py::dict process_time_range(const std::string& path, const std::string& output,
                             const py::object& sensor, std::int64_t t_begin, std::int64_t t_end,
                             std::int64_t warmup_us, bool skip_by_search, const py::object& config,
-                            const std::optional<std::string>& topic, const py::dict& options) {
+                            const std::optional<std::string>& topic, const std::optional<std::string>& time_unit,
+                            const py::dict& options) {
   if (warmup_us < 0) throw py::value_error("warmup_us must be >= 0");
   ResolvedOptions r = resolve_options("evlife.batch.process_slices", py::none(), config, options);
   const SensorSize s = sensor_from_python(sensor);
-  io::ReaderOptions source = reader_options(s, std::nullopt, std::nullopt, topic);
+  io::ReaderOptions source = reader_options(s, std::nullopt, std::nullopt, topic, time_unit);
   std::uint64_t events = 0, with_lifetime = 0;
   {
     py::gil_scoped_release release;
@@ -530,26 +531,27 @@ as evlife.process.)");
   m.def(
       "scan",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         const std::optional<std::string>& topic) {
-        return scan_file(path_from_python(input), sensor, config, topic);
+         const std::optional<std::string>& topic, const std::optional<std::string>& time_unit) {
+        return scan_file(path_from_python(input), sensor, config, topic, time_unit);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
-      py::arg("config") = py::none(), py::arg("topic") = py::none(),
+      py::arg("config") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
       R"(One pass over a recording: {'sensor' (the one `evlife process` uses), 'format',
 'events', 't_first', 't_last' (µs), 'skipped_records', 'skipped_record_kinds'}
-(as evlife.process_file). topic and errors as evlife.read.)");
+(as evlife.process_file). topic, time_unit and errors as evlife.read.)");
 
   m.def(
       "_process_time_range",
       [](const py::object& input, const py::object& output, const py::object& sensor,
          std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us, bool skip_by_search,
-         const py::object& config, const std::optional<std::string>& topic, const py::kwargs& kw) {
+         const py::object& config, const std::optional<std::string>& topic,
+         const std::optional<std::string>& time_unit, const py::kwargs& kw) {
         return process_time_range(path_from_python(input), path_from_python(output), sensor, t_begin,
-                                  t_end, warmup_us, skip_by_search, config, topic, kw);
+                                  t_end, warmup_us, skip_by_search, config, topic, time_unit, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
       py::arg("warmup_us"), py::kw_only(), py::arg("skip_by_search") = true,
-      py::arg("config") = py::none(), py::arg("topic") = py::none(),
+      py::arg("config") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
       "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) written to\n"
       "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
 }

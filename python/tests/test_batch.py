@@ -88,6 +88,26 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
         batch.process_files([path], tmp_path, from_s=0.5, to_s=0.2)
     with pytest.raises(ValueError, match="warmup_ms"):
         batch.process_slices(path, tmp_path / "x.bin", warmup_ms=float("nan"))
+    with pytest.raises(ValueError, match="time_unit"):
+        batch.process_files([path], tmp_path, time_unit="fortnights")
+    with pytest.raises(ValueError, match="time_unit"):
+        batch.process_slices(path, tmp_path / "x.bin", time_unit="fortnights")
+
+
+def test_a_time_unit_reaches_every_task(tmp_path):
+    # A NumPy file of t in ms: process_files and process_slices read it as `evlife process --time-unit ms`.
+    import numpy as np
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))[:20000]
+    npy = tmp_path / "ms.npy"
+    np.save(npy, np.column_stack([events["t"] // 1000, events["x"], events["y"], events["p"] > 0]))
+    expected = tmp_path / "cli.bin"
+    cli("process", npy, "-o", expected, "-q", "--time-unit", "ms", "--sensor", "128x128")
+    table = batch.process_files([str(npy)], tmp_path / "out", workers=1, progress=False, time_unit="ms",
+                                sensor=(128, 128))
+    assert table[0].error is None, table[0].error
+    assert open(table[0].output, "rb").read() == expected.read_bytes()
+    assert evlife.scan(npy, time_unit="ms")["t_last"] == int(events["t"][-1] // 1000) * 1000
 
 
 def test_time_slices_in_parallel(tmp_path):

@@ -106,19 +106,20 @@ RecordingRenderResult render_recording(
     // --fps without --to: stop after the last event.
     if (options.at_us.empty() && !options.to_us && cursor.exhausted() && t > cursor.last_fed_t_us()) break;
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) ++after_end;
+    // After this frame (it shows the last events before a stretch without them): stop before a
+    // huge stretch, say a long one, each once.
+    std::optional<std::string> stop_after_this_frame;
     if (options.at_us.empty() && !options.to_us) {
       const auto next = cursor.next_t_us();
       const std::optional<std::int64_t> next_rel =
           next ? std::optional<std::int64_t>(clock_span_us(*first_t, *next)) : std::nullopt;
       if (next_rel && next_rel != gap_seen_next) {
-        const std::uint64_t empty = frames_before(options.from_us, k, *next_rel, options.fps);
-        if (empty >= kEventGapStopFrames) {
-          input_fault = EventGap{rel, *next_rel, empty}.text(options.fps) + " Stopped before them (--to T draws through it)";
-          break;
-        }
-        if (const auto gap = event_gap_to_notice(rel, *next_rel, empty)) {
+        const GapAhead ahead = gap_after_frame(options.from_us, k, options.fps, *next_rel);
+        if (ahead.too_long) {
+          stop_after_this_frame = ahead.gap->text(options.fps) + " Stopped before them (--to T draws through it)";
+        } else if (ahead.gap) {
           gap_seen_next = next_rel;
-          if (on_gap) on_gap(*gap);
+          if (on_gap) on_gap(*ahead.gap);
         }
       }
     }
@@ -133,6 +134,10 @@ RecordingRenderResult render_recording(
     }
     ++frames;
     if (progress) progress(frames, total, static_cast<double>(rel) * 1e-6);
+    if (stop_after_this_frame) {
+      input_fault = *stop_after_this_frame;
+      break;
+    }
   }
   try {
     sink->finish();

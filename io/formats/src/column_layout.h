@@ -29,6 +29,13 @@ std::int64_t unit_ns(std::string u);
 /// any other name. A table naming one role twice is refused by its reader.
 int column_role(const std::string& name, std::int64_t& unit);
 
+/// column_role's names, for messages (one text with the rule above).
+inline constexpr const char* kColumnNames =
+    "x|xs, y|ys, t|ts|time|times|timestamp|timestamps (a unit after '_', a blank or in brackets: t_us, "
+    "timestamp(ns)) and p|ps|pol|polarity";
+/// The unnamed layouts choose_layout() tells apart, for messages.
+inline constexpr const char* kUnnamedLayouts = "x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p";
+
 /// What the first rows of one unnamed column hold.
 struct ColumnTraits {
   bool polarity = true;        ///< integers in [-1, 1] only

@@ -32,11 +32,12 @@ namespace {
 
 constexpr std::size_t kSampleLines = 1000;     // lines looked at to tell the layout
 
-constexpr const char* kLayouts =
-    "accepted layouts: x,y,p,t (metavision_file_to_csv), x,y,t,p or t,x,y,p; separated by commas, "
-    "tabs or spaces; an optional header line naming the columns (x, y, t|ts|time|timestamp, "
-    "p|pol|polarity; other columns ignored); t in seconds written as a fraction or integer µs "
-    "(or say it with --time-unit s|ms|us|ns)";
+std::string layouts() {
+  return std::string("accepted layouts: ") + kUnnamedLayouts +
+         "; separated by commas, tabs or spaces; an optional header line naming the columns (" + kColumnNames +
+         "; other columns ignored); t in seconds written as a fraction or integer µs (or say it with --time-unit "
+         "s|ms|us|ns)";
+}
 
 struct Field {
   const char* begin;
@@ -212,7 +213,7 @@ class CsvTextReader final : public EventReader {
       : lines_(path) {
     const std::string_view head = lines_.buffered();
     const Detection d = detect(head.data(), head.data() + head.size());
-    if (!d.ok) throw ReadError(path, 0, -1, "not a readable CSV/text event file: " + d.why + "; " + kLayouts);
+    if (!d.ok) throw ReadError(path, 0, -1, "not a readable CSV/text event file: " + d.why + "; " + layouts());
     sep_ = d.sep;
     layout_ = d.layout;
     columns_ = d.columns;

@@ -174,7 +174,6 @@ class NpyEventReader final : public EventReader {
       r.whole_records = std::min(r.records, r.array.available_bytes / static_cast<std::int64_t>(r.record_bytes));
       r.buffer.resize(std::max(kBufferBytes / r.record_bytes, std::size_t{1}) * r.record_bytes);
       r.unread_bytes = r.array.available_bytes;
-      records_count_ = std::min(records_count_, r.records);
       whole_count_ = std::min(whole_count_, r.whole_records);
     }
     if (layout == NpyLayout::one_array && records_.front().array.header.fields.empty()) choose_plain_layout();
@@ -227,7 +226,7 @@ class NpyEventReader final : public EventReader {
   }
 
   [[noreturn]] void refuse(const std::string& why) const {
-    throw ReadError(path_, -1, -1, std::string(format_ == "npy" ? "not a readable .npy file: " : "not readable events: ") + why + "; " + kNpyLayouts);
+    throw ReadError(path_, -1, -1, std::string(format_ == "npy" ? "not a readable .npy file: " : "not readable events: ") + why + "; " + npy_layouts());
   }
 
   /// "" for a lone .npy; "array 'x.npy': " in an archive.
@@ -345,6 +344,9 @@ class NpyEventReader final : public EventReader {
   void choose_time_unit(const ReaderOptions& options) {
     const Column& t = columns_[kT];
     if (!options.time_unit.empty()) {
+      if (t.type.kind == 'M')  // its type states the unit: another one can only be wrong
+        throw ReadError(path_, -1, -1, "--time-unit " + options.time_unit + ": the time column is datetime64, whose "
+                                       "type states its unit");
       t_unit_ns_ = unit_ns(options.time_unit);
       if (t_unit_ns_ == 0)
         throw ReadError(path_, -1, -1, "unknown time unit '" + options.time_unit + "' (s, ms, us, ns)");
@@ -405,21 +407,25 @@ class NpyEventReader final : public EventReader {
                          (r.array.bytes->error().empty() ? "cut short" : r.array.bytes->error()) + ")");
   }
 
-  /// After the last whole record: the arrays must end where their shapes say.
+  /// After the last whole record: the arrays must end where their shapes say
+  /// (a cut one first: the one that ended the read).
   void check_end() {
     for (const Records& r : records_) {
-      if (r.whole_records < r.records) {
-        pending_.emplace(path_, byte_offset_of_event(r.whole_records), r.whole_records,
+      if (r.whole_records == whole_count_ && r.whole_records < r.records) {
+        pending_.emplace(path_, offset_in(static_cast<std::size_t>(&r - records_.data()), r.whole_records),
+                         r.whole_records,
                          where(r) + "the data ends inside record " + std::to_string(r.whole_records) + " of the " +
                              std::to_string(r.records) + " its header states (cut short?)");
         return;
       }
+    }
+    for (const Records& r : records_) {
       const std::int64_t extra = r.array.available_bytes - r.records * static_cast<std::int64_t>(r.record_bytes);
       if (extra > 0) {
         // A stated size (a compressed archive member's) is checked by reading: are the bytes there?
         std::byte probe[1];
         const bool there = r.end > r.pos || r.array.bytes->read(probe) == 1;  // buffered, or still to read
-        pending_.emplace(path_, byte_offset_of_event(r.records), r.records,
+        pending_.emplace(path_, offset_in(static_cast<std::size_t>(&r - records_.data()), r.records), r.records,
                          where(r) + (there ? std::to_string(extra) + " bytes follow the " + std::to_string(r.records) +
                                                  " records its header states"
                                            : "its stated size is " + std::to_string(extra) +
@@ -439,7 +445,6 @@ class NpyEventReader final : public EventReader {
   std::string path_;
   std::string_view format_;
   std::vector<Records> records_;
-  std::int64_t records_count_ = INT64_MAX;  ///< as the headers state
   std::int64_t whole_count_ = INT64_MAX;    ///< whole records in every array
   std::int64_t next_ = 0;
   std::array<Column, 4> columns_{};  ///< by Role
@@ -450,6 +455,11 @@ class NpyEventReader final : public EventReader {
 };
 
 }  // namespace
+
+std::string npy_layouts() {
+  return std::string("readable: a structured array with fields ") + kColumnNames + " (others ignored), or an N x 4 " +
+         "array laid out " + kUnnamedLayouts;
+}
 
 bool holds_events(const NpyHeader& h) {
   if (h.fields.empty()) return h.shape.size() == 2 && h.shape[1] == 4;

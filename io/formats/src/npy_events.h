@@ -52,8 +52,6 @@ bool holds_a_column(const NpyHeader& h);
 NpyHeader read_npy_header(Cursor& bytes, const std::string& path, const std::string& where);
 
 /// What is readable, for messages.
-inline constexpr const char* kNpyLayouts =
-    "readable: a structured array with fields x, y, t|ts|time|timestamp and p|pol|polarity (others "
-    "ignored), or an N x 4 array laid out x,y,p,t, x,y,t,p or t,x,y,p";
+std::string npy_layouts();
 
 }  // namespace evlife::io::detail

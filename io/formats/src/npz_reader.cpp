@@ -12,6 +12,8 @@
 #include <cctype>
 #include <cstring>
 #include <memory>
+#include <string_view>
+#include <unordered_map>
 
 #include "column_layout.h"
 #include "npy_events.h"
@@ -35,13 +37,16 @@ struct Listed {
   const ZipMember* member = nullptr;
   std::string text;           ///< "name (200,)", or "name (not read: why)"
   bool events = false;        ///< holds events by itself
+  bool structured = false;    ///< ... as a structured array (named fields), not N x 4
   int role = -1;              ///< a 1-D column's role by its name
   std::int64_t length = 0;    ///< a column's values
 };
 
 std::string listing(const std::vector<Listed>& arrays) {
+  constexpr std::size_t kListed = 20;  // a message, not a catalogue
   std::string text;
-  for (const Listed& a : arrays) text += (text.empty() ? "" : ", ") + a.text;
+  for (std::size_t i = 0; i < arrays.size() && i < kListed; ++i) text += (text.empty() ? "" : ", ") + arrays[i].text;
+  if (arrays.size() > kListed) text += " and " + std::to_string(arrays.size() - kListed) + " more";
   return text.empty() ? "none" : text;
 }
 
@@ -62,12 +67,13 @@ NpyArray open_array(const std::shared_ptr<const InputFile>& file, const ZipMembe
 
 /// The members np.load sees: the .npy ones, the last of several of one name.
 std::vector<const ZipMember*> arrays_of(const std::vector<ZipMember>& members) {
+  std::unordered_map<std::string_view, std::size_t> last;  // name -> index of its last member
+  for (std::size_t i = 0; i < members.size(); ++i)
+    if (members[i].name.ends_with(".npy")) last[members[i].name] = i;  // np.savez writes NAME.npy only
   std::vector<const ZipMember*> arrays;
-  for (const ZipMember& m : members) {
-    if (!m.name.ends_with(".npy")) continue;  // np.savez writes NAME.npy only
-    const auto same = std::find_if(arrays.begin(), arrays.end(), [&m](const ZipMember* a) { return a->name == m.name; });
-    if (same != arrays.end()) arrays.erase(same);
-    arrays.push_back(&m);
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const auto found = last.find(members[i].name);
+    if (found != last.end() && found->second == i) arrays.push_back(&members[i]);
   }
   return arrays;
 }
@@ -83,11 +89,14 @@ Listed list_array(const InputFile& file, const ZipMember& m, const std::string& 
     header_bytes += static_cast<std::uint64_t>(h.data_offset);
     a.text = base_name(m.name) + " " + npy_shape_text(h);
     a.events = holds_events(h);
+    a.structured = a.events && !h.fields.empty();
     std::int64_t unit = 0;
     a.role = holds_a_column(h) ? column_role(lower_ascii(base_name(m.name)), unit) : -1;
     a.length = h.shape.empty() ? 0 : h.shape[0];
   } catch (const ReadError& e) {
     a.text = base_name(m.name) + " (not read: " + e.reason() + ")";
+    // What reading a header may have inflated, charged to the budget too.
+    header_bytes += std::min<std::uint64_t>(m.size_bytes, kNpyMaxHeaderBytes + 12);
   }
   return a;
 }
@@ -101,7 +110,7 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
     chosen.push_back(open_array(file, m, path));
     if (!holds_events(chosen.front().header))
       throw ReadError(path, -1, -1, "--topic " + options.topic + " is not an array of events (" +
-                                        npy_shape_text(chosen.front().header) + "); " + kNpyLayouts);
+                                        npy_shape_text(chosen.front().header) + "); " + npy_layouts());
     return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options);
   };
   if (!options.topic.empty()) {  // only that array is opened
@@ -125,16 +134,22 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
   }
   const auto refuse = [&](const std::string& why) -> std::unique_ptr<EventReader> {
     throw ReadError(path, -1, -1,
-                    "not readable events: " + why + " (arrays: " + listing(arrays) + "); " + kNpyLayouts +
+                    "not readable events: " + why + " (arrays: " + listing(arrays) + "); " + npy_layouts() +
                         ", or 1-D arrays named x, y, t and p");
   };
-  // An array of events first; several: the user chooses.
-  std::vector<const Listed*> events;
-  for (const Listed& a : arrays)
-    if (a.events) events.push_back(&a);
-  if (events.size() == 1) return one(*events.front()->member);
-  if (events.size() > 1) return refuse("several arrays of events; --topic NAME chooses one");
-  // Else one 1-D array per column, of one length (arrays of other lengths, e.g. frame times, passed over).
+  // A structured array of events first (named fields say it is events); several: the user chooses.
+  const auto events_of = [&arrays](bool structured) {
+    std::vector<const Listed*> found;
+    for (const Listed& a : arrays)
+      if (a.events && a.structured == structured) found.push_back(&a);
+    return found;
+  };
+  if (const auto named = events_of(true); !named.empty()) {
+    if (named.size() > 1) return refuse("several arrays of events; --topic NAME chooses one");
+    return one(*named.front()->member);
+  }
+  // Then one 1-D array per column, named as the columns, of one length (arrays of other lengths,
+  // e.g. frame times, pass over); an unnamed N x 4 array (bounding boxes?) only without them.
   std::array<std::vector<const Listed*>, 4> by_role;
   for (const Listed& a : arrays)
     if (a.role >= 0) by_role[static_cast<std::size_t>(a.role)].push_back(&a);
@@ -158,6 +173,10 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
     std::vector<NpyArray> columns;
     for (const Listed* c : chosen) columns.push_back(open_array(file, *c->member, path));
     return make_npy_event_reader(path, "npz", std::move(columns), NpyLayout::column_arrays, options);
+  }
+  if (const auto plain = events_of(false); !plain.empty()) {
+    if (plain.size() > 1) return refuse("several N x 4 arrays; --topic NAME chooses one");
+    return one(*plain.front()->member);
   }
   const bool some_columns = std::any_of(by_role.begin(), by_role.end(), [](const auto& v) { return !v.empty(); });
   return refuse(some_columns ? "no array of events, and no x, y, t and p arrays of one length" : "no array of events");

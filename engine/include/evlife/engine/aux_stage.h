@@ -21,8 +21,8 @@ class AuxStage {
   /// The run is stopping (Ctrl-C): skip what only the user would have
   /// waited for (drawing); any thread.
   virtual void request_stop() noexcept {}
-  /// A warning for the user, once, from the monitor thread (never on the
-  /// stage's own path): empty when there is none (yet).
+  /// The next warning for the user, oldest first, taken by the monitor
+  /// thread (never on the stage's own path) until it is empty: none (yet).
   virtual std::string take_notice() { return {}; }
 
  protected:

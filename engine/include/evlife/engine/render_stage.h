@@ -8,6 +8,7 @@
 // (policy drop) or the output (policy block), never silently.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -52,11 +53,12 @@ class RenderStage final : public AuxStage {
 
   /// Ctrl-C: frames not drawn yet are skipped (counted: frames_not_drawn()).
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
-  /// The gap warnings of `evlife render`, each stretch without events ahead
-  /// of the clock of 60+ s and 1000+ frames (a timestamp outlier), said
-  /// before its empty frames are drawn; one of render::kEventGapStopFrames
-  /// frames or more is skipped (counted in frames_not_drawn()), as `render`
-  /// stops before it.
+  /// The gap warnings of `evlife render` (render::gap_after_frame), one per
+  /// call, oldest first, each stretch without events ahead of the clock of
+  /// 60+ s and 1000+ frames (a timestamp outlier), said before its empty
+  /// frames are drawn; one of render::kEventGapStopFrames frames or more is
+  /// skipped (counted in frames_in_skipped_gaps()), as `render` stops before
+  /// it. Empty when there is none. Call it from one thread (the monitor).
   std::string take_notice() override;
 
   std::uint64_t frames_written() const noexcept { return frames_.load(std::memory_order_relaxed); }
@@ -78,6 +80,7 @@ class RenderStage final : public AuxStage {
   void emit(std::int64_t t_us) noexcept;
   void feed(const AugmentedEvent& a) noexcept;
   void advance_clock() noexcept;
+  void record_gap(const render::EventGap& gap, bool skipped) noexcept;
 
   static constexpr std::int64_t kNoRequest = INT64_MIN;
   struct Drawing;  // the frame composer and its images (OpenCV)
@@ -105,13 +108,21 @@ class RenderStage final : public AuxStage {
   std::int64_t skipped_from_us_ = INT64_MAX;
   std::int64_t skipped_to_us_ = INT64_MIN;
   std::atomic<bool> stop_{false};
-  // The gap: written by the render thread while gap_state_ is not 1, then 1
-  // (release); the monitor reads it after an acquire and sets 2 (release):
-  // the render thread may write the next. Gaps met while one waits are counted.
-  std::atomic<int> gap_state_{0};
-  render::EventGap gap_;
-  bool gap_skipped_ = false;
-  std::atomic<std::uint64_t> untold_gaps_{0};
+  // The gaps to say: a ring the render thread writes (gaps_written_,
+  // release) and the monitor reads (gaps_read_, release once a slot is
+  // read); a gap met while the ring is full is counted in gaps_unsaid_.
+  struct SaidGap {
+    render::EventGap gap;
+    bool skipped = false;
+  };
+  static constexpr std::size_t kGapSlots = 16;
+  std::array<SaidGap, kGapSlots> gaps_{};
+  std::atomic<std::uint64_t> gaps_written_{0};
+  std::atomic<std::uint64_t> gaps_read_{0};
+  std::atomic<std::uint64_t> gaps_unsaid_{0};
+  // A huge stretch's clock frames skipped: from skip_from_frame_ (0: none), skip_frames_ of them.
+  std::uint64_t skip_from_frame_ = 0;
+  std::uint64_t skip_frames_ = 0;
   std::string error_;
   bool finished_ = false;
 };

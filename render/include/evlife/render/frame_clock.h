@@ -99,4 +99,25 @@ inline std::optional<EventGap> event_gap_to_notice(std::int64_t from_us, std::in
   return EventGap{from_us, next_event_us, empty_frames};
 }
 
+/// The one rule of `evlife render --fps` and `run --fps` for the stretch
+/// after clock frame k (of `fps` from `from_us`), whose events are all in:
+/// frame k shows the last of them and is drawn; the frames after it and
+/// before the next event are empty. Said when noticeable; too_long
+/// (kEventGapStopFrames or more) ends `render` before them and is skipped by
+/// `run`. Times from the first event.
+struct GapAhead {
+  std::optional<EventGap> gap;  ///< empty: nothing to say
+  bool too_long = false;
+};
+inline GapAhead gap_after_frame(std::int64_t from_us, std::uint64_t k, double fps,
+                                std::int64_t next_event_us) noexcept {
+  const std::uint64_t empty = frames_before(from_us, k + 1, next_event_us, fps);
+  const std::int64_t next_frame_us = frame_instant_us(from_us, k + 1, fps);
+  GapAhead ahead;
+  ahead.too_long = empty >= kEventGapStopFrames;
+  ahead.gap = ahead.too_long ? std::optional<EventGap>(EventGap{next_frame_us, next_event_us, empty})
+                             : event_gap_to_notice(next_frame_us, next_event_us, empty);
+  return ahead;
+}
+
 }  // namespace evlife::render

@@ -153,10 +153,10 @@ struct ReaderOptions {
   /// Containers with several streams (ROS bags): the topic to read; empty =
   /// the only event topic (an error lists them when there are several).
   std::string topic;
-  /// CSV/text layouts of other tools (format "csv") and NumPy .npy files
-  /// ("npy"): the unit of the time column, "s", "ms", "us" or "ns"; empty =
-  /// from the header or field name, else seconds when the values are
-  /// fractions, else µs.
+  /// CSV/text layouts of other tools (format "csv") and NumPy files ("npy",
+  /// "npz"): the unit of the time column, "s", "ms", "us" or "ns"; empty =
+  /// from the header or field name (or a datetime64 type's, which refuses
+  /// another), else seconds when the values are fractions, else µs.
   std::string time_unit;
   /// Cropping at the source (--from/--to): only events with
   /// first + from_us <= t < first + to_us, where `first` is the time of the
