@@ -148,3 +148,37 @@ def test_a_bad_value_names_its_array(tmp_path):
     with pytest.raises(evlife.InputError, match="array 'bad.npy': record 30: its field 'p' = 5 is not a polarity") as e:
         evlife.read(tmp_path / "two.npz", topic="bad")
     assert len(e.value.partial) == 30
+
+
+def test_column_arrays_come_before_an_unnamed_n_by_4_array(tmp_path):
+    # Bounding boxes are N x 4 too: they were read as the events.
+    np.savez(tmp_path / "boxes.npz", x=X, y=Y, t=T, p=ON, boxes=np.array([[1, 2, 3, 1], [5, 2, 3, 0]]))
+    check(evlife.read(tmp_path / "boxes.npz"))
+
+
+def test_a_datetime_column_refuses_another_unit(tmp_path):
+    a = structured([("t", "<M8[ns]"), ("x", "<u2"), ("y", "<u2"), ("p", "i1")], x=X, y=Y, p=np.where(ON, 1, -1))
+    a["t"] = (T * 1000).astype("M8[ns]")
+    np.save(tmp_path / "ns.npy", a)
+    check(evlife.read(tmp_path / "ns.npy"))
+    with pytest.raises(evlife.InputError, match="datetime64, whose type states its unit"):
+        evlife.read(tmp_path / "ns.npy", time_unit="us")
+
+
+def test_a_cut_column_names_the_array_that_ended_the_read(tmp_path):
+    import io
+    import zipfile
+
+    def npy_bytes(values):
+        buffer = io.BytesIO()
+        np.save(buffer, values)
+        return buffer.getvalue()
+
+    with zipfile.ZipFile(tmp_path / "cut.npz", "w") as z:
+        z.writestr("x.npy", npy_bytes(X)[:-8 * 2])  # 48 of 50 values
+        z.writestr("y.npy", npy_bytes(Y)[:-8 * 5])  # 45: this one ends the read
+        z.writestr("t.npy", npy_bytes(T))
+        z.writestr("p.npy", npy_bytes(ON))
+    with pytest.raises(evlife.InputError, match="array 'y.npy': the data ends inside record 45") as e:
+        evlife.read(tmp_path / "cut.npz")
+    assert len(e.value.partial) == 45
