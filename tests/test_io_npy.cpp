@@ -132,6 +132,17 @@ TEST(Npz, AnArrayOfEventsOrOneArrayPerColumnStoredOrCompressedReadsAsTheSameEven
     EXPECT_EQ(r.format, "npz") << name;
     expect_events(r.events, expected(), name);
   }
+  // `evlife info` lists the arrays, the ones read marked.
+  const ReadAll one = evlife::test::read_all(kNpy + "events.npz");
+  ASSERT_EQ(one.streams.size(), 2u);
+  EXPECT_EQ(one.streams[0].name, "events");
+  EXPECT_TRUE(one.streams[0].read);
+  EXPECT_EQ(one.streams[0].messages, 200u);
+  EXPECT_EQ(one.streams[1].name, "labels");
+  EXPECT_FALSE(one.streams[1].read);
+  const ReadAll columns = evlife::test::read_all(kNpy + "columns.npz");
+  ASSERT_EQ(columns.streams.size(), 4u);
+  for (const auto& s : columns.streams) EXPECT_TRUE(s.read) << s.name;
 }
 
 TEST(Npz, TopicChoosesAmongSeveralArraysOfEvents) {
@@ -144,6 +155,9 @@ TEST(Npz, TopicChoosesAmongSeveralArraysOfEvents) {
     const ReadAll r = evlife::test::read_all(kNpy + "two_event_arrays.npz", b);
     ASSERT_FALSE(r.error) << r.error->what();
     expect_events(r.events, expected(50), topic);
+    ASSERT_EQ(r.streams.size(), 2u);
+    EXPECT_FALSE(r.streams[0].read);
+    EXPECT_TRUE(r.streams[1].read);
   }
   io::ReaderOptions missing;
   missing.topic = "c";

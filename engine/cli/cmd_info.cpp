@@ -261,8 +261,9 @@ int run_info(int argc, char** argv) {
     std::printf("  by kind  %s\n", kinds.c_str());
   const auto streams = reader->streams();
   if (!streams.empty()) {
-    std::printf("topics     %zu\n", streams.size());
-    const char* unit = format == "hdf5" ? "rows" : "messages";  // HDF5: MVSEC's cameras (--topic)
+    std::printf("%s     %zu\n", format == "npz" ? "arrays" : "topics", streams.size());
+    // HDF5: MVSEC's cameras (--topic); .npz: its arrays (--topic), their first dimension.
+    const char* unit = format == "hdf5" ? "rows" : format == "npz" ? "rows" : "messages";
     for (const io::ContainerStream& s : streams) {
       std::printf("  %c %-32s %-40s %s %s\n", s.read ? '*' : ' ', s.name.c_str(), s.type.c_str(),
                   thousands(s.messages).c_str(), unit);

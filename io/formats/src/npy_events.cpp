@@ -152,8 +152,8 @@ struct Records {
 class NpyEventReader final : public EventReader {
  public:
   NpyEventReader(std::string path, std::string_view format, std::vector<NpyArray> arrays, NpyLayout layout,
-                 const ReaderOptions& options)
-      : path_(std::move(path)), format_(format) {
+                 const ReaderOptions& options, std::vector<ContainerStream> streams)
+      : path_(std::move(path)), format_(format), streams_(std::move(streams)) {
     for (NpyArray& a : arrays) {
       Records r;
       r.array = std::move(a);
@@ -213,6 +213,7 @@ class NpyEventReader final : public EventReader {
   std::optional<SensorSize> sensor_size() const override { return std::nullopt; }
   std::string_view format_name() const override { return format_; }
   std::string_view layout_name() const override { return layout_; }
+  std::vector<ContainerStream> streams() const override { return streams_; }
   const std::string& path() const override { return path_; }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return records_.size() == 1 ? offset_in(0, event_index) : -1;
@@ -444,6 +445,7 @@ class NpyEventReader final : public EventReader {
 
   std::string path_;
   std::string_view format_;
+  std::vector<ContainerStream> streams_;
   std::vector<Records> records_;
   std::int64_t whole_count_ = INT64_MAX;    ///< whole records in every array
   std::int64_t next_ = 0;
@@ -494,8 +496,9 @@ NpyHeader read_npy_header(Cursor& bytes, const std::string& path, const std::str
 
 std::unique_ptr<EventReader> make_npy_event_reader(std::string path, std::string_view format,
                                                    std::vector<NpyArray> arrays, NpyLayout layout,
-                                                   const ReaderOptions& options) {
-  return std::make_unique<NpyEventReader>(std::move(path), format, std::move(arrays), layout, options);
+                                                   const ReaderOptions& options, std::vector<ContainerStream> streams) {
+  return std::make_unique<NpyEventReader>(std::move(path), format, std::move(arrays), layout, options,
+                                          std::move(streams));
 }
 
 }  // namespace evlife::io::detail

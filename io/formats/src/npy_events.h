@@ -38,9 +38,11 @@ enum class NpyLayout { one_array, column_arrays };
 
 /// The reader; throws ReadError naming `path` when the arrays are not events
 /// (the reason, and what is readable).
+/// `streams`: an archive's arrays, for `evlife info` (EventReader::streams()).
 std::unique_ptr<EventReader> make_npy_event_reader(std::string path, std::string_view format,
                                                    std::vector<NpyArray> arrays, NpyLayout layout,
-                                                   const ReaderOptions& options);
+                                                   const ReaderOptions& options,
+                                                   std::vector<ContainerStream> streams = {});
 
 /// Whether a header is one array of events (structured with the four names,
 /// or 2-D with 4 columns), or a 1-D array of numbers (one column).

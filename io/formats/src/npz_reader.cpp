@@ -40,7 +40,18 @@ struct Listed {
   bool structured = false;    ///< ... as a structured array (named fields), not N x 4
   int role = -1;              ///< a 1-D column's role by its name
   std::int64_t length = 0;    ///< a column's values
+  std::string kind;           ///< for `evlife info`: "events", "column t", "other", "not read"
 };
+
+/// The arrays as `evlife info` lists them, the ones read marked.
+std::vector<ContainerStream> streams_of(const std::vector<Listed>& arrays, const std::vector<const ZipMember*>& read) {
+  std::vector<ContainerStream> streams;
+  for (const Listed& a : arrays) {
+    const bool is_read = std::find(read.begin(), read.end(), a.member) != read.end();
+    streams.push_back(ContainerStream{base_name(a.member->name), a.kind, static_cast<std::uint64_t>(a.length), is_read});
+  }
+  return streams;
+}
 
 std::string listing(const std::vector<Listed>& arrays) {
   constexpr std::size_t kListed = 20;  // a message, not a catalogue
@@ -93,8 +104,12 @@ Listed list_array(const InputFile& file, const ZipMember& m, const std::string& 
     std::int64_t unit = 0;
     a.role = holds_a_column(h) ? column_role(lower_ascii(base_name(m.name)), unit) : -1;
     a.length = h.shape.empty() ? 0 : h.shape[0];
+    a.kind = a.events ? std::string(a.structured ? "events " : "N x 4 ") + npy_shape_text(h)
+             : a.role >= 0 ? std::string("column ") + "xytp"[a.role] + " " + npy_shape_text(h)
+                           : "other " + npy_shape_text(h);
   } catch (const ReadError& e) {
     a.text = base_name(m.name) + " (not read: " + e.reason() + ")";
+    a.kind = "not read";
     // What reading a header may have inflated, charged to the budget too.
     header_bytes += std::min<std::uint64_t>(m.size_bytes, kNpyMaxHeaderBytes + 12);
   }
@@ -105,15 +120,29 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
   auto file = std::make_shared<const InputFile>(path);
   const std::vector<ZipMember> members = read_zip_directory(*file);
   const std::vector<const ZipMember*> names = arrays_of(members);
+  std::vector<Listed> arrays;
   const auto one = [&](const ZipMember& m) {
     std::vector<NpyArray> chosen;
     chosen.push_back(open_array(file, m, path));
     if (!holds_events(chosen.front().header))
       throw ReadError(path, -1, -1, "--topic " + options.topic + " is not an array of events (" +
                                         npy_shape_text(chosen.front().header) + "); " + npy_layouts());
-    return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options);
+    for (Listed& a : arrays) {  // the one opened, listed as such
+      if (a.member != &m) continue;
+      const NpyHeader& h = chosen.front().header;
+      a.kind = std::string(h.fields.empty() ? "N x 4 " : "events ") + npy_shape_text(h);
+      a.length = h.shape.empty() ? 0 : h.shape[0];
+    }
+    return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options,
+                                 streams_of(arrays, {&m}));
   };
-  if (!options.topic.empty()) {  // only that array is opened
+  if (!options.topic.empty()) {  // only that array is opened; the others are listed by name
+    for (std::size_t i = 0; i < names.size() && i < kMaxArrays; ++i) {
+      Listed a;
+      a.member = names[i];
+      a.kind = "(not opened: --topic)";
+      arrays.push_back(std::move(a));
+    }
     for (const ZipMember* m : names)
       if (m->name == options.topic || base_name(m->name) == options.topic) return one(*m);
     std::string known;
@@ -124,7 +153,6 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
   if (names.size() > kMaxArrays)
     throw ReadError(path, -1, -1, std::to_string(names.size()) + " arrays, more than the " +
                                       std::to_string(kMaxArrays) + " looked through: --topic NAME names the one to read");
-  std::vector<Listed> arrays;
   std::uint64_t header_bytes = 0;
   for (const ZipMember* m : names) {
     arrays.push_back(list_array(*file, *m, path, header_bytes));
@@ -171,8 +199,13 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
     }
     if (std::find(chosen.begin(), chosen.end(), nullptr) != chosen.end()) continue;
     std::vector<NpyArray> columns;
-    for (const Listed* c : chosen) columns.push_back(open_array(file, *c->member, path));
-    return make_npy_event_reader(path, "npz", std::move(columns), NpyLayout::column_arrays, options);
+    std::vector<const ZipMember*> read;
+    for (const Listed* c : chosen) {
+      columns.push_back(open_array(file, *c->member, path));
+      read.push_back(c->member);
+    }
+    return make_npy_event_reader(path, "npz", std::move(columns), NpyLayout::column_arrays, options,
+                                 streams_of(arrays, read));
   }
   if (const auto plain = events_of(false); !plain.empty()) {
     if (plain.size() > 1) return refuse("several N x 4 arrays; --topic NAME chooses one");
