@@ -259,7 +259,9 @@ TEST_F(CliFlags, ConfigurationFilesThatSayTooMuchOrNothingAreNamed) {
   };
   config_error("estimator:\n  window_size: 7\n  window_size: 9\n", "c.yaml:3: estimator.window_size is already given at line 2");
   config_error("estimator:\n  window_size: 7\nestimator:\n  seed: 3\n", "c.yaml:3: estimator is already given at line 1");
-  config_error("estimator:\n  window_size: 7\n---\nestimator:\n  window_size: 9\n", "a second YAML document");
+  config_error("estimator:\n  window_size: 7\n---\nestimator:\n  window_size: 9\n", "c.yaml:3: a second YAML document");
+  // yaml-cpp 0.7's LoadAll looped for ever, allocating, on a stray ',' (a hang that filled memory).
+  config_error("# a comment\n  ,\n", "c.yaml:2: YAML syntax error: the file cannot be read past this point");
   config_error("estimator:\n  window_size: {a: 1}\n", "estimator.window_size must be a single value");
   config_error("estimator: 5\n", "estimator is a section");
   // An INI file: its "[estimator]" is a YAML list, what follows it a second document.

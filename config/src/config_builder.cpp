@@ -1,5 +1,6 @@
 // Loads YAML files and --set overrides into a Config, remembering where each
 // key was set so that every error can name the key, its origin and its range.
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -10,7 +11,9 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
+#include <vector>
 
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
@@ -129,6 +132,37 @@ void ConfigBuilder::assign(std::string_view key, std::string_view value, const s
   origins_[std::string(key)] = KeyOrigin{where, by_user};
 }
 
+namespace {
+
+/// Where a stream's YAML documents start, the first two. yaml-cpp 0.7's
+/// LoadAll loops for ever, allocating, on a document that begins with a ','
+/// outside brackets (its parser never moves past it; fuzz_config found it):
+/// that shows here as a second document starting where the first did.
+struct DocumentStarts final : YAML::EventHandler {
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+std::vector<YAML::Mark> first_two_document_starts(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open it");
+  YAML::Parser parser(in);
+  DocumentStarts starts;
+  while (starts.starts.size() < 2 && parser.HandleNextDocument(starts)) {
+  }
+  return starts.starts;
+}
+
+}  // namespace
+
 void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   if (!std::filesystem::exists(path)) {
     throw ConfigError(path + ": configuration file not found");
@@ -139,17 +173,24 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   if (const std::int64_t at = first_nul_byte(path); at >= 0) {  // yaml-cpp would name an odd escape
     throw ConfigError(path + ": not a YAML text file (a NUL byte at offset " + std::to_string(at) + ")");
   }
-  std::vector<YAML::Node> documents;
+  std::vector<YAML::Mark> starts;  // of the first two documents
+  YAML::Node root;
   try {
-    documents = YAML::LoadAllFromFile(path);
+    starts = first_two_document_starts(path);
+    if (starts.size() == 2 && starts[1].pos == starts[0].pos) {
+      throw ConfigError(path + ":" + std::to_string(starts[0].line + 1) +
+                        ": YAML syntax error: the file cannot be read past this point (a ',' outside brackets?)");
+    }
+    if (starts.empty()) return;  // empty file: defaults stand
+    root = YAML::LoadFile(path);  // the first document
   } catch (const YAML::Exception& e) {
     throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " +
                       e.msg);
+  } catch (const ConfigError&) {
+    throw;
   } catch (const std::exception& e) {  // yaml-cpp reads with a stream: unreadable files
     throw ConfigError(path + ": cannot read the configuration file: " + e.what());
   }
-  if (documents.empty()) return;  // empty file: defaults stand
-  const YAML::Node& root = documents.front();
   auto where = [&](const YAML::Node& n) {
     return path + ":" + std::to_string(n.Mark().line + 1);
   };
@@ -160,8 +201,9 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
                       (root.IsSequence() ? "an INI-style [section] is a YAML list; " : "") +
                       "write 'estimator:' and its keys indented below it)");
   }
-  if (documents.size() > 1) {
-    throw ConfigError(where(documents[1]) + ": a second YAML document: a configuration file holds one");
+  if (starts.size() > 1) {
+    throw ConfigError(path + ":" + std::to_string(starts[1].line + 1) +
+                      ": a second YAML document: a configuration file holds one");
   }
   if (root.IsNull()) return;  // only comments: defaults stand
 
