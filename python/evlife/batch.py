@@ -323,9 +323,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         _evlife.LifetimeEstimator(sensor=sensor)
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
-    _evlife._check_crop(from_s, to_s)
+    _evlife._check_reader_options(from_s, to_s, time_unit)
     _check_topic(topic)
-    _check_time_unit(time_unit)
     crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic), ("time_unit", time_unit))
             if v is not None}
     os.makedirs(out_dir, exist_ok=True)
@@ -366,11 +365,6 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
 def _check_topic(topic):
     if topic is not None and (not isinstance(topic, str) or not topic):
         raise ValueError("topic: a ROS topic or an HDF5 file's camera, got %r" % (topic,))
-
-
-def _check_time_unit(time_unit):
-    if time_unit is not None and time_unit not in ("s", "ms", "us", "ns"):
-        raise ValueError("time_unit: expected 's', 'ms', 'us' or 'ns', got %r" % (time_unit,))
 
 
 def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, time_unit, options):
@@ -427,7 +421,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     _check_topic(topic)
-    _check_time_unit(time_unit)
+    _evlife._check_reader_options(time_unit=time_unit)
     info = _evlife.scan(path, sensor, config=config, topic=topic, time_unit=time_unit)
     t0, t1 = info["t_first"], info["t_last"] + 1
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]

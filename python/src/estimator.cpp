@@ -524,9 +524,12 @@ on the calling thread (evlife.batch does: one file per core). Other arguments
 as evlife.process.)");
 
   m.def(
-      "_check_crop",
-      [](std::optional<double> from_s, std::optional<double> to_s) { reader_options(std::nullopt, from_s, to_s); },
-      py::arg("from_s"), py::arg("to_s"), "ValueError unless from_s / to_s are valid (as evlife.process checks them).");
+      "_check_reader_options",
+      [](std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& time_unit) {
+        reader_options(std::nullopt, from_s, to_s, std::nullopt, time_unit);
+      },
+      py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("time_unit") = py::none(),
+      "ValueError unless from_s / to_s / time_unit are valid (as evlife.process checks them).");
 
   m.def(
       "scan",

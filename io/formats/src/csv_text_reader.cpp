@@ -81,11 +81,11 @@ bool as_uint16(const DecimalNumber& n, std::uint16_t& v) noexcept {
   return true;
 }
 
+/// A header field's name, unquoted, in lower case.
 std::string lower(Field f) {
   std::string s(f.begin, f.end);
   s.erase(std::remove(s.begin(), s.end(), '"'), s.end());
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
+  return lower_ascii(std::move(s));
 }
 
 char separator_of(const char* p, const char* end) {

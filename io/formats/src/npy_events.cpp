@@ -292,9 +292,7 @@ class NpyEventReader final : public EventReader {
       columns_[role] = Column{role, *h.scalar, 0, "value"};
       if (role == kT) {
         std::int64_t unit = 0;
-        std::string base = lower_ascii(r.array.name);
-        if (base.ends_with(".npy")) base.resize(base.size() - 4);
-        if (column_role(base, unit) == kT) name_unit_ns_ = unit;
+        if (column_role(lower_ascii(npy_array_name(r.array.name)), unit) == kT) name_unit_ns_ = unit;
       }
     }
     layout_ = "arrays";
@@ -457,6 +455,10 @@ class NpyEventReader final : public EventReader {
 };
 
 }  // namespace
+
+std::string npy_array_name(const std::string& member) {
+  return member.ends_with(".npy") ? member.substr(0, member.size() - 4) : member;
+}
 
 std::string npy_layouts() {
   return std::string("readable: a structured array with fields ") + kColumnNames + " (others ignored), or an N x 4 " +

@@ -53,6 +53,9 @@ bool holds_a_column(const NpyHeader& h);
 /// record); `where` names it in messages. Throws ReadError naming `path`.
 NpyHeader read_npy_header(Cursor& bytes, const std::string& path, const std::string& where);
 
+/// An archive member's array name as np.load gives it: "x" for "x.npy".
+std::string npy_array_name(const std::string& member);
+
 /// What is readable, for messages.
 std::string npy_layouts();
 

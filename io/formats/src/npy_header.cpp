@@ -158,24 +158,43 @@ const PyValue* lookup(const PyValue& dict, std::string_view key) {
   return nullptr;
 }
 
+/// A numpy type string taken apart: '<M8[us]' is order '<', kind 'M', count
+/// 8, unit "us" (the one grammar of both readings below).
+struct TypeString {
+  char order = '|';
+  char kind = 0;
+  std::size_t count = 0;  ///< bytes, or characters ('U', 'S')
+  std::string unit;       ///< datetime64's, in brackets
+};
+
+std::optional<TypeString> split_type(const std::string& text) {
+  TypeString t;
+  std::size_t i = 0;
+  if (i < text.size() && (text[i] == '<' || text[i] == '>' || text[i] == '|' || text[i] == '=')) t.order = text[i++];
+  if (i >= text.size()) return std::nullopt;
+  t.kind = text[i++];
+  const std::size_t digits_at = i;
+  while (i < text.size() && text[i] >= '0' && text[i] <= '9' && t.count < kMaxSizedRecordBytes)
+    t.count = t.count * 10 + static_cast<std::size_t>(text[i++] - '0');
+  if (i == digits_at || t.count >= kMaxSizedRecordBytes) return std::nullopt;
+  if (i < text.size()) {
+    if (text[i] != '[' || text.back() != ']') return std::nullopt;
+    t.unit = text.substr(i + 1, text.size() - i - 2);
+  }
+  return t;
+}
+
 /// Bytes of one element of any type string numpy writes ('<U10' holds 10
 /// UCS-4 characters; 0 is a size, of a zero-length field); empty for an
 /// unknown one, or Python objects ('|O').
 std::optional<std::size_t> type_bytes(const std::string& text) {
-  std::size_t i = 0;
-  if (i < text.size() && (text[i] == '<' || text[i] == '>' || text[i] == '|' || text[i] == '=')) ++i;
-  if (i >= text.size()) return std::nullopt;
-  const char kind = text[i++];
-  std::size_t n = 0;
-  const std::size_t digits_at = i;
-  while (i < text.size() && text[i] >= '0' && text[i] <= '9' && n < kMaxSizedRecordBytes) n = n * 10 + static_cast<std::size_t>(text[i++] - '0');
-  if (i == digits_at || n >= kMaxSizedRecordBytes) return std::nullopt;
-  if (i < text.size() && text[i] != '[') return std::nullopt;
-  switch (kind) {
+  const std::optional<TypeString> t = split_type(text);
+  if (!t) return std::nullopt;
+  switch (t->kind) {
     case 'b': case 'i': case 'u': case 'f': case 'c': case 'S': case 'a': case 'V': case 'M': case 'm':
-      return n;
+      return t->count;
     case 'U':
-      return n * 4;
+      return t->count * 4;
     default:
       return std::nullopt;
   }
@@ -249,27 +268,13 @@ std::string npy_shape_text(const NpyHeader& h) {
 }
 
 std::optional<NpyScalar> parse_npy_scalar(const std::string& text) {
+  const std::optional<TypeString> t = split_type(text);
+  if (!t || (t->count != 1 && t->count != 2 && t->count != 4 && t->count != 8)) return std::nullopt;
   NpyScalar s;
-  std::size_t i = 0;
-  if (i < text.size() && (text[i] == '<' || text[i] == '>' || text[i] == '|' || text[i] == '=')) {
-    s.big_endian = text[i] == '>';
-    ++i;
-  }
-  if (i + 2 > text.size()) return std::nullopt;
-  s.kind = text[i++];
-  const std::string rest = text.substr(i);
-  std::string unit;
-  std::string digits = rest;
-  if (const auto open = rest.find('['); open != std::string::npos) {
-    if (rest.back() != ']') return std::nullopt;
-    digits = rest.substr(0, open);
-    unit = rest.substr(open + 1, rest.size() - open - 2);
-  }
-  if (digits == "1") s.bytes = 1;
-  else if (digits == "2") s.bytes = 2;
-  else if (digits == "4") s.bytes = 4;
-  else if (digits == "8") s.bytes = 8;
-  else return std::nullopt;
+  s.big_endian = t->order == '>';
+  s.kind = t->kind;
+  s.bytes = t->count;
+  const std::string& unit = t->unit;
   switch (s.kind) {
     case 'b':
       if (s.bytes != 1 || !unit.empty()) return std::nullopt;

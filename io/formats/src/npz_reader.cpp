@@ -28,10 +28,6 @@ namespace {
 constexpr std::size_t kMaxArrays = 4096;
 constexpr std::uint64_t kMaxHeaderBytesInAll = 64ULL << 20;
 
-std::string base_name(const std::string& member) {
-  return member.ends_with(".npy") ? member.substr(0, member.size() - 4) : member;
-}
-
 /// What an archive's array is, kept small (a header's fields are not).
 struct Listed {
   const ZipMember* member = nullptr;
@@ -48,7 +44,7 @@ std::vector<ContainerStream> streams_of(const std::vector<Listed>& arrays, const
   std::vector<ContainerStream> streams;
   for (const Listed& a : arrays) {
     const bool is_read = std::find(read.begin(), read.end(), a.member) != read.end();
-    streams.push_back(ContainerStream{base_name(a.member->name), a.kind, static_cast<std::uint64_t>(a.length), is_read});
+    streams.push_back(ContainerStream{npy_array_name(a.member->name), a.kind, static_cast<std::uint64_t>(a.length), is_read});
   }
   return streams;
 }
@@ -98,17 +94,17 @@ Listed list_array(const InputFile& file, const ZipMember& m, const std::string& 
     const std::unique_ptr<Cursor> bytes = open_zip_member(file, m);
     const NpyHeader h = read_npy_header(*bytes, path, "array '" + m.name + "'");
     header_bytes += static_cast<std::uint64_t>(h.data_offset);
-    a.text = base_name(m.name) + " " + npy_shape_text(h);
+    a.text = npy_array_name(m.name) + " " + npy_shape_text(h);
     a.events = holds_events(h);
     a.structured = a.events && !h.fields.empty();
     std::int64_t unit = 0;
-    a.role = holds_a_column(h) ? column_role(lower_ascii(base_name(m.name)), unit) : -1;
+    a.role = holds_a_column(h) ? column_role(lower_ascii(npy_array_name(m.name)), unit) : -1;
     a.length = h.shape.empty() ? 0 : h.shape[0];
     a.kind = a.events ? std::string(a.structured ? "events " : "N x 4 ") + npy_shape_text(h)
              : a.role >= 0 ? std::string("column ") + "xytp"[a.role] + " " + npy_shape_text(h)
                            : "other " + npy_shape_text(h);
   } catch (const ReadError& e) {
-    a.text = base_name(m.name) + " (not read: " + e.reason() + ")";
+    a.text = npy_array_name(m.name) + " (not read: " + e.reason() + ")";
     a.kind = "not read";
     // What reading a header may have inflated, charged to the budget too.
     header_bytes += std::min<std::uint64_t>(m.size_bytes, kNpyMaxHeaderBytes + 12);
@@ -144,9 +140,9 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
       arrays.push_back(std::move(a));
     }
     for (const ZipMember* m : names)
-      if (m->name == options.topic || base_name(m->name) == options.topic) return one(*m);
+      if (m->name == options.topic || npy_array_name(m->name) == options.topic) return one(*m);
     std::string known;
-    for (const ZipMember* m : names) known += (known.empty() ? "" : ", ") + base_name(m->name);
+    for (const ZipMember* m : names) known += (known.empty() ? "" : ", ") + npy_array_name(m->name);
     throw ReadError(path, -1, -1, "--topic " + options.topic + ": no such array (arrays: " +
                                       (known.empty() ? "none" : known) + ")");
   }
@@ -191,7 +187,7 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
         if (a->length != length) continue;
         unique = chosen[role] == nullptr;
         if (!unique) {
-          return refuse("arrays '" + base_name(chosen[role]->member->name) + "' and '" + base_name(a->member->name) +
+          return refuse("arrays '" + npy_array_name(chosen[role]->member->name) + "' and '" + npy_array_name(a->member->name) +
                         "' both name " + std::string(1, "xytp"[role]));
         }
         chosen[role] = a;

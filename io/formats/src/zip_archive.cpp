@@ -87,7 +87,7 @@ void apply_zip64_extra(std::span<const std::uint8_t> extra, ZipMember& m, bool& 
 class MemberCursor final : public Cursor {
  public:
   MemberCursor(std::unique_ptr<Cursor> inner, const ZipMember& member)
-      : inner_(std::move(inner)), name_(member.name), left_(member.size_bytes), expected_crc_(member.crc32) {}
+      : inner_(std::move(inner)), left_(member.size_bytes), expected_crc_(member.crc32) {}
   std::size_t read(std::span<std::byte> out) override {
     const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(out.size(), left_));
     const std::size_t got = inner_->read(out.first(want));
@@ -123,7 +123,6 @@ class MemberCursor final : public Cursor {
 
  private:
   std::unique_ptr<Cursor> inner_;
-  std::string name_;
   std::uint64_t left_;
   std::uint32_t expected_crc_;
   std::uint32_t crc_ = 0;
