@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -179,6 +182,68 @@ TEST(Npz, ACorruptionOnlyItsChecksumTellsIsAnErrorAfterTheEvents) {
   ASSERT_EQ(r.events.size(), 200u);
   EXPECT_EQ(r.events[120].p, -1);
   EXPECT_NE(std::string(r.error->what()).find("its CRC-32 does not match"), std::string::npos) << r.error->what();
+}
+
+/// `name` cut to its first `bytes` (patched by `patch`), written beside the test's other files.
+std::string cut_copy(const std::string& name, std::size_t bytes,
+                     const std::function<void(std::vector<char>&)>& patch = {}) {
+  std::ifstream in(kNpy + name, std::ios::binary);
+  std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  data.resize(std::min(bytes, data.size()));
+  if (patch) patch(data);
+  const std::string path = ::testing::TempDir() + "/cut_" + std::to_string(bytes) + "_" + name;
+  std::ofstream(path, std::ios::binary).write(data.data(), static_cast<std::streamsize>(data.size()));
+  return path;
+}
+
+std::size_t file_bytes(const std::string& name) {
+  std::ifstream in(kNpy + name, std::ios::binary | std::ios::ate);
+  return static_cast<std::size_t>(in.tellg());
+}
+
+TEST(Npz, ACutArchiveGivesTheEventsBeforeTheCutThenAnError) {
+  for (const char* name : {"events.npz", "events_compressed.npz"}) {
+    // Inside the array: its whole records, then the error at the first it lacks.
+    const std::size_t size = file_bytes(name);
+    const ReadAll inside = evlife::test::read_all(cut_copy(name, size * 2 / 3));
+    ASSERT_TRUE(inside.error) << name;
+    ASSERT_GT(inside.events.size(), 20u) << name;
+    ASSERT_LT(inside.events.size(), 200u) << name;
+    expect_events(inside.events, expected(static_cast<int>(inside.events.size())), name);
+    EXPECT_EQ(inside.error->event_index(), static_cast<std::int64_t>(inside.events.size())) << name;
+    EXPECT_NE(std::string(inside.error->what()).find("the archive is cut: it ends at byte " + std::to_string(size * 2 / 3)),
+              std::string::npos)
+        << inside.error->what();
+    // Inside the central directory: every event, then the error.
+    const ReadAll directory = evlife::test::read_all(cut_copy(name, size - 30));
+    ASSERT_TRUE(directory.error) << name;
+    expect_events(directory.events, expected(), name);
+    EXPECT_NE(std::string(directory.error->what()).find("cut inside its central directory"), std::string::npos)
+        << directory.error->what();
+  }
+  // zipfile states a member's sizes when it closes it: cut while written, its local header says 0
+  // (in its ZIP64 extra). The member is read to the cut all the same.
+  for (const char* name : {"events.npz", "events_compressed.npz"}) {
+    const std::size_t cut_at = file_bytes(name) * 2 / 3;
+    const ReadAll stated = evlife::test::read_all(cut_copy(name, cut_at));
+    const ReadAll unsized = evlife::test::read_all(cut_copy(name, cut_at, [](std::vector<char>& d) {
+      ASSERT_EQ(std::string(d.data() + 30, 10), "events.npy");
+      for (std::size_t i = 18; i < 26; ++i) d[i] = '\xff';   // the sizes: in the ZIP64 extra
+      for (std::size_t i = 44; i < 60; ++i) d[i] = 0;       // ... which says 0
+    }));
+    ASSERT_TRUE(unsized.error) << name;
+    EXPECT_EQ(unsized.events.size(), stated.events.size()) << name;
+    expect_events(unsized.events, expected(static_cast<int>(unsized.events.size())), name);
+  }
+  // Column arrays: a column cut off is named with the cut.
+  const std::string columns = evlife::test::open_error(cut_copy("columns.npz", file_bytes("columns.npz") * 2 / 3));
+  EXPECT_NE(columns.find("no x, y, t and p arrays of one length (arrays: x (200,), y (200,), t (200,))"),
+            std::string::npos)
+      << columns;
+  EXPECT_NE(columns.find("a cut archive?): 3 members found by their local headers"), std::string::npos) << columns;
+  // Too little for a member: refused, as before.
+  EXPECT_NE(evlife::test::open_error(cut_copy("events.npz", 40)).find("no member from its start (a cut local header)"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -267,6 +267,16 @@ for name in ('structured_i8', 'evlife_read', 'seconds_f8', 'big_endian', 'dateti
 for name in ('events', 'events_compressed', 'columns', 'columns_compressed', 'two_event_arrays'):
     with open(os.path.join(NPY, name + '.npz'), 'rb') as f:
         put('npz', name + '.npz', f.read())
+# Cut archives (no end record: read by their local headers), one inside a deflated member whose
+# local header states no size (as zipfile leaves it until the member is closed).
+with open(os.path.join(NPY, 'columns.npz'), 'rb') as f:
+    data = f.read()
+put('npz', 'columns_cut.npz', data[:len(data) * 2 // 3])
+with open(os.path.join(NPY, 'events_compressed.npz'), 'rb') as f:
+    data = bytearray(f.read()[:1000])
+struct.pack_into('<III', data, 14, 0, 0xFFFFFFFF, 0xFFFFFFFF)  # CRC, sizes: ZIP64's
+struct.pack_into('<QQ', data, 30 + 10 + 4, 0, 0)  # the ZIP64 extra's sizes
+put('npz', 'events_compressed_cut_unsized.npz', bytes(data))
 
 # ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
 # timestamp overflow, one invalid event), an IMU and a special packet.

@@ -152,8 +152,10 @@ struct Records {
 class NpyEventReader final : public EventReader {
  public:
   NpyEventReader(std::string path, std::string_view format, std::vector<NpyArray> arrays, NpyLayout layout,
-                 const ReaderOptions& options, std::vector<ContainerStream> streams)
-      : path_(std::move(path)), format_(format), streams_(std::move(streams)) {
+                 const ReaderOptions& options, std::vector<ContainerStream> streams,
+                 std::optional<ReadError> fault_after_events)
+      : path_(std::move(path)), format_(format), streams_(std::move(streams)),
+        fault_after_events_(std::move(fault_after_events)) {
     for (NpyArray& a : arrays) {
       Records r;
       r.array = std::move(a);
@@ -439,11 +441,14 @@ class NpyEventReader final : public EventReader {
         return;
       }
     }
+    if (fault_after_events_)
+      pending_.emplace(path_, fault_after_events_->byte_offset(), next_, fault_after_events_->reason());
   }
 
   std::string path_;
   std::string_view format_;
   std::vector<ContainerStream> streams_;
+  std::optional<ReadError> fault_after_events_;
   std::vector<Records> records_;
   std::int64_t whole_count_ = INT64_MAX;    ///< whole records in every array
   std::int64_t next_ = 0;
@@ -498,9 +503,10 @@ NpyHeader read_npy_header(Cursor& bytes, const std::string& path, const std::str
 
 std::unique_ptr<EventReader> make_npy_event_reader(std::string path, std::string_view format,
                                                    std::vector<NpyArray> arrays, NpyLayout layout,
-                                                   const ReaderOptions& options, std::vector<ContainerStream> streams) {
+                                                   const ReaderOptions& options, std::vector<ContainerStream> streams,
+                                                   std::optional<ReadError> fault_after_events) {
   return std::make_unique<NpyEventReader>(std::move(path), format, std::move(arrays), layout, options,
-                                          std::move(streams));
+                                          std::move(streams), std::move(fault_after_events));
 }
 
 }  // namespace evlife::io::detail

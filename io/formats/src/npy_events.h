@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,10 +40,13 @@ enum class NpyLayout { one_array, column_arrays };
 /// The reader; throws ReadError naming `path` when the arrays are not events
 /// (the reason, and what is readable).
 /// `streams`: an archive's arrays, for `evlife info` (EventReader::streams()).
+/// `fault_after_events`: thrown after the last event where the arrays hold no
+/// fault of their own (a cut archive whose arrays read are whole).
 std::unique_ptr<EventReader> make_npy_event_reader(std::string path, std::string_view format,
                                                    std::vector<NpyArray> arrays, NpyLayout layout,
                                                    const ReaderOptions& options,
-                                                   std::vector<ContainerStream> streams = {});
+                                                   std::vector<ContainerStream> streams = {},
+                                                   std::optional<ReadError> fault_after_events = std::nullopt);
 
 /// Whether a header is one array of events (structured with the four names,
 /// or 2-D with 4 columns), or a 1-D array of numbers (one column).

@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <unordered_map>
 
@@ -114,8 +115,12 @@ Listed list_array(const InputFile& file, const ZipMember& m, const std::string& 
 
 std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptions& options) {
   auto file = std::make_shared<const InputFile>(path);
-  const std::vector<ZipMember> members = read_zip_directory(*file);
-  const std::vector<const ZipMember*> names = arrays_of(members);
+  const ZipDirectory directory = read_zip_directory(*file);
+  const std::vector<const ZipMember*> names = arrays_of(directory.members);
+  // A cut archive: what its arrays hold up to the cut is read, then this error (the arrays after it are lost).
+  std::optional<ReadError> cut;
+  if (!directory.cut_note.empty()) cut.emplace(path, static_cast<std::int64_t>(directory.cut_at), -1, directory.cut_note);
+  const auto with_cut = [&](const std::string& why) { return cut ? why + "; " + directory.cut_note : why; };
   std::vector<Listed> arrays;
   const auto one = [&](const ZipMember& m) {
     std::vector<NpyArray> chosen;
@@ -130,7 +135,7 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
       a.length = h.shape.empty() ? 0 : h.shape[0];
     }
     return make_npy_event_reader(path, "npz", std::move(chosen), NpyLayout::one_array, options,
-                                 streams_of(arrays, {&m}));
+                                 streams_of(arrays, {&m}), cut);
   };
   if (!options.topic.empty()) {  // only that array is opened; the others are listed by name
     for (std::size_t i = 0; i < names.size() && i < kMaxArrays; ++i) {
@@ -143,8 +148,8 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
       if (m->name == options.topic || npy_array_name(m->name) == options.topic) return one(*m);
     std::string known;
     for (const ZipMember* m : names) known += (known.empty() ? "" : ", ") + npy_array_name(m->name);
-    throw ReadError(path, -1, -1, "--topic " + options.topic + ": no such array (arrays: " +
-                                      (known.empty() ? "none" : known) + ")");
+    throw ReadError(path, -1, -1, with_cut("--topic " + options.topic + ": no such array (arrays: " +
+                                               (known.empty() ? "none" : known) + ")"));
   }
   if (names.size() > kMaxArrays)
     throw ReadError(path, -1, -1, std::to_string(names.size()) + " arrays, more than the " +
@@ -158,8 +163,8 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
   }
   const auto refuse = [&](const std::string& why) -> std::unique_ptr<EventReader> {
     throw ReadError(path, -1, -1,
-                    "not readable events: " + why + " (arrays: " + listing(arrays) + "); " + npy_layouts() +
-                        ", or 1-D arrays named x, y, t and p");
+                    with_cut("not readable events: " + why + " (arrays: " + listing(arrays) + "); " + npy_layouts() +
+                             ", or 1-D arrays named x, y, t and p"));
   };
   // A structured array of events first (named fields say it is events); several: the user chooses.
   const auto events_of = [&arrays](bool structured) {
@@ -201,7 +206,7 @@ std::unique_ptr<EventReader> open_npz(const std::string& path, const ReaderOptio
       read.push_back(c->member);
     }
     return make_npy_event_reader(path, "npz", std::move(columns), NpyLayout::column_arrays, options,
-                                 streams_of(arrays, read));
+                                 streams_of(arrays, read), cut);
   }
   if (const auto plain = events_of(false); !plain.empty()) {
     if (plain.size() > 1) return refuse("several N x 4 arrays; --topic NAME chooses one");

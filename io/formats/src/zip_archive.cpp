@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <optional>
 #include <span>
 
 #include "evlife/io/event_reader.h"
@@ -25,6 +26,8 @@ constexpr std::size_t kLocalBytes = 30;
 constexpr std::uint64_t kMaxDirectoryBytes = 64ULL << 20;
 /// Sizes beyond this are corrupt (and would overflow signed offsets).
 constexpr std::uint64_t kMaxMemberBytes = 1ULL << 62;
+/// A cut archive's local headers are followed up to this many members.
+constexpr std::size_t kMaxScannedMembers = 1U << 16;
 
 std::uint64_t le(const std::uint8_t* p, int bytes) {
   std::uint64_t v = 0;
@@ -44,10 +47,10 @@ std::vector<std::uint8_t> read_exact(const InputFile& file, std::uint64_t offset
 }
 
 /// Where the end of central directory record begins (it may be followed by
-/// a comment of up to 64 KiB).
-std::uint64_t find_end_record(const InputFile& file) {
+/// a comment of up to 64 KiB); none in a cut archive.
+std::optional<std::uint64_t> find_end_record(const InputFile& file) {
   const std::uint64_t size = file.size_bytes();
-  if (size < kEndBytes) fail(file, 0, "shorter than an end of central directory record");
+  if (size < kEndBytes) return std::nullopt;
   const std::uint64_t tail_bytes = std::min<std::uint64_t>(size, kEndBytes + kMaxCommentBytes);
   const std::uint64_t tail_at = size - tail_bytes;
   const std::vector<std::uint8_t> tail = read_exact(file, tail_at, static_cast<std::size_t>(tail_bytes), "its end");
@@ -56,7 +59,7 @@ std::uint64_t find_end_record(const InputFile& file) {
     if (le(&tail[i], 4) == kEndOfDirectory && i + kEndBytes + le(&tail[i + 20], 2) <= tail.size())
       return tail_at + i;
   }
-  fail(file, size, "no end of central directory record");
+  return std::nullopt;
 }
 
 /// A ZIP64 extended-information extra field: the 64-bit values of the fields
@@ -86,8 +89,11 @@ void apply_zip64_extra(std::span<const std::uint8_t> extra, ZipMember& m, bool& 
 /// Bounds a cursor to the member's size, and checks its CRC-32 at finish().
 class MemberCursor final : public Cursor {
  public:
-  MemberCursor(std::unique_ptr<Cursor> inner, const ZipMember& member)
-      : inner_(std::move(inner)), left_(member.size_bytes), expected_crc_(member.crc32) {}
+  MemberCursor(std::unique_ptr<Cursor> inner, const ZipMember& member, std::uint64_t data_at)
+      : inner_(std::move(inner)), left_(member.size_bytes), expected_crc_(member.crc32),
+        cut_message_(member.cut ? "the archive is cut: it ends at byte " + std::to_string(data_at + member.compressed_bytes) +
+                                      ", inside this member"
+                                : std::string{}) {}
   std::size_t read(std::span<std::byte> out) override {
     const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(out.size(), left_));
     const std::size_t got = inner_->read(out.first(want));
@@ -95,7 +101,9 @@ class MemberCursor final : public Cursor {
     left_ -= got;
     if (got < out.size() && error_.empty()) {
       if (got < want) {
-        error_ = inner_->error().empty() ? "the member's data ends early" : inner_->error();
+        error_ = !cut_message_.empty()       ? cut_message_
+                 : inner_->error().empty() ? "the member's data ends early"
+                                           : inner_->error();
       } else {
         end_short("the member ends");
       }
@@ -125,6 +133,7 @@ class MemberCursor final : public Cursor {
   std::unique_ptr<Cursor> inner_;
   std::uint64_t left_;
   std::uint32_t expected_crc_;
+  std::string cut_message_;  ///< why the data ends early, for a cut member
   std::uint32_t crc_ = 0;
 };
 
@@ -136,10 +145,89 @@ std::uint64_t data_offset(const InputFile& file, const ZipMember& m) {
   return m.local_header_offset + kLocalBytes + le(&local[26], 2) + le(&local[28], 2);
 }
 
+/// Whether a ZIP record's signature ("PK" and two bytes) is at `at`.
+bool signature_at(const InputFile& file, std::uint64_t at) {
+  std::array<std::uint8_t, 2> pk{};
+  return file.read_at(at, std::as_writable_bytes(std::span(pk))) == 2 && pk[0] == 'P' && pk[1] == 'K';
+}
+
+/// Without an end record: the members as their local headers show them,
+/// from the start of the file, until a header that is not one (the central
+/// directory, or the cut) or a member that runs past the file's end or whose
+/// size its header does not state (zipfile writes 0 until the member is
+/// closed; a data descriptor follows the data): that one is read to the cut.
+ZipDirectory scan_local_headers(const InputFile& file) {
+  const std::uint64_t size = file.size_bytes();
+  ZipDirectory d;
+  std::uint64_t at = 0, header_bytes = 0;
+  std::string ended;  // what ends the scan, for the note
+  for (;;) {
+    std::array<std::uint8_t, kLocalBytes> h{};
+    const std::size_t got = at <= size ? file.read_at(at, std::as_writable_bytes(std::span(h))) : 0;
+    if (got < 4 || le(h.data(), 4) != kLocalHeader) {
+      ended = got == 0                                ? "its end"
+              : le(h.data(), 4) == kDirectoryEntry ? "its central directory"
+                                                     : "what is not a local header";
+      break;
+    }
+    const auto name_bytes = static_cast<std::size_t>(le(&h[26], 2));
+    const auto extra_bytes = static_cast<std::size_t>(le(&h[28], 2));
+    header_bytes += name_bytes + extra_bytes;
+    if (got < kLocalBytes || kLocalBytes + name_bytes + extra_bytes > size - at) {
+      ended = "a cut local header";
+      break;
+    }
+    if (d.members.size() == kMaxScannedMembers || header_bytes > kMaxDirectoryBytes) {
+      ended = "the " + std::to_string(d.members.size()) + " members followed";
+      break;
+    }
+    ZipMember m;
+    m.flags = static_cast<std::uint16_t>(le(&h[6], 2));
+    m.method = static_cast<std::uint16_t>(le(&h[8], 2));
+    m.crc32 = static_cast<std::uint32_t>(le(&h[14], 4));
+    m.compressed_bytes = le(&h[18], 4);
+    m.size_bytes = le(&h[22], 4);
+    m.local_header_offset = at;
+    std::vector<std::uint8_t> name_extra =
+        read_exact(file, at + kLocalBytes, name_bytes + extra_bytes, "a local header");
+    m.name.assign(reinterpret_cast<const char*>(name_extra.data()), name_bytes);
+    bool size_big = m.size_bytes == 0xFFFFFFFF, compressed_big = m.compressed_bytes == 0xFFFFFFFF, offset_big = false;
+    apply_zip64_extra(std::span(name_extra).subspan(name_bytes), m, size_big, compressed_big, offset_big);
+    const std::uint64_t data_at = at + kLocalBytes + name_bytes + extra_bytes;
+    const bool unstated = size_big || compressed_big || (m.flags & 0x8) != 0 || m.compressed_bytes > kMaxMemberBytes ||
+                          m.size_bytes > kMaxMemberBytes ||
+                          (m.compressed_bytes == 0 && data_at < size && !signature_at(file, data_at));
+    if (unstated || m.compressed_bytes > size - data_at) {  // read to the cut
+      m.cut = true;
+      m.compressed_bytes = size - data_at;
+      if (unstated) m.size_bytes = m.method == 0 ? m.compressed_bytes : kMaxMemberBytes;
+      d.members.push_back(std::move(m));
+      ended = "the cut";
+      at = size;
+      break;
+    }
+    d.members.push_back(std::move(m));
+    at = data_at + d.members.back().compressed_bytes;
+  }
+  if (d.members.empty())
+    fail(file, at, "no end of central directory record, and no member from its start (" + ended + ")");
+  d.cut_at = at;
+  const std::string found = std::to_string(d.members.size()) + (d.members.size() == 1 ? " member" : " members");
+  d.cut_note = ended == "its central directory"
+                   ? "no end of central directory record (the archive is cut inside its central directory, which "
+                     "begins at byte " + std::to_string(at) + "): its " + found + " found by their local headers"
+                   : "no end of central directory record (a cut archive?): " + found +
+                         " found by their local headers, up to " + ended + " at byte " + std::to_string(at) +
+                         "; any after it are lost";
+  return d;
+}
+
 }  // namespace
 
-std::vector<ZipMember> read_zip_directory(const InputFile& file) {
-  const std::uint64_t end_at = find_end_record(file);
+ZipDirectory read_zip_directory(const InputFile& file) {
+  const std::optional<std::uint64_t> end_record = find_end_record(file);
+  if (!end_record) return scan_local_headers(file);
+  const std::uint64_t end_at = *end_record;
   const std::vector<std::uint8_t> end = read_exact(file, end_at, kEndBytes, "its end record");
   std::uint64_t entries = le(&end[10], 2);
   std::uint64_t directory_bytes = le(&end[12], 4);
@@ -161,7 +249,8 @@ std::vector<ZipMember> read_zip_directory(const InputFile& file) {
     fail(file, end_at, "its central directory lies outside the file");
   const std::vector<std::uint8_t> dir =
       read_exact(file, directory_at, static_cast<std::size_t>(directory_bytes), "its central directory");
-  std::vector<ZipMember> members;
+  ZipDirectory d;
+  std::vector<ZipMember>& members = d.members;
   std::size_t at = 0;
   for (std::uint64_t k = 0; k < entries; ++k) {
     const std::uint64_t offset = directory_at + at;
@@ -191,7 +280,7 @@ std::vector<ZipMember> read_zip_directory(const InputFile& file) {
     members.push_back(std::move(m));
     at += kEntryBytes + name_bytes + extra_bytes + comment_bytes;
   }
-  return members;
+  return d;
 }
 
 std::int64_t zip_member_data_offset(const InputFile& file, const ZipMember& member) {
@@ -205,7 +294,7 @@ std::unique_ptr<Cursor> open_zip_member(const InputFile& file, const ZipMember& 
     fail(file, at, "member '" + member.name + "' ends beyond the file (cut?)");
   std::unique_ptr<Cursor> inner;
   if (member.method == 0) {
-    if (member.compressed_bytes != member.size_bytes)
+    if (member.compressed_bytes != member.size_bytes && !member.cut)
       fail(file, member.local_header_offset, "stored member '" + member.name + "' states two sizes");
     inner = std::make_unique<RawCursor>(file, at, at + member.size_bytes);
   } else if (member.method == 8) {
@@ -215,7 +304,7 @@ std::unique_ptr<Cursor> open_zip_member(const InputFile& file, const ZipMember& 
          "member '" + member.name + "' uses compression method " + std::to_string(member.method) +
              " (stored and deflated members are read: np.savez, np.savez_compressed)");
   }
-  return std::make_unique<MemberCursor>(std::move(inner), member);
+  return std::make_unique<MemberCursor>(std::move(inner), member, at);
 }
 
 }  // namespace evlife::io::detail

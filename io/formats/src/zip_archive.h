@@ -24,12 +24,27 @@ struct ZipMember {
   std::uint64_t compressed_bytes = 0;
   std::uint64_t size_bytes = 0;         ///< uncompressed
   std::uint64_t local_header_offset = 0;
+  /// The archive ends inside its data (found by its local header, or its size
+  /// unknown there): read up to the file's end, where a cursor's read stops
+  /// with an error saying so.
+  bool cut = false;
 };
 
-/// The archive's members, in central-directory order. Throws ReadError
-/// naming the file and the byte offset of what is wrong (no end record, a
-/// directory outside the file, a cut entry).
-std::vector<ZipMember> read_zip_directory(const InputFile& file);
+struct ZipDirectory {
+  std::vector<ZipMember> members;
+  /// Empty, or why the members were found by their local headers: an archive
+  /// without its end record, cut while written or copied. What its members
+  /// hold up to the cut is readable; the members after it are lost.
+  std::string cut_note;
+  std::uint64_t cut_at = 0;  ///< the file offset the note is about
+};
+
+/// The archive's members, in central-directory order; without an end of
+/// central directory record (a cut archive), those its local headers show
+/// from the start of the file (cut_note says so). Throws ReadError naming the
+/// file and the byte offset of what is wrong (a directory outside the file, a
+/// cut entry, no member found).
+ZipDirectory read_zip_directory(const InputFile& file);
 
 /// A cursor over a member's uncompressed bytes: they end at its stated size,
 /// and finish() checks its CRC-32 (over every byte read: read them all
