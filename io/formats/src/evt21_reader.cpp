@@ -5,7 +5,7 @@
 #include <cstring>
 #include <memory>
 
-#include "prophesee_header.h"
+#include "prophesee_header.h"  // is_prophesee_raw
 #include "reader_registry.h"
 
 namespace evlife::io {
@@ -57,17 +57,7 @@ Evt21Reader::Layout Evt21Reader::detect_layout(std::span<const std::uint8_t> wor
                                                                           : Layout::whole_word;
 }
 
-Evt21Reader::Evt21Reader(const std::string& path) : file_(path) {
-  const PropheseeHeader header = read_prophesee_header(file_);
-  const std::string version = header.evt_version();
-  if (version != "2.1") {
-    throw ReadError(path, 0, -1, "not a Prophesee EVT 2.1 RAW file (header says evt '" + version + "')");
-  }
-  sensor_ = header.sensor_size();
-  if (sensor_) {
-    max_x_ = static_cast<std::uint32_t>(std::min(sensor_->width, 2048) - 1);
-    max_y_ = static_cast<std::uint32_t>(std::min(sensor_->height, 2048) - 1);
-  }
+Evt21Reader::Evt21Reader(const std::string& path) : PropheseeWordReader(path, "2.1") {
   const std::size_t probe = std::min(file_.fill(kLayoutProbeBytes), kLayoutProbeBytes);
   layout_ = detect_layout(std::span(file_.data(), probe / kEvt21WordBytes * kEvt21WordBytes));
 }

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <memory>
 
-#include "prophesee_header.h"
+#include "prophesee_header.h"  // is_prophesee_raw
 #include "reader_registry.h"
 
 namespace evlife::io {
@@ -13,20 +13,6 @@ namespace {
 constexpr std::size_t kEvt2WordBytes = 4;
 
 }  // namespace
-
-Evt2Reader::Evt2Reader(const std::string& path) : file_(path) {
-  const PropheseeHeader header = read_prophesee_header(file_);
-  const std::string version = header.evt_version();
-  if (version != "2.0") {
-    throw ReadError(path, 0, -1,
-                    "not a Prophesee EVT 2.0 RAW file (header says evt '" + version + "')");
-  }
-  sensor_ = header.sensor_size();
-  if (sensor_) {
-    max_x_ = static_cast<std::uint32_t>(std::min(sensor_->width, 2048) - 1);
-    max_y_ = static_cast<std::uint32_t>(std::min(sensor_->height, 2048) - 1);
-  }
-}
 
 std::size_t Evt2Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
