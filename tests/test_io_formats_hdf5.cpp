@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -30,6 +31,7 @@
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
 #include "hdf5_dataset.h"
+#include "hdf5_open_probe.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -993,6 +995,51 @@ void expect_regression_read_error(const std::string& name, const std::string& ex
 // by the fuzz targets): the reader's forked probe must turn it into a ReadError.
 TEST(IoFormatsHdf5, LibraryCrashOnCorruptFileBecomesReadError) {
   expect_regression_read_error("fpe_h5d_chunk_set_info.h5", "the HDF5 library");
+}
+
+// libhdf5 (Debian's is built thread-safe) holds one global lock through
+// every API call, also while it runs a caller's iteration callback. A child
+// forked meanwhile inherits the lock held and never gets it: the probe took
+// such a child for a file that hangs the library and refused a valid file
+// after 10 s (two threads of one Python process reading .h5 files at once,
+// or a Dask worker's). Now the probe forks again once the lock is free.
+TEST(IoFormatsHdf5, AnotherThreadHoldingTheLibraryDoesNotMakeAValidFileFail) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("held.h5");
+  std::vector<Event> written;
+  for (const auto& a : make_events(1'000, {128, 128})) written.push_back(a.event);
+  {
+    auto writer = evlife::io::open_event_writer(path);
+    writer->write(written);
+    writer->close();
+  }
+  std::atomic<bool> inside{false};
+  std::thread holder([&] {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    // The callback runs with the library's lock held: hold it 0.5 s.
+    const H5L_iterate_t hold = [](hid_t, const char*, const H5L_info_t*, void* flag) -> herr_t {
+      static_cast<std::atomic<bool>*>(flag)->store(true);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      return 1;  // stop after the first link
+    };
+    H5Literate(file, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, hold, &inside);
+    H5Fclose(file);
+  });
+  while (!inside.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  // The reader's first calls would wait for the lock; another thread can take it between
+  // them and the probe's fork, as here.
+  std::optional<ReadError> probe_error;
+  try {
+    evlife::io::probe_hdf5_open_in_child(path);
+  } catch (const ReadError& e) {
+    probe_error = e;
+  }
+  holder.join();
+  ASSERT_FALSE(probe_error) << probe_error->what();
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), written.size());
 }
 
 // A file whose chunk description claims ~4 GB chunks (found by fuzz_hdf5 as

@@ -47,7 +47,6 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
     read_augmented,
     scan,
     synth,
-    write,
 )
 from . import _evlife
 from . import _streams
@@ -125,6 +124,15 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
     return _evlife._frame(_as_augmented(augmented), int(t_us), sensor, mode, color, scale,
                           bool(caption), bool(legend), bool(thinning),
                           (float(lifetime_range_ms[0]), float(lifetime_range_ms[1])))
+
+
+def write(path, augmented, sensor):
+    return _evlife.write(path, _as_augmented(augmented), sensor)
+
+
+# Any array with the fields of AUGMENTED_DTYPE, as frame() takes: np.concatenate of
+# process()'s chunks drops its padding (29-byte records), a slice is strided.
+write.__doc__ = _evlife.write.__doc__
 
 
 def _leave_before_hdf5_crashes():

@@ -23,6 +23,7 @@ Each task of process_files runs `evlife process PATH -o OUT_DIR/NAME.bin` in the
 GIL released), so the workers need evlife importable (PYTHONPATH or an
 installed package) and the paths readable where they run.
 """
+import operator
 import os
 import shutil
 import sys
@@ -272,6 +273,19 @@ def _check_main_guard():
             "scheduler= the address of a running scheduler." % site)
 
 
+def _check_workers(workers, scheduler):
+    # LocalCluster(n_workers=0) starts no worker: the tasks would wait for ever.
+    if scheduler is not None:
+        return
+    try:
+        count = operator.index(workers)
+    except TypeError:
+        count = 0
+    if isinstance(workers, bool) or count < 1:
+        raise ValueError("workers must be a whole number of at least 1 (the LocalCluster's processes), got %r"
+                         % (workers,))
+
+
 def _client(scheduler, workers):
     """(client, things to close). scheduler: None, an address, a Client or a cluster."""
     from distributed import Client
@@ -316,7 +330,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     """
     if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
         raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
-    paths = [os.fspath(p) for p in paths]
+    paths = [os.fsdecode(p) for p in paths]
+    out_dir = os.fsdecode(out_dir)
+    _check_workers(workers, scheduler)
     # Bad options fail now, with the command line's message, not once per task.
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
@@ -411,8 +427,9 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     process_files. Raises on failure (the slices are one result: no part file
     stays, nor a partial output).
     """
-    path = os.path.abspath(os.fspath(path))
-    output = os.path.abspath(os.fspath(output))  # the parts are written where the workers run
+    path = os.path.abspath(os.fsdecode(path))
+    output = os.path.abspath(os.fsdecode(output))  # the parts are written where the workers run
+    _check_workers(workers, scheduler)
     if slices < 1:
         raise ValueError("slices must be at least 1")
     if not output.endswith(".bin"):

@@ -3,6 +3,9 @@
 #include <cerrno>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
 
 #include "evlife/config/config.h"
 #include "evlife/io/write_error.h"
@@ -31,6 +34,19 @@ constexpr const char* kInputErrorDoc =
     "partial (the good events before the fault, or None) say the same as data;\n"
     "events_written: how many events process_file's output holds (else None).";
 
+/// A reader's message names the command line's flags; in Python they are
+/// keywords: said after it, for the flags it names.
+std::string with_python_keywords(const std::string& message) {
+  static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"--topic", "topic="}, {"--sensor", "sensor=(width, height)"}, {"--time-unit", "time_unit="}};
+  std::string said;
+  for (const auto& [flag, keyword] : kFlags) {
+    if (message.find(flag) == std::string::npos) continue;
+    said += (said.empty() ? "" : ", ") + std::string(flag) + " is " + std::string(keyword);
+  }
+  return said.empty() ? message : message + " (in Python " + said + ")";
+}
+
 }  // namespace
 
 void raise_input_error(const io::ReadError& e, py::object partial) {
@@ -45,7 +61,7 @@ void raise_input_error(const io::ReadError& e, py::object partial) {
     PyErr_SetObject(PyExc_FileNotFoundError, error.ptr());
     throw py::error_already_set();
   }
-  py::object error = py::reinterpret_borrow<py::object>(g_input_error)(e.what());
+  py::object error = py::reinterpret_borrow<py::object>(g_input_error)(with_python_keywords(e.what()));
   // A file name that is not UTF-8 as os.fsdecode gives it (the message quotes it escaped).
   error.attr("path") = py::reinterpret_steal<py::object>(PyUnicode_DecodeFSDefault(e.path().c_str()));
   error.attr("byte_offset") = e.byte_offset();

@@ -162,7 +162,7 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
   else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
-  else run.sensor = io::sensor_size_from_data(path, whole_stream(crop));  // the CLI's rule
+  else run.sensor = io::sensor_size_from_data_until(path, whole_stream(crop), [&signals] { return signals.pending(); });
   crop.sensor = run.sensor;
   std::unique_ptr<io::EventReader> reader = io::open_event_reader(path, crop);
   run.format = std::string(reader->format_name());
@@ -309,23 +309,30 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   std::int64_t first = 0, last = 0;
   std::uint64_t count = 0;
   FileRun run;
+  SignalCheck signals;
   {
     py::gil_scoped_release release;
     const auto probe = io::open_unchecked_event_reader(path, source);
     if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
     else if (user) run.sensor = *user;
     else if (r.sensor) run.sensor = *r.sensor;
-    else run.sensor = io::sensor_size_from_data(path, source);
+    else run.sensor = io::sensor_size_from_data_until(path, source, [&signals] { return signals.pending(); });
     source.sensor = run.sensor;
     auto reader = io::open_event_reader(path, source);
     run.format = std::string(reader->format_name());
     std::vector<Event> in(kBlockEvents);
-    while (const std::size_t n = reader->read(in)) {  // a fault: InputError
+    while (!signals.pending()) {
+      const std::size_t n = reader->read(in);  // a fault: InputError
+      if (n == 0) break;
       if (count == 0) first = in[0].t_us;
       last = in[n - 1].t_us;
       count += n;
     }
     run.note_skipped(*reader);
+  }
+  if (signals.pending_now()) {
+    SignalCheck::raise("evlife.scan: interrupted after " + std::to_string(count) + " events of " + path, py::none(),
+                       count, py::none());
   }
   py::dict d;
   d["sensor"] = py::make_tuple(run.sensor.width, run.sensor.height);

@@ -16,16 +16,22 @@ bool is_estimator_key(const config::ConfigKey& k) {
          k.name.rfind("estimator.sensor.", 0) != 0;  // the sensor has its own argument
 }
 
+// A Python bool, or NumPy's (np.bool_, e.g. a mask's element), which has no
+// __index__.
+bool is_a_bool(const py::handle& value) {
+  return py::isinstance<py::bool_>(value) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
+}
+
 // The Python value as the YAML scalar the key's parser takes. Types are
 // strict (a bool is no number, a float no integer); a str passes as written,
 // as on the command line.
 std::string scalar_text(const config::ConfigKey& key, const std::string& keyword,
                         const py::handle& value) {
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  const bool is_bool = py::isinstance<py::bool_>(value);
+  const bool is_bool = is_a_bool(value);
   if (key.type == "boolean") {
     if (!is_bool) throw py::type_error(keyword + ": expected True or False");
-    return value.cast<bool>() ? "true" : "false";
+    return py::cast<bool>(py::bool_(py::reinterpret_borrow<py::object>(value))) ? "true" : "false";
   }
   if (is_bool) {
     throw py::type_error(keyword + ": expected " + (key.type == "integer" ? "an " : "a ") + key.type + ", got a bool");

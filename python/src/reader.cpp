@@ -335,10 +335,12 @@ Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
       },
       py::arg("path"), py::arg("augmented"), py::arg("sensor"),
       R"(Write augmented events as `evlife process -o` does: .bin (the binary format
-of the README, 32-byte records), .csv or .h5, by extension. Raises OSError
-when the file cannot be written, evlife.InputError (nothing written) for a
-record evlife.read_augmented would refuse: polarity not +1/-1, outside
-`sensor`, time going backwards.)");
+of the README, 32-byte records), .csv or .h5, by extension. augmented: the
+output of evlife.process, or any array with its fields (joined chunks, a
+slice; prediction_error NaN where missing), as evlife.frame takes. Raises
+OSError when the file cannot be written, TypeError for a field missing,
+evlife.InputError (nothing written) for a record evlife.read_augmented would
+refuse: polarity not +1/-1, outside `sensor`, time going backwards.)");
 }
 
 }  // namespace evlife::python

@@ -2,6 +2,7 @@
 import os
 import shutil
 
+import numpy as np
 import pytest
 
 import evlife
@@ -92,20 +93,27 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
         batch.process_files([path], tmp_path, time_unit="fortnights")
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_slices(path, tmp_path / "x.bin", time_unit="fortnights")
+    # A LocalCluster of no worker would wait for ever.
+    for workers in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match="workers must be a whole number of at least 1"):
+            batch.process_files([path], tmp_path, workers=workers)
+        with pytest.raises(ValueError, match="workers must be a whole number of at least 1"):
+            batch.process_slices(path, tmp_path / "x.bin", workers=workers)
 
 
 def test_a_time_unit_reaches_every_task(tmp_path):
     # A NumPy file of t in ms: process_files and process_slices read it as `evlife process --time-unit ms`.
-    import numpy as np
     from evlife import batch
     events = evlife.read(data("reference/stripes.mat"))[:20000]
     npy = tmp_path / "ms.npy"
     np.save(npy, np.column_stack([events["t"] // 1000, events["x"], events["y"], events["p"] > 0]))
     expected = tmp_path / "cli.bin"
     cli("process", npy, "-o", expected, "-q", "--time-unit", "ms", "--sensor", "128x128")
-    table = batch.process_files([str(npy)], tmp_path / "out", workers=1, progress=False, time_unit="ms",
-                                sensor=(128, 128))
+    # Paths as bytes, as every other entry point takes them; a NumPy integer of workers.
+    table = batch.process_files([os.fsencode(npy)], os.fsencode(tmp_path / "out"), workers=np.int64(1),
+                                progress=False, time_unit="ms", sensor=(128, 128))
     assert table[0].error is None, table[0].error
+    assert table[0].path == str(npy)
     assert open(table[0].output, "rb").read() == expected.read_bytes()
     assert evlife.scan(npy, time_unit="ms")["t_last"] == int(events["t"][-1] // 1000) * 1000
 
@@ -116,7 +124,8 @@ def test_time_slices_in_parallel(tmp_path):
     cli("process", path, "-o", tmp_path / "cli.bin", "-q")
     # A warm-up longer than the recording: every slice's estimator sees the
     # whole past, so the file is the CLI's, byte for byte.
-    rows = batch.process_slices(path, tmp_path / "full.bin", slices=3, warmup_ms=1e7, workers=2)
+    rows = batch.process_slices(os.fsencode(path), os.fsencode(tmp_path / "full.bin"), slices=3, warmup_ms=1e7,
+                                workers=2)  # paths as bytes too
     assert (tmp_path / "full.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
     assert len(rows) == 3 and all(r.events > 0 for r in rows)
     assert not [p for p in os.listdir(tmp_path) if ".part" in p]

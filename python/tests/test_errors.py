@@ -79,7 +79,9 @@ def test_unknown_format_is_inputerror_with_the_cli_message(tmp_path):
     expected = cli_error(bad, "-o", tmp_path / "x.bin")
     with pytest.raises(evlife.InputError) as e:
         evlife.process(bad)
-    assert str(e.value) == expected and isinstance(e.value, ValueError)
+    # The command line's flags it names, said as Python's keywords after it.
+    assert str(e.value) == expected + " (in Python --topic is topic=, --time-unit is time_unit=)"
+    assert isinstance(e.value, ValueError)
     assert e.value.path == str(bad)
 
 

@@ -150,6 +150,23 @@ def test_a_bad_value_names_its_array(tmp_path):
     assert len(e.value.partial) == 30
 
 
+def test_a_message_naming_a_flag_says_its_keyword(tmp_path):
+    np.savez(tmp_path / "two.npz", a=events_array(), b=events_array())
+    with pytest.raises(evlife.InputError, match=r"--topic NAME chooses one .*\(in Python --topic is topic=\)$"):
+        evlife.read(tmp_path / "two.npz")
+
+
+def test_a_cut_archive_gives_its_events_before_the_cut(tmp_path):
+    np.savez(tmp_path / "whole.npz", events=events_array())
+    data = (tmp_path / "whole.npz").read_bytes()
+    (tmp_path / "cut.npz").write_bytes(data[:len(data) // 2])
+    with pytest.raises(evlife.InputError, match="the archive is cut: it ends at byte %d" % (len(data) // 2)) as e:
+        evlife.read(tmp_path / "cut.npz")
+    partial = e.value.partial
+    assert 0 < len(partial) < N
+    assert (partial == evlife.read(tmp_path / "whole.npz")[:len(partial)]).all()
+
+
 def test_column_arrays_come_before_an_unnamed_n_by_4_array(tmp_path):
     # Bounding boxes are N x 4 too: they were read as the events.
     np.savez(tmp_path / "boxes.npz", x=X, y=Y, t=T, p=ON, boxes=np.array([[1, 2, 3, 1], [5, 2, 3, 0]]))

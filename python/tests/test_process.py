@@ -36,6 +36,10 @@ def test_options_reach_the_estimator_as_cli_set(tmp_path):
                           "--set", "estimator.regularization=false")
     actual = evlife.process(path, window_size=7, regularization=False)
     assert_same_events(actual, expected)
+    # NumPy's scalars as Python's (a mask's element is an np.bool_, which has no __index__).
+    assert_same_events(evlife.process(path, window_size=np.int64(7), regularization=np.bool_(False)), expected)
+    with pytest.raises(TypeError, match="window_size: expected an integer, got a bool"):
+        evlife.process(path, window_size=np.bool_(True))
     default = evlife.process(path)
     assert not np.array_equal(default["lifetime"], actual["lifetime"])
 
@@ -186,6 +190,24 @@ def test_chunked_equals_whole():
     assert sum(est.stats[k] for k in reasons) == est.stats["noise"] > 0
     est.reset()
     assert_same_events(est.process(events), whole)  # reset forgets everything
+
+
+def test_joined_chunks_and_slices_are_written_as_the_whole(tmp_path):
+    # np.concatenate of process()'s chunks drops the dtype's padding (29-byte records) and a
+    # slice is strided: write() takes both, as frame() does (it refused them with a TypeError).
+    events = evlife.read(data("reference/stripes.mat"))[:50000]
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    joined = np.concatenate([est.process(events[:20000]), est.process(events[20000:])])
+    assert joined.dtype != evlife.AUGMENTED_DTYPE
+    whole = evlife.process(events, sensor=(128, 128))
+    evlife.write(tmp_path / "joined.bin", joined, (128, 128))
+    evlife.write(tmp_path / "whole.bin", whole, (128, 128))
+    assert (tmp_path / "joined.bin").read_bytes() == (tmp_path / "whole.bin").read_bytes()
+    evlife.write(tmp_path / "every_other.csv", whole[::2], (128, 128))
+    back, _ = evlife.read_augmented(tmp_path / "every_other.csv")
+    assert_same_events(back, whole[::2])
+    with pytest.raises(TypeError, match="missing field"):
+        evlife.write(tmp_path / "plain.bin", events, (128, 128))
 
 
 def test_any_array_with_t_x_y_p_and_every_polarity_convention():

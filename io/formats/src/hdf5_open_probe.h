@@ -2,7 +2,10 @@
 // merely opening a dataset (e.g. SIGFPE for a chunk dimension of 0, found by
 // fuzzing: tests/fuzz/known_crashes/hdf5/). The probe repeats the reader's
 // opening steps in a forked child first, so that such a crash becomes a
-// ReadError in the caller instead of killing it.
+// ReadError in the caller instead of killing it. A child that another
+// thread's hold on libhdf5's lock (inherited, never released) stops before
+// it reaches the file is forked again, a few times; then the open goes on
+// without the probe.
 #pragma once
 
 #include <string>
@@ -11,7 +14,7 @@ namespace evlife::io {
 
 /// Opens `path` and the event datasets of every known layout in a child
 /// process. Throws ReadError if the child dies of a signal, exits non-zero
-/// (a sanitizer's report) or hangs (> 10 s);
+/// (a sanitizer's report) or hangs on the file (> 10 s);
 /// returns normally otherwise (errors the library reports are left to the
 /// reader, which names them).
 void probe_hdf5_open_in_child(const std::string& path);

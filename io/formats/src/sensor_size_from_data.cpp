@@ -11,6 +11,12 @@ namespace evlife::io {
 
 SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input,
                                  const std::atomic<bool>* stop) {
+  if (stop == nullptr) return sensor_size_from_data_until(path, input, {});
+  return sensor_size_from_data_until(path, input, [stop] { return stop->load(std::memory_order_relaxed); });
+}
+
+SensorSize sensor_size_from_data_until(const std::string& path, const ReaderOptions& input,
+                                       const std::function<bool()>& stop_requested) {
   // Time order is not checked here: this pass only looks at coordinates;
   // the processing pass reports ordering faults with their index.
   ReaderOptions options = input;
@@ -43,7 +49,7 @@ SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& i
                             "the events before it are processed, then it is reported)");
       }
       scanned += static_cast<std::int64_t>(n);
-      if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+      if (stop_requested && stop_requested()) {
         return SensorSize{std::max(max_x, 0) + 1, std::max(max_y, 0) + 1};
       }
     }

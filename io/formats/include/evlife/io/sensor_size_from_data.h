@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -23,6 +24,10 @@ namespace evlife::io {
 /// an output that will hold no event.
 SensorSize sensor_size_from_data(const std::string& path, const ReaderOptions& input = {},
                                  const std::atomic<bool>* stop = nullptr);
+/// The same, asking `stop_requested` between blocks of events (Python's
+/// Ctrl-C check, which needs its interpreter).
+SensorSize sensor_size_from_data_until(const std::string& path, const ReaderOptions& input,
+                                       const std::function<bool()>& stop_requested);
 
 /// Where a resolved sensor size came from (for the user's summary).
 enum class SensorSizeSource { format, user, data };
