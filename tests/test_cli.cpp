@@ -387,6 +387,11 @@ TEST_F(CliTest, BinaryOutputHasOneRecordPerEvent) {
   const fs::path h5 = path("slider.h5");
   ASSERT_EQ(run("process '" + kRpgText + "' -o '" + h5.string() + "' -q").exit_code, 0);
   EXPECT_EQ(read_file(h5).substr(0, 8), "\x89HDF\r\n\x1a\n");
+  // An extension in capitals names the same format (the writers and Python took it, the
+  // commands refused it).
+  const fs::path upper = path("SLIDER.BIN");
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + upper.string() + "' -q").exit_code, 0);
+  EXPECT_TRUE(read_file(upper) == read_file(out));
 }
 
 // By default the input is decoded ahead (and for process the output written

@@ -132,8 +132,7 @@ ProcessArgs parse_process_args(int argc, char** argv) {
   if (!out) throw UsageError("missing -o OUTPUT (a .csv, .bin or .h5 file)");
   p.output = *out;
   p.one_thread = a.has("one-thread");
-  const std::string ext = std::filesystem::path(p.output).extension().string();
-  if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5") {
+  if (!io::names_an_augmented_output(p.output)) {
     throw UsageError("-o " + p.output + ": the output must end in .csv, .bin or .h5");
   }
   if (const auto refusal = io::output_overwrites_input(p.input, p.output)) throw UsageError("-o " + *refusal);

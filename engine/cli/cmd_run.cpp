@@ -318,8 +318,7 @@ RunArgs parse_run_args(int argc, char** argv) {
     throw UsageError("--fps/--mode/--at need --frames DIR, --video FILE or --window");
 
   if (!r.output.empty()) {
-    const std::string ext = std::filesystem::path(r.output).extension().string();
-    if (ext != ".csv" && ext != ".bin" && ext != ".h5" && ext != ".hdf5")
+    if (!io::names_an_augmented_output(r.output))
       throw UsageError("-o " + r.output + ": the output must end in .csv, .bin or .h5");
     if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.output))
       throw UsageError("-o " + *refusal);

@@ -27,6 +27,10 @@ class AugmentedEventWriter {
   virtual const std::string& path() const = 0;
 };
 
+/// Whether open_augmented_writer() takes `path` by its extension (.csv,
+/// .bin, .h5, .hdf5; any case): the commands' check of -o.
+bool names_an_augmented_output(const std::string& path);
+
 /// By extension of `path`:
 ///  - `.csv`: header `x,y,t,p,lifetime,vx,vy,prediction_error`; t, lifetime
 ///    and prediction_error in µs, vx/vy in px/s, p as 1/-1, prediction_error
