@@ -62,6 +62,17 @@ TEST(Rosbag1, Evt3PacketsInEveryChunkCompressionMatchTheDb3) {
   }
 }
 
+// iniVation's dv-ros driver records dv_ros_msgs/EventArray: dvs_msgs' layout under its own
+// name ("no event topic in the bag" before).
+TEST(Rosbag1, DvRosEventArrayReadsAsDvsMsgs) {
+  const ReadAll dvs = read_all(kBags + "mono_dvs.bag");
+  const ReadAll r = read_all(kBags + "mono_dv_ros.bag");
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.sensor, (SensorSize{640, 480}));
+  ASSERT_EQ(r.events.size(), 100u);
+  EXPECT_TRUE(same(r.events, dvs.events, 100));
+}
+
 TEST(Rosbag1, DvsEventArrayMatchesTheMonoDb3AndSkipsOtherTopics) {
   const ReadAll reference = read_all(kShared + "test_data_mono_cd");
   const ReadAll r = read_all(kBags + "mono_dvs.bag");

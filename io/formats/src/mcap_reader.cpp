@@ -7,6 +7,7 @@
 
 #include "mcap_messages.h"
 #include "reader_registry.h"
+#include "ros_messages.h"  // EVLIFE_ROS_EVENT_MESSAGE_TYPES
 #include "ros_topic_reader.h"
 #include "ros_topics.h"
 
@@ -58,8 +59,7 @@ std::unique_ptr<EventReader> open_mcap(const std::string& path, const ReaderOpti
 
 const ReaderFormat mcap_format{
     "mcap",
-    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages): event_camera_msgs/EventPacket "
-    "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
+    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages): " EVLIFE_ROS_EVENT_MESSAGE_TYPES,
     &sniff_mcap, nullptr, &open_mcap, nullptr, "topic"};
 
 }  // namespace detail

@@ -124,14 +124,14 @@ MessageKind message_kind(std::string_view type) {
   const std::string_view t = strip_msg(type, buffer);
   if (t == "event_camera_msgs/EventPacket" || t == "event_array_msgs/EventArray")
     return MessageKind::event_packet;
-  if (t == "dvs_msgs/EventArray" || t == "prophesee_event_msgs/EventArray")
+  // dv_ros_msgs: iniVation's dv-ros driver, the dvs_msgs layout under its own name.
+  if (t == "dvs_msgs/EventArray" || t == "prophesee_event_msgs/EventArray" || t == "dv_ros_msgs/EventArray")
     return MessageKind::event_array;
   return MessageKind::not_events;
 }
 
 std::string_view known_message_types() {
-  return "event_camera_msgs/EventPacket (evt3, libcaer, mono), event_array_msgs/EventArray, "
-         "dvs_msgs/EventArray, prophesee_event_msgs/EventArray";
+  return EVLIFE_ROS_EVENT_MESSAGE_TYPES;
 }
 
 std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload,

@@ -58,6 +58,10 @@ MessageKind message_kind(std::string_view type);
 
 /// Type names readable as events, for error messages.
 std::string_view known_message_types();
+/// The same, as a literal for the formats' descriptions (reader_registry.h).
+#define EVLIFE_ROS_EVENT_MESSAGE_TYPES                                                             \
+  "event_camera_msgs/EventPacket (evt3, libcaer, mono), event_array_msgs/EventArray, dvs_msgs/EventArray, " \
+  "prophesee_event_msgs/EventArray, dv_ros_msgs/EventArray"
 
 /// Where and why a message could not be decoded.
 struct MessageFault {

@@ -27,6 +27,7 @@
 #include "cut_stream.h"
 #include "input_file.h"
 #include "reader_registry.h"
+#include "ros_messages.h"  // EVLIFE_ROS_EVENT_MESSAGE_TYPES
 #include "ros_topic_reader.h"
 #include "ros_topics.h"
 
@@ -516,8 +517,8 @@ std::unique_ptr<EventReader> open_rosbag1(const std::string& path, const ReaderO
 
 const ReaderFormat rosbag1_format{
     "rosbag1",
-    "ROS 1 bag v2.0 (.bag, or the .bag.active of an interrupted recording; chunks uncompressed, bz2 or lz4): event_camera_msgs/EventPacket "
-    "(evt3, libcaer, mono), dvs_msgs/EventArray, prophesee_event_msgs/EventArray",
+    "ROS 1 bag v2.0 (.bag, or the .bag.active of an interrupted recording; chunks uncompressed, bz2 or lz4): "
+    EVLIFE_ROS_EVENT_MESSAGE_TYPES,
     &sniff_rosbag1, nullptr, &open_rosbag1, nullptr, "topic"};
 
 }  // namespace detail

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "reader_registry.h"
+#include "ros_messages.h"  // EVLIFE_ROS_EVENT_MESSAGE_TYPES
 #include "ros_topic_reader.h"
 #include "rosbag2_messages.h"
 #include "ros_topics.h"
@@ -74,8 +75,7 @@ bool claims_rosbag2_directory(const std::string& path) { return ros::is_rosbag2_
 const ReaderFormat rosbag2_format{
     "rosbag2",
     "ROS 2 bag, sqlite3 storage (.db3, a file-compressed bag's .db3.zstd, or the bag folder): "
-    "event_camera_msgs/EventPacket (evt3, libcaer, mono), dvs_msgs/EventArray, "
-    "prophesee_event_msgs/EventArray",
+    EVLIFE_ROS_EVENT_MESSAGE_TYPES,
     &sniff_rosbag2, nullptr, &open_rosbag2, &claims_rosbag2_directory, "topic"};
 
 }  // namespace detail

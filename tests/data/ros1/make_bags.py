@@ -7,6 +7,8 @@
                            uncompressed / bz2 / lz4, small chunks so that the bag has several
   mono_dvs.bag             the 100 events of test_data_mono_cd as dvs_msgs/EventArray (2
                            messages), plus a std_msgs/String topic that is not events
+  mono_dv_ros.bag          the same events as dv_ros_msgs/EventArray (iniVation's dv-ros
+                           driver: the dvs_msgs layout under its own name)
   evt3_interrupted.bag.active
                            the 30 messages of evt3_none.bag as a recording that stopped
                            without closing its bag (rosbag record killed, power lost): the
@@ -110,6 +112,7 @@ bag.close()
 os.remove(active + '.tmp')
 
 # mono bag events -> dvs_msgs/EventArray (ts = time_base + dt as ROS time).
+dvs_bodies = []
 with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
     for i, (m, t) in enumerate(messages('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3', 2)):
         c = Cdr(m)
@@ -126,8 +129,15 @@ with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
             tt = time_base + (w & 0xFFFFFFFF)
             events += struct.pack('<HHIIB', (w >> 32) & 0xFFFF, (w >> 48) & 0x7FFF, tt // 10**9, tt % 10**9, w >> 63)
         body = ros1_header(i, 0, 0, b'cam') + struct.pack('<III', height, width, n // 8) + events
+        dvs_bodies.append((body, t))
         bag.write('/dvs/events', Raw('dvs_msgs/EventArray', '5e8beee5a6c107e504c2e78903c224b8', DVS_TEXT, body),
                   rospy.Time(nsecs=t))
         note = b'hello'
         bag.write('/notes', Raw('std_msgs/String', '992ce8a1687cec8c8bd883ec73ca41d1', 'string data\n',
                                 struct.pack('<I', len(note)) + note), rospy.Time(nsecs=t))
+
+# The same messages as dv_ros_msgs/EventArray.
+with rosbag.Bag(os.path.join(HERE, 'mono_dv_ros.bag'), 'w') as bag:
+    for body, t in dvs_bodies:
+        bag.write('/events', Raw('dv_ros_msgs/EventArray', '5e8beee5a6c107e504c2e78903c224b8',
+                                 DVS_TEXT.replace('dvs_msgs', 'dv_ros_msgs'), body), rospy.Time(nsecs=t))
