@@ -359,7 +359,7 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   EXPECT_TRUE(has(topic, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; this rpg-text file")) << topic.output;
   const RunResult unit = run("info " + sample() + " --time-unit ns");
   EXPECT_EQ(unit.exit_code, 3) << unit.output;
-  EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of other tools' CSV/text and NumPy files")) << unit.output;
+  EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files")) << unit.output;
   // A replay's pacing and sensor on the camera (refused before it is opened: no camera needed here).
   for (const char* given : {"--realtime=0.5", "--packet-us 500", "--sensor 64x64"}) {
     const std::string flag = given;

@@ -337,6 +337,82 @@ TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
   expect_skips_to_the_first_event_at(path, r.events);  // times with the offset
 }
 
+// DSEC-style columns whose t holds `t` (of `t_type` in the file, from int64 or double in
+// memory), with a string attribute units = `units` on it when given.
+template <typename T>
+void write_columns_with_time(const std::string& path, const std::vector<T>& t, hid_t t_file_type,
+                             hid_t t_memory_type, const char* units = nullptr) {
+  std::vector<std::uint16_t> x(t.size()), y(t.size());
+  std::vector<std::uint8_t> p(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    x[i] = static_cast<std::uint16_t>(i % 640);
+    y[i] = static_cast<std::uint16_t>((i / 7) % 480);
+    p[i] = static_cast<std::uint8_t>(i % 3 == 0);
+  }
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
+  write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
+  write_dataset(group, "t", t_file_type, t_memory_type, t);
+  write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+  if (units != nullptr) {  // a fixed-length string, as evlife's writer stores its units
+    const hid_t dataset = H5Dopen2(group, "t", H5P_DEFAULT);
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, std::strlen(units));
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t attribute = H5Acreate2(dataset, "units", type, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attribute, type, units);
+    H5Aclose(attribute);
+    H5Sclose(scalar);
+    H5Tclose(type);
+    H5Dclose(dataset);
+  }
+  H5Gclose(group);
+  H5Fclose(file);
+}
+
+// A time column in ns (a ROS stamp's, a simulator's) read as µs made the recording 1000x too
+// long and every event noise, and --time-unit was refused for HDF5 ("has its own"): now the
+// flag, else the column's units attribute, sets the unit (rounded to the nearest µs).
+TEST(IoFormatsHdf5, TimesInAnotherUnitByTheFlagOrTheUnitsAttribute) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::size_t count = 70'000;  // > one reader chunk
+  std::vector<std::int64_t> t_ns(count);
+  std::vector<double> t_us_float(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    t_ns[i] = static_cast<std::int64_t>(i) * 3000 + (i % 2 == 0 ? 499 : 500);  // 499 rounds down, 500 up
+    t_us_float[i] = static_cast<double>(i) * 3.0;
+  }
+  const auto read_with = [](const std::string& path, const std::string& unit) {
+    evlife::io::ReaderOptions options;
+    options.time_unit = unit;
+    std::vector<Event> events;
+    auto reader = evlife::io::open_event_reader(path, options);
+    std::vector<Event> chunk(10'000);
+    while (const std::size_t n = reader->read(chunk)) events.insert(events.end(), chunk.begin(), chunk.begin() + n);
+    return events;
+  };
+  const auto expect_us = [&](const std::vector<Event>& events, const std::string& what) {
+    ASSERT_EQ(events.size(), count) << what;
+    for (std::size_t i = 0; i < count; ++i)
+      ASSERT_EQ(events[i].t_us, static_cast<std::int64_t>(i) * 3 + (i % 2 == 0 ? 0 : 1)) << what << " " << i;
+  };
+  const std::string ns = dir.file("t_ns.h5");
+  write_columns_with_time(ns, t_ns, H5T_STD_I64LE, H5T_NATIVE_INT64);
+  EXPECT_EQ(read_with(ns, "")[1].t_us, t_ns[1]) << "an integer column without a unit is µs";
+  expect_us(read_with(ns, "ns"), "--time-unit ns");
+  const std::string stated = dir.file("t_ns_stated.h5");
+  write_columns_with_time(stated, t_ns, H5T_STD_I64LE, H5T_NATIVE_INT64, "ns");
+  expect_us(read_with(stated, ""), "units attribute ns");
+  const std::string floats = dir.file("t_us_float.h5");
+  write_columns_with_time(floats, t_us_float, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+  EXPECT_EQ(read_with(floats, "")[1].t_us, 3'000'000) << "a float column without a unit is seconds";
+  EXPECT_EQ(read_with(floats, "us")[1].t_us, 3);
+  // The search --from makes reads the times in the same unit.
+  auto reader = evlife::io::open_event_reader(stated, {});
+  EXPECT_EQ(reader->skip_events_before(30'000), 10'000);
+}
+
 // --from on HDF5 starts by a search on t: the events before it are not
 // decoded. Shown with a DSEC file whose first chunk of x is corrupt: read
 // whole it fails there; from any time past that chunk it reads as written.

@@ -176,9 +176,10 @@ inline constexpr std::string_view kInputOptionsHelp =
     "                     MVSEC davis/right/events, M3ED prophesee/right (default:\n"
     "                     the left), or any group of x, y, t, p columns. NumPy .npz:\n"
     "                     the array of events to read (when it holds several).\n"
-    "  --time-unit U      CSV/text and NumPy input: unit of the time column, s|ms|us|ns\n"
-    "                     (default: the header's or field name's, t_ns, or datetime64's;\n"
-    "                     else s if the times are fractions, 0.25, else us).\n"
+    "  --time-unit U      CSV/text, NumPy and HDF5 input: unit of the time column, s|ms|us|ns\n"
+    "                     (default: the header's or field name's, t_ns, datetime64's or\n"
+    "                     an HDF5 units attribute's; else s if the times are fractions\n"
+    "                     or floats, 0.25, else us).\n"
     "  --polarity on|off|both  read only ON or only OFF events (default both).\n";
 inline constexpr std::string_view kCropOptionsHelp =
     "  --from T, --to T   read only the events from T to T (exclusive) after the first\n"

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -83,6 +84,24 @@ LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& c) {
   choice.fitting = static_cast<int>(valid.size());
   if (choice.fitting == 1) choice.layout = valid.front();
   return choice;
+}
+
+bool integer_time_to_us(std::int64_t value, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
+  if (unit_ns >= 1000) {
+    const std::int64_t factor = unit_ns / 1000;
+    if (value > INT64_MAX / factor || value < INT64_MIN / factor) return false;
+    t_us = value * factor;
+  } else {  // ns: to nearest µs, halves away from zero
+    t_us = value / 1000 + (value % 1000 >= 500 ? 1 : 0) - (value % 1000 <= -500 ? 1 : 0);
+  }
+  return true;
+}
+
+bool float_time_to_us(double value, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
+  const double us = value * (static_cast<double>(unit_ns) / 1000.0);
+  if (!std::isfinite(us) || std::fabs(us) >= 9.2e18) return false;
+  t_us = std::llround(us);
+  return true;
 }
 
 }  // namespace evlife::io::detail

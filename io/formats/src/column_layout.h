@@ -23,6 +23,11 @@ std::string layout_text(const Layout& layout, int columns);
 /// ignored), 0 if unknown.
 std::int64_t unit_ns(std::string u);
 
+/// A time of `unit_ns` ns per unit as µs, rounded to nearest (ns: halves
+/// away from zero); false when it does not fit int64 µs (NaN, ±inf too).
+bool integer_time_to_us(std::int64_t value, std::int64_t unit_ns, std::int64_t& t_us) noexcept;
+bool float_time_to_us(double value, std::int64_t unit_ns, std::int64_t& t_us) noexcept;
+
 /// The role of a lower-case column name: x|xs, y|ys, p|ps|pol|polarity,
 /// t|ts|time|times|timestamp|timestamps, the time optionally with a unit
 /// after a separator (t_us, timestamp(ns), t [s]; then `unit` is set); -1 for

@@ -17,6 +17,7 @@
 
 #include "hdf5_error_silencer.h"
 #include "hdf5_lzf_filter.h"
+#include "column_layout.h"  // the time units
 #include "hdf5_open_probe.h"
 #include "reader_registry.h"
 
@@ -65,6 +66,36 @@ std::optional<std::int64_t> read_int_attribute(hid_t object, const char* name) {
   const herr_t status = H5Aread(attribute, H5T_NATIVE_INT64, &value);
   H5Aclose(attribute);
   if (status < 0) return std::nullopt;
+  return value;
+}
+
+// A scalar string attribute, fixed-length (evlife's writer) or variable-length
+// (h5py's str); nullopt when there is none, or it is no such string.
+std::optional<std::string> read_string_attribute(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) return std::nullopt;
+  const hid_t attribute = H5Aopen(object, name, H5P_DEFAULT);
+  if (attribute < 0) return std::nullopt;
+  std::optional<std::string> value;
+  const hid_t type = H5Aget_type(attribute);
+  const hid_t space = H5Aget_space(attribute);
+  if (type >= 0 && space >= 0 && H5Tget_class(type) == H5T_STRING && H5Sget_simple_extent_npoints(space) == 1) {
+    const hid_t memory = H5Tcopy(H5T_C_S1);
+    if (H5Tis_variable_str(type) > 0) {
+      char* text = nullptr;
+      if (H5Tset_size(memory, H5T_VARIABLE) >= 0 && H5Aread(attribute, memory, &text) >= 0 && text != nullptr) {
+        value = std::string(text);
+        H5free_memory(text);
+      }
+    } else if (const std::size_t size = H5Tget_size(type); size > 0 && size <= 256) {
+      std::string buffer(size + 1, '\0');  // + its terminator (the stored text may fill `size`)
+      if (H5Tset_size(memory, size + 1) >= 0 && H5Aread(attribute, memory, buffer.data()) >= 0)
+        value = buffer.substr(0, buffer.find('\0'));
+    }
+    H5Tclose(memory);
+  }
+  if (space >= 0) H5Sclose(space);
+  if (type >= 0) H5Tclose(type);
+  H5Aclose(attribute);
   return value;
 }
 
@@ -121,6 +152,10 @@ std::optional<std::string> lzf_chunk_size_mismatch(hid_t dataset, std::uint64_t 
 }
 
 // Bytes of one storage chunk of `dataset` (0 when it is not chunked).
+/// libhdf5's chunk cache per dataset, and the most a dataset is given instead.
+constexpr std::uint64_t kDefaultChunkCacheBytes = std::uint64_t{1} << 20;
+constexpr std::uint64_t kMaxChunkCacheBytes = std::uint64_t{64} << 20;
+
 std::uint64_t chunk_bytes(hid_t dataset) {
   const hid_t properties = H5Dget_create_plist(dataset);
   if (properties < 0) return 0;
@@ -227,11 +262,8 @@ bool is_float(hid_t dataset) {
 
 // Seconds (or µs) as a double to whole µs; false when not a finite time
 // that int64 µs can hold (corrupt data).
-bool to_microseconds(double value, bool seconds, std::int64_t& t_us) {
-  const double us = seconds ? value * 1e6 : value;
-  if (!(std::fabs(us) < 9.0e18)) return false;  // NaN and ±inf fail too
-  t_us = std::llround(us);
-  return true;
+bool to_microseconds(double value, std::int64_t unit_ns, std::int64_t& t_us) {
+  return detail::float_time_to_us(value, unit_ns, t_us);
 }
 
 // "-1", "12.7", "9.22337203685478e+18": the value as written, not "-1.000000".
@@ -266,7 +298,7 @@ std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t data
     std::uint16_t coordinate = 0;
     std::int64_t t_us = 0;
     const bool fits = kind == ColumnKind::coordinate ? to_coordinate(v, coordinate)
-                      : kind == ColumnKind::time_us  ? v == std::floor(v) && to_microseconds(v, false, t_us)
+                      : kind == ColumnKind::time_us  ? v == std::floor(v) && to_microseconds(v, 1000, t_us)
                                                      : v == std::floor(v) && v >= -128.0 && v <= 127.0;
     if (!fits) return std::pair{i, v};
   }
@@ -279,7 +311,8 @@ std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t data
 constexpr Hdf5Reader::TableColumns kMvsecColumns{2, 0, 1, 3};  // rows x, y, t, p
 constexpr Hdf5Reader::TableColumns kV2eColumns{0, 1, 2, 3};    // rows t, x, y, p
 
-Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path_(path) {
+Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const std::string& time_unit)
+    : path_(path) {
   const Hdf5ErrorSilencer silence;
   detail::register_hdf5_lzf_filter();
   if (H5Fis_hdf5(path.c_str()) <= 0) {
@@ -313,6 +346,21 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
     }
     if (const auto missing = missing_filter(dataset); missing && unloadable_filter_.empty()) {
       unloadable_filter_ = "'" + name + "' is " + *missing;
+    }
+    if (bytes > kDefaultChunkCacheBytes) {
+      // libhdf5 caches 1 MiB of chunks per dataset: each read of kChunkEvents rows of a larger
+      // chunk decompressed it again (a 4 MiB chunk 16 times, ~10x the time). Room for two.
+      // (Closed first: an open dataset's second handle shares its cache.)
+      H5Dclose(dataset);
+      const hid_t access = H5Pcreate(H5P_DATASET_ACCESS);
+      if (access >= 0) H5Pset_chunk_cache(access, H5D_CHUNK_CACHE_NSLOTS_DEFAULT, std::min(2 * bytes, kMaxChunkCacheBytes), 1.0);
+      const hid_t cached = H5Dopen2(file_, name.c_str(), access >= 0 ? access : H5P_DEFAULT);
+      if (access >= 0) H5Pclose(access);
+      if (cached < 0) {
+        close_handles();
+        throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened again");
+      }
+      return cached;
     }
     return dataset;
   };
@@ -383,7 +431,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
                           "' is not a table of 4 columns (" +
                           (table_.t == 0 ? "t, x, y, p" : "x, y, t, p") + ")");
     }
-    t_in_seconds_ = is_float(t_);
+    t_float_ = is_float(t_);  // (a table is read as doubles either way)
   } else if (layout_ == "prophesee") {
     t_ = open("CD/events");
     total_ = length_1d(t_);
@@ -417,7 +465,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
                             prefix + names[0] + "' (" + std::to_string(total_) + ")");
       }
     }
-    t_in_seconds_ = is_float(t_);
+    t_float_ = is_float(t_);
     if (layout_ == "dsec" && exists(file_, "t_offset")) {
       const hid_t offset = open("t_offset");
       const bool ok = H5Dread(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset_us_) >= 0;
@@ -432,6 +480,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
     close_handles();
     throw ReadError(path, -1, -1, "HDF5 event datasets are not one-dimensional");
   }
+  choose_time_unit(time_unit);
   const auto width = read_int_attribute(file_, "width");
   const auto height = read_int_attribute(file_, "height");
   if (width && height && *width > 0 && *height > 0 && *width <= 65536 && *height <= 65536) {
@@ -451,7 +500,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic) : path
     ts_.resize(kChunkEvents);
     ps_.resize(kChunkEvents);
     if (is_table()) doubles_.resize(4 * kChunkEvents);
-    else if (t_in_seconds_) doubles_.resize(kChunkEvents);
+    else if (t_float_) doubles_.resize(kChunkEvents);
   }
 }
 
@@ -525,12 +574,13 @@ void Hdf5Reader::load_chunk() {
       std::optional<std::pair<std::size_t, double>> bad;
       int bad_column = 0;
       for (int c = 0; c < 4; ++c) {
-        if (c == 2 && t_in_seconds_) continue;  // doubles: nothing to convert
+        if (c == 2 && t_float_) continue;  // doubles: nothing to convert
         const auto row = first_unconvertible_row(columns[c], kinds[c], next_, count);
         if (row && (!bad || row->first < bad->first)) bad = row, bad_column = c;
       }
       if (bad && (bad->first == 0 || read_columns(bad->first, what))) {
-        if (t_in_seconds_ && !convert_seconds(bad->first)) return;  // an earlier row has no time
+        if (!(t_float_ ? convert_float_times(bad->first) : convert_integer_times(bad->first)))
+          return;  // an earlier row has no time
         stop_at(bad->first, column_names_[bad_column].c_str(), bad->second,
                 kinds[bad_column] == ColumnKind::coordinate ? ", not a pixel coordinate"
                 : kinds[bad_column] == ColumnKind::polarity ? ", not a polarity"
@@ -538,9 +588,10 @@ void Hdf5Reader::load_chunk() {
         return;
       }
     }
-    if (ok && t_in_seconds_) {
+    if (ok) {
       chunk_size_ = count;
-      convert_seconds(count);
+      if (t_float_) convert_float_times(count);
+      else convert_integer_times(count);
       return;
     }
   }
@@ -562,7 +613,7 @@ bool Hdf5Reader::read_columns(std::size_t count, const char*& what) {
   return (what = column_names_[0].c_str(), read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
          (what = column_names_[1].c_str(), read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
          (what = column_names_[2].c_str(),
-          t_in_seconds_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
+          t_float_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
                         : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
          (what = column_names_[3].c_str(), read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
 }
@@ -575,17 +626,47 @@ bool Hdf5Reader::load_table_chunk(std::size_t count) {
     const double* row = &doubles_[4 * i];
     if (!to_coordinate(row[table_.x], xs_[i])) return stop_at(i, "x", row[table_.x], ", not a pixel coordinate");
     if (!to_coordinate(row[table_.y], ys_[i])) return stop_at(i, "y", row[table_.y], ", not a pixel coordinate");
-    if (!to_microseconds(row[table_.t], t_in_seconds_, ts_[i])) return stop_at(i, "t", row[table_.t], ", no time");
+    if (!to_microseconds(row[table_.t], t_unit_ns_, ts_[i])) return stop_at(i, "t", row[table_.t], ", no time");
     ps_[i] = row[table_.p] > 0 ? std::int8_t{1} : std::int8_t{-1};
   }
   return true;
 }
 
-bool Hdf5Reader::convert_seconds(std::size_t count) {
+bool Hdf5Reader::convert_float_times(std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
-    if (!to_microseconds(doubles_[i], true, ts_[i])) return stop_at(i, "t", doubles_[i], " s, no time");
+    if (!to_microseconds(doubles_[i], t_unit_ns_, ts_[i])) return stop_at(i, "t", doubles_[i], ", no time");
   }
   return true;
+}
+
+bool Hdf5Reader::convert_integer_times(std::size_t count) {
+  if (t_unit_ns_ == 1000) return true;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::int64_t value = ts_[i];
+    if (!detail::integer_time_to_us(value, t_unit_ns_, ts_[i]))
+      return stop_at(i, "t", static_cast<double>(value), ", no time in int64 microseconds");
+  }
+  return true;
+}
+
+void Hdf5Reader::choose_time_unit(const std::string& time_unit) {
+  const std::int64_t given = time_unit.empty() ? 0 : detail::unit_ns(time_unit);
+  if (!time_unit.empty() && given == 0) {
+    close_handles();
+    throw ReadError(path_, -1, -1, "--time-unit " + time_unit + ": not a unit (s, ms, us or ns)");
+  }
+  if (layout_ == "prophesee") {  // its t field is µs by the layout's definition
+    if (given != 0 && given != 1000) {
+      close_handles();
+      throw ReadError(path_, -1, -1, "--time-unit " + time_unit + ": the Prophesee layout's t is in microseconds");
+    }
+    return;
+  }
+  std::int64_t stated = 0;
+  if (!is_table()) {
+    if (const auto units = read_string_attribute(t_, "units")) stated = detail::unit_ns(*units);
+  }
+  t_unit_ns_ = given != 0 ? given : stated != 0 ? stated : t_float_ ? 1'000'000'000 : 1000;
 }
 
 // Row i of the chunk is no event: the chunk ends before it, error_ names it.
@@ -606,13 +687,14 @@ bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
     H5Tinsert(type, "t", 0, H5T_NATIVE_INT64);
     ok = read_slab(t_, type, index, 1, &t);
     H5Tclose(type);
-  } else if (is_table() || t_in_seconds_) {
+  } else if (is_table() || t_float_) {
     double value = 0.0;
     ok = (is_table() ? read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value, 4, table_.t)
                      : read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value)) &&
-         to_microseconds(value, t_in_seconds_, t);
+         to_microseconds(value, t_unit_ns_, t);
   } else {
-    ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &t);
+    std::int64_t value = 0;
+    ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &value) && detail::integer_time_to_us(value, t_unit_ns_, t);
   }
   t_us = t + t_offset_us_;
   return ok;
@@ -683,7 +765,7 @@ SniffResult sniff_hdf5(std::span<const std::byte> head, std::string_view path) {
 }
 
 std::unique_ptr<EventReader> open_hdf5(const std::string& path, const ReaderOptions& options) {
-  return std::make_unique<Hdf5Reader>(path, options.topic);  // MVSEC's, M3ED's camera
+  return std::make_unique<Hdf5Reader>(path, options.topic, options.time_unit);  // MVSEC's, M3ED's camera
 }
 
 }  // namespace
@@ -692,7 +774,7 @@ const ReaderFormat hdf5_format{"hdf5",
                                "HDF5 events: DSEC events/{x,y,t,p}, event_utils events/{xs,ys,ts,ps}, "
                                "Prophesee CD/events, MVSEC davis/left/events, M3ED prophesee/left/{x,y,t,p}, v2e "
                                "events (N×4), or evlife x,y,t,p",
-                               &sniff_hdf5, nullptr, &open_hdf5, nullptr, "topic"};
+                               &sniff_hdf5, nullptr, &open_hdf5, nullptr, "topic, time-unit"};
 
 }  // namespace detail
 }  // namespace evlife::io

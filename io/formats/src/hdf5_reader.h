@@ -36,7 +36,10 @@ class Hdf5Reader final : public EventReader {
   /// above (the message names the datasets looked for). `topic` (--topic):
   /// the N×4 table (MVSEC: davis/right/events) or the group of x, y, t, p
   /// columns (M3ED: prophesee/right) to read instead of the layout's default.
-  explicit Hdf5Reader(const std::string& path, const std::string& topic = {});
+  /// `time_unit` (--time-unit: s, ms, us, ns): the t column's unit, else its
+  /// `units` attribute's (as evlife writes it), else seconds for a float
+  /// column and µs for an integer one. The Prophesee layout's is µs.
+  explicit Hdf5Reader(const std::string& path, const std::string& topic = {}, const std::string& time_unit = {});
   ~Hdf5Reader() override;
   Hdf5Reader(const Hdf5Reader&) = delete;
   Hdf5Reader& operator=(const Hdf5Reader&) = delete;
@@ -84,7 +87,9 @@ class Hdf5Reader final : public EventReader {
   void load_chunk();  // next chunk into the column buffers; sets error_ on failure
   bool read_columns(std::size_t count, const char*& what);  // the column datasets' chunk
   bool load_table_chunk(std::size_t count);  // an N×4 table's chunk, converted to the columns
-  bool convert_seconds(std::size_t count);   // the chunk's seconds in doubles_ into ts_ (µs)
+  bool convert_float_times(std::size_t count);    // the chunk's float times in doubles_ into ts_ (µs)
+  bool convert_integer_times(std::size_t count);  // the chunk's integer times in ts_ from t_unit_ns_ to µs
+  void choose_time_unit(const std::string& time_unit);
   bool stop_at(std::size_t i, const char* column, double value, const char* why);  // a bad row ends the chunk
   bool is_table() const noexcept { return table_.t >= 0; }
   bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
@@ -99,7 +104,8 @@ class Hdf5Reader final : public EventReader {
   std::int64_t total_ = 0;
   std::int64_t file_bytes_ = 0;
   std::int64_t t_offset_us_ = 0;
-  bool t_in_seconds_ = false;          // the time column is floating-point seconds
+  bool t_float_ = false;               // the time column is floating-point (read as doubles)
+  std::int64_t t_unit_ns_ = 1000;      // ns per unit of the time column's values
   TableColumns table_{-1, -1, -1, -1};  // an N×4 table (t_ = the table) or none
   std::string table_name_;              // its dataset
   std::string column_names_[4];         // the column datasets x, y, t, p (for errors)

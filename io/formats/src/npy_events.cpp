@@ -95,21 +95,8 @@ bool as_integer(const Number& n, std::int64_t lo, std::int64_t hi, std::int64_t&
 
 /// The time in µs, rounded to nearest; false when it does not fit.
 bool to_microseconds(const Number& n, std::int64_t unit_ns, std::int64_t& t_us) {
-  if (n.is_float) {
-    const double us = n.f * (static_cast<double>(unit_ns) / 1000.0);
-    if (!std::isfinite(us) || std::fabs(us) >= 9.2e18) return false;
-    t_us = std::llround(us);
-    return true;
-  }
-  if (!n.fits) return false;
-  if (unit_ns >= 1000) {
-    const std::int64_t factor = unit_ns / 1000;
-    if (n.i > INT64_MAX / factor || n.i < INT64_MIN / factor) return false;
-    t_us = n.i * factor;
-  } else {  // ns: to nearest µs, halves away from zero
-    t_us = n.i / 1000 + (n.i % 1000 >= 500 ? 1 : 0) - (n.i % 1000 <= -500 ? 1 : 0);
-  }
-  return true;
+  if (n.is_float) return float_time_to_us(n.f, unit_ns, t_us);
+  return n.fits && integer_time_to_us(n.i, unit_ns, t_us);
 }
 
 std::string number_text(const Number& n) {

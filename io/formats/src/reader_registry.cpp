@@ -54,8 +54,8 @@ std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::s
                                   "this " + format + " file has one stream");
   }
   if (!options.time_unit.empty() && !takes("time-unit")) {
-    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of other tools' CSV/text and NumPy "
-                                  "files; this " + format + " file has its own");
+    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files; "
+                                  "this " + format + " file has its own");
   }
   return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);
 }
