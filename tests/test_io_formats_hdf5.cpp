@@ -292,15 +292,26 @@ void write_dataset(hid_t where, const std::string& name, hid_t file_type, hid_t 
 }
 
 // A DSEC events file: events/{x,y,t,p} (chunked, deflate), t_offset if given.
-void write_dsec_file(const std::string& path, const std::vector<std::uint16_t>& x,
-                     const std::vector<std::uint16_t>& y, const std::vector<std::uint32_t>& t,
-                     const std::vector<std::uint8_t>& p, std::optional<std::int64_t> t_offset) {
+// A new file `path` with the columns events/{x,y,t,p} (t of `t_file_type`, from
+// `t_memory_type`), still open: the caller adds what its layout has, then closes it.
+template <typename T>
+hid_t create_event_columns(const std::string& path, const std::vector<std::uint16_t>& x,
+                           const std::vector<std::uint16_t>& y, const std::vector<T>& t, hid_t t_file_type,
+                           hid_t t_memory_type, const std::vector<std::uint8_t>& p) {
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
   write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
-  write_dataset(group, "t", H5T_STD_U32LE, H5T_NATIVE_UINT32, t);
+  write_dataset(group, "t", t_file_type, t_memory_type, t);
   write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+  H5Gclose(group);
+  return file;
+}
+
+void write_dsec_file(const std::string& path, const std::vector<std::uint16_t>& x,
+                     const std::vector<std::uint16_t>& y, const std::vector<std::uint32_t>& t,
+                     const std::vector<std::uint8_t>& p, std::optional<std::int64_t> t_offset) {
+  const hid_t file = create_event_columns(path, x, y, t, H5T_STD_U32LE, H5T_NATIVE_UINT32, p);
   if (t_offset) {
     const hid_t scalar = H5Screate(H5S_SCALAR);
     const hid_t offset = H5Dcreate2(file, "t_offset", H5T_STD_I64LE, scalar, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -308,7 +319,6 @@ void write_dsec_file(const std::string& path, const std::vector<std::uint16_t>& 
     H5Dclose(offset);
     H5Sclose(scalar);
   }
-  H5Gclose(group);
   H5Fclose(file);
 }
 
@@ -349,14 +359,9 @@ void write_columns_with_time(const std::string& path, const std::vector<T>& t, h
     y[i] = static_cast<std::uint16_t>((i / 7) % 480);
     p[i] = static_cast<std::uint8_t>(i % 3 == 0);
   }
-  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
-  write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
-  write_dataset(group, "t", t_file_type, t_memory_type, t);
-  write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+  const hid_t file = create_event_columns(path, x, y, t, t_file_type, t_memory_type, p);
   if (units != nullptr) {  // a fixed-length string, as evlife's writer stores its units
-    const hid_t dataset = H5Dopen2(group, "t", H5P_DEFAULT);
+    const hid_t dataset = H5Dopen2(file, "events/t", H5P_DEFAULT);
     const hid_t type = H5Tcopy(H5T_C_S1);
     H5Tset_size(type, std::strlen(units));
     const hid_t scalar = H5Screate(H5S_SCALAR);
@@ -367,7 +372,6 @@ void write_columns_with_time(const std::string& path, const std::vector<T>& t, h
     H5Tclose(type);
     H5Dclose(dataset);
   }
-  H5Gclose(group);
   H5Fclose(file);
 }
 
