@@ -136,6 +136,9 @@ TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {
   const std::string what = r.error->what();
   EXPECT_NE(what.find("libcaer_swapped.mcap"), std::string::npos) << what;
   EXPECT_EQ(r.error->event_index(), static_cast<std::int64_t>(first.size())) << what;
+  // Where the message that went back lies (it named no place before).
+  EXPECT_GT(r.error->byte_offset(), 0) << what;
+  EXPECT_LT(r.error->byte_offset(), static_cast<std::int64_t>(fs::file_size(kMcap + "libcaer_swapped.mcap"))) << what;
   EXPECT_TRUE(same_events(r.events, first)) << r.events.size() << " events, expected " << first.size();
 }
 

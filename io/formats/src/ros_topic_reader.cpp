@@ -16,6 +16,7 @@ void TopicEventReader::start(const std::vector<TopicInfo>& topics, const TopicIn
 }
 
 std::size_t TopicEventReader::read(std::span<Event> out) {
+  if (message_starts_.size() > 1) message_starts_.erase(message_starts_.begin(), message_starts_.end() - 1);
   std::size_t n = 0;
   while (n < out.size()) {
     if (next_ == events_.size()) {
@@ -29,6 +30,12 @@ std::size_t TopicEventReader::read(std::span<Event> out) {
   }
   if (n == 0 && error_) throw *error_;
   return n;
+}
+
+std::int64_t TopicEventReader::byte_offset_of_event(std::int64_t event_index) const {
+  for (auto m = message_starts_.rbegin(); m != message_starts_.rend(); ++m)
+    if (m->first_event <= event_index) return m->byte_offset;
+  return -1;
 }
 
 std::vector<ContainerStream> TopicEventReader::streams() const {
@@ -58,6 +65,7 @@ void TopicEventReader::load_message() {
     return;
   }
   const std::uint64_t index = messages_++;
+  message_starts_.push_back({delivered_, m.byte_offset});
   const std::string& file = m.file != nullptr ? *m.file : path();
   if (const auto fault = decoder_.decode(m.data, events_)) {
     error_.emplace(file, m.byte_offset, delivered_ + static_cast<std::int64_t>(events_.size()),

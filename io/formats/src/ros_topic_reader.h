@@ -39,6 +39,9 @@ class TopicEventReader : public EventReader {
   }
   std::uint64_t trigger_count() const final { return decoder_.trigger_count(); }
   std::vector<ContainerStream> streams() const final;
+  /// The byte offset of the record or chunk holding the message of an event
+  /// delivered by the last read() (a time-order fault's location).
+  std::int64_t byte_offset_of_event(std::int64_t event_index) const final;
 
  protected:
   struct Message {
@@ -69,6 +72,13 @@ class TopicEventReader : public EventReader {
   std::size_t next_ = 0;
   std::int64_t delivered_ = 0;
   std::uint64_t messages_ = 0;  ///< of the topic, taken from the container so far
+  /// Where the messages of the last read() begin: their first event's index and
+  /// their byte offset (trimmed to the current message at each read()).
+  struct MessageStart {
+    std::int64_t first_event = 0;
+    std::int64_t byte_offset = -1;
+  };
+  std::vector<MessageStart> message_starts_;
   bool ended_ = false;
   std::optional<ReadError> error_;
 };
