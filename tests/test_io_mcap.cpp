@@ -124,6 +124,21 @@ TEST(McapContainer, ChunksOfSeveralFramesDecodeAsOneFrame) {
   }
 }
 
+// `mcap convert` keeps a ROS 1 bag's messages in their ROS 1 serialization (message encoding
+// ros1): read as the bag is (refused before as "not cdr").
+TEST(McapReader, Ros1EncodedMessagesReadAsTheRos1Bag) {
+  const ReadAll bag = read_all(std::string(EVLIFE_SOURCE_DIR) + "/tests/data/ros1/mono_dvs.bag");
+  const ReadAll r = read_all(kMcap + "mono_ros1.mcap");
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.sensor, bag.sensor);
+  ASSERT_GE(r.events.size(), bag.events.size());  // the bag holds the first two messages
+  ASSERT_FALSE(bag.events.empty());
+  EXPECT_TRUE(same_events(std::vector<Event>(r.events.begin(), r.events.begin() + static_cast<std::ptrdiff_t>(bag.events.size())),
+                          bag.events));
+  const ReadAll cdr = read_all(kMcap + "mono_zstd.mcap");  // the same events, all of them
+  EXPECT_TRUE(same_events(r.events, cdr.events)) << r.events.size() << " against " << cdr.events.size();
+}
+
 // Chunks are read in file order and not merged: events going backwards stop
 // the read with the time-order error, after the events before them.
 TEST(McapReader, ChunksOutOfTimeOrderStopWithTheTimeOrderError) {

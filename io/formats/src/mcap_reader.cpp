@@ -1,5 +1,5 @@
 // ROS 2 MCAP files as an event stream: one event topic (ros::choose_topic),
-// its CDR messages streamed chunk by chunk by mcap::McapMessages (record
+// its CDR (or ROS 1) messages streamed chunk by chunk by mcap::McapMessages (record
 // layouts: mcap_records.h; order and topic counts: mcap_messages.h), decoded
 // and delivered by ros::TopicEventReader (the same faults as every ROS bag
 // reader: file, byte offset of the chunk, message index; events before kept).
@@ -18,12 +18,13 @@ class McapReader final : public ros::TopicEventReader {
  public:
   McapReader(const std::string& path, const ReaderOptions& options) : bag_(path) {
     const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic);
-    if (topic.serialization != "cdr") {
+    // ros1: a ROS 1 bag's messages as `mcap convert` stores them.
+    if (topic.serialization != "cdr" && topic.serialization != "ros1") {
       throw ReadError(path, -1, -1, "topic '" + topic.name + "' is encoded as '" + topic.serialization +
-                                        "', not cdr (ROS 2)");
+                                        "', not cdr (ROS 2) nor ros1");
     }
     bag_.select(topic.name);
-    start(bag_.topics(), topic, ros::Serialization::cdr);
+    start(bag_.topics(), topic, topic.serialization == "ros1" ? ros::Serialization::ros1 : ros::Serialization::cdr);
   }
 
   std::string_view format_name() const override { return "mcap"; }
@@ -59,7 +60,8 @@ std::unique_ptr<EventReader> open_mcap(const std::string& path, const ReaderOpti
 
 const ReaderFormat mcap_format{
     "mcap",
-    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages): " EVLIFE_ROS_EVENT_MESSAGE_TYPES,
+    "ROS 2 MCAP (.mcap; chunks uncompressed, zstd or lz4; CRCs checked; CDR messages, or ROS 1's as `mcap convert` "
+    "stores a ROS 1 bag): " EVLIFE_ROS_EVENT_MESSAGE_TYPES,
     &sniff_mcap, nullptr, &open_mcap, nullptr, "topic"};
 
 }  // namespace detail

@@ -22,6 +22,8 @@ Writes into OUT_DIR:
       were computed: only the DataEnd's data-section CRC can tell.
   {evt3,mono}_zstd_summarycrc.mcap  one byte of the last ChunkIndex record (in the summary)
       changed: only the Footer's summary CRC can tell.
+  mono_ros1.mcap       zstd; the mono events as ROS 1 dvs_msgs/EventArray messages (message
+      encoding ros1, schema encoding ros1msg: what `mcap convert` makes of a ROS 1 bag).
 Deterministic. Needs Debian's python3-zstandard and python3-lz4.
 """
 import os
@@ -34,6 +36,8 @@ import lz4.frame
 import zstandard
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, '..'))
+from ros_mono_dvs import mono_packet_as_dvs  # noqa: E402
 MAGIC = b'\x89MCAP0\r\n'
 BAGS = {  # name: (shared bag file, chunk size in bytes)
     'evt3': ('rosbag/test_data_evt3_trigger/test_data_evt3_trigger_0.db3', 64 << 10),
@@ -97,11 +101,13 @@ def compress(data, how, frames=False):
 
 class Writer:
     def __init__(self, compression, chunk_size, chunked=True, summary=True, reverse=False, crc=True,
-                 frames=False):
+                 frames=False, ros1=False):
         self.compression, self.chunk_size = compression, chunk_size
+        self.encoding, self.schema_encoding = ('ros1', 'ros1msg') if ros1 else ('cdr', 'ros2msg')
         self.chunked, self.summary, self.reverse = chunked, summary, reverse
         self.crc, self.frames = crc, frames
-        self.out = bytearray(MAGIC + record(HEADER, string('ros2') + string('evlife make_mcap.py')))
+        self.out = bytearray(MAGIC + record(HEADER, string('ros1' if ros1 else 'ros2') +
+                                            string('evlife make_mcap.py')))
         self.schemas, self.channels = {}, {}  # type -> schema id, topic -> (channel id, schema id)
         self.counts, self.chunk_indexes = {}, []
         self.pending = []  # records of the open chunk: (log time, bytes, channel or None)
@@ -112,7 +118,7 @@ class Writer:
         if type_ not in self.schemas:
             self.schemas[type_] = len(self.schemas) + 1
             new.append(record(SCHEMA, struct.pack('<H', self.schemas[type_]) + string(type_) +
-                              string('ros2msg') + prefixed(b'')))
+                              string(self.schema_encoding) + prefixed(b'')))
         if topic not in self.channels:
             self.channels[topic] = (len(self.channels) + 1, self.schemas[type_])
             new.append(self._channel_record(topic))
@@ -120,7 +126,7 @@ class Writer:
 
     def _channel_record(self, topic):
         cid, sid = self.channels[topic]
-        return record(CHANNEL, struct.pack('<HH', cid, sid) + string(topic) + string('cdr') +
+        return record(CHANNEL, struct.pack('<HH', cid, sid) + string(topic) + string(self.encoding) +
                       prefixed(string('offered_qos_profiles') + string('')))
 
     def add(self, topic, type_, data, log_time):
@@ -234,6 +240,10 @@ def main():
         if name == 'mono':
             write(os.path.join(out_dir, 'mono_unchunked.mcap'), messages, compression='', chunk_size=0,
                   chunked=False, summary=False, crc=False)
+            events = [(n, 'dvs_msgs/EventArray', mono_packet_as_dvs(d, i), ts)
+                      for i, (n, ty, d, ts) in enumerate(bag_messages(os.path.join(data, rel)))]
+            write(os.path.join(out_dir, 'mono_ros1.mcap'), events, compression='zstd', chunk_size=chunk_size,
+                  ros1=True)
         if name == 'libcaer':
             write(os.path.join(out_dir, 'libcaer_swapped.mcap'), messages[20:40] + messages[:20] + messages[40:],
                   compression='zstd', chunk_size=chunk_size)

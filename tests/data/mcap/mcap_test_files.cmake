@@ -9,7 +9,7 @@ foreach(bag evt3 libcaer mono)
     list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${bag}_${how}.mcap)
   endforeach()
 endforeach()
-foreach(f mono_unchunked evt3_reversed libcaer_swapped)
+foreach(f mono_unchunked mono_ros1 evt3_reversed libcaer_swapped)
   list(APPEND outputs ${EVLIFE_MCAP_TEST_DIR}/${f}.mcap)
 endforeach()
 foreach(bag evt3 mono)
@@ -20,7 +20,7 @@ endforeach()
 add_custom_command(
   OUTPUT ${outputs}
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_LIST_DIR}/make_mcap.py ${EVLIFE_MCAP_TEST_DIR} ${EVLIFE_SHARED_DATA_DIR}
-  DEPENDS ${CMAKE_CURRENT_LIST_DIR}/make_mcap.py
+  DEPENDS ${CMAKE_CURRENT_LIST_DIR}/make_mcap.py ${CMAKE_CURRENT_LIST_DIR}/../ros_mono_dvs.py
   COMMENT "make_mcap.py: MCAP test files")
 add_custom_target(evlife_mcap_test_files DEPENDS ${outputs})
 if(TARGET test_io_mcap)

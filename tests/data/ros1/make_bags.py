@@ -29,6 +29,9 @@ import sys
 import rosbag
 import rospy
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from ros_mono_dvs import DVS_MD5, DVS_TEXT, Cdr, mono_packet_as_dvs, ros1_header  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, '..', '..', '..', '..', 'shared', 'data')
 
@@ -38,28 +41,6 @@ def messages(rel, limit):
     rows = db.execute('SELECT data, timestamp FROM messages ORDER BY timestamp, id LIMIT ?', (limit,)).fetchall()
     db.close()
     return [(bytes(d), t) for d, t in rows]
-
-
-class Cdr:
-    def __init__(self, m):
-        self.m, self.pos = m, 4
-
-    def get(self, fmt):
-        n = struct.calcsize('<' + fmt)
-        self.pos = 4 + (self.pos - 4 + n - 1) // n * n
-        v, = struct.unpack_from('<' + fmt, self.m, self.pos)
-        self.pos += n
-        return v
-
-    def string(self):
-        n = self.get('I')
-        s = self.m[self.pos:self.pos + n - 1]
-        self.pos += n
-        return s
-
-
-def ros1_header(seq, sec, nsec, frame):
-    return struct.pack('<III', seq, sec, nsec) + struct.pack('<I', len(frame)) + frame
 
 
 _classes = {}
@@ -77,7 +58,6 @@ def Raw(type_, md5, text, payload):
 
 PACKET_TEXT = ('std_msgs/Header header\nuint32 height\nuint32 width\nuint64 seq\nuint64 time_base\n'
                'string encoding\nbool is_bigendian\nuint8[] events\n')
-DVS_TEXT = 'std_msgs/Header header\nuint32 height\nuint32 width\ndvs_msgs/Event[] events\n'
 
 packets = []
 for i, (m, t) in enumerate(messages('rosbag/test_data_evt3_trigger/test_data_evt3_trigger_0.db3', 30)):
@@ -115,22 +95,9 @@ os.remove(active + '.tmp')
 dvs_bodies = []
 with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
     for i, (m, t) in enumerate(messages('rosbag/test_data_mono_cd/test_data_mono_cd_0.db3', 2)):
-        c = Cdr(m)
-        c.get('i'), c.get('I'), c.string()
-        height, width = c.get('I'), c.get('I')
-        c.get('Q')
-        time_base = c.get('Q')
-        c.string(), c.get('B')
-        n = c.get('I')
-        payload = m[c.pos:c.pos + n]
-        events = b''
-        for k in range(n // 8):
-            w, = struct.unpack_from('<Q', payload, 8 * k)
-            tt = time_base + (w & 0xFFFFFFFF)
-            events += struct.pack('<HHIIB', (w >> 32) & 0xFFFF, (w >> 48) & 0x7FFF, tt // 10**9, tt % 10**9, w >> 63)
-        body = ros1_header(i, 0, 0, b'cam') + struct.pack('<III', height, width, n // 8) + events
+        body = mono_packet_as_dvs(m, i)
         dvs_bodies.append((body, t))
-        bag.write('/dvs/events', Raw('dvs_msgs/EventArray', '5e8beee5a6c107e504c2e78903c224b8', DVS_TEXT, body),
+        bag.write('/dvs/events', Raw('dvs_msgs/EventArray', DVS_MD5, DVS_TEXT, body),
                   rospy.Time(nsecs=t))
         note = b'hello'
         bag.write('/notes', Raw('std_msgs/String', '992ce8a1687cec8c8bd883ec73ca41d1', 'string data\n',
@@ -139,5 +106,5 @@ with rosbag.Bag(os.path.join(HERE, 'mono_dvs.bag'), 'w') as bag:
 # The same messages as dv_ros_msgs/EventArray.
 with rosbag.Bag(os.path.join(HERE, 'mono_dv_ros.bag'), 'w') as bag:
     for body, t in dvs_bodies:
-        bag.write('/events', Raw('dv_ros_msgs/EventArray', '5e8beee5a6c107e504c2e78903c224b8',
+        bag.write('/events', Raw('dv_ros_msgs/EventArray', DVS_MD5,
                                  DVS_TEXT.replace('dvs_msgs', 'dv_ros_msgs'), body), rospy.Time(nsecs=t))
