@@ -8,6 +8,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include <iterator>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli_runner.h"
@@ -757,6 +759,112 @@ TEST(RosPayloads, BytesAfterTheEventsAreAFaultNotDropped) {
   array.bytes.resize(array.bytes.size() - 13);
   EXPECT_FALSE(decoder.decode(array.bytes, events));
   EXPECT_EQ(events.size(), 1u);
+}
+
+// libcaer_cmp as the ROS 2 libcaer driver encodes a message (its default encoding): per
+// message, time in µs after the first event (TIME_HIGH/TIME_LOW words when it changes), ADDR_X
+// when x changes, and per group of 8 rows of one x, time and polarity an ADDR_Y (one event) or
+// VECT_BASE_Y + VECT_8 (several). Written here from that description, apart from the decoder.
+std::vector<std::uint8_t> libcaer_cmp_message(const std::vector<ros::RosEvent>& events) {
+  std::vector<std::uint8_t> out;
+  const auto word = [&out](std::uint32_t code, std::uint32_t rest) {
+    const auto w = static_cast<std::uint16_t>((code << 12) | rest);
+    out.push_back(static_cast<std::uint8_t>(w & 0xFF));
+    out.push_back(static_cast<std::uint8_t>(w >> 8));
+  };
+  std::uint32_t high = 0, low = 0, x = events.front().x, y_group = 0xFFFF, mask = 0;
+  int polarity = 0;  // none yet
+  const auto flush = [&] {
+    if (mask == 0) return;
+    const std::uint32_t on = polarity > 0 ? 0x800u : 0u;
+    if (std::popcount(mask) == 1) {
+      // The row of the one bit set. (The driver writes the group's first row, y_first, which is
+      // another row where a flush by time, x or polarity left the group open: its encoder's
+      // slip, decoded as written by event_camera_codecs and by evlife.)
+      word(3, y_group | static_cast<std::uint32_t>(std::countr_zero(mask)) | on);
+    } else {
+      word(4, y_group | on);
+      word(5, mask);
+    }
+    mask = 0;
+  };
+  word(2, x);
+  for (const ros::RosEvent& e : events) {
+    const auto dt = static_cast<std::uint32_t>((e.t_ns - events.front().t_ns) / 1000);
+    if ((dt & 0xFFF000u) != high) flush(), high = dt & 0xFFF000u, word(0, high >> 12);
+    if ((dt & 0xFFFu) != low) flush(), low = dt & 0xFFFu, word(1, low);
+    if (e.x != x) flush(), x = e.x, word(2, x);
+    if (e.p != polarity) flush(), polarity = e.p;
+    if ((e.y & ~7u) != y_group) flush(), y_group = e.y & ~7u;
+    mask |= 1u << (e.y & 7u);
+  }
+  flush();
+  return out;
+}
+
+std::vector<ros::RosEvent> sorted(std::vector<ros::RosEvent> v) {
+  std::sort(v.begin(), v.end(), [](const ros::RosEvent& a, const ros::RosEvent& b) {
+    return std::tie(a.t_ns, a.x, a.y, a.p) < std::tie(b.t_ns, b.x, b.y, b.p);
+  });
+  return v;
+}
+
+// The shared libcaer bag's 201 messages re-encoded as libcaer_cmp decode to their events (in
+// time, x and y order within one microsecond: a vector word lists its rows in order).
+TEST(RosPayloads, LibcaerCmpDecodesTheDriversEncoding) {
+  const RosMessages messages = decode_db3(kLibcaerBag);
+  ros::LibcaerCmpState state;
+  std::size_t vectors = 0, total = 0;
+  for (const std::vector<ros::RosEvent>& m : messages) {
+    if (m.empty()) continue;
+    const std::vector<std::uint8_t> payload = libcaer_cmp_message(m);
+    for (std::size_t at = 1; at < payload.size(); at += 2) vectors += (payload[at] >> 4) == 5 ? 1u : 0u;
+    std::vector<ros::RosEvent> out;
+    const auto fault = ros::decode_libcaer_cmp(payload, static_cast<std::uint64_t>(m.front().t_ns), 640, 480, state, out);
+    ASSERT_FALSE(fault) << fault->what;
+    const std::vector<ros::RosEvent> want = sorted(m), got = sorted(out);
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      ASSERT_EQ(got[i].t_ns, want[i].t_ns) << i;
+      ASSERT_EQ(got[i].x, want[i].x) << i;
+      ASSERT_EQ(got[i].y, want[i].y) << i;
+      ASSERT_EQ(got[i].p, want[i].p) << i;
+    }
+    total += m.size();
+  }
+  EXPECT_GT(total, 100'000u);
+  EXPECT_GT(vectors, 50u) << "the vector words are exercised";
+  // Faults name their byte: a row before any column, an unknown word, a row outside the sensor.
+  std::vector<ros::RosEvent> out;
+  ros::LibcaerCmpState fresh;
+  const std::vector<std::uint8_t> no_x = {0x07, 0x38};  // ADDR_Y 7, ON
+  auto fault = ros::decode_libcaer_cmp(no_x, 0, 346, 260, fresh, out);
+  ASSERT_TRUE(fault);
+  EXPECT_NE(fault->what.find("ADDR_Y word before any ADDR_X"), std::string::npos) << fault->what;
+  const std::vector<std::uint8_t> unknown = {0x05, 0x20, 0x00, 0x70};  // ADDR_X 5, code 7
+  fault = ros::decode_libcaer_cmp(unknown, 0, 346, 260, fresh, out);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->byte_in_message, 2u);
+  const std::vector<std::uint8_t> outside = {0x05, 0x20, 0x07, 0x31, 0x09, 0x31};  // y 263, then 265
+  out.clear();
+  fault = ros::decode_libcaer_cmp(outside, 0, 346, 264, fresh, out);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->byte_in_message, 4u);
+  EXPECT_EQ(out.size(), 1u);  // the event before it
+  // Through the EventPacket message: encoding "libcaer_cmp" (refused as unsupported before).
+  MessageBytes packet{{0x00, 0x01, 0x00, 0x00}, 4};
+  packet.put(std::int32_t{1}).put(std::uint32_t{0}).text("camera");
+  packet.put(std::uint32_t{260}).put(std::uint32_t{346}).put(std::uint64_t{0}).put(std::uint64_t{5'000'000});
+  packet.text("libcaer_cmp").put(std::uint8_t{0}).put(std::uint32_t{6});
+  for (const std::uint8_t b : {0x03, 0x10, 0x05, 0x20, 0x07, 0x38}) packet.bytes.push_back(b);  // 3 µs, x 5, y 7 ON
+  ros::MessageDecoder decoder(ros::MessageKind::event_packet);
+  std::vector<ros::RosEvent> events;
+  ASSERT_FALSE(decoder.decode(packet.bytes, events));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].t_ns, 5'003'000);
+  EXPECT_EQ(events[0].x, 5);
+  EXPECT_EQ(events[0].y, 7);
+  EXPECT_EQ(events[0].p, 1);
 }
 
 TEST(Rosbag2Faults, UnknownEncodingAndNotABag) {

@@ -212,6 +212,12 @@ for what, rel in (('ros_evt3', 'rosbag/test_data_evt3_trigger/test_data_evt3_tri
     # Whole messages for the message parser (the first one; mono: both are small).
     put('ros_message', what[4:] + '_msg0.bin', b'\x00' + bag_messages(rel, 1)[0])
 
+# libcaer_cmp (no shared bag holds it): words of every code, a vector of rows, ON and OFF;
+# header as fuzz_ros_payload.h (640 x 480, time_base 5 ms, cut after word 4).
+cmp_words = [0x0001, 0x1003, 0x2005, 0x3807, 0x4810, 0x50A5, 0x2006, 0x3009, 0x1004, 0x4018, 0x5003]
+put('ros_libcaer_cmp', 'words.bin', struct.pack('<HHQB', 640, 480, 5000000, 4) +
+    b''.join(struct.pack('<H', w) for w in cmp_words))
+
 
 class Cdr:
     """Little-endian CDR: primitives aligned to their size from byte 4."""

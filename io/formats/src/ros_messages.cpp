@@ -161,6 +161,55 @@ std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload
   return decode_words("libcaer", payload, out, one);
 }
 
+std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> payload, std::uint64_t time_base,
+                                               std::uint32_t width, std::uint32_t height, LibcaerCmpState& state,
+                                               std::vector<RosEvent>& out) {
+  constexpr std::uint64_t kMaxOffsetNs = ((std::uint64_t{1} << 24) - 1) * 1000;
+  if (time_base > kMaxTimeNs - kMaxOffsetNs) return MessageFault{0, "libcaer_cmp time_base beyond the 64-bit ns range"};
+  if (payload.size() % 2 != 0)
+    return MessageFault{payload.size() - 1, "libcaer_cmp payload of " + std::to_string(payload.size()) +
+                                                " bytes, not a multiple of 2"};
+  std::uint32_t high = 0, low = 0;  // µs after time_base
+  const auto emit = [&](std::size_t at, std::uint32_t x, std::uint32_t y) -> std::optional<MessageFault> {
+    if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
+    out.push_back(RosEvent{static_cast<std::int64_t>(time_base + std::uint64_t{high | low} * 1000),
+                           static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), state.polarity});
+    return std::nullopt;
+  };
+  for (std::size_t at = 0; at < payload.size(); at += 2) {
+    const auto w = static_cast<std::uint32_t>(payload[at] | (payload[at + 1] << 8));
+    const std::uint32_t code = w >> 12, rest = w & 0xFFFu;
+    switch (code) {
+      case 0: high = rest << 12; break;
+      case 1: low = rest; break;
+      case 2: state.x = static_cast<std::int32_t>(rest & 0x7FFu); break;
+      case 3:
+      case 4:
+        if (code == 3 && state.x < 0) return MessageFault{at, "libcaer_cmp ADDR_Y word before any ADDR_X"};
+        state.polarity = (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
+        if (code == 4) {
+          state.base_y = static_cast<std::int32_t>(rest & 0x7FFu);
+        } else if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), rest & 0x7FFu)) {
+          return fault;
+        }
+        break;
+      case 5:
+        if (state.x < 0 || state.base_y < 0)
+          return MessageFault{at, "libcaer_cmp VECT_8 word before any ADDR_X and VECT_BASE_Y"};
+        for (std::uint32_t bit = 0; bit < 8; ++bit) {
+          if ((rest & (1u << bit)) == 0) continue;
+          if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), static_cast<std::uint32_t>(state.base_y) + bit))
+            return fault;
+        }
+        state.base_y += 8;
+        break;
+      default:
+        return MessageFault{at, "libcaer_cmp word of unknown code " + std::to_string(code)};
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
                                         std::uint64_t time_base, std::uint32_t width,
                                         std::uint32_t height, std::vector<RosEvent>& out) {
@@ -265,9 +314,11 @@ std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::u
     fault = decode_libcaer(payload, time_base, width_, height_, out);
   } else if (encoding_ == "mono") {
     fault = decode_mono(payload, time_base, width_, height_, out);
+  } else if (encoding_ == "libcaer_cmp") {
+    fault = decode_libcaer_cmp(payload, time_base, width_, height_, libcaer_cmp_, out);
   } else {
     return MessageFault{payload_at, "unsupported event encoding '" + encoding_ +
-                                        "' (readable: evt3, libcaer, mono)"};
+                                        "' (readable: evt3, libcaer, libcaer_cmp, mono)"};
   }
   if (fault) fault->byte_in_message += payload_at;
   return fault;

@@ -59,14 +59,21 @@ MessageKind message_kind(std::string_view type);
 /// Type names readable as events, for error messages.
 std::string_view known_message_types();
 /// The same, as a literal for the formats' descriptions (reader_registry.h).
-#define EVLIFE_ROS_EVENT_MESSAGE_TYPES                                                             \
-  "event_camera_msgs/EventPacket (evt3, libcaer, mono), event_array_msgs/EventArray, dvs_msgs/EventArray, " \
-  "prophesee_event_msgs/EventArray, dv_ros_msgs/EventArray"
+#define EVLIFE_ROS_EVENT_MESSAGE_TYPES                                                     \
+  "event_camera_msgs/EventPacket (evt3, libcaer, libcaer_cmp, mono), event_array_msgs/EventArray, " \
+  "dvs_msgs/EventArray, prophesee_event_msgs/EventArray, dv_ros_msgs/EventArray"
 
 /// Where and why a message could not be decoded.
 struct MessageFault {
   std::size_t byte_in_message = 0;
   std::string what;
+};
+
+/// What libcaer_cmp's words leave set for the next (decode_libcaer_cmp).
+struct LibcaerCmpState {
+  std::int32_t x = -1;       ///< -1: no ADDR_X yet
+  std::int32_t base_y = -1;  ///< -1: no VECT_BASE_Y yet
+  std::int8_t polarity = 1;
 };
 
 class MessageDecoder {
@@ -106,6 +113,7 @@ class MessageDecoder {
   std::string encoding_;
   Evt3Decoder evt3_;
   std::vector<Event> evt3_scratch_;
+  LibcaerCmpState libcaer_cmp_;
 };
 
 // Payload decoders of EventPacket (also used alone by the fuzz targets and
@@ -117,6 +125,17 @@ std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload
 std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
                                         std::uint64_t time_base, std::uint32_t width,
                                         std::uint32_t height, std::vector<RosEvent>& out);
+/// libcaer_cmp (the ROS 2 libcaer driver's default): 16-bit little-endian
+/// words, the code in bits 12-15: 0 TIME_HIGH (bits 0-11 = time bits 12-23),
+/// 1 TIME_LOW (time bits 0-11; the time is µs after time_base (ns), both
+/// zero at each message's start), 2 ADDR_X (x, bits 0-10), 3 ADDR_Y (an
+/// event at (x, y bits 0-10), polarity bit 11, 1 = ON), 4 VECT_BASE_Y (base y,
+/// polarity), 5 VECT_8 (events at (x, base y + i) for each bit i of 0-7 set;
+/// base y += 8). x, base y and polarity carry across messages (`state`), as
+/// event_camera_codecs' decoder keeps them; other codes are a fault.
+std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> payload, std::uint64_t time_base,
+                                               std::uint32_t width, std::uint32_t height, LibcaerCmpState& state,
+                                               std::vector<RosEvent>& out);
 /// `decoder` keeps its state between calls; `scratch` is reused memory.
 std::optional<MessageFault> decode_evt3(std::span<const std::uint8_t> payload, Evt3Decoder& decoder,
                                         std::vector<Event>& scratch, std::vector<RosEvent>& out);
