@@ -142,6 +142,10 @@ class LifetimeEstimator {
                               double since_arrival_us) const noexcept;
   bool ramp_follower(int pol, int x, int y, const PixelState& state, double since_arrival_us) const noexcept;
   bool long_bursts_upstream(int pol, int x, int y, const PixelState& state, std::int32_t now_rel) const noexcept;
+  bool late_follower(int pol, int x, int y, const PixelState& burst, std::int32_t arrival_rel, double since_arrival_us,
+                     double timing_noise_us) const noexcept;
+  bool late_event_rejected(int pol, int x, int y, std::int32_t arrival_rel, std::int32_t now_rel,
+                           float last_burst_lifetime_us, float window_noise_us, AugmentedEvent& out) noexcept;
   // True when pred(q) holds at a neighbour q (pixel index) of (x, y) upstream
   // of the motion of the burst in `state`: where its edge came from.
   template <typename Pred>

@@ -193,6 +193,28 @@ struct LifetimeOptions {
   /// In (0, 10].
   double ramp_follower_upstream_lifetimes = 1.5;
 
+  /// A photoreceptor of limited bandwidth (dim light) fires a burst's later
+  /// events a time constant T or two after its first, many lifetimes of a
+  /// fast edge and past the follower window; taken for new arrivals, they
+  /// overwrote the arrival in the surface, the pixel looked reached late and
+  /// the fits downstream came out flat. An event (with a fit of its own or
+  /// labelled noise) within this many x the window's observed timing noise
+  /// (its median residual RMS of the last fits, which grows with T) of its
+  /// pixel's last arrival leaves that arrival in the surface: the surface
+  /// holds each burst's first event. An event with a fit keeps its lifetime
+  /// and its burst is its own, anchored at the arrival. 0 = off (the output
+  /// before, bit for bit). In [0, 100].
+  double late_event_keeps_arrival_timing_noise = 0.0;
+
+  /// Such a late event that no fit supports, at a pixel whose burst has an
+  /// estimate, is the burst's follower where it comes within this many x the
+  /// duration (latest event after arrival) of an upstream neighbour's
+  /// estimated burst of the same edge (arrived before this pixel's): the
+  /// neighbours' own bursts show how long the pixels' response lasts. Not
+  /// while an upstream neighbour holds an arrival newer than this pixel's (a
+  /// new edge reaches them first). 0 = off. In [0, 100].
+  double late_follower_upstream_durations = 0.0;
+
   /// A prediction (paper III-B.2) is for the edge that made it: if the
   /// predicted pixel's next event comes more than this many of the predicted
   /// lifetimes early or late (at least inlier_tolerance_us), the edge passed
@@ -320,6 +342,12 @@ void for_each_lifetime_option(F&& f) {
   f(OptionInfo{"ramp_follower_upstream_lifetimes", "", 0.0, 10.0, true, false, false, false,
                "the ramp passes while an upstream neighbour fired within this many lifetimes"},
     [](auto& o) -> auto& { return o.ramp_follower_upstream_lifetimes; });
+  f(OptionInfo{"late_event_keeps_arrival_timing_noise", "", 0.0, 100.0, false, false, false, false,
+               "an event within this many x the window's timing noise of its pixel's arrival leaves it; 0 = off"},
+    [](auto& o) -> auto& { return o.late_event_keeps_arrival_timing_noise; });
+  f(OptionInfo{"late_follower_upstream_durations", "", 0.0, 100.0, false, false, false, false,
+               "an unsupported event within this many x an upstream burst's duration follows its burst; 0 = off"},
+    [](auto& o) -> auto& { return o.late_follower_upstream_durations; });
   f(OptionInfo{"prediction_expiry_lifetimes", "", 0.0, 100.0, false, false, false, false,
                "a prediction missed by more lifetimes is void; 0 = never"},
     [](auto& o) -> auto& { return o.prediction_expiry_lifetimes; });
