@@ -151,10 +151,11 @@ std::optional<std::string> lzf_chunk_size_mismatch(hid_t dataset, std::uint64_t 
   return mismatch;
 }
 
-// Bytes of one storage chunk of `dataset` (0 when it is not chunked).
 /// libhdf5's chunk cache per dataset, and the most a dataset is given instead.
 constexpr std::uint64_t kDefaultChunkCacheBytes = std::uint64_t{1} << 20;
 constexpr std::uint64_t kMaxChunkCacheBytes = std::uint64_t{64} << 20;
+
+// Bytes of one storage chunk of `dataset` (0 when it is not chunked).
 
 std::uint64_t chunk_bytes(hid_t dataset) {
   const hid_t properties = H5Dget_create_plist(dataset);
@@ -173,6 +174,26 @@ std::uint64_t chunk_bytes(hid_t dataset) {
   }
   H5Pclose(properties);
   return bytes;
+}
+
+// Whether a chunk of `dataset` is longer than a dimension that cannot grow:
+// HDF5 refuses to create one (but for an empty dimension), so the file is corrupt, and libhdf5 1.10 reads
+// past a shorter decompressed chunk there (found by fuzz_hdf5:
+// regressions/hdf5/chunk_beyond_its_fixed_dimension.h5).
+bool chunk_beyond_fixed_extent(hid_t dataset) {
+  const hid_t properties = H5Dget_create_plist(dataset);
+  if (properties < 0) return false;
+  hsize_t chunk[H5S_MAX_RANK] = {}, extent[H5S_MAX_RANK] = {}, max_extent[H5S_MAX_RANK] = {};
+  const int rank = H5Pget_layout(properties) == H5D_CHUNKED ? H5Pget_chunk(properties, H5S_MAX_RANK, chunk) : 0;
+  H5Pclose(properties);
+  const hid_t space = H5Dget_space(dataset);
+  const int space_rank = space >= 0 ? H5Sget_simple_extent_dims(space, extent, max_extent) : -1;
+  if (space >= 0) H5Sclose(space);
+  for (int i = 0; i < rank && i < space_rank; ++i) {
+    // (An empty dimension, 0, is left alone: HDF5 makes such datasets, and none is read there.)
+    if (max_extent[i] != H5S_UNLIMITED && max_extent[i] != 0 && chunk[i] > max_extent[i]) return true;
+  }
+  return false;
 }
 
 // HDF5 converts a value that the memory type cannot hold by clamping (x = -1
@@ -338,6 +359,11 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
       throw ReadError(path, -1, -1,
                       "HDF5 dataset '" + name + "' is stored in chunks of more than " +
                           std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
+    }
+    if (chunk_beyond_fixed_extent(dataset)) {
+      H5Dclose(dataset);
+      close_handles();
+      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' is stored in chunks longer than the dataset (corrupt)");
     }
     if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) {
       H5Dclose(dataset);

@@ -166,9 +166,6 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
                                                std::vector<RosEvent>& out) {
   constexpr std::uint64_t kMaxOffsetNs = ((std::uint64_t{1} << 24) - 1) * 1000;
   if (time_base > kMaxTimeNs - kMaxOffsetNs) return MessageFault{0, "libcaer_cmp time_base beyond the 64-bit ns range"};
-  if (payload.size() % 2 != 0)
-    return MessageFault{payload.size() - 1, "libcaer_cmp payload of " + std::to_string(payload.size()) +
-                                                " bytes, not a multiple of 2"};
   std::uint32_t high = 0, low = 0;  // µs after time_base
   const auto emit = [&](std::size_t at, std::uint32_t x, std::uint32_t y) -> std::optional<MessageFault> {
     if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
@@ -176,7 +173,7 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
                            static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), state.polarity});
     return std::nullopt;
   };
-  for (std::size_t at = 0; at < payload.size(); at += 2) {
+  for (std::size_t at = 0; at + 1 < payload.size(); at += 2) {
     const auto w = static_cast<std::uint32_t>(payload[at] | (payload[at + 1] << 8));
     const std::uint32_t code = w >> 12, rest = w & 0xFFFu;
     switch (code) {
@@ -207,6 +204,9 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
         return MessageFault{at, "libcaer_cmp word of unknown code " + std::to_string(code)};
     }
   }
+  if (payload.size() % 2 != 0)  // after the events of the whole words, as the other decoders
+    return MessageFault{payload.size() - 1, "libcaer_cmp payload of " + std::to_string(payload.size()) +
+                                                " bytes, not a multiple of 2"};
   return std::nullopt;
 }
 
