@@ -63,6 +63,8 @@ TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
       // The opt-in checks too (their paths run only when on).
       o.burst_span_timing_noise = reg ? 10.0 : 0.0;
       o.max_event_offset_tolerances = reg ? 2.0 : 0.0;
+      o.late_event_keeps_arrival_timing_noise = reg ? 15.0 : 0.0;  // config/dim-light.yaml's
+      o.late_follower_upstream_durations = reg ? 1.5 : 0.0;
       LifetimeEstimator est(o);  // allocates here, at construction
       std::vector<AugmentedEvent> out(events.size());
       long edges = 0;

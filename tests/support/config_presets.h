@@ -13,6 +13,8 @@ inline LifetimeOptions dim_light_preset() {
   LifetimeOptions o;
   o.max_lifetime_standard_error = 0.5;
   o.max_event_offset_tolerances = 2.0;
+  o.late_event_keeps_arrival_timing_noise = 15.0;
+  o.late_follower_upstream_durations = 1.5;
   return o;
 }
 
