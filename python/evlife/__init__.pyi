@@ -84,6 +84,8 @@ class LifetimeEstimator:
                  burst_span_timing_noise: float = ...,
                  ramp_follower_span_lifetimes: float = ...,
                  ramp_follower_upstream_lifetimes: float = ...,
+                 late_event_keeps_arrival_timing_noise: float = ...,
+                 late_follower_upstream_durations: float = ...,
                  prediction_expiry_lifetimes: float = ...,
                  max_lifetime_us: float = ..., max_event_offset_tolerances: float = ...,
                  continuation_max_event_offset_tolerances: float = ...,
