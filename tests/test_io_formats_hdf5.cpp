@@ -351,7 +351,7 @@ TEST(IoFormatsHdf5, DsecLayoutWithTimeOffset) {
 // memory), with a string attribute units = `units` on it when given.
 template <typename T>
 void write_columns_with_time(const std::string& path, const std::vector<T>& t, hid_t t_file_type,
-                             hid_t t_memory_type, const char* units = nullptr) {
+                             hid_t t_memory_type, const char* units = nullptr, bool utf8_variable = false) {
   std::vector<std::uint16_t> x(t.size()), y(t.size());
   std::vector<std::uint8_t> p(t.size());
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -360,13 +360,19 @@ void write_columns_with_time(const std::string& path, const std::vector<T>& t, h
     p[i] = static_cast<std::uint8_t>(i % 3 == 0);
   }
   const hid_t file = create_event_columns(path, x, y, t, t_file_type, t_memory_type, p);
-  if (units != nullptr) {  // a fixed-length string, as evlife's writer stores its units
+  if (units != nullptr) {  // fixed-length ASCII as evlife's writer stores its units, or h5py's str
     const hid_t dataset = H5Dopen2(file, "events/t", H5P_DEFAULT);
     const hid_t type = H5Tcopy(H5T_C_S1);
-    H5Tset_size(type, std::strlen(units));
+    if (utf8_variable) {
+      H5Tset_size(type, H5T_VARIABLE);
+      H5Tset_cset(type, H5T_CSET_UTF8);
+    } else {
+      H5Tset_size(type, std::strlen(units));
+    }
     const hid_t scalar = H5Screate(H5S_SCALAR);
     const hid_t attribute = H5Acreate2(dataset, "units", type, scalar, H5P_DEFAULT, H5P_DEFAULT);
-    H5Awrite(attribute, type, units);
+    if (utf8_variable) H5Awrite(attribute, type, &units);
+    else H5Awrite(attribute, type, units);
     H5Aclose(attribute);
     H5Sclose(scalar);
     H5Tclose(type);
@@ -408,6 +414,20 @@ TEST(IoFormatsHdf5, TimesInAnotherUnitByTheFlagOrTheUnitsAttribute) {
   const std::string stated = dir.file("t_ns_stated.h5");
   write_columns_with_time(stated, t_ns, H5T_STD_I64LE, H5T_NATIVE_INT64, "ns");
   expect_us(read_with(stated, ""), "units attribute ns");
+  // As h5py writes a str (variable-length UTF-8, which libhdf5 would not read as ASCII), any case.
+  const std::string utf8 = dir.file("t_ns_utf8.h5");
+  write_columns_with_time(utf8, t_ns, H5T_STD_I64LE, H5T_NATIVE_INT64, "Nanoseconds", true);
+  expect_us(read_with(utf8, ""), "units attribute Nanoseconds, UTF-8");
+  // A unit it does not know is named, not read as µs.
+  const std::string unknown = dir.file("t_unknown_units.h5");
+  write_columns_with_time(unknown, t_ns, H5T_STD_I64LE, H5T_NATIVE_INT64, "ticks");
+  try {
+    (void)read_with(unknown, "");
+    ADD_FAILURE() << "units 'ticks' read";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("states units 'ticks', not a time unit"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_with(unknown, "us")[1].t_us, t_ns[1]) << "--time-unit decides";
   const std::string floats = dir.file("t_us_float.h5");
   write_columns_with_time(floats, t_us_float, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
   EXPECT_EQ(read_with(floats, "")[1].t_us, 3'000'000) << "a float column without a unit is seconds";

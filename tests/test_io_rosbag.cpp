@@ -851,6 +851,16 @@ TEST(RosPayloads, LibcaerCmpDecodesTheDriversEncoding) {
   ASSERT_TRUE(fault);
   EXPECT_EQ(fault->byte_in_message, 4u);
   EXPECT_EQ(out.size(), 1u);  // the event before it
+  // An ADDR_Y's polarity is its event's: a vector after it keeps its VECT_BASE_Y's.
+  const std::vector<std::uint8_t> mixed = {0x05, 0x20, 0x00, 0x48, 0x14, 0x30, 0x01, 0x50};  // x 5, base 0 ON, y 20 OFF, bit 0
+  out.clear();
+  ros::LibcaerCmpState polarity_state;
+  ASSERT_FALSE(ros::decode_libcaer_cmp(mixed, 0, 346, 260, polarity_state, out));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].y, 20);
+  EXPECT_EQ(out[0].p, -1);
+  EXPECT_EQ(out[1].y, 0);
+  EXPECT_EQ(out[1].p, 1);
   // Through the EventPacket message: encoding "libcaer_cmp" (refused as unsupported before).
   MessageBytes packet{{0x00, 0x01, 0x00, 0x00}, 4};
   packet.put(std::int32_t{1}).put(std::uint32_t{0}).text("camera");

@@ -193,9 +193,9 @@ without decoding the events before it. topic: a ROS bag's event topic (needed
 when it has several; the error lists them), or an HDF5 file's camera (MVSEC
 davis/right/events, M3ED prophesee/right; the left by default), or an .npz
 archive's array of events, as --topic. time_unit: 's', 'ms', 'us' or 'ns', the
-unit of a CSV/text or NumPy file's time column, as --time-unit (default: its
-name's or its datetime64 type's, which refuses another, else seconds for
-fractions, else us). Raises FileNotFoundError for a missing file and
+unit of a CSV/text, NumPy or HDF5 file's time column, as --time-unit
+(default: its name's, its datetime64 type's, which refuses another, or its
+HDF5 units attribute's, else seconds for fractions or floats, else us). Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute

@@ -28,11 +28,13 @@ std::string layout_text(const Layout& layout, int columns) {
 
 std::int64_t unit_ns(std::string u) {
   u.erase(std::remove_if(u.begin(), u.end(), [](char c) { return c == ' ' || c == '_' || c == '(' || c == ')' || c == '[' || c == ']'; }), u.end());
+  u = lower_ascii(std::move(u));  // NS, Seconds (an HDF5 units attribute)
   if (u == "s" || u == "sec" || u == "seconds" || u == "second") return 1'000'000'000;
-  if (u == "ms" || u == "msec" || u == "milliseconds") return 1'000'000;
+  if (u == "ms" || u == "msec" || u == "milliseconds" || u == "millisecond") return 1'000'000;
   // µs with the micro sign or the Greek mu (both UTF-8).
-  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "\xce\xbcs" || u == "microseconds") return 1'000;
-  if (u == "ns" || u == "nsec" || u == "nanoseconds") return 1;
+  if (u == "us" || u == "usec" || u == "\xc2\xb5s" || u == "\xce\xbcs" || u == "microseconds" || u == "microsecond")
+    return 1'000;
+  if (u == "ns" || u == "nsec" || u == "nanoseconds" || u == "nanosecond") return 1;
   return 0;
 }
 

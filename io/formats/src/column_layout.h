@@ -19,8 +19,8 @@ std::string lower_ascii(std::string s);
 /// "x,y,t,p"-style text of a layout over `columns` columns ('_' for the others).
 std::string layout_text(const Layout& layout, int columns);
 
-/// ns per unit named `u` (s, ms, us, µs, ns...; blanks, '_' and brackets
-/// ignored), 0 if unknown.
+/// ns per unit named `u` (s, ms, us, µs, ns, seconds, nanosecond...; any
+/// case; blanks, '_' and brackets ignored), 0 if unknown.
 std::int64_t unit_ns(std::string u);
 
 /// A time of `unit_ns` ns per unit as µs, rounded to nearest (ns: halves

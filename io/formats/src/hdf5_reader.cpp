@@ -80,6 +80,7 @@ std::optional<std::string> read_string_attribute(hid_t object, const char* name)
   const hid_t space = H5Aget_space(attribute);
   if (type >= 0 && space >= 0 && H5Tget_class(type) == H5T_STRING && H5Sget_simple_extent_npoints(space) == 1) {
     const hid_t memory = H5Tcopy(H5T_C_S1);
+    H5Tset_cset(memory, H5Tget_cset(type));  // h5py's str is UTF-8: libhdf5 converts no cset to another
     if (H5Tis_variable_str(type) > 0) {
       char* text = nullptr;
       if (H5Tset_size(memory, H5T_VARIABLE) >= 0 && H5Aread(attribute, memory, &text) >= 0 && text != nullptr) {
@@ -689,8 +690,15 @@ void Hdf5Reader::choose_time_unit(const std::string& time_unit) {
     return;
   }
   std::int64_t stated = 0;
-  if (!is_table()) {
-    if (const auto units = read_string_attribute(t_, "units")) stated = detail::unit_ns(*units);
+  if (!is_table() && given == 0) {
+    if (const auto units = read_string_attribute(t_, "units")) {
+      stated = detail::unit_ns(*units);
+      if (stated == 0) {  // read in another unit, the times would be off by 1000s
+        close_handles();
+        throw ReadError(path_, -1, -1, "HDF5 dataset '" + column_names_[2] + "' states units '" + *units +
+                                           "', not a time unit (s, ms, us, ns): --time-unit U says which");
+      }
+    }
   }
   t_unit_ns_ = given != 0 ? given : stated != 0 ? stated : t_float_ ? 1'000'000'000 : 1000;
 }

@@ -409,6 +409,7 @@ class NpyEventReader final : public EventReader {
     }
     for (const Records& r : records_) {
       const std::int64_t extra = r.array.available_bytes - r.records * static_cast<std::int64_t>(r.record_bytes);
+      if (extra > 0 && r.array.size_unknown) continue;  // a bound, not a size: the archive's cut is said below
       if (extra > 0) {
         // A stated size (a compressed archive member's) is checked by reading: are the bytes there?
         std::byte probe[1];

@@ -30,6 +30,7 @@ struct NpyArray {
   std::shared_ptr<const InputFile> file;  ///< what `bytes` reads (declared first: outlives it)
   std::unique_ptr<Cursor> bytes;  ///< positioned at the first record
   std::int64_t available_bytes = 0;  ///< the data bytes the file or member holds after the header
+  bool size_unknown = false;  ///< available_bytes is a bound (a cut archive's member of unstated size)
   std::int64_t file_offset = -1;  ///< of the first record in the file; -1 when compressed
 };
 

@@ -68,6 +68,7 @@ NpyArray open_array(const std::shared_ptr<const InputFile>& file, const ZipMembe
   if (static_cast<std::int64_t>(m.size_bytes) < a.header.data_offset)
     throw ReadError(path, -1, -1, "array '" + m.name + "': its stated size is less than its header");
   a.available_bytes = static_cast<std::int64_t>(m.size_bytes) - a.header.data_offset;
+  a.size_unknown = m.size_unstated;
   const std::int64_t data_at = zip_member_data_offset(*file, m);
   a.file_offset = data_at < 0 ? -1 : data_at + a.header.data_offset;
   return a;

@@ -167,10 +167,11 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
   constexpr std::uint64_t kMaxOffsetNs = ((std::uint64_t{1} << 24) - 1) * 1000;
   if (time_base > kMaxTimeNs - kMaxOffsetNs) return MessageFault{0, "libcaer_cmp time_base beyond the 64-bit ns range"};
   std::uint32_t high = 0, low = 0;  // µs after time_base
-  const auto emit = [&](std::size_t at, std::uint32_t x, std::uint32_t y) -> std::optional<MessageFault> {
+  const auto emit = [&](std::size_t at, std::uint32_t x, std::uint32_t y, std::int8_t p) -> std::optional<MessageFault> {
+    if (y > 0xFFFFu) return MessageFault{at, "libcaer_cmp vector row " + std::to_string(y) + " beyond any sensor"};
     if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
     out.push_back(RosEvent{static_cast<std::int64_t>(time_base + std::uint64_t{high | low} * 1000),
-                           static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), state.polarity});
+                           static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y), p});
     return std::nullopt;
   };
   for (std::size_t at = 0; at + 1 < payload.size(); at += 2) {
@@ -183,10 +184,11 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
       case 3:
       case 4:
         if (code == 3 && state.x < 0) return MessageFault{at, "libcaer_cmp ADDR_Y word before any ADDR_X"};
-        state.polarity = (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
-        if (code == 4) {
+        if (code == 4) {  // the polarity of the vectors after it (an ADDR_Y's is its own event's)
           state.base_y = static_cast<std::int32_t>(rest & 0x7FFu);
-        } else if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), rest & 0x7FFu)) {
+          state.polarity = (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
+        } else if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), rest & 0x7FFu,
+                                     (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1})) {
           return fault;
         }
         break;
@@ -195,10 +197,11 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
           return MessageFault{at, "libcaer_cmp VECT_8 word before any ADDR_X and VECT_BASE_Y"};
         for (std::uint32_t bit = 0; bit < 8; ++bit) {
           if ((rest & (1u << bit)) == 0) continue;
-          if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), static_cast<std::uint32_t>(state.base_y) + bit))
+          if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), static_cast<std::uint32_t>(state.base_y) + bit,
+                                state.polarity))
             return fault;
         }
-        state.base_y += 8;
+        state.base_y = std::min(state.base_y + 8, 0x10000);  // beyond any row: faults as outside
         break;
       default:
         return MessageFault{at, "libcaer_cmp word of unknown code " + std::to_string(code)};

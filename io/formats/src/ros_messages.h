@@ -130,7 +130,7 @@ std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
 /// 1 TIME_LOW (time bits 0-11; the time is µs after time_base (ns), both
 /// zero at each message's start), 2 ADDR_X (x, bits 0-10), 3 ADDR_Y (an
 /// event at (x, y bits 0-10), polarity bit 11, 1 = ON), 4 VECT_BASE_Y (base y,
-/// polarity), 5 VECT_8 (events at (x, base y + i) for each bit i of 0-7 set;
+/// polarity of the vectors after it), 5 VECT_8 (events at (x, base y + i) for each bit i of 0-7 set;
 /// base y += 8). x, base y and polarity carry across messages (`state`), as
 /// event_camera_codecs' decoder keeps them; other codes are a fault.
 std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> payload, std::uint64_t time_base,

@@ -199,6 +199,7 @@ ZipDirectory scan_local_headers(const InputFile& file) {
                           (m.compressed_bytes == 0 && data_at < size && !signature_at(file, data_at));
     if (unstated || m.compressed_bytes > size - data_at) {  // read to the cut
       m.cut = true;
+      m.size_unstated = unstated;
       m.compressed_bytes = size - data_at;
       if (unstated) m.size_bytes = m.method == 0 ? m.compressed_bytes : kMaxMemberBytes;
       d.members.push_back(std::move(m));

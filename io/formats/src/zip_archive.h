@@ -28,6 +28,9 @@ struct ZipMember {
   /// unknown there): read up to the file's end, where a cursor's read stops
   /// with an error saying so.
   bool cut = false;
+  /// Its local header states no size (zipfile's placeholder, a data
+  /// descriptor): its data may end before the cut, its size is a bound.
+  bool size_unstated = false;
 };
 
 struct ZipDirectory {
