@@ -24,7 +24,7 @@ constexpr auto kTimeout = std::chrono::seconds(10);
 // (a second reader opening a file, h5py), it is never released in the child.
 // The child says it got past the lock; one that does not within this time
 // is stuck on it, not on the file, and is forked again a little later.
-constexpr int kLockWaitMs = 2000;
+constexpr int kLockWaitMs = 300;
 constexpr int kForks = 4;
 constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
 
