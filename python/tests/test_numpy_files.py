@@ -167,6 +167,37 @@ def test_a_cut_archive_gives_its_events_before_the_cut(tmp_path):
     assert (partial == evlife.read(tmp_path / "whole.npz")[:len(partial)]).all()
 
 
+def test_an_archive_written_to_a_pipe_and_cut_gives_every_member(tmp_path):
+    # zipfile on a stream that cannot seek puts each member's sizes in a data descriptor after
+    # its data: cut inside its central directory, only the first member was found.
+    import io
+
+    class Pipe(io.RawIOBase):
+        def __init__(self):
+            self.data = bytearray()
+
+        def writable(self):
+            return True
+
+        def write(self, b):
+            self.data += b
+            return len(b)
+
+        def seekable(self):
+            return False
+
+    for save in (np.savez, np.savez_compressed):
+        for arrays in ({"x": X, "y": Y, "t": T, "p": ON}, {"events": events_array()}):
+            pipe = Pipe()
+            save(pipe, **arrays)
+            data = bytes(pipe.data)
+            cut = data.find(b"PK\x01\x02") + 10
+            (tmp_path / "piped.npz").write_bytes(data[:cut])
+            with pytest.raises(evlife.InputError, match="cut inside its central directory") as e:
+                evlife.read(tmp_path / "piped.npz")
+            check(e.value.partial)
+
+
 def test_column_arrays_come_before_an_unnamed_n_by_4_array(tmp_path):
     # Bounding boxes are N x 4 too: they were read as the events.
     np.savez(tmp_path / "boxes.npz", x=X, y=Y, t=T, p=ON, boxes=np.array([[1, 2, 3, 1], [5, 2, 3, 0]]))

@@ -284,6 +284,30 @@ struct.pack_into('<III', data, 14, 0, 0xFFFFFFFF, 0xFFFFFFFF)  # CRC, sizes: ZIP
 struct.pack_into('<QQ', data, 30 + 10 + 4, 0, 0)  # the ZIP64 extra's sizes
 put('npz', 'events_compressed_cut_unsized.npz', bytes(data))
 
+
+def as_piped(archive):
+    """The members of `archive` as zipfile writes them to a stream that cannot seek: flag bit 3,
+    no sizes in the local headers (their ZIP64 extra says 0), a ZIP64 data descriptor after each
+    member's data; cut 10 bytes into the central directory."""
+    out, at = bytearray(), 0
+    while archive[at:at + 4] == b'PK\x03\x04':
+        crc, packed, size, name_len, extra_len = struct.unpack_from('<IIIHH', archive, at + 14)
+        header = bytearray(archive[at:at + 30 + name_len + extra_len])
+        extra = header[30 + name_len:]
+        if extra[:2] == b'\x01\x00':  # numpy's ZIP64 extra: sizes there
+            size, packed = struct.unpack_from('<QQ', extra, 4)
+            struct.pack_into('<QQ', header, 30 + name_len + 4, 0, 0)
+        struct.pack_into('<H', header, 6, struct.unpack_from('<H', header, 6)[0] | 8)
+        struct.pack_into('<III', header, 14, 0, 0xFFFFFFFF, 0xFFFFFFFF)
+        data_at = at + len(header)
+        out += header + archive[data_at:data_at + packed] + struct.pack('<IIQQ', 0x08074b50, crc, packed, size)
+        at = data_at + packed
+    return bytes(out) + archive[at:at + 10]
+
+
+with open(os.path.join(NPY, 'columns_compressed.npz'), 'rb') as f:
+    put('npz', 'piped_columns_cut.npz', as_piped(f.read()))
+
 # ---- AEDAT 3.1 (fuzz_aedat3): header, polarity packets (one after the 31-bit
 # timestamp overflow, one invalid event), an IMU and a special packet.
 def aedat3_packet(type_, size, overflow, events):

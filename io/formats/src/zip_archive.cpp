@@ -18,6 +18,7 @@ constexpr std::uint32_t kZip64EndLocator = 0x07064b50;
 constexpr std::uint32_t kZip64End = 0x06064b50;
 constexpr std::uint32_t kDirectoryEntry = 0x02014b50;
 constexpr std::uint32_t kLocalHeader = 0x04034b50;
+constexpr std::uint32_t kDataDescriptor = 0x08074b50;
 constexpr std::size_t kEndBytes = 22;
 constexpr std::size_t kMaxCommentBytes = 0xFFFF;
 constexpr std::size_t kEntryBytes = 46;
@@ -151,11 +152,40 @@ bool signature_at(const InputFile& file, std::uint64_t at) {
   return file.read_at(at, std::as_writable_bytes(std::span(pk))) == 2 && pk[0] == 'P' && pk[1] == 'K';
 }
 
+/// A member written to a stream (flag bit 3: zipfile on a pipe) states its
+/// sizes in a data descriptor after its data: signature 0x08074b50, CRC-32,
+/// then the compressed and uncompressed sizes (8 bytes each in ZIP64, else 4).
+/// Found as the first signature from `data_at` whose compressed size is its
+/// distance from `data_at` (data that happens to hold the signature does not
+/// also hold that distance); nullopt before the file ends.
+struct DataDescriptor {
+  std::uint32_t crc32 = 0;
+  std::uint64_t compressed_bytes = 0, size_bytes = 0, bytes = 0;
+};
+std::optional<DataDescriptor> find_data_descriptor(const InputFile& file, std::uint64_t data_at) {
+  constexpr std::size_t kBlock = 1 << 16, kLongest = 24;
+  std::vector<std::uint8_t> block(kBlock + kLongest);
+  for (std::uint64_t at = data_at; at < file.size_bytes(); at += kBlock) {
+    const std::size_t got = file.read_at(at, std::as_writable_bytes(std::span(block)));
+    for (std::size_t i = 0; i + 16 <= got && i < kBlock; ++i) {
+      if (block[i] != 'P' || le(&block[i], 4) != kDataDescriptor) continue;
+      const std::uint64_t distance = at + i - data_at;
+      if (i + 24 <= got && le(&block[i + 8], 8) == distance)
+        return DataDescriptor{static_cast<std::uint32_t>(le(&block[i + 4], 4)), distance, le(&block[i + 16], 8), 24};
+      if (le(&block[i + 8], 4) == distance)
+        return DataDescriptor{static_cast<std::uint32_t>(le(&block[i + 4], 4)), distance, le(&block[i + 12], 4), 16};
+    }
+    if (got <= kBlock) break;  // the file's end
+  }
+  return std::nullopt;
+}
+
 /// Without an end record: the members as their local headers show them,
 /// from the start of the file, until a header that is not one (the central
 /// directory, or the cut) or a member that runs past the file's end or whose
 /// size its header does not state (zipfile writes 0 until the member is
-/// closed; a data descriptor follows the data): that one is read to the cut.
+/// closed; a data descriptor follows the data and cannot be found): that one
+/// is read to the cut.
 ZipDirectory scan_local_headers(const InputFile& file) {
   const std::uint64_t size = file.size_bytes();
   ZipDirectory d;
@@ -194,8 +224,19 @@ ZipDirectory scan_local_headers(const InputFile& file) {
     bool size_big = m.size_bytes == 0xFFFFFFFF, compressed_big = m.compressed_bytes == 0xFFFFFFFF, offset_big = false;
     apply_zip64_extra(std::span(name_extra).subspan(name_bytes), m, size_big, compressed_big, offset_big);
     const std::uint64_t data_at = at + kLocalBytes + name_bytes + extra_bytes;
-    const bool unstated = size_big || compressed_big || (m.flags & 0x8) != 0 || m.compressed_bytes > kMaxMemberBytes ||
-                          m.size_bytes > kMaxMemberBytes ||
+    std::uint64_t descriptor_bytes = 0;
+    if ((m.flags & 0x8) != 0) {  // its sizes after its data, in a data descriptor
+      if (const auto found = find_data_descriptor(file, data_at);
+          found && found->compressed_bytes <= kMaxMemberBytes && found->size_bytes <= kMaxMemberBytes) {
+        m.crc32 = found->crc32;
+        m.compressed_bytes = found->compressed_bytes;
+        m.size_bytes = found->size_bytes;
+        size_big = compressed_big = false;
+        descriptor_bytes = found->bytes;
+      }
+    }
+    const bool unstated = size_big || compressed_big || ((m.flags & 0x8) != 0 && descriptor_bytes == 0) ||
+                          m.compressed_bytes > kMaxMemberBytes || m.size_bytes > kMaxMemberBytes ||
                           (m.compressed_bytes == 0 && data_at < size && !signature_at(file, data_at));
     if (unstated || m.compressed_bytes > size - data_at) {  // read to the cut
       m.cut = true;
@@ -208,7 +249,7 @@ ZipDirectory scan_local_headers(const InputFile& file) {
       break;
     }
     d.members.push_back(std::move(m));
-    at = data_at + d.members.back().compressed_bytes;
+    at = data_at + d.members.back().compressed_bytes + descriptor_bytes;
   }
   if (d.members.empty())
     fail(file, at, "no end of central directory record, and no member from its start (" + ended + ")");
