@@ -63,16 +63,17 @@ std::string write_evlife_file() {
 // One dataset of `values` at `name`, chunked (64 Ki rows) but not compressed:
 // the reader's own cost, without zlib's. `columns` 0: 1-D, else N×columns.
 template <typename T>
-void put(hid_t file, const char* name, hid_t type, const std::vector<T>& values, hsize_t columns = 0) {
+void put(hid_t file, const char* name, hid_t type, const std::vector<T>& values, hsize_t columns = 0,
+         evlife::test::Hdf5Storage storage = {1 << 16, -1}) {
   const std::vector<hsize_t> inner = columns > 0 ? std::vector<hsize_t>{columns} : std::vector<hsize_t>{};
-  if (!evlife::test::write_hdf5_dataset(file, name, type, type, values, inner, {1 << 16, -1})) {
+  if (!evlife::test::write_hdf5_dataset(file, name, type, type, values, inner, storage)) {
     std::fprintf(stderr, "bench_formats: cannot write the HDF5 dataset %s\n", name);
     std::exit(1);
   }
 }
 
-// DSEC's layout: events/{x,y,t,p} (t µs, p 0/1).
-std::string write_dsec_file() {
+// DSEC's layout: events/{x,y,t,p} (t µs, p 0/1), stored as `storage` says.
+std::string write_dsec_file_stored(const std::string& layout, evlife::test::Hdf5Storage storage) {
   const auto& events = synthetic_events();
   std::vector<std::uint16_t> x, y;
   std::vector<std::int64_t> t;
@@ -83,15 +84,21 @@ std::string write_dsec_file() {
     t.push_back(e.t_us);
     pol.push_back(e.p > 0);
   }
-  const std::string p = temp_path("dsec");
+  const std::string p = temp_path(layout);
   const hid_t file = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  put(file, "events/x", H5T_NATIVE_UINT16, x);
-  put(file, "events/y", H5T_NATIVE_UINT16, y);
-  put(file, "events/t", H5T_NATIVE_INT64, t);
-  put(file, "events/p", H5T_NATIVE_UINT8, pol);
+  put(file, "events/x", H5T_NATIVE_UINT16, x, 0, storage);
+  put(file, "events/y", H5T_NATIVE_UINT16, y, 0, storage);
+  put(file, "events/t", H5T_NATIVE_INT64, t, 0, storage);
+  put(file, "events/p", H5T_NATIVE_UINT8, pol, 0, storage);
   H5Fclose(file);
   return p;
 }
+
+std::string write_dsec_file() { return write_dsec_file_stored("dsec", {1 << 16, -1}); }
+
+// The same in chunks of 1 Mi rows, deflated (t: 8 MiB a chunk, beyond libhdf5's 1 MiB chunk
+// cache, which the reader enlarges for such datasets).
+std::string write_dsec_file_large_chunks() { return write_dsec_file_stored("dsec_large_chunks", {1 << 20, 1}); }
 
 // v2e's table (uint32 rows t µs, x, y, p 0/1) and MVSEC's (float64 rows x,
 // y, t s, p ±1): every cell converted to a double by the reader.
@@ -131,6 +138,7 @@ struct SyntheticFile {
 SyntheticFile synthetic_files[] = {
     {"hdf5", &write_evlife_file, {}},
     {"hdf5_dsec_uncompressed", &write_dsec_file, {}},
+    {"hdf5_dsec_deflated_1mi_row_chunks", &write_dsec_file_large_chunks, {}},
     {"hdf5_v2e_uncompressed", &write_v2e_file, {}},
     {"hdf5_mvsec_uncompressed", &write_mvsec_file, {}},
 };

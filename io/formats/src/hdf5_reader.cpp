@@ -157,7 +157,6 @@ constexpr std::uint64_t kDefaultChunkCacheBytes = std::uint64_t{1} << 20;
 constexpr std::uint64_t kMaxChunkCacheBytes = std::uint64_t{64} << 20;
 
 // Bytes of one storage chunk of `dataset` (0 when it is not chunked).
-
 std::uint64_t chunk_bytes(hid_t dataset) {
   const hid_t properties = H5Dget_create_plist(dataset);
   if (properties < 0) return 0;
@@ -282,12 +281,6 @@ bool is_float(hid_t dataset) {
   return result;
 }
 
-// Seconds (or µs) as a double to whole µs; false when not a finite time
-// that int64 µs can hold (corrupt data).
-bool to_microseconds(double value, std::int64_t unit_ns, std::int64_t& t_us) {
-  return detail::float_time_to_us(value, unit_ns, t_us);
-}
-
 // "-1", "12.7", "9.22337203685478e+18": the value as written, not "-1.000000".
 std::string shortest_text(double value) {
   char text[32];
@@ -320,7 +313,7 @@ std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t data
     std::uint16_t coordinate = 0;
     std::int64_t t_us = 0;
     const bool fits = kind == ColumnKind::coordinate ? to_coordinate(v, coordinate)
-                      : kind == ColumnKind::time_us  ? v == std::floor(v) && to_microseconds(v, 1000, t_us)
+                      : kind == ColumnKind::time_us  ? v == std::floor(v) && detail::float_time_to_us(v, 1000, t_us)
                                                      : v == std::floor(v) && v >= -128.0 && v <= 127.0;
     if (!fits) return std::pair{i, v};
   }
@@ -348,29 +341,19 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
   if (file_ < 0) throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
 
   const auto open = [&](const std::string& name) {
-    const hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
-    if (dataset < 0) {
+    hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    // The file's fault with this dataset (`why` follows its quoted name): nothing of it is read.
+    const auto refuse = [&](const std::string& why) {
+      if (dataset >= 0) H5Dclose(dataset);
       close_handles();
-      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened");
-    }
+      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "'" + why);
+    };
+    if (dataset < 0) refuse(" cannot be opened");
     const std::uint64_t bytes = chunk_bytes(dataset);
-    if (bytes > kHdf5MaxChunkBytes) {
-      H5Dclose(dataset);
-      close_handles();
-      throw ReadError(path, -1, -1,
-                      "HDF5 dataset '" + name + "' is stored in chunks of more than " +
-                          std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
-    }
-    if (chunk_beyond_fixed_extent(dataset)) {
-      H5Dclose(dataset);
-      close_handles();
-      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' is stored in chunks longer than the dataset (corrupt)");
-    }
-    if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) {
-      H5Dclose(dataset);
-      close_handles();
-      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "': " + *mismatch);
-    }
+    if (bytes > kHdf5MaxChunkBytes)
+      refuse(" is stored in chunks of more than " + std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
+    if (chunk_beyond_fixed_extent(dataset)) refuse(" is stored in chunks longer than the dataset (corrupt)");
+    if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) refuse(": " + *mismatch);
     if (const auto missing = missing_filter(dataset); missing && unloadable_filter_.empty()) {
       unloadable_filter_ = "'" + name + "' is " + *missing;
     }
@@ -381,13 +364,9 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
       H5Dclose(dataset);
       const hid_t access = H5Pcreate(H5P_DATASET_ACCESS);
       if (access >= 0) H5Pset_chunk_cache(access, H5D_CHUNK_CACHE_NSLOTS_DEFAULT, std::min(2 * bytes, kMaxChunkCacheBytes), 1.0);
-      const hid_t cached = H5Dopen2(file_, name.c_str(), access >= 0 ? access : H5P_DEFAULT);
+      dataset = H5Dopen2(file_, name.c_str(), access >= 0 ? access : H5P_DEFAULT);
       if (access >= 0) H5Pclose(access);
-      if (cached < 0) {
-        close_handles();
-        throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "' cannot be opened again");
-      }
-      return cached;
+      if (dataset < 0) refuse(" cannot be opened again");
     }
     return dataset;
   };
@@ -653,7 +632,7 @@ bool Hdf5Reader::load_table_chunk(std::size_t count) {
     const double* row = &doubles_[4 * i];
     if (!to_coordinate(row[table_.x], xs_[i])) return stop_at(i, "x", row[table_.x], ", not a pixel coordinate");
     if (!to_coordinate(row[table_.y], ys_[i])) return stop_at(i, "y", row[table_.y], ", not a pixel coordinate");
-    if (!to_microseconds(row[table_.t], t_unit_ns_, ts_[i])) return stop_at(i, "t", row[table_.t], ", no time");
+    if (!detail::float_time_to_us(row[table_.t], t_unit_ns_, ts_[i])) return stop_at(i, "t", row[table_.t], ", no time");
     ps_[i] = row[table_.p] > 0 ? std::int8_t{1} : std::int8_t{-1};
   }
   return true;
@@ -661,7 +640,7 @@ bool Hdf5Reader::load_table_chunk(std::size_t count) {
 
 bool Hdf5Reader::convert_float_times(std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
-    if (!to_microseconds(doubles_[i], t_unit_ns_, ts_[i])) return stop_at(i, "t", doubles_[i], ", no time");
+    if (!detail::float_time_to_us(doubles_[i], t_unit_ns_, ts_[i])) return stop_at(i, "t", doubles_[i], ", no time");
   }
   return true;
 }
@@ -725,7 +704,7 @@ bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
     double value = 0.0;
     ok = (is_table() ? read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value, 4, table_.t)
                      : read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value)) &&
-         to_microseconds(value, t_unit_ns_, t);
+         detail::float_time_to_us(value, t_unit_ns_, t);
   } else {
     std::int64_t value = 0;
     ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &value) && detail::integer_time_to_us(value, t_unit_ns_, t);

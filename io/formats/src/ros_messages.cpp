@@ -176,21 +176,19 @@ std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> pay
   };
   for (std::size_t at = 0; at + 1 < payload.size(); at += 2) {
     const auto w = static_cast<std::uint32_t>(payload[at] | (payload[at + 1] << 8));
-    const std::uint32_t code = w >> 12, rest = w & 0xFFFu;
+    const std::uint32_t code = w >> 12, rest = w & 0xFFFu, row = rest & 0x7FFu;
+    const std::int8_t polarity = (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
     switch (code) {
       case 0: high = rest << 12; break;
       case 1: low = rest; break;
-      case 2: state.x = static_cast<std::int32_t>(rest & 0x7FFu); break;
-      case 3:
-      case 4:
-        if (code == 3 && state.x < 0) return MessageFault{at, "libcaer_cmp ADDR_Y word before any ADDR_X"};
-        if (code == 4) {  // the polarity of the vectors after it (an ADDR_Y's is its own event's)
-          state.base_y = static_cast<std::int32_t>(rest & 0x7FFu);
-          state.polarity = (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
-        } else if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), rest & 0x7FFu,
-                                     (rest & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1})) {
-          return fault;
-        }
+      case 2: state.x = static_cast<std::int32_t>(row); break;
+      case 3:  // one event; its polarity is its own
+        if (state.x < 0) return MessageFault{at, "libcaer_cmp ADDR_Y word before any ADDR_X"};
+        if (auto fault = emit(at, static_cast<std::uint32_t>(state.x), row, polarity)) return fault;
+        break;
+      case 4:  // the base row and polarity of the vectors after it
+        state.base_y = static_cast<std::int32_t>(row);
+        state.polarity = polarity;
         break;
       case 5:
         if (state.x < 0 || state.base_y < 0)
