@@ -11,7 +11,10 @@
 // scene's rows by true lifetime. --why adds, per scene, why events got no
 // lifetime by kind of event (tests/support/rejection_breakdown.h).
 // Prints one row per scene: share with a lifetime, median and p90 relative
-// lifetime error, median direction error, share of noise labelled noise.
+// lifetime error, median direction error, share of noise labelled noise
+// (noise%: the scored noise, without the events within an edge's burst time
+// at their pixel and polarity, indistinguishable from its followers;
+// all_noise%: every noise event).
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
@@ -60,7 +63,9 @@ int usage() {
                "  lifetime (all%%: edge and noise, any margin, as a recording's share); --why: per scene,\n"
                "  what the estimator did with each kind of event after the warm-up (edge events past\n"
                "  a window's width of travel): fit%% its own plane, follow%% its burst's estimate, or noise for\n"
-               "  few%% too few past events, noplane%% no plane with support, unres%% an implausible fit\n");
+               "  few%% too few past events, noplane%% no plane with support, unres%% an implausible fit.\n"
+               "  noise%% leaves out noise events within an edge's burst time at their pixel and polarity\n"
+               "  (half a lifetime before an edge event to 2 after: a burst follower's); all_noise%% counts them\n");
   return 2;
 }
 
@@ -176,11 +181,20 @@ int main(int argc, char** argv) try {
         std::printf(" %8s", "-");
       }
     }
+    // Noise over all noise events, those within an edge's burst time at their pixel too (noise% leaves them out).
+    if (with_noise) {
+      const std::size_t all = r.noise_events + r.noise_indistinguishable;
+      std::printf(" %10.2f", all ? 100.0 * double(r.noise_labelled_noise + r.noise_indistinguishable_labelled_noise) /
+                                       double(all)
+                                 : std::nan(""));
+    } else {
+      std::printf(" %10s", "-");
+    }
     std::printf("\n");
   };
   std::printf("%-62s %8s %8s %8s %8s %8s", "scene", "share%", "med%", "p90%", "dir_deg", "noise%");
   if (error_shares) std::printf(" %8s %8s %8s %8s", "w30%", "off100%", "bias%", "all%");
-  std::printf("\n");
+  std::printf(" %10s\n", "all_noise%");
   for (std::size_t k = 0; k < scenes.size(); ++k) print_row(scenes[k].title, reports[k].overall, true);
   if (bands) {
     for (std::size_t k = 0; k < scenes.size(); ++k) {

@@ -556,6 +556,73 @@ TEST_F(CliTest, UnwritableOutputExitsFour) {
             std::string::npos) << r.output;
 }
 
+// A stop signal while the output's reader (a FIFO's) takes no data: the
+// write gave up only when the reader left (exit 4, Broken pipe), deaf to
+// Ctrl-C and SIGTERM; it gives up on the stop now, exit 130.
+TEST_F(CliTest, AStopEndsAWriteToAFifoWhoseReaderTakesNothing) {
+  const fs::path script = path("stalled_reader.sh");
+  {
+    std::ofstream sh(script);
+    sh << "cd '" << dir_.path().string() << "'\n"
+       << "for cmd in process run; do\n"
+       << "  rm -f stalled.csv; mkfifo stalled.csv\n"
+       << "  sleep 30 < stalled.csv & reader=$!\n"  // opens the FIFO, reads nothing
+       << "  '" << kCli << "' $cmd '" << kData << "/reference/stripes.mat' -q -o stalled.csv & pid=$!\n"
+       << "  sleep 1; kill -INT $pid; wait $pid; echo \"$cmd exit $?\"\n"
+       << "  kill $reader 2>/dev/null\n"
+       << "done\n";
+  }
+  const RunResult r = evlife::test::run_cli("sh", "'" + script.string() + "'", path("stalled.log"));
+  EXPECT_NE(r.output.find("process exit 130"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("run exit 130"), std::string::npos) << r.output;
+}
+
+// A run that draws no frame leaves an existing video of that name as it was
+// and says so (it said "frames : 0 written to v.mp4", the old video looking
+// like the result).
+TEST_F(CliTest, ARunWithoutFramesSaysItsVideoWasNotWritten) {
+  std::ofstream(path("nothing.txt")).flush();
+  std::ofstream(path("earlier.mp4")) << "an earlier video";
+  const RunResult r = run("run '" + path("nothing.txt").string() + "' --sensor 240x180 --video '" +
+                          path("earlier.mp4").string() + "'");
+  EXPECT_NE(r.output.find("frames : none drawn: " + path("earlier.mp4").string() + " not written"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(evlife::test::read_text_file(path("earlier.mp4")), "an earlier video");
+}
+
+// HDF5 seeks within its file: a FIFO is refused up front by name (it was
+// "cannot create the HDF5 file (a full disk, or another program ...)").
+TEST_F(CliTest, AnHdf5OutputOnAFifoIsRefusedAsNotARegularFile) {
+  const fs::path fifo = path("fifo.h5");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const RunResult r = run("process '" + kRpgText + "' -q -o '" + fifo.string() + "'");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("fifo.h5: not a regular file"), std::string::npos) << r.output;
+}
+
+// --policy drop with -q: what was dropped is said (it went unsaid: -q skips
+// the summary, and exit 0). Whether this machine drops is its own affair:
+// the relation holds either way, in = written + the dropped said.
+TEST_F(CliTest, DroppedEventsAreSaidEvenWhenQuiet) {
+  const RunResult r = run("run '" + kRpgText + "' --policy drop --queue-batches 2 --batch-events 16 -q -o '" +
+                          path("dropped.csv").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::size_t in = 0;
+  {
+    std::ifstream text(kRpgText);
+    for (std::string line; std::getline(text, line);) in += !line.empty() && line[0] != '#';
+  }
+  const std::size_t out = csv_rows(path("dropped.csv")).size();
+  ASSERT_LE(out, in);
+  if (out == in) {
+    EXPECT_EQ(r.output.find("dropped"), std::string::npos) << r.output;
+  } else {
+    EXPECT_NE(r.output.find("warning: " + std::to_string(in - out) + " of " + std::to_string(in) + " events dropped"),
+              std::string::npos) << r.output;
+  }
+}
+
 // `script` (sh, `$DISK` a 256 KiB tmpfs) in a private mount namespace; an
 // empty result when this machine allows no such mount (the test skips).
 std::optional<RunResult> run_on_a_small_disk(const fs::path& dir, const std::string& script) {

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -86,6 +87,25 @@ TEST_F(CliFlags, DidYouMeanForCommandsAndFlags) {
   const RunResult far = run("process --zzzzzzzz");
   EXPECT_EQ(far.exit_code, 2);
   EXPECT_FALSE(has(far, "did you mean")) << far.output;
+}
+
+// -j2 and -oFILE as getopt takes them (help names -j and -o; they were
+// refused as "unknown option '-j2' (did you mean '--to'?)").
+TEST_F(CliFlags, ShortOptionsTakeAnAttachedValue) {
+  const std::string in = sample();
+  const RunResult attached = run("run " + in + " -j2 -o" + path("attached.bin") + " -q");
+  EXPECT_EQ(attached.exit_code, 0) << attached.output;
+  EXPECT_EQ(run("run " + in + " -j 2 -o " + path("apart.bin") + " -q").exit_code, 0);
+  std::ifstream a(path("attached.bin"), std::ios::binary), b(path("apart.bin"), std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_FALSE(bytes_a.empty());
+  EXPECT_EQ(bytes_a, bytes_b);
+  const RunResult flag = run("process " + in + " -qx -o " + path("q.bin"));  // -q takes no value
+  EXPECT_EQ(flag.exit_code, 2);
+  EXPECT_TRUE(has(flag, "unknown option '-qx'")) << flag.output;
+  const RunResult twice = run("run " + in + " -j2 --workers 1 -q");
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_TRUE(has(twice, "'-j' and '--workers' are the same option")) << twice.output;
 }
 
 TEST_F(CliFlags, PrintConfigOnEveryCommandThatReadsIt) {

@@ -324,7 +324,8 @@ TEST(Faults, AnHdf5FileThatCannotBeCreatedLeavesNoLibraryNoise) {
     const Finished f = run_cli(args, dir);
     ASSERT_TRUE(f.exited) << describe(f);
     EXPECT_EQ(f.code, 4) << describe(f);
-    EXPECT_TRUE(contains(f.err, out.string() + ": cannot create the HDF5 file")) << describe(f);
+    // (A device is refused before libhdf5 is asked: it seeks within its file.)
+    EXPECT_TRUE(contains(f.err, out.string() + ": not a regular file")) << describe(f);
     EXPECT_FALSE(contains(f.err, "infinite loop")) << describe(f);
   }
 }

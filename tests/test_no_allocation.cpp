@@ -3,6 +3,7 @@
 // pthread_mutex_lock and counts calls made while it is armed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -33,6 +34,7 @@ std::vector<Event> mixed_events(SensorSize s) {
                     static_cast<std::int8_t>(static_cast<int>((r >> 20) % 3) - 1)});
     }
   }
+  std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) { return a.t_us < b.t_us; });
   return ev;
 }
 
@@ -53,7 +55,8 @@ TEST(NoAllocation, InterpositionIsActive) {
 TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
   if (!test::allocation_probe_available()) GTEST_SKIP() << "sanitizers interpose the allocator";
   const SensorSize s{40, 30};
-  const auto events = mixed_events(s);
+  auto events = mixed_events(s);
+  events.push_back({0, 1, 1, 1});  // and time going backwards (rejected)
   for (int window : {3, 5, 7, 15}) {
     for (bool reg : {false, true}) {
       LifetimeOptions o;
@@ -77,6 +80,7 @@ TEST(NoAllocation, PerEventPathAllocatesNothingAndTakesNoLock) {
       EXPECT_EQ(probe.allocations(), 0) << "window " << window << " reg and opt-in checks " << reg;
       EXPECT_EQ(probe.locks(), 0) << "window " << window << " reg and opt-in checks " << reg;
       EXPECT_GT(edges, static_cast<long>(events.size()) / 4);  // the fit path did run
+      EXPECT_EQ(est.stats().time_backwards, 1u);
     }
   }
 }

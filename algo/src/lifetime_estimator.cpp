@@ -56,7 +56,9 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
 
 std::string rejected_events_text(const LifetimeStats& stats) {
   return std::to_string(stats.out_of_sensor) + " outside the sensor, " + std::to_string(stats.bad_polarity) +
-         " bad polarity, " + std::to_string(stats.time_out_of_range) + " time beyond +-2^62 us";
+         " bad polarity, " + std::to_string(stats.time_out_of_range) + " time beyond +-2^62 us" +
+         (stats.time_backwards == 0 ? std::string()
+                                    : ", " + std::to_string(stats.time_backwards) + " time going backwards");
 }
 
 std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {
@@ -116,6 +118,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 void LifetimeEstimator::reset() noexcept {
   std::fill(surface_.begin(), surface_.end(), SurfacePixel{detail::kNeverRel, 0.0f});
   epoch_us_ = 0;
+  last_t_us_.fill(std::numeric_limits<std::int64_t>::min());
   std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
   std::fill(burst_followers_.begin(), burst_followers_.end(), std::uint8_t{0});
   stats_ = LifetimeStats{};
@@ -424,6 +427,14 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     return out;
   }
   const int pol = e.p > 0 ? 1 : 0;
+  // Before anything reads the surface: an earlier time would read as a burst
+  // follower (a negative age) and take the estimates of before the jump.
+  if (e.t_us < last_t_us_[pol]) {
+    count_noise(stats_.time_backwards);
+    stage_end(Stage::head);
+    return out;
+  }
+  last_t_us_[pol] = e.t_us;
   const int x = e.x;
   const int y = e.y;
   const std::size_t self = pixel_index(pol, x, y);

@@ -80,9 +80,14 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
       for (const auto& o : options) {
         if (o.name == name || names_in(o.also, name)) spec = &o;
       }
-    } else if (arg.size() == 2) {
+    } else {
       for (const auto& o : options) {
         if (o.alias != 0 && o.alias == arg[1]) spec = &o;
+      }
+      // -j2, -oout.bin: a short option's value attached, as getopt takes it.
+      if (spec && arg.size() > 2) {
+        if (!spec->takes_value) spec = nullptr;
+        else inline_value = std::string(arg.substr(2));
       }
     }
     if (!spec) throw UsageError(unknown_option_message(arg, options));
@@ -103,7 +108,7 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
       out.positional.push_back(std::move(value));
       continue;
     }
-    const std::string spelling(arg.substr(0, arg.find('=')));  // "--at", "-o"
+    const std::string spelling(arg[1] == '-' ? arg.substr(0, arg.find('=')) : arg.substr(0, 2));  // "--at", "-o"
     auto& slot = out.values_[name];
     if (!slot.empty() && !spec->repeatable) {
       const std::string& first = spelled[name];

@@ -26,6 +26,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
+#include "evlife/io/write_stop.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "skipped_kinds_text.h"
@@ -215,9 +216,10 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
 int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
   const unsigned long long written = result.events_written;
   if (result.output_fault) {
-    std::fprintf(stderr, "evlife process: output error: %s (%llu events processed before it)\n",
-                 result.output_fault->c_str(), written);
-    return kExitOutput;
+    const bool stopped = io::write_stop_requested();  // a stop while the output's reader took nothing
+    std::fprintf(stderr, "evlife process: %s: %s (%llu events processed before it)\n",
+                 stopped ? "interrupted; output" : "output error", result.output_fault->c_str(), written);
+    return stopped ? kExitInterrupted : kExitOutput;
   }
   if (result.input_fault) {
     std::fprintf(stderr,

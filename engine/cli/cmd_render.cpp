@@ -281,13 +281,19 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
     std::fprintf(stderr, "evlife render: output error: %s (%zu frames drawn before it)\n", r.output_fault->c_str(), r.frames);
     return kExitOutput;
   }
+  // The output is opened with its first frame: before it, a file of that name is untouched.
+  const std::string none_written = "no frame was written (" + args.job.output + " is left as it was)";
   if (r.input_fault) {
-    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: the %zu frames before the fault were written to %s\n",
-                 r.input_fault->c_str(), r.frames, args.job.output.c_str());
+    std::fprintf(stderr, "evlife render: input error: %s\nevlife render: %s\n", r.input_fault->c_str(),
+                 r.frames == 0 ? none_written.c_str()
+                               : fmt::format("the {} frames before the fault were written to {}", r.frames,
+                                             args.job.output).c_str());
     return kExitInput;
   }
   if (r.stopped) {
-    std::fprintf(stderr, "evlife render: interrupted after %zu frames (kept in %s)\n", r.frames, args.job.output.c_str());
+    std::fprintf(stderr, "evlife render: interrupted %s\n",
+                 r.frames == 0 ? ("before the first frame: " + none_written).c_str()
+                               : fmt::format("after {} frames (kept in {})", r.frames, args.job.output).c_str());
     return kExitInterrupted;
   }
   if (r.frames == 0) {

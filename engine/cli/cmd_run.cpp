@@ -44,6 +44,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
+#include "evlife/io/write_stop.h"
 #include "evlife/io/textured_scene.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/output_kind.h"
@@ -60,7 +61,9 @@ namespace {
 std::atomic<engine::Engine*> g_engine{nullptr};
 static_assert(std::atomic<engine::Engine*>::is_always_lock_free);
 extern "C" void on_run_signal(int) {
-  // Async-signal-safe: two atomic operations, no allocation, no lock.
+  // Async-signal-safe: atomic operations, no allocation, no lock. The stop
+  // flag too: a write to a FIFO whose reader takes nothing heeds it.
+  g_stop_requested.store(true);
   if (engine::Engine* e = g_engine.load()) e->request_stop();
 }
 
@@ -454,7 +457,11 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                  static_cast<unsigned long long>(reader->skipped_record_count()),
                  kinds.empty() ? "" : ": ", kinds.c_str());
   }
-  if (render_stage) {
+  if (render_stage && render_stage->frames_written() == 0 && !args.video.empty()) {
+    // The video is opened with its first frame: a file of that name is untouched.
+    std::fprintf(stdout, "frames : none drawn: %s not written (a file of that name is left as it was)\n",
+                 args.video.c_str());
+  } else if (render_stage) {
     std::fprintf(stdout, "frames : %llu %s %s",
                  static_cast<unsigned long long>(render_stage->frames_written()),
                  args.window ? "shown in" : "written to",
@@ -494,24 +501,42 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
   std::fflush(stdout);
 }
 
-int run_exit_status(const engine::RunResult& result, const engine::RenderStage* render_stage) {
+int run_exit_status(const engine::RunResult& result, const engine::RenderStage* render_stage, bool quiet) {
   if (render_stage && !render_stage->error().empty() &&
       result.status == engine::RunStatus::completed) {
     std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
     return kExitOutput;
   }
+  // Drops are named whatever -q says: never a silent loss (the summary is -q's to skip).
+  const auto written = static_cast<unsigned long long>(result.stats.events_out);
+  const auto dropped = static_cast<unsigned long long>(result.stats.events_dropped);
+  const std::string and_dropped =
+      dropped == 0 ? std::string() : fmt::format(" ({} more dropped: --policy drop, the workers fell behind)", dropped);
   switch (result.status) {
-    case engine::RunStatus::completed: break;
+    case engine::RunStatus::completed:
+      if (dropped > 0 && quiet) {
+        std::fprintf(stderr, "evlife run: warning: %llu of %llu events dropped (--policy drop: the workers fell behind; "
+                     "--policy block waits instead)\n", dropped, static_cast<unsigned long long>(result.stats.events_in));
+      }
+      if (result.stats.source_lost > 0 && quiet) {
+        std::fprintf(stderr, "evlife run: warning: %llu events lost before the engine (the device's buffer overflowed)\n",
+                     static_cast<unsigned long long>(result.stats.source_lost));
+      }
+      break;
     case engine::RunStatus::interrupted:
-      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written\n",
-                   static_cast<unsigned long long>(result.stats.events_out));
+      std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written%s\n", written,
+                   and_dropped.c_str());
       break;
     case engine::RunStatus::source_error:
       std::fprintf(stderr, "evlife run: input error: %s\n"
-                   "evlife run: the %llu events before it were processed and written\n",
-                   result.message.c_str(), static_cast<unsigned long long>(result.stats.events_out));
+                   "evlife run: the %llu events before it were processed and written%s\n",
+                   result.message.c_str(), written, and_dropped.c_str());
       break;
     case engine::RunStatus::sink_error:
+      if (io::write_stop_requested()) {  // a stop while the output's reader took nothing
+        std::fprintf(stderr, "evlife run: interrupted; output: %s\n", result.message.c_str());
+        return kExitInterrupted;
+      }
       std::fprintf(stderr, "evlife run: output error: %s\n", result.message.c_str());
       break;
     case engine::RunStatus::realtime_error:
@@ -566,7 +591,8 @@ int run_engine(int argc, char** argv) {
   try {
     source = make_source(args, stop.flag());
     if (stop.requested()) {
-      std::fprintf(stderr, "evlife run: interrupted while scanning %s for its sensor size: nothing processed%s\n",
+      // (Opening may scan a file for its sensor size or generate a synth: scene.)
+      std::fprintf(stderr, "evlife run: interrupted while opening %s: nothing processed%s\n",
                    args.source.c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
       return kExitInterrupted;
     }
@@ -665,7 +691,7 @@ int run_engine(int argc, char** argv) {
                  no_event_text(std::string(file_of_source(args.source)), args.input_options).c_str());
   }
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
-  return run_exit_status(result, render_stage.get());
+  return run_exit_status(result, render_stage.get(), args.quiet);
 }
 
 }  // namespace

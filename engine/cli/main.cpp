@@ -17,6 +17,8 @@
 #include "evlife/engine/exit_code.h"
 #include "evlife/config/config.h"
 #include "evlife/io/hdf5_writer.h"
+#include "evlife/io/write_stop.h"
+#include "stop_signals.h"
 
 namespace evlife::cli {
 std::vector<Command>& command_registry() {
@@ -96,6 +98,8 @@ int main(int argc, char** argv) {
   // write fail with EPIPE, reported as any output error (exit 4, the output
   // named, what was written kept), instead of killing the process silently.
   std::signal(SIGPIPE, SIG_IGN);
+  // A write to a FIFO whose reader takes nothing gives up on a stop signal.
+  evlife::io::set_write_stop_flag(&evlife::cli::g_stop_requested);
   evlife::config::use_installed_configuration();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);

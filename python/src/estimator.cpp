@@ -109,6 +109,7 @@ class Estimator {
     d["out_of_sensor"] = s.out_of_sensor;
     d["bad_polarity"] = s.bad_polarity;
     d["time_out_of_range"] = s.time_out_of_range;
+    d["time_backwards"] = s.time_backwards;  // 0 here: process() raises on it first
     return d;
   }
 
@@ -449,7 +450,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
           "The effective options, {keyword: value}.")
       .def_property_readonly("stats", &Estimator::stats,
                              "Counters: events, noise (and why: noise_few_samples, noise_unsupported, noise_unresolved), predictions, "
-                             "followers, out_of_sensor, bad_polarity, time_out_of_range.");
+                             "followers, out_of_sensor, bad_polarity, time_out_of_range, time_backwards (0: process raises InputError first).");
 
   m.def(
       "process",

@@ -153,6 +153,7 @@ AccuracyReport evaluate_accuracy(const io::SyntheticScene& scene, std::span<cons
     if (truth.is_noise) {
       if (edges.near_edge(e, scene.spec.sensor)) {
         ++report.overall.noise_indistinguishable;
+        if (out[i].is_noise()) ++report.overall.noise_indistinguishable_labelled_noise;
         continue;
       }
       ++report.overall.noise_events;
@@ -179,6 +180,7 @@ AccuracyReport evaluate_accuracy(const io::SyntheticScene& scene, std::span<cons
   report.overall.noise_events = noise.noise_events;
   report.overall.noise_indistinguishable = noise.noise_indistinguishable;
   report.overall.noise_labelled_noise = noise.noise_labelled_noise;
+  report.overall.noise_indistinguishable_labelled_noise = noise.noise_indistinguishable_labelled_noise;
   report.overall.noise_share =
       noise.noise_events ? double(noise.noise_labelled_noise) / double(noise.noise_events) : std::nan("");
   report.overall.all_events_lifetime_share =
@@ -211,10 +213,15 @@ std::string format_accuracy_table(const std::string& title, const AccuracyReport
   for (const auto& m : report.per_lifetime) row(m);
   for (const auto& m : report.per_feature) row(m);
   const auto& o = report.overall;
+  const std::size_t all_noise = o.noise_events + o.noise_indistinguishable;
   std::snprintf(line, sizeof line,
-                "noise: %zu scored, %.2f%% labelled noise (%zu indistinguishable from edges, not scored); "
-                "%zu edge events at motion onset not scored\n",
-                o.noise_events, 100.0 * o.noise_share, o.noise_indistinguishable, o.edge_onset_skipped);
+                "noise: %zu scored, %.2f%% labelled noise (%zu indistinguishable from edges, not scored; "
+                "all %zu: %.2f%%); %zu edge events at motion onset not scored\n",
+                o.noise_events, 100.0 * o.noise_share, o.noise_indistinguishable, all_noise,
+                all_noise ? 100.0 * double(o.noise_labelled_noise + o.noise_indistinguishable_labelled_noise) /
+                                double(all_noise)
+                          : std::nan(""),
+                o.edge_onset_skipped);
   s += line;
   return s;
 }

@@ -50,6 +50,7 @@ struct AccuracyMetrics {
   std::size_t noise_events = 0;        ///< scored noise events (distinguishable ones)
   std::size_t noise_indistinguishable = 0;  ///< within the burst window of an edge event, same pixel+polarity
   std::size_t noise_labelled_noise = 0;
+  std::size_t noise_indistinguishable_labelled_noise = 0;  ///< of the indistinguishable, labelled noise
   double noise_share = 0.0;            ///< noise_labelled_noise / noise_events
   /// Overall row only: the share of all events after the warm-up (edge,
   /// noise, any margin or scorability) with a lifetime: what a recording's

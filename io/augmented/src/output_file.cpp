@@ -1,6 +1,8 @@
 #include "output_file.h"
 
 #include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -8,6 +10,21 @@
 
 #include "evlife/io/output_path.h"
 #include "evlife/io/write_error.h"
+#include "evlife/io/write_stop.h"
+
+namespace evlife::io {
+namespace {
+std::atomic<const std::atomic<bool>*> g_write_stop_flag{nullptr};
+}  // namespace
+
+void set_write_stop_flag(const std::atomic<bool>* flag) noexcept { g_write_stop_flag.store(flag); }
+
+bool write_stop_requested() noexcept {
+  const std::atomic<bool>* flag = g_write_stop_flag.load();
+  return flag != nullptr && flag->load(std::memory_order_relaxed);
+}
+
+}  // namespace evlife::io
 
 namespace evlife::io::detail {
 
@@ -18,6 +35,13 @@ OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBy
     const int err = errno;
     throw WriteError(path, folder_problem.empty() ? std::string("cannot create: ") + std::strerror(err) : folder_problem,
                      err);
+  }
+  // A FIFO's writes must not block past a stop (write_stop.h). This open
+  // file description is ours alone (open() of a FIFO makes a new one).
+  struct stat st {};
+  if (::fstat(fd_, &st) == 0 && S_ISFIFO(st.st_mode)) {
+    const int flags = ::fcntl(fd_, F_GETFL);
+    waits_for_reader_ = flags >= 0 && ::fcntl(fd_, F_SETFL, flags | O_NONBLOCK) == 0;
   }
 }
 
@@ -48,11 +72,28 @@ void OutputFile::write_all(const char* data, std::size_t bytes) {
     const ssize_t n = ::write(fd_, data, bytes);
     if (n < 0) {
       if (errno == EINTR) continue;
+      if (waits_for_reader_ && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        wait_for_reader(bytes);
+        continue;
+      }
       const int err = errno;
       throw WriteError(path_, std::string("write failed: ") + std::strerror(err), err);
     }
     data += n;
     bytes -= static_cast<std::size_t>(n);
+  }
+}
+
+void OutputFile::wait_for_reader(std::size_t bytes_left) {
+  constexpr int kStepMs = 100;  // how soon a stop is noticed
+  for (;;) {
+    pollfd room{fd_, POLLOUT, 0};
+    const int ready = ::poll(&room, 1, kStepMs);
+    if (ready > 0 || (ready < 0 && errno != EINTR)) return;  // room, a closed reader or an error: write() says
+    if (write_stop_requested()) {
+      throw WriteError(path_, "stopped while the reader of this FIFO took no data (" + std::to_string(bytes_left) +
+                                  " bytes not written)");
+    }
   }
 }
 

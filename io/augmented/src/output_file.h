@@ -35,8 +35,11 @@ class OutputFile {
 
  private:
   void write_all(const char* data, std::size_t bytes);
+  // A FIFO without room: waits for it, or throws WriteError on a stop (write_stop.h).
+  void wait_for_reader(std::size_t bytes_left);
   std::string path_;
   int fd_ = -1;
+  bool waits_for_reader_ = false;  // a FIFO, written without blocking
   std::vector<char> buffer_;
   std::size_t used_ = 0;
 };

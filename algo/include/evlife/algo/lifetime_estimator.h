@@ -8,6 +8,7 @@
 // locks, logs or throws; it is deterministic for given options and input.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -27,8 +28,9 @@ class EventRng;
 }  // namespace detail
 
 /// Why process() rejects an event unexamined (labelled noise and counted), in
-/// the order it checks; `none`: the event is estimated.
-enum class Rejection : std::uint8_t { none, out_of_sensor, time_out_of_range, bad_polarity };
+/// the order it checks; `none`: the event is estimated. rejection_of() checks
+/// the event alone; time_backwards needs the estimator's past (process()).
+enum class Rejection : std::uint8_t { none, out_of_sensor, time_out_of_range, bad_polarity, time_backwards };
 
 constexpr Rejection rejection_of(const Event& e, SensorSize sensor) noexcept {
   if (!sensor.contains(e.x, e.y)) return Rejection::out_of_sensor;
@@ -49,19 +51,22 @@ struct LifetimeStats {
   std::uint64_t out_of_sensor = 0;     ///< rejected: coordinates outside the sensor
   std::uint64_t bad_polarity = 0;      ///< rejected: p not +1/-1
   std::uint64_t time_out_of_range = 0; ///< rejected: |t| > kMaxEventTimeUs (event.h)
+  std::uint64_t time_backwards = 0;    ///< rejected: earlier than the last event of its polarity
 
-  /// Events labelled noise unexamined: the three counters above.
-  std::uint64_t rejected() const noexcept { return out_of_sensor + bad_polarity + time_out_of_range; }
+  /// Events labelled noise unexamined: the four counters above.
+  std::uint64_t rejected() const noexcept { return out_of_sensor + bad_polarity + time_out_of_range + time_backwards; }
   /// The counter of a rejection (not `none`).
   std::uint64_t& rejected_counter(Rejection why) noexcept {
-    return why == Rejection::out_of_sensor ? out_of_sensor
-           : why == Rejection::bad_polarity ? bad_polarity
-                                            : time_out_of_range;
+    return why == Rejection::out_of_sensor    ? out_of_sensor
+           : why == Rejection::bad_polarity   ? bad_polarity
+           : why == Rejection::time_backwards ? time_backwards
+                                              : time_out_of_range;
   }
 };
 
-/// "N outside the sensor, N bad polarity, N time beyond +-2^62 us": the
-/// rejected events, as `evlife process` and Python's evlife.process report them.
+/// "N outside the sensor, N bad polarity, N time beyond +-2^62 us" (and ", N
+/// time going backwards" when there are any): the rejected events, as `evlife
+/// process` and Python's evlife.process report them.
 std::string rejected_events_text(const LifetimeStats& stats);
 
 
@@ -71,10 +76,16 @@ class LifetimeEstimator {
   explicit LifetimeEstimator(const LifetimeOptions& options);
 
   /// Estimates the lifetime and velocity of one event. Events must arrive in
-  /// non-decreasing time per polarity; an out-of-sensor event, a bad polarity
-  /// or a time beyond kMaxEventTimeUs is returned as noise and counted, never
-  /// read out of bounds. (A moved-from estimator counts every event
-  /// out_of_sensor.)
+  /// non-decreasing time per polarity; an out-of-sensor event, a bad polarity,
+  /// a time beyond kMaxEventTimeUs or one earlier than the last event of its
+  /// polarity (a camera's clock restarted: call reset()) is returned as noise
+  /// and counted, never read out of bounds. (A moved-from estimator counts
+  /// every event out_of_sensor.)
+  ///
+  /// Its time is bounded by the window and options, but for one event per
+  /// 2^30 us (~18 min) of recording, and the first after a jump in time of
+  /// that size: that event moves the 32-bit surface's epoch, O(pixels)
+  /// (algo/src/time_plane.h; 1.4 ms on 1280x720 on the project's machine).
   AugmentedEvent process(const Event& event) noexcept;
 
   /// Batch form: out[i] = process(in[i]) for i < min(in.size(), out.size()).
@@ -175,6 +186,7 @@ class LifetimeEstimator {
   };
   std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
   std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
+  std::array<std::int64_t, 2> last_t_us_{};  // [polarity]: the latest event's time (time_backwards)
   std::vector<PixelState, detail::LargePageAllocator<PixelState>> pixel_state_;
   // [polarity][y][x]: followers of the burst now at each pixel so far
   // (max_burst_followers; saturates at 255). Apart: PixelState's line is full.
