@@ -59,11 +59,9 @@ VideoFrameSink::VideoFrameSink(std::string path, double playback_fps)
   // A pipe or a device: the encoder's writes to it fail unreported (a reader
   // that left), and the check of the finished file (its reading back) would
   // wait for ever on a FIFO, deaf to Ctrl-C.
-  std::error_code ec;
-  const auto status = std::filesystem::status(path_, ec);
-  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
-    throw std::runtime_error(path_ + ": not a regular file (a folder, a pipe or a device): a video's container is completed "
-                                     "by seeking back into it and then read back; write it to a file");
+  if (const auto problem =
+          io::seekable_output_problem(path_, "a video's container is completed by seeking back into it and then read back")) {
+    throw std::runtime_error(path_ + ": " + *problem);
   }
 }
 

@@ -4,7 +4,6 @@
 
 #include <hdf5.h>
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -75,11 +74,8 @@ class Hdf5ColumnFile {
   Hdf5ColumnFile(const std::string& path, std::optional<SensorSize> sensor, bool augmented)
       : path_(path), column_count_(augmented ? 8 : 4) {
     const std::string folder_problem = create_output_folders(path);
-    // HDF5 seeks within its file: a FIFO or a device cannot hold one (and the
-    // open below would wait on a FIFO for a reader).
-    if (struct stat st {}; ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-      throw WriteError(path, "not a regular file (a folder, a pipe or a device): an HDF5 file is written by "
-                             "seeking within it; write it to a file");
+    if (const auto problem = seekable_output_problem(path, "an HDF5 file is written by seeking within it")) {
+      throw WriteError(path, *problem);
     }
     // libhdf5 does not say why a create failed: the same open says it.
     if (const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644); fd < 0) {

@@ -85,7 +85,7 @@ class LifetimeEstimator {
   /// Its time is bounded by the window and options, but for one event per
   /// 2^30 us (~18 min) of recording, and the first after a jump in time of
   /// that size: that event moves the 32-bit surface's epoch, O(pixels)
-  /// (algo/src/time_plane.h; 1.4 ms on 1280x720 on the project's machine).
+  /// (algo/src/time_plane.h; 1.4 ms on 1280x720 in a helper's measurement).
   AugmentedEvent process(const Event& event) noexcept;
 
   /// Batch form: out[i] = process(in[i]) for i < min(in.size(), out.size()).

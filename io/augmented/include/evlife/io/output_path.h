@@ -38,6 +38,17 @@ inline bool outputs_name_one_file(const std::string& a, const std::string& b) {
   return resolved(a) == resolved(b);
 }
 
+/// The refusal of an output that exists and is not a regular file (a folder,
+/// a FIFO, a device) for a writer that must seek within its file (`why`:
+/// "a video's container is completed by seeking back into it"); nothing
+/// otherwise. (A FIFO would also make the open wait for a reader.)
+inline std::optional<std::string> seekable_output_problem(const std::string& output, const std::string& why) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(output, ec);
+  if (ec || !std::filesystem::exists(status) || std::filesystem::is_regular_file(status)) return std::nullopt;
+  return "not a regular file (a folder, a pipe or a device): " + why + "; write it to a file";
+}
+
 /// Creates the folders above `output` that do not exist yet. Returns why
 /// that failed ("cannot create the folder a/b: Permission denied"), for the
 /// open of the file itself to say instead of its own "No such file or
