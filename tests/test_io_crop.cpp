@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,50 @@ TEST_F(IoCrop, Polarity) {
   off.polarity = io::PolarityFilter::off;
   off.from_us = 3000;
   EXPECT_EQ(xs(off), (std::vector<int>{3, 5, 7, 9}));
+}
+
+// The events --from or --polarity drop are checked as the ones kept: a step
+// back or a pixel outside the sensor among them is an error naming the
+// file's event index and offset (they were dropped before the checks: exit
+// 0, or an error naming the index among the kept events).
+TEST_F(IoCrop, DroppedEventsAreCheckedAndErrorsNameTheFilesIndex) {
+  const std::string bad = dir_.file("bad.csv");
+  {
+    std::ofstream out(bad);
+    out << "x,y,t,p\n";
+    // 10 events as ten.csv, but event 3 (OFF) steps back.
+    for (int i = 0; i < 10; ++i)
+      out << i << ",3," << (i == 3 ? 4000 : 5000 + 1000 * i) << "," << (i % 2 == 0 ? 1 : 0) << "\n";
+  }
+  const auto fault_of = [&bad](const io::ReaderOptions& options) -> std::optional<io::ReadError> {
+    const auto reader = io::open_event_reader(bad, options);
+    std::vector<Event> batch(4);
+    try {
+      while (reader->read(batch) > 0) {
+      }
+    } catch (const io::ReadError& e) {
+      return e;
+    }
+    return std::nullopt;
+  };
+  io::ReaderOptions from;
+  from.sensor = evlife::SensorSize{16, 16};
+  from.from_us = 5000;  // from event 5 on: the step back of event 3 lies before
+  auto fault = fault_of(from);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->event_index(), 3);
+  EXPECT_NE(std::string(fault->what()).find("timestamp goes backwards"), std::string::npos) << fault->what();
+  io::ReaderOptions off;
+  off.sensor = evlife::SensorSize{16, 16};
+  off.polarity = io::PolarityFilter::off;
+  fault = fault_of(off);
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->event_index(), 3);  // the file's index, not the 2nd OFF event's 1
+  EXPECT_GT(fault->byte_offset(), 0);
+  // The command line as the user met it: exit 3, not 0.
+  const auto r = run("process '" + bad + "' --sensor 16x16 --from 5ms -q -o '" + dir_.file("b.csv") + "'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("event index 3"), std::string::npos) << r.output;
 }
 
 TEST_F(IoCrop, EveryCommandTakesTheFlags) {

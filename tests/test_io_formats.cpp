@@ -920,6 +920,29 @@ TEST(IoFormatsTruncation, Aedat4TableThatIsNotWhereThePacketsEnd) {
   EXPECT_EQ(c.events.size(), full.size());
 }
 
+// Bytes after the file table would be lost unseen (a second recording
+// appended, as `cat a.aedat4 b.aedat4` makes, or garbage): an error at the
+// table's end, after every event of the file, as the other formats give at a
+// join. (The reader took them for the table's and read one recording, exit 0.)
+TEST(IoFormatsTruncation, Aedat4BytesAfterTheFileTableAreAnError) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<Event> full = read_all(kAedat4).events;
+  const std::vector<std::uint8_t> bytes = load(kAedat4);
+  std::vector<std::uint8_t> twice = bytes;
+  twice.insert(twice.end(), bytes.begin(), bytes.end());
+  std::vector<std::uint8_t> junk = bytes;
+  for (int i = 0; i < 5000; ++i) junk.push_back(static_cast<std::uint8_t>(i * 37 + 11));
+  for (const auto& [name, file] : {std::pair{"twice.aedat4", twice}, std::pair{"junk.aedat4", junk}}) {
+    const ReadResult r = read_all(dir.save(name, file), 1000);
+    ASSERT_TRUE(r.error) << name;
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(bytes.size())) << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find(std::to_string(file.size() - bytes.size()) + " bytes after the file table"),
+              std::string::npos)
+        << r.error->what();
+    EXPECT_EQ(r.events.size(), full.size()) << name;
+  }
+}
+
 TEST(IoFormatsTruncation, Aedat4CutAnywhere) {
   const ScratchDir dir("test_io_formats");
   const std::vector<Event> full = read_all(kAedat4).events;

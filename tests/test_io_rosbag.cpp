@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <span>
 #include <string>
@@ -90,21 +91,35 @@ TEST(Rosbag2Checksums, Mono) {
   EXPECT_EQ(ros_sums(r), kRosBagSums.at("mono"));
 }
 
-// The shared libcaer bag wraps its clock between messages (time_base moves);
-// a wrap inside one message is added here: + 2^31 µs when ts decreases.
-TEST(RosPayloads, LibcaerClockWrapInsideAMessage) {
-  const auto word = [](std::uint32_t x, std::uint32_t y, std::uint32_t p, std::int32_t ts) {
-    std::vector<std::uint8_t> b(8);
-    const std::uint32_t data = (x << 17) | (y << 2) | (p << 1) | 1u;
-    std::memcpy(b.data(), &data, 4);
-    std::memcpy(b.data() + 4, &ts, 4);
-    return b;
-  };
+namespace {
+
+// One libcaer polarity event: valid mark (bit 0), polarity, y, x; 31-bit µs.
+std::vector<std::uint8_t> libcaer_word(std::uint32_t x, std::uint32_t y, std::uint32_t p, std::int32_t ts,
+                                       std::uint32_t valid = 1) {
+  std::vector<std::uint8_t> b(8);
+  const std::uint32_t data = (x << 17) | (y << 2) | (p << 1) | valid;
+  std::memcpy(b.data(), &data, 4);
+  std::memcpy(b.data() + 4, &ts, 4);
+  return b;
+}
+
+std::vector<std::uint8_t> libcaer_payload(std::initializer_list<std::vector<std::uint8_t>> words) {
   std::vector<std::uint8_t> payload;
-  for (const auto& w : {word(3, 4, 1, 2'147'483'000), word(5, 6, 0, 100), word(7, 8, 1, 200)})
-    payload.insert(payload.end(), w.begin(), w.end());
+  for (const auto& w : words) payload.insert(payload.end(), w.begin(), w.end());
+  return payload;
+}
+
+}  // namespace
+
+// The shared libcaer bag wraps its clock between messages (time_base moves);
+// a wrap inside one message is added here: + 2^31 µs when ts drops by more
+// than half the clock's range.
+TEST(RosPayloads, LibcaerClockWrapInsideAMessage) {
+  const auto payload = libcaer_payload({libcaer_word(3, 4, 1, 2'147'483'000), libcaer_word(5, 6, 0, 100),
+                                        libcaer_word(7, 8, 1, 200)});
   std::vector<ros::RosEvent> out;
-  ASSERT_FALSE(ros::decode_libcaer(payload, 5000, 640, 480, out));
+  std::uint64_t invalid = 0;
+  ASSERT_FALSE(ros::decode_libcaer(payload, 5000, 640, 480, out, invalid));
   ASSERT_EQ(out.size(), 3u);
   const std::int64_t wrap_ns = (std::int64_t{1} << 31) * 1000;
   EXPECT_EQ(out[0].t_ns, 5000 + std::int64_t{2'147'483'000} * 1000);
@@ -113,12 +128,31 @@ TEST(RosPayloads, LibcaerClockWrapInsideAMessage) {
   EXPECT_EQ(out[1].x, 5);
   EXPECT_EQ(out[1].y, 6);
   EXPECT_EQ(out[1].p, -1);
+  EXPECT_EQ(invalid, 0u);
   // Outside the stated sensor: the events before are kept, the fault names the byte.
   out.clear();
-  const auto fault = ros::decode_libcaer(payload, 0, 5, 480, out);
+  const auto fault = ros::decode_libcaer(payload, 0, 5, 480, out, invalid);
   ASSERT_TRUE(fault);
   EXPECT_EQ(fault->byte_in_message, 8u);
   EXPECT_EQ(out.size(), 1u);
+}
+
+// A small drop of the clock is no wrap: the event keeps its earlier time, for
+// the checked reader to report as a step back (it was put 35.8 min later,
+// silently: a corrupt timestamp, or the zeroed bytes of a cut database).
+// Events without libcaer's valid mark are skipped and counted.
+TEST(RosPayloads, LibcaerStepBackIsNoWrapAndInvalidEventsAreCounted) {
+  const auto payload = libcaer_payload({libcaer_word(3, 4, 1, 5'000'000), libcaer_word(5, 6, 0, 4'995'000),
+                                        libcaer_word(0, 0, 0, 0, /*valid=*/0), libcaer_word(7, 8, 1, 5'000'100)});
+  std::vector<ros::RosEvent> out;
+  std::uint64_t invalid = 0;
+  ASSERT_FALSE(ros::decode_libcaer(payload, 1000, 640, 480, out, invalid));
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].t_ns, 1000 + std::int64_t{5'000'000} * 1000);
+  EXPECT_EQ(out[1].t_ns, 1000 + std::int64_t{4'995'000} * 1000);
+  EXPECT_EQ(out[2].t_ns, 1000 + std::int64_t{5'000'100} * 1000);
+  EXPECT_EQ(out[2].x, 7);
+  EXPECT_EQ(invalid, 1u);
 }
 
 // EVT 3.0 in bags: the decoder state (time, row) carries over message borders.
@@ -692,6 +726,28 @@ TEST(Rosbag2Faults, TruncatedMessageKeepsEventsBefore) {
   EXPECT_NE(what.find("message 10 "), std::string::npos) << what;
   ASSERT_EQ(cut.events.size(), before);
   EXPECT_EQ(0, std::memcmp(cut.events.data(), full.events.data(), before * sizeof(Event)));
+}
+
+// A database cut inside its last page: SQLite would read the missing bytes
+// as zeros without an error (its integrity check passes), and the zeroed
+// libcaer words came out as events up to 72 min later, exit 0. The size its
+// header states is checked when the file opens.
+TEST(Rosbag2Faults, ADatabaseShorterThanItsHeaderStatesIsCut) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const std::string path = copy_bag(dir, kLibcaerBag + "/libcaer_rollover_0.db3", "short.db3");
+  const std::uintmax_t whole = fs::file_size(path);
+  fs::resize_file(path, whole - 10);
+  try {
+    (void)read_all(path);
+    FAIL() << "a cut database was read";
+  } catch (const io::ReadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("cut: the database has " + std::to_string(whole - 10) + " bytes where its header states"),
+              std::string::npos)
+        << what;
+    EXPECT_EQ(e.byte_offset(), static_cast<std::int64_t>(whole - 10));
+  }
 }
 
 // Little-endian fields with CDR's alignment (relative to `base`, after the

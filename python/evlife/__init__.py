@@ -57,6 +57,10 @@ scan = _streams.reading_streams(scan, "input")
 process = _streams.reading_streams(process, "input")
 process_file = _streams.reading_streams(process_file, "input")
 open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
+read_augmented = _streams.picklable(read_augmented)
+synth = _streams.picklable(synth)
+estimator_options = _streams.picklable(estimator_options)
+formats = _streams.picklable(formats)
 
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "Interrupted", "LifetimeEstimator", "Reader",

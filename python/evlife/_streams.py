@@ -147,7 +147,25 @@ def reading_streams(function, argument):
             args, kwargs = where.replaced(args, kwargs, source)
             return function(*args, **kwargs)
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
+    return public(wrapper)
+
+
+def public(wrapper):
+    """`wrapper` (functools.wraps of a C++ function) named evlife.NAME, where
+    pickle finds it: wraps copied the C++ function's evlife._evlife and
+    PyCapsule.NAME, which pickle cannot look up, so no function could be sent
+    to a Dask worker or a multiprocessing.Pool."""
+    wrapper.__module__ = "evlife"
+    wrapper.__qualname__ = wrapper.__name__
     return wrapper
+
+
+def picklable(function):
+    """A C++ function of the module as a Python function pickle can find (public)."""
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        return function(*args, **kwargs)
+    return public(wrapper)
 
 
 class StreamReader:
@@ -219,4 +237,4 @@ def open_reading_streams(function):
             raise
         return StreamReader(reader, stream, copy)
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
-    return wrapper
+    return public(wrapper)

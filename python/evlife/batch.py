@@ -40,7 +40,10 @@ FileResult = namedtuple("FileResult", "path events lifetime_share seconds output
 FileResult.__doc__ = """One recording's row: path, events, lifetime_share (share of events
 with a lifetime, 0..1), seconds (in the worker), output (the written file),
 error (None, or the message of the failure; the events before an input
-fault are still written, as the command line does)."""
+fault are still written, as the command line does: events counts them, 0
+where the fault came before the output was opened, and output is then None;
+events is None for other failures and for a recording interrupted before it
+finished)."""
 
 
 class BatchResult(list):
@@ -122,8 +125,11 @@ def _process_one(path, output, sensor, config, one_thread, crop, options):
         r = core.process_file(path, output, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
     except Exception as e:  # reported by name in the table, the other files go on
-        # An input fault leaves the events before it written: the row counts them.
+        # An input fault leaves the events before it written: the row counts
+        # them (0 where it came before the output was opened: no output).
         events, share, error = getattr(e, "events_written", None), None, "%s: %s" % (type(e).__name__, e)
+        if not os.path.exists(output):
+            output = None
     return FileResult(path, events, share, time.perf_counter() - start, output, error)
 
 
@@ -326,7 +332,12 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     Returns a BatchResult: one FileResult row (path, events, lifetime_share,
     seconds, output, error) per path, in order. A failed recording is reported
     by name in its row (and in .failed; events: those written before an input
-    fault, else None); the others are not affected.
+    fault, else None; output: None where no file was written); the others are
+    not affected. Ctrl-C raises
+    evlife.Interrupted whose .partial is the BatchResult: the finished rows,
+    and a row per unfinished recording whose output was removed (on the
+    LocalCluster made here, whose workers stop) or may be incomplete (on a
+    cluster of yours, which may still run its task).
     """
     if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
         raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
@@ -359,23 +370,60 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
         rows = [None] * len(futures)
-        for done, future in enumerate(as_completed(futures), 1):
-            i = index[future.key]
-            try:
-                row = future.result()
-            except Exception as e:  # the worker died: still reported by name
-                row = FileResult(os.path.abspath(paths[i]), None, None, 0.0, outputs[i],
-                                 "%s: %s" % (type(e).__name__, e))
-            rows[i] = row._replace(path=paths[i])
-            if progress:
-                status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
-                print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
-                    done, len(futures), paths[i], row.events, row.seconds, status),
-                    file=sys.stderr, flush=True)
-        return BatchResult(rows)
+        try:
+            for done, future in enumerate(as_completed(futures), 1):
+                i = index[future.key]
+                try:
+                    row = future.result()
+                except Exception as e:  # the worker died: still reported by name
+                    row = FileResult(os.path.abspath(paths[i]), None, None, 0.0, outputs[i],
+                                     "%s: %s" % (type(e).__name__, e))
+                rows[i] = row._replace(path=paths[i])
+                if progress:
+                    status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
+                    print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
+                        done, len(futures), paths[i], row.events, row.seconds, status),
+                        file=sys.stderr, flush=True)
+        except KeyboardInterrupt:
+            client.cancel([f for f in futures if not f.done()])
+        else:
+            return BatchResult(rows)
     finally:
-        for c in to_close:
+        for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
             c.close()
+    raise _interrupted(rows, paths, outputs, own_cluster=scheduler is None)
+
+
+def _interrupted(rows, paths, outputs, own_cluster):
+    """evlife.Interrupted for Ctrl-C during process_files: the finished rows
+    kept in .partial; an unfinished recording's output is removed where its
+    worker was stopped (a file cut short by the stop reads as a shorter
+    recording: a .bin cut at a 4 KiB page holds whole records), else said to
+    be incomplete (a cluster not ours finishes or drops the tasks it runs)."""
+    unfinished = [i for i, r in enumerate(rows) if r is None]
+    for i in unfinished:
+        if own_cluster:
+            _remove_if_there(outputs[i])
+            what = "interrupted before it finished; its partial output was removed"
+            output = None
+        else:
+            what = "interrupted before it finished; its output may be incomplete (its task may still run)"
+            output = outputs[i]
+        rows[i] = FileResult(paths[i], None, None, 0.0, output, what)
+    finished = len(rows) - len(unfinished)
+    error = _evlife.Interrupted("evlife.batch.process_files: interrupted; %d of %d recordings finished "
+                                "(their rows in .partial)" % (finished, len(rows)))
+    error.partial = BatchResult(rows)
+    error.events_processed = sum(r.events or 0 for r in rows if r.error is None)
+    error.events_written = None
+    return error
+
+
+def _remove_if_there(path):
+    try:
+        os.remove(path)
+    except FileNotFoundError:
+        pass
 
 
 def _check_topic(topic):

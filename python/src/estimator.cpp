@@ -431,6 +431,13 @@ draws as another seed would: keep the recording's times to match the CLI.)";
 
 void bind_estimator(py::module_& m) {
   py::class_<Estimator>(m, "LifetimeEstimator", kEstimatorDoc)
+      // pickle's own message would be "cannot pickle 'PyCapsule' object".
+      .def("__reduce__",
+           [](const Estimator&) -> py::object {
+             throw py::type_error(
+                 "an evlife.LifetimeEstimator cannot be pickled (its surface holds every pixel's past): make one "
+                 "inside the task, or send evlife.process / evlife.process_file to the workers");
+           })
       .def(py::init([](const py::object& sensor, const py::object& config, const py::kwargs& kw) {
              return std::make_unique<Estimator>("evlife.LifetimeEstimator", sensor, config, kw);
            }),

@@ -43,15 +43,16 @@ py::dict skipped_kinds_dict(const std::vector<io::SkippedKindCount>& kinds) {
 namespace {
 
 // Every event of a reader; on a fault raises InputError carrying the events
-// before it.
+// before it, on Ctrl-C evlife.Interrupted carrying those read.
 py::array read_all(io::EventReader& reader) {
   std::vector<Event> events;
   std::optional<io::ReadError> fault;
+  SignalCheck signals;
   {
     py::gil_scoped_release release;
     std::size_t good = 0;  // events.size() beyond it: a block being filled
     try {
-      for (;;) {
+      while (!signals.pending()) {
         events.resize(good + kReadBlock);
         const std::size_t n = reader.read(std::span(events.data() + good, kReadBlock));
         good += n;
@@ -62,8 +63,14 @@ py::array read_all(io::EventReader& reader) {
     }
     events.resize(good);
   }
+  const std::size_t n = events.size();
   py::array out = adopt(std::move(events), event_dtype());
   if (fault) raise_input_error(*fault, out);
+  if (signals.pending_now()) {
+    SignalCheck::raise("evlife.read: interrupted after " + std::to_string(n) + " events of " + reader.path() +
+                           " (in .partial)",
+                       out, n, py::none());
+  }
   return out;
 }
 
@@ -82,6 +89,7 @@ class Reader {
     std::size_t n = 0;
     std::optional<io::ReadError> fault;
     bool closed = false;
+    SignalCheck signals(/*long_call=*/n_max > kReadBlock);
     {
       py::gil_scoped_release release;
       std::lock_guard lock(mutex_);
@@ -92,7 +100,7 @@ class Reader {
       } else {
         try {
           // Fill the chunk unless the stream ends (a reader may return less).
-          while (n < n_max) {
+          while (n < n_max && !signals.pending()) {
             events.resize(n + std::min(n_max - n, kReadBlock));
             const std::size_t got = reader_->read(std::span(events.data() + n, events.size() - n));
             if (got == 0) break;
@@ -107,7 +115,14 @@ class Reader {
     if (closed) throw py::value_error("the reader is closed");
     if (fault) raise_input_error(*fault);
     events.resize(n);
-    return adopt(std::move(events), event_dtype());
+    py::array chunk = adopt(std::move(events), event_dtype());
+    // Ctrl-C: the events read are the exception's, the next read goes on after them.
+    if (signals.pending_now()) {
+      SignalCheck::raise("evlife.Reader.read: interrupted after " + std::to_string(n) +
+                             " events of the chunk (in .partial; the next read goes on after them)",
+                         chunk, n, py::none());
+    }
+    return chunk;
   }
 
   py::array next() {
@@ -206,6 +221,11 @@ holds the events before the fault.)");
 Iterating yields arrays of at most `chunk_events` events (evlife.EVENT_DTYPE)
 until the end; memory stays bounded whatever the file size. On a fault the
 good events come first, the next chunk raises evlife.InputError.)")
+      .def("__reduce__",
+           [](const Reader&) -> py::object {
+             throw py::type_error(
+                 "an evlife.Reader cannot be pickled (an open file): send the path, and evlife.open it in the task");
+           })
       .def_property_readonly(
           "sensor",
           [](const Reader& r) {
@@ -226,13 +246,20 @@ good events come first, the next chunk raises evlife.InputError.)")
           "Which of its format's layouts the file holds (HDF5: 'dsec', 'event_utils', 'prophesee', "
           "'mvsec', 'v2e', 'evlife'; .npy: 'structured' or the columns', 't,x,y,p'; .npz: also which "
           "array, 'structured, array events.npy', or 'arrays x.npy, ...'); '' where a format has one.")
-      .def_property_readonly("path",
-                             [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.path(); }); })
+      .def_property_readonly(
+          "path",
+          [](const Reader& r) {
+            // As os.fsdecode gives it: a name that is not UTF-8 (surrogate escapes), as InputError.path.
+            const std::string path = r.query([](const io::EventReader& e) { return e.path(); });
+            return py::reinterpret_steal<py::object>(PyUnicode_DecodeFSDefault(path.c_str()));
+          },
+          "The recording's path, as os.fsdecode gives it.")
       .def_property_readonly("chunk_events", &Reader::chunk_events)
       .def_property_readonly(
           "bytes_consumed",
           [](const Reader& r) { return r.query([](const io::EventReader& e) { return e.bytes_consumed(); }); },
-          "Bytes of the file consumed so far (approximate for compressed formats).")
+          "Bytes of the file consumed so far (approximate for compressed formats; 0 where the format "
+          "cannot say: .npy, .npz).")
       .def_property_readonly(
           "skipped_records",
           [](const Reader& r) {

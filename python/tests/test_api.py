@@ -5,6 +5,7 @@ import os
 import pytest
 
 import evlife
+from conftest import data
 
 yaml = pytest.importorskip("yaml")
 SOURCE = os.path.join(os.path.dirname(__file__), "..", "..")
@@ -65,3 +66,27 @@ def test_stub_lists_every_public_name_and_keyword():
     init = next(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == "__init__")
     stub_keywords = {a.arg for a in init.args.kwonlyargs} - {"config"}
     assert stub_keywords == set(evlife.estimator_options())
+
+
+def test_functions_pickle_by_name_and_objects_say_why_not():
+    # Dask's client.submit(evlife.read, path) and multiprocessing.Pool.map
+    # pickle the function: functools.wraps had named the wrappers
+    # evlife._evlife.PyCapsule.read, and the C++ functions cannot be pickled.
+    import pickle
+    for name in ("read", "open", "scan", "process", "process_file", "read_augmented", "synth",
+                 "estimator_options", "formats", "write", "frame"):
+        f = getattr(evlife, name)
+        assert pickle.loads(pickle.dumps(f)) is f, name
+    with pytest.raises(TypeError, match="cannot be pickled"):
+        pickle.dumps(evlife.LifetimeEstimator(sensor=(8, 8)))
+    with evlife.open(data("reference/garfield.mat")) as reader:
+        with pytest.raises(TypeError, match="cannot be pickled"):
+            pickle.dumps(reader)
+
+
+def test_a_readers_path_is_as_os_fsdecode_gives_it(tmp_path):
+    import shutil
+    name = os.fsdecode(os.path.join(os.fsencode(str(tmp_path)), b"g\xff.mat"))
+    shutil.copy(data("reference/garfield.mat"), name)
+    with evlife.open(name) as reader:
+        assert reader.path == name  # raised UnicodeDecodeError

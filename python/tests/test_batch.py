@@ -28,6 +28,8 @@ def test_local_cluster_of_two_workers_writes_the_cli_files(tmp_path, capsys):
     assert [r.path for r in table] == paths
     assert [r.path for r in table.failed] == [str(bad)]
     assert "broken.aedat" in table.failed[0].error and "unknown event file format" in table.failed[0].error
+    # Failed before its output was opened: none written, no output (it named a file never made).
+    assert table.failed[0].events == 0 and table.failed[0].output is None
     for row in table[:-1]:
         assert row.error is None and row.events > 0 and 0 < row.lifetime_share <= 1
         expected = tmp_path / ("cli_" + os.path.basename(row.output))
@@ -264,3 +266,56 @@ def test_a_forked_child_makes_its_own_event_loop(tmp_path):
         with multiprocessing.get_context("fork").Pool(1) as pool:
             result = pool.apply_async(_batch_in_forked_child, ((bag, str(tmp_path / "child"), address),))
             assert result.get(timeout=120) == [None]
+
+
+def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
+    # The LocalCluster was closed under its running tasks: their outputs were
+    # left cut at a 4 KiB page (a .bin of whole records that reads as a
+    # shorter recording), and a bare KeyboardInterrupt lost every row.
+    import signal
+    import threading
+    import time
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))
+    span = int(events["t"][-1]) + 1000
+    copies = 16  # 5.4 M events: about a second of work per task after the signal
+    big = np.tile(events, copies)
+    big["t"] = np.concatenate([events["t"] + k * span for k in range(copies)])
+    paths = []
+    for name in ("a.npy", "b.npy"):
+        np.save(tmp_path / name, big)
+        paths.append(str(tmp_path / name))
+    out = tmp_path / "out"
+    small = data("reference/garfield.mat")  # finishes first: its row is kept
+
+    def interrupt_once_writing():
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            sizes = [f.stat().st_size for f in out.glob("[ab].bin")] if out.exists() else []
+            if any(size > (1 << 20) for size in sizes):
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+            time.sleep(0.01)
+
+    watcher = threading.Thread(target=interrupt_once_writing)
+    watcher.start()
+    try:
+        with pytest.raises(evlife.Interrupted) as caught:
+            batch.process_files([small] + paths, out, workers=2, progress=False)
+    finally:
+        watcher.join()
+    e = caught.value
+    assert "recordings finished" in str(e)
+    rows = e.partial
+    assert [r.path for r in rows] == [small] + paths
+    unfinished = [r for r in rows if r.error is not None]
+    assert unfinished, rows  # the large ones were being written
+    for r in unfinished:
+        assert "interrupted before it finished; its partial output was removed" in r.error
+        assert r.output is None and r.events is None
+    assert not any((out / n).exists() for n, r in zip(("garfield.bin", "a.bin", "b.bin"), rows) if r.error)
+    for r in rows:
+        if r.error is None:  # finished: the whole file
+            written, _ = evlife.read_augmented(r.output)
+            assert len(written) == r.events > 0
+    assert e.events_processed == sum(r.events for r in rows if r.error is None)

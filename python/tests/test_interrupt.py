@@ -94,3 +94,26 @@ def test_a_handler_of_the_users_runs_after_the_call_as_before():
     finally:
         signal.signal(signal.SIGINT, previous)
     assert seen and seen[0] in (0, len(big))  # before the call (a busy machine) or after it, never inside
+
+
+@pytest.fixture(scope="module")
+def large_h5(tmp_path_factory):
+    recording = tmp_path_factory.mktemp("interrupt") / "large.h5"
+    cli("synth", "-q", "--scene", "large", "--duration", "3", "-o", recording)  # 6 M events
+    return str(recording)
+
+
+def test_an_interrupted_read_keeps_the_events_read(large_h5):
+    # read() and Reader.read() decoded the whole file deaf to Ctrl-C, then
+    # dropped it for a bare KeyboardInterrupt.
+    whole = evlife.read(large_h5)
+    e = interrupt_during(lambda: evlife.read(large_h5))
+    # (0 where the signal came while the file was being opened, on a busy machine)
+    assert 0 <= len(e.partial) == e.events_processed <= len(whole)
+    assert "evlife.read: interrupted after %d events of %s" % (e.events_processed, large_h5) in str(e)
+    assert np.array_equal(e.partial, whole[:len(e.partial)])
+    with evlife.open(large_h5, chunk_events=len(whole)) as reader:
+        e = interrupt_during(reader.read)
+        rest = reader.read(len(whole))  # goes on after the events the exception holds
+    assert e.events_processed == len(e.partial)
+    assert np.array_equal(np.concatenate([e.partial, rest]), whole)

@@ -178,6 +178,7 @@ bool Aedat4Reader::decompress(std::int64_t packet_offset) {
     }
   }
   packet_bytes_ = out_pos;
+  compressed_used_ = in_pos;
   return true;
 }
 
@@ -220,14 +221,29 @@ bool Aedat4Reader::data_table_ends_the_packets() {
     fail(at, whence + " but the table cannot be read");
     return false;
   }
-  if (table_ends_at(raw.data(), bytes, at)) return true;
-  if (compression_ != Compression::none) {
-    if (decompress(at) && table_ends_at(packet_.data(), packet_bytes_, at)) return true;
+  // Where the table ends in the file: the bytes after it would be lost
+  // unseen (a second recording appended to this one, or garbage).
+  std::int64_t table_end = 0;
+  if (table_ends_at(raw.data(), bytes, at)) {
+    table_end = at + 4 + static_cast<std::int64_t>(flatbuffers::GetPrefixedSize(raw.data()));
+  } else if (compression_ != Compression::none) {
+    if (decompress(at) && table_ends_at(packet_.data(), packet_bytes_, at)) table_end = at + static_cast<std::int64_t>(compressed_used_);
     error_.reset();  // decompress()'s own message would name a packet
   }
-  fail(at, whence + " holds no file table listing the packets before it: a corrupt header? The packets before byte " +
-               std::to_string(at) + " were read");
-  return false;
+  if (table_end == 0) {
+    fail(at, whence + " holds no file table listing the packets before it: a corrupt header? The packets before byte " +
+                 std::to_string(at) + " were read");
+    return false;
+  }
+  if (table_end < file_.size_bytes()) {
+    fail(table_end,
+         std::to_string(file_.size_bytes() - table_end) + " bytes after the file table (bytes " + std::to_string(at) +
+             " to " + std::to_string(table_end) +
+             "), which no packet holds: another recording appended to this one, or garbage? The packets before "
+             "byte " + std::to_string(at) + " were read");
+    return false;
+  }
+  return true;
 }
 
 bool Aedat4Reader::next_packet() {

@@ -63,6 +63,7 @@ class Aedat4Reader final : public EventReader {
   std::vector<std::uint8_t> packet_;      // one packet decompressed
   std::size_t compressed_bytes_ = 0;      // bytes in use of compressed_ / packet_
   std::size_t packet_bytes_ = 0;
+  std::size_t compressed_used_ = 0;       // of compressed_bytes_, by the last decompress(): its frame's
   const std::uint8_t* events_ = nullptr;  // 16-byte event records inside packet_
   std::size_t events_size_ = 0;
   std::size_t events_pos_ = 0;

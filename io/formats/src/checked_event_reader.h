@@ -26,6 +26,7 @@ class CheckedEventReader final : public WrappingEventReader {
   }
   /// The inner reader's; the events passed count in the indices of errors.
   std::int64_t skip_events_before(std::int64_t t_us) override;
+  std::optional<std::int64_t> first_event_time_us() const override { return inner_->first_event_time_us(); }
 
  private:
   std::optional<SensorSize> sensor_;

@@ -133,10 +133,14 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
 
 std::unique_ptr<EventReader> open_event_reader(const std::string& path,
                                                const ReaderOptions& options) {
-  std::unique_ptr<EventReader> raw = open_unchecked_event_reader(path, options);
+  // Checked before cropped: an event that --from or --polarity drops is
+  // checked still (a step back or a pixel outside the sensor is an error,
+  // not a silent drop), and errors name the file's event index and offset.
+  std::unique_ptr<EventReader> raw = detail::SizeCheckingEventReader::wrap(open_decoder(path, options), path);
   const std::optional<SensorSize> sensor = options.sensor ? options.sensor : raw->sensor_size();
-  return std::make_unique<detail::CheckedEventReader>(std::move(raw), sensor,
-                                                      options.require_time_order);
+  auto checked = std::make_unique<detail::CheckedEventReader>(std::move(raw), sensor, options.require_time_order);
+  if (!options.filters()) return checked;
+  return std::make_unique<detail::CroppingEventReader>(std::move(checked), options);
 }
 
 std::unique_ptr<EventReader> open_checked_event_reader(const std::string& path,

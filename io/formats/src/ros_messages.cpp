@@ -1,5 +1,7 @@
 #include "ros_messages.h"
 
+#include "wrapping_counter.h"
+
 #include <algorithm>
 #include <cstring>
 #include <limits>
@@ -134,31 +136,44 @@ std::string_view known_message_types() {
   return EVLIFE_ROS_EVENT_MESSAGE_TYPES;
 }
 
-std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload,
-                                           std::uint64_t time_base, std::uint32_t width,
-                                           std::uint32_t height, std::vector<RosEvent>& out) {
-  std::uint64_t high = time_base;
-  std::int32_t last = 0;  // only rollovers inside one message are seen
-  const auto one = [&](const std::uint8_t* word, std::size_t at, RosEvent& e) -> std::optional<MessageFault> {
+std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload, std::uint64_t time_base,
+                                           std::uint32_t width, std::uint32_t height, std::vector<RosEvent>& out,
+                                           std::uint64_t& invalid_count) {
+  constexpr std::size_t kBytes = 8;
+  // The 31-bit µs clock, unwrapped within the message the way the other
+  // formats' clocks are (wrapping_counter.h): only a drop by more than half
+  // its range (17.9 min) is a wrap; a smaller one stays a step back, which
+  // the checked reader reports. (Taking every drop for a wrap put a corrupt
+  // or zeroed event 35.8 min later, with no error.)
+  WrappingCounter<31> clock;
+  out.reserve(out.size() + payload.size() / kBytes);
+  for (std::size_t at = 0; at + kBytes <= payload.size(); at += kBytes) {
     std::uint32_t data;
     std::int32_t ts;
-    std::memcpy(&data, word, 4);
-    std::memcpy(&ts, word + 4, 4);
+    std::memcpy(&data, payload.data() + at, 4);
+    std::memcpy(&ts, payload.data() + at + 4, 4);
+    // libcaer's valid mark (bit 0) clear: an event a filter invalidated, or
+    // zeroed bytes; skipped and counted (skipped_record_kinds).
+    if ((data & 1u) == 0) {
+      ++invalid_count;
+      continue;
+    }
     const std::uint32_t x = (data >> 17) & 0x7FFFu;
     const std::uint32_t y = (data >> 2) & 0x7FFFu;
     if (ts < 0) return MessageFault{at, "libcaer event with a negative timestamp"};
     if (!inside(x, y, width, height)) return outside(at, x, y, width, height);
-    if (ts < last) high += (std::uint64_t{1} << 31) * 1000u;  // the 32-bit clock wrapped
-    last = ts;
-    const std::uint64_t t = high + static_cast<std::uint64_t>(ts) * 1000u;
-    if (t > kMaxTimeNs || t < high)
-      return MessageFault{at, "libcaer event time beyond the 64-bit ns range"};
-    e = RosEvent{static_cast<std::int64_t>(t), static_cast<std::uint16_t>(x),
-                 static_cast<std::uint16_t>(y),
-                 (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
-    return std::nullopt;
-  };
-  return decode_words("libcaer", payload, out, one);
+    const std::int64_t offset_ns = clock.unwrap(static_cast<std::uint32_t>(ts)) * 1000;  // |.| < 2^31 * 1000 * words
+    const bool fits = offset_ns < 0 ? time_base >= static_cast<std::uint64_t>(-offset_ns)
+                                    : time_base <= kMaxTimeNs - static_cast<std::uint64_t>(offset_ns);
+    if (!fits) return MessageFault{at, "libcaer event time beyond the 64-bit ns range"};
+    out.push_back(RosEvent{static_cast<std::int64_t>(time_base) + offset_ns, static_cast<std::uint16_t>(x),
+                           static_cast<std::uint16_t>(y), (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}});
+  }
+  if (payload.size() % kBytes != 0) {
+    return MessageFault{payload.size() / kBytes * kBytes,
+                        "libcaer payload of " + std::to_string(payload.size()) + " bytes, not a multiple of 8"};
+  }
+  return std::nullopt;
 }
 
 std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> payload, std::uint64_t time_base,
@@ -312,7 +327,7 @@ std::optional<MessageFault> MessageDecoder::decode_packet(std::span<const std::u
     evt3_.set_geometry(width_ == 0 ? 2048u : width_, height_ == 0 ? 2048u : height_);
     fault = decode_evt3(payload, evt3_, evt3_scratch_, out);
   } else if (encoding_ == "libcaer") {
-    fault = decode_libcaer(payload, time_base, width_, height_, out);
+    fault = decode_libcaer(payload, time_base, width_, height_, out, libcaer_invalid_);
   } else if (encoding_ == "mono") {
     fault = decode_mono(payload, time_base, width_, height_, out);
   } else if (encoding_ == "libcaer_cmp") {

@@ -98,6 +98,8 @@ class MessageDecoder {
   std::uint64_t other_count() const noexcept { return evt3_.other_count(); }
   /// EVT 3.0 events before the stream's first TIME_HIGH: no time, skipped.
   std::uint64_t before_time_base_count() const noexcept { return evt3_.before_time_base_count(); }
+  /// libcaer events without their valid mark: skipped.
+  std::uint64_t libcaer_invalid_count() const noexcept { return libcaer_invalid_; }
   void set_trigger_sink(Evt3TriggerSink* sink) noexcept { evt3_.set_trigger_sink(sink); }
 
  private:
@@ -114,14 +116,18 @@ class MessageDecoder {
   Evt3Decoder evt3_;
   std::vector<Event> evt3_scratch_;
   LibcaerCmpState libcaer_cmp_;
+  std::uint64_t libcaer_invalid_ = 0;
 };
 
 // Payload decoders of EventPacket (also used alone by the fuzz targets and
 // the benchmarks). Each appends to `out` and returns the fault, if any, with
 // the byte offset inside `payload`; width/height 0 = no bounds check.
-std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload,
-                                           std::uint64_t time_base, std::uint32_t width,
-                                           std::uint32_t height, std::vector<RosEvent>& out);
+/// libcaer: 8-byte polarity events (valid mark bit 0, polarity bit 1, y bits
+/// 2-16, x bits 17-31; a 31-bit µs timestamp); events without the valid mark
+/// are skipped and added to `invalid_count`.
+std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload, std::uint64_t time_base,
+                                           std::uint32_t width, std::uint32_t height, std::vector<RosEvent>& out,
+                                           std::uint64_t& invalid_count);
 std::optional<MessageFault> decode_mono(std::span<const std::uint8_t> payload,
                                         std::uint64_t time_base, std::uint32_t width,
                                         std::uint32_t height, std::vector<RosEvent>& out);

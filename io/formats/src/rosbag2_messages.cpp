@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -159,12 +160,45 @@ bool is_zstd_stream(std::span<const std::byte> head) {
          head[3] == std::byte{0xFD};
 }
 
+namespace {
+
+/// A database file shorter than its header states: SQLite reads the pages it
+/// lacks as zeros, without an error (PRAGMA integrity_check passes), so a bag
+/// cut inside its last page gave zeroed messages. `open_path` is the file
+/// SQLite opens, `shown_path` the user's (a .db3.zstd's).
+void check_not_cut(const std::string& open_path, const std::string& shown_path) {
+  const detail::InputFile file(open_path);
+  std::array<std::byte, 100> h{};
+  if (file.read_at(0, h) < h.size()) return;  // SQLite's open says what it is
+  const auto be = [&h](std::size_t at, std::size_t bytes) {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < bytes; ++i) v = (v << 8) | std::to_integer<std::uint32_t>(h[at + i]);
+    return v;
+  };
+  if (std::memcmp(h.data(), "SQLite format 3", 16) != 0) return;
+  const std::uint32_t page_bytes = be(16, 2) == 1 ? 65536 : be(16, 2);
+  const std::uint32_t pages = be(28, 4);
+  // The header's page count holds only while its change counter (offset 24)
+  // equals its version-valid-for number (offset 92): SQLite's file format, 1.3.
+  if (pages == 0 || be(24, 4) != be(92, 4)) return;
+  const std::uint64_t stated = std::uint64_t{page_bytes} * pages;
+  if (file.size_bytes() >= stated) return;
+  const bool copy = open_path != shown_path;
+  throw ReadError(shown_path, copy ? -1 : static_cast<std::int64_t>(file.size_bytes()), -1,
+                  std::string("cut: the database") + (copy ? " (decompressed)" : "") + " has " +
+                      std::to_string(file.size_bytes()) + " bytes where its header states " + std::to_string(pages) +
+                      " pages of " + std::to_string(page_bytes) + " bytes (" + std::to_string(stated) + ")");
+}
+
+}  // namespace
+
 struct Rosbag2Messages::Db {
   std::string path;  // as the user named it (a .db3.zstd's, not its decompressed copy's)
   sqlite3* db = nullptr;
   sqlite3_stmt* stmt = nullptr;
 
   Db(const std::string& open_path, std::string shown_path) : path(std::move(shown_path)) {
+    check_not_cut(open_path, path);
     if (sqlite3_open_v2(open_path.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=
         SQLITE_OK) {
       const std::string why = db != nullptr ? sqlite3_errmsg(db) : "out of memory";
