@@ -502,6 +502,21 @@ TEST_F(CliTest, SensorSetInTheConfigIsUsedWhenTheFormatIsSilent) {
   const RunResult scanned = run("process '" + input + "' -o '" + path("o.csv").string() + "'");
   EXPECT_EQ(scanned.exit_code, 0) << scanned.output;
   EXPECT_NE(scanned.output.find("scanned from the data"), std::string::npos) << scanned.output;
+  // Where the format states its size, the configuration's is ignored, and said so as --sensor's
+  // (it was dropped without a word).
+  const std::string evt3 = std::string(EVLIFE_SHARED_DATA_DIR) + "/evt3/evt3_sample.raw";
+  for (const std::string command : {"process", "eval", "render"}) {
+    const std::string out = command == "process" ? path("e.bin").string()
+                            : command == "eval"  ? path("eval").string()
+                                                 : path("r.png").string();
+    const std::string extra = command == "render" ? " --at 0.004" : "";
+    const RunResult stated = run(command + " '" + evt3 + "' -o '" + out + "'" + extra +
+                                 " -q --set estimator.sensor.width=240 --set estimator.sensor.height=180");
+    EXPECT_EQ(stated.exit_code, 0) << command << ": " << stated.output;
+    EXPECT_NE(stated.output.find("warning: estimator.sensor 240x180 (--set estimator.sensor.height=180) ignored: "),
+              std::string::npos)
+        << command << ": " << stated.output;
+  }
 }
 
 // AEDAT 2.0: '#' header lines, then big-endian (u32 address, u32 timestamp)

@@ -182,6 +182,17 @@ void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::st
                static_cast<int>(input.size()), input.data(), used.width, used.height);
 }
 
+void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize> flag, const config::LoadedConfig& c,
+                              std::string_view input, SensorSize used) {
+  if (flag) return warn_sensor_flag_ignored(command, *flag, input, used);
+  const config::KeyOrigin* origin = c.builder.user_origin_of_input_keys();
+  const SensorSize set = c.config.estimator.sensor;
+  if (origin == nullptr || set == used) return;
+  std::fprintf(stderr, "evlife %.*s: warning: estimator.sensor %dx%d (%s) ignored: %.*s states %dx%d\n",
+               static_cast<int>(command.size()), command.data(), set.width, set.height, origin->where.c_str(),
+               static_cast<int>(input.size()), input.data(), used.width, used.height);
+}
+
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {
   if (!selection.from_us && !selection.to_us) return "no event of " + input;
   return "no event of " + input +

@@ -117,6 +117,12 @@ std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const
 /// used is not the flag's (the format states its own).
 void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::string_view input, SensorSize used);
 
+/// The same for user_sensor_size(): the flag's, else estimator.sensor's where
+/// --config or --set set it ("estimator.sensor WxH (WHERE) ignored: ...";
+/// that one was dropped without a word).
+void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize> flag, const config::LoadedConfig& c,
+                              std::string_view input, SensorSize used);
+
 /// "no event of INPUT", and where --from/--to selected the events, how to
 /// read them (a warning's text: process and eval say it alike).
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection);

@@ -180,7 +180,7 @@ int eval_recording(int argc, char** argv) {
     std::fprintf(stderr, "evlife eval: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;
   }
-  if (args.sensor) warn_sensor_flag_ignored("eval", *args.sensor, args.input, evaluation.sensor);
+  warn_user_sensor_ignored("eval", args.sensor, args.config, args.input, evaluation.sensor);
   if (!evaluation.runs.empty() && evaluation.runs[evaluation.primary_index].events == 0 && !evaluation.input_fault) {
     std::fprintf(stderr, "evlife eval: warning: %s: the report's figures are empty\n",
                  no_event_text(args.input, args.input_options).c_str());

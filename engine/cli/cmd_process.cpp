@@ -148,7 +148,7 @@ struct ResolvedSensor {
 ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg,
                               const io::EventReader& probe, const StopRequest& stop) {
   if (const auto s = io::stated_sensor_size(probe, args.sensor)) {
-    if (args.sensor) warn_sensor_flag_ignored("process", *args.sensor, probe.format_name(), *s);
+    warn_user_sensor_ignored("process", args.sensor, args.config, probe.format_name(), *s);
     if (const std::string guessed = probe.sensor_size_note(); !guessed.empty()) return {*s, guessed};
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }

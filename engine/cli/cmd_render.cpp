@@ -328,7 +328,7 @@ int run_render(int argc, char** argv) {
                    args.input.c_str());
       return kExitInterrupted;
     }
-    if (args.sensor) warn_sensor_flag_ignored("render", *args.sensor, args.input, source->sensor());
+    warn_user_sensor_ignored("render", args.sensor, args.config, args.input, source->sensor());
   } catch (const io::ReadError& e) {
     std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
     return kExitInput;

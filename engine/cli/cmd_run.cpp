@@ -603,7 +603,7 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
     return kExitInput;
   }
-  if (args.sensor) warn_sensor_flag_ignored("run", *args.sensor, file_of_source(args.source), source->sensor_size());
+  warn_user_sensor_ignored("run", args.sensor, args.config, file_of_source(args.source), source->sensor_size());
   // Every refusal before the output is opened: opening it empties a file of that name.
   if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
     std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
