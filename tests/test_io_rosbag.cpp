@@ -8,6 +8,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <cstdlib>
@@ -23,6 +24,7 @@
 
 #include "cli_runner.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/stop.h"
 #include "read_all.h"
 #include "ros2_bag_reference.h"
 #include "ros_messages.h"
@@ -454,6 +456,37 @@ void zstd_file(const std::string& file, const std::string& out_path) {
 // through temporary copies that are gone afterwards; so does a recording that
 // stopped uncleanly (no metadata.yaml, the last file still a .db3). A later
 // file that is corrupt or cut is an error after the earlier files' events.
+// A stop (io/stop.h: the command line's Ctrl-C) ends the decompression of a
+// file-compressed bag into its copy, which is removed: Ctrl-C waited for the
+// whole copy (seconds for gigabytes).
+TEST(Rosbag2Reader, AStopEndsTheDecompressionOfAFileCompressedBag) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const fs::path plain = dir.file("plain.db3"), temp = dir.file("tmp");
+  const std::string compressed = dir.file("bag.db3.zstd");
+  fs::create_directories(temp);
+  ASSERT_EQ(::setenv("TMPDIR", temp.c_str(), 1), 0);
+  {
+    Db db(plain.string());
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    db.insert(1, 1, 0, event_array({ros::RosEvent{1000, 1, 2, 1}}, 64, 64));
+  }
+  zstd_file(plain.string(), compressed);
+  std::atomic<bool> stop{true};
+  io::set_stop_flag(&stop);
+  std::string what;
+  try {
+    (void)io::open_event_reader(compressed);
+  } catch (const io::ReadError& e) {
+    what = e.what();
+  }
+  io::set_stop_flag(nullptr);
+  EXPECT_NE(what.find(compressed + ": stopped while decompressing it"), std::string::npos) << what;
+  EXPECT_TRUE(fs::is_empty(temp));
+  EXPECT_EQ(read_all(compressed).events.size(), 1u);  // without the stop: read
+  ::unsetenv("TMPDIR");
+}
+
 TEST(Rosbag2Reader, AFileCompressedBagReadsAsItsFilesUncompressed) {
   const ScratchDir dir{"test_io_rosbag"};
   const fs::path plain = dir.file("plain"), zstd = dir.file("zstd"), temp = dir.file("tmp");

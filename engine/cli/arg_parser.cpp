@@ -9,6 +9,8 @@
 
 #include "evlife/config/config_key.h"
 #include "evlife/io/augmented_event_reader.h"
+#include "evlife/io/stop.h"
+#include "exit_code.h"
 
 namespace evlife::cli {
 
@@ -191,6 +193,16 @@ void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize
   std::fprintf(stderr, "evlife %.*s: warning: estimator.sensor %dx%d (%s) ignored: %.*s states %dx%d\n",
                static_cast<int>(command.size()), command.data(), set.width, set.height, origin->where.c_str(),
                static_cast<int>(input.size()), input.data(), used.width, used.height);
+}
+
+int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e) {
+  if (io::stop_requested()) {
+    std::fprintf(stderr, "evlife %.*s: interrupted while opening %s: nothing processed\n",
+                 static_cast<int>(command.size()), command.data(), input.c_str());
+    return kExitInterrupted;
+  }
+  std::fprintf(stderr, "evlife %.*s: input error: %s\n", static_cast<int>(command.size()), command.data(), e.what());
+  return kExitInput;
 }
 
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {

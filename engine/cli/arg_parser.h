@@ -123,6 +123,11 @@ void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::st
 void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize> flag, const config::LoadedConfig& c,
                               std::string_view input, SensorSize used);
 
+/// An input error met while COMMAND opened INPUT: "interrupted while opening
+/// INPUT: nothing processed" and exit 130 where a stop signal came (io/stop.h:
+/// a bag's decompression ends so), else "input error: WHAT" and exit 3.
+int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e);
+
 /// "no event of INPUT", and where --from/--to selected the events, how to
 /// read them (a warning's text: process and eval say it alike).
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection);

@@ -254,8 +254,7 @@ int convert_events(const std::string& input, const std::string& output,
       reader = io::open_event_reader(input, checked);
     }
   } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
-    return kExitInput;
+    return open_fault_exit("convert", input, e);
   }
   if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);  // a stated size wins
   std::unique_ptr<io::EventWriter> writer;
@@ -321,8 +320,7 @@ int convert(int argc, char** argv) {
   try {
     augmented = io::open_if_augmented(input);
   } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife convert: input error: %s\n", e.what());
-    return kExitInput;
+    return open_fault_exit("convert", input, e);
   }
   if (augmented) {
     // Nothing to act on: evlife's output is read whole, on one thread.

@@ -174,8 +174,7 @@ int eval_recording(int argc, char** argv) {
                  args.output.c_str());
     return kExitInterrupted;
   } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife eval: input error: %s\n", e.what());
-    return kExitInput;
+    return open_fault_exit("eval", args.input, e);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "evlife eval: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;

@@ -26,7 +26,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
-#include "evlife/io/write_stop.h"
+#include "evlife/io/stop.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "skipped_kinds_text.h"
@@ -216,7 +216,7 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
 int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
   const unsigned long long written = result.events_written;
   if (result.output_fault) {
-    const bool stopped = io::write_stop_requested();  // a stop while the output's reader took nothing
+    const bool stopped = io::stop_requested();  // a stop while the output's reader took nothing
     std::fprintf(stderr, "evlife process: %s: %s (%llu events processed before it)\n",
                  stopped ? "interrupted; output" : "output error", result.output_fault->c_str(), written);
     return stopped ? kExitInterrupted : kExitOutput;
@@ -268,8 +268,7 @@ int process_recording(int argc, char** argv) {
     checked.sensor = sensor.size;
     reader = io::open_event_reader(args.input, checked);
   } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife process: input error: %s\n", e.what());
-    return kExitInput;
+    return open_fault_exit("process", args.input, e);
   }
   cfg.estimator.sensor = sensor.size;
   if (const auto refusal = estimator_memory_refusal(sensor.size, 1)) {

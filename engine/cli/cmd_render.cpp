@@ -330,8 +330,7 @@ int run_render(int argc, char** argv) {
     }
     warn_user_sensor_ignored("render", args.sensor, args.config, args.input, source->sensor());
   } catch (const io::ReadError& e) {
-    std::fprintf(stderr, "evlife render: input error: %s\n", e.what());
-    return kExitInput;
+    return open_fault_exit("render", args.input, e);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;

@@ -44,7 +44,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
-#include "evlife/io/write_stop.h"
+#include "evlife/io/stop.h"
 #include "evlife/io/textured_scene.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/output_kind.h"
@@ -533,7 +533,7 @@ int run_exit_status(const engine::RunResult& result, const engine::RenderStage* 
                    result.message.c_str(), written, and_dropped.c_str());
       break;
     case engine::RunStatus::sink_error:
-      if (io::write_stop_requested()) {  // a stop while the output's reader took nothing
+      if (io::stop_requested()) {  // a stop while the output's reader took nothing
         std::fprintf(stderr, "evlife run: interrupted; output: %s\n", result.message.c_str());
         return kExitInterrupted;
       }
@@ -590,18 +590,20 @@ int run_engine(int argc, char** argv) {
   std::unique_ptr<engine::EventSource> source;
   try {
     source = make_source(args, stop.flag());
-    if (stop.requested()) {
-      // (Opening may scan a file for its sensor size or generate a synth: scene.)
-      std::fprintf(stderr, "evlife run: interrupted while opening %s: nothing processed%s\n",
-                   args.source.c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
-      return kExitInterrupted;
-    }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "evlife run: %s\n", e.what());
     return kExitUsage;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
-    return kExitInput;
+    if (!stop.requested()) {  // else a stop ended the opening (a bag's decompression: io/stop.h)
+      std::fprintf(stderr, "evlife run: input error: %s\n", e.what());
+      return kExitInput;
+    }
+  }
+  if (stop.requested()) {
+    // (Opening may scan a file for its sensor size, decompress a bag or generate a synth: scene.)
+    std::fprintf(stderr, "evlife run: interrupted while opening %s: nothing processed%s\n",
+                 args.source.c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
+    return kExitInterrupted;
   }
   warn_user_sensor_ignored("run", args.sensor, args.config, file_of_source(args.source), source->sensor_size());
   // Every refusal before the output is opened: opening it empties a file of that name.

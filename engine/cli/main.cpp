@@ -17,7 +17,7 @@
 #include "evlife/engine/exit_code.h"
 #include "evlife/config/config.h"
 #include "evlife/io/hdf5_writer.h"
-#include "evlife/io/write_stop.h"
+#include "evlife/io/stop.h"
 #include "stop_signals.h"
 
 namespace evlife::cli {
@@ -98,8 +98,9 @@ int main(int argc, char** argv) {
   // write fail with EPIPE, reported as any output error (exit 4, the output
   // named, what was written kept), instead of killing the process silently.
   std::signal(SIGPIPE, SIG_IGN);
-  // A write to a FIFO whose reader takes nothing gives up on a stop signal.
-  evlife::io::set_write_stop_flag(&evlife::cli::g_stop_requested);
+  // A write to a FIFO whose reader takes nothing, and the decompression of a
+  // file-compressed bag, give up on a stop signal (io/stop.h).
+  evlife::io::set_stop_flag(&evlife::cli::g_stop_requested);
   evlife::config::use_installed_configuration();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? stderr : stdout);

@@ -10,21 +10,7 @@
 
 #include "evlife/io/output_path.h"
 #include "evlife/io/write_error.h"
-#include "evlife/io/write_stop.h"
-
-namespace evlife::io {
-namespace {
-std::atomic<const std::atomic<bool>*> g_write_stop_flag{nullptr};
-}  // namespace
-
-void set_write_stop_flag(const std::atomic<bool>* flag) noexcept { g_write_stop_flag.store(flag); }
-
-bool write_stop_requested() noexcept {
-  const std::atomic<bool>* flag = g_write_stop_flag.load();
-  return flag != nullptr && flag->load(std::memory_order_relaxed);
-}
-
-}  // namespace evlife::io
+#include "evlife/io/stop.h"
 
 namespace evlife::io::detail {
 
@@ -36,7 +22,7 @@ OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBy
     throw WriteError(path, folder_problem.empty() ? std::string("cannot create: ") + std::strerror(err) : folder_problem,
                      err);
   }
-  // A FIFO's writes must not block past a stop (write_stop.h). This open
+  // A FIFO's writes must not block past a stop (stop.h). This open
   // file description is ours alone (open() of a FIFO makes a new one).
   struct stat st {};
   if (::fstat(fd_, &st) == 0 && S_ISFIFO(st.st_mode)) {
@@ -90,7 +76,7 @@ void OutputFile::wait_for_reader(std::size_t bytes_left) {
     pollfd room{fd_, POLLOUT, 0};
     const int ready = ::poll(&room, 1, kStepMs);
     if (ready > 0 || (ready < 0 && errno != EINTR)) return;  // room, a closed reader or an error: write() says
-    if (write_stop_requested()) {
+    if (stop_requested()) {
       throw WriteError(path_, "stopped while the reader of this FIFO took no data (" + std::to_string(bytes_left) +
                                   " bytes not written)");
     }

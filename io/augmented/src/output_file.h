@@ -35,7 +35,7 @@ class OutputFile {
 
  private:
   void write_all(const char* data, std::size_t bytes);
-  // A FIFO without room: waits for it, or throws WriteError on a stop (write_stop.h).
+  // A FIFO without room: waits for it, or throws WriteError on a stop (stop.h).
   void wait_for_reader(std::size_t bytes_left);
   std::string path_;
   int fd_ = -1;

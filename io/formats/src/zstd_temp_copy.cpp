@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "evlife/io/event_reader.h"
+#include "evlife/io/stop.h"
 #include "evlife/io/temp_dir.h"
 #include "input_file.h"
 
@@ -100,6 +101,9 @@ void ZstdTempCopy::inflate(const std::string& compressed, int fd, const std::str
   std::uint64_t at = 0, written = 0;
   std::size_t last = 1;  // ZSTD_decompressStream's hint: 0 once a frame is complete
   while (at < in.size_bytes()) {
+    if (stop_requested())  // seconds for gigabytes: Ctrl-C waited for the whole copy
+      throw ReadError(compressed, static_cast<std::int64_t>(at), -1,
+                      "stopped while decompressing it (" + std::to_string(written) + " bytes of its copy written, removed)");
     const std::size_t got = in.read_at(at, in_buf);
     if (got == 0) throw ReadError(compressed, static_cast<std::int64_t>(at), -1, "cannot read the file here");
     ZSTD_inBuffer input{in_buf.data(), got, 0};
