@@ -136,6 +136,33 @@ TEST(ActiveEventMap, TimesFarApartNeitherWrapNorLeaveGhosts) {
   EXPECT_EQ(map.count_active(now + 50), 1u);  // (2, 2) only
 }
 
+// Times at both ends of event.h's range (2^63 apart): no signed overflow
+// (UBSan) and the later event is active, not counted late.
+TEST(ActiveEventMap, TimesAtBothEndsOfTheRangeAreFedWithoutOverflow) {
+  ActiveEventMap map(kSensor);
+  map.feed(at(0, 0, -kMaxEventTimeUs, 1, 100.0f, 0.0f, 0.0f));
+  map.feed(at(1, 1, kMaxEventTimeUs, 1, 100.0f, 0.0f, 0.0f));
+  EXPECT_EQ(map.stats().late, 0u);
+  EXPECT_TRUE(map.is_active(1, 1, kMaxEventTimeUs));
+  EXPECT_FALSE(map.is_active(0, 0, kMaxEventTimeUs));
+  map.feed(at(2, 2, -kMaxEventTimeUs, 1, 100.0f, 0.0f, 0.0f));  // 2^63 before the epoch now: late
+  EXPECT_EQ(map.stats().late, 1u);
+}
+
+// Moved from, a map has no planes: feed() counts every event out of the
+// sensor, its sensor is 0 x 0 and it counts nothing active (feed() read past
+// the emptied arrays).
+TEST(ActiveEventMap, AMovedFromMapReadsNothing) {
+  ActiveEventMap a(kSensor);
+  ActiveEventMap b(std::move(a));
+  a.feed(at(1, 1, 1000, 1, 100.0f, 0.0f, 0.0f));  // NOLINT(bugprone-use-after-move): the point
+  EXPECT_EQ(a.stats().out_of_sensor, 1u);
+  EXPECT_EQ(a.sensor().pixel_count(), 0);  // (is_active asks for a pixel inside sensor())
+  EXPECT_EQ(a.count_active(1000), 0u);
+  b.feed(at(1, 1, 1000, 1, 100.0f, 0.0f, 0.0f));
+  EXPECT_TRUE(b.is_active(1, 1, 1000));
+}
+
 TEST(ActiveEventMap, FitsNamesTheSensorsTheConstructorAccepts) {
   EXPECT_TRUE(ActiveEventMap::fits({1, 1}));
   EXPECT_TRUE(ActiveEventMap::fits({1280, 720}));

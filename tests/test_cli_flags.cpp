@@ -221,6 +221,10 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   EXPECT_EQ(e.exit_code, 0) << e.output;
   EXPECT_TRUE(has(e, "time range")) << e.output;
   EXPECT_TRUE(has(e, "warning: --frame-at 2.000000 s lies after the last event")) << e.output;
+  // Not for the default instant (0.5 s) on a recording shorter than it: no flag of the user's was wrong.
+  const RunResult d = run("eval " + path("a.bin") + " -o " + path("ev_default"));  // 300 ms long
+  EXPECT_EQ(d.exit_code, 0) << d.output;
+  EXPECT_FALSE(has(d, "--frame-at")) << d.output;
   // eval of a crop that holds nothing says so, as process does (its report of NaN was unexplained).
   const RunResult empty = run("eval " + in + " -o " + path("ev0") + " --from 300000");
   EXPECT_EQ(empty.exit_code, 0) << empty.output;

@@ -693,6 +693,61 @@ TEST(LifetimeEstimator, AMovedFromEstimatorReadsNothing) {
   EXPECT_EQ(b.stats().out_of_sensor, 1u);  // NOLINT(bugprone-use-after-move)
   EXPECT_EQ(c.process(Event{3000, 10, 10, 1}).event.x, 10);
   EXPECT_EQ(c.stats().out_of_sensor, 0u);
+  // A self-move empties the planes: the estimator then reads nothing (it
+  // kept its sensor size and read the empty planes: a crash).
+  auto& same = c;
+  c = std::move(same);
+  EXPECT_TRUE(c.process(Event{4000, 10, 10, 1}).is_noise());
+  EXPECT_EQ(c.stats().out_of_sensor, 1u);
+}
+
+// Each polarity's surface has its own time origin: a jump of one polarity's
+// clock (one corrupt ON timestamp 2^32 us ahead) leaves every OFF estimate as
+// without it (they changed, uncounted: both planes were moved), and clocks
+// 2^32 us apart per polarity estimate as one estimator per polarity (every
+// switch of polarity walked the whole surface, and 99 % became noise).
+TEST(LifetimeEstimator, APolaritysClockJumpMovesNothingOfTheOther) {
+  const SensorSize s{48, 36};
+  std::vector<Event> events;
+  for (const Event& e : straight_edge(s, 0.4, 1500.0)) {
+    events.push_back(e);
+    events.push_back(Event{e.t_us + 7, e.x, e.y, static_cast<std::int8_t>(-e.p)});  // the other polarity too
+  }
+  const auto off_outputs = [&s](const std::vector<Event>& in) {
+    LifetimeEstimator est(options_for(s));
+    std::vector<AugmentedEvent> out;
+    for (const Event& e : in) {
+      const AugmentedEvent a = est.process(e);
+      if (a.event.p < 0) out.push_back(a);
+    }
+    return out;
+  };
+  const std::vector<AugmentedEvent> reference = off_outputs(events);
+  std::vector<Event> glitched = events;
+  const std::size_t middle = glitched.size() / 2;
+  const Event before = glitched[middle];
+  glitched.insert(glitched.begin() + static_cast<std::ptrdiff_t>(middle),
+                  Event{before.t_us + (std::int64_t{1} << 32), before.x, before.y, 1});
+  const std::vector<AugmentedEvent> after_glitch = off_outputs(glitched);
+  ASSERT_EQ(after_glitch.size(), reference.size());
+  std::size_t with_lifetime = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    ASSERT_EQ(std::memcmp(&after_glitch[i], &reference[i], sizeof(AugmentedEvent)), 0) << "OFF event " << i;
+    with_lifetime += reference[i].is_noise() ? 0u : 1u;
+  }
+  EXPECT_GT(with_lifetime, reference.size() / 2);
+  // Clocks apart: ON as it is, OFF 2^32 us ahead, against one estimator per polarity.
+  std::vector<Event> apart = events;
+  for (Event& e : apart) e.t_us += e.p < 0 ? (std::int64_t{1} << 32) : 0;
+  LifetimeEstimator both(options_for(s)), on(options_for(s)), off(options_for(s));
+  std::size_t differ = 0;
+  for (const Event& e : apart) {
+    const AugmentedEvent a = both.process(e);
+    const AugmentedEvent alone = (e.p > 0 ? on : off).process(e);
+    differ += std::memcmp(&a, &alone, sizeof a) != 0 ? 1u : 0u;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(both.stats().time_backwards, 0u);
 }
 
 TEST(LifetimeEstimator, ConstantVelocityEdgeIsPredictedWell) {

@@ -85,6 +85,22 @@ TEST(LifetimeColormap, LegendLabelsSayTheirTicksValue) {
   EXPECT_EQ(evlife::render::lifetime_tick_label(1e8), "100 s");  // "100000 ms" ran off the panel
 }
 
+// A range with no 1-2-5 value inside (--lifetime-range 6:9) is labelled at
+// its ends: its legend had no label at all, and the colours could not be read.
+TEST(LifetimeColormap, ANarrowRangeIsLabelledAtItsEnds) {
+  const auto label_pixels = [](double min_us, double max_us) {
+    const cv::Mat legend = evlife::render::LifetimeColormap(min_us, max_us).legend(200);
+    int n = 0;
+    for (int y = 24; y < legend.rows; ++y)  // below the title, right of the bar and its ticks
+      for (int x = 29; x < legend.cols; ++x) n += legend.at<cv::Vec3b>(y, x)[1] > 128 ? 1 : 0;
+    return n;
+  };
+  EXPECT_GT(label_pixels(300.0, 30'000.0), 0);
+  const int narrow = label_pixels(6000.0, 9000.0);
+  EXPECT_GT(narrow, 0);
+  EXPECT_GT(label_pixels(3000.0, 4000.0), 0);
+}
+
 TEST(ActiveEventMap, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {
   for (const double speed : {40.0, 230.0, 1000.0, 4700.0, 25000.0}) {
     for (const bool thinning : {true, false}) {

@@ -141,6 +141,20 @@ TEST_F(RenderCliTest, AVideoIsWrittenToARegularFileOnly) {
   }
 }
 
+// JPEG holds at most 65500 px a side: a wider .avi frame is refused by name
+// (OpenCV's own AVI writer wrapped the side at 65536: a corrupt video, exit 0).
+TEST_F(RenderCliTest, AnAviFrameWiderThanJpegAllowsIsRefused) {
+  const std::string csv = path("wide.csv");
+  std::ofstream(csv) << "x,y,t,p\n0,0,1000,1\n2099,1,2000,0\n";
+  const std::string avi = path("wide.avi");
+  const auto r = run("render '" + csv + "' -o '" + avi + "' --fps 1000 --scale 32 --sensor 2100x2 -q");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("cannot write the video " + avi + ": its frames of 67300x126 px exceed JPEG's 65500 px a side"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(avi));
+}
+
 TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
   // 0 .. 0.3 s at 20 fps: instants 0, 0.05, ..., 0.30 = 7 frames.
   for (const char* name : {"v.avi", "v.mp4"}) {

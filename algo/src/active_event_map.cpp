@@ -50,7 +50,7 @@ void ActiveEventMap::reset() noexcept {
 void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
   ++stats_.fed;
   const Event& e = a.event;
-  if (!sensor_.contains(e.x, e.y)) {
+  if (!sensor_.value.contains(e.x, e.y)) {
     ++stats_.out_of_sensor;
     return;
   }
@@ -69,8 +69,13 @@ void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
     ++stats_.late;
     return;
   }
-  if (!has_epoch_ || e.t_us - epoch_us_ > kMaxRel - kMaxLifetimeUs) rebase(e.t_us);
-  if (e.t_us - epoch_us_ <= kNeverRel) {  // before the 32-bit range: its expiry would wrap
+  // Times up to 2^63 apart (event.h's range, both ends): t - epoch taken
+  // without overflow (it was signed overflow, and a valid event counted late).
+  std::int64_t since_epoch = 0;
+  const bool far = __builtin_sub_overflow(e.t_us, epoch_us_, &since_epoch);
+  if (!has_epoch_ || (far ? e.t_us > epoch_us_ : since_epoch > kMaxRel - kMaxLifetimeUs)) {
+    rebase(e.t_us);
+  } else if (far || since_epoch <= kNeverRel) {  // before the 32-bit range: its expiry would wrap
     ++stats_.late;
     return;
   }
@@ -93,7 +98,7 @@ void ActiveEventMap::feed(const AugmentedEvent& a) noexcept {
   const int dy = uy > kSectorSin ? 1 : (uy < -kSectorSin ? -1 : 0);
   const int nx = e.x - dx;  // the pixel the edge has just left
   const int ny = e.y - dy;
-  if (!sensor_.contains(nx, ny)) return;
+  if (!sensor_.value.contains(nx, ny)) return;
   const std::size_t j = index(nx, ny);
   const std::int32_t now_rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
   if (polarity_[j] == e.p && t_us_[j] < e.t_us && expire_rel_[j] > now_rel) {
@@ -111,7 +116,7 @@ std::size_t ActiveEventMap::count_active(std::int64_t t_us) const noexcept {
 
 std::size_t ActiveEventMap::active_pixels(std::int64_t t_us, std::span<ActivePixel> out) const noexcept {
   const std::int64_t rel = relative_time(t_us);
-  const auto width = static_cast<std::size_t>(sensor_.width);
+  const auto width = static_cast<std::size_t>(sensor_.value.width);
   std::size_t n = 0;
   for (std::size_t i = 0; i < expire_rel_.size(); ++i) {
     if (!(rel < expire_rel_[i])) continue;
@@ -136,7 +141,11 @@ void ActiveEventMap::lifetime_image(std::int64_t t_us, std::span<float> out) con
 void ActiveEventMap::rebase(std::int64_t t_us) noexcept {
   const std::int64_t new_epoch = t_us - kMaxLifetimeUs;
   if (has_epoch_) {
-    const std::int64_t shift = new_epoch - epoch_us_;
+    // Forward only (feed() rebases for a later time); beyond 2^40 us every
+    // stored expiry ends as the exact shift would end it, and nothing overflows.
+    constexpr std::int64_t kShiftBound = std::int64_t{1} << 40;
+    std::int64_t shift = 0;
+    if (__builtin_sub_overflow(new_epoch, epoch_us_, &shift) || shift > kShiftBound) shift = kShiftBound;
     for (std::int32_t& e : expire_rel_) {
       if (e == kNeverRel) continue;
       const std::int64_t moved = static_cast<std::int64_t>(e) - shift;

@@ -117,7 +117,7 @@ LifetimeEstimator::LifetimeEstimator(const LifetimeOptions& options) : options_(
 
 void LifetimeEstimator::reset() noexcept {
   std::fill(surface_.begin(), surface_.end(), SurfacePixel{detail::kNeverRel, 0.0f});
-  epoch_us_ = 0;
+  epoch_us_.fill(0);
   last_t_us_.fill(std::numeric_limits<std::int64_t>::min());
   std::fill(pixel_state_.begin(), pixel_state_.end(), PixelState{kNoPrediction, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
   std::fill(burst_followers_.begin(), burst_followers_.end(), std::uint8_t{0});
@@ -230,7 +230,7 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
       const double gx = static_cast<double>(s.burst_vx_px_s) * tau2_s;  // us/px
       const double gy = static_cast<double>(s.burst_vy_px_s) * tau2_s;
       const double ahead_us = gx * (x - xx) + gy * (y - yy);  // > 0: the edge moves from the neighbour here
-      const double predicted = static_cast<double>(epoch_us_ + surface_[q].t_rel) + ahead_us;
+      const double predicted = static_cast<double>(epoch_us_[pol] + surface_[q].t_rel) + ahead_us;
       const double tol = std::max(tol_floor_us, tol_fraction * tau_us);
       const double err_us = std::fabs(t - predicted);
       if ((ahead_us > 0.0) & (err_us <= tol)) {
@@ -438,8 +438,15 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int x = e.x;
   const int y = e.y;
   const std::size_t self = pixel_index(pol, x, y);
-  if (!detail::fits_epoch(e.t_us, epoch_us_)) epoch_us_ = detail::rebase(std::span(surface_), epoch_us_, e.t_us);
-  const auto now_rel = static_cast<std::int32_t>(e.t_us - epoch_us_);
+  // Each polarity's plane has its own epoch: a jump of one polarity's clock
+  // (a corrupt timestamp) moves no time of the other's (both planes moved,
+  // and its estimates went wrong, uncounted).
+  std::int64_t& epoch_us = epoch_us_[pol];
+  if (!detail::fits_epoch(e.t_us, epoch_us)) {
+    const std::size_t plane = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
+    epoch_us = detail::rebase(std::span(surface_).subspan(static_cast<std::size_t>(pol) * plane, plane), epoch_us, e.t_us);
+  }
+  const auto now_rel = static_cast<std::int32_t>(e.t_us - epoch_us);
 
   // A follower of the burst at this pixel inherits its estimate; the surface
   // keeps the burst's arrival time. Followers chain: each within the burst
@@ -698,7 +705,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
   const int qy = y + round_unit(gy / lifetime_us);
   if (qx >= 0 && qy >= 0 && qx < W && qy < H && (qx != x || qy != y)) {
     PixelState& next = pixel_state_[pixel_index(pol, qx, qy)];
-    next.prediction_t_us = epoch_us_ + anchor_rel + round_to_int64(gx * (qx - x) + gy * (qy - y));
+    next.prediction_t_us = epoch_us_[pol] + anchor_rel + round_to_int64(gx * (qx - x) + gy * (qy - y));
     next.prediction_gx_us_px = static_cast<float>(gx);
     next.prediction_gy_us_px = static_cast<float>(gy);
   }

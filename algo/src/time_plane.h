@@ -61,7 +61,10 @@ std::int64_t rebase(std::span<Pixel> plane, std::int64_t epoch_us, std::int64_t 
   if (__builtin_sub_overflow(new_epoch, epoch_us, &shift)) shift = new_epoch > epoch_us ? kShiftBound : -kShiftBound;
   shift = shift > kShiftBound ? kShiftBound : (shift < -kShiftBound ? -kShiftBound : shift);
   for (Pixel& p : plane) {
-    if (p.t_rel == kNeverRel) continue;
+    // Never fired, or saturated older than the range: stays so. (Moved back
+    // by a backwards rebase, a saturated time read as recent, up to the
+    // newest possible: ages below zero.)
+    if (p.t_rel == kNeverRel || p.t_rel == kOldestRel) continue;
     const std::int64_t moved = static_cast<std::int64_t>(p.t_rel) - shift;
     p.t_rel = moved < kOldestRel ? kOldestRel : (moved > kHighestRel ? kHighestRel : static_cast<std::int32_t>(moved));
   }

@@ -116,6 +116,7 @@ struct EvalArgs : CommonArgs {
   std::string output;
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
+  bool frame_at_given = false;
 };
 
 EvalArgs parse_eval_args(int argc, char** argv) {
@@ -133,7 +134,10 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;
   if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
-  if (const auto s = a.value("frame-at")) e.frame_at_us = parse_time_flag("frame-at", *s);
+  if (const auto s = a.value("frame-at")) {
+    e.frame_at_us = parse_time_flag("frame-at", *s);
+    e.frame_at_given = true;
+  }
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
   return e;
 }
@@ -163,6 +167,7 @@ int eval_recording(int argc, char** argv) {
   options.estimator = args.config.config.estimator;
   options.sample_every_us = args.sample_every_us;
   options.frame_at_us = args.frame_at_us;
+  options.frame_at_given = args.frame_at_given;
   options.quiet = args.quiet;
   render::eval::Evaluation evaluation;
   try {

@@ -23,9 +23,11 @@ Each task of process_files runs `evlife process PATH -o OUT_DIR/NAME.bin` in the
 GIL released), so the workers need evlife importable (PYTHONPATH or an
 installed package) and the paths readable where they run.
 """
+import contextlib
 import operator
 import os
 import shutil
+import signal
 import sys
 import threading
 import time
@@ -117,20 +119,55 @@ def _size_or_zero(path):
         return 0
 
 
+def _partial_name(output):
+    """Where a task writes its output (the extension kept: it names the
+    format); process_files gives it the output's name once the task's result
+    has reached it (_finished): a worker stopped mid-write, or a task the
+    client stopped waiting for, leaves no file under the output's name that
+    reads as a shorter recording, and no older file of that name replaced."""
+    folder, name = os.path.split(output)
+    return os.path.join(folder, ".evlife-partial." + name)
+
+
 def _process_one(path, output, sensor, config, one_thread, crop, options):
     """The task: runs in a worker; never raises (a failure is the row's error)."""
     start = time.perf_counter()
+    partial = _partial_name(output)
     try:
         from evlife import _evlife as core
-        r = core.process_file(path, output, sensor, config=config, one_thread=one_thread, **crop, **options)
+        r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
     except Exception as e:  # reported by name in the table, the other files go on
         # An input fault leaves the events before it written: the row counts
-        # them (0 where it came before the output was opened: no output).
+        # them (0 where it came before the output was opened: no output, and a
+        # file of the output's name left as it was, as the command line does).
         events, share, error = getattr(e, "events_written", None), None, "%s: %s" % (type(e).__name__, e)
-        if not os.path.exists(output):
-            output = None
-    return FileResult(path, events, share, time.perf_counter() - start, output, error)
+    return FileResult(path, events, share, time.perf_counter() - start,
+                      partial if os.path.exists(partial) else None, error)
+
+
+def _finished(row, path, output):
+    """A task's row as process_files returns it: its partial output (if it
+    wrote one) under the output's name."""
+    if row.output is not None:
+        os.replace(row.output, output)
+        row = row._replace(output=output)
+    return row._replace(path=path)
+
+
+@contextlib.contextmanager
+def _sigint_ignored(when):
+    """A second Ctrl-C must not cut the cleanup after the first short (closing
+    the cluster waits seconds for its workers): SIGINT ignored meanwhile, on
+    the main thread (the only one that can set a handler)."""
+    if not when or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 # Dask's per-worker housekeeping, set for tasks that are one long C++ call
@@ -333,11 +370,12 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     seconds, output, error) per path, in order. A failed recording is reported
     by name in its row (and in .failed; events: those written before an input
     fault, else None; output: None where no file was written); the others are
-    not affected. Ctrl-C raises
-    evlife.Interrupted whose .partial is the BatchResult: the finished rows,
-    and a row per unfinished recording whose output was removed (on the
-    LocalCluster made here, whose workers stop) or may be incomplete (on a
-    cluster of yours, which may still run its task).
+    not affected. Each task writes out_dir/.evlife-partial.NAME, renamed NAME
+    once its result reaches this call. Ctrl-C raises evlife.Interrupted whose
+    .partial is the BatchResult: the finished rows, and a row per unfinished
+    recording saying nothing was written (its partial file removed on the
+    LocalCluster made here, whose workers stop; a cluster of yours may still
+    run the task); no file of out_dir is left cut or replaced.
     """
     if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
         raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
@@ -360,6 +398,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         return BatchResult()
     from distributed import as_completed
     client, to_close = _client(scheduler, workers)
+    interrupted = False
     try:
         run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
         # Largest recordings first (Dask runs higher priority first): the
@@ -374,42 +413,48 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
             for done, future in enumerate(as_completed(futures), 1):
                 i = index[future.key]
                 try:
-                    row = future.result()
+                    row = _finished(future.result(), paths[i], outputs[i])
                 except Exception as e:  # the worker died: still reported by name
-                    row = FileResult(os.path.abspath(paths[i]), None, None, 0.0, outputs[i],
-                                     "%s: %s" % (type(e).__name__, e))
-                rows[i] = row._replace(path=paths[i])
+                    row = FileResult(paths[i], None, None, 0.0, None, "%s: %s" % (type(e).__name__, e))
+                rows[i] = row
                 if progress:
                     status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
                     print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
                         done, len(futures), paths[i], row.events, row.seconds, status),
                         file=sys.stderr, flush=True)
         except KeyboardInterrupt:
-            client.cancel([f for f in futures if not f.done()])
+            interrupted = True
+            with _sigint_ignored(True):
+                client.cancel([f for f in futures if not f.done()])
+                for f in futures:  # finished before the cancel: their rows, as if waited for
+                    i = index[f.key]
+                    if rows[i] is None and f.status == "finished":
+                        rows[i] = _finished(f.result(), paths[i], outputs[i])
         else:
             return BatchResult(rows)
     finally:
-        for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
-            c.close()
+        with _sigint_ignored(interrupted):
+            for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
+                c.close()
     raise _interrupted(rows, paths, outputs, own_cluster=scheduler is None)
 
 
 def _interrupted(rows, paths, outputs, own_cluster):
     """evlife.Interrupted for Ctrl-C during process_files: the finished rows
-    kept in .partial; an unfinished recording's output is removed where its
-    worker was stopped (a file cut short by the stop reads as a shorter
-    recording: a .bin cut at a 4 KiB page holds whole records), else said to
-    be incomplete (a cluster not ours finishes or drops the tasks it runs)."""
+    kept in .partial. An unfinished task wrote to its partial name only
+    (_partial_name: a file cut short by the stop would read as a shorter
+    recording, a .bin cut at a 4 KiB page holding whole records): removed
+    where its worker was stopped; a cluster not ours may still run it. A file
+    of the output's name from before is left as it was."""
     unfinished = [i for i, r in enumerate(rows) if r is None]
     for i in unfinished:
         if own_cluster:
-            _remove_if_there(outputs[i])
-            what = "interrupted before it finished; its partial output was removed"
-            output = None
+            _remove_if_there(_partial_name(outputs[i]))
+            what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
         else:
-            what = "interrupted before it finished; its output may be incomplete (its task may still run)"
-            output = outputs[i]
-        rows[i] = FileResult(paths[i], None, None, 0.0, output, what)
+            what = ("interrupted before it finished; its task may still run on your cluster and write %s"
+                    % _partial_name(outputs[i]))
+        rows[i] = FileResult(paths[i], None, None, 0.0, None, what)
     finished = len(rows) - len(unfinished)
     error = _evlife.Interrupted("evlife.batch.process_files: interrupted; %d of %d recordings finished "
                                 "(their rows in .partial)" % (finished, len(rows)))

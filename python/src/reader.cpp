@@ -44,10 +44,9 @@ namespace {
 
 // Every event of a reader; on a fault raises InputError carrying the events
 // before it, on Ctrl-C evlife.Interrupted carrying those read.
-py::array read_all(io::EventReader& reader) {
+py::array read_all(io::EventReader& reader, SignalCheck& signals) {
   std::vector<Event> events;
   std::optional<io::ReadError> fault;
-  SignalCheck signals;
   {
     py::gil_scoped_release release;
     std::size_t good = 0;  // events.size() beyond it: a block being filled
@@ -168,6 +167,9 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
                       const std::optional<std::string>& time_unit) {
   std::unique_ptr<io::EventReader> reader;
   std::optional<io::ReadError> fault;
+  // Before the opening (a bag's index, a file's start): a Ctrl-C there is
+  // evlife.Interrupted too, not a KeyboardInterrupt out of the next Python call.
+  SignalCheck signals;
   {
     const io::ReaderOptions options =
         reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
@@ -181,7 +183,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
   // A fault at open (a bag cut before its first message): no event before it,
   // an empty .partial as for a fault at the first event, not None.
   if (fault) raise_input_error(*fault, adopt(std::vector<Event>{}, event_dtype()));
-  return read_all(*reader);
+  return read_all(*reader, signals);
 }
 
 void bind_reader(py::module_& m) {

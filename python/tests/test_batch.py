@@ -286,12 +286,16 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
         np.save(tmp_path / name, big)
         paths.append(str(tmp_path / name))
     out = tmp_path / "out"
-    small = data("reference/garfield.mat")  # finishes first: its row is kept
+    out.mkdir()
+    previous = b"a previous run's output"  # left as it was by a task that did not finish
+    for name in ("a.bin", "b.bin"):
+        (out / name).write_bytes(previous)
+    small = data("reference/garfield.mat")  # queued behind the large ones (largest first)
 
     def interrupt_once_writing():
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
-            sizes = [f.stat().st_size for f in out.glob("[ab].bin")] if out.exists() else []
+            sizes = [f.stat().st_size for f in out.glob(".evlife-partial.[ab].bin")]
             if any(size > (1 << 20) for size in sizes):
                 os.kill(os.getpid(), signal.SIGINT)
                 return
@@ -311,9 +315,14 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
     unfinished = [r for r in rows if r.error is not None]
     assert unfinished, rows  # the large ones were being written
     for r in unfinished:
-        assert "interrupted before it finished; its partial output was removed" in r.error
+        assert "interrupted before it finished; nothing written" in r.error
         assert r.output is None and r.events is None
-    assert not any((out / n).exists() for n, r in zip(("garfield.bin", "a.bin", "b.bin"), rows) if r.error)
+        final = out / (os.path.splitext(os.path.basename(r.path))[0] + ".bin")
+        if final.name in ("a.bin", "b.bin"):
+            assert final.read_bytes() == previous, (rows, os.listdir(out))
+        else:
+            assert not final.exists()
+    assert not list(out.glob(".evlife-partial.*"))  # the stopped tasks' partial files removed
     for r in rows:
         if r.error is None:  # finished: the whole file
             written, _ = evlife.read_augmented(r.output)

@@ -105,15 +105,24 @@ def large_h5(tmp_path_factory):
 
 def test_an_interrupted_read_keeps_the_events_read(large_h5):
     # read() and Reader.read() decoded the whole file deaf to Ctrl-C, then
-    # dropped it for a bare KeyboardInterrupt.
+    # dropped it for a bare KeyboardInterrupt. A signal the machine delivers
+    # after the last block (said with the whole result) is tried again.
     whole = evlife.read(large_h5)
-    e = interrupt_during(lambda: evlife.read(large_h5))
-    # (0 where the signal came while the file was being opened, on a busy machine)
-    assert 0 <= len(e.partial) == e.events_processed <= len(whole)
+    for _ in range(5):
+        e = interrupt_during(lambda: evlife.read(large_h5))
+        if e.events_processed < len(whole):
+            break
+    # (0 where the signal came while the file was being opened)
+    assert 0 <= len(e.partial) == e.events_processed < len(whole)
     assert "evlife.read: interrupted after %d events of %s" % (e.events_processed, large_h5) in str(e)
     assert np.array_equal(e.partial, whole[:len(e.partial)])
-    with evlife.open(large_h5, chunk_events=len(whole)) as reader:
+    for _ in range(5):
+        reader = evlife.open(large_h5, chunk_events=len(whole))
         e = interrupt_during(reader.read)
-        rest = reader.read(len(whole))  # goes on after the events the exception holds
-    assert e.events_processed == len(e.partial)
+        if e.events_processed < len(whole):
+            break
+        reader.close()
+    rest = reader.read(len(whole))  # goes on after the events the exception holds
+    reader.close()
+    assert e.events_processed == len(e.partial) < len(whole)
     assert np.array_equal(np.concatenate([e.partial, rest]), whole)

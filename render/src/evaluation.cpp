@@ -565,7 +565,8 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
     std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
                  static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
                  seconds_between(r.first_t_us, r.last_t_us));
-    if (r.events > 0 && args.frame_at_us > seconds_between(r.first_t_us, r.last_t_us) * 1e6)
+    // (Not for the default instant: a recording shorter than it is no mistake of the user's.)
+    if (args.frame_at_given && r.events > 0 && args.frame_at_us > seconds_between(r.first_t_us, r.last_t_us) * 1e6)
       std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "
                    "compare frame is drawn at the last event (%.6f s)\n", static_cast<double>(args.frame_at_us) * 1e-6,
                    seconds_between(r.first_t_us, r.last_t_us));

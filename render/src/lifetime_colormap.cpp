@@ -73,6 +73,7 @@ cv::Mat LifetimeColormap::legend(int height) const {
       if (v >= min_us_ * 0.999 && v <= max_us_ * 1.001) ticks.push_back(v);
     }
   }
+  if (ticks.size() < 2) ticks = {min_us_, max_us_};  // a narrow range (6:9 ms) held none: label its ends
   if (ticks.size() > 7) {  // keep decades only when crowded
     std::vector<double> thinned;
     for (double v : ticks)

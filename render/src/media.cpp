@@ -77,6 +77,17 @@ void write_image(const std::string& path, const cv::Mat& image) {
 cv::Mat read_image(const std::string& path) { return backend().read_image(path); }
 
 std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) {
+  // JPEG stores 16-bit sides and FFmpeg's MJPEG encoder refuses more than
+  // 65500: OpenCV then fell back to its own AVI writer, whose JPEGs wrapped
+  // the side at 65536 (a corrupt video, exit 0).
+  constexpr int kMaxJpegSidePx = 65500;
+  if (std::string_view(video_codec(path)) == "MJPG" &&
+      (frame_size.width > kMaxJpegSidePx || frame_size.height > kMaxJpegSidePx)) {
+    throw std::runtime_error("cannot write the video " + path + ": its frames of " + std::to_string(frame_size.width) +
+                             "x" + std::to_string(frame_size.height) + " px exceed JPEG's " +
+                             std::to_string(kMaxJpegSidePx) +
+                             " px a side (codec MJPG); use a smaller --scale, or a directory of PNG frames");
+  }
   auto video = backend().open_video(path, fps, frame_size);
   if (!video) {
     const bool avi = std::string_view(video_codec(path)) == "MJPG";

@@ -176,6 +176,11 @@ void check_not_cut(const std::string& open_path, const std::string& shown_path) 
     return v;
   };
   if (std::memcmp(h.data(), "SQLite format 3", 16) != 0) return;
+  // WAL mode (rosbag2's default in Foxy, its "resilient" preset since): a
+  // checkpoint cut short leaves the header's count above the file while the
+  // -wal file beside it holds the pages, which SQLite reads whole.
+  std::error_code ec;
+  if (std::filesystem::file_size(open_path + "-wal", ec) > 0 && !ec) return;
   const std::uint32_t page_bytes = be(16, 2) == 1 ? 65536 : be(16, 2);
   const std::uint32_t pages = be(28, 4);
   // The header's page count holds only while its change counter (offset 24)

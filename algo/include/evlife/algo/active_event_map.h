@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "evlife/algo/detail/reset_on_move.h"
 #include "evlife/algo/event.h"
 
 namespace evlife {
@@ -77,8 +78,8 @@ class ActiveEventMap {
   /// Forgets every event (keeps sensor and options).
   void reset() noexcept;
 
-  /// True when pixel (x, y) holds an event active at t_us. Valid for
-  /// t_us >= last_fed_t_us() (later events would not have been fed yet).
+  /// True when pixel (x, y), inside sensor(), holds an event active at t_us.
+  /// Valid for t_us >= last_fed_t_us() (later events would not have been fed yet).
   bool is_active(int x, int y, std::int64_t t_us) const noexcept {
     return is_active(index(x, y), t_us);
   }
@@ -121,7 +122,7 @@ class ActiveEventMap {
     return r < kNeverRel ? kNeverRel : (r > kMaxRel ? kMaxRel : r);
   }
 
-  SensorSize sensor() const noexcept { return sensor_; }
+  SensorSize sensor() const noexcept { return sensor_.value; }
   bool edge_thinning() const noexcept { return edge_thinning_; }
   std::int64_t last_fed_t_us() const noexcept { return last_fed_t_us_; }
   const ActiveEventMapStats& stats() const noexcept { return stats_; }
@@ -134,12 +135,12 @@ class ActiveEventMap {
 
  private:
   std::size_t index(int x, int y) const noexcept {
-    return static_cast<std::size_t>(y) * static_cast<std::size_t>(sensor_.width) +
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(sensor_.value.width) +
            static_cast<std::size_t>(x);
   }
   void rebase(std::int64_t t_us) noexcept;
 
-  SensorSize sensor_;
+  detail::ResetOnMove<SensorSize> sensor_;  // 0 x 0 once moved from (its planes are gone)
   bool edge_thinning_;
   std::int64_t last_fed_t_us_ = kNever;
   ActiveEventMapStats stats_;

@@ -83,9 +83,10 @@ class LifetimeEstimator {
   /// every event out_of_sensor.)
   ///
   /// Its time is bounded by the window and options, but for one event per
-  /// 2^30 us (~18 min) of recording, and the first after a jump in time of
-  /// that size: that event moves the 32-bit surface's epoch, O(pixels)
-  /// (algo/src/time_plane.h; 1.4 ms on 1280x720 in a helper's measurement).
+  /// 2^30 us (~18 min) of recording per polarity, and the first after a jump
+  /// in time of that size: that event moves its polarity's 32-bit surface
+  /// epoch, O(pixels) (algo/src/time_plane.h; 1.4 ms for both polarities'
+  /// planes on 1280x720 in a helper's measurement, before each had its own).
   AugmentedEvent process(const Event& event) noexcept;
 
   /// Batch form: out[i] = process(in[i]) for i < min(in.size(), out.size()).
@@ -97,7 +98,8 @@ class LifetimeEstimator {
   /// a few events ahead and overlap the cache misses of large sensors.
   void prefetch(const Event& event) const noexcept;
 
-  /// Forgets all history (SAE and predictions); keeps the options.
+  /// Forgets all history (SAE, predictions and stats(): read the counts you
+  /// keep first); keeps the options.
   void reset() noexcept;
 
   const LifetimeOptions& options() const noexcept { return options_; }
@@ -181,11 +183,11 @@ class LifetimeEstimator {
   // bytes (algo/src/time_plane.h: on a 1280x720 sensor the gather is bound
   // by cache misses); the rest apart.
   struct SurfacePixel {
-    std::int32_t t_rel;      // arrival of the edge (burst) here - epoch_us_; kNeverRel if none
+    std::int32_t t_rel;      // arrival of the edge (burst) here - epoch_us_[polarity]; kNeverRel if none
     float timing_noise_us;   // residual rms of the last accepted fit here (of >= 6 samples); 0 = none
   };
   std::vector<SurfacePixel, detail::LargePageAllocator<SurfacePixel>> surface_;
-  std::int64_t epoch_us_ = 0;  // surface_ times are relative to it
+  std::array<std::int64_t, 2> epoch_us_{};  // [polarity]: that polarity's surface_ times are relative to it
   std::array<std::int64_t, 2> last_t_us_{};  // [polarity]: the latest event's time (time_backwards)
   std::vector<PixelState, detail::LargePageAllocator<PixelState>> pixel_state_;
   // [polarity][y][x]: followers of the burst now at each pixel so far

@@ -38,6 +38,7 @@ struct EvaluationOptions {
   LifetimeOptions estimator;          ///< the configured run (N, regularization, the rest)
   std::int64_t sample_every_us = 50000;
   std::int64_t frame_at_us = 500000;
+  bool frame_at_given = false;       ///< --frame-at given: warn when it lies after the last event
   bool quiet = false;                 ///< no progress lines on stderr
   const std::atomic<bool>* stop = nullptr;  ///< set (Ctrl-C): evaluate() throws EvaluationStopped
 };
