@@ -119,20 +119,22 @@ def _size_or_zero(path):
         return 0
 
 
-def _partial_name(output):
-    """Where a task writes its output (the extension kept: it names the
-    format); process_files gives it the output's name once the task's result
-    has reached it (_finished): a worker stopped mid-write, or a task the
-    client stopped waiting for, leaves no file under the output's name that
-    reads as a shorter recording, and no older file of that name replaced."""
+def _partial_name(output, run):
+    """Where the task of call `run` writes its output until it ends, then
+    renames it (the extension kept: it names the format). The call's random
+    id in the name: no recording, earlier output or other task's file has it.
+    A worker stopped mid-write leaves no file under the output's name that
+    reads as a shorter recording, and no earlier file of that name replaced."""
     folder, name = os.path.split(output)
-    return os.path.join(folder, ".evlife-partial." + name)
+    return os.path.join(folder, ".evlife-partial-%s.%s" % (run, name))
 
 
-def _process_one(path, output, sensor, config, one_thread, crop, options):
-    """The task: runs in a worker; never raises (a failure is the row's error)."""
+def _process_one(path, output, run, sensor, config, one_thread, crop, options):
+    """The task: runs in a worker (the output renamed there: the client may
+    not see the worker's files); never raises (a failure is the row's error)."""
     start = time.perf_counter()
-    partial = _partial_name(output)
+    partial = _partial_name(output, run)
+    _remove_if_there(partial)  # a retry's (a worker died): not this attempt's
     try:
         from evlife import _evlife as core
         r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
@@ -142,17 +144,16 @@ def _process_one(path, output, sensor, config, one_thread, crop, options):
         # them (0 where it came before the output was opened: no output, and a
         # file of the output's name left as it was, as the command line does).
         events, share, error = getattr(e, "events_written", None), None, "%s: %s" % (type(e).__name__, e)
-    return FileResult(path, events, share, time.perf_counter() - start,
-                      partial if os.path.exists(partial) else None, error)
-
-
-def _finished(row, path, output):
-    """A task's row as process_files returns it: its partial output (if it
-    wrote one) under the output's name."""
-    if row.output is not None:
-        os.replace(row.output, output)
-        row = row._replace(output=output)
-    return row._replace(path=path)
+    if not os.path.exists(partial):
+        output = None
+    else:
+        try:
+            os.replace(partial, output)
+        except OSError as e:  # e.g. a folder of the output's name
+            _remove_if_there(partial)
+            error = error or "cannot write %s: %s" % (output, e.strerror)
+            events, share, output = None, None, None
+    return FileResult(path, events, share, time.perf_counter() - start, output, error)
 
 
 @contextlib.contextmanager
@@ -370,12 +371,13 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     seconds, output, error) per path, in order. A failed recording is reported
     by name in its row (and in .failed; events: those written before an input
     fault, else None; output: None where no file was written); the others are
-    not affected. Each task writes out_dir/.evlife-partial.NAME, renamed NAME
-    once its result reaches this call. Ctrl-C raises evlife.Interrupted whose
+    not affected. Each task writes out_dir/.evlife-partial-RUN.NAME and
+    renames it NAME when it ends. Ctrl-C raises evlife.Interrupted whose
     .partial is the BatchResult: the finished rows, and a row per unfinished
     recording saying nothing was written (its partial file removed on the
     LocalCluster made here, whose workers stop; a cluster of yours may still
-    run the task); no file of out_dir is left cut or replaced.
+    run the task) or that its task ended meanwhile; no file of out_dir is
+    left cut, nor replaced but by a whole output.
     """
     if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
         raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
@@ -403,7 +405,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
         # Largest recordings first (Dask runs higher priority first): the
         # last task to finish is then a small one, so workers end together.
-        futures = [client.submit(_process_one, os.path.abspath(p), out, sensor, config, one_thread,
+        before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
+        futures = [client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
                                  crop, dict(options), pure=False, priority=_size_or_zero(p),
                                  key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
@@ -413,7 +416,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
             for done, future in enumerate(as_completed(futures), 1):
                 i = index[future.key]
                 try:
-                    row = _finished(future.result(), paths[i], outputs[i])
+                    row = future.result()._replace(path=paths[i])
                 except Exception as e:  # the worker died: still reported by name
                     row = FileResult(paths[i], None, None, 0.0, None, "%s: %s" % (type(e).__name__, e))
                 rows[i] = row
@@ -429,32 +432,45 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                 for f in futures:  # finished before the cancel: their rows, as if waited for
                     i = index[f.key]
                     if rows[i] is None and f.status == "finished":
-                        rows[i] = _finished(f.result(), paths[i], outputs[i])
+                        rows[i] = f.result()._replace(path=paths[i])
         else:
             return BatchResult(rows)
     finally:
         with _sigint_ignored(interrupted):
             for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
                 c.close()
-    raise _interrupted(rows, paths, outputs, own_cluster=scheduler is None)
+    raise _interrupted(rows, paths, outputs, run, before, own_cluster=scheduler is None)
 
 
-def _interrupted(rows, paths, outputs, own_cluster):
+def _identity(path):
+    """What tells a file from the one of its name before (None: no file)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return (st.st_ino, st.st_mtime_ns, st.st_size)
+
+
+def _interrupted(rows, paths, outputs, run, before, own_cluster):
     """evlife.Interrupted for Ctrl-C during process_files: the finished rows
     kept in .partial. An unfinished task wrote to its partial name only
     (_partial_name: a file cut short by the stop would read as a shorter
     recording, a .bin cut at a 4 KiB page holding whole records): removed
-    where its worker was stopped; a cluster not ours may still run it. A file
-    of the output's name from before is left as it was."""
+    where its worker was stopped; a cluster not ours may still run it. A task
+    that ended after this call stopped waiting (its worker's last seconds)
+    renamed its output: said so, its figures unknown."""
     unfinished = [i for i, r in enumerate(rows) if r is None]
     for i in unfinished:
-        if own_cluster:
-            _remove_if_there(_partial_name(outputs[i]))
-            what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
-        else:
+        output = None
+        if not own_cluster:
             what = ("interrupted before it finished; its task may still run on your cluster and write %s"
-                    % _partial_name(outputs[i]))
-        rows[i] = FileResult(paths[i], None, None, 0.0, None, what)
+                    % outputs[i])
+        elif _identity(outputs[i]) != before[i]:
+            what, output = "interrupted; its task ended meanwhile and wrote its output (its figures not known)", outputs[i]
+        else:
+            _remove_if_there(_partial_name(outputs[i], run))
+            what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
+        rows[i] = FileResult(paths[i], None, None, 0.0, output, what)
     finished = len(rows) - len(unfinished)
     error = _evlife.Interrupted("evlife.batch.process_files: interrupted; %d of %d recordings finished "
                                 "(their rows in .partial)" % (finished, len(rows)))

@@ -295,7 +295,7 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
     def interrupt_once_writing():
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
-            sizes = [f.stat().st_size for f in out.glob(".evlife-partial.[ab].bin")]
+            sizes = [f.stat().st_size for f in out.glob(".evlife-partial-*.[ab].bin")]
             if any(size > (1 << 20) for size in sizes):
                 os.kill(os.getpid(), signal.SIGINT)
                 return
@@ -315,9 +315,13 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
     unfinished = [r for r in rows if r.error is not None]
     assert unfinished, rows  # the large ones were being written
     for r in unfinished:
+        final = out / (os.path.splitext(os.path.basename(r.path))[0] + ".bin")
+        if "its task ended meanwhile" in r.error:  # in its worker's last seconds: a whole output
+            written, _ = evlife.read_augmented(str(final))
+            assert r.output == str(final) and len(written) > 0
+            continue
         assert "interrupted before it finished; nothing written" in r.error
         assert r.output is None and r.events is None
-        final = out / (os.path.splitext(os.path.basename(r.path))[0] + ".bin")
         if final.name in ("a.bin", "b.bin"):
             assert final.read_bytes() == previous, (rows, os.listdir(out))
         else:
@@ -328,3 +332,28 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
             written, _ = evlife.read_augmented(r.output)
             assert len(written) == r.events > 0
     assert e.events_processed == sum(r.events for r in rows if r.error is None)
+
+
+def test_partial_names_take_no_recordings_or_outputs_name(tmp_path):
+    # A recording named as another's partial output, and a folder of an
+    # output's name: each task writes its own file (the partial name holds the
+    # call's random id), and a failed rename leaves no partial file behind.
+    from evlife import batch
+    src = data("reference/garfield.mat")
+    out = tmp_path / "out"
+    out.mkdir()
+    shutil.copy(src, out / ".evlife-partial.a.mat")  # an input inside out_dir
+    a = tmp_path / "a.mat"
+    shutil.copy(src, a)
+    (out / "c.bin").mkdir()  # a folder where an output goes
+    c = tmp_path / "c.mat"
+    shutil.copy(src, c)
+    table = batch.process_files([str(out / ".evlife-partial.a.mat"), str(a), str(c)], out, workers=1, progress=False)
+    assert table[0].error is None and table[1].error is None, table
+    assert table[0].output != table[1].output
+    first, _ = evlife.read_augmented(table[0].output)
+    second, _ = evlife.read_augmented(table[1].output)
+    assert len(first) == len(second) > 0
+    assert (out / ".evlife-partial.a.mat").read_bytes() == open(src, "rb").read()  # the input kept
+    assert table[2].error is not None and "cannot write" in table[2].error and table[2].output is None
+    assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")]
