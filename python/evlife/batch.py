@@ -35,6 +35,7 @@ import uuid
 from collections import namedtuple
 
 from . import _evlife
+from . import _streams
 
 __all__ = ["FileResult", "BatchResult", "process_files", "process_slices"]
 
@@ -134,7 +135,7 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
     not see the worker's files); never raises (a failure is the row's error)."""
     start = time.perf_counter()
     partial = _partial_name(output, run)
-    _remove_if_there(partial)  # a retry's (a worker died): not this attempt's
+    _streams._remove(partial)  # a retry's (a worker died): not this attempt's
     try:
         from evlife import _evlife as core
         r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
@@ -150,7 +151,7 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
         try:
             os.replace(partial, output)
         except OSError as e:  # e.g. a folder of the output's name
-            _remove_if_there(partial)
+            _streams._remove(partial)
             error = error or "cannot write %s: %s" % (output, e.strerror)
             events, share, output = None, None, None
     return FileResult(path, events, share, time.perf_counter() - start, output, error)
@@ -468,7 +469,7 @@ def _interrupted(rows, paths, outputs, run, before, own_cluster):
         elif _identity(outputs[i]) != before[i]:
             what, output = "interrupted; its task ended meanwhile and wrote its output (its figures not known)", outputs[i]
         else:
-            _remove_if_there(_partial_name(outputs[i], run))
+            _streams._remove(_partial_name(outputs[i], run))
             what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
         rows[i] = FileResult(paths[i], None, None, 0.0, output, what)
     finished = len(rows) - len(unfinished)
@@ -478,13 +479,6 @@ def _interrupted(rows, paths, outputs, run, before, own_cluster):
     error.events_processed = sum(r.events or 0 for r in rows if r.error is None)
     error.events_written = None
     return error
-
-
-def _remove_if_there(path):
-    try:
-        os.remove(path)
-    except FileNotFoundError:
-        pass
 
 
 def _check_topic(topic):

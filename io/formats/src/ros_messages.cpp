@@ -95,7 +95,15 @@ std::string_view strip_msg(std::string_view type, std::string& buffer) {
   return buffer;
 }
 
-// The payloads of one 8-byte word per event (libcaer, mono): `one(word, at,
+/// The fault of a payload of 8-byte words whose size is no multiple of 8
+/// (at its last, partial word), or none.
+std::optional<MessageFault> partial_word_fault(const char* encoding, std::size_t payload_bytes) {
+  if (payload_bytes % 8 == 0) return std::nullopt;
+  return MessageFault{payload_bytes / 8 * 8, std::string(encoding) + " payload of " + std::to_string(payload_bytes) +
+                                                  " bytes, not a multiple of 8"};
+}
+
+// The payloads of one 8-byte word per event (mono; libcaer loops itself, as it skips words): `one(word, at,
 // event)` decodes the word at byte `at`, or returns the fault that stops the
 // message there; the events before a fault stay in `out`.
 template <typename DecodeOne>
@@ -112,11 +120,7 @@ std::optional<MessageFault> decode_words(const char* encoding, std::span<const s
       return fault;
     }
   }
-  if (payload.size() % kBytes != 0) {
-    return MessageFault{n * kBytes, std::string(encoding) + " payload of " + std::to_string(payload.size()) +
-                                        " bytes, not a multiple of 8"};
-  }
-  return std::nullopt;
+  return partial_word_fault(encoding, payload.size());
 }
 
 }  // namespace
@@ -169,11 +173,7 @@ std::optional<MessageFault> decode_libcaer(std::span<const std::uint8_t> payload
     out.push_back(RosEvent{static_cast<std::int64_t>(time_base) + offset_ns, static_cast<std::uint16_t>(x),
                            static_cast<std::uint16_t>(y), (data & 2u) != 0 ? std::int8_t{1} : std::int8_t{-1}});
   }
-  if (payload.size() % kBytes != 0) {
-    return MessageFault{payload.size() / kBytes * kBytes,
-                        "libcaer payload of " + std::to_string(payload.size()) + " bytes, not a multiple of 8"};
-  }
-  return std::nullopt;
+  return partial_word_fault("libcaer", payload.size());
 }
 
 std::optional<MessageFault> decode_libcaer_cmp(std::span<const std::uint8_t> payload, std::uint64_t time_base,
