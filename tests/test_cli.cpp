@@ -668,7 +668,7 @@ TEST_F(CliTest, AFullDiskUnderAnHdf5OutputIsAnOutputErrorAndTheFileStaysReadable
   if (!r) GTEST_SKIP() << "no private tmpfs mount here";
   EXPECT_NE(r->output.find("process exit 4"), std::string::npos) << r->output;
   EXPECT_NE(r->output.find("s.h5: the disk is nearly full"), std::string::npos) << r->output;
-  EXPECT_NE(r->output.find("format     hdf5"), std::string::npos) << "the file reads back: " << r->output;
+  EXPECT_NE(r->output.find("format     augmented-hdf5"), std::string::npos) << "the file reads back: " << r->output;
   EXPECT_EQ(r->exit_code, 0) << r->output;
 }
 

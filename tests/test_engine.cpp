@@ -209,6 +209,41 @@ TEST(Pipeline, OwnerOnlyRoutingKeepsOffSensorEventsInPlace) {
   }
 }
 
+// The events a worker's estimator rejects (labelled noise unexamined) are in
+// the engine's stats, each once, by its owner: an embedding host sees them
+// without reaching into the workers. A margin worker fed the same event
+// rejects it too (a time going backwards in its stream): not counted.
+TEST(Pipeline, RejectedEventsAreCountedOnceByTheirOwner) {
+  std::vector<Event> events;
+  for (int i = 0; i < 3'000; ++i)
+    events.push_back(Event{1'000 + 37 * i, static_cast<std::uint16_t>((i * 7) % 128),
+                           static_cast<std::uint16_t>((i * 5) % 128), static_cast<std::int8_t>(i % 3 ? 1 : -1)});
+  events[100].x = 500;                       // outside the sensor
+  events[201].p = 0;                         // no polarity
+  events[1'501] = Event{1'000, 63, 64, 1};   // back to the first time, at the corner of 4 tiles
+  evlife::LifetimeEstimator bare(lifetime_options(kDvs128));
+  for (const Event& e : events) bare.process(e);
+  ASSERT_EQ(bare.stats().rejected(), 3u);
+  for (const auto& [tiles, margin] : {std::pair{1, 0}, std::pair{2, 4}}) {
+    auto options = engine_options(2, tiles, tiles, kDvs128);
+    options.margin_px = margin;
+    ee::ReplaySource source(events, kDvs128);
+    Collector out;
+    ee::Pipeline pipeline(source, &out.sink, options);
+    pipeline.run_inline();
+    const ee::EngineStats stats = pipeline.stats();
+    EXPECT_EQ(stats.rejected(), 3u) << tiles << " tiles";
+    std::uint64_t fed_rejections = 0;  // what the workers' estimators counted, margin events included
+    for (int w = 0; w < pipeline.worker_count(); ++w) fed_rejections += pipeline.worker(w).estimator().stats().rejected();
+    if (tiles > 1) {
+      EXPECT_GT(fed_rejections, 3u) << "the margin workers were fed the step back too";
+    }
+    EXPECT_NE(stats.summary().find(" (labelled noise unexamined)"), std::string::npos) << stats.summary();
+    ASSERT_EQ(out.events.size(), events.size());
+    EXPECT_TRUE(out.events[1'501].is_noise());
+  }
+}
+
 TEST(TileLayout, FeedMaskIsOwnTilesGrownByTheMargin) {
   // 3x2 tiles per polarity over 100x60, 4 workers, margin 6: checked against
   // a direct computation of the Chebyshev distance to every tile.

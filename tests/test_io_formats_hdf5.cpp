@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -26,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
@@ -180,6 +182,139 @@ TEST(IoFormatsHdf5, AugmentedRoundTripThroughWriterAndReader) {
   H5Pclose(properties);
   H5Dclose(dataset);
   H5Fclose(file);
+}
+
+// Every record of an augmented file through open_augmented_reader (`chunk`
+// records a read), the fault that ended it if any.
+struct AugmentedReadResult {
+  std::string format;
+  std::optional<SensorSize> sensor;
+  std::vector<AugmentedEvent> records;
+  std::optional<ReadError> error;
+};
+AugmentedReadResult read_augmented(const std::string& path, std::size_t chunk) {
+  AugmentedReadResult r;
+  try {
+    auto reader = evlife::io::open_augmented_reader(path);
+    r.format = reader->format_name();
+    r.sensor = reader->sensor_size();
+    std::vector<AugmentedEvent> batch(chunk);
+    while (const std::size_t n = reader->read(batch)) r.records.insert(r.records.end(), batch.begin(), batch.begin() + n);
+  } catch (const ReadError& e) {
+    r.error = e;
+  }
+  return r;
+}
+
+// The same bits (a NaN prediction error is the same NaN).
+bool same_bits(const AugmentedEvent& a, const AugmentedEvent& b) {
+  return same(a.event, b.event) && std::bit_cast<std::uint32_t>(a.lifetime_us) == std::bit_cast<std::uint32_t>(b.lifetime_us) &&
+         std::bit_cast<std::uint32_t>(a.vx_px_s) == std::bit_cast<std::uint32_t>(b.vx_px_s) &&
+         std::bit_cast<std::uint32_t>(a.vy_px_s) == std::bit_cast<std::uint32_t>(b.vy_px_s) &&
+         std::bit_cast<std::uint32_t>(a.prediction_error_us) == std::bit_cast<std::uint32_t>(b.prediction_error_us);
+}
+
+void write_augmented(const std::string& path, const std::vector<AugmentedEvent>& events,
+                     std::optional<SensorSize> sensor) {
+  auto writer = sensor ? evlife::io::open_augmented_writer(path, *sensor)
+                       : evlife::io::open_hdf5_augmented_writer(path, std::nullopt);
+  writer->write(events);
+  writer->close();
+}
+
+// evlife's augmented .h5 reads back as augmented, bit for bit (render, eval,
+// info, convert and Python's read_augmented take it so): until now its
+// lifetimes were dropped and estimated again.
+TEST(IoFormatsHdf5, AugmentedOutputReadsBackAsWritten) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const SensorSize sensor{346, 260};
+  const std::vector<AugmentedEvent> written = make_events(150'001, sensor);
+  const std::string path = dir.file("augmented.h5");
+  write_augmented(path, written, sensor);
+  for (const std::size_t chunk : {std::size_t{61}, std::size_t{100'000}}) {  // within and across its blocks
+    const AugmentedReadResult r = read_augmented(path, chunk);
+    ASSERT_FALSE(r.error) << r.error->what();
+    EXPECT_EQ(r.format, "augmented-hdf5");
+    ASSERT_TRUE(r.sensor.has_value());
+    EXPECT_EQ(*r.sensor, sensor);
+    ASSERT_EQ(r.records.size(), written.size());
+    for (std::size_t i = 0; i < written.size(); ++i) ASSERT_TRUE(same_bits(r.records[i], written[i])) << "record " << i;
+  }
+  EXPECT_NE(evlife::io::open_if_augmented(path), nullptr);
+  // Written without a sensor: none stated.
+  write_augmented(dir.file("nosensor.h5"), written, std::nullopt);
+  EXPECT_FALSE(read_augmented(dir.file("nosensor.h5"), 4096).sensor.has_value());
+}
+
+// Plain events in HDF5 (evlife's, or another tool's layout) are events to
+// estimate, not evlife's output: the callers' event readers take them.
+TEST(IoFormatsHdf5, PlainEventsAreNotAugmented) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("events.h5");
+  {
+    std::vector<Event> events;
+    for (const auto& a : make_events(1'000, {128, 128})) events.push_back(a.event);
+    auto writer = evlife::io::open_event_writer(path);
+    writer->write(events);
+    writer->close();
+  }
+  EXPECT_EQ(evlife::io::open_if_augmented(path), nullptr);
+  const AugmentedReadResult r = read_augmented(path, 64);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("without evlife's lifetime"), std::string::npos) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find(path), std::string::npos) << r.error->what();
+}
+
+// An augmented file whose columns do not match (one deleted, one shorter,
+// one of integers) is refused naming the column; an event outside the stated
+// sensor ends the records before it, named by its index.
+TEST(IoFormatsHdf5, AugmentedColumnsThatDoNotMatchAreNamed) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const SensorSize sensor{64, 48};
+  const std::vector<AugmentedEvent> written = make_events(5'000, sensor);
+  const auto edited = [&](const std::string& name, const auto& edit) {
+    const std::string path = dir.file(name);
+    write_augmented(path, written, sensor);
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    EXPECT_GE(file, 0);
+    edit(file);
+    H5Fclose(file);
+    return path;
+  };
+  const auto error_of = [&](const std::string& path) {
+    const AugmentedReadResult r = read_augmented(path, 1000);
+    EXPECT_TRUE(r.error) << path;
+    EXPECT_TRUE(r.records.empty()) << path;
+    return r.error ? std::string(r.error->what()) : std::string();
+  };
+  const std::string no_vy = edited("no_vy.h5", [](hid_t file) { EXPECT_GE(H5Ldelete(file, "vy", H5P_DEFAULT), 0); });
+  EXPECT_NE(error_of(no_vy).find("'vy' is missing"), std::string::npos) << error_of(no_vy);
+  const std::string short_lifetime = edited("short.h5", [&](hid_t file) {
+    EXPECT_GE(H5Ldelete(file, "lifetime", H5P_DEFAULT), 0);
+    const std::vector<float> shorter(written.size() - 1, 1.0f);
+    EXPECT_TRUE(evlife::test::write_hdf5_dataset(file, "lifetime", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, shorter, {}, {}));
+  });
+  EXPECT_NE(error_of(short_lifetime).find("'lifetime' is not a 1-D floating-point column of the length of 'x' (5000)"),
+            std::string::npos)
+      << error_of(short_lifetime);
+  const std::string integer_vx = edited("int_vx.h5", [&](hid_t file) {
+    EXPECT_GE(H5Ldelete(file, "vx", H5P_DEFAULT), 0);
+    const std::vector<std::int32_t> integers(written.size(), 3);
+    EXPECT_TRUE(evlife::test::write_hdf5_dataset(file, "vx", H5T_STD_I32LE, H5T_NATIVE_INT32, integers, {}, {}));
+  });
+  EXPECT_NE(error_of(integer_vx).find("'vx' is not a 1-D floating-point column"), std::string::npos)
+      << error_of(integer_vx);
+
+  std::vector<AugmentedEvent> outside = written;
+  outside[3'210].event.x = 64;
+  const std::string path = dir.file("outside.h5");
+  write_augmented(path, outside, sensor);
+  const AugmentedReadResult r = read_augmented(path, 1000);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->event_index(), 3'210);
+  EXPECT_NE(std::string(r.error->what()).find("outside the 64x48 sensor"), std::string::npos) << r.error->what();
+  ASSERT_EQ(r.records.size(), 3'210u);
+  for (std::size_t i = 0; i < r.records.size(); ++i) ASSERT_TRUE(same_bits(r.records[i], written[i])) << i;
 }
 
 // Determinism reaches the file: the same events give the same bytes (HDF5

@@ -55,7 +55,7 @@ void print_help(std::FILE* out) {
                  static_cast<int>(f.description.size()), f.description.data());
   }
   std::fprintf(out,
-      "or an augmented file written by `evlife process` (.csv or .bin).\n"
+      "or an augmented file written by `evlife process` (.csv, .bin or .h5).\n"
       "\n"
       "OUTPUT, chosen by its extension:\n"
       "  .txt         RPG text, one event per line 't x y p' (t in seconds, 6 decimals,\n"

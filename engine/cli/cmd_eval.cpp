@@ -77,7 +77,7 @@ void print_eval_help(std::FILE* out) {
       "INPUT  a raw recording (processed 6 times: N = 3, 5, 7 x regularization on/off,\n"
       "       the rest of the configuration from --config/--set; the configured N and\n"
       "       regularization give the sharpness and the compare frame), or an augmented\n"
-      "       .bin/.csv from `evlife process` (one run: its lifetimes as they are).\n"
+      "       .bin/.csv/.h5 from `evlife process` (one run: its lifetimes as they are).\n"
       "\n"
       "Sharpness: in each image (active events, or all events of a fixed window), a pixel\n"
       "lies on an edge when a run of >= 3 active pixels passes through it (horizontally,\n"

@@ -43,7 +43,7 @@ void print_help(std::FILE* out) {
                "and the duration, the longest stretch without events (a timestamp outlier\n"
                "shows there), trigger and other skipped records, and for ROS bags every\n"
                "topic with its message type and count (the one read marked '*').\n"
-               "For evlife's own outputs (.bin, .csv with lifetimes: `evlife process -o`)\n"
+               "For evlife's own outputs (.bin, .csv, .h5 with lifetimes: `evlife process -o`)\n"
                "also the lifetimes they hold: share labelled noise, lifetime percentiles,\n"
                "predictions and the pixels firing at >= %.0f Hz, as `evlife process`\n"
                "summarised them.\n"

@@ -30,11 +30,12 @@ std::string EngineStats::summary() const {
   for (std::size_t w = 0; w < workers.size(); ++w) {
     const WorkerStats& ws = workers[w];
     s += fmt::format("worker {}: fed {} (owned {}, margin {}), {} batches, busy {:.3f} s "
-                     "(CPU {:.3f} s, {:.0f} ns/event), dropped {}, queue hwm {}/{}\n",
+                     "(CPU {:.3f} s, {:.0f} ns/event), dropped {}, queue hwm {}/{}{}\n",
                      w, ws.events_fed, ws.events_owned, ws.events_fed - ws.events_owned,
                      ws.batches, ws.busy_s, ws.busy_cpu_s,
                      ws.events_fed > 0 ? ws.busy_cpu_s * 1e9 / static_cast<double>(ws.events_fed) : 0.0,
-                     ws.dropped, ws.in_flight_hwm, ws.pool_batches);
+                     ws.dropped, ws.in_flight_hwm, ws.pool_batches,
+                     ws.rejected > 0 ? fmt::format(", rejected {} (labelled noise unexamined)", ws.rejected) : "");
   }
   s += fmt::format("merger : out {} (sink failed on {}), latency arrival->output "
                    "p50 {:.1f} us p99 {:.1f} us max {:.1f} us over {} events\n",

@@ -74,6 +74,7 @@ EngineStats Pipeline::stats() const {
     ws.busy_s = static_cast<double>(ch.counters.busy_ns.get()) * 1e-9;
     ws.busy_cpu_s = static_cast<double>(ch.counters.busy_cpu_ns.get()) * 1e-9;
     ws.dropped = s.router_counters.dropped_for_worker[w].get();
+    ws.rejected = ch.counters.rejected.get();
     ws.in_flight_hwm = s.router_counters.in_flight_hwm[w].get();
     ws.pool_batches = ch.pool.size();
     ws.started_p50_us = us(ch.counters.started_ns, 0.50);

@@ -49,11 +49,25 @@ StepResult TileWorker::step() noexcept {
   const std::int64_t cpu0 = thread_cpu_ns();
   if (pos_ == 0) channel_.counters.started_ns.record(t0 - batch->arrival_ns, count);
   std::size_t kept = kept_;
-  for (std::size_t i = pos_; i < end; ++i) {
-    if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
-    const AugmentedEvent a = estimator_.process(batch->events[i]);
-    if (batch->owned[i] != 0) batch->out[kept++] = a;
+  const std::uint64_t rejected_before = estimator_.stats().rejected();
+  std::uint64_t rejected_margin = 0;  // rejections of the margin events fed: their owners count theirs
+  if (state_.layout.owner_only()) {  // every event fed is owned
+    for (std::size_t i = pos_; i < end; ++i) {
+      if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
+      const AugmentedEvent a = estimator_.process(batch->events[i]);
+      if (batch->owned[i] != 0) batch->out[kept++] = a;
+    }
+  } else {
+    for (std::size_t i = pos_; i < end; ++i) {
+      if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
+      const std::uint64_t rejected = estimator_.stats().rejected();
+      const AugmentedEvent a = estimator_.process(batch->events[i]);
+      if (batch->owned[i] != 0) batch->out[kept++] = a;
+      else rejected_margin += estimator_.stats().rejected() - rejected;
+    }
   }
+  if (const std::uint64_t rejected = estimator_.stats().rejected() - rejected_before - rejected_margin; rejected != 0)
+    channel_.counters.rejected.add(rejected);
   channel_.counters.busy_cpu_ns.add(static_cast<std::uint64_t>(thread_cpu_ns() - cpu0));
   const std::int64_t t1 = monotonic_ns();
   channel_.counters.busy_ns.add(static_cast<std::uint64_t>(t1 - t0));

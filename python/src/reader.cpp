@@ -336,10 +336,11 @@ from_s, to_s, topic, time_unit and errors as evlife.read.)");
         return py::make_tuple(out, sensor_tuple(sensor));
       },
       py::arg("path"),
-      R"(Read a file written by `evlife process` (.bin or .csv).
+      R"(Read a file written by `evlife process` (.bin, .csv or .h5).
 
 Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
-(width, height) from the .bin header, None for CSV.)");
+(width, height) as the .bin header or the .h5 attributes state it, None
+for CSV.)");
 
   m.def(
       "write",

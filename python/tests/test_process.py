@@ -111,6 +111,22 @@ def test_process_file_writes_the_cli_bytes(tmp_path):
     assert_same_events(aug, evlife.process(path))
 
 
+def test_read_augmented_reads_every_output_format_as_written(tmp_path):
+    # .h5 too (it raised "not an augmented CSV"): the records bit for bit, the sensor the file states.
+    path = data("reference/garfield.mat")
+    expected = evlife.process(path)
+    for ext in ("bin", "csv", "h5"):
+        evlife.process_file(path, tmp_path / f"g.{ext}")
+        back, sensor = evlife.read_augmented(tmp_path / f"g.{ext}")
+        assert sensor == (None if ext == "csv" else (128, 128)), ext
+        assert back.dtype == expected.dtype and back.tobytes() == expected.tobytes(), ext
+    evlife.write(tmp_path / "events.h5", expected[:0], sensor=(128, 128))  # no record: still augmented
+    assert len(evlife.read_augmented(tmp_path / "events.h5")[0]) == 0
+    cli("convert", path, tmp_path / "plain.h5", "-q")  # events without lifetimes
+    with pytest.raises(evlife.InputError, match="without evlife's lifetime"):
+        evlife.read_augmented(tmp_path / "plain.h5")
+
+
 @pytest.mark.parametrize("ext", ["bin", "csv", "h5"])
 def test_process_file_on_one_thread_writes_the_same_bytes(ext, tmp_path):
     # Decoding ahead and writing behind change when the work is done, not what

@@ -35,7 +35,12 @@ std::unique_ptr<AugmentedEventReader> open_as_bin(const std::string& path, const
 bool names_augmented_bin(const std::string& path) { return detail::named_like_augmented_bin(path); }
 
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path) {
-  if (auto bin = open_as_bin(path, head_of(path))) return bin;
+  const std::string head = head_of(path);
+  if (auto bin = open_as_bin(path, head)) return bin;
+  if (detail::starts_like_hdf5(head)) {
+    if (auto h5 = detail::open_augmented_hdf5_reader(path)) return h5;
+    throw ReadError(path, -1, -1, "HDF5 events without evlife's lifetime, vx, vy and prediction_error columns");
+  }
   return detail::open_augmented_csv_reader(path);  // checks its header
 }
 
@@ -48,8 +53,9 @@ std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path)
   }
   if (auto bin = open_as_bin(path, head)) return bin;
   try {
+    if (detail::starts_like_hdf5(head)) return detail::open_augmented_hdf5_reader(path);
     return detail::open_augmented_csv_reader(path);
-  } catch (const ReadError&) {  // not evlife's CSV: the caller's other readers say what it is
+  } catch (const ReadError&) {  // not evlife's output: the caller's other readers say what it is
     return nullptr;
   }
 }

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
@@ -17,5 +18,13 @@ std::unique_ptr<AugmentedEventWriter> open_augmented_bin_writer(const std::strin
                                                                 SensorSize sensor);
 std::unique_ptr<AugmentedEventReader> open_augmented_csv_reader(const std::string& path);
 std::unique_ptr<AugmentedEventReader> open_augmented_bin_reader(const std::string& path);
+
+/// True when `head` (a file's first bytes) is HDF5's signature.
+bool starts_like_hdf5(std::string_view head);
+/// evlife's augmented HDF5 output (x, y, t, p with lifetime, vx, vy,
+/// prediction_error), else nullptr (plain events, another tool's layout, or a
+/// build without HDF5). Throws ReadError for a file that does not open as
+/// HDF5 events or whose augmented columns do not read.
+std::unique_ptr<AugmentedEventReader> open_augmented_hdf5_reader(const std::string& path);
 
 }  // namespace evlife::io::detail

@@ -326,6 +326,42 @@ std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t data
 constexpr Hdf5Reader::TableColumns kMvsecColumns{2, 0, 1, 3};  // rows x, y, t, p
 constexpr Hdf5Reader::TableColumns kV2eColumns{0, 1, 2, 3};    // rows t, x, y, p
 
+// The dataset `name` opened for reading, after the checks that keep a corrupt
+// file's storage from reaching libhdf5 (chunks larger than any writer makes,
+// or longer than the dataset; LZF chunks of the wrong size). Throws
+// ReadError naming it, every handle closed (the constructor's callers get no
+// destructor).
+Hdf5Reader::Hid Hdf5Reader::open_column(const std::string& name) {
+  hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+  // The file's fault with this dataset (`why` follows its quoted name): nothing of it is read.
+  const auto refuse = [&](const std::string& why) {
+    if (dataset >= 0) H5Dclose(dataset);
+    close_handles();
+    throw ReadError(path_, -1, -1, "HDF5 dataset '" + name + "'" + why);
+  };
+  if (dataset < 0) refuse(" cannot be opened");
+  const std::uint64_t bytes = chunk_bytes(dataset);
+  if (bytes > kHdf5MaxChunkBytes)
+    refuse(" is stored in chunks of more than " + std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
+  if (chunk_beyond_fixed_extent(dataset)) refuse(" is stored in chunks longer than the dataset (corrupt)");
+  if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) refuse(": " + *mismatch);
+  if (const auto missing = missing_filter(dataset); missing && unloadable_filter_.empty()) {
+    unloadable_filter_ = "'" + name + "' is " + *missing;
+  }
+  if (bytes > kDefaultChunkCacheBytes) {
+    // libhdf5 caches 1 MiB of chunks per dataset: each read of kChunkEvents rows of a larger
+    // chunk decompressed it again (a 4 MiB chunk 16 times, ~10x the time). Room for two.
+    // (Closed first: an open dataset's second handle shares its cache.)
+    H5Dclose(dataset);
+    const hid_t access = H5Pcreate(H5P_DATASET_ACCESS);
+    if (access >= 0) H5Pset_chunk_cache(access, H5D_CHUNK_CACHE_NSLOTS_DEFAULT, std::min(2 * bytes, kMaxChunkCacheBytes), 1.0);
+    dataset = H5Dopen2(file_, name.c_str(), access >= 0 ? access : H5P_DEFAULT);
+    if (access >= 0) H5Pclose(access);
+    if (dataset < 0) refuse(" cannot be opened again");
+  }
+  return dataset;
+}
+
 Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const std::string& time_unit)
     : path_(path) {
   const Hdf5ErrorSilencer silence;
@@ -340,36 +376,6 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file_ < 0) throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
 
-  const auto open = [&](const std::string& name) {
-    hid_t dataset = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
-    // The file's fault with this dataset (`why` follows its quoted name): nothing of it is read.
-    const auto refuse = [&](const std::string& why) {
-      if (dataset >= 0) H5Dclose(dataset);
-      close_handles();
-      throw ReadError(path, -1, -1, "HDF5 dataset '" + name + "'" + why);
-    };
-    if (dataset < 0) refuse(" cannot be opened");
-    const std::uint64_t bytes = chunk_bytes(dataset);
-    if (bytes > kHdf5MaxChunkBytes)
-      refuse(" is stored in chunks of more than " + std::to_string(kHdf5MaxChunkBytes >> 20) + " MiB (corrupt?)");
-    if (chunk_beyond_fixed_extent(dataset)) refuse(" is stored in chunks longer than the dataset (corrupt)");
-    if (const auto mismatch = lzf_chunk_size_mismatch(dataset, bytes)) refuse(": " + *mismatch);
-    if (const auto missing = missing_filter(dataset); missing && unloadable_filter_.empty()) {
-      unloadable_filter_ = "'" + name + "' is " + *missing;
-    }
-    if (bytes > kDefaultChunkCacheBytes) {
-      // libhdf5 caches 1 MiB of chunks per dataset: each read of kChunkEvents rows of a larger
-      // chunk decompressed it again (a 4 MiB chunk 16 times, ~10x the time). Room for two.
-      // (Closed first: an open dataset's second handle shares its cache.)
-      H5Dclose(dataset);
-      const hid_t access = H5Pcreate(H5P_DATASET_ACCESS);
-      if (access >= 0) H5Pset_chunk_cache(access, H5D_CHUNK_CACHE_NSLOTS_DEFAULT, std::min(2 * bytes, kMaxChunkCacheBytes), 1.0);
-      dataset = H5Dopen2(file_, name.c_str(), access >= 0 ? access : H5P_DEFAULT);
-      if (access >= 0) H5Pclose(access);
-      if (dataset < 0) refuse(" cannot be opened again");
-    }
-    return dataset;
-  };
   std::string prefix;
   const char* names[4] = {"x", "y", "t", "p"};
   if (!topic.empty()) {
@@ -429,7 +435,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
   }
 
   if (is_table()) {
-    t_ = open(table_name_);
+    t_ = open_column(table_name_);
     if (!is_rows_of(t_, 4, total_)) {
       close_handles();
       throw ReadError(path, -1, -1,
@@ -439,7 +445,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
     }
     t_float_ = is_float(t_);  // (a table is read as doubles either way)
   } else if (layout_ == "prophesee") {
-    t_ = open("CD/events");
+    t_ = open_column("CD/events");
     total_ = length_1d(t_);
     const hid_t type = H5Dget_type(t_);
     const bool compound = type >= 0 && H5Tget_class(type) == H5T_COMPOUND;
@@ -458,10 +464,10 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
       }
     }
     for (int i = 0; i < 4; ++i) column_names_[i] = prefix + names[i];
-    x_ = open(column_names_[0]);
-    y_ = open(column_names_[1]);
-    t_ = open(column_names_[2]);
-    p_ = open(column_names_[3]);
+    x_ = open_column(column_names_[0]);
+    y_ = open_column(column_names_[1]);
+    t_ = open_column(column_names_[2]);
+    p_ = open_column(column_names_[3]);
     total_ = length_1d(x_);
     for (const auto& [dataset, name] : {std::pair{y_, names[1]}, {t_, names[2]}, {p_, names[3]}}) {
       if (length_1d(dataset) != total_) {
@@ -473,7 +479,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
     }
     t_float_ = is_float(t_);
     if (layout_ == "dsec" && exists(file_, "t_offset")) {
-      const hid_t offset = open("t_offset");
+      const hid_t offset = open_column("t_offset");
       const bool ok = H5Dread(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset_us_) >= 0;
       H5Dclose(offset);
       if (!ok) {
@@ -542,8 +548,44 @@ void Hdf5Reader::close_handles() noexcept {
     if (*handle >= 0) H5Dclose(*handle);
     *handle = -1;
   }
+  for (const Hid column : float_columns_) H5Dclose(column);
+  float_columns_.clear();
   if (file_ >= 0) H5Fclose(file_);
   file_ = -1;
+}
+
+bool Hdf5Reader::open_float_columns(std::span<const char* const> names) {
+  const Hdf5ErrorSilencer silence;
+  if (layout_ != "evlife" || file_ < 0) return false;
+  const auto present = std::count_if(names.begin(), names.end(), [&](const char* name) { return exists(file_, name); });
+  if (present == 0) return false;
+  for (const char* name : names) {
+    const std::string why = !exists(file_, name) ? "is missing (the file holds '" + std::string(names[0]) + "')" : "";
+    if (!why.empty()) throw ReadError(path_, -1, -1, "HDF5 dataset '" + std::string(name) + "' " + why);
+    const Hid column = open_column(name);
+    float_columns_.push_back(column);
+    float_names_.emplace_back(name);
+    if (!is_float(column) || length_1d(column) != total_) {
+      throw ReadError(path_, -1, -1,
+                      "HDF5 dataset '" + std::string(name) + "' is not a 1-D floating-point column of the length of '" +
+                          column_names_[0] + "' (" + std::to_string(total_) + ")");
+    }
+  }
+  return true;
+}
+
+void Hdf5Reader::read_float_rows(std::int64_t first, std::size_t count, std::span<float* const> out) const {
+  const Hdf5ErrorSilencer silence;
+  for (std::size_t c = 0; c < float_columns_.size() && c < out.size(); ++c) {
+    if (!read_slab(float_columns_[c], H5T_NATIVE_FLOAT, first, count, out[c])) {
+      throw ReadError(path_, -1, first,
+                      "HDF5 dataset '" + float_names_[c] + "' cannot be read from event " + std::to_string(first) +
+                          (unloadable_filter_.empty()
+                               ? std::string(" (corrupt data, a value no float holds, or a compression filter this "
+                                             "HDF5 lacks)")
+                               : " (dataset " + unloadable_filter_ + ")"));
+    }
+  }
 }
 
 void Hdf5Reader::load_chunk() {

@@ -3,7 +3,7 @@
 //    optional scalar t_offset (µs) added to t;
 //  - Prophesee: one compound dataset CD/events with fields x, y, p, t (µs);
 //  - evlife (what Hdf5Writer writes): root datasets x, y, t, p (+ augmented
-//    columns, ignored here), sensor size in root attributes width / height;
+//    columns: open_float_columns), sensor size in root attributes width / height;
 //  - event_utils (Stoffregen's tools, E2VID-style training data): datasets
 //    events/xs, events/ys, events/ts, events/ps;
 //  - v2e (the DVS simulator's --dvs_h5): one N×4 dataset events, rows
@@ -68,6 +68,17 @@ class Hdf5Reader final : public EventReader {
   std::vector<ContainerStream> streams() const override;
   std::int64_t event_count() const noexcept { return total_; }
 
+  /// The evlife layout's further columns of rows in step with x, y, t, p
+  /// (evlife's augmented output: lifetime, vx, vy, prediction_error), opened
+  /// with the checks of the event columns. False when the file holds none of
+  /// them (plain events) or is of another layout. Throws ReadError naming a
+  /// column that is missing while others are there, is not 1-D floating
+  /// point, or has another length than the events.
+  bool open_float_columns(std::span<const char* const> names);
+  /// Rows [first, first + count) of each column open_float_columns opened,
+  /// in its order, as float. Throws ReadError naming the column and the row.
+  void read_float_rows(std::int64_t first, std::size_t count, std::span<float* const> out) const;
+
   // Columns of an N×4 table (v2e, MVSEC): which of the four holds what.
   struct TableColumns {
     int t, x, y, p;
@@ -96,11 +107,14 @@ class Hdf5Reader final : public EventReader {
   // Before the first read (and no error yet): a search may still move the start.
   bool unread() const noexcept { return next_ == 0 && chunk_size_ == 0 && !error_; }
   void close_handles() noexcept;
+  Hid open_column(const std::string& name);  // with the checks of every column; throws ReadError
 
   std::string path_;
   std::string_view layout_;
   Hid file_ = -1;
   Hid x_ = -1, y_ = -1, t_ = -1, p_ = -1;  // column datasets, or t_ = the compound
+  std::vector<Hid> float_columns_;         // open_float_columns's
+  std::vector<std::string> float_names_;
   std::int64_t total_ = 0;
   std::int64_t file_bytes_ = 0;
   std::int64_t t_offset_us_ = 0;

@@ -14,6 +14,11 @@ struct WorkerStats {
   std::uint64_t events_fed = 0;    ///< owned + margin
   std::uint64_t events_owned = 0;
   std::uint64_t dropped = 0;       ///< owned events the router dropped for it
+  /// Owned events its estimator labelled noise unexamined: outside the
+  /// sensor, bad polarity, time beyond +-2^62 us, or earlier than the last
+  /// event of its polarity it was fed (a camera's clock restarted). Output
+  /// (as noise), never dropped; the margin events it was fed are not counted.
+  std::uint64_t rejected = 0;
   std::uint64_t in_flight_hwm = 0; ///< batches queued or held, high-water mark
   std::uint64_t pool_batches = 0;  ///< its pool size (the bound of the above)
   double busy_s = 0.0;
@@ -62,6 +67,13 @@ struct EngineStats {
   double pulled_p50_us = 0.0;
   double pulled_p99_us = 0.0;
   std::vector<WorkerStats> workers;
+
+  /// The workers' rejected events (each counted once, by its owner).
+  std::uint64_t rejected() const noexcept {
+    std::uint64_t n = 0;
+    for (const WorkerStats& w : workers) n += w.rejected;
+    return n;
+  }
 
   /// One line: in/out/dropped, queue high-water marks, latency percentiles.
   std::string progress_line() const;

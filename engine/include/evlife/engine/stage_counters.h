@@ -66,6 +66,7 @@ struct WorkerCounters {
   Counter events_owned;  ///< events whose output was kept
   Counter busy_ns;       ///< time spent processing
   Counter busy_cpu_ns;   ///< of which on a CPU (thread CPU time: without preemption)
+  Counter rejected;      ///< owned events its estimator labelled noise unexamined (LifetimeStats::rejected())
   /// Latency's worker stages, from the chunk's arrival at the source, per
   /// event: the worker starts its batch; the event is estimated (end of its
   /// step). Merge-order wait and delivery follow (MergerCounters::latency_ns).

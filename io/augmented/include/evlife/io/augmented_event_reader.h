@@ -1,4 +1,4 @@
-// Readers of the files written by open_augmented_writer (.csv and .bin),
+// Readers of the files written by open_augmented_writer (.csv, .bin, .h5),
 // streaming, with the same error rules as EventReader: the good records come
 // first, then the next read() throws ReadError naming the file and the
 // record index / byte offset.
@@ -22,9 +22,10 @@ class AugmentedEventReader {
   virtual ~AugmentedEventReader() = default;
   /// Up to out.size() records in file order; 0 = end.
   virtual std::size_t read(std::span<AugmentedEvent> out) = 0;
-  /// From the .bin header (nullopt where it states 0 x 0); nullopt for CSV.
+  /// From the .bin header or the .h5 attributes (nullopt where they state
+  /// none or 0 x 0); nullopt for CSV.
   virtual std::optional<SensorSize> sensor_size() const = 0;
-  virtual std::string_view format_name() const = 0;  ///< "augmented-csv" / "augmented-bin"
+  virtual std::string_view format_name() const = 0;  ///< "augmented-csv" / "-bin" / "-hdf5"
   virtual const std::string& path() const = 0;
 };
 
@@ -39,8 +40,9 @@ struct RecordFault {
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us);
 
-/// Sniffs the .bin magic, else expects the CSV header (a file named .bin:
-/// the magic). Throws ReadError for a missing file or unknown content.
+/// Sniffs the .bin magic, else HDF5's signature (then the augmented columns
+/// beside x, y, t, p), else expects the CSV header (a file named .bin: the
+/// magic). Throws ReadError for a missing file or unknown content.
 std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& path);
 
 /// True for a path named like evlife's binary output (.bin, which no other
@@ -48,8 +50,8 @@ std::unique_ptr<AugmentedEventReader> open_augmented_reader(const std::string& p
 /// reported as a bad .bin, not with the list of every format.
 bool names_augmented_bin(const std::string& path);
 
-/// evlife's own output when the content says so (the .bin magic, the
-/// augmented CSV header), else nullptr: for callers that take any recording
+/// evlife's own output when the content says so (the .bin magic, HDF5 with
+/// the augmented columns, the augmented CSV header), else nullptr: for callers that take any recording
 /// (a stream's copy has no extension), also for a path that cannot be opened
 /// (the caller's other readers name the reason). Throws ReadError for a file
 /// with the .bin magic or name that does not read.

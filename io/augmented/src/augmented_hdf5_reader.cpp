@@ -1,0 +1,81 @@
+// Reads evlife's augmented HDF5 output back (what Hdf5Writer writes for
+// augmented events): the events through the HDF5 reader (its checks, its
+// units), the lifetime, velocity and prediction-error columns row for row
+// beside them.
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <vector>
+
+#include "augmented_formats.h"
+#include "hdf5_reader.h"
+
+namespace evlife::io::detail {
+namespace {
+
+// In the order of AugmentedEvent's fields after the event.
+constexpr std::array<const char*, 4> kFloatColumns{"lifetime", "vx", "vy", "prediction_error"};
+
+class AugmentedHdf5Reader final : public AugmentedEventReader {
+ public:
+  explicit AugmentedHdf5Reader(std::unique_ptr<Hdf5Reader> events) : events_(std::move(events)) {
+    sensor_ = events_->sensor_size().value_or(SensorSize{0, 0});
+    events_buffer_.resize(kBlock);
+    for (auto& column : columns_) column.resize(kBlock);
+  }
+
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    if (pending_) throw *pending_;
+    const std::size_t want = std::min(out.size(), kBlock);
+    // The events' own faults (a row that is no event) come after the rows
+    // before them, as from every reader.
+    const std::size_t n = events_->read(std::span(events_buffer_).first(want));
+    if (n == 0) return 0;
+    const std::array<float*, 4> columns{columns_[0].data(), columns_[1].data(), columns_[2].data(),
+                                        columns_[3].data()};
+    events_->read_float_rows(static_cast<std::int64_t>(index_), n, columns);
+    for (std::size_t i = 0; i < n; ++i) {
+      out[i] = AugmentedEvent{events_buffer_[i], columns_[0][i], columns_[1][i], columns_[2][i], columns_[3][i]};
+    }
+    const RecordFault bad = first_unreadable_record(out.first(n), sensor_, last_t_us_);
+    if (bad.index > 0) last_t_us_ = out[bad.index - 1].event.t_us;
+    index_ += bad.index;
+    if (bad.index < n) {
+      pending_.emplace(events_->path(), -1, static_cast<std::int64_t>(index_), bad.what);
+      if (bad.index == 0) throw *pending_;
+    }
+    return bad.index;
+  }
+
+  std::optional<SensorSize> sensor_size() const override {
+    return sensor_.pixel_count() > 0 ? std::optional(sensor_) : std::nullopt;
+  }
+  std::string_view format_name() const override { return "augmented-hdf5"; }
+  const std::string& path() const override { return events_->path(); }
+
+ private:
+  static constexpr std::size_t kBlock = 8192;
+
+  std::unique_ptr<Hdf5Reader> events_;
+  SensorSize sensor_;
+  std::vector<Event> events_buffer_;
+  std::array<std::vector<float>, 4> columns_;
+  std::uint64_t index_ = 0;  // rows delivered
+  std::int64_t last_t_us_ = INT64_MIN;
+  std::optional<ReadError> pending_;
+};
+
+}  // namespace
+
+bool starts_like_hdf5(std::string_view head) {
+  static constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  return head.size() >= sizeof(kSignature) && std::memcmp(head.data(), kSignature, sizeof(kSignature)) == 0;
+}
+
+std::unique_ptr<AugmentedEventReader> open_augmented_hdf5_reader(const std::string& path) {
+  auto events = std::make_unique<Hdf5Reader>(path);
+  if (!events->open_float_columns(kFloatColumns)) return nullptr;
+  return std::make_unique<AugmentedHdf5Reader>(std::move(events));
+}
+
+}  // namespace evlife::io::detail
