@@ -214,6 +214,16 @@ bool same_bits(const AugmentedEvent& a, const AugmentedEvent& b) {
          std::bit_cast<std::uint32_t>(a.prediction_error_us) == std::bit_cast<std::uint32_t>(b.prediction_error_us);
 }
 
+// make_events' events without their augmented fields, written as plain HDF5 events.
+std::vector<Event> write_plain_events(const std::string& path, std::size_t count) {
+  std::vector<Event> events;
+  for (const auto& a : make_events(count, {128, 128})) events.push_back(a.event);
+  auto writer = evlife::io::open_event_writer(path);
+  writer->write(events);
+  writer->close();
+  return events;
+}
+
 void write_augmented(const std::string& path, const std::vector<AugmentedEvent>& events,
                      std::optional<SensorSize> sensor) {
   auto writer = sensor ? evlife::io::open_augmented_writer(path, *sensor)
@@ -251,13 +261,7 @@ TEST(IoFormatsHdf5, AugmentedOutputReadsBackAsWritten) {
 TEST(IoFormatsHdf5, PlainEventsAreNotAugmented) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("events.h5");
-  {
-    std::vector<Event> events;
-    for (const auto& a : make_events(1'000, {128, 128})) events.push_back(a.event);
-    auto writer = evlife::io::open_event_writer(path);
-    writer->write(events);
-    writer->close();
-  }
+  write_plain_events(path, 1'000);
   EXPECT_EQ(evlife::io::open_if_augmented(path), nullptr);
   const AugmentedReadResult r = read_augmented(path, 64);
   ASSERT_TRUE(r.error);
@@ -1241,13 +1245,7 @@ TEST(IoFormatsHdf5, LibraryCrashOnCorruptFileBecomesReadError) {
 TEST(IoFormatsHdf5, AnotherThreadHoldingTheLibraryDoesNotMakeAValidFileFail) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("held.h5");
-  std::vector<Event> written;
-  for (const auto& a : make_events(1'000, {128, 128})) written.push_back(a.event);
-  {
-    auto writer = evlife::io::open_event_writer(path);
-    writer->write(written);
-    writer->close();
-  }
+  const std::vector<Event> written = write_plain_events(path, 1'000);
   std::atomic<bool> inside{false};
   std::thread holder([&] {
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
