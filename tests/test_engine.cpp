@@ -699,6 +699,50 @@ TEST(Pipeline, RunForReturnsWhenTheSourceHasNothingMore) {
   EXPECT_TRUE(same_bits(c.events, bare_estimator(events, kDvs128)));
 }
 
+// A camera whose clock restarts mid-flight: without a reset every later
+// event is older than the estimators' last and labelled noise (counted as
+// rejected); reset_estimators() between the two clocks gives the new one's
+// events what a fresh estimator gives them, without a new pipeline. Refused
+// (false, nothing reset) while events are queued for a worker.
+TEST(Pipeline, ResetEstimatorsBetweenTwoClocksGivesTheNewClockAFreshStart) {
+  const auto events = stripes(6'000);
+  std::vector<Event> before(events.begin(), events.begin() + 4'000);
+  std::vector<Event> after(events.begin() + 4'000, events.end());
+  const std::int64_t restart = after.front().t_us - before.front().t_us;  // the new clock starts as the old did
+  for (Event& e : after) e.t_us -= restart;
+  ASSERT_LT(after.back().t_us, before.back().t_us);
+  const auto expect_after = bare_estimator(after, kDvs128);
+  for (const bool reset : {false, true}) {
+    Collector c;
+    ee::PacketSource source(kDvs128, events.size());
+    ee::Pipeline pipeline(source, &c.sink, engine_options(2, 1, 1, kDvs128));
+    source.push(before);
+    pipeline.run_for(10'000'000'000);
+    ASSERT_EQ(c.events.size(), before.size());
+    if (reset) {
+      source.push(std::span<const Event>(after.data(), 1));
+      pipeline.router().step();  // the event queued for its worker: not between the clocks
+      EXPECT_FALSE(pipeline.reset_estimators());
+      pipeline.run_for(10'000'000'000);
+      c.events.pop_back();
+      EXPECT_TRUE(pipeline.reset_estimators());
+      source.push(after);
+    } else {
+      source.push(after);
+    }
+    source.close();
+    EXPECT_TRUE(pipeline.run_for(10'000'000'000).finished);
+    const std::vector<AugmentedEvent> got(c.events.end() - static_cast<std::ptrdiff_t>(after.size()), c.events.end());
+    if (reset) {
+      EXPECT_TRUE(same_bits(got, expect_after));
+      EXPECT_EQ(pipeline.stats().rejected(), 1u) << "the new clock's first event, fed before the reset";
+    } else {
+      EXPECT_TRUE(std::all_of(got.begin(), got.end(), [](const AugmentedEvent& a) { return a.is_noise(); }));
+      EXPECT_GT(pipeline.stats().rejected(), after.size() / 2);
+    }
+  }
+}
+
 // stats() is "any thread, any time": a monitor reads the source's lost count
 // while the host pushes (a plain integer there was a data race: CI's TSan
 // pass runs this test).

@@ -27,6 +27,14 @@ bool Pipeline::step_all() noexcept {
   return done;
 }
 
+bool Pipeline::reset_estimators() noexcept {
+  if (router_->holds_a_chunk()) return false;
+  for (const auto& w : workers_)
+    if (!w->idle()) return false;
+  for (auto& w : workers_) w->reset_estimator();
+  return true;
+}
+
 EngineStats Pipeline::stats() const {
   const PipelineState& s = *state_;
   EngineStats st;

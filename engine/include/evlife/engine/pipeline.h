@@ -60,6 +60,17 @@ class Pipeline {
   /// call; what the source cannot buffer meanwhile is its own to count.
   PipelineRunReport run_for(std::int64_t budget_ns) noexcept;
 
+  /// After a camera's clock restarted (its times start again below the
+  /// last ones, which every estimator rejects as going backwards: counted in
+  /// stats().rejected()): empties every worker's estimator as
+  /// LifetimeEstimator::reset() does, without allocating. Call it from the
+  /// thread that steps the pipeline, between the old clock's events and the
+  /// new one's: true when no event is held by the router or queued for or
+  /// inside a worker (run_for() returned with the source empty); false, and
+  /// nothing reset, otherwise. The pipeline's own counters go on. Not for the
+  /// threaded Engine (make a new one).
+  bool reset_estimators() noexcept;
+
   Router& router() noexcept { return *router_; }
   TileWorker& worker(int w) noexcept { return *workers_[static_cast<std::size_t>(w)]; }
   int worker_count() const noexcept { return static_cast<int>(workers_.size()); }

@@ -25,6 +25,8 @@ class Router {
 
   /// The source ended with an error (set when step() returns finished).
   bool source_failed() const noexcept { return source_failed_; }
+  /// A chunk pulled from the source and not yet handed to every worker.
+  bool holds_a_chunk() const noexcept { return have_chunk_; }
 
  private:
   template <class Pool, class Item>

@@ -36,6 +36,10 @@ class TileWorker {
   static constexpr std::size_t kLiveStepEvents = 32;
 
   const LifetimeEstimator& estimator() const noexcept { return estimator_; }
+  /// No batch queued for it or being processed (from the thread that steps
+  /// the whole pipeline: Pipeline::reset_estimators).
+  bool idle() const noexcept { return batch_ == nullptr && channel_.in.size_approx() == 0; }
+  void reset_estimator() noexcept { estimator_.reset(); }
 
  private:
   PipelineState& state_;
