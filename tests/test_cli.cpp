@@ -808,6 +808,36 @@ TEST_F(CliTest, ARefusedRunLeavesAnExistingOutputAsItWas) {
   const RunResult video = run("run '" + kRpgText + "' -q --fps 10 --video /proc/no_such/x.avi -o " + out);
   EXPECT_EQ(video.exit_code, 4) << video.output;
   EXPECT_TRUE(evlife::test::read_text_file(out) == before);
+  // A view mode no frame has, and tiles the sensor cannot hold, are refused before -o is opened
+  // (both emptied it to its 32-byte header, then exited 2); an empty -o or --frames is refused, as
+  // process refuses it (the run went on with its output discarded, exit 0).
+  for (const std::string& flags : {"--fps 10 --frames " + path("f").string() + " --mode bogus -o " + out,
+                                  "--tiles 300x1 -o " + out, std::string("-o ''"), "--frames '' -o " + out}) {
+    const RunResult r = run("run '" + kRpgText + "' -q " + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
+    EXPECT_TRUE(evlife::test::read_text_file(out) == before) << flags;
+  }
+}
+
+// An input that fails while the output fails too: the output's error decides
+// (what was written is less than what was processed), and the input's is
+// named with it. Before: exit 3, "the events before it were processed and
+// written", the output error never said.
+TEST_F(CliTest, ARunWhoseInputAndOutputBothFailNamesTheOutputError) {
+  const std::string cut = path("cut.aedat").string();
+  {
+    std::string bytes = evlife::test::read_text_file(kAedat2);
+    ASSERT_GT(bytes.size(), 100'005u);
+    bytes.resize(100'005);
+    std::ofstream(cut, std::ios::binary) << bytes;
+  }
+  const auto r = run_on_a_small_disk(dir_.path(), "dd if=/dev/zero of=\"$DISK/fill\" bs=1k count=200 2>/dev/null\n'" +
+                                                      kCli + "' run '" + cut + "' -q -o \"$DISK/o.bin\"\n"
+                                                      "echo \"run exit $?\"\n");
+  if (!r) GTEST_SKIP() << "no private tmpfs mount here";
+  EXPECT_NE(r->output.find("run exit 4"), std::string::npos) << r->output;
+  EXPECT_NE(r->output.find("o.bin"), std::string::npos) << r->output;
+  EXPECT_NE(r->output.find("the input had failed as well: " + cut), std::string::npos) << r->output;
 }
 
 }  // namespace

@@ -18,6 +18,8 @@
 #include <vector>
 
 
+#include <fmt/format.h>
+
 #include "arg_parser.h"
 #include "command_start.h"
 #include "command.h"

@@ -39,6 +39,7 @@
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/render_stage.h"
 #include "evlife/engine/replay_source.h"
+#include "evlife/engine/tile_layout.h"
 #include "evlife/engine/writer_sink.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
@@ -47,6 +48,7 @@
 #include "evlife/io/stop.h"
 #include "evlife/io/textured_scene.h"
 #include "evlife/render/frame_clock.h"
+#include "evlife/render/frame_composer.h"
 #include "evlife/render/output_kind.h"
 #include "evlife/render/render_recording.h"
 #include "exit_code.h"
@@ -278,7 +280,10 @@ RunArgs parse_run_args(int argc, char** argv) {
   r.user_sensor = user_sensor_size(r.sensor, r.config);
   r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);
-  if (const auto s = a.value("output")) r.output = *s;
+  if (const auto s = a.value("output")) {
+    if (s->empty()) throw UsageError("-o needs a file name (.csv, .bin or .h5); without -o the output is discarded");
+    r.output = *s;
+  }
   if (const auto s = a.value("biases")) r.biases = *s;
   if (const auto s = a.value("duration")) {
     if (!r.source.starts_with("synth:"))
@@ -289,13 +294,23 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const std::string flags = selecting_flags(r.input_options); !flags.empty() && !is_file_source(r.source))
     throw UsageError(flags + " select the events of a file; the source " + r.source + " is none");
-  if (const auto s = a.value("frames")) r.frames_dir = *s;
+  if (const auto s = a.value("frames")) {
+    if (s->empty()) throw UsageError("--frames needs a folder");
+    r.frames_dir = *s;
+  }
   if (const auto s = a.value("video")) {
     r.video = *s;
     if (render::output_kind(r.video) != render::OutputKind::video)
       throw UsageError("--video " + r.video + ": the video must end in .mp4 or .avi (--frames DIR for PNG frames)");
   }
-  if (const auto s = a.value("mode")) r.render.mode = *s;
+  if (const auto s = a.value("mode")) {
+    r.render.mode = *s;
+    try {  // as `evlife render`: a bad mode is the command line's error, before any file is touched
+      (void)render::parse_view_mode(r.render.mode);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--mode ") + e.what());
+    }
+  }
   if (const auto s = a.value("fps")) {  // 0: only the --at instants
     r.render.fps = parse_number<double>("fps", *s, 0, 100000);
     if (r.render.fps != 0 && r.render.fps < render::kMinFps) {
@@ -502,10 +517,9 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
 }
 
 int run_exit_status(const engine::RunResult& result, const engine::RenderStage* render_stage, bool quiet) {
-  if (render_stage && !render_stage->error().empty() &&
-      result.status == engine::RunStatus::completed) {
+  if (render_stage && !render_stage->error().empty()) {
     std::fprintf(stderr, "evlife run: frame output error: %s\n", render_stage->error().c_str());
-    return kExitOutput;
+    if (result.status == engine::RunStatus::completed) return kExitOutput;
   }
   // Drops are named whatever -q says: never a silent loss (the summary is -q's to skip).
   const auto written = static_cast<unsigned long long>(result.stats.events_out);
@@ -614,6 +628,14 @@ int run_engine(int argc, char** argv) {
   if (const std::string refused = engine::probe_realtime_options(args.engine.realtime); !refused.empty()) {
     std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n", refused.c_str());
     return kExitRealtime;
+  }
+  // The tiling fits the sensor (known only now) before -o is opened.
+  try {
+    const engine::TileLayout layout(source->sensor_size(), args.engine.workers, args.engine.tiles_x,
+                                    args.engine.tiles_y, engine::effective_margin_px(args.engine));
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "evlife run: %s: %s\n", source->describe().c_str(), e.what());
+    return kExitUsage;
   }
   // The frames' folder or video before -o: a bad frame path must not have
   // emptied an existing output first.

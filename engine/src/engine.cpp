@@ -302,12 +302,16 @@ RunResult Engine::run() {
   for (std::size_t i = 0; i < threads.size(); ++i)
     result.thread_cpu_s.emplace_back(thread_names[i], static_cast<double>(thread_cpu[i]) * 1e-9);
   result.stats = pipeline_.stats();
-  if (pipeline_.router().source_failed()) {
-    result.status = RunStatus::source_error;
-    result.message = source.error_message();
-  } else if (pipeline_.merger().sink_failed()) {
+  // A failed output first: what was written is then less than what was
+  // processed, whatever else happened (an input fault too is named).
+  if (pipeline_.merger().sink_failed()) {
     result.status = RunStatus::sink_error;
     result.message = pipeline_.merger().sink_error();
+    if (pipeline_.router().source_failed())
+      result.message += " (the input had failed as well: " + source.error_message() + ")";
+  } else if (pipeline_.router().source_failed()) {
+    result.status = RunStatus::source_error;
+    result.message = source.error_message();
   } else if (stop_.load(std::memory_order_relaxed)) {
     result.status = RunStatus::interrupted;
   }

@@ -28,7 +28,6 @@ std::size_t PacketSource::push(std::span<const Event> events) noexcept {
 }
 
 std::size_t PacketSource::pull(std::span<Event> out) noexcept {
-  if (stop_.load(std::memory_order_relaxed)) return 0;  // status(): end_of_stream
   const std::size_t n = std::min(out.size(), count_);
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = ring_[head_];
@@ -39,8 +38,11 @@ std::size_t PacketSource::pull(std::span<Event> out) noexcept {
 }
 
 SourceStatus PacketSource::status() const noexcept {
-  if (stop_.load(std::memory_order_relaxed)) return SourceStatus::end_of_stream;
-  return closed_ && count_ == 0 ? SourceStatus::end_of_stream : SourceStatus::ok;
+  // A stop ends the stream as close() does: the events already taken are
+  // still pulled (push() refuses and counts new ones), as a camera's
+  // completed transfers are drained on a stop.
+  const bool ending = closed_ || stop_.load(std::memory_order_relaxed);
+  return ending && count_ == 0 ? SourceStatus::end_of_stream : SourceStatus::ok;
 }
 
 }  // namespace evlife::engine

@@ -42,6 +42,8 @@ class PacketSource final : public EventSource {
   SourceKind kind() const noexcept override { return kind_; }
   std::string describe() const override { return "host packets"; }
   std::uint64_t lost_events() const noexcept override { return lost_.get(); }
+  /// As close() (from any thread): the buffered events are still pulled,
+  /// later pushes are refused and counted as lost.
   void request_stop() noexcept override { stop_.store(true, std::memory_order_relaxed); }
 
  private:
