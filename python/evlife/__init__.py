@@ -74,7 +74,10 @@ _FRAME_FIELDS = ("t", "x", "y", "p", "lifetime", "vx", "vy")
 def _as_augmented(augmented):
     """The array as a contiguous AUGMENTED_DTYPE array (no copy when it is one)."""
     a = _np.asarray(augmented)
-    if a.dtype == AUGMENTED_DTYPE and a.ndim == 1 and a.flags.c_contiguous:
+    if a.ndim != 1:  # a record (0-d) raised IndexError
+        raise TypeError("augmented: expected a 1-D array of events, got shape %s" % (a.shape,))
+    # As the C++ side takes it without a copy: aligned for its int64 t too (a buffer at offset 4 was refused).
+    if a.dtype == AUGMENTED_DTYPE and a.flags.c_contiguous and a.ctypes.data % 8 == 0:
         return a
     missing = [f for f in _FRAME_FIELDS if a.dtype.names is None or f not in a.dtype.names]
     if missing:

@@ -191,6 +191,7 @@ def local_cluster(workers=2):
     (LOCAL_WORKER_CONFIG). process_files makes one when no scheduler is given;
     make it yourself to reuse it across calls: process_files(..., scheduler=cluster)."""
     _check_main_guard()
+    _check_workers(workers, None)  # none would leave every task waiting
     import dask
     from distributed import LocalCluster
     with dask.config.set(LOCAL_WORKER_CONFIG):
@@ -331,12 +332,37 @@ def _check_workers(workers, scheduler):
                          % (workers,))
 
 
+@contextlib.contextmanager
+def _sigint_deferred():
+    """Ctrl-C while our LocalCluster starts (a second or more) is recorded, not
+    raised in the middle of its start: a half-started cluster cannot be closed
+    (it printed an AssertionError at exit). Yields a list, non-empty once
+    pressed; main thread only (elsewhere no signal arrives)."""
+    pressed = []
+    if threading.current_thread() is not threading.main_thread():
+        yield pressed
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    try:
+        yield pressed
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _client(scheduler, workers):
-    """(client, things to close). scheduler: None, an address, a Client or a cluster."""
+    """(client, things to close). scheduler: None, an address, a Client or a
+    cluster. KeyboardInterrupt for a Ctrl-C while our own cluster started,
+    raised once it is closed again."""
     from distributed import Client
     if scheduler is None:
-        cluster = local_cluster(workers)
-        client = Client(cluster, loop=_shared_loop())
+        with _sigint_deferred() as pressed:
+            cluster = local_cluster(workers)
+            client = Client(cluster, loop=_shared_loop())
+        if pressed:
+            with _sigint_ignored(True):
+                client.close()
+                cluster.close()
+            raise KeyboardInterrupt
         return client, [client, cluster]
     if isinstance(scheduler, Client):
         return scheduler, []
@@ -388,7 +414,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     # Bad options fail now, with the command line's message, not once per task.
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
-        _evlife.LifetimeEstimator(sensor=sensor)
+        _evlife._check_sensor(sensor)  # not LifetimeEstimator(sensor): 1.4 GB for the largest
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
     _evlife._check_reader_options(from_s, to_s, time_unit)
@@ -400,13 +426,16 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     if not paths:
         return BatchResult()
     from distributed import as_completed
-    client, to_close = _client(scheduler, workers)
+    run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
+    before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
+    try:
+        client, to_close = _client(scheduler, workers)
+    except KeyboardInterrupt:  # no task submitted: every row says nothing was written
+        raise _interrupted([None] * len(paths), paths, outputs, run, before, scheduler is None) from None
     interrupted = False
     try:
-        run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
         # Largest recordings first (Dask runs higher priority first): the
         # last task to finish is then a small one, so workers end together.
-        before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
         futures = [client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
                                  crop, dict(options), pure=False, priority=_size_or_zero(p),
                                  key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
@@ -535,6 +564,10 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     _check_workers(workers, scheduler)
     if slices < 1:
         raise ValueError("slices must be at least 1")
+    parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
+    for target in [output] + parts:  # process_file's and the CLI's rule (a link to it too)
+        if os.path.exists(target) and os.path.exists(path) and os.path.samefile(path, target):
+            raise ValueError("%s is the input file; refusing to overwrite it" % target)
     if not output.endswith(".bin"):
         raise ValueError("process_slices writes a .bin file: %s" % output)
     if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker
@@ -547,13 +580,14 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]
     # Beyond 2^62 us (146,000 years) every warm-up is the whole recording: int64 for the workers.
     warmup_us = min(int(round(warmup_ms * 1000.0)), 1 << 62)
-    parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
     from distributed import wait
     client, to_close = _client(scheduler, workers)
     futures, joining = [], False
     try:
         run = uuid.uuid4().hex[:8]
-        futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k], cuts[k + 1],
+        # The last slice has no end: t_last + 1 is past int64 for an event at INT64_MAX.
+        futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
+                                 cuts[k + 1] if k + 1 < slices else None,
                                  warmup_us, config, topic, time_unit, dict(options), pure=False,
                                  key="evlife-slice-%s-%d" % (run, k))
                    for k in range(slices)]

@@ -33,6 +33,9 @@ inline std::string path_from_python(const py::handle& path) {
   try {
     return py::cast<std::filesystem::path>(path).string();
   } catch (const py::cast_error&) {  // pybind's RuntimeError otherwise
+    // A name with a NUL in it is refused by the file system's encoding: its value's fault, not its type's.
+    if (py::isinstance<py::str>(path) && path.cast<std::string>().find('\0') != std::string::npos)
+      throw py::value_error("path: embedded null byte");
     const bool file_object = py::hasattr(path, "read") || py::hasattr(path, "write");
     throw py::type_error("expected a path (str, bytes or os.PathLike), got " +
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>() +

@@ -345,13 +345,14 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   return d;
 }
 
-// The events of `path` with t in [t_begin, t_end), estimated by an estimator
+// The events of `path` with t in [t_begin, t_end) (no t_end: to the end, an
+// event at INT64_MAX included), estimated by an estimator
 // that started warmup_us earlier (its outputs before t_begin are dropped),
 // written to `output` as they come (constant memory, as process_file): one
 // slice of a recording processed in parallel with the others. On one thread:
 // the slices are the parallelism.
 py::dict process_time_range(const std::string& path, const std::string& output,
-                            const py::object& sensor, std::int64_t t_begin, std::int64_t t_end,
+                            const py::object& sensor, std::int64_t t_begin, std::optional<std::int64_t> t_end,
                             std::int64_t warmup_us, bool skip_by_search, const py::object& config,
                             const std::optional<std::string>& topic, const std::optional<std::string>& time_unit,
                             const py::dict& options) {
@@ -381,7 +382,7 @@ py::dict process_time_range(const std::string& path, const std::string& output,
       std::size_t lo = 0, hi = n;
       while (lo < n && in[lo].t_us < start) ++lo;
       for (std::size_t i = lo; i < n; ++i) {
-        if (in[i].t_us >= t_end) {
+        if (t_end && in[i].t_us >= *t_end) {
           hi = i;
           done = true;
           break;
@@ -439,7 +440,11 @@ void bind_estimator(py::module_& m) {
                  "inside the task, or send evlife.process / evlife.process_file to the workers");
            })
       .def(py::init([](const py::object& sensor, const py::object& config, const py::kwargs& kw) {
-             return std::make_unique<Estimator>("evlife.LifetimeEstimator", sensor, config, kw);
+             ResolvedOptions r = resolve_options("evlife.LifetimeEstimator", sensor, config, kw);
+             // A large sensor's planes are allocated and zeroed (0.2 s at 1280x720, seconds at
+             // 4096x4096): the other Python threads run meanwhile.
+             py::gil_scoped_release release;
+             return std::make_unique<Estimator>(std::move(r));
            }),
            py::arg("sensor"), py::kw_only(), py::arg("config") = py::none())
       .def("process", &Estimator::process, py::arg("events"),
@@ -484,7 +489,12 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
           const SensorSize d = sensor_from_events(event_columns(input));
           r.config.estimator.sensor = SensorSize{std::max(d.width, 1), std::max(d.height, 1)};
         }
-        return Estimator(std::move(r)).process(input);
+        std::unique_ptr<Estimator> estimator;
+        {
+          py::gil_scoped_release release;  // as LifetimeEstimator(): its planes are allocated without the GIL
+          estimator = std::make_unique<Estimator>(std::move(r));
+        }
+        return estimator->process(input);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
@@ -547,6 +557,11 @@ as evlife.process.)");
       "ValueError unless from_s / to_s / time_unit are valid (as evlife.process checks them).");
 
   m.def(
+      "_check_sensor", [](const py::object& sensor) { (void)sensor_from_python(sensor); }, py::arg("sensor"),
+      "TypeError/ValueError unless sensor is a camera's (width, height), as LifetimeEstimator checks it\n"
+      "(without making one: up to 1.4 GB for the largest).");
+
+  m.def(
       "scan",
       [](const py::object& input, const py::object& sensor, const py::object& config,
          const std::optional<std::string>& topic, const std::optional<std::string>& time_unit) {
@@ -561,7 +576,7 @@ as evlife.process.)");
   m.def(
       "_process_time_range",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         std::int64_t t_begin, std::int64_t t_end, std::int64_t warmup_us, bool skip_by_search,
+         std::int64_t t_begin, std::optional<std::int64_t> t_end, std::int64_t warmup_us, bool skip_by_search,
          const py::object& config, const std::optional<std::string>& topic,
          const std::optional<std::string>& time_unit, const py::kwargs& kw) {
         return process_time_range(path_from_python(input), path_from_python(output), sensor, t_begin,
@@ -570,7 +585,8 @@ as evlife.process.)");
       py::arg("input"), py::arg("output"), py::arg("sensor"), py::arg("t_begin"), py::arg("t_end"),
       py::arg("warmup_us"), py::kw_only(), py::arg("skip_by_search") = true,
       py::arg("config") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
-      "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) written to\n"
+      "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) (t_end None: no\n"
+      "end) written to\n"
       "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
 }
 

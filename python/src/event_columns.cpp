@@ -45,8 +45,14 @@ Column column(const py::handle& events, const char* name, py::object& keep, bool
 
 }  // namespace
 
-EventColumns event_columns(const py::handle& events) {
+EventColumns event_columns(const py::handle& events_given) {
+  // A memoryview of an events array as that array (frame and write take one):
+  // c.events keeps it alive.
   EventColumns c;
+  c.events = PyMemoryView_Check(events_given.ptr())
+                 ? py::object(py::module_::import("numpy").attr("asarray")(events_given))
+                 : py::reinterpret_borrow<py::object>(events_given);
+  const py::object& events = c.events;
   if (py::isinstance<py::array>(events)) {
     const auto a = py::reinterpret_borrow<py::array>(events);
     if (is_exact(a, event_dtype())) c.exact = static_cast<const Event*>(a.data());

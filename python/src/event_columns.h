@@ -74,6 +74,7 @@ struct Column {
 /// The four columns of `events`, with references that keep them alive.
 struct EventColumns {
   py::object keep[4];
+  py::object events;  ///< what `exact` points into (a memoryview's array is made here)
   Column t, x, y, p;
   std::size_t size = 0;
   /// Non-null when `events` is already an exact evlife.EVENT_DTYPE array.

@@ -83,6 +83,8 @@ class Reader {
   }
 
   py::array read(std::optional<std::size_t> max_events) {
+    if (max_events == std::size_t{0})  // an empty chunk is the end of the recording
+      throw py::value_error("max_events must be at least 1");
     const std::size_t n_max = max_events.value_or(chunk_events_);
     std::vector<Event> events;  // grows block by block: a large max_events costs nothing
     std::size_t n = 0;

@@ -1,7 +1,6 @@
 // evlife.synth: the synthetic scenes of `evlife synth` (bars, a texture;
 // ideal or DVS pixels) as NumPy arrays, with their ground truth per event.
 #include <cstddef>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -33,13 +32,6 @@ py::dtype make_truth_dtype() {
 py::dtype truth_dtype() {
   static auto* dtype = new py::dtype(make_truth_dtype());  // leaked: see dtypes.cpp
   return *dtype;
-}
-
-template <typename T>
-py::array copy_to_array(const std::vector<T>& v, const py::dtype& dtype) {
-  py::array out(dtype, std::vector<py::ssize_t>{static_cast<py::ssize_t>(v.size())});
-  if (!v.empty()) std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(T));
-  return out;
 }
 
 py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, double duration_s, std::uint64_t seed,
@@ -119,7 +111,9 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   }
   py::list names;
   for (const std::string& n : scene.feature_names) names.append(n);
-  return py::make_tuple(copy_to_array(scene.events, event_dtype()), copy_to_array(scene.truth, truth_dtype()), names);
+  // Adopted, not copied: a copy held the GIL for seconds of a large scene and doubled its memory.
+  return py::make_tuple(adopt(std::move(scene.events), event_dtype()), adopt(std::move(scene.truth), truth_dtype()),
+                        names);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 import ast
 import os
 
+import numpy as np
 import pytest
 
 import evlife
@@ -90,3 +91,50 @@ def test_a_readers_path_is_as_os_fsdecode_gives_it(tmp_path):
     shutil.copy(data("reference/garfield.mat"), name)
     with evlife.open(name) as reader:
         assert reader.path == name  # raised UnicodeDecodeError
+
+
+def test_a_large_estimator_is_made_without_holding_the_gil():
+    # Its planes (1.4 GB at 4096x4096) were allocated and zeroed with the GIL held: every other
+    # Python thread stopped for the whole call. A thread counting meanwhile now advances.
+    import threading
+    count, done = [0], threading.Event()
+
+    def counter():
+        while not done.is_set():
+            count[0] += 1
+
+    thread = threading.Thread(target=counter)
+    thread.start()
+    try:
+        before = count[0]
+        estimator = evlife.LifetimeEstimator(sensor=(2048, 2048))
+        during = count[0] - before
+    finally:
+        done.set()
+        thread.join()
+    del estimator
+    assert during > 1000, during
+
+
+def test_odd_but_valid_inputs_are_taken_and_odd_invalid_ones_named(tmp_path):
+    events = evlife.read(data("reference/garfield.mat"))[:5000]
+    augmented = evlife.process(events, sensor=(128, 128))
+    # A memoryview of the events, as frame and write take one ("no field 't'" before).
+    assert evlife.process(memoryview(events), sensor=(128, 128)).tobytes() == augmented.tobytes()
+    # An AUGMENTED_DTYPE array only 4-byte aligned (write refused it as not one).
+    buffer = np.zeros(augmented.nbytes + 8, dtype=np.uint8)
+    shifted = np.ndarray(augmented.shape, dtype=evlife.AUGMENTED_DTYPE, buffer=buffer, offset=4)
+    shifted[:] = augmented
+    evlife.write(tmp_path / "shifted.bin", shifted, sensor=(128, 128))
+    assert evlife.read_augmented(tmp_path / "shifted.bin")[0].tobytes() == augmented.tobytes()
+    # One record (0-d) is named, not an IndexError.
+    with pytest.raises(TypeError, match="expected a 1-D array"):
+        evlife.frame(augmented[0], int(events["t"][100]), sensor=(128, 128))
+    # A name with a NUL is the value's fault (it said "expected a path ..., got str").
+    with pytest.raises(ValueError, match="embedded null byte"):
+        evlife.scan("rec\0.aedat")
+    # read(0) is refused: an empty chunk means the end of the recording.
+    with evlife.open(data("reference/garfield.mat")) as reader:
+        with pytest.raises(ValueError, match="max_events must be at least 1"):
+            reader.read(0)
+        assert len(reader.read(10)) == 10

@@ -101,6 +101,18 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
             batch.process_files([path], tmp_path, workers=workers)
         with pytest.raises(ValueError, match="workers must be a whole number of at least 1"):
             batch.process_slices(path, tmp_path / "x.bin", workers=workers)
+        with pytest.raises(ValueError, match="workers must be a whole number of at least 1"):
+            batch.local_cluster(workers)  # with it as scheduler, process_files waited for ever
+    # The output (or a part) is the recording itself, by another name too: refused before a task
+    # (the slices were joined over it, the recording lost), as process_file refuses it.
+    recording = tmp_path / "rec.bin"
+    shutil.copy(data("prophesee_dat/NCARS_obj_004397_td.dat"), recording)  # a format known by its content
+    os.link(recording, tmp_path / "linked.bin")
+    before = recording.read_bytes()
+    for output in (recording, tmp_path / "linked.bin"):
+        with pytest.raises(ValueError, match="is the input file; refusing to overwrite it"):
+            batch.process_slices(recording, output, workers=1)
+    assert recording.read_bytes() == before
 
 
 def test_a_time_unit_reaches_every_task(tmp_path):
@@ -144,6 +156,19 @@ def test_time_slices_in_parallel(tmp_path):
     with pytest.raises(OSError, match="taken.bin: cannot join the slices"):
         batch.process_slices(path, tmp_path / "taken.bin", slices=3, workers=2)
     assert not [p for p in os.listdir(tmp_path) if ".part" in p]
+
+
+def test_slices_reach_an_event_at_the_last_microsecond(tmp_path):
+    # A last event at INT64_MAX (labelled noise: beyond +-2^62 us) ended the last slice at t_last + 1,
+    # past int64: the task raised TypeError. Now the last slice has no end and the file is the CLI's.
+    from evlife import batch
+    events = evlife.read(data("prophesee_dat/NCARS_obj_004397_td.dat"))
+    events["t"][-1] = 2**63 - 1
+    np.save(tmp_path / "tmax.npy", events)
+    cli("process", tmp_path / "tmax.npy", "-o", tmp_path / "cli.bin", "-q", "--sensor", "54x61")
+    batch.process_slices(tmp_path / "tmax.npy", tmp_path / "sl.bin", slices=2, warmup_ms=1e19, workers=1,
+                         sensor=(54, 61), progress=False)
+    assert (tmp_path / "sl.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
 
 
 def test_slices_of_an_hdf5_file_start_at_their_warm_up(tmp_path):
@@ -266,6 +291,34 @@ def test_a_forked_child_makes_its_own_event_loop(tmp_path):
         with multiprocessing.get_context("fork").Pool(1) as pool:
             result = pool.apply_async(_batch_in_forked_child, ((bag, str(tmp_path / "child"), address),))
             assert result.get(timeout=120) == [None]
+
+
+def test_ctrl_c_while_the_cluster_starts_is_interrupted_with_every_row(tmp_path, monkeypatch):
+    # The LocalCluster takes a second or more to start; a Ctrl-C then was a bare KeyboardInterrupt
+    # (no rows) and the half-started cluster printed an AssertionError at exit. Now the start
+    # finishes, the cluster is closed, and Interrupted says of every recording that nothing was
+    # written. The signal is sent from inside the start, so it lands there every time.
+    import signal
+    from evlife import batch
+    started = []
+
+    def starting(workers):
+        os.kill(os.getpid(), signal.SIGINT)
+        cluster = real_local_cluster(workers)
+        started.append(cluster)
+        return cluster
+
+    real_local_cluster = batch.local_cluster
+    monkeypatch.setattr(batch, "local_cluster", starting)
+    paths = [data("reference/garfield.mat"), data("reference/stripes.mat")]
+    with pytest.raises(evlife.Interrupted) as caught:
+        batch.process_files(paths, tmp_path / "out", workers=1, progress=False)
+    assert "0 of 2 recordings finished" in str(caught.value)
+    assert [r.path for r in caught.value.partial] == paths
+    assert all("nothing written" in r.error and r.output is None for r in caught.value.partial)
+    assert os.listdir(tmp_path / "out") == []
+    assert started and started[0].status.name == "closed"
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
