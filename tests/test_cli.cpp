@@ -724,7 +724,8 @@ TEST_F(CliTest, NoCommandWritesOverItsInput) {
   const std::string before = evlife::test::read_text_file(in);
   ASSERT_GT(before.size(), 1000u);
   fs::create_symlink(in, path("link.csv"));
-  for (const std::string& out : {in, path("link.csv").string()}) {
+  // Through a folder the output's path creates (equivalent() failed there: the input became a header).
+  for (const std::string& out : {in, path("link.csv").string(), path("new").string() + "/../in.csv"}) {
     for (const std::string& command : {"process " + in + " -o " + out, "run " + in + " -o " + out,
                                        "run --source file:" + in + " -o " + out, "convert " + in + " " + out,
                                        "render " + in + " -o " + out + " --at 0.01"}) {
@@ -734,6 +735,14 @@ TEST_F(CliTest, NoCommandWritesOverItsInput) {
       EXPECT_TRUE(evlife::test::read_text_file(in) == before) << command << " changed its input";
     }
   }
+  // eval's report folder holding the recording under a name of its report: refused when it comes to
+  // that file (its runs.csv was written over the recording, exit 0).
+  fs::create_directories(path("evo"));
+  fs::copy_file(in, path("evo/runs.csv"));
+  const RunResult report = run("eval " + path("evo/runs.csv").string() + " -q -o " + path("evo").string());
+  EXPECT_EQ(report.exit_code, 4) << report.output;
+  EXPECT_NE(report.output.find("runs.csv is the input file"), std::string::npos) << report.output;
+  EXPECT_TRUE(evlife::test::read_text_file(path("evo/runs.csv")) == before);
   // A recording named like a frame, or a video's name linked to it: render read it, then drew over it.
   const std::string png = path("recording.png").string();
   fs::copy_file(kRpgText, png);

@@ -2,6 +2,7 @@
 // and out-of-range values are errors naming the key, file and line, --set
 // overrides take effect.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -174,6 +175,29 @@ TEST(Config, OutOfRangeNamesKeyOriginAndRange) {
   EXPECT_NE(msg.find("0.95"), std::string::npos) << msg;
   EXPECT_NE(msg.find("(0, 0.9]"), std::string::npos) << msg;
   EXPECT_NE(msg.find(path + ":2"), std::string::npos) << msg;
+}
+
+// A configuration from a pipe (`--config <(...)`, /dev/stdin) is read once:
+// its later opens found the pipe empty and the defaults stood, silently (an
+// out-of-range value too), and a named FIFO made the second open wait.
+TEST(Config, AConfigurationFromAPipeIsReadOnceAndApplied) {
+  for (const std::string value : {"3", "4"}) {
+    int fds[2];
+    ASSERT_EQ(::pipe(fds), 0);
+    const std::string text = "estimator:\n  window_size: " + value + "\n";
+    ASSERT_EQ(::write(fds[1], text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    ::close(fds[1]);
+    const std::string path = "/proc/self/fd/" + std::to_string(fds[0]);
+    ConfigBuilder b;
+    b.load_file(path);
+    ::close(fds[0]);
+    if (value == "3") {
+      EXPECT_EQ(b.build().estimator.window_size, 3);
+    } else {
+      const std::string msg = error_of([&] { b.build(); });
+      EXPECT_NE(msg.find("estimator.window_size = 4 (set at " + path + ":2)"), std::string::npos) << msg;
+    }
+  }
 }
 
 TEST(Config, EvenWindowIsOutOfRange) {

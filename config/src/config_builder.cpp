@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -23,26 +24,35 @@
 namespace evlife::config {
 namespace {
 
-// Offset of the first NUL byte in `path` (-1: none, or unreadable: the parser
-// then says why). A configuration is text; a binary file is not worth parsing.
-// UTF-16 and UTF-32 text is YAML's too (PowerShell writes UTF-16): YAML tells
-// them by a NUL among the first 4 bytes or a byte-order mark, and so does this.
-std::int64_t first_nul_byte(const std::string& path) {
+// A configuration larger than this is no configuration (a pipe that never ends).
+constexpr std::size_t kMaxConfigBytes = std::size_t{16} << 20;
+
+// The whole file, read once: a pipe (`--config <(...)`, /dev/stdin) or a FIFO
+// is read once only (each later open found it empty, or waited for a writer).
+std::string read_config_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot read the configuration file: " + std::strerror(errno));
+  std::string text;
   char buffer[4096];
-  const auto head = static_cast<std::size_t>(in.read(buffer, 4).gcount());
-  const std::string_view start(buffer, head);
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxConfigBytes)
+      throw ConfigError(path + ": more than " + std::to_string(kMaxConfigBytes >> 20) + " MiB: not a configuration file");
+  }
+  if (in.bad()) throw ConfigError(path + ": cannot read the configuration file: " + std::strerror(errno));
+  return text;
+}
+
+// Offset of the first NUL byte in `text` (-1: none). A configuration is text;
+// a binary file is not worth parsing. UTF-16 and UTF-32 text is YAML's too
+// (PowerShell writes UTF-16): YAML tells them by a NUL among the first 4
+// bytes or a byte-order mark, and so does this.
+std::int64_t first_nul_byte(std::string_view text) {
+  const std::string_view start = text.substr(0, 4);
   if (start.find('\0') != std::string_view::npos || start.starts_with("\xFF\xFE") || start.starts_with("\xFE\xFF"))
     return -1;
-  in.clear();
-  in.seekg(0);
-  std::int64_t offset = 0;
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    const auto got = static_cast<std::size_t>(in.gcount());
-    if (const void* nul = std::memchr(buffer, '\0', got)) return offset + (static_cast<const char*>(nul) - buffer);
-    offset += static_cast<std::int64_t>(got);
-  }
-  return -1;
+  const std::size_t at = text.find('\0');
+  return at == std::string_view::npos ? -1 : static_cast<std::int64_t>(at);
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
@@ -151,9 +161,8 @@ struct DocumentStarts final : YAML::EventHandler {
   void OnMapEnd() override {}
 };
 
-std::vector<YAML::Mark> first_two_document_starts(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open it");
+std::vector<YAML::Mark> first_two_document_starts(const std::string& text) {
+  std::istringstream in(text);
   YAML::Parser parser(in);
   DocumentStarts starts;
   while (starts.starts.size() < 2 && parser.HandleNextDocument(starts)) {
@@ -170,19 +179,20 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
   if (std::filesystem::is_directory(path)) {
     throw ConfigError(path + ": is a directory, not a configuration file");
   }
-  if (const std::int64_t at = first_nul_byte(path); at >= 0) {  // yaml-cpp would name an odd escape
+  const std::string text = read_config_text(path);
+  if (const std::int64_t at = first_nul_byte(text); at >= 0) {  // yaml-cpp would name an odd escape
     throw ConfigError(path + ": not a YAML text file (a NUL byte at offset " + std::to_string(at) + ")");
   }
   std::vector<YAML::Mark> starts;  // of the first two documents
   YAML::Node root;
   try {
-    starts = first_two_document_starts(path);
+    starts = first_two_document_starts(text);
     if (starts.size() == 2 && starts[1].pos == starts[0].pos) {
       throw ConfigError(path + ":" + std::to_string(starts[0].line + 1) +
                         ": YAML syntax error: the file cannot be read past this point (a ',' outside brackets?)");
     }
     if (starts.empty()) return;  // empty file: defaults stand
-    root = YAML::LoadFile(path);  // the first document
+    root = YAML::Load(text);  // the first document
   } catch (const YAML::Exception& e) {
     throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " +
                       e.msg);

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 #include "evlife/io/event_reader.h"
+#include "evlife/io/output_path.h"
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
@@ -123,6 +124,22 @@ void run_plain(render::AugmentedSource& source, RunResult& result, const std::at
 }
 
 
+// The report's folder: each file named in it is checked against the input
+// (`eval evo/runs.csv -o evo` wrote its runs.csv over the recording).
+class ReportDir {
+ public:
+  explicit ReportDir(const EvaluationOptions& args) : dir_(args.output), input_(args.input) {}
+  fs::path operator/(const std::string& name) const {
+    fs::path path = dir_ / name;
+    if (const auto refusal = io::output_overwrites_input(input_, path.string())) throw OutputError(*refusal);
+    return path;
+  }
+
+ private:
+  fs::path dir_;
+  std::string input_;
+};
+
 void write_png(const fs::path& path, const cv::Mat& img) {
   try {
     render::write_image(path.string(), img);
@@ -168,7 +185,7 @@ const RunResult* find_run(const std::vector<RunResult>& runs, int n, bool reg) {
 }
 
 // Histogram series of the given runs, bins in `scale` units, up to x_max (in those units).
-void histogram_outputs(const fs::path& dir, const std::string& stem, const std::string& title,
+void histogram_outputs(const ReportDir& dir, const std::string& stem, const std::string& title,
                        const std::string& x_label, double scale,
                        const std::vector<std::pair<const RunResult*, const render::Histogram*>>& series,
                        double x_max) {
@@ -247,7 +264,7 @@ std::string empty_instants_note(const SharpnessResult& sharp) {
 void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
     [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
+  const ReportDir dir(args);
   // Fig. 10: lifetime histogram for N = 5 with and without regularization.
   std::vector<std::pair<const RunResult*, const render::Histogram*>> lifetime_series, speed_series;
   const RunResult* n5r = find_run(runs, 5, true);
@@ -285,7 +302,7 @@ void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_un
 void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
     [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
+  const ReportDir dir(args);
   // Fig. 9: CDF of |prediction error|.
   {
     std::vector<render::PlotSeries> plot;
@@ -335,7 +352,7 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
 void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
     [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
+  const ReportDir dir(args);
   // Sharpness and completeness.
   {
     std::vector<render::PlotSeries> plot(kMethods);
@@ -389,7 +406,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
 void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
     [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
+  const ReportDir dir(args);
   // runs.csv
   {
     TextFile csv(dir / "runs.csv");
@@ -412,7 +429,7 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
 void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_unused]] const std::string& description,
     [[maybe_unused]] SensorSize sensor, [[maybe_unused]] const std::vector<RunResult>& runs,
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
-  const fs::path dir(args.output);
+  const ReportDir dir(args);
   // summary.html
   TextFile html(dir / "summary.html");
   html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>evlife eval: " << description

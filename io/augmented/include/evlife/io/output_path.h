@@ -10,14 +10,6 @@
 
 namespace evlife::io {
 
-/// The refusal when `output` names the same file as `input` (through any
-/// link); nothing otherwise (also when either does not exist yet).
-inline std::optional<std::string> output_overwrites_input(const std::string& input, const std::string& output) {
-  std::error_code ec;
-  if (!std::filesystem::equivalent(input, output, ec)) return std::nullopt;
-  return output + " is the input file; refusing to overwrite it";
-}
-
 /// True when two outputs name one file: through links (a link whose target
 /// does not exist yet too), "." and "..", whether or not the file exists.
 inline bool outputs_name_one_file(const std::string& a, const std::string& b) {
@@ -36,6 +28,16 @@ inline bool outputs_name_one_file(const std::string& a, const std::string& b) {
     return e ? p.lexically_normal() : canonical;
   };
   return resolved(a) == resolved(b);
+}
+
+/// The refusal when `output` names the same file as an existing `input`
+/// (through any link, also through folders the output's path creates:
+/// "new/../in.csv", which equivalent() cannot compare before `new` exists);
+/// nothing otherwise.
+inline std::optional<std::string> output_overwrites_input(const std::string& input, const std::string& output) {
+  std::error_code ec;
+  if (!std::filesystem::exists(input, ec) || !outputs_name_one_file(input, output)) return std::nullopt;
+  return output + " is the input file; refusing to overwrite it";
 }
 
 /// The refusal of an output that exists and is not a regular file (a folder,
