@@ -176,7 +176,7 @@ TEST_F(RenderCliTest, AVideoIsWrittenToARegularFileOnly) {
 
 // JPEG holds at most 65500 px a side: a wider .avi frame is refused by name
 // (OpenCV's own AVI writer wrapped the side at 65536: a corrupt video, exit 0).
-TEST_F(RenderCliTest, AnAviFrameWiderThanJpegAllowsIsRefused) {
+TEST_F(RenderCliTest, AVideoFrameWiderThanItsCodecAllowsIsRefused) {
   const std::string csv = path("wide.csv");
   std::ofstream(csv) << "x,y,t,p\n0,0,1000,1\n2099,1,2000,0\n";
   const std::string avi = path("wide.avi");
@@ -186,6 +186,14 @@ TEST_F(RenderCliTest, AnAviFrameWiderThanJpegAllowsIsRefused) {
             std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(avi));
+  // MPEG-4's encoder takes 8191 px a side: a wider .mp4 is said so, not "a missing encoder".
+  const std::string mp4 = path("wide.mp4");
+  const auto m = run("render '" + csv + "' -o '" + mp4 + "' --fps 1000 --scale 4 --sensor 2100x2 -q");
+  EXPECT_EQ(m.exit_code, 4) << m.output;
+  EXPECT_NE(m.output.find("cannot write the video " + mp4 + ": its frames of 8500x126 px exceed MPEG-4's 8191 px a side"),
+            std::string::npos)
+      << m.output;
+  EXPECT_FALSE(std::filesystem::exists(mp4));
 }
 
 TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {

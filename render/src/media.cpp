@@ -77,20 +77,23 @@ void write_image(const std::string& path, const cv::Mat& image) {
 cv::Mat read_image(const std::string& path) { return backend().read_image(path); }
 
 std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::Size frame_size) {
-  // JPEG stores 16-bit sides and FFmpeg's MJPEG encoder refuses more than
-  // 65500: OpenCV then fell back to its own AVI writer, whose JPEGs wrapped
-  // the side at 65536 (a corrupt video, exit 0).
-  constexpr int kMaxJpegSidePx = 65500;
-  if (std::string_view(video_codec(path)) == "MJPG" &&
-      (frame_size.width > kMaxJpegSidePx || frame_size.height > kMaxJpegSidePx)) {
+  // The largest side each codec's encoder takes: JPEG stores 16-bit sides and
+  // FFmpeg's MJPEG encoder refuses more than 65500 (OpenCV then fell back to
+  // its own AVI writer, whose JPEGs wrapped the side at 65536: a corrupt
+  // video, exit 0); FFmpeg's MPEG-4 part 2 encoder refuses more than 8191 (a
+  // 1280x720 camera at --scale 3 in compare mode: said to be "a missing
+  // encoder").
+  const std::string_view codec = video_codec(path);
+  const bool avi = codec == "MJPG";
+  const int max_side_px = avi ? 65500 : 8191;
+  if (frame_size.width > max_side_px || frame_size.height > max_side_px) {
     throw std::runtime_error("cannot write the video " + path + ": its frames of " + std::to_string(frame_size.width) +
-                             "x" + std::to_string(frame_size.height) + " px exceed JPEG's " +
-                             std::to_string(kMaxJpegSidePx) +
-                             " px a side (codec MJPG); use a smaller --scale, or a directory of PNG frames");
+                             "x" + std::to_string(frame_size.height) + " px exceed " + (avi ? "JPEG" : "MPEG-4") +
+                             "'s " + std::to_string(max_side_px) + " px a side (codec " + std::string(codec) +
+                             "); use a smaller --scale, " + (avi ? "" : ".avi (MJPG), ") + "or a directory of PNG frames");
   }
   auto video = backend().open_video(path, fps, frame_size);
   if (!video) {
-    const bool avi = std::string_view(video_codec(path)) == "MJPG";
     throw std::runtime_error("cannot open the video " + path + " for writing with codec " + video_codec(path) +
                              " (missing encoder or unwritable path); try " +
                              std::string(avi ? "a writable folder, or" : ".avi (MJPG) or") + " a directory of PNG frames");
