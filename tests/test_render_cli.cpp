@@ -357,16 +357,38 @@ TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
   ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("g.bin") + "' --to 0.2 -q").exit_code, 0);
   fs::copy_file(path("g.bin"), path("cut.bin"));
   fs::resize_file(path("cut.bin"), fs::file_size(path("g.bin")) - 7);
-  for (const std::string cut : {"cut.aedat", "cut.bin"}) {
+  ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("cut.csv") + "' --to 0.2 -q").exit_code, 0);
+  std::ofstream(path("cut.csv"), std::ios::app) << "garbage\n";
+  for (const std::string cut : {"cut.aedat", "cut.bin", "cut.csv"}) {
     const std::string dir = path("ev_" + cut);
     const auto r = run("eval '" + path(cut) + "' -o '" + dir + "' -q");
     EXPECT_EQ(r.exit_code, 3) << r.output;
     EXPECT_NE(r.output.find("holds the evaluation of the"), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(dir + "/runs.csv")) << cut;
+    // The compare frame of the events before the fault (the fault in the sampling skipped it).
+    EXPECT_TRUE(fs::exists(dir + "/compare_frame.png")) << cut;
     std::ifstream html(dir + "/summary.html");
     const std::string text((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("stopped by an input fault"), std::string::npos) << cut;
   }
+}
+
+// Events the frames leave out (outside a --sensor smaller than the events')
+// are counted in the summary and summary.html; the sharpness covered the crop
+// without a word, while the runs counted every event.
+TEST_F(RenderCliTest, EvalSaysWhichEventsTheFramesLeftOut) {
+  ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("g.csv") + "' --to 0.2 -q").exit_code, 0);
+  auto r = run("eval '" + path("g.csv") + "' -o '" + path("whole") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("not in the frames"), std::string::npos) << r.output;
+  r = run("eval '" + path("g.csv") + "' -o '" + path("crop") + "' --sensor 64x64");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at = r.output.find("not in the frames");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" outside the sensor, 0 older than their pixel's event", at), std::string::npos) << r.output;
+  std::ifstream html(path("crop") + "/summary.html");
+  const std::string text((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Not in the frames (the runs count them): "), std::string::npos);
 }
 
 std::vector<std::string> split_csv(const std::string& line) {

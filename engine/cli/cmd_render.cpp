@@ -253,10 +253,7 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
   std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
                static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
                static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
-  if (st.out_of_sensor + st.late > 0) {
-    std::fprintf(stdout, "  ignored             %llu outside the sensor, %llu older than their pixel's event\n",
-                 static_cast<unsigned long long>(st.out_of_sensor), static_cast<unsigned long long>(st.late));
-  }
+  if (render::ignored_events(st) > 0) std::fprintf(stdout, "  ignored             %s\n", render::ignored_events_text(st).c_str());
   std::fprintf(stdout, "  time range          %s%s\n",
                format_time_range(r.first_t_us, r.last_t_us).c_str(),
                r.exhausted ? "" : " (read so far)");

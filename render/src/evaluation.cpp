@@ -56,35 +56,19 @@ class TapSource final : public render::AugmentedSource {
   const std::atomic<bool>* stop_;
 };
 
-// The measuring pass with rendering: sharpness at every sample instant and the compare frame.
-void run_with_sharpness(render::AugmentedSource& source, RunResult& result, const EvaluationOptions& args,
-                        SharpnessResult& sharp) {
-  TapSource tap(source, result, args.stop);
-  const SensorSize sensor = source.sensor();
-  render::ActiveEventSet set(sensor, true);
-  render::FixedWindowMap window(sensor);
-  render::RenderCursor cursor(tap, set, &window);
-  const auto first = cursor.first_t_us();
-  if (!first) return;
-  render::FrameStyle style;
-  style.scale = FrameStyle::scale_to_fit(sensor.width, sensor.height, 384);
-  render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
+// run_with_sharpness's sampling: the sharpness at every instant, the compare
+// frame at its instant, then the rest of the recording read.
+template <class DrawCompareFrame>
+void sample_sharpness(render::RenderCursor& cursor, const render::ActiveEventSet& set,
+                      const render::FixedWindowMap& window, const EvaluationOptions& args, std::int64_t first_t_us,
+                      const DrawCompareFrame& draw_compare_frame, SharpnessResult& sharp) {
   std::array<cv::Mat, kMethods> masks;
-  // At --frame-at itself (not the sample after it), or at the last event when
-  // the recording ends before it. The cursor is never past that instant here.
-  const auto draw_compare_frame = [&] {
-    std::int64_t t = render::clock_add_us(*first, args.frame_at_us);
-    cursor.advance_to(t);
-    if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
-    composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
-    sharp.compare_t_s = seconds_between(*first, t);
-  };
   const std::int64_t step = args.sample_every_us;
   for (std::int64_t rel = step;;) {
     // The loop reads no event itself: a pause of an hour is 72,000 instants.
     if (args.stop != nullptr && args.stop->load(std::memory_order_relaxed)) throw EvaluationStopped{};
     std::int64_t t = 0;
-    if (__builtin_add_overflow(*first, rel, &t)) break;  // past the clock's end
+    if (__builtin_add_overflow(first_t_us, rel, &t)) break;  // past the clock's end
     if (sharp.compare_frame.empty() && args.frame_at_us <= rel) draw_compare_frame();
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) break;
@@ -98,7 +82,7 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
       // corrupt lifetime, active for ever, kept an hour's pause sampled).
       const auto next = cursor.next_t_us();
       const auto step_u = static_cast<std::uint64_t>(step), rel_u = static_cast<std::uint64_t>(rel);
-      const std::uint64_t last_empty_rel = next && *next > t ? (span_us(*first, *next) - 1) / step_u * step_u : rel_u;
+      const std::uint64_t last_empty_rel = next && *next > t ? (span_us(first_t_us, *next) - 1) / step_u * step_u : rel_u;
       sharp.empty_instants += (last_empty_rel - rel_u) / step_u + 1;
       if (last_empty_rel > static_cast<std::uint64_t>(INT64_MAX)) break;
       rel = static_cast<std::int64_t>(last_empty_rel);
@@ -115,6 +99,46 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   if (sharp.compare_frame.empty()) draw_compare_frame();  // --frame-at after the last sample
   cursor.advance_to(INT64_MAX);  // the statistics cover the whole recording
 }
+
+// The measuring pass with rendering: sharpness at every sample instant and the compare frame.
+void run_with_sharpness(render::AugmentedSource& source, RunResult& result, const EvaluationOptions& args,
+                        SharpnessResult& sharp) {
+  TapSource tap(source, result, args.stop);
+  const SensorSize sensor = source.sensor();
+  render::ActiveEventSet set(sensor, true);
+  render::FixedWindowMap window(sensor);
+  render::RenderCursor cursor(tap, set, &window);
+  const auto first = cursor.first_t_us();
+  if (!first) return;
+  render::FrameStyle style;
+  style.scale = FrameStyle::scale_to_fit(sensor.width, sensor.height, 384);
+  render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
+  // At --frame-at itself (not the sample after it), or at the last event when
+  // the recording ends before it. The cursor is never past that instant here.
+  const auto draw_compare_frame = [&] {
+    std::int64_t t = render::clock_add_us(*first, args.frame_at_us);
+    cursor.advance_to(t);
+    if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
+    composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
+    sharp.compare_t_s = seconds_between(*first, t);
+  };
+  const auto count_ignored = [&] { sharp.frame_events = set.stats(); };
+  try {
+    sample_sharpness(cursor, set, window, args, *first, draw_compare_frame, sharp);
+  } catch (const io::ReadError&) {
+    // A fault of the input: the compare frame of the events before it (at
+    // --frame-at, or at the last of them), and their counts, then the fault.
+    if (sharp.compare_frame.empty() && cursor.events_fed() > 0) {
+      const std::int64_t t = std::min(render::clock_add_us(*first, args.frame_at_us), cursor.last_fed_t_us());
+      composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
+      sharp.compare_t_s = seconds_between(*first, t);
+    }
+    count_ignored();
+    throw;
+  }
+  count_ignored();
+}
+
 
 void run_plain(render::AugmentedSource& source, RunResult& result, const std::atomic<bool>* stop) {
   TapSource tap(source, result, stop);
@@ -472,6 +496,8 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
           " when, in addition, its horizontal or vertical run is &le; 2 px. Thin-edge share = thin-edge pixels /"
           " drawn pixels. Completeness = share of the edge pixels of the best fixed window at that instant (the one"
           " with the most thin-edge pixels) that the image draws within 1 px.</p>\n";
+  if (render::ignored_events(sharp.frame_events) > 0)
+    html << "<p>Not in the frames (the runs count them): " << render::ignored_events_text(sharp.frame_events) << ".</p>\n";
   if (!sharp.compare_frame.empty()) {
     html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
          << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n";
@@ -596,6 +622,10 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  100.0 * r.share_with_prediction(), r.median_lifetime_ms(),
                  100.0 * r.abs_error_us.cdf_at_bin_end(99), r.median_error_over_lifetime());
   }
+  // Never a silent drop: the frames leave these out (a --sensor smaller than the events', a corrupt time).
+  if (render::ignored_events(sharp.frame_events) > 0)
+    std::fprintf(out, "  not in the frames          %s (the runs above count them)\n",
+                 render::ignored_events_text(sharp.frame_events).c_str());
   if (sharp.samples.empty()) {
     if (!runs.empty()) std::fprintf(out, "  sharpness: %s\n", no_sharpness_instant(args, runs[ev.primary_index], sharp).c_str());
     return;

@@ -25,6 +25,7 @@
 #include "evlife/algo/event.h"
 #include "evlife/algo/lifetime_options.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/render/active_event_set.h"
 #include "evlife/render/histogram.h"
 #include "evlife/render/image_quality.h"
 
@@ -137,6 +138,9 @@ struct SharpnessResult {
   std::uint64_t empty_instants = 0;
   cv::Mat compare_frame;
   double compare_t_s = 0.0;
+  /// What the frames' map (sharpness, completeness, compare frame) was fed:
+  /// ignored_events() of it were left out. The runs count every event.
+  ActiveEventSetStats frame_events;
 };
 
 
