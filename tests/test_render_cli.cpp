@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -174,26 +175,21 @@ TEST_F(RenderCliTest, AVideoIsWrittenToARegularFileOnly) {
   }
 }
 
-// JPEG holds at most 65500 px a side: a wider .avi frame is refused by name
-// (OpenCV's own AVI writer wrapped the side at 65536: a corrupt video, exit 0).
+// A frame wider than its codec's encoder takes is refused by name: JPEG holds
+// at most 65500 px a side (OpenCV's own AVI writer wrapped the side at 65536:
+// a corrupt video, exit 0), FFmpeg's MPEG-4 encoder 8191 (said to be "a
+// missing encoder").
 TEST_F(RenderCliTest, AVideoFrameWiderThanItsCodecAllowsIsRefused) {
   const std::string csv = path("wide.csv");
   std::ofstream(csv) << "x,y,t,p\n0,0,1000,1\n2099,1,2000,0\n";
-  const std::string avi = path("wide.avi");
-  const auto r = run("render '" + csv + "' -o '" + avi + "' --fps 1000 --scale 32 --sensor 2100x2 -q");
-  EXPECT_EQ(r.exit_code, 4) << r.output;
-  EXPECT_NE(r.output.find("cannot write the video " + avi + ": its frames of 67300x126 px exceed JPEG's 65500 px a side"),
-            std::string::npos)
-      << r.output;
-  EXPECT_FALSE(std::filesystem::exists(avi));
-  // MPEG-4's encoder takes 8191 px a side: a wider .mp4 is said so, not "a missing encoder".
-  const std::string mp4 = path("wide.mp4");
-  const auto m = run("render '" + csv + "' -o '" + mp4 + "' --fps 1000 --scale 4 --sensor 2100x2 -q");
-  EXPECT_EQ(m.exit_code, 4) << m.output;
-  EXPECT_NE(m.output.find("cannot write the video " + mp4 + ": its frames of 8500x126 px exceed MPEG-4's 8191 px a side"),
-            std::string::npos)
-      << m.output;
-  EXPECT_FALSE(std::filesystem::exists(mp4));
+  for (const auto& [name, scale, limit] : {std::tuple{"wide.avi", "32", "67300x126 px exceed JPEG's 65500 px a side"},
+                                           std::tuple{"wide.mp4", "4", "8500x126 px exceed MPEG-4's 8191 px a side"}}) {
+    const std::string video = path(name);
+    const auto r = run("render '" + csv + "' -o '" + video + "' --fps 1000 --scale " + scale + " --sensor 2100x2 -q");
+    EXPECT_EQ(r.exit_code, 4) << r.output;
+    EXPECT_NE(r.output.find("cannot write the video " + video + ": its frames of " + limit), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(video));
+  }
 }
 
 TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
