@@ -826,6 +826,16 @@ TEST_F(CliTest, ARefusedRunLeavesAnExistingOutputAsItWas) {
     EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
     EXPECT_TRUE(evlife::test::read_text_file(out) == before) << flags;
   }
+  // A video whose frames its encoder cannot take (MPEG-4: 8191 px a side; compare mode of a 3000 px
+  // sensor) is refused before the run, -o as it was (it failed after the whole run, exit 4).
+  const std::string wide = path("wide.csv").string();
+  std::ofstream(wide) << "x,y,t,p\n0,0,1000,1\n2999,1,2000,0\n";
+  const RunResult large = run("run '" + wide + "' --sensor 3000x2 --mode compare --fps 100 -q --video " +
+                              path("w.mp4").string() + " -o " + out);
+  EXPECT_EQ(large.exit_code, 4) << large.output;
+  EXPECT_NE(large.output.find("exceed MPEG-4's 8191 px a side"), std::string::npos) << large.output;
+  EXPECT_NE(large.output.find(out + " left as it was"), std::string::npos) << large.output;
+  EXPECT_TRUE(evlife::test::read_text_file(out) == before);
 }
 
 // An input that fails while the output fails too: the output's error decides

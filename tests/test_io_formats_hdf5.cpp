@@ -292,7 +292,11 @@ TEST(IoFormatsHdf5, AugmentedColumnsThatDoNotMatchAreNamed) {
     return r.error ? std::string(r.error->what()) : std::string();
   };
   const std::string no_vy = edited("no_vy.h5", [](hid_t file) { EXPECT_GE(H5Ldelete(file, "vy", H5P_DEFAULT), 0); });
-  EXPECT_NE(error_of(no_vy).find("'vy' is missing"), std::string::npos) << error_of(no_vy);
+  EXPECT_NE(error_of(no_vy).find("'vy' is missing (the file holds 'lifetime')"), std::string::npos) << error_of(no_vy);
+  const std::string no_lifetime =
+      edited("no_lifetime.h5", [](hid_t file) { EXPECT_GE(H5Ldelete(file, "lifetime", H5P_DEFAULT), 0); });
+  EXPECT_NE(error_of(no_lifetime).find("'lifetime' is missing (the file holds 'vx')"), std::string::npos)
+      << error_of(no_lifetime);
   const std::string short_lifetime = edited("short.h5", [&](hid_t file) {
     EXPECT_GE(H5Ldelete(file, "lifetime", H5P_DEFAULT), 0);
     const std::vector<float> shorter(written.size() - 1, 1.0f);
@@ -1319,6 +1323,27 @@ std::vector<Event> decode(const std::string& path) {
   std::vector<Event> all, chunk(4096);
   while (const std::size_t n = reader->read(chunk)) all.insert(all.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
   return all;
+}
+
+// evlife's .h5 with one augmented column deleted is named by every command
+// that reads evlife's output (exit 3), never taken as plain events and
+// estimated again (info, render, eval and convert did so, exit 0).
+TEST(IoFormatsConvertCli, ADamagedAugmentedFileIsNamedNotEstimatedAgain) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("no_vx.h5");
+  write_augmented(path, make_events(5'000, {64, 48}), SensorSize{64, 48});
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_GE(H5Ldelete(file, "vx", H5P_DEFAULT), 0);
+  H5Fclose(file);
+  for (const std::string& command :
+       {"info " + path, "render " + path + " --at 0.01 -q -o " + dir.file("f.png"),
+        "eval " + path + " -q -o " + dir.file("ev"), "convert " + path + " -q " + dir.file("c.h5")}) {
+    const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, command, fs::temp_directory_path() / "evlife_test_hdf5_cli.log");
+    EXPECT_EQ(r.exit_code, 3) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("HDF5 dataset 'vx' is missing (the file holds 'lifetime')"), std::string::npos)
+        << command << ": " << r.output;
+  }
 }
 
 TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {

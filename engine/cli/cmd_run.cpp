@@ -637,6 +637,8 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: %s: %s\n", source->describe().c_str(), e.what());
     return kExitUsage;
   }
+  // The frames of `evlife render` (its upscaling too), whatever the sensor.
+  args.render.style.scale = render::FrameStyle::default_scale(source->sensor_size().width, source->sensor_size().height);
   // The frames' folder or video before -o: a bad frame path must not have
   // emptied an existing output first.
   std::unique_ptr<render::FrameSink> frame_sink;
@@ -646,7 +648,12 @@ int run_engine(int argc, char** argv) {
     } else if (!args.video.empty()) {
       // As `evlife render`: real time up to kMaxVideoFps, slow motion beyond (an .avi at
       // thousands of fps was written corrupt).
-      frame_sink = std::make_unique<render::VideoFrameSink>(args.video, std::min(args.render.fps, render::kMaxVideoFps));
+      auto video = std::make_unique<render::VideoFrameSink>(args.video, std::min(args.render.fps, render::kMaxVideoFps));
+      // Its encoder takes these frames (a frame too large for MPEG-4 failed at the end of the run).
+      const cv::Size frame = render::FrameComposer(render::parse_view_mode(args.render.mode), args.render.style,
+                                                   args.render.mode).frame_size(source->sensor_size());
+      video->check(frame.width, frame.height);
+      frame_sink = std::move(video);
     }
   } catch (const std::runtime_error& e) {
     std::fprintf(stderr, "evlife run: output error: %s%s\n", e.what(),
@@ -670,8 +677,6 @@ int run_engine(int argc, char** argv) {
 
   const bool rendering = !args.frames_dir.empty() || !args.video.empty() || args.window;
   if (rendering) args.engine.render_batches = 16;
-  // The frames of `evlife render` (its upscaling too), whatever the sensor.
-  args.render.style.scale = render::FrameStyle::default_scale(source->sensor_size().width, source->sensor_size().height);
   std::optional<engine::Engine> eng;
   std::unique_ptr<engine::RenderStage> render_stage;
   try {

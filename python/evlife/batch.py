@@ -24,6 +24,7 @@ GIL released), so the workers need evlife importable (PYTHONPATH or an
 installed package) and the paths readable where they run.
 """
 import contextlib
+import functools
 import operator
 import os
 import shutil
@@ -373,6 +374,21 @@ def _client(scheduler, workers):
     return client, [client]
 
 
+def _config_read_once(function):
+    """`function` (process_files, process_slices) given a configuration that is
+    a pipe (config="/dev/stdin", <(...), a FIFO) reads a copy of it in $TMPDIR,
+    removed when it returns: its check of the options and then every task
+    opened it again, found it empty, and the defaults stood, silently."""
+    @functools.wraps(function)
+    def wrapper(*args, config=None, **kwargs):
+        if config is None:
+            return function(*args, config=config, **kwargs)
+        with _streams.readable(config) as copy:
+            return function(*args, config=copy, **kwargs)
+    return wrapper
+
+
+@_config_read_once
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
                   extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
                   topic=None, time_unit=None, **options):
@@ -431,7 +447,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     try:
         client, to_close = _client(scheduler, workers)
     except KeyboardInterrupt:  # no task submitted: every row says nothing was written
-        raise _interrupted([None] * len(paths), paths, outputs, run, before, scheduler is None) from None
+        # No task was submitted, to any cluster: every row is "nothing written".
+        raise _interrupted([None] * len(paths), paths, outputs, run, before, True) from None
     interrupted = False
     try:
         # Largest recordings first (Dask runs higher priority first): the
@@ -544,6 +561,7 @@ def _join_parts(output, parts):
         os.remove(part)
 
 
+@_config_read_once
 def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
                    sensor=None, config=None, progress=True, topic=None, time_unit=None, **options):
     """One long recording cut into `slices` equal time slices processed in parallel.

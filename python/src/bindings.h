@@ -33,9 +33,14 @@ inline std::string path_from_python(const py::handle& path) {
   try {
     return py::cast<std::filesystem::path>(path).string();
   } catch (const py::cast_error&) {  // pybind's RuntimeError otherwise
-    // A name with a NUL in it is refused by the file system's encoding: its value's fault, not its type's.
-    if (py::isinstance<py::str>(path) && path.cast<std::string>().find('\0') != std::string::npos)
-      throw py::value_error("path: embedded null byte");
+    // A name (str, bytes, os.PathLike) with a NUL in it: its value's fault, not its type's.
+    std::string name;
+    try {
+      const py::module_ os = py::module_::import("os");
+      name = py::bytes(os.attr("fsencode")(os.attr("fspath")(path)));
+    } catch (const py::error_already_set&) {  // no path at all: the TypeError below
+    }
+    if (name.find('\0') != std::string::npos) throw py::value_error("path: embedded null byte");
     const bool file_object = py::hasattr(path, "read") || py::hasattr(path, "write");
     throw py::type_error("expected a path (str, bytes or os.PathLike), got " +
                          py::str(py::type::of(path).attr("__name__")).cast<std::string>() +

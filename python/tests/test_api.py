@@ -131,8 +131,10 @@ def test_odd_but_valid_inputs_are_taken_and_odd_invalid_ones_named(tmp_path):
     with pytest.raises(TypeError, match="expected a 1-D array"):
         evlife.frame(augmented[0], int(events["t"][100]), sensor=(128, 128))
     # A name with a NUL is the value's fault (it said "expected a path ..., got str").
-    with pytest.raises(ValueError, match="embedded null byte"):
-        evlife.scan("rec\0.aedat")
+    import pathlib
+    for name in ("rec\0.aedat", b"rec\0.aedat", pathlib.Path("rec\0.aedat"), "\udcff\0x"):
+        with pytest.raises(ValueError, match="embedded null byte"):
+            evlife.scan(name)
     # read(0) is refused: an empty chunk means the end of the recording.
     with evlife.open(data("reference/garfield.mat")) as reader:
         with pytest.raises(ValueError, match="max_events must be at least 1"):

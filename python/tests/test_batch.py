@@ -132,6 +132,28 @@ def test_a_time_unit_reaches_every_task(tmp_path):
     assert evlife.scan(npy, time_unit="ms")["t_last"] == int(events["t"][-1] // 1000) * 1000
 
 
+def test_a_configuration_from_a_pipe_reaches_every_task(tmp_path):
+    # The options' check read the pipe; each task then found it empty and ran with the defaults.
+    from evlife import batch
+    path = data("reference/garfield.mat")
+    cli("process", path, "-o", tmp_path / "w7.bin", "-q", "--set", "estimator.window_size=7")
+    for run in ("files", "slices"):
+        read_end, write_end = os.pipe()
+        os.write(write_end, b"estimator:\n  window_size: 7\n")
+        os.close(write_end)
+        config = "/proc/self/fd/%d" % read_end
+        try:
+            if run == "files":
+                table = batch.process_files([path], tmp_path / "out", workers=1, config=config, progress=False)
+                output = table[0].output
+            else:
+                output = str(tmp_path / "sl.bin")
+                batch.process_slices(path, output, slices=2, warmup_ms=1e7, workers=1, config=config, progress=False)
+        finally:
+            os.close(read_end)
+        assert open(output, "rb").read() == (tmp_path / "w7.bin").read_bytes(), run
+
+
 def test_time_slices_in_parallel(tmp_path):
     from evlife import batch
     path = data("reference/stripes.mat")
@@ -319,6 +341,21 @@ def test_ctrl_c_while_the_cluster_starts_is_interrupted_with_every_row(tmp_path,
     assert os.listdir(tmp_path / "out") == []
     assert started and started[0].status.name == "closed"
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_ctrl_c_while_connecting_to_a_cluster_says_nothing_was_submitted(tmp_path, monkeypatch):
+    # No task reached the cluster: every row says nothing was written (it said the task "may still
+    # run on your cluster").
+    from evlife import batch
+
+    def connecting(scheduler, workers):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(batch, "_client", connecting)
+    with pytest.raises(evlife.Interrupted) as caught:
+        batch.process_files([data("reference/garfield.mat")], tmp_path / "out", scheduler="tcp://10.255.255.1:8786",
+                            progress=False)
+    assert all("nothing written" in r.error for r in caught.value.partial), caught.value.partial
 
 
 def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):

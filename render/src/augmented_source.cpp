@@ -67,6 +67,8 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
   io::ReadError augmented_error(path, -1, -1, "");
   try {
     augmented = io::open_augmented_reader(path);
+  } catch (const io::AugmentedColumnsError&) {  // evlife's .h5, damaged: said so, not estimated again
+    throw;
   } catch (const io::ReadError& e) {
     if (io::names_augmented_bin(path)) throw;  // named as evlife's output: read as one, or say why not
     augmented_error = e;

@@ -90,7 +90,8 @@ std::unique_ptr<VideoFile> open_video(const std::string& path, double fps, cv::S
     throw std::runtime_error("cannot write the video " + path + ": its frames of " + std::to_string(frame_size.width) +
                              "x" + std::to_string(frame_size.height) + " px exceed " + (avi ? "JPEG" : "MPEG-4") +
                              "'s " + std::to_string(max_side_px) + " px a side (codec " + std::string(codec) +
-                             "); use a smaller --scale, " + (avi ? "" : ".avi (MJPG), ") + "or a directory of PNG frames");
+                             "); draw smaller frames (render's --scale), " + (avi ? "" : "write an .avi (MJPG), ") +
+                             "or write PNG frames to a folder");
   }
   auto video = backend().open_video(path, fps, frame_size);
   if (!video) {

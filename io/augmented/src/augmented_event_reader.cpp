@@ -55,6 +55,8 @@ std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path)
   try {
     if (detail::starts_like_hdf5(head)) return detail::open_augmented_hdf5_reader(path);
     return detail::open_augmented_csv_reader(path);
+  } catch (const AugmentedColumnsError&) {  // evlife's output, damaged: named, never read as plain events
+    throw;
   } catch (const ReadError&) {  // not evlife's output: the caller's other readers say what it is
     return nullptr;
   }

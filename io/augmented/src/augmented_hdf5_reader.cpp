@@ -74,7 +74,11 @@ bool starts_like_hdf5(std::string_view head) {
 
 std::unique_ptr<AugmentedEventReader> open_augmented_hdf5_reader(const std::string& path) {
   auto events = std::make_unique<Hdf5Reader>(path);
-  if (!events->open_float_columns(kFloatColumns)) return nullptr;
+  try {
+    if (!events->open_float_columns(kFloatColumns)) return nullptr;
+  } catch (const ReadError& e) {
+    throw AugmentedColumnsError(e.path(), e.byte_offset(), e.event_index(), e.reason());
+  }
   return std::make_unique<AugmentedHdf5Reader>(std::move(events));
 }
 

@@ -559,8 +559,9 @@ bool Hdf5Reader::open_float_columns(std::span<const char* const> names) {
   if (layout_ != "evlife" || file_ < 0) return false;
   const auto present = std::count_if(names.begin(), names.end(), [&](const char* name) { return exists(file_, name); });
   if (present == 0) return false;
+  const char* held = *std::find_if(names.begin(), names.end(), [&](const char* name) { return exists(file_, name); });
   for (const char* name : names) {
-    const std::string why = !exists(file_, name) ? "is missing (the file holds '" + std::string(names[0]) + "')" : "";
+    const std::string why = !exists(file_, name) ? "is missing (the file holds '" + std::string(held) + "')" : "";
     if (!why.empty()) throw ReadError(path_, -1, -1, "HDF5 dataset '" + std::string(name) + "' " + why);
     const Hid column = open_column(name);
     float_columns_.push_back(column);

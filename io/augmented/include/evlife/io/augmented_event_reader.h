@@ -40,6 +40,13 @@ struct RecordFault {
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us);
 
+/// HDF5 events holding some of evlife's augmented columns but not all, or one
+/// that is no float column of the events' length: evlife's output, damaged.
+/// The callers that fall back to reading a file as plain events do not for it.
+struct AugmentedColumnsError : ReadError {
+  using ReadError::ReadError;
+};
+
 /// Sniffs the .bin magic, else HDF5's signature (then the augmented columns
 /// beside x, y, t, p), else expects the CSV header (a file named .bin: the
 /// magic). Throws ReadError for a missing file or unknown content.
