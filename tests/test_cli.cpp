@@ -735,14 +735,15 @@ TEST_F(CliTest, NoCommandWritesOverItsInput) {
       EXPECT_TRUE(evlife::test::read_text_file(in) == before) << command << " changed its input";
     }
   }
-  // eval's report folder holding the recording under a name of its report: refused when it comes to
-  // that file (its runs.csv was written over the recording, exit 0).
+  // eval's report folder holding the recording under a name of its report: refused before any work,
+  // nothing written (its runs.csv was written over the recording, exit 0).
   fs::create_directories(path("evo"));
   fs::copy_file(in, path("evo/runs.csv"));
   const RunResult report = run("eval " + path("evo/runs.csv").string() + " -q -o " + path("evo").string());
-  EXPECT_EQ(report.exit_code, 4) << report.output;
+  EXPECT_EQ(report.exit_code, 2) << report.output;
   EXPECT_NE(report.output.find("runs.csv is the input file"), std::string::npos) << report.output;
   EXPECT_TRUE(evlife::test::read_text_file(path("evo/runs.csv")) == before);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("evo")), fs::directory_iterator()), 1);
   // A recording named like a frame, or a video's name linked to it: render read it, then drew over it.
   const std::string png = path("recording.png").string();
   fs::copy_file(kRpgText, png);

@@ -99,6 +99,17 @@ TEST(LifetimeColormap, ANarrowRangeIsLabelledAtItsEnds) {
   const int narrow = label_pixels(6000.0, 9000.0);
   EXPECT_GT(narrow, 0);
   EXPECT_GT(label_pixels(3000.0, 4000.0), 0);
+  // A range of hundreds of decades (--lifetime-range 1e-300:1e9 in ms) keeps at most 7 ticks (it
+  // drew one per decade, ~300 overprinted labels): the tick marks are white at x = 6 + 16 + 2.
+  const auto ticks = [](double min_us, double max_us) {
+    const cv::Mat legend = evlife::render::LifetimeColormap(min_us, max_us).legend(400);
+    int n = 0;
+    for (int y = 24; y < legend.rows; ++y) n += legend.at<cv::Vec3b>(y, 24) == cv::Vec3b(255, 255, 255) ? 1 : 0;
+    return n;
+  };
+  EXPECT_GE(ticks(300.0, 30'000.0), 3);
+  EXPECT_LE(ticks(1e-297, 1e12), 7);
+  EXPECT_GE(ticks(1e-297, 1e12), 2);
 }
 
 TEST(ActiveEventMap, ConstantSpeedEdgeIsAThinLineAtTheEdgeWhateverTheSpeed) {

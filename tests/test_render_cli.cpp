@@ -22,6 +22,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "cli_runner.h"
+#include "evlife/render/evaluation.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -378,6 +379,12 @@ TEST_F(RenderCliTest, EvalSaysWhichEventsTheFramesLeftOut) {
   auto r = run("eval '" + path("g.csv") + "' -o '" + path("whole") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("not in the frames"), std::string::npos) << r.output;
+  // The names eval refuses to write over its input are the files it writes.
+  std::vector<std::string> written, named = evlife::render::eval::report_file_names();
+  for (const auto& f : fs::directory_iterator(path("whole"))) written.push_back(f.path().filename().string());
+  std::sort(written.begin(), written.end());
+  std::sort(named.begin(), named.end());
+  EXPECT_EQ(written, named);
   r = run("eval '" + path("g.csv") + "' -o '" + path("crop") + "' --sensor 64x64");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto at = r.output.find("not in the frames");

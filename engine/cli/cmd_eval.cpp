@@ -24,6 +24,7 @@
 #include "command.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/output_path.h"
 #include "evlife/render/evaluation.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
@@ -133,6 +134,11 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
   e.output = *out;
+  // The report written over its input, refused before any work (the writers check each file again).
+  for (const std::string& name : render::eval::report_file_names()) {
+    if (const auto refusal = io::output_overwrites_input(e.input, (std::filesystem::path(e.output) / name).string()))
+      throw UsageError(*refusal);
+  }
   if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
   if (const auto s = a.value("frame-at")) {
     e.frame_at_us = parse_time_flag("frame-at", *s);

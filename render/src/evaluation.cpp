@@ -148,6 +148,21 @@ void run_plain(render::AugmentedSource& source, RunResult& result, const std::at
 }
 
 
+// The report's files, each name written once: the writers, summary.html's
+// links and report_file_names() (the refusal of an input among them) take
+// them from here. Stems are written as STEM.png and STEM.csv.
+namespace report {
+constexpr const char* kLifetimeHistogram = "lifetime_histogram";
+constexpr const char* kVelocityHistogram = "velocity_histogram";
+constexpr const char* kVelocityComponents = "velocity_components";
+constexpr const char* kPredictionErrorCdf = "prediction_error_cdf";
+constexpr const char* kSharpness = "sharpness";
+constexpr const char* kSharpnessSummary = "sharpness_summary.csv";
+constexpr const char* kCompareFrame = "compare_frame.png";
+constexpr const char* kRuns = "runs.csv";
+constexpr const char* kSummary = "summary.html";
+}  // namespace report
+
 // The report's folder: each file named in it is checked against the input
 // (`eval evo/runs.csv -o evo` wrote its runs.csv over the recording).
 class ReportDir {
@@ -304,9 +319,9 @@ void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_un
   // Show the bulk (a long tail of slow background edges would flatten the peaks).
   for (const auto& p : lifetime_series) lifetime_max_ms = std::max(lifetime_max_ms, 1.5 * p.second->quantile(0.95) / 1000.0);
   for (const auto& p : speed_series) speed_max = std::max(speed_max, 1.5 * p.second->quantile(0.95));
-  histogram_outputs(dir, "lifetime_histogram", "Lifetime histogram (0.2 ms bins, noise excluded)",
+  histogram_outputs(dir, report::kLifetimeHistogram, "Lifetime histogram (0.2 ms bins, noise excluded)",
                     "lifetime [ms]", 1000.0, lifetime_series, ceil_nice(lifetime_max_ms));
-  histogram_outputs(dir, "velocity_histogram", "Speed of non-noise events", "speed |v| [px/s]", 1.0,
+  histogram_outputs(dir, report::kVelocityHistogram, "Speed of non-noise events", "speed |v| [px/s]", 1.0,
                     speed_series, ceil_nice(speed_max));
   {
     const RunResult& r = primary;
@@ -317,7 +332,7 @@ void write_histograms([[maybe_unused]] const EvaluationOptions& args, [[maybe_un
     RunResult vy_run = RunResult{};
     vy_run.label = "vy (" + r.label + ")";
     vy_run.from_file = vx_run.from_file = true;  // colour by order
-    histogram_outputs(dir, "velocity_components", "Velocity components of non-noise events", "velocity [px/s]",
+    histogram_outputs(dir, report::kVelocityComponents, "Velocity components of non-noise events", "velocity [px/s]",
                       1.0, {{&vx_run, &r.vx_px_s}, {&vy_run, &r.vy_px_s}}, vmax);
   }
 
@@ -358,8 +373,8 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
     o.y_min = 0.0;
     o.y_max = 1.0;
     o.legend_bottom = true;
-    write_png(dir / "prediction_error_cdf.png", render::draw_plot(o, plot));
-    TextFile csv(dir / "prediction_error_cdf.csv");
+    write_png(dir / (std::string(report::kPredictionErrorCdf) + ".png"), render::draw_plot(o, plot));
+    TextFile csv(dir / (std::string(report::kPredictionErrorCdf) + ".csv"));
     csv << "abs_error_ms";
     for (const RunResult* r : with_predictions) csv << ",\"" << r->label << "\"";
     csv << "\n";
@@ -384,7 +399,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
       plot[m].label = kMethodNames[m];
       plot[m].color = render::series_color(static_cast<int>(m == kLifetimeMethod ? 1 : (m == 0 ? 2 : m + 2)));
     }
-    TextFile csv(dir / "sharpness.csv");
+    TextFile csv(dir / (std::string(report::kSharpness) + ".csv"));
     csv << "t_s,method,active_pixels,edge_pixels,thin_edge_pixels,thin_edge_share,mean_edge_thickness_px,"
            "completeness,score\n";
     for (const auto& s : sharp.samples) {
@@ -405,8 +420,8 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
     o.y_min = 0.0;
     o.y_max = 1.0;
     o.legend_bottom = true;
-    write_png(dir / "sharpness.png", render::draw_plot(o, plot));
-    TextFile sum(dir / "sharpness_summary.csv");
+    write_png(dir / (std::string(report::kSharpness) + ".png"), render::draw_plot(o, plot));
+    TextFile sum(dir / report::kSharpnessSummary);
     sum << "method,samples,active_pixels_per_sample,edge_pixels_per_sample,thin_edge_share,mean_edge_thickness_px,"
            "completeness,score\n";
     const double n = static_cast<double>(std::max<std::size_t>(sharp.samples.size(), 1));
@@ -423,7 +438,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
     }
     sum.close();
   }
-  if (!sharp.compare_frame.empty()) write_png(dir / "compare_frame.png", sharp.compare_frame);
+  if (!sharp.compare_frame.empty()) write_png(dir / report::kCompareFrame, sharp.compare_frame);
 
 }
 
@@ -433,7 +448,7 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
   const ReportDir dir(args);
   // runs.csv
   {
-    TextFile csv(dir / "runs.csv");
+    TextFile csv(dir / report::kRuns);
     csv << "run,window_size,regularization,events,noise,noise_share,predictions,median_lifetime_ms,"
            "median_abs_error_ms,share_abs_error_below_10ms,wall_s,share_with_lifetime,share_with_prediction,"
            "median_abs_error_over_lifetime\n";
@@ -455,7 +470,7 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
     [[maybe_unused]] const RunResult& primary, [[maybe_unused]] const SharpnessResult& sharp) {
   const ReportDir dir(args);
   // summary.html
-  TextFile html(dir / "summary.html");
+  TextFile html(dir / report::kSummary);
   html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>evlife eval: " << description
        << "</title><style>body{font-family:sans-serif;max-width:1600px;margin:1em auto}"
           "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
@@ -500,11 +515,14 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
     html << "<p>Not in the frames (the runs count them): " << render::ignored_events_text(sharp.frame_events) << ".</p>\n";
   if (!sharp.compare_frame.empty()) {
     html << "<h2>Compare frame (t = " << fmt("%.3f", sharp.compare_t_s)
-         << " s)</h2><img style=\"max-width:100%\" src=\"compare_frame.png\">\n";
+         << " s)</h2><img style=\"max-width:100%\" src=\"" << report::kCompareFrame << "\">\n";
   }
   html
-       << "<h2>Figures</h2><img src=\"lifetime_histogram.png\"><img src=\"prediction_error_cdf.png\">"
-          "<img src=\"velocity_histogram.png\"><img src=\"velocity_components.png\"><img src=\"sharpness.png\">\n"
+       << "<h2>Figures</h2>";
+  for (const char* stem : {report::kLifetimeHistogram, report::kPredictionErrorCdf, report::kVelocityHistogram,
+                           report::kVelocityComponents, report::kSharpness})
+    html << "<img src=\"" << stem << ".png\">";
+  html << "\n"
        << "<p>The numbers behind every figure are in the CSV file of the same name.</p></body></html>\n";
   html.close();
 }
@@ -602,7 +620,7 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
   const auto& runs = ev.runs;
   const auto& sharp = ev.sharp;
   const auto& description = ev.description;
-  std::fprintf(out, "evlife eval: %s -> %s/summary.html\n", description.c_str(), args.output.c_str());
+  std::fprintf(out, "evlife eval: %s -> %s/%s\n", description.c_str(), args.output.c_str(), report::kSummary);
   if (!runs.empty()) {
     const RunResult& r = runs[ev.primary_index];
     std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
@@ -638,6 +656,15 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                  100.0 * q.sharpness.thin_edge_share(), q.sharpness.mean_edge_thickness_px,
                  100.0 * q.completeness.share(), q.score());
   }
+}
+
+std::vector<std::string> report_file_names() {
+  std::vector<std::string> names{report::kSharpnessSummary, report::kCompareFrame, report::kRuns, report::kSummary};
+  for (const char* stem : {report::kLifetimeHistogram, report::kVelocityHistogram, report::kVelocityComponents,
+                           report::kPredictionErrorCdf, report::kSharpness}) {
+    for (const char* extension : {".png", ".csv"}) names.push_back(stem + std::string(extension));
+  }
+  return names;
 }
 
 void write_evaluation(const EvaluationOptions& options, const Evaluation& ev) {

@@ -80,6 +80,12 @@ cv::Mat LifetimeColormap::legend(int height) const {
       if (std::fabs(std::log10(v) - std::round(std::log10(v))) < 1e-6) thinned.push_back(v);
     ticks = thinned;
   }
+  if (ticks.size() > 7) {  // still crowded (a range of hundreds of decades overprinted): every k-th decade
+    const std::size_t every = (ticks.size() + 6) / 7;
+    std::vector<double> spaced;
+    for (std::size_t i = 0; i < ticks.size(); i += every) spaced.push_back(ticks[i]);
+    ticks = spaced;
+  }
   for (double v : ticks) {
     const double u = (std::log(v) - log_min_) * inv_log_span_;
     const int y = top + static_cast<int>(std::lround((1.0 - u) * (bar_h - 1)));

@@ -170,6 +170,9 @@ std::string comparison_runs_refusal(const LifetimeOptions& configured);
 
 Evaluation evaluate(const EvaluationOptions& options);
 void write_evaluation(const EvaluationOptions& options, const Evaluation& evaluation);
+
+/// The names of every file write_evaluation() writes into its folder.
+std::vector<std::string> report_file_names();
 void print_evaluation_summary(std::FILE* out, const EvaluationOptions& options,
                               const Evaluation& evaluation);
 
