@@ -1,5 +1,7 @@
 #include "evlife/engine/tile_worker.h"
 
+#include <type_traits>
+
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/thread_cpu_clock.h"
 
@@ -51,21 +53,24 @@ StepResult TileWorker::step() noexcept {
   std::size_t kept = kept_;
   const std::uint64_t rejected_before = estimator_.stats().rejected();
   std::uint64_t rejected_margin = 0;  // rejections of the margin events fed: their owners count theirs
-  if (state_.layout.owner_only()) {  // every event fed is owned
+  // One loop, compiled twice: with margins it reads the rejection counters
+  // around each event; owner-only (every event fed is owned) it does not.
+  const auto estimate = [&](auto with_margins) noexcept {
+    constexpr bool kMargins = decltype(with_margins)::value;
     for (std::size_t i = pos_; i < end; ++i) {
       if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
+      [[maybe_unused]] std::uint64_t rejected = 0;
+      if constexpr (kMargins) rejected = estimator_.stats().rejected();
       const AugmentedEvent a = estimator_.process(batch->events[i]);
-      if (batch->owned[i] != 0) batch->out[kept++] = a;
+      if (batch->owned[i] != 0) {
+        batch->out[kept++] = a;
+      } else if constexpr (kMargins) {
+        rejected_margin += estimator_.stats().rejected() - rejected;
+      }
     }
-  } else {
-    for (std::size_t i = pos_; i < end; ++i) {
-      if (i + kPrefetchDistance < count) estimator_.prefetch(batch->events[i + kPrefetchDistance]);
-      const std::uint64_t rejected = estimator_.stats().rejected();
-      const AugmentedEvent a = estimator_.process(batch->events[i]);
-      if (batch->owned[i] != 0) batch->out[kept++] = a;
-      else rejected_margin += estimator_.stats().rejected() - rejected;
-    }
-  }
+  };
+  if (state_.layout.owner_only()) estimate(std::false_type{});
+  else estimate(std::true_type{});
   if (const std::uint64_t rejected = estimator_.stats().rejected() - rejected_before - rejected_margin; rejected != 0)
     channel_.counters.rejected.add(rejected);
   channel_.counters.busy_cpu_ns.add(static_cast<std::uint64_t>(thread_cpu_ns() - cpu0));

@@ -446,8 +446,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
     try:
         client, to_close = _client(scheduler, workers)
-    except KeyboardInterrupt:  # no task submitted: every row says nothing was written
-        # No task was submitted, to any cluster: every row is "nothing written".
+    except KeyboardInterrupt:  # no task was submitted, to any cluster: every row is "nothing written"
         raise _interrupted([None] * len(paths), paths, outputs, run, before, True) from None
     interrupted = False
     try:
@@ -583,9 +582,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     if slices < 1:
         raise ValueError("slices must be at least 1")
     parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
-    for target in [output] + parts:  # process_file's and the CLI's rule (a link to it too)
-        if os.path.exists(target) and os.path.exists(path) and os.path.samefile(path, target):
-            raise ValueError("%s is the input file; refusing to overwrite it" % target)
+    for target in [output] + parts:  # the rule of process_file and the CLI, theirs
+        _evlife._refuse_overwriting_input(path, target)
     if not output.endswith(".bin"):
         raise ValueError("process_slices writes a .bin file: %s" % output)
     if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker

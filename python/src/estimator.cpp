@@ -557,6 +557,16 @@ as evlife.process.)");
       "ValueError unless from_s / to_s / time_unit are valid (as evlife.process checks them).");
 
   m.def(
+      "_refuse_overwriting_input",
+      [](const py::object& input, const py::object& output) {
+        if (const auto refusal = io::output_overwrites_input(path_from_python(input), path_from_python(output)))
+          throw py::value_error(*refusal);
+      },
+      py::arg("input"), py::arg("output"),
+      "ValueError when output names the input file (through links, or folders its path creates), as\n"
+      "process_file and the command line refuse it.");
+
+  m.def(
       "_check_sensor", [](const py::object& sensor) { (void)sensor_from_python(sensor); }, py::arg("sensor"),
       "TypeError/ValueError unless sensor is a camera's (width, height), as LifetimeEstimator checks it\n"
       "(without making one: up to 1.4 GB for the largest).");

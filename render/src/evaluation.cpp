@@ -113,32 +113,31 @@ void run_with_sharpness(render::AugmentedSource& source, RunResult& result, cons
   render::FrameStyle style;
   style.scale = FrameStyle::scale_to_fit(sensor.width, sensor.height, 384);
   render::FrameComposer composer(render::parse_view_mode("compare"), style, "compare");
+  const auto compose_at = [&](std::int64_t t) {
+    composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
+    sharp.compare_t_s = seconds_between(*first, t);
+  };
   // At --frame-at itself (not the sample after it), or at the last event when
   // the recording ends before it. The cursor is never past that instant here.
   const auto draw_compare_frame = [&] {
     std::int64_t t = render::clock_add_us(*first, args.frame_at_us);
     cursor.advance_to(t);
     if (cursor.exhausted() && t > cursor.last_fed_t_us()) t = cursor.last_fed_t_us();
-    composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
-    sharp.compare_t_s = seconds_between(*first, t);
+    compose_at(t);
   };
-  const auto count_ignored = [&] { sharp.frame_events = set.stats(); };
   try {
     sample_sharpness(cursor, set, window, args, *first, draw_compare_frame, sharp);
   } catch (const io::ReadError&) {
     // A fault of the input: the compare frame of the events before it (at
-    // --frame-at, or at the last of them), and their counts, then the fault.
-    if (sharp.compare_frame.empty() && cursor.events_fed() > 0) {
-      const std::int64_t t = std::min(render::clock_add_us(*first, args.frame_at_us), cursor.last_fed_t_us());
-      composer.compose(set, window, t, render::clock_span_us(*first, t)).copyTo(sharp.compare_frame);
-      sharp.compare_t_s = seconds_between(*first, t);
-    }
-    count_ignored();
+    // --frame-at, or at the last of them; reading on would meet the fault
+    // again), and their counts, then the fault.
+    if (sharp.compare_frame.empty() && cursor.events_fed() > 0)
+      compose_at(std::min(render::clock_add_us(*first, args.frame_at_us), cursor.last_fed_t_us()));
+    sharp.frame_events = set.stats();
     throw;
   }
-  count_ignored();
+  sharp.frame_events = set.stats();
 }
-
 
 void run_plain(render::AugmentedSource& source, RunResult& result, const std::atomic<bool>* stop) {
   TapSource tap(source, result, stop);

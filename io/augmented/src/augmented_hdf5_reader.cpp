@@ -4,11 +4,11 @@
 // beside them.
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <vector>
 
 #include "augmented_formats.h"
 #include "hdf5_reader.h"
+#include "hdf5_signature.h"
 
 namespace evlife::io::detail {
 namespace {
@@ -67,10 +67,7 @@ class AugmentedHdf5Reader final : public AugmentedEventReader {
 
 }  // namespace
 
-bool starts_like_hdf5(std::string_view head) {
-  static constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-  return head.size() >= sizeof(kSignature) && std::memcmp(head.data(), kSignature, sizeof(kSignature)) == 0;
-}
+bool starts_like_hdf5(std::string_view head) { return starts_with_hdf5_signature(head.data(), head.size()); }
 
 std::unique_ptr<AugmentedEventReader> open_augmented_hdf5_reader(const std::string& path) {
   auto events = std::make_unique<Hdf5Reader>(path);

@@ -19,6 +19,7 @@
 #include "hdf5_lzf_filter.h"
 #include "column_layout.h"  // the time units
 #include "hdf5_open_probe.h"
+#include "hdf5_signature.h"
 #include "reader_registry.h"
 
 namespace evlife::io {
@@ -26,7 +27,6 @@ namespace {
 
 static_assert(std::is_same_v<hid_t, std::int64_t>, "Hdf5Reader::Hid must be hid_t");
 
-constexpr unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1A, '\n'};
 
 // True if every component of `path` ("a/b/c") exists as a link in `file`.
 bool exists(hid_t file, const std::string& path) {
@@ -813,7 +813,7 @@ namespace detail {
 namespace {
 
 SniffResult sniff_hdf5(std::span<const std::byte> head, std::string_view path) {
-  if (head.size() >= sizeof(kSignature) && std::memcmp(head.data(), kSignature, sizeof(kSignature)) == 0) {
+  if (starts_with_hdf5_signature(head.data(), head.size())) {
     return SniffResult::by_content;
   }
   return has_extension(path, ".h5") || has_extension(path, ".hdf5") ? SniffResult::by_extension
