@@ -1314,16 +1314,10 @@ TEST(RunCommand, ProgressLinesSayHowFarThroughTheFile) {
 // refused up front (each allocates the whole sensor's state, ~80 bytes per
 // pixel): a clear exit 2, not the OOM killer after a minute of swapping.
 TEST(RunCommand, WorkersThatCannotFitInMemoryAreRefusedUpFront) {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  long long kib = 0;
-  std::string unit;
-  long long available_kib = -1;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") available_kib = kib;
   // 32 workers x (4096 x 4096 x 2 polarities x 41 bytes, planes in whole
   // 2 MiB pages, + the 202 KB RANSAC table) = 44.1 GB.
-  if (available_kib < 0 || available_kib * 1024 > 40'000'000'000LL) GTEST_SKIP() << "this machine has the memory";
+  const auto available = evlife::test::available_memory_bytes();
+  if (!available || *available > 40'000'000'000ULL) GTEST_SKIP() << "this machine has the memory";
   const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
   const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "run " + in + " --sensor 4096x4096 --workers 32 -q", kCliLog);
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -1335,6 +1329,12 @@ TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(run_cli("run -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --workers 0 -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --tiles 2 -q"), 2);
+  // A margin with untiled polarities would change nothing: refused, not ignored.
+  const auto margin = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source x.mat --margin 2 -q", kCliLog);
+  EXPECT_EQ(margin.exit_code, 2);
+  EXPECT_NE(margin.output.find("--margin 2: with --tiles 1x1 each worker's estimator sees its polarity's whole sensor"),
+            std::string::npos) << margin.output;
+  EXPECT_EQ(run_cli("run --source x.mat --margin 0 --tiles 2x1 --print-config"), 0);
   EXPECT_EQ(run_cli("run --help"), 0);
   EXPECT_EQ(run_cli("run --source x.mat --rt-priority 0 -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --cpus 1,a -q"), 2);

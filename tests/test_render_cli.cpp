@@ -194,6 +194,24 @@ TEST_F(RenderCliTest, AVideoFrameWiderThanItsCodecAllowsIsRefused) {
   }
 }
 
+// A frame larger than the memory there is is refused before anything is
+// drawn or written, naming its size and the flag to lower: exit 2, where
+// OpenCV's allocation failed as "unexpected error", exit 1.
+TEST_F(RenderCliTest, AFrameLargerThanTheMemoryIsRefusedUpFront) {
+  // 3 x (4096 x 32 + 36) px wide, 4096 x 32 + 46 px high (compare, caption): 154.7 GB.
+  const auto available = evlife::test::available_memory_bytes();
+  if (!available || *available > 150'000'000'000ULL) GTEST_SKIP() << "this machine has the memory";
+  const std::string csv = path("two.csv");
+  std::ofstream(csv) << "x,y,t,p\n0,0,1000,1\n1,1,2000,0\n";
+  const std::string png = path("huge.png");
+  const auto r = run("render '" + csv + "' -o '" + png + "' --at 1ms --mode compare --scale 32 --sensor 4096x4096 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("a frame of 393324x131118 px needs at least 154.7 GB, more than the"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("(sensor 4096x4096 at --scale 32): lower --scale"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(png));
+}
+
 TEST_F(RenderCliTest, VideoHasOneFramePerInstant) {
   // 0 .. 0.3 s at 20 fps: instants 0, 0.05, ..., 0.30 = 7 frames.
   for (const char* name : {"v.avi", "v.mp4"}) {

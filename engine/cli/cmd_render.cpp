@@ -41,6 +41,7 @@
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
+#include "memory_check.h"
 
 namespace evlife::cli::render_command {
 namespace {
@@ -333,6 +334,12 @@ int run_render(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
     return kExitInput;
+  }
+  const cv::Size frame = render::frame_size_for(args.job, source->sensor());
+  if (const auto refusal = frame_memory_refusal(frame.width, frame.height)) {
+    std::fprintf(stderr, "evlife render: %s (sensor %dx%d at --scale %d): lower --scale\n", refusal->c_str(),
+                 source->sensor().width, source->sensor().height, render::frame_style(args.job, source->sensor()).scale);
+    return kExitUsage;
   }
   FrameProgress progress(!args.quiet);
   const render::RecordingRenderResult result = [&] {

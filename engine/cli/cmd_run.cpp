@@ -233,6 +233,11 @@ engine::EngineOptions engine_flags(const ParsedArgs& a, const config::Config& co
     e.tiles_x = parse_number<int>("tiles", s->substr(0, x), 1, 256);
     e.tiles_y = parse_number<int>("tiles", s->substr(x + 1), 1, 256);
   }
+  // A flag that would change nothing is refused (it was accepted and ignored).
+  if (a.has("margin") && e.margin_px > 0 && e.tiles_x == 1 && e.tiles_y == 1)
+    throw UsageError("--margin " + std::string(*a.value("margin")) +
+                     ": with --tiles 1x1 each worker's estimator sees its polarity's whole sensor, with no margin to "
+                     "process; margins are for tiled layouts (e.g. --tiles 2x2 --margin 8)");
   if (const auto s = a.value("policy")) {
     if (*s == "auto" || !engine::parse_overload_policy(*s, e.auto_policy, e.policy))
       throw UsageError("--policy " + *s + ": expected block or drop");

@@ -65,4 +65,12 @@ std::optional<std::string> estimator_memory_refusal(SensorSize sensor, int estim
   return text + *beyond;
 }
 
+std::optional<std::string> frame_memory_refusal(int width_px, int height_px) {
+  const std::uint64_t bytes = std::uint64_t{3} * static_cast<std::uint64_t>(width_px) * static_cast<std::uint64_t>(height_px);
+  const std::optional<std::string> beyond = beyond_available_memory(bytes);
+  if (!beyond) return std::nullopt;
+  return "a frame of " + std::to_string(width_px) + "x" + std::to_string(height_px) + " px needs at least " +
+         gigabytes(bytes) + *beyond;
+}
+
 }  // namespace evlife::cli

@@ -17,6 +17,21 @@
 
 namespace evlife::render {
 
+FrameStyle frame_style(const RecordingRenderOptions& options, SensorSize sensor) {
+  FrameStyle style;
+  style.color = options.color;
+  style.scale = options.scale.value_or(FrameStyle::default_scale(sensor.width, sensor.height));
+  style.caption = options.caption;
+  style.legend = options.legend;
+  style.lifetime_min_us = options.lifetime_min_us;
+  style.lifetime_max_us = options.lifetime_max_us;
+  return style;
+}
+
+cv::Size frame_size_for(const RecordingRenderOptions& options, SensorSize sensor) {
+  return FrameComposer(parse_view_mode(options.mode), frame_style(options, sensor), options.mode).frame_size(sensor);
+}
+
 RecordingRenderResult render_recording(
     AugmentedSource& source, const RecordingRenderOptions& options,
     const std::function<void(std::size_t, std::size_t, double)>& progress,
@@ -27,13 +42,7 @@ RecordingRenderResult render_recording(
   FixedWindowMap window(sensor);
   RenderCursor cursor(source, set, &window);
 
-  FrameStyle style;
-  style.color = options.color;
-  style.scale = options.scale.value_or(FrameStyle::default_scale(sensor.width, sensor.height));
-  style.caption = options.caption;
-  style.legend = options.legend;
-  style.lifetime_min_us = options.lifetime_min_us;
-  style.lifetime_max_us = options.lifetime_max_us;
+  const FrameStyle style = frame_style(options, sensor);
   FrameComposer composer(parse_view_mode(options.mode), style, options.mode);
   const cv::Size frame_size = composer.frame_size(sensor);
 

@@ -65,6 +65,11 @@ struct RecordingRenderResult {
   bool exhausted = false;             ///< the whole source was read
 };
 
+/// The style render_recording() draws `sensor`'s frames in, and their size
+/// (for a caller to weigh a frame against the memory there is before drawing).
+FrameStyle frame_style(const RecordingRenderOptions& options, SensorSize sensor);
+cv::Size frame_size_for(const RecordingRenderOptions& options, SensorSize sensor);
+
 /// Draws the frames `options` asks for from `source`. `progress(frames,
 /// total (0: unknown), t_s)` after each frame; `stop` ends the loop early;
 /// `on_gap` at each EventGap long enough to notice (--fps without --to),
