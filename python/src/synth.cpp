@@ -1,6 +1,10 @@
 // evlife.synth: the synthetic scenes of `evlife synth` (bars, a texture;
 // ideal or DVS pixels) as NumPy arrays, with their ground truth per event.
+#include <unistd.h>
+
 #include <cstddef>
+#include <cstdio>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -32,6 +36,21 @@ py::dtype make_truth_dtype() {
 py::dtype truth_dtype() {
   static auto* dtype = new py::dtype(make_truth_dtype());  // leaked: see dtypes.cpp
   return *dtype;
+}
+
+// MemoryError naming the scene's size and what to lower; `bytes` > 0: what
+// its background alone needs.
+[[noreturn]] void throw_memory_error(const io::SceneSpec& spec, double duration_s, double bytes) {
+  char needs[64] = "";
+  if (bytes > 0) std::snprintf(needs, sizeof needs, ", its background alone %.3g GB", bytes * 1e-9);
+  char text[384];
+  std::snprintf(text, sizeof text,
+                "synth: the scene's events do not fit in memory (sensor %dx%d, %g s, noise_rate %g per pixel per "
+                "second%s): shorten the duration, lower noise_rate or the sensor, or let `evlife synth` stream the "
+                "scene to a file and read it in chunks (evlife.Reader)",
+                spec.sensor.width, spec.sensor.height, duration_s, spec.noise_rate_hz_per_px, needs);
+  PyErr_SetString(PyExc_MemoryError, text);
+  throw py::error_already_set();
 }
 
 py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, double duration_s, std::uint64_t seed,
@@ -104,10 +123,19 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
       !why.empty()) {
     throw py::value_error(why);
   }
+  // The background alone (noise, hot pixels) over the whole duration, held at
+  // once with its truth: refused up front, where the allocation failed after a
+  // minute of paging (a lower bound: the edges' events come on top).
+  const double background_bytes = io::background_events_per_s(sensor, spec.noise_rate_hz_per_px, spec.pixel) *
+                                  duration_s * static_cast<double>(sizeof(Event) + sizeof(io::EventTruth));
+  const double memory_bytes = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  if (memory_bytes > 0 && background_bytes > memory_bytes) throw_memory_error(spec, duration_s, background_bytes);
   io::SyntheticScene scene;
-  {
+  try {
     py::gil_scoped_release release;
     scene = textured ? io::generate_textured_scene(texture) : io::generate_scene(spec);
+  } catch (const std::bad_alloc&) {  // pybind11 said only "std::bad_alloc"
+    throw_memory_error(spec, duration_s, 0.0);
   }
   py::list names;
   for (const std::string& n : scene.feature_names) names.append(n);
@@ -130,7 +158,8 @@ void bind_synth(py::module_& m) {
         "(needs pixel='dvs' or 'dvs-dim'); duration in seconds; pixel: ideal, dvs, dvs-dim (default "
         "dvs for textured, ideal for the bars); "
         "keywords: the pixel options of `evlife synth` with '_' for '-' (latency_us=300, "
-        "cutoff_hz=100, ...), noise_rate, jitter_us. The same arguments give the same arrays.");
+        "cutoff_hz=100, ...), noise_rate, jitter_us. The same arguments give the same arrays. "
+        "A scene whose background alone exceeds the memory raises MemoryError before generating.");
 }
 
 }  // namespace evlife::python

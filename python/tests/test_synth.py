@@ -75,3 +75,11 @@ def test_bad_arguments_raise():
         evlife.synth("bar", pixel="dvs", bogus=1)
     with pytest.raises(TypeError, match="pixel: expected 'ideal', 'dvs' or 'dvs-dim', got int"):
         evlife.synth("bar", pixel=3)  # pybind's "Unable to cast" RuntimeError named nothing
+
+
+def test_a_scene_larger_than_the_memory_is_a_memory_error_that_says_what_to_lower():
+    # 4096 x 4096 pixels x 3600 s x 1e4 Hz = 6.04e14 noise events x 64 bytes (event 16, truth 48),
+    # in no machine's memory: refused before any allocation (it failed after a minute of paging).
+    with pytest.raises(MemoryError, match=r"sensor 4096x4096, 3600 s, noise_rate 10000 per pixel per second, "
+                       r"its background alone 3.87e\+07 GB\): shorten the duration"):
+        evlife.synth("mixed", sensor=(4096, 4096), duration=3600, noise_rate=1e4)
