@@ -210,7 +210,7 @@ bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t
 
 // True when an edge estimated at a neighbour predicts this event: its plane
 // (arrival time + gradient) passes within the inlier tolerance of (x, y, t).
-bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
+bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int32_t now_rel, double tol_floor_us,
                                           EdgePrior& prior) const noexcept {
   // Every window pixel is evaluated without a branch on its state (the
   // loads then overlap; "burst here" and "ahead" were branches that
@@ -220,7 +220,6 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
   const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(options_.sensor.height - 1, y + half_window_);
   const double tol_fraction = options_.inlier_tolerance_lifetime_fraction;
-  const auto t = static_cast<double>(t_us);
   for (int yy = y0; yy <= y1; ++yy) {
     for (int xx = x0; xx <= x1; ++xx) {
       const std::size_t q = pixel_index(pol, xx, yy);
@@ -230,9 +229,11 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int64_t t_
       const double gx = static_cast<double>(s.burst_vx_px_s) * tau2_s;  // us/px
       const double gy = static_cast<double>(s.burst_vy_px_s) * tau2_s;
       const double ahead_us = gx * (x - xx) + gy * (y - yy);  // > 0: the edge moves from the neighbour here
-      const double predicted = static_cast<double>(epoch_us_[pol] + surface_[q].t_rel) + ahead_us;
+      // Times relative to the polarity's epoch: their difference is exact
+      // (absolute times near 2^62, or Unix time in us, lost up to 1024 us in double).
       const double tol = std::max(tol_floor_us, tol_fraction * tau_us);
-      const double err_us = std::fabs(t - predicted);
+      const double err_us =
+          std::fabs(static_cast<double>(std::int64_t{now_rel} - surface_[q].t_rel) - ahead_us);
       if ((ahead_us > 0.0) & (err_us <= tol)) {
         prior = {gx, gy, err_us};
         return true;
@@ -577,7 +578,7 @@ AugmentedEvent LifetimeEstimator::process(const Event& e) noexcept {
     // fit of the few samples (as a prediction does, eq. 12-13).
     EdgePrior upstream;
     const bool continued =
-        best.support >= min_continuation_support && continues_an_edge(pol, x, y, e.t_us, tol_floor_us, upstream);
+        best.support >= min_continuation_support && continues_an_edge(pol, x, y, now_rel, tol_floor_us, upstream);
     // Else it may follow a burst here whose first event came too early in
     // the edge's passage to be estimated (its neighbours had not fired yet):
     // the plane through that arrival, with the samples there are now.

@@ -166,7 +166,7 @@ class LifetimeEstimator {
   int eq8_min_support(int pixels, int full_window) const noexcept;
   bool supported_in_fresh_region(const detail::WindowSamples& nb, const detail::PlaneCandidate& best,
                                  int full_window, double since_last_here_us) const noexcept;
-  bool continues_an_edge(int pol, int x, int y, std::int64_t t_us, double tol_floor_us,
+  bool continues_an_edge(int pol, int x, int y, std::int32_t now_rel, double tol_floor_us,
                          EdgePrior& prior) const noexcept;
 
   LifetimeOptions options_;
