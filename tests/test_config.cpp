@@ -12,6 +12,7 @@
 #include "config_presets.h"
 #include "evlife/config/config.h"
 #include "evlife/config/config_key.h"
+#include "evlife/algo/parse_text.h"
 
 namespace {
 
@@ -216,6 +217,20 @@ TEST(Config, WrongTypeIsAnError) {
   EXPECT_THROW(ConfigBuilder().set("estimator.inlier_tolerance_us=nan"), ConfigError);
   EXPECT_THROW(ConfigBuilder().set("estimator.seed=-3"), ConfigError);
   EXPECT_THROW(ConfigBuilder().set("estimator.window_size"), ConfigError);  // no '='
+  // One sign at most ("+-0" was 0, "+-1" -1, in both number parsers).
+  EXPECT_THROW(ConfigBuilder().set("estimator.seed=+-0"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("engine.margin_px=+-1"), ConfigError);
+  EXPECT_THROW(ConfigBuilder().set("estimator.inlier_tolerance_us=+-0"), ConfigError);
+  for (const auto& [text, margin_px] : {std::pair{"+8", 8}, std::pair{"-1", -1}}) {
+    ConfigBuilder b;
+    b.set(std::string("engine.margin_px=") + text);
+    EXPECT_EQ(b.build().engine.margin_px, margin_px) << text;
+  }
+  EXPECT_EQ(evlife::parse_decimal("+-1"), std::nullopt);
+  EXPECT_EQ(evlife::parse_decimal("-+1"), std::nullopt);
+  EXPECT_EQ(evlife::parse_decimal("+1.5"), 1.5);
+  EXPECT_EQ(evlife::parse_decimal("-1.5"), -1.5);
+  EXPECT_EQ(evlife::parse_time_us("+-0s"), std::nullopt);
   const auto path = write_temp("type.yaml", "estimator:\n  window_size: [5, 7]\n");
   const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
   EXPECT_NE(msg.find("estimator.window_size"), std::string::npos) << msg;

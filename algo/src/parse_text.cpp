@@ -6,7 +6,11 @@
 namespace evlife {
 
 std::optional<double> parse_decimal(std::string_view text) noexcept {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  // One sign at most: "+-1" and "++1" are no numbers (from_chars takes a '-' but no '+').
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && text.front() == '-') return std::nullopt;
+  }
   if (text.empty() || text.front() == '+') return std::nullopt;
   double v = 0.0;
   const char* end = text.data() + text.size();

@@ -55,10 +55,11 @@ namespace {
 // Decimal or 0x-prefixed hexadecimal, whole text.
 template <typename T>
 bool parse_integer(std::string_view text, T& out) {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  const bool plus = !text.empty() && text.front() == '+';  // one sign at most: "+-1" is no number
+  if (plus) text.remove_prefix(1);
   int base = 10;
   bool negative = false;
-  if (!text.empty() && text.front() == '-') {
+  if (!plus && !text.empty() && text.front() == '-') {
     negative = true;
     text.remove_prefix(1);
   }
