@@ -25,6 +25,7 @@
 
 #include "evlife/algo/lifetime_estimator.h"
 #include "evlife/engine/engine.h"
+#include "evlife/engine/event_clock_pacer.h"
 #include "evlife/engine/realtime_thread.h"
 #include "evlife/engine/packet_source.h"
 #include "evlife/engine/pipeline.h"
@@ -840,6 +841,27 @@ int in_unprivileged_child(Fn fn) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 100 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 }  // namespace
+
+// A paced replay's due times stay within the wall clock's range: event times
+// at both ends of evlife's range (2^63 us apart), or hours of recording at
+// --realtime's lowest speed, overflowed int64 (UB; the event came out due at
+// once, about INT64_MIN, instead of never).
+TEST(EventClockPacer, DueTimesSaturateInsteadOfOverflowing) {
+  using evlife::engine::EventClockPacer;
+  EventClockPacer wide(1.0);
+  EXPECT_EQ(wide.due_until_us(-evlife::kMaxEventTimeUs, 1000), -evlife::kMaxEventTimeUs);
+  EXPECT_EQ(wide.due_at_ns(-evlife::kMaxEventTimeUs + 5), 6000);  // exact in the usual range
+  EXPECT_EQ(wide.due_at_ns(evlife::kMaxEventTimeUs), INT64_MAX);
+  EXPECT_EQ(wide.due_until_us(-evlife::kMaxEventTimeUs, 1000 + 7000), -evlife::kMaxEventTimeUs + 7);
+  EventClockPacer slow(1e-6);  // --realtime=1e-6
+  EXPECT_EQ(slow.due_until_us(0, 0), 0);
+  EXPECT_EQ(slow.due_at_ns(1), 1'000'000'000);
+  EXPECT_EQ(slow.due_at_ns(std::int64_t{3} * 3600 * 1'000'000), INT64_MAX);  // 1.1e22 ns
+  EXPECT_EQ(slow.due_at_ns(-std::int64_t{3} * 3600 * 1'000'000), INT64_MIN);
+  EventClockPacer fast(1e6);
+  EXPECT_EQ(fast.due_until_us(evlife::kMaxEventTimeUs - 10, 0), evlife::kMaxEventTimeUs - 10);
+  EXPECT_EQ(fast.due_until_us(evlife::kMaxEventTimeUs - 10, INT64_MAX), INT64_MAX);
+}
 
 TEST(Realtime, CpuListParsesRangesAndNamesBadParts) {
   EXPECT_EQ(ee::parse_cpu_list("0,2-4,1"), (std::vector<int>{0, 2, 3, 4, 1}));

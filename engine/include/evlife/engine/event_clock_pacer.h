@@ -22,8 +22,7 @@ class EventClockPacer {
       wall0_ns_ = now_ns;
     }
     if (!paced()) return INT64_MAX;
-    const double elapsed_us = static_cast<double>(now_ns - wall0_ns_) * 1e-3 * speed_;
-    return t0_us_ + static_cast<std::int64_t>(elapsed_us);
+    return plus_saturated(t0_us_, static_cast<double>(now_ns - wall0_ns_) * 1e-3 * speed_);
   }
 
   /// Wall time (ns) the event clock was anchored at (anchored only).
@@ -31,10 +30,25 @@ class EventClockPacer {
 
   /// Wall time (ns) at which an event of time t_us becomes due (anchored only).
   std::int64_t due_at_ns(std::int64_t t_us) const noexcept {
-    return wall0_ns_ + static_cast<std::int64_t>(static_cast<double>(t_us - t0_us_) * 1e3 / speed_);
+    // Event times up to 2^62 apart each way: their difference may exceed int64.
+    std::int64_t since_t0_us = 0;
+    const double d_us = __builtin_sub_overflow(t_us, t0_us_, &since_t0_us)
+                            ? static_cast<double>(t_us) - static_cast<double>(t0_us_)
+                            : static_cast<double>(since_t0_us);
+    return plus_saturated(wall0_ns_, d_us * 1e3 / speed_);
   }
 
  private:
+  // base + offset, held within the int64 range (a gap of centuries, or hours
+  // at --realtime=1e-6, overflowed: the event was released at once).
+  static std::int64_t plus_saturated(std::int64_t base, double offset) noexcept {
+    const double sum = static_cast<double>(base) + offset;
+    if (!(sum < 9.2e18)) return INT64_MAX;  // NaN too (it cannot arise: speed_ > 0)
+    if (sum <= -9.2e18) return INT64_MIN;
+    if (offset > -9e15 && offset < 9e15) return base + static_cast<std::int64_t>(offset);  // exact as before
+    return static_cast<std::int64_t>(sum);
+  }
+
   double speed_;
   bool anchored_ = false;
   std::int64_t t0_us_ = 0;
