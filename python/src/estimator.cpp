@@ -123,11 +123,16 @@ class Estimator {
   std::mutex mutex_;
 };
 
-// What the sensor probe and scan read: the whole stream of `options.topic`
-// (the events of a crop alone could fit a smaller sensor than the file's).
+// What the sensor probe and scan read: the whole stream, read as `options`
+// say (topic, time unit), without the crop (the events of a crop alone could
+// fit a smaller sensor than the file's). The time unit was dropped: a CSV in
+// epoch ns failed the scan with time_unit="ns" given.
 io::ReaderOptions whole_stream(const io::ReaderOptions& options) {
-  io::ReaderOptions whole;
-  whole.topic = options.topic;
+  io::ReaderOptions whole = options;
+  whole.sensor.reset();
+  whole.from_us.reset();
+  whole.to_us.reset();
+  whole.polarity = io::PolarityFilter::both;
   return whole;
 }
 

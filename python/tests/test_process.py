@@ -23,6 +23,22 @@ def test_process_path_equals_cli_bin_on_the_reference_recordings(name, tmp_path)
     assert_same_events(evlife.process(evlife.read(path), sensor=sensor), expected)
 
 
+def test_a_time_unit_reaches_the_sensor_scan(tmp_path):
+    # A CSV in epoch nanoseconds that states no sensor: the scan for its size read it
+    # without time_unit="ns" and failed ("too large for the time unit ... time_unit=").
+    path = tmp_path / "epoch_ns.csv"
+    with open(path, "w") as f:
+        f.write("t,x,y,p\n")
+        for i in range(3000):
+            f.write("%d,%d,%d,%d\n" % (1_700_000_000_000_000_000 + i * 20_000, i % 20, (i // 20) % 7, i % 2))
+    expected, sensor = cli_bin(tmp_path, path, "--time-unit", "ns")
+    assert sensor == (20, 7)
+    assert_same_events(evlife.process(path, time_unit="ns"), expected)
+    out = tmp_path / "py.bin"
+    evlife.process_file(path, out, time_unit="ns")
+    assert out.read_bytes() == (tmp_path / "epoch_ns.csv.bin").read_bytes()
+
+
 @pytest.mark.parametrize("fmt", ["aedat4", "evt3", "rpg-text"])
 def test_process_other_formats_equal_cli(fmt, tmp_path):
     path = data(RECORDINGS[fmt])
