@@ -1240,6 +1240,39 @@ TEST(IoFormatsHdf5, LibraryCrashOnCorruptFileBecomesReadError) {
   expect_regression_read_error("fpe_h5d_chunk_set_info.h5", "the HDF5 library");
 }
 
+// One byte of evlife's own file changed: the size of a variable-length
+// string in the global heap (the attribute "evlife"). libhdf5 then loops for
+// good in H5Aread of the time column's units, ignoring SIGINT and SIGTERM; the
+// reader read that attribute itself, outside the probe. The probe now reads
+// it too: a ReadError after its timeout (10 s, once: the verdict is kept for
+// further opens of the unchanged file, as a command's sniff, scan and read).
+TEST(IoFormatsHdf5, AStringAttributeThatHangsTheLibraryBecomesReadError) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("heap.h5");
+  {
+    auto writer = evlife::io::open_event_writer(path);
+    const std::vector<AugmentedEvent> augmented = make_events(100, {64, 64});
+    std::vector<Event> events;
+    for (const auto& a : augmented) events.push_back(a.event);
+    writer->write(events);
+    writer->close();
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string heap_object = std::string("\x06\0\0\0\0\0\0\0evlife", 14);
+  const std::size_t at = bytes.find(heap_object);
+  ASSERT_NE(at, std::string::npos);
+  bytes[at] = '\xa5';
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  const ReadResult r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("the HDF5 library hangs opening this file"), std::string::npos)
+      << r.error->what();
+}
+
 // libhdf5 (Debian's is built thread-safe) holds one global lock through
 // every API call, also while it runs a caller's iteration callback. A child
 // forked meanwhile inherits the lock held and never gets it: the probe took

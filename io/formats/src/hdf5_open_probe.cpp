@@ -11,9 +11,13 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <optional>
 #include <thread>
 
 #include "evlife/io/event_reader.h"
+#include "hdf5_attributes.h"
 
 namespace evlife::io {
 namespace {
@@ -40,22 +44,14 @@ constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
   close(ready_fd);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file >= 0) {
-    for (const char* name : {"width", "height"}) {  // the reader's attribute lookups
-      if (H5Aexists(file, name) > 0) {
-        const hid_t attribute = H5Aopen(file, name, H5P_DEFAULT);
-        std::int64_t value = 0;
-        if (attribute >= 0) {
-          H5Aread(attribute, H5T_NATIVE_INT64, &value);
-          H5Aclose(attribute);
-        }
-      }
-    }
+    for (const char* name : {"width", "height"}) (void)read_int_attribute(file, name);  // the reader's lookups
     for (const char* name : {"events/x", "events/y", "events/t", "events/p", "t_offset",
                              "CD/events", "x", "y", "t", "p"}) {
       const hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
       if (dataset < 0) continue;
       const hid_t space = H5Dget_space(dataset);
       const hid_t type = H5Dget_type(dataset);
+      (void)read_string_attribute(dataset, "units");  // a time column's (a corrupt one hung in libhdf5)
       const hid_t properties = H5Dget_create_plist(dataset);
       if (properties >= 0) H5Pclose(properties);
       if (type >= 0) H5Tclose(type);
@@ -82,9 +78,48 @@ bool child_ready(int ready_fd, int ms) {
   }
 }
 
+void probe_in_child(const std::string& path);
+
 }  // namespace
 
 void probe_hdf5_open_in_child(const std::string& path) {
+  // A command opens a file more than once (its format, its sensor, its
+  // events): the verdict on an unchanged file is kept, so that a hanging
+  // one costs the timeout once.
+  struct Verdict {
+    std::string path;
+    std::filesystem::file_time_type modified;
+    std::uintmax_t size = 0;
+    std::optional<ReadError> fault;
+  };
+  static std::mutex mutex;
+  static std::optional<Verdict> last;
+  std::error_code ec;
+  const auto modified = std::filesystem::last_write_time(path, ec);
+  const std::uintmax_t size = ec ? 0 : std::filesystem::file_size(path, ec);
+  if (!ec) {
+    const std::lock_guard lock(mutex);
+    if (last && last->path == path && last->modified == modified && last->size == size) {
+      if (last->fault) throw *last->fault;
+      return;
+    }
+  }
+  std::optional<ReadError> fault;
+  try {
+    probe_in_child(path);
+  } catch (const ReadError& e) {
+    fault = e;
+  }
+  if (!ec) {
+    const std::lock_guard lock(mutex);
+    last = Verdict{path, modified, size, fault};
+  }
+  if (fault) throw *fault;
+}
+
+namespace {
+
+void probe_in_child(const std::string& path) {
   pid_t child = -1;
   for (int attempt = 0; attempt < kForks && child < 0; ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(kBackoffMs[attempt]));
@@ -140,5 +175,7 @@ void probe_hdf5_open_in_child(const std::string& path) {
                         std::to_string(WEXITSTATUS(status)) + "): corrupt HDF5");
   }
 }
+
+}  // namespace
 
 }  // namespace evlife::io

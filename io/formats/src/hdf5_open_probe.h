@@ -12,11 +12,13 @@
 
 namespace evlife::io {
 
-/// Opens `path` and the event datasets of every known layout in a child
-/// process. Throws ReadError if the child dies of a signal, exits non-zero
-/// (a sanitizer's report) or hangs on the file (> 10 s);
-/// returns normally otherwise (errors the library reports are left to the
-/// reader, which names them).
+/// Opens `path`, its sensor attributes and the event datasets of every known
+/// layout with their units attributes in a child process. Throws ReadError if
+/// the child dies of a signal, exits non-zero (a sanitizer's report) or hangs
+/// on the file (> 10 s); returns normally otherwise (errors the library
+/// reports are left to the reader, which names them). The verdict on a file
+/// is kept while its size and modification time stay: a command opening it
+/// again (format, sensor, events) waits out a hang once.
 void probe_hdf5_open_in_child(const std::string& path);
 
 }  // namespace evlife::io
