@@ -55,7 +55,7 @@ from . import _streams
 read = _streams.reading_streams(read, "path")
 scan = _streams.reading_streams(scan, "input")
 process = _streams.reading_streams(process, "input")
-process_file = _streams.reading_streams(process_file, "input")
+process_file = _streams.reading_streams(process_file, "input", output="output")
 open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
 read_augmented = _streams.picklable(read_augmented)
 synth = _streams.picklable(synth)

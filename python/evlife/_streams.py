@@ -5,7 +5,8 @@ several formats need the file's size, so a stream is first copied into a
 temporary file (in $TMPDIR, else /tmp), as the command line does with `-` and
 pipes. The copy keeps the pipe's extension (formats told by it: .dat, .bag)
 and is removed when the call returns; for evlife.open, when its StreamReader
-is closed or garbage-collected. InputErrors name the stream, not the copy.
+is closed or garbage-collected. InputErrors and Interrupted name the stream,
+not the copy (a warning of rejected events names the copy).
 """
 import builtins
 import contextlib
@@ -110,7 +111,7 @@ def readable(path):
     copy = _copy(path)
     try:
         yield copy
-    except _evlife.InputError as e:
+    except (_evlife.InputError, _evlife.Interrupted) as e:
         raise _named_after(e, path, copy)
     finally:
         _remove(copy)
@@ -134,15 +135,21 @@ class _PathArgument:
         return args[:self.position] + (path,) + args[self.position + 1:], kwargs
 
 
-def reading_streams(function, argument):
+def reading_streams(function, argument, output=None):
     """`function` (a C++ function of the module) taking a stream as its path
-    argument `argument` (its keyword; the first positional argument)."""
+    argument `argument` (its keyword; the first positional argument), and
+    writing to its argument `output` (keyword; the second positional), if any:
+    checked against the stream itself before the copy is made (against the
+    copy, a pipe as both passed, and the output's open waited for a reader)."""
     where = _PathArgument(argument)
+    written = _PathArgument(output, 1) if output else None
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
         if not where.given(args, kwargs):
             return function(*args, **kwargs)  # its own error
+        if written and written.given(args, kwargs) and is_stream(where.of(args, kwargs)):
+            _evlife._refuse_overwriting_input(where.of(args, kwargs), written.of(args, kwargs))
         with readable(where.of(args, kwargs)) as source:
             args, kwargs = where.replaced(args, kwargs, source)
             return function(*args, **kwargs)

@@ -251,12 +251,16 @@ def _main_module_reimported():
 
 
 def _is_main_guard(node):
-    """True for an `if` or `match` that tests __name__ against "__main__" in any
-    form (==, in a tuple, a case pattern): leniently, as a false refusal is
-    worse than a missed one."""
+    """True for an `if`, `while`, `match`, conditional expression (`main() if
+    __name__ == "__main__" else None`) or `and`/`or` (`__name__ == "__main__"
+    and main()`) that tests __name__ against "__main__" in any form (==, in a
+    tuple, a case pattern): leniently, as a false refusal is worse than a
+    missed one."""
     import ast
-    if isinstance(node, ast.If):
+    if isinstance(node, (ast.If, ast.While, ast.IfExp)):
         parts = [node.test]
+    elif isinstance(node, ast.BoolOp):
+        parts = node.values
     elif isinstance(node, getattr(ast, "Match", ())):
         parts = [node.subject] + [c.pattern for c in node.cases]
     else:

@@ -446,6 +446,9 @@ void bind_estimator(py::module_& m) {
            })
       .def(py::init([](const py::object& sensor, const py::object& config, const py::kwargs& kw) {
              ResolvedOptions r = resolve_options("evlife.LifetimeEstimator", sensor, config, kw);
+             if (!r.sensor)  // None built the library's default 128x128 unsaid
+               throw py::type_error("evlife.LifetimeEstimator: sensor=(width, height) is required (or a config= "
+                                    "file stating estimator.sensor)");
              // A large sensor's planes are allocated and zeroed (0.2 s at 1280x720, seconds at
              // 4096x4096): the other Python threads run meanwhile.
              py::gil_scoped_release release;

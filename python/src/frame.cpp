@@ -87,8 +87,11 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   }
   style.caption = caption;
   style.legend = legend;
-  if (!(range_ms.first > 0.0) || !(range_ms.second > range_ms.first)) {
-    throw py::value_error("frame: lifetime_range_ms must be (MIN, MAX) with 0 < MIN < MAX");
+  constexpr double kMaxMs = render::FrameStyle::kMaxLifetimeRangeMs;  // as render --lifetime-range
+  if (!(range_ms.first > 0.0) || !(range_ms.second > range_ms.first) || !(range_ms.second <= kMaxMs)) {
+    throw py::value_error("frame: lifetime_range_ms must be (MIN, MAX) with 0 < MIN < MAX <= 1e9, got (" +
+                          py::repr(py::float_(range_ms.first)).cast<std::string>() + ", " +
+                          py::repr(py::float_(range_ms.second)).cast<std::string>() + ")");
   }
   style.lifetime_min_us = 1000.0 * range_ms.first;
   style.lifetime_max_us = 1000.0 * range_ms.second;

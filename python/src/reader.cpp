@@ -19,6 +19,7 @@
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
+#include "evlife/io/sensor_size_from_data.h"
 #include "options.h"
 
 namespace evlife::python {
@@ -162,6 +163,19 @@ class Reader {
   mutable std::mutex mutex_;
 };
 
+// The sensor rule of every command (README, *Sensor size*): a size the file
+// states wins over `sensor=`, which is for files that state none (it
+// overrode a stated one: events refused as outside a smaller size, a larger
+// one reported as the file's).
+io::ReaderOptions with_stated_sensor(const std::string& path, io::ReaderOptions options) {
+  if (!options.sensor) return options;
+  io::ReaderOptions probe_options = options;
+  probe_options.sensor.reset();
+  if (const auto stated = io::stated_sensor_size(*io::open_unchecked_event_reader(path, probe_options), options.sensor))
+    options.sensor = stated;
+  return options;
+}
+
 }  // namespace
 
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
@@ -177,7 +191,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
         reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
     py::gil_scoped_release release;
     try {
-      reader = io::open_event_reader(path, options);
+      reader = io::open_event_reader(path, with_stated_sensor(path, options));
     } catch (const io::ReadError& e) {
       fault.emplace(e);
     }
@@ -204,8 +218,8 @@ Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
 p (int8, +1 ON / -1 OFF), dtype evlife.EVENT_DTYPE. Every input format of
 `evlife process` (sniffed from the content, else the extension).
 
-sensor: (width, height) the events must fit in; default: the size the format
-states (if any). from_s, to_s: only the events from from_s to to_s (exclusive)
+sensor: (width, height) the events must fit in when the format states no size
+(a size the file states wins, as for every command). from_s, to_s: only the events from from_s to to_s (exclusive)
 seconds after the first event of the file, as `evlife process --from --to`;
 HDF5 files (DSEC, Prophesee, evlife's) start there by a binary search on t,
 without decoding the events before it. topic: a ROS bag's event topic (needed
@@ -292,7 +306,7 @@ good events come first, the next chunk raises evlife.InputError.)")
         const io::ReaderOptions options =
             reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
         py::gil_scoped_release release;
-        return std::make_unique<Reader>(path.string(), options, chunk_events);
+        return std::make_unique<Reader>(path.string(), with_stated_sensor(path.string(), options), chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),

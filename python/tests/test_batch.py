@@ -241,6 +241,11 @@ def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
         "guarded.py": "from evlife import batch\ndef main():\n    print(%s)\n"
                       "if __name__ == '__main__':\n    main()\n" % call,
         "in_tuple.py": "from evlife import batch\nif __name__ in ('__main__',):\n    print(%s)\n" % call,
+        # Guards as expressions (refused before: only `if` and `match` were recognized).
+        "if_expression.py": "from evlife import batch\ndef main():\n    print(%s)\n"
+                            "main() if __name__ == '__main__' else None\n" % call,
+        "and_guard.py": "from evlife import batch\ndef main():\n    print(%s)\n"
+                        "__name__ == '__main__' and main()\n" % call,
     }
     env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(evlife.__file__)))
     results = {}
@@ -254,7 +259,7 @@ def test_a_script_without_the_main_guard_is_refused_not_hung(tmp_path):
         assert "%s:%d starts a Dask LocalCluster outside `if __name__ == \"__main__\":`" % (
             tmp_path / name, line) in r.stderr, r.stderr[-2000:]
         assert "Restarting worker" not in r.stderr
-    for name in ("guarded.py", "in_tuple.py"):
+    for name in ("guarded.py", "in_tuple.py", "if_expression.py", "and_guard.py"):
         assert results[name].returncode == 0, (name, results[name].stderr[-2000:])
         assert "mono_dvs.bag" in results[name].stdout and " ok" in results[name].stdout, name
     # A package's __main__ run with -m is never imported again by spawn: no guard needed.

@@ -47,6 +47,9 @@ def test_wrong_types_and_unknown_keywords_raise_typeerror():
         evlife.LifetimeEstimator(sensor=(128, 128), window_size=5.0)
     with pytest.raises(TypeError, match="sensor"):
         evlife.LifetimeEstimator(sensor=128)
+    # None built a 128x128 estimator unsaid (its errors then named a size never given).
+    with pytest.raises(TypeError, match=r"sensor=\(width, height\) is required"):
+        evlife.LifetimeEstimator(None)
     with pytest.raises(ValueError, match=r"sensor: width and height must be 1..4096, got \(0, 128\)"):
         evlife.LifetimeEstimator(sensor=(0, 128))
     with pytest.raises(TypeError):

@@ -60,3 +60,8 @@ def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
         evlife.frame(aug[:0], t0, sensor=sensor)
     with pytest.raises(TypeError, match="lifetime"):
         evlife.frame(evlife.read(data("reference/stripes.mat")), t0, sensor=sensor)
+    # As render --lifetime-range: the scale's ends within (0, 1e9] ms (inf drew every edge one colour).
+    for bad in ((0.3, float("inf")), (0.3, 1e300), (0.0, 30.0), (30.0, 0.3)):
+        with pytest.raises(ValueError, match=r"0 < MIN < MAX <= 1e9, got"):
+            evlife.frame(aug, t0, sensor=sensor, lifetime_range_ms=bad)
+    assert evlife.frame(aug, t0, sensor=sensor, lifetime_range_ms=(0.3, 1e9)).ndim == 3

@@ -307,3 +307,17 @@ def test_a_wal_bag_whose_checkpoint_stopped_reads_whole(tmp_path):
     os.truncate(dst, pages // 2 * page)
     assert (tmp_path / "bag_0.db3-wal").stat().st_size > 0
     assert_same_events(evlife.read(str(dst)), evlife.read(src))
+
+
+def test_a_size_the_file_states_wins_over_sensor():
+    # The sensor rule of every command: sensor= is for files that state none. It overrode a stated
+    # size: events refused as outside a smaller one, a larger one reported as the file's.
+    stated = data(RECORDINGS["aedat4"])
+    with evlife.open(stated, sensor=(2000, 2000)) as r:
+        assert r.sensor == (320, 240)
+    assert evlife.read(stated, sensor=(64, 64)).size == evlife.read(stated).size == 111954
+    unstated = data("rpg_txt/slider_depth_events_chunk.txt")
+    with evlife.open(unstated, sensor=(300, 200)) as r:
+        assert r.sensor == (300, 200)
+    with pytest.raises(evlife.InputError, match="outside the 64x64 sensor"):
+        evlife.read(unstated, sensor=(64, 64))

@@ -114,6 +114,18 @@ def test_a_bad_stream_is_named_not_its_copy(tmp_path, temp_dir):
     assert list(temp_dir.iterdir()) == []
 
 
+def test_a_pipe_given_as_input_and_output_is_refused_before_it_is_read(tmp_path, temp_dir):
+    # The check compared the output with the copy: the pipe was read, then its open for writing
+    # waited for a reader for good (the command line refuses it).
+    fifo = tmp_path / "rec.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="is the input file; refusing to overwrite it"):
+        evlife.process_file(fifo, fifo, sensor=(20, 7))
+    with pytest.raises(ValueError, match="is the input file"):
+        evlife.process_file(input=fifo, output=tmp_path / "x" / ".." / "rec.csv")
+    assert list(temp_dir.iterdir()) == []
+
+
 def test_a_regular_file_is_read_in_place(tmp_path, temp_dir):
     path = data(SLIDER)
     with evlife.open(path) as reader:
