@@ -572,6 +572,11 @@ TEST_F(CliFlags, SynthRefusesOutputsThatCollideAndScenesThatCannotFit) {
   }
   EXPECT_FALSE(fs::exists(events));
   EXPECT_EQ(run("synth -q --duration 10ms -o " + events + " --truth " + path("truth.csv")).exit_code, 0);
+  // The truth is CSV: under another format's name its readers refused it.
+  const RunResult h5_truth = run("synth -q --duration 10ms -o " + path("b.txt") + " --truth " + path("truth.h5"));
+  EXPECT_EQ(h5_truth.exit_code, 2) << h5_truth.output;
+  EXPECT_TRUE(has(h5_truth, "the ground truth is written as CSV; name it .csv")) << h5_truth.output;
+  EXPECT_FALSE(fs::exists(path("b.txt")));
   const RunResult noise = run("synth -q --noise-rate 10000 --sensor 4096x4096 --duration 1 -o " + path("n.txt"));
   EXPECT_EQ(noise.exit_code, 2) << noise.output;
   EXPECT_TRUE(has(noise, "the scene's background activity and hot pixels need ")) << noise.output;

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "cli_runner.h"
@@ -212,3 +213,78 @@ TEST_F(CliInfo, AnOutputSpanningMoreThanAnyCameraIsDescribedAndRenderSaysWhy) {
 }
 
 }  // namespace
+
+class CliFindings : public ::testing::Test {
+ protected:
+  evlife::test::CliRun run(const std::string& args) const {
+    return evlife::test::run_cli(EVLIFE_CLI_PATH, args, dir_.path() / "cli.log");
+  }
+  std::string file(const std::string& name) const { return (dir_.path() / name).string(); }
+  const evlife::test::ScratchDir dir_{"test_cli_findings"};
+};
+
+// An HDF5 file whose event lies outside the sensor it states: `info` read it
+// unchecked and said nothing (exit 0) where the other commands refused it; now
+// the reader names the event as for every format that states a sensor.
+TEST_F(CliFindings, AnHdf5EventOutsideItsStatedSensorIsAnInputErrorForInfoToo) {
+  std::ofstream(file("oos.txt")) << "0.1 3 4 1\n0.15 500 4 0\n0.2 3 4 1\n";
+  ASSERT_EQ(run("convert '" + file("oos.txt") + "' '" + file("oos.h5") + "' --sensor 128x128 --unchecked -q").exit_code,
+            0);
+  for (const char* name : {"info", "convert"}) {
+    const std::string command = name;
+    const auto r = run(command + " '" + file("oos.h5") + "'" + (command == "convert" ? " '" + file("o.txt") + "'" : ""));
+    EXPECT_EQ(r.exit_code, 3) << command << r.output;
+    EXPECT_NE(r.output.find("event at (x 500, y 4) is outside the 128x128 sensor the file states (event index 1)"),
+              std::string::npos) << command << r.output;
+  }
+}
+
+// --from/--to that select no event: `process`, `run` and `eval` warned,
+// `convert` and `info` said "0 events" alone.
+TEST_F(CliFindings, AnEmptySelectionIsWarnedOfByEveryCommand) {
+  const std::string slider = std::string(EVLIFE_SHARED_DATA_DIR) + "/rpg_txt/slider_depth_events_chunk.txt";
+  for (const std::string& args : {"convert '" + slider + "' '" + file("p.txt") + "' --from 10",
+                                 "info '" + slider + "' --from 10", "process '" + slider + "' -o '" + file("p.bin") +
+                                 "' --from 10"}) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << args << r.output;
+    EXPECT_NE(r.output.find(": warning: no event of " + slider + " within --from/--to"), std::string::npos)
+        << args << r.output;
+  }
+}
+
+// The optional first line "width height" of an RPG text file: told by its
+// content (a pipe, another extension), not only by the name .txt.
+TEST_F(CliFindings, AnRpgTextWithItsSensorLineIsToldByItsContent) {
+  std::ofstream(file("wh.events")) << "240 180\n0.001 3 4 1\n0.002 5 6 0\n";
+  const auto r = run("info '" + file("wh.events") + "'");  // (stdin, a pipe: the same sniff of the content)
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("format     rpg-text"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sensor     240x180 (stated by the file)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("events     2 (1 ON, 1 OFF)"), std::string::npos) << r.output;
+}
+
+// Records the reader skips (EVT 3.0 events before the stream's first time
+// base, a file cut mid-stream) are shown by `render` and `eval` too, as by
+// `process`, `convert` and `run` (they were dropped unsaid).
+TEST_F(CliFindings, RenderAndEvalShowTheRecordsTheReaderSkipped) {
+  std::string bytes;
+  {
+    std::ifstream in(std::string(EVLIFE_SHARED_DATA_DIR) + "/evt3/evt3_sample.raw", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::size_t header_end = 0;  // the '%' lines
+  while (header_end < bytes.size() && bytes[header_end] == '%') header_end = bytes.find('\n', header_end) + 1;
+  std::ofstream(file("mid.raw"), std::ios::binary) << bytes.substr(0, header_end) + bytes.substr(header_end + 20000);
+  const std::string expected = "skipped records 192 (non-event records of the format: event-before-the-first-time-high 192)";
+  auto r = run("process '" + file("mid.raw") + "' -o '" + file("m.bin") + "'");
+  EXPECT_NE(r.output.find("  skipped records     192 (non-event records"), std::string::npos) << r.output;
+  r = run("render '" + file("mid.raw") + "' -o '" + file("f.png") + "' --at 5ms");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("  skipped records     192 (non-event records of the format: event-before-the-first-time-high 192)"),
+            std::string::npos) << r.output;
+  r = run("eval '" + file("mid.raw") + "' -o '" + file("ev") + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("; " + expected + " -> "), std::string::npos) << r.output;
+  EXPECT_NE(evlife::test::read_text_file(file("ev") + "/summary.html").find(expected), std::string::npos);
+}

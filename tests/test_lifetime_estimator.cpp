@@ -645,6 +645,14 @@ TEST(LifetimeEstimator, TimeGoingBackwardsPerPolarityIsRejectedAndCounted) {
   EXPECT_EQ(rejected_events_text(est.stats()).find("backwards"), std::string::npos);
 }
 
+// Durations (info, process, eval summaries) keep the microsecond at any
+// time: 2 us at 2^55 us read 0 (each time converted to double first).
+TEST(EventTimes, SecondsBetweenKeepsTheMicrosecondAtAnyTime) {
+  EXPECT_EQ(evlife::seconds_between(36'028'797'018'963'969, 36'028'797'018'963'971), 2e-6);
+  EXPECT_EQ(evlife::seconds_between(-5, 7), 12e-6);
+  EXPECT_DOUBLE_EQ(evlife::seconds_between(INT64_MIN, INT64_MAX), 18446744073709.551615);  // beyond int64: in double
+}
+
 // Prediction errors are differences of two nearby times: near 2^62 us they
 // keep the microsecond (they were rounded to 1024 us, most of them to 0).
 TEST(LifetimeEstimator, PredictionErrorsNearTheEndOfTheTimeRangeKeepTheMicrosecond) {

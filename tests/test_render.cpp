@@ -197,6 +197,23 @@ TEST(FixedWindowMap, TimesAtBothEndsOfTheClock) {
   EXPECT_EQ(map.polarity(2), -1);
 }
 
+// One event older than the map's epoch (a corrupt time, a restarted clock,
+// fed by run's render stage after the estimator rejected it): counted and
+// ignored. Taken for a jump forward, it moved the epoch and erased every
+// pixel's history (the window drew nothing).
+TEST(FixedWindowMap, AnEventOlderThanItsRangeIsCountedNotAWipe) {
+  evlife::render::FixedWindowMap map({4, 1});
+  map.feed(Event{0, 0, 0, 1});
+  map.feed(Event{3'000'000'000, 1, 0, 1});
+  ASSERT_EQ(map.count_active(3'000'000'000, 1'000'000), 1u);
+  map.feed(Event{1'000'000, 2, 0, 1});
+  EXPECT_EQ(map.count_active(3'000'000'000, 1'000'000), 1u);
+  EXPECT_TRUE(map.is_active(1, 3'000'000'000, 1'000'000));
+  EXPECT_EQ(map.late(), 1u);
+  map.feed(Event{3'000'000'100, 2, 0, -1});  // and goes on
+  EXPECT_EQ(map.count_active(3'000'000'100, 1'000'000), 2u);
+}
+
 TEST(ActiveEventMap, AcceleratingEdgeStaysThinWithEdgeThinningOnly) {
   const auto edge = accelerating_edge();
   const std::int64_t t = edge.times[100] + 10;  // speed there ~ 2000 px/s, 10x the estimate

@@ -211,6 +211,12 @@ std::string no_event_text(const std::string& input, const io::ReaderOptions& sel
          " within --from/--to (times are seconds after its first event; `evlife info` gives its length)";
 }
 
+void warn_empty_crop(std::string_view command, const std::string& input, const io::ReaderOptions& selection) {
+  if (!selection.from_us && !selection.to_us) return;
+  std::fprintf(stderr, "evlife %.*s: warning: %s\n", static_cast<int>(command.size()), command.data(),
+               no_event_text(input, selection).c_str());
+}
+
 SensorSize parse_sensor_size(std::string_view text) {
   const auto x = text.find_first_of("xX");
   auto number = [&](std::string_view s, int& v) {

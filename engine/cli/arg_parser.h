@@ -131,6 +131,10 @@ int open_fault_exit(std::string_view command, const std::string& input, const io
 /// "no event of INPUT", and where --from/--to selected the events, how to
 /// read them (a warning's text: process and eval say it alike).
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection);
+/// "evlife COMMAND: warning: no event of INPUT within --from/--to ..." on
+/// stderr when `selection` crops (a run that read to its end and found no
+/// event there: not silent).
+void warn_empty_crop(std::string_view command, const std::string& input, const io::ReaderOptions& selection);
 
 /// "  --flag  doc [range]" lines of an option table's entries that have a flag.
 template <typename ForEach>

@@ -23,7 +23,6 @@
 #include "exit_code.h"
 #include "input_spool.h"
 #include "stop_signals.h"
-#include "skipped_kinds_text.h"
 
 namespace evlife::cli::convert_command {
 namespace {
@@ -271,12 +270,9 @@ int convert_events(const std::string& input, const std::string& output,
   if (sensor) what += ", sensor " + std::to_string(sensor->width) + "x" + std::to_string(sensor->height);
   what += ")";
   const int code = report(o, input, output, what, quiet);
-  if (!quiet && reader->skipped_record_count() > 0) {
-    const std::string kinds = skipped_kinds_text(*reader);
-    std::fprintf(stdout, "  skipped records: %llu (non-event records of the format%s%s)\n",
-                 static_cast<unsigned long long>(reader->skipped_record_count()), kinds.empty() ? "" : ": ",
-                 kinds.c_str());
-  }
+  if (o.written == 0 && code == kExitOk) warn_empty_crop("convert", input, input_options);
+  if (!quiet && reader->skipped_record_count() > 0)
+    std::fprintf(stdout, "  skipped records: %s\n", io::skipped_records_text(*reader).c_str());
   return code;
 }
 

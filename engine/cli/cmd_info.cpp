@@ -21,7 +21,6 @@
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
-#include "skipped_kinds_text.h"
 #include "stop_signals.h"
 
 namespace evlife::cli::info_command {
@@ -256,10 +255,11 @@ int run_info(int argc, char** argv) {
   if (const std::string_view layout = reader->layout_name(); !layout.empty())
     std::printf("layout     %.*s\n", static_cast<int>(layout.size()), layout.data());
   print_events(tally, reader->sensor_size(), reader->sensor_size_note());
+  if (tally.on + tally.off == 0 && fault.empty() && !stop.requested()) warn_empty_crop("info", shown, options);
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",
               thousands(reader->skipped_record_count()).c_str());
-  if (const std::string kinds = skipped_kinds_text(*reader); !kinds.empty())
+  if (const std::string kinds = io::skipped_kinds_text(*reader); !kinds.empty())
     std::printf("  by kind  %s\n", kinds.c_str());
   const auto streams = reader->streams();
   if (!streams.empty()) {

@@ -29,7 +29,6 @@
 #include "evlife/io/stop.h"
 #include "exit_code.h"
 #include "input_spool.h"
-#include "skipped_kinds_text.h"
 #include "lifetime_summary.h"
 #include "progress_meter.h"
 
@@ -197,11 +196,8 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
     std::fprintf(stdout, "  stopped early       %s (see the message below)\n",
                  result.input_fault ? "input error" : result.output_fault ? "output error" : "interrupted");
   }
-  if (const auto skipped = reader.skipped_record_count()) {
-    const std::string kinds = skipped_kinds_text(reader);
-    std::fprintf(stdout, "  skipped records     %llu (non-event records of the format%s%s)\n",
-                 static_cast<unsigned long long>(skipped), kinds.empty() ? "" : ": ", kinds.c_str());
-  }
+  if (reader.skipped_record_count() > 0)
+    std::fprintf(stdout, "  skipped records     %s\n", io::skipped_records_text(reader).c_str());
   const LifetimeStats& st = estimator.stats();
   if (st.noise > st.rejected()) {
     std::fprintf(stdout, "  why noise           %llu few past events, %llu no plane with support, %llu fit unresolved\n",
@@ -320,10 +316,7 @@ int process_recording(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
   if (!args.quiet) print_summary(args, *reader, sensor, *estimator, summary, result, wall_s);
-  if (summary.events() == 0 && !result.input_fault && !result.stopped &&
-      (args.input_options.from_us || args.input_options.to_us)) {  // not silent: the crop held nothing
-    std::fprintf(stderr, "evlife process: warning: %s\n", no_event_text(args.input, args.input_options).c_str());
-  }
+  if (summary.events() == 0 && !result.input_fault && !result.stopped) warn_empty_crop("process", args.input, args.input_options);
   return exit_status(args, result);
 }
 

@@ -192,8 +192,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
   if (const auto lr = a.value("lifetime-range")) {
     const auto colon = lr->find(':');
     if (colon == std::string::npos) throw UsageError("--lifetime-range " + *lr + ": expected MIN:MAX in ms, e.g. 0.3:30");
-    r.job.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon), 1e9);
-    r.job.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1), 1e9);
+    constexpr double kMax = render::FrameStyle::kMaxLifetimeRangeMs;
+    r.job.lifetime_min_us = 1000.0 * parse_positive("lifetime-range", lr->substr(0, colon), kMax);
+    r.job.lifetime_max_us = 1000.0 * parse_positive("lifetime-range", lr->substr(colon + 1), kMax);
     if (r.job.lifetime_max_us <= r.job.lifetime_min_us) throw UsageError("--lifetime-range: MAX must exceed MIN");
   }
   if (const auto v = a.value("video-fps")) {
@@ -255,6 +256,8 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
                static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
                static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
   if (render::ignored_events(st) > 0) std::fprintf(stdout, "  ignored             %s\n", render::ignored_events_text(st).c_str());
+  if (const io::EventReader* reader = source.event_reader(); reader && reader->skipped_record_count() > 0)
+    std::fprintf(stdout, "  skipped records     %s\n", io::skipped_records_text(*reader).c_str());
   std::fprintf(stdout, "  time range          %s%s\n",
                format_time_range(r.first_t_us, r.last_t_us).c_str(),
                r.exhausted ? "" : " (read so far)");

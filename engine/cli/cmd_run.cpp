@@ -54,7 +54,6 @@
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
-#include "skipped_kinds_text.h"
 #include "window_frame_sink.h"
 
 namespace evlife::cli::run_command {
@@ -472,7 +471,7 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
   const auto* replay = dynamic_cast<const engine::ReplaySource*>(&src);
   if (const io::EventReader* reader = replay ? replay->reader() : nullptr;
       reader && reader->skipped_record_count() > 0) {
-    const std::string kinds = skipped_kinds_text(*reader);
+    const std::string kinds = io::skipped_kinds_text(*reader);
     std::fprintf(stdout, "skipped: %llu records (non-event records of the format%s%s)\n",
                  static_cast<unsigned long long>(reader->skipped_record_count()),
                  kinds.empty() ? "" : ": ", kinds.c_str());
@@ -719,11 +718,8 @@ int run_engine(int argc, char** argv) {
     print_run_summary(args, *source, result, render_stage.get(), wall_s);
     counting_sink.print(stdout);
   }
-  if (result.status == engine::RunStatus::completed && result.stats.events_in == 0 &&
-      (args.input_options.from_us || args.input_options.to_us)) {  // as process: the crop held nothing
-    std::fprintf(stderr, "evlife run: warning: %s\n",
-                 no_event_text(std::string(file_of_source(args.source)), args.input_options).c_str());
-  }
+  if (result.status == engine::RunStatus::completed && result.stats.events_in == 0)  // as process
+    warn_empty_crop("run", std::string(file_of_source(args.source)), args.input_options);
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
   return run_exit_status(result, render_stage.get(), args.quiet);
 }

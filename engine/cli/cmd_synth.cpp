@@ -221,6 +221,9 @@ int synth(int argc, char** argv) {
       throw UsageError("-o " + output + ": synth writes .txt or .h5 (events; `evlife process` writes .csv and .bin)");
     }
     truth_path = a.value("truth").value_or("");
+    // The truth is CSV: a name of another format's extension made a file its readers refuse.
+    if (!truth_path.empty() && has_extension(truth_path, {".h5", ".hdf5", ".bin", ".npy", ".npz", ".mat", ".aedat4"}))
+      throw UsageError("--truth " + truth_path + ": the ground truth is written as CSV; name it .csv");
     scene_name = a.value("scene").value_or("mixed");
     const SensorSize sensor = parse_sensor_size(a.value("sensor").value_or("128x128"));
     const std::int64_t duration_us = parse_time_flag("duration", a.value("duration").value_or("3"));

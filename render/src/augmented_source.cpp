@@ -49,6 +49,7 @@ class EstimatingSource final : public AugmentedSource {
   }
   const LifetimeStats* estimator_stats() const override { return &estimator_.stats(); }
   std::uint64_t bytes_consumed() const override { return reader_->bytes_consumed(); }
+  const io::EventReader* event_reader() const override { return reader_.get(); }
 
  private:
   std::unique_ptr<io::EventReader> reader_;

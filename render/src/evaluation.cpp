@@ -49,6 +49,7 @@ class TapSource final : public render::AugmentedSource {
   SensorSize sensor() const override { return inner_.sensor(); }
   std::string description() const override { return inner_.description(); }
   const LifetimeStats* estimator_stats() const override { return inner_.estimator_stats(); }
+  const io::EventReader* event_reader() const override { return inner_.event_reader(); }
 
  private:
   render::AugmentedSource& inner_;
@@ -581,7 +582,18 @@ Evaluation evaluate(const EvaluationOptions& args) {
         if (primary) {
           description = source->description();
           sensor = source->sensor();
-          run_with_sharpness(*source, r, args, sharp);
+          // Never a silent drop: records of the file that are no events (stated when read through).
+          const auto note_skipped = [&] {
+            if (const io::EventReader* reader = source->event_reader(); reader && reader->skipped_record_count() > 0)
+              description += "; skipped records " + io::skipped_records_text(*reader);
+          };
+          try {
+            run_with_sharpness(*source, r, args, sharp);
+          } catch (const io::ReadError&) {
+            note_skipped();
+            throw;
+          }
+          note_skipped();
         } else {
           run_plain(*source, r, args.stop);
         }

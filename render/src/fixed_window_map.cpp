@@ -22,6 +22,7 @@ void FixedWindowMap::reset() noexcept {
   has_epoch_ = false;
   std::fill(polarity_.begin(), polarity_.end(), std::int8_t{0});
   out_of_sensor_ = 0;
+  late_ = 0;
 }
 
 std::size_t FixedWindowMap::count_active(std::int64_t t_us, std::int64_t window_us) const noexcept {

@@ -3,8 +3,11 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include "augmented_formats.h"
+#include "evlife/io/augmented_event_reader.h"
 #include "line_reader.h"
 
 namespace evlife::io::detail {
@@ -34,6 +37,8 @@ class AugmentedCsvReader final : public AugmentedEventReader {
       AugmentedEvent a;
       const char* error = parse(line, a);
       if (error == nullptr && a.event.t_us < last_t_us_) error = "timestamp goes backwards";
+      std::optional<std::string> values_fault;
+      if (error == nullptr && (values_fault = augmented_values_fault(a))) error = values_fault->c_str();
       if (error != nullptr) {
         pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset),
                          static_cast<std::int64_t>(index_),

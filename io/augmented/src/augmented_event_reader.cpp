@@ -1,6 +1,8 @@
 #include "evlife/io/augmented_event_reader.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -62,11 +64,26 @@ std::unique_ptr<AugmentedEventReader> open_if_augmented(const std::string& path)
   }
 }
 
+std::optional<std::string> augmented_values_fault(const AugmentedEvent& a) {
+  const auto text = [](float v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
+    return std::string(buf);
+  };
+  if (!(a.lifetime_us >= 0.0f) || std::isinf(a.lifetime_us))
+    return "lifetime " + text(a.lifetime_us) + " us (0 for noise, else positive and finite)";
+  if (!std::isfinite(a.vx_px_s) || !std::isfinite(a.vy_px_s))
+    return "velocity (" + text(a.vx_px_s) + ", " + text(a.vy_px_s) + ") px/s (finite)";
+  if (std::isinf(a.prediction_error_us)) return "prediction_error " + text(a.prediction_error_us) + " us";
+  return std::nullopt;
+}
+
 RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, SensorSize sensor,
                                     std::int64_t last_t_us) {
   for (std::size_t i = 0; i < records.size(); ++i) {
     const Event& e = records[i].event;
     if (e.p != 1 && e.p != -1) return {i, "corrupt record: polarity " + std::to_string(e.p)};
+    if (auto fault = augmented_values_fault(records[i])) return {i, "corrupt record: " + *fault};
     if (sensor.width > 0 && !sensor.contains(e.x, e.y)) {
       return {i, "event at (x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") is outside the " +
                      std::to_string(sensor.width) + "x" + std::to_string(sensor.height) + " sensor"};

@@ -684,6 +684,24 @@ void Hdf5Reader::choose_time_unit(const std::string& time_unit) {
   t_unit_ns_ = given != 0 ? given : stated != 0 ? stated : t_float_ ? 1'000'000'000 : 1000;
 }
 
+// As the readers of other formats that state a sensor: an event outside it
+// is an error at its index (`info`, which reads unchecked, said nothing).
+void Hdf5Reader::stop_outside_sensor() {
+  if (!sensor_) return;
+  const bool compound = layout_ == "prophesee";
+  for (std::size_t i = 0; i < chunk_size_; ++i) {
+    const int x = compound ? records_[i].x : xs_[i];
+    const int y = compound ? records_[i].y : ys_[i];
+    if (sensor_->contains(x, y)) continue;
+    error_.emplace(path_, -1, next_ + static_cast<std::int64_t>(i),
+                   "event at (x " + std::to_string(x) + ", y " + std::to_string(y) + ") is outside the " +
+                       std::to_string(sensor_->width) + "x" + std::to_string(sensor_->height) +
+                       " sensor the file states");
+    chunk_size_ = i;
+    return;
+  }
+}
+
 // Row i of the chunk is no event: the chunk ends before it, error_ names it.
 bool Hdf5Reader::stop_at(std::size_t i, const char* column, double value, const char* why) {
   const std::int64_t index = next_ + static_cast<std::int64_t>(i);
@@ -745,6 +763,7 @@ std::size_t Hdf5Reader::read(std::span<Event> out) {
     if (chunk_pos_ == chunk_size_) {
       if (error_ || next_ >= total_) break;
       load_chunk();  // on an error: the events before it, then the error
+      stop_outside_sensor();
       next_ += static_cast<std::int64_t>(chunk_size_);
       if (chunk_size_ == 0) break;
     }

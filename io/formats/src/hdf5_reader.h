@@ -102,6 +102,7 @@ class Hdf5Reader final : public EventReader {
   bool convert_integer_times(std::size_t count);  // the chunk's integer times in ts_ from t_unit_ns_ to µs
   void choose_time_unit(const std::string& time_unit);
   bool stop_at(std::size_t i, const char* column, double value, const char* why);  // a bad row ends the chunk
+  void stop_outside_sensor();  // the chunk ends before its first event outside the sensor the file states
   bool is_table() const noexcept { return table_.t >= 0; }
   bool read_time(std::int64_t index, std::int64_t& t_us) const;  // one event's t (+ t_offset)
   // Before the first read (and no error yet): a search may still move the start.

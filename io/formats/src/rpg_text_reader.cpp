@@ -226,6 +226,7 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
   const std::string_view text = without_byte_order_mark({reinterpret_cast<const char*>(head.data()), head.size()});
   const char* p = text.data();
   const char* end = p + text.size();
+  bool size_line_seen = false;
   while (p < end) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     if (nl == nullptr) break;  // need a whole line
@@ -238,6 +239,11 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
       if (ok) skip_spaces(q, nl);
       ok = ok && parse_uint(q, nl, 65536, a);
       if (ok) skip_spaces(q, nl);
+      if (ok && q == nl && !size_line_seen) {  // the optional first line "width height": events follow
+        size_line_seen = true;
+        p = nl + 1;
+        continue;
+      }
       ok = ok && parse_uint(q, nl, 65536, b);
       if (ok) skip_spaces(q, nl);
       if (ok && q == nl) return SniffResult::by_content;  // "width height"

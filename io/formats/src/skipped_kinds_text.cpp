@@ -1,10 +1,10 @@
-#include "skipped_kinds_text.h"
+#include "evlife/io/event_reader.h"
 
-namespace evlife::cli {
+namespace evlife::io {
 
-std::string skipped_kinds_text(const io::EventReader& reader) {
+std::string skipped_kinds_text(const EventReader& reader) {
   std::string text;
-  for (const io::SkippedKindCount& k : reader.skipped_record_kinds()) {
+  for (const SkippedKindCount& k : reader.skipped_record_kinds()) {
     if (!text.empty()) text += ", ";
     text.append(k.kind);
     text += ' ' + std::to_string(k.count);
@@ -12,4 +12,10 @@ std::string skipped_kinds_text(const io::EventReader& reader) {
   return text;
 }
 
-}  // namespace evlife::cli
+std::string skipped_records_text(const EventReader& reader) {
+  const std::string kinds = skipped_kinds_text(reader);
+  return std::to_string(reader.skipped_record_count()) + " (non-event records of the format" +
+         (kinds.empty() ? "" : ": " + kinds) + ")";
+}
+
+}  // namespace evlife::io

@@ -59,9 +59,11 @@ constexpr std::uint64_t span_us(std::int64_t earlier_us, std::int64_t later_us) 
 }
 
 /// last_us - first_us in seconds, for any two times (no int64 overflow: a
-/// file's times may span the whole clock); as exact as the plain difference
-/// while both are within 2^53 us.
+/// file's times may span the whole clock); the difference is taken in 64 bits
+/// where it fits (times beyond 2^53 us lost their microseconds converted first).
 constexpr double seconds_between(std::int64_t first_us, std::int64_t last_us) noexcept {
+  std::int64_t d = 0;
+  if (!__builtin_sub_overflow(last_us, first_us, &d)) return static_cast<double>(d) * 1e-6;
   return (static_cast<double>(last_us) - static_cast<double>(first_us)) * 1e-6;
 }
 

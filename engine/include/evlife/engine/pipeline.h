@@ -68,7 +68,9 @@ class Pipeline {
   /// new one's: true when no event is held by the router or queued for or
   /// inside a worker (run_for() returned with the source empty); false, and
   /// nothing reset, otherwise. The pipeline's own counters go on. Not for the
-  /// threaded Engine (make a new one).
+  /// threaded Engine (make a new one). A file written by a WriterSink ends at
+  /// the first event of the new clock (a writer refuses a time going back:
+  /// no reader would take the file): give the new clock a new sink.
   bool reset_estimators() noexcept;
 
   Router& router() noexcept { return *router_; }

@@ -30,6 +30,9 @@ class AugmentedSource {
   virtual const LifetimeStats* estimator_stats() const = 0;
   /// Bytes of the input consumed so far, 0 when unknown (for progress).
   virtual std::uint64_t bytes_consumed() const { return 0; }
+  /// The recording's reader when its events are estimated on the fly (its
+  /// skipped records, for the summaries), else null.
+  virtual const io::EventReader* event_reader() const { return nullptr; }
 };
 
 /// Augments the events of `reader` with a LifetimeEstimator(options) as they

@@ -25,6 +25,14 @@ class FixedWindowMap {
       ++out_of_sensor_;
       return;
     }
+    // Older than the epoch (a corrupt time, a clock restarted: the engine's
+    // render stage feeds what the estimator rejected too): counted and
+    // ignored, as ActiveEventMap does; taken for a jump forward, it moved the
+    // epoch and erased every pixel's history.
+    if (has_epoch_ && e.t_us < epoch_us_) {
+      ++late_;
+      return;
+    }
     // Unsigned: times fed in order are at or after the epoch, but may lie
     // more than 2^63 us from it (a file's times may span all of int64).
     if (!has_epoch_ || since_epoch_us(e.t_us) > static_cast<std::uint64_t>(kRebaseAfterUs)) rebase(e.t_us);
@@ -68,6 +76,8 @@ class FixedWindowMap {
 
   SensorSize sensor() const noexcept { return sensor_; }
   std::uint64_t out_of_sensor() const noexcept { return out_of_sensor_; }
+  /// Events older than the map's time range (~9 min before its newest): ignored.
+  std::uint64_t late() const noexcept { return late_; }
 
   static constexpr std::int32_t kNeverRel = std::numeric_limits<std::int32_t>::min();
   static constexpr std::int32_t kMaxRel = std::numeric_limits<std::int32_t>::max();
@@ -89,6 +99,7 @@ class FixedWindowMap {
 
   SensorSize sensor_;
   std::uint64_t out_of_sensor_ = 0;
+  std::uint64_t late_ = 0;
   // Latest timestamp per pixel relative to epoch_us_ (32-bit: half the
   // memory read per frame); kNeverRel: never fired.
   std::int64_t epoch_us_ = 0;

@@ -19,6 +19,9 @@ std::string_view to_string(ColorMode mode);
 
 struct FrameStyle {
   static constexpr int kMaxScale = 32;
+  /// The largest end of the lifetime colour scale a user may give, in ms
+  /// (`render --lifetime-range`, evlife.frame's lifetime_range_ms).
+  static constexpr double kMaxLifetimeRangeMs = 1e9;
 
   /// The upscaling that brings the larger sensor side near `target_px`, within
   /// 1..kMaxScale (a sensor of a few pixels would otherwise ask for more).

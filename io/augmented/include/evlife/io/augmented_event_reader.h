@@ -29,10 +29,16 @@ class AugmentedEventReader {
   virtual const std::string& path() const = 0;
 };
 
+/// Why an augmented record's values are none the estimator writes (a
+/// lifetime that is negative, NaN or infinite; a velocity that is not
+/// finite; an infinite prediction error: NaN is "none"), or nullopt.
+std::optional<std::string> augmented_values_fault(const AugmentedEvent& a);
+
 /// The first of `records` an augmented file may not hold after a record at
 /// `last_t_us`: polarity not +1/-1, outside `sensor` (width 0: any size),
-/// time going backwards. `index` == records.size() when there is none. The
-/// rule of the .bin reader, and of what evlife.write and evlife.frame accept.
+/// time going backwards, values augmented_values_fault() refuses. `index` ==
+/// records.size() when there is none. The rule of every augmented reader and
+/// writer, and of what evlife.write and evlife.frame accept.
 struct RecordFault {
   std::size_t index = 0;
   std::string what;  ///< empty when none
