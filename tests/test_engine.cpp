@@ -863,6 +863,24 @@ TEST(EventClockPacer, DueTimesSaturateInsteadOfOverflowing) {
   EXPECT_EQ(fast.due_until_us(evlife::kMaxEventTimeUs - 10, INT64_MAX), INT64_MAX);
 }
 
+// A paced replay in packets (the default, 100 us) holds back an event due
+// centuries ahead: the packet's rounding of the saturated due time wrapped
+// (signed overflow) and released it at once.
+TEST(EventClockPacer, APacketOfAnEventDueCenturiesAheadIsNotReleased) {
+  for (const auto& [speed, gap_us] : {std::pair{1e-6, std::int64_t{3} * 3600 * 1'000'000},
+                                      std::pair{1.0, evlife::kMaxEventTimeUs}}) {
+    const std::vector<Event> events{Event{0, 1, 1, 1}, Event{gap_us, 2, 2, 1}};
+    for (const std::int64_t packet_us : {std::int64_t{100}, std::int64_t{1000}}) {
+      ee::ReplaySource source(events, SensorSize{4, 4}, speed);
+      source.set_packet_us(packet_us);
+      std::vector<Event> out(4);
+      std::size_t pulled = 0;
+      for (int k = 0; k < 50; ++k) pulled += source.pull(std::span(out).subspan(pulled));
+      EXPECT_EQ(pulled, 1u) << speed << " " << packet_us;  // the first; the second not before its time
+    }
+  }
+}
+
 TEST(Realtime, CpuListParsesRangesAndNamesBadParts) {
   EXPECT_EQ(ee::parse_cpu_list("0,2-4,1"), (std::vector<int>{0, 2, 3, 4, 1}));
   EXPECT_THROW(ee::parse_cpu_list("0,x"), std::invalid_argument);

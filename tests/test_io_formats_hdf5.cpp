@@ -1277,6 +1277,40 @@ TEST(IoFormatsHdf5, AStringAttributeThatHangsTheLibraryBecomesReadError) {
       << r.error->what();
 }
 
+// The probe's verdict is kept for the same unchanged file only: a file
+// replaced by another of the same size and modification time (cp -p, rsync
+// -a, shutil.copy2) is probed again. Keyed on path, size and mtime, a valid
+// file's verdict let a crashing one through (libhdf5's SIGFPE killed the
+// process), and a crashing one's kept its repaired copy refused.
+TEST(IoFormatsHdf5, TheProbesVerdictIsNotKeptForAReplacedFile) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string good = dir.file("good.h5"), path = dir.file("f.h5");
+  {
+    auto writer = evlife::io::open_event_writer(good);
+    const std::vector<AugmentedEvent> augmented = make_events(5'000, {64, 64});
+    std::vector<Event> events;
+    for (const auto& a : augmented) events.push_back(a.event);
+    writer->write(events);
+    writer->close();
+  }
+  const std::string crash = std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/regressions/hdf5/fpe_h5d_chunk_set_info.h5";
+  ASSERT_LT(fs::file_size(crash), fs::file_size(good));
+  const auto copy_as = [&](const std::string& from) {  // same size and modification time as `good`
+    fs::copy_file(from, path, fs::copy_options::overwrite_existing);
+    fs::resize_file(path, fs::file_size(good));
+    fs::last_write_time(path, fs::last_write_time(good));
+  };
+  copy_as(good);
+  EXPECT_FALSE(read_all(path).error);
+  copy_as(crash);
+  const ReadResult crashing = read_all(path);
+  ASSERT_TRUE(crashing.error);
+  EXPECT_NE(std::string(crashing.error->what()).find("the HDF5 library crashes opening this file"), std::string::npos)
+      << crashing.error->what();
+  copy_as(good);
+  EXPECT_FALSE(read_all(path).error);
+}
+
 // libhdf5 (Debian's is built thread-safe) holds one global lock through
 // every API call, also while it runs a caller's iteration callback. A child
 // forked meanwhile inherits the lock held and never gets it: the probe took

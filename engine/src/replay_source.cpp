@@ -1,6 +1,7 @@
 #include "evlife/engine/replay_source.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
@@ -125,8 +126,14 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
     // event is due.
     std::int64_t arrival_ns = first_due_ns;
     if (packet_ns_ > 0) {
-      const std::int64_t since = first_due_ns - pacer_.anchor_ns();
-      arrival_ns = pacer_.anchor_ns() + (since + packet_ns_ - 1) / packet_ns_ * packet_ns_;
+      // Rounded up to the slot's end within int64: a due time saturated by
+      // the pacer (centuries ahead) stays "never", not a wrapped "now".
+      std::int64_t since = 0, slot_end = 0;
+      if (__builtin_sub_overflow(first_due_ns, pacer_.anchor_ns(), &since) || since > INT64_MAX - packet_ns_ ||
+          __builtin_add_overflow(pacer_.anchor_ns(), (since + packet_ns_ - 1) / packet_ns_ * packet_ns_, &slot_end)) {
+        slot_end = INT64_MAX;
+      }
+      arrival_ns = slot_end;
     }
     if (arrival_ns > now_ns) {  // not arrived yet: sleep towards it
       const std::int64_t wait_ns = arrival_ns - now_ns;

@@ -3,6 +3,7 @@
 #include <hdf5.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,7 +12,6 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -78,58 +78,77 @@ bool child_ready(int ready_fd, int ms) {
   }
 }
 
-void probe_in_child(const std::string& path);
+bool probe_in_child(const std::string& path);
 
 }  // namespace
 
 void probe_hdf5_open_in_child(const std::string& path) {
   // A command opens a file more than once (its format, its sensor, its
-  // events): the verdict on an unchanged file is kept, so that a hanging
-  // one costs the timeout once.
+  // events): the verdict on the same unchanged file is kept for a minute, so
+  // that a hanging one costs the timeout once. The same file: device, inode,
+  // size, modification and change times (a copy that keeps the modification
+  // time, cp -p, has another inode or change time); for a minute: a Python
+  // session or a Dask worker probes a file again later (a verdict of a
+  // loaded machine's timeout is not kept for good).
+  struct FileKey {
+    dev_t device = 0;
+    ino_t inode = 0;
+    off_t size = 0;
+    timespec modified{}, changed{};
+    bool operator==(const FileKey& o) const noexcept {
+      return device == o.device && inode == o.inode && size == o.size && modified.tv_sec == o.modified.tv_sec &&
+             modified.tv_nsec == o.modified.tv_nsec && changed.tv_sec == o.changed.tv_sec &&
+             changed.tv_nsec == o.changed.tv_nsec;
+    }
+  };
   struct Verdict {
     std::string path;
-    std::filesystem::file_time_type modified;
-    std::uintmax_t size = 0;
+    FileKey key;
+    std::chrono::steady_clock::time_point until;
     std::optional<ReadError> fault;
   };
   static std::mutex mutex;
   static std::optional<Verdict> last;
-  std::error_code ec;
-  const auto modified = std::filesystem::last_write_time(path, ec);
-  const std::uintmax_t size = ec ? 0 : std::filesystem::file_size(path, ec);
-  if (!ec) {
+  struct stat st {};
+  const bool known = ::stat(path.c_str(), &st) == 0;
+  const FileKey key{st.st_dev, st.st_ino, st.st_size, st.st_mtim, st.st_ctim};
+  if (known) {
     const std::lock_guard lock(mutex);
-    if (last && last->path == path && last->modified == modified && last->size == size) {
+    if (last && last->path == path && last->key == key && std::chrono::steady_clock::now() < last->until) {
       if (last->fault) throw *last->fault;
       return;
     }
   }
   std::optional<ReadError> fault;
+  bool probed = false;
   try {
-    probe_in_child(path);
+    probed = probe_in_child(path);
   } catch (const ReadError& e) {
     fault = e;
+    probed = true;
   }
-  if (!ec) {
+  if (known && probed) {  // (not probed: every child stuck on the library's lock; try again next time)
     const std::lock_guard lock(mutex);
-    last = Verdict{path, modified, size, fault};
+    last = Verdict{path, key, std::chrono::steady_clock::now() + std::chrono::minutes(1), fault};
   }
   if (fault) throw *fault;
 }
 
 namespace {
 
-void probe_in_child(const std::string& path) {
+// True when a child probed the file (and found nothing); false when none
+// could (no fork, no pipe, every child stuck on the library's lock).
+bool probe_in_child(const std::string& path) {
   pid_t child = -1;
   for (int attempt = 0; attempt < kForks && child < 0; ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(kBackoffMs[attempt]));
     int ready[2];
-    if (pipe(ready) != 0) return;  // cannot: go on without the probe
+    if (pipe(ready) != 0) return false;  // cannot: go on without the probe
     const pid_t forked = fork();
     if (forked < 0) {  // cannot fork: go on without the probe
       close(ready[0]);
       close(ready[1]);
-      return;
+      return false;
     }
     if (forked == 0) {
       close(ready[0]);
@@ -147,13 +166,13 @@ void probe_in_child(const std::string& path) {
   }
   // Every child stuck on the lock (another thread kept the library busy):
   // go on without the probe, as without fork().
-  if (child < 0) return;
+  if (child < 0) return false;
   const auto deadline = std::chrono::steady_clock::now() + kTimeout;
   int status = 0;
   while (true) {
     const pid_t done = waitpid(child, &status, WNOHANG);
     if (done == child) break;
-    if (done < 0) return;
+    if (done < 0) return false;
     if (std::chrono::steady_clock::now() > deadline) {
       kill(child, SIGKILL);
       waitpid(child, &status, 0);
@@ -174,6 +193,7 @@ void probe_in_child(const std::string& path) {
                     "the HDF5 library fails hard opening this file (probe exit status " +
                         std::to_string(WEXITSTATUS(status)) + "): corrupt HDF5");
   }
+  return true;
 }
 
 }  // namespace

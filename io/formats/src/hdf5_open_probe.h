@@ -17,8 +17,9 @@ namespace evlife::io {
 /// the child dies of a signal, exits non-zero (a sanitizer's report) or hangs
 /// on the file (> 10 s); returns normally otherwise (errors the library
 /// reports are left to the reader, which names them). The verdict on a file
-/// is kept while its size and modification time stay: a command opening it
-/// again (format, sensor, events) waits out a hang once.
+/// is kept for a minute while it is the same file, unchanged (device, inode,
+/// size, modification and change times): a command opening it again
+/// (format, sensor, events) waits out a hang once.
 void probe_hdf5_open_in_child(const std::string& path);
 
 }  // namespace evlife::io
