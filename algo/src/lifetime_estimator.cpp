@@ -220,6 +220,7 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int32_t no
   const int x0 = std::max(0, x - half_window_), x1 = std::min(options_.sensor.width - 1, x + half_window_);
   const int y0 = std::max(0, y - half_window_), y1 = std::min(options_.sensor.height - 1, y + half_window_);
   const double tol_fraction = options_.inlier_tolerance_lifetime_fraction;
+  const auto now_rel_us = static_cast<double>(now_rel);  // 32-bit times: their difference is exact in double
   for (int yy = y0; yy <= y1; ++yy) {
     for (int xx = x0; xx <= x1; ++xx) {
       const std::size_t q = pixel_index(pol, xx, yy);
@@ -232,8 +233,7 @@ bool LifetimeEstimator::continues_an_edge(int pol, int x, int y, std::int32_t no
       // Times relative to the polarity's epoch: their difference is exact
       // (absolute times near 2^62, or Unix time in us, lost up to 1024 us in double).
       const double tol = std::max(tol_floor_us, tol_fraction * tau_us);
-      const double err_us =
-          std::fabs(static_cast<double>(std::int64_t{now_rel} - surface_[q].t_rel) - ahead_us);
+      const double err_us = std::fabs(now_rel_us - static_cast<double>(surface_[q].t_rel) - ahead_us);
       if ((ahead_us > 0.0) & (err_us <= tol)) {
         prior = {gx, gy, err_us};
         return true;
