@@ -471,10 +471,8 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
   const auto* replay = dynamic_cast<const engine::ReplaySource*>(&src);
   if (const io::EventReader* reader = replay ? replay->reader() : nullptr;
       reader && reader->skipped_record_count() > 0) {
-    const std::string kinds = io::skipped_kinds_text(*reader);
-    std::fprintf(stdout, "skipped: %llu records (non-event records of the format%s%s)\n",
-                 static_cast<unsigned long long>(reader->skipped_record_count()),
-                 kinds.empty() ? "" : ": ", kinds.c_str());
+    std::fprintf(stdout, "skipped: %llu records %s\n", static_cast<unsigned long long>(reader->skipped_record_count()),
+                 io::skipped_records_note(*reader).c_str());
   }
   if (render_stage && render_stage->frames_written() == 0 && !args.video.empty()) {
     // The video is opened with its first frame: a file of that name is untouched.

@@ -2,24 +2,12 @@
 
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <string_view>
 
 #include "evlife/algo/lifetime_estimator.h"
 
 namespace evlife::cli {
 namespace {
-
-std::optional<std::uint64_t> available_memory_bytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  std::uint64_t kib = 0;
-  std::string unit;
-  while (meminfo >> key >> kib >> unit) {
-    if (key == "MemAvailable:") return kib * 1024;
-  }
-  return std::nullopt;
-}
 
 std::string gigabytes(std::uint64_t bytes) {
   char text[32];
@@ -30,7 +18,7 @@ std::string gigabytes(std::uint64_t bytes) {
 // ", more than the A GB of memory available" when `bytes` exceed
 // MemAvailable; nothing when they fit or it is unknown.
 std::optional<std::string> beyond_available_memory(std::uint64_t bytes) {
-  const std::optional<std::uint64_t> available = available_memory_bytes();
+  const std::optional<std::uint64_t> available = io::available_memory_bytes();
   if (!available || bytes <= *available) return std::nullopt;
   return ", more than the " + gigabytes(*available) + " of memory available";
 }

@@ -1,7 +1,6 @@
 #include "evlife/engine/replay_source.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
@@ -120,21 +119,10 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
   const std::int64_t now_ns = monotonic_ns();
   const std::int64_t due_us = pacer_.due_until_us(pending_.front().t_us, now_ns);
   if (pacer_.paced()) {
-    const std::int64_t first_due_ns = pacer_.due_at_ns(pending_.front().t_us);
     // The packet holding the first pending event arrives at the end of its
-    // slot (slots of packet_ns_ from the anchor); without packets, when the
-    // event is due.
-    std::int64_t arrival_ns = first_due_ns;
-    if (packet_ns_ > 0) {
-      // Rounded up to the slot's end within int64: a due time saturated by
-      // the pacer (centuries ahead) stays "never", not a wrapped "now".
-      std::int64_t since = 0, slot_end = 0;
-      if (__builtin_sub_overflow(first_due_ns, pacer_.anchor_ns(), &since) || since > INT64_MAX - packet_ns_ ||
-          __builtin_add_overflow(pacer_.anchor_ns(), (since + packet_ns_ - 1) / packet_ns_ * packet_ns_, &slot_end)) {
-        slot_end = INT64_MAX;
-      }
-      arrival_ns = slot_end;
-    }
+    // slot; without packets, when the event is due.
+    const std::int64_t first_due_ns = pacer_.due_at_ns(pending_.front().t_us);
+    const std::int64_t arrival_ns = packet_ns_ > 0 ? pacer_.packet_arrival_ns(first_due_ns, packet_ns_) : first_due_ns;
     if (arrival_ns > now_ns) {  // not arrived yet: sleep towards it
       const std::int64_t wait_ns = arrival_ns - now_ns;
       const std::int64_t poll_ns = std::min(kMaxPollNs, packet_ns_ / 2);

@@ -1,7 +1,5 @@
 // evlife.synth: the synthetic scenes of `evlife synth` (bars, a texture;
 // ideal or DVS pixels) as NumPy arrays, with their ground truth per event.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdio>
 #include <new>
@@ -128,8 +126,8 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   // minute of paging (a lower bound: the edges' events come on top).
   const double background_bytes = io::background_events_per_s(sensor, spec.noise_rate_hz_per_px, spec.pixel) *
                                   duration_s * static_cast<double>(sizeof(Event) + sizeof(io::EventTruth));
-  const double memory_bytes = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
-  if (memory_bytes > 0 && background_bytes > memory_bytes) throw_memory_error(spec, duration_s, background_bytes);
+  if (const auto available = io::available_memory_bytes(); available && background_bytes > static_cast<double>(*available))
+    throw_memory_error(spec, duration_s, background_bytes);  // the command line's rule (memory_check.h)
   io::SyntheticScene scene;
   try {
     py::gil_scoped_release release;

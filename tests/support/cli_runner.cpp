@@ -31,14 +31,4 @@ std::string read_text_file(const std::filesystem::path& path) {
   return text.str();
 }
 
-std::optional<std::uint64_t> available_memory_bytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  std::uint64_t kib = 0;
-  std::string unit;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024;
-  return std::nullopt;
-}
-
 }  // namespace evlife::test

@@ -1,10 +1,10 @@
 // Runs the `evlife` binary as a user would, for the CLI tests.
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
+
+#include "evlife/io/synthetic_scene.h"
 
 namespace evlife::test {
 
@@ -20,8 +20,7 @@ CliRun run_cli(const std::string& cli, const std::string& args, const std::files
 /// The whole file, or "" when it cannot be read.
 std::string read_text_file(const std::filesystem::path& path);
 
-/// MemAvailable of /proc/meminfo in bytes (what the CLI weighs its memory
-/// refusals against), or nothing when unknown.
-std::optional<std::uint64_t> available_memory_bytes();
+/// MemAvailable, what the CLI weighs its memory refusals against.
+using io::available_memory_bytes;
 
 }  // namespace evlife::test

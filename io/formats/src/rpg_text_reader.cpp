@@ -246,7 +246,7 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
       }
       ok = ok && parse_uint(q, nl, 65536, b);
       if (ok) skip_spaces(q, nl);
-      if (ok && q == nl) return SniffResult::by_content;  // "width height"
+      if (ok && q == nl) return SniffResult::by_content;  // "t x y": RPG text lacking p (the reader names the line)
       ok = ok && parse_uint(q, nl, 1, c);
       if (ok) skip_spaces(q, nl);
       if (ok && q == nl) return SniffResult::by_content;

@@ -12,10 +12,13 @@ std::string skipped_kinds_text(const EventReader& reader) {
   return text;
 }
 
-std::string skipped_records_text(const EventReader& reader) {
+std::string skipped_records_note(const EventReader& reader) {
   const std::string kinds = skipped_kinds_text(reader);
-  return std::to_string(reader.skipped_record_count()) + " (non-event records of the format" +
-         (kinds.empty() ? "" : ": " + kinds) + ")";
+  return "(non-event records of the format" + (kinds.empty() ? "" : ": " + kinds) + ")";
+}
+
+std::string skipped_records_text(const EventReader& reader) {
+  return std::to_string(reader.skipped_record_count()) + " " + skipped_records_note(reader);
 }
 
 }  // namespace evlife::io

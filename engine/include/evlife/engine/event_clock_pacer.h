@@ -38,6 +38,19 @@ class EventClockPacer {
     return plus_saturated(wall0_ns_, d_us * 1e3 / speed_);
   }
 
+  /// Wall time (ns) at which the packet holding an event due at `due_ns`
+  /// (due_at_ns()) arrives: the end of its slot of `packet_ns` from the
+  /// anchor (anchored only; packet_ns > 0). A due time saturated (centuries
+  /// ahead) stays INT64_MAX: never, not a wrapped "now".
+  std::int64_t packet_arrival_ns(std::int64_t due_ns, std::int64_t packet_ns) const noexcept {
+    std::int64_t since = 0, slot_end = 0;
+    if (__builtin_sub_overflow(due_ns, wall0_ns_, &since) || since > INT64_MAX - packet_ns ||
+        __builtin_add_overflow(wall0_ns_, (since + packet_ns - 1) / packet_ns * packet_ns, &slot_end)) {
+      return INT64_MAX;
+    }
+    return slot_end;
+  }
+
  private:
   // base + offset, held within the int64 range (a gap of centuries, or hours
   // at --realtime=1e-6, overflowed: the event was released at once).
