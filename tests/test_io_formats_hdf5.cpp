@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <lzf.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -34,6 +36,7 @@
 #include "evlife/io/hdf5_writer.h"
 #include "hdf5_dataset.h"
 #include "hdf5_open_probe.h"
+#include "hdf5_reader.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -1348,6 +1351,85 @@ TEST(IoFormatsHdf5, AnotherThreadHoldingTheLibraryDoesNotMakeAValidFileFail) {
   const ReadResult r = read_all(path);
   ASSERT_FALSE(r.error) << r.error->what();
   ASSERT_EQ(r.events.size(), written.size());
+}
+
+// A filter that passes chunks through and crashes decoding one whose first
+// 32-bit value is kCrashMarker: libhdf5 dying inside H5Dread on one chunk, as
+// on a corrupt one (a helper's slider .h5 with one byte changed died so, SIGSEGV),
+// without depending on which bytes crash which libhdf5 version.
+constexpr H5Z_filter_t kCrashingFilter = 300;  // HDF5's range for testing: 256-511
+constexpr std::uint32_t kCrashMarker = 65'536 % 640;  // x of row 65536 in write_filtered_dsec_file
+std::size_t crash_on_marked_chunk(unsigned flags, std::size_t, const unsigned[], std::size_t bytes,
+                                  std::size_t*, void** buffer) {
+  std::uint32_t first = 0;
+  if (bytes >= sizeof first) std::memcpy(&first, *buffer, sizeof first);
+  if ((flags & H5Z_FLAG_REVERSE) != 0 && first == kCrashMarker) raise(SIGSEGV);
+  return bytes;
+}
+
+// The reads of a file whose second chunk crashes libhdf5: in the reader's
+// child process, so the events of the first chunk come out, then a ReadError
+// names the column, the event and the crash. Before, every command died of
+// the signal (exit 139), `convert`'s output left empty.
+TEST(IoFormatsHdf5, ALibraryCrashReadingAChunkEndsTheReadingAfterTheEventsBefore) {
+  const H5Z_class2_t filter{H5Z_CLASS_T_VERS, kCrashingFilter, 1, 1, "evlife test: crashes on a marked chunk",
+                            nullptr, nullptr, &crash_on_marked_chunk};
+  ASSERT_GE(H5Zregister(&filter), 0);
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("crashing_chunk.h5");
+  constexpr hsize_t kChunkRows = 65'536;  // the reader's slab: its first read holds chunk 0 alone
+  write_filtered_dsec_file(path, 2 * kChunkRows, kChunkRows, kCrashingFilter, {}, [](const auto& chunk) {
+    std::vector<unsigned char> bytes(chunk.size() * sizeof(chunk[0]));
+    std::memcpy(bytes.data(), chunk.data(), bytes.size());
+    return std::pair{bytes, 0u};
+  });
+  ReadResult r;
+  ASSERT_NO_THROW(r = read_all(path, /*checked=*/false));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), kChunkRows);
+  const std::string what = r.error->what();
+  EXPECT_NE(what.find("'events/x' cannot be read from event 65536"), std::string::npos) << what;
+  EXPECT_NE(what.find("the HDF5 library crashes reading it (signal " + std::to_string(SIGSEGV)), std::string::npos)
+      << what;
+  EXPECT_EQ(r.error->event_index(), 65'536);
+}
+
+// A DSEC t_offset of many values: read into the reader's one int64 it
+// overflowed it (H5Dread of the whole dataset); now it is refused.
+TEST(IoFormatsHdf5, ATimeOffsetOfManyValuesIsRefusedNotReadPastItsInteger) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("t_offset_array.h5");
+  const hid_t file = create_event_columns(path, {1, 2}, {3, 4}, std::vector<std::uint32_t>{10, 20}, H5T_STD_U32LE,
+                                          H5T_NATIVE_UINT32, {0, 1});
+  write_dataset(file, "t_offset", H5T_STD_I64LE, H5T_NATIVE_INT64, std::vector<std::int64_t>(4096, 7));
+  H5Fclose(file);
+  try {
+    evlife::io::open_event_reader(path);
+    FAIL() << "a t_offset of 4096 values was taken";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("'t_offset' is not a scalar integer"), std::string::npos) << e.what();
+  }
+}
+
+// The reader's child reads with the handles it inherited: columns opened
+// after its first read (augmented ones, after a time search) are read by a
+// new child that knows them, not refused.
+TEST(IoFormatsHdf5, ColumnsOpenedAfterTheFirstReadAreReadToo) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("late_columns.h5");
+  const std::vector<AugmentedEvent> written = make_events(1'000, {128, 128});
+  write_augmented(path, written, SensorSize{128, 128});
+  evlife::io::Hdf5Reader reader(path);
+  ASSERT_EQ(reader.first_event_time_us(), written.front().event.t_us);  // the first read: the child forks
+  constexpr std::array<const char*, 4> kColumns{"lifetime", "vx", "vy", "prediction_error"};
+  ASSERT_TRUE(reader.open_float_columns(kColumns));
+  std::vector<float> lifetime(written.size()), vx(written.size()), vy(written.size()), error(written.size());
+  const std::array<float*, 4> out{lifetime.data(), vx.data(), vy.data(), error.data()};
+  ASSERT_NO_THROW(reader.read_float_rows(0, written.size(), out));
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    ASSERT_EQ(lifetime[i], written[i].lifetime_us) << i;
+    ASSERT_EQ(vy[i], written[i].vy_px_s) << i;
+  }
 }
 
 // A file whose chunk description claims ~4 GB chunks (found by fuzz_hdf5 as

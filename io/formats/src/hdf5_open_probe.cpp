@@ -1,47 +1,28 @@
 #include "hdf5_open_probe.h"
 
 #include <hdf5.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdint>
-#include <cstring>
 #include <mutex>
 #include <optional>
 #include <thread>
 
 #include "evlife/io/event_reader.h"
 #include "hdf5_attributes.h"
+#include "hdf5_child.h"
 
 namespace evlife::io {
 namespace {
 
 constexpr auto kTimeout = std::chrono::seconds(10);
-// A forked child inherits libhdf5's global lock (a thread-safe build's, as
-// Debian's) in whatever state it was: held by another thread of the parent
-// (a second reader opening a file, h5py), it is never released in the child.
-// The child says it got past the lock; one that does not within this time
-// is stuck on it, not on the file, and is forked again a little later.
-constexpr int kLockWaitMs = 300;
-constexpr int kForks = 4;
-constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
 
 // In the child: the reader's opening calls, on every dataset it may open.
-[[noreturn]] void probe(const char* path, int ready_fd) {
-  // Die by the signal itself: a crash handler inherited from the parent (a
-  // sanitizer's, a fuzzer's) would report the child's crash as the
-  // parent's, while the parent turns it into a ReadError.
-  for (const int sig : {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // an API call: it takes the library's lock
-  const char ready = 1;
-  if (write(ready_fd, &ready, 1) != 1) _exit(0);  // the parent is gone
-  close(ready_fd);
+void probe(void* context) {
+  const char* path = static_cast<const char*>(context);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file >= 0) {
     for (const char* name : {"width", "height"}) (void)read_int_attribute(file, name);  // the reader's lookups
@@ -60,22 +41,7 @@ constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
     }
     H5Fclose(file);
   }
-  _exit(0);  // no atexit handlers, no flushing of the parent's stdio buffers
-}
-
-/// Whether the child wrote its byte within `ms` (false: stuck on the lock).
-bool child_ready(int ready_fd, int ms) {
-  pollfd fd{ready_fd, POLLIN, 0};
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    const int polled = poll(&fd, 1, static_cast<int>(std::max<std::int64_t>(left.count(), 0)));
-    if (polled > 0) {
-      char byte = 0;
-      return read(ready_fd, &byte, 1) == 1;  // 0: the child ended before (a crash: its status says)
-    }
-    if (polled == 0 || errno != EINTR) return false;
-  }
+  _exit(0);
 }
 
 bool probe_in_child(const std::string& path);
@@ -139,33 +105,9 @@ namespace {
 // True when a child probed the file (and found nothing); false when none
 // could (no fork, no pipe, every child stuck on the library's lock).
 bool probe_in_child(const std::string& path) {
-  pid_t child = -1;
-  for (int attempt = 0; attempt < kForks && child < 0; ++attempt) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(kBackoffMs[attempt]));
-    int ready[2];
-    if (pipe(ready) != 0) return false;  // cannot: go on without the probe
-    const pid_t forked = fork();
-    if (forked < 0) {  // cannot fork: go on without the probe
-      close(ready[0]);
-      close(ready[1]);
-      return false;
-    }
-    if (forked == 0) {
-      close(ready[0]);
-      probe(path.c_str(), ready[1]);
-    }
-    close(ready[1]);
-    const bool ready_in_time = child_ready(ready[0], kLockWaitMs);
-    close(ready[0]);
-    if (ready_in_time || waitpid(forked, nullptr, WNOHANG) == forked) {
-      child = forked;  // past the lock (or already ended: its status below)
-    } else {
-      kill(forked, SIGKILL);
-      waitpid(forked, nullptr, 0);
-    }
-  }
-  // Every child stuck on the lock (another thread kept the library busy):
-  // go on without the probe, as without fork().
+  const pid_t child = detail::fork_hdf5_child(&probe, const_cast<char*>(path.c_str()));
+  // No child (no fork, or every child stuck on the library's lock, another
+  // thread keeping it busy): go on without the probe.
   if (child < 0) return false;
   const auto deadline = std::chrono::steady_clock::now() + kTimeout;
   int status = 0;
@@ -180,19 +122,8 @@ bool probe_in_child(const std::string& path) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  if (WIFSIGNALED(status)) {
-    throw ReadError(path, -1, -1,
-                    std::string("the HDF5 library crashes opening this file (signal ") +
-                        std::to_string(WTERMSIG(status)) + ", " + strsignal(WTERMSIG(status)) +
-                        "): corrupt HDF5");
-  }
-  // The child exits 0 unless something killed it in its own way (e.g. a
-  // sanitizer's report of the same crash): as bad as a signal.
-  if (WIFEXITED(status) && WEXITSTATUS(status) != 0) {
-    throw ReadError(path, -1, -1,
-                    "the HDF5 library fails hard opening this file (probe exit status " +
-                        std::to_string(WEXITSTATUS(status)) + "): corrupt HDF5");
-  }
+  if (const auto fault = detail::hdf5_child_fault(status); !fault.verb.empty())
+    throw ReadError(path, -1, -1, "the HDF5 library " + fault.verb + " opening this file " + fault.detail + ": corrupt HDF5");
   return true;
 }
 

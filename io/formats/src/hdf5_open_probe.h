@@ -1,11 +1,9 @@
 // libhdf5 1.10 (Debian 12) can crash the process on some corrupt files while
 // merely opening a dataset (e.g. SIGFPE for a chunk dimension of 0, found by
-// fuzzing: tests/fuzz/known_crashes/hdf5/). The probe repeats the reader's
-// opening steps in a forked child first, so that such a crash becomes a
-// ReadError in the caller instead of killing it. A child that another
-// thread's hold on libhdf5's lock (inherited, never released) stops before
-// it reaches the file is forked again, a few times; then the open goes on
-// without the probe.
+// fuzzing: tests/fuzz/regressions/hdf5/). The probe repeats the reader's
+// opening steps in a forked child first (hdf5_child.h), so that such a crash
+// becomes a ReadError in the caller instead of killing it; the reads that
+// follow are done by another child (hdf5_read_child.h).
 #pragma once
 
 #include <string>

@@ -20,6 +20,7 @@
 #include "hdf5_lzf_filter.h"
 #include "column_layout.h"  // the time units
 #include "hdf5_open_probe.h"
+#include "hdf5_read_child.h"
 #include "hdf5_signature.h"
 #include "reader_registry.h"
 
@@ -155,35 +156,17 @@ bool chunk_beyond_fixed_extent(hid_t dataset) {
   return false;
 }
 
-// HDF5 converts a value that the memory type cannot hold by clamping (x = -1
-// read as 0, 70000 as 65535, t >= 2^63 as INT64_MAX) or truncating (12.7 as
-// 12): silently another event. Such a value fails the read here instead, and
-// the reader names its row (first_unconvertible_row).
-H5T_conv_ret_t refuse_lossy_conversion(H5T_conv_except_t kind, hid_t, hid_t, void*, void*, void*) {
-  return kind == H5T_CONV_EXCEPT_PRECISION ? H5T_CONV_UNHANDLED : H5T_CONV_ABORT;  // int64 -> double
-}
-
 // Rows [first, first + count) of a 1-D dataset, or of an N×`columns` one
-// (column `column` alone when `column` >= 0, else every column).
-bool read_slab(hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count, void* out,
-               int columns = 0, int column = -1) {
-  const hid_t file_space = H5Dget_space(dataset);
-  if (file_space < 0) return false;
-  const int rank = columns > 0 ? 2 : 1;
-  const hsize_t start[2] = {static_cast<hsize_t>(first), static_cast<hsize_t>(std::max(column, 0))};
-  const hsize_t size[2] = {count, static_cast<hsize_t>(column >= 0 ? 1 : columns)};
-  const hid_t memory_space = H5Screate_simple(rank, size, nullptr);
-  const hid_t transfer = H5Pcreate(H5P_DATASET_XFER);
-  const bool ok = memory_space >= 0 && transfer >= 0 &&
-                  H5Pset_type_conv_cb(transfer, refuse_lossy_conversion, nullptr) >= 0 &&
-                  H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
-                  H5Dread(dataset, memory_type, memory_space, file_space, transfer, out) >= 0;
-  if (transfer >= 0) H5Pclose(transfer);
-  if (memory_space >= 0) H5Sclose(memory_space);
-  H5Sclose(file_space);
-  return ok;
+// (column `column` alone when `column` >= 0, else every column), read by the
+// reader's child (hdf5_read_child.h). HDF5 converts a value that the memory
+// type cannot hold by clamping (x = -1 read as 0) or truncating (12.7 as 12):
+// such a value fails the read instead, and the reader names its row
+// (first_unconvertible_row).
+bool read_slab(detail::Hdf5ReadChild& reads, hid_t dataset, hid_t memory_type, std::int64_t first, std::size_t count,
+               void* out, int columns = 0, int column = -1) {
+  const detail::Hdf5Selection selection{first, count, columns, column, false};
+  return reads.read(dataset, memory_type, selection, out, detail::selection_bytes(dataset, memory_type, selection));
 }
-
 
 // The dataset `name` of `file` opened, or -1 when there is none (a group,
 // nothing, or unreadable): for the optional datasets beside the events.
@@ -208,12 +191,12 @@ std::optional<SensorSize> sensor_of_frames(hid_t file, const std::string& name) 
 
 // A sensor stated as a dataset of two integers [width, height] (M3ED's
 // calib/resolution), if there is one.
-std::optional<SensorSize> sensor_of_resolution(hid_t file, const std::string& name) {
+std::optional<SensorSize> sensor_of_resolution(detail::Hdf5ReadChild& reads, hid_t file, const std::string& name) {
   const hid_t dataset = open_if_dataset(file, name);
   if (dataset < 0) return std::nullopt;
   std::int64_t size[2] = {0, 0};
   const bool ok = length_1d(dataset) == 2 &&
-                  H5Dread(dataset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, size) >= 0;
+                  reads.read(dataset, H5T_NATIVE_INT64, detail::Hdf5Selection{.whole = true}, size, sizeof size);
   H5Dclose(dataset);
   if (!ok || size[0] <= 0 || size[1] <= 0 || size[0] > 65536 || size[1] > 65536) return std::nullopt;
   return SensorSize{static_cast<int>(size[0]), static_cast<int>(size[1])};
@@ -263,10 +246,11 @@ enum class ColumnKind { coordinate, time_us, polarity };
 // The first of `count` rows from `first` whose value the column cannot hold
 // without change (read as doubles, which hold every such value's size), with
 // that value; nothing when every row fits (the read failed for another reason).
-std::optional<std::pair<std::size_t, double>> first_unconvertible_row(hid_t dataset, ColumnKind kind,
+std::optional<std::pair<std::size_t, double>> first_unconvertible_row(detail::Hdf5ReadChild& reads, hid_t dataset,
+                                                                      ColumnKind kind,
                                                                       std::int64_t first, std::size_t count) {
   std::vector<double> values(count);
-  if (!read_slab(dataset, H5T_NATIVE_DOUBLE, first, count, values.data())) return std::nullopt;
+  if (!read_slab(reads, dataset, H5T_NATIVE_DOUBLE, first, count, values.data())) return std::nullopt;
   for (std::size_t i = 0; i < count; ++i) {
     const double v = values[i];
     std::uint16_t coordinate = 0;
@@ -322,7 +306,7 @@ Hdf5Reader::Hid Hdf5Reader::open_column(const std::string& name) {
 }
 
 Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const std::string& time_unit)
-    : path_(path) {
+    : path_(path), reads_(std::make_unique<detail::Hdf5ReadChild>()) {
   const Hdf5ErrorSilencer silence;
   detail::register_hdf5_lzf_filter();
   if (H5Fis_hdf5(path.c_str()) <= 0) {
@@ -439,7 +423,9 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
     t_float_ = is_float(t_);
     if (layout_ == "dsec" && exists(file_, "t_offset")) {
       const hid_t offset = open_column("t_offset");
-      const bool ok = H5Dread(offset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &t_offset_us_) >= 0;
+      // (Into one int64: a t_offset of more values fails, not overflows it.)
+      const bool ok = reads_->read(offset, H5T_NATIVE_INT64, detail::Hdf5Selection{.whole = true}, &t_offset_us_,
+                                  sizeof t_offset_us_);
       H5Dclose(offset);
       if (!ok) {
         close_handles();
@@ -461,7 +447,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
   } else if (layout_ == "mvsec") {  // davis/left/events: davis/left/image_raw
     sensor_ = sensor_of_frames(file_, table_name_.substr(0, table_name_.rfind('/') + 1) + "image_raw");
   } else if (layout_ == "m3ed") {  // prophesee/left/calib/resolution: [width, height]
-    sensor_ = sensor_of_resolution(file_, prefix + "calib/resolution");
+    sensor_ = sensor_of_resolution(*reads_, file_, prefix + "calib/resolution");
   }
   if (layout_ == "prophesee") {
     records_.resize(kChunkEvents);
@@ -502,7 +488,16 @@ std::vector<ContainerStream> Hdf5Reader::streams() const {
   return cameras;
 }
 
+// Why a read failed, in parentheses: libhdf5 crashed or hung in the child
+// that read, else a filter this HDF5 cannot load, else `otherwise`.
+std::string Hdf5Reader::why_unread(const char* otherwise) const {
+  if (const auto& fault = reads_->fault())
+    return " (the HDF5 library " + fault->verb + " reading it " + fault->detail + ": corrupt HDF5)";
+  return unloadable_filter_.empty() ? " (" + std::string(otherwise) + ")" : " (dataset " + unloadable_filter_ + ")";
+}
+
 void Hdf5Reader::close_handles() noexcept {
+  if (reads_) reads_->stop();  // it reads with these handles
   for (Hid* handle : {&x_, &y_, &t_, &p_}) {
     if (*handle >= 0) H5Dclose(*handle);
     *handle = -1;
@@ -537,13 +532,10 @@ bool Hdf5Reader::open_float_columns(std::span<const char* const> names) {
 void Hdf5Reader::read_float_rows(std::int64_t first, std::size_t count, std::span<float* const> out) const {
   const Hdf5ErrorSilencer silence;
   for (std::size_t c = 0; c < float_columns_.size() && c < out.size(); ++c) {
-    if (!read_slab(float_columns_[c], H5T_NATIVE_FLOAT, first, count, out[c])) {
+    if (!read_slab(*reads_, float_columns_[c], H5T_NATIVE_FLOAT, first, count, out[c])) {
       throw ReadError(path_, -1, first,
                       "HDF5 dataset '" + float_names_[c] + "' cannot be read from event " + std::to_string(first) +
-                          (unloadable_filter_.empty()
-                               ? std::string(" (corrupt data, a value no float holds, or a compression filter this "
-                                             "HDF5 lacks)")
-                               : " (dataset " + unloadable_filter_ + ")"));
+                          why_unread("corrupt data, a value no float holds, or a compression filter this HDF5 lacks"));
     }
   }
 }
@@ -562,11 +554,11 @@ void Hdf5Reader::load_chunk() {
     H5Tinsert(type, "y", offsetof(CdRecord, y), H5T_NATIVE_UINT16);
     H5Tinsert(type, "p", offsetof(CdRecord, p), H5T_NATIVE_INT16);
     H5Tinsert(type, "t", offsetof(CdRecord, t), H5T_NATIVE_INT64);
-    ok = read_slab(t_, type, next_, count, records_.data());
+    ok = read_slab(*reads_, t_, type, next_, count, records_.data());
     H5Tclose(type);
   } else if (is_table()) {
     what = table_name_.c_str();
-    ok = read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data(), 4);
+    ok = read_slab(*reads_, t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data(), 4);
     if (ok) {
       chunk_size_ = count;
       load_table_chunk(count);
@@ -583,7 +575,7 @@ void Hdf5Reader::load_chunk() {
       int bad_column = 0;
       for (int c = 0; c < 4; ++c) {
         if (c == 2 && t_float_) continue;  // doubles: nothing to convert
-        const auto row = first_unconvertible_row(columns[c], kinds[c], next_, count);
+        const auto row = first_unconvertible_row(*reads_, columns[c], kinds[c], next_, count);
         if (row && (!bad || row->first < bad->first)) bad = row, bad_column = c;
       }
       if (bad && (bad->first == 0 || read_columns(bad->first, what))) {
@@ -605,11 +597,8 @@ void Hdf5Reader::load_chunk() {
   }
   if (!ok) {
     error_.emplace(path_, -1, next_,
-                   "HDF5 dataset '" + std::string(what) + "' cannot be read from event " +
-                       std::to_string(next_) +
-                       (unloadable_filter_.empty()
-                            ? std::string(" (corrupt data, wrong type or a compression filter this HDF5 lacks)")
-                            : " (dataset " + unloadable_filter_ + ")"));
+                   "HDF5 dataset '" + std::string(what) + "' cannot be read from event " + std::to_string(next_) +
+                       why_unread("corrupt data, wrong type or a compression filter this HDF5 lacks"));
     return;
   }
   chunk_size_ = count;
@@ -618,12 +607,12 @@ void Hdf5Reader::load_chunk() {
 // The column datasets' rows [next_, next_ + count) into the column buffers
 // (times in seconds into doubles_); `what` names the column that failed.
 bool Hdf5Reader::read_columns(std::size_t count, const char*& what) {
-  return (what = column_names_[0].c_str(), read_slab(x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
-         (what = column_names_[1].c_str(), read_slab(y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
+  return (what = column_names_[0].c_str(), read_slab(*reads_, x_, H5T_NATIVE_UINT16, next_, count, xs_.data())) &&
+         (what = column_names_[1].c_str(), read_slab(*reads_, y_, H5T_NATIVE_UINT16, next_, count, ys_.data())) &&
          (what = column_names_[2].c_str(),
-          t_float_ ? read_slab(t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
-                        : read_slab(t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
-         (what = column_names_[3].c_str(), read_slab(p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
+          t_float_ ? read_slab(*reads_, t_, H5T_NATIVE_DOUBLE, next_, count, doubles_.data())
+                        : read_slab(*reads_, t_, H5T_NATIVE_INT64, next_, count, ts_.data())) &&
+         (what = column_names_[3].c_str(), read_slab(*reads_, p_, H5T_NATIVE_INT8, next_, count, ps_.data()));
 }
 
 // Converts the chunk's rows in doubles_ into the column buffers. At the first
@@ -718,16 +707,16 @@ bool Hdf5Reader::read_time(std::int64_t index, std::int64_t& t_us) const {
   if (layout_ == "prophesee") {  // the compound's t field alone
     const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(std::int64_t));
     H5Tinsert(type, "t", 0, H5T_NATIVE_INT64);
-    ok = read_slab(t_, type, index, 1, &t);
+    ok = read_slab(*reads_, t_, type, index, 1, &t);
     H5Tclose(type);
   } else if (is_table() || t_float_) {
     double value = 0.0;
-    ok = (is_table() ? read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value, 4, table_.t)
-                     : read_slab(t_, H5T_NATIVE_DOUBLE, index, 1, &value)) &&
+    ok = (is_table() ? read_slab(*reads_, t_, H5T_NATIVE_DOUBLE, index, 1, &value, 4, table_.t)
+                     : read_slab(*reads_, t_, H5T_NATIVE_DOUBLE, index, 1, &value)) &&
          detail::float_time_to_us(value, t_unit_ns_, t);
   } else {
     std::int64_t value = 0;
-    ok = read_slab(t_, H5T_NATIVE_INT64, index, 1, &value) && detail::integer_time_to_us(value, t_unit_ns_, t);
+    ok = read_slab(*reads_, t_, H5T_NATIVE_INT64, index, 1, &value) && detail::integer_time_to_us(value, t_unit_ns_, t);
   }
   t_us = t + t_offset_us_;
   return ok;

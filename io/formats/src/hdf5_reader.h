@@ -14,10 +14,13 @@
 //    sensor from calib/resolution beside them;
 //  - with --topic, any group of x, y, t, p columns ("columns").
 // A time column of floating-point type holds seconds, an integer one µs.
-// Read in chunks of kChunkEvents with the HDF5 library: constant memory.
+// Read in chunks of kChunkEvents with the HDF5 library (constant memory) by a
+// child process: a crash of the library inside a read ends the child, not
+// the caller (hdf5_read_child.h).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -27,6 +30,9 @@
 #include "evlife/io/event_reader.h"
 
 namespace evlife::io {
+namespace detail {
+class Hdf5ReadChild;
+}
 
 class Hdf5Reader final : public EventReader {
  public:
@@ -108,9 +114,13 @@ class Hdf5Reader final : public EventReader {
   // Before the first read (and no error yet): a search may still move the start.
   bool unread() const noexcept { return next_ == 0 && chunk_size_ == 0 && !error_; }
   void close_handles() noexcept;
+  std::string why_unread(const char* otherwise) const;  // a failed read's cause, in parentheses
   Hid open_column(const std::string& name);  // with the checks of every column; throws ReadError
 
   std::string path_;
+  // Does the reads (H5Dread) in a child process: a corrupt chunk that crashes
+  // libhdf5 ends the reading with an error, not the process (hdf5_read_child.h).
+  std::unique_ptr<detail::Hdf5ReadChild> reads_;
   std::string_view layout_;
   Hid file_ = -1;
   Hid x_ = -1, y_ = -1, t_ = -1, p_ = -1;  // column datasets, or t_ = the compound

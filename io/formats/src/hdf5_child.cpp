@@ -1,0 +1,89 @@
+#include "hdf5_child.h"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <thread>
+
+namespace evlife::io::detail {
+namespace {
+
+constexpr int kLockWaitMs = 300;  // a child not past the lock by then is stuck on it
+constexpr int kForks = 4;
+constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
+
+// Whether the child wrote its byte within `ms` (false: stuck on the lock).
+bool child_ready(int ready_fd, int ms) {
+  pollfd fd{ready_fd, POLLIN, 0};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const int polled = poll(&fd, 1, static_cast<int>(std::max<std::int64_t>(left.count(), 0)));
+    if (polled > 0) {
+      char byte = 0;
+      return read(ready_fd, &byte, 1) == 1;  // 0: the child ended before (a crash: its status says)
+    }
+    if (polled == 0 || errno != EINTR) return false;
+  }
+}
+
+}  // namespace
+
+pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
+  for (int attempt = 0; attempt < kForks; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(kBackoffMs[attempt]));
+    int ready[2];
+    if (pipe2(ready, O_CLOEXEC) != 0) return -1;
+    const pid_t forked = fork();
+    if (forked < 0) {
+      close(ready[0]);
+      close(ready[1]);
+      return -1;
+    }
+    if (forked == 0) {
+      close(ready[0]);
+      for (const int sig : {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
+      H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // an API call: it takes the library's lock
+      const char byte = 1;
+      if (write(ready[1], &byte, 1) != 1) _exit(0);  // the parent is gone
+      close(ready[1]);
+      body(context);
+      _exit(0);  // no atexit handlers, no flushing of the parent's stdio buffers
+    }
+    close(ready[1]);
+    const bool ready_in_time = child_ready(ready[0], kLockWaitMs);
+    close(ready[0]);
+    if (ready_in_time || waitpid(forked, nullptr, WNOHANG) == forked) {
+      // Past the lock, or already ended (a crash before its byte): the caller
+      // reads its status. (WNOHANG reaped an ended one: fork again.)
+      if (ready_in_time) return forked;
+      continue;
+    }
+    kill(forked, SIGKILL);
+    waitpid(forked, nullptr, 0);
+  }
+  return -1;
+}
+
+Hdf5ChildFault hdf5_child_fault(int wait_status) {
+  if (WIFSIGNALED(wait_status)) {
+    const int sig = WTERMSIG(wait_status);
+    return {"crashes", "(signal " + std::to_string(sig) + ", " + strsignal(sig) + ")"};
+  }
+  // The child exits 0 unless something killed it in its own way (e.g. a
+  // sanitizer's report of the same crash): as bad as a signal.
+  if (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) != 0)
+    return {"fails hard", "(exit status " + std::to_string(WEXITSTATUS(wait_status)) + ")"};
+  return {};
+}
+
+}  // namespace evlife::io::detail

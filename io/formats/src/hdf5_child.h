@@ -1,0 +1,34 @@
+// A forked child process that calls libhdf5 for its parent, so that a corrupt
+// file that crashes or hangs the library (libhdf5 1.10, Debian 12's, has such
+// paths in opening and in reading chunks) ends the child, not the caller.
+//
+// A forked child inherits libhdf5's global lock (a thread-safe build's, as
+// Debian's) in whatever state it was: held by another thread of the parent (a
+// second reader opening a file, h5py), it is never released in the child. The
+// child says it got past the lock; one that does not within a short time is
+// stuck on it, not on the file, and is forked again a little later.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+
+namespace evlife::io::detail {
+
+/// Forks a child that resets the crash signals to their default action (a
+/// crash handler inherited from the parent, a sanitizer's or a fuzzer's,
+/// would report the child's crash as the parent's), takes libhdf5's lock once
+/// and then runs `body(context)`, which must end with _exit. Returns the
+/// child's pid, or -1 when none could be started (no fork, or every child
+/// stuck on the library's lock): the caller goes on without a child.
+pid_t fork_hdf5_child(void (*body)(void* context), void* context);
+
+/// How a child ended, for an error message: {"crashes", "(signal 11,
+/// Segmentation fault)"}, {"fails hard", "(exit status 1)"} (a sanitizer's
+/// report of the crash), or empty texts when it exited 0.
+struct Hdf5ChildFault {
+  std::string verb, detail;
+};
+Hdf5ChildFault hdf5_child_fault(int wait_status);
+
+}  // namespace evlife::io::detail
