@@ -632,4 +632,44 @@ TEST_F(CliFlags, SynthesizedHdf5StatesItsSensor) {
   EXPECT_TRUE(has(r, "sensor     400x90 (stated by the file)")) << r.output;
 }
 
+// What a review found accepted without a word: a --polarity that selects
+// nothing (a file of OFF events only, --polarity on: exit 0, 0 events, no
+// warning; render said the file "holds no event"), render -q leaving most
+// events out of its frames (the count was in the summary, which -q skips),
+// run --fps 0 without --at (no frame drawn, exit 0) and more --workers than
+// tiles (idle workers holding an estimator's memory each).
+TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
+  const std::string off = path("off.txt");
+  {
+    std::ofstream f(off);
+    for (int i = 0; i < 200; ++i) f << 0.001 * i << ' ' << i % 20 << ' ' << i % 10 << " 0\n";
+  }
+  for (const char* command : {"process", "run"}) {
+    const RunResult r = run(std::string(command) + " " + off + " --sensor 32x32 --polarity on -o " + path("on.bin"));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(has(r, "warning: no event of " + off + " is ON (--polarity on)")) << command << r.output;
+  }
+  const RunResult c = run("convert " + off + " --polarity on -o " + path("on.txt"));
+  EXPECT_TRUE(has(c, "warning: no event of " + off + " is ON (--polarity on)")) << c.output;
+  const RunResult rendered = run("render " + off + " --sensor 32x32 --polarity on --at 0.05 -o " + path("on.png"));
+  EXPECT_EQ(rendered.exit_code, 3) << rendered.output;
+  EXPECT_TRUE(has(rendered, "no event of " + off + " is ON (--polarity on): nothing to draw")) << rendered.output;
+  EXPECT_FALSE(has(rendered, "holds no event")) << rendered.output;
+
+  const RunResult p = run("process " + sample() + " -o " + path("all.csv") + " -q");
+  ASSERT_EQ(p.exit_code, 0) << p.output;
+  const RunResult quiet = run("render " + path("all.csv") + " --sensor 16x16 -q --at 0.1 -o " + path("corner.png"));
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_TRUE(has(quiet, "evlife render: warning: not drawn: ")) << quiet.output;
+  EXPECT_TRUE(has(quiet, " outside the sensor")) << quiet.output;
+
+  const RunResult no_frame = run("run " + sample() + " --frames " + path("frames") + " --fps 0 -q");
+  EXPECT_EQ(no_frame.exit_code, 2) << no_frame.output;
+  EXPECT_TRUE(has(no_frame, "--fps 0 draws only the --at instants, and none is given")) << no_frame.output;
+  const RunResult idle = run("run " + sample() + " --workers 3 -q");
+  EXPECT_EQ(idle.exit_code, 2) << idle.output;
+  EXPECT_TRUE(has(idle, "--workers 3: --tiles 1x1 makes 2 tiles")) << idle.output;
+  EXPECT_EQ(run("run " + sample() + " --workers 8 --tiles 2x2 -q -o " + path("eight.bin")).exit_code, 0);
+}
+
 }  // namespace

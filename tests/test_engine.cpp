@@ -1359,7 +1359,8 @@ TEST(RunCommand, WorkersThatCannotFitInMemoryAreRefusedUpFront) {
   const auto available = evlife::test::available_memory_bytes();
   if (!available || *available > 40'000'000'000ULL) GTEST_SKIP() << "this machine has the memory";
   const std::string in = std::string(EVLIFE_SHARED_DATA_DIR) + "/reference/stripes.mat";
-  const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "run " + in + " --sensor 4096x4096 --workers 32 -q", kCliLog);
+  const auto r =
+      evlife::test::run_cli(EVLIFE_CLI_PATH, "run " + in + " --sensor 4096x4096 --tiles 4x4 --workers 32 -q", kCliLog);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("32 workers: 44.1 GB), more than the"), std::string::npos) << r.output;
 }
@@ -1369,6 +1370,9 @@ TEST(RunCommand, ExitStatusNamesTheFault) {
   EXPECT_EQ(run_cli("run -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --workers 0 -q"), 2);
   EXPECT_EQ(run_cli("run --source x.mat --tiles 2 -q"), 2);
+  // Workers beyond the tiles would idle, holding an estimator's memory each: refused, not ignored.
+  EXPECT_EQ(run_cli("run --source x.mat --workers 3 -q"), 2);
+  EXPECT_EQ(run_cli("run --source x.mat -j 9 --tiles 2x2 -q"), 2);
   // A margin with untiled polarities would change nothing: refused, not ignored.
   const auto margin = evlife::test::run_cli(EVLIFE_CLI_PATH, "run --source x.mat --margin 2 -q", kCliLog);
   EXPECT_EQ(margin.exit_code, 2);

@@ -2,8 +2,10 @@
 // where the format is specified, bit-exact round trips through the readers,
 // WriteError on a full disk, and the readers' error rules on malformed files.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <bit>
+#include <csignal>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -215,6 +217,58 @@ TEST_F(Writers, FullDiskGivesWriteErrorNamingTheFileAndDestructorsDoNotThrow) {
   writer->write(std::vector<Event>(10));
   EXPECT_THROW(writer->close(), WriteError);
   { auto unclosed = evlife::io::open_event_writer(txt); unclosed->write(std::vector<Event>(10)); }
+}
+
+// A disk that fills partway through a write (here a file size limit,
+// RLIMIT_FSIZE, whose write() stops short as a full disk's does): the file is
+// cut back to its last whole row or record, so that every reader takes all
+// of it. Before, a .csv/.txt ended inside a row and `info`, `render`,
+// `convert` of it stopped there with exit 3 (a review's finding).
+TEST_F(Writers, AFullDiskLeavesTheFileEndingOnAWholeRecord) {
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  constexpr rlim_t kLimitBytes = 1'500'007;  // inside a row: no format's rows divide it
+  if (before.rlim_max != RLIM_INFINITY && before.rlim_max < kLimitBytes) GTEST_SKIP() << "a lower hard limit";
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);  // write() fails with EFBIG instead
+  const std::vector<AugmentedEvent> events = tricky_events(200'000);
+  for (const char* name : {"limited.csv", "limited.bin", "limited.txt"}) {
+    SCOPED_TRACE(name);
+    const std::string p = path(name);
+    const bool plain = std::string(name).ends_with(".txt");
+    std::optional<WriteError> error;
+    rlimit limited = before;
+    limited.rlim_cur = kLimitBytes;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+    try {
+      if (plain) {
+        std::vector<Event> plain_events;
+        for (const auto& a : events) plain_events.push_back(a.event);
+        auto writer = evlife::io::open_event_writer(p);
+        writer->write(plain_events);
+        writer->close();
+      } else {
+        write_all(p, events);
+      }
+    } catch (const WriteError& e) {
+      error = e;
+    }
+    setrlimit(RLIMIT_FSIZE, &before);
+    ASSERT_TRUE(error);
+    EXPECT_NE(std::string(error->what()).find("the file ends after its last whole record"), std::string::npos)
+        << error->what();
+    const auto size = fs::file_size(p);
+    EXPECT_LT(size, kLimitBytes);
+    EXPECT_GT(size, kLimitBytes - 100);  // the whole records before the limit are kept
+    if (plain) {
+      const std::string text = file_text(p);
+      EXPECT_EQ(text.back(), '\n');
+      continue;
+    }
+    const Readback r = read_back(p);
+    EXPECT_FALSE(r.error) << r.error->what();
+    EXPECT_GT(r.events.size(), 10'000u);
+  }
+  std::signal(SIGXFSZ, old_handler);
 }
 
 TEST_F(Writers, BadPathsAndExtensionsGiveWriteError) {

@@ -206,13 +206,16 @@ int open_fault_exit(std::string_view command, const std::string& input, const io
 }
 
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {
-  if (!selection.from_us && !selection.to_us) return "no event of " + input;
-  return "no event of " + input +
-         " within --from/--to (times are seconds after its first event; `evlife info` gives its length)";
+  std::string text = "no event of " + input;
+  if (selection.polarity != io::PolarityFilter::both)
+    text += selection.polarity == io::PolarityFilter::on ? " is ON (--polarity on)" : " is OFF (--polarity off)";
+  if (selection.from_us || selection.to_us)
+    text += " within --from/--to (times are seconds after its first event; `evlife info` gives its length)";
+  return text;
 }
 
 void warn_empty_crop(std::string_view command, const std::string& input, const io::ReaderOptions& selection) {
-  if (!selection.from_us && !selection.to_us) return;
+  if (!selection.filters()) return;
   std::fprintf(stderr, "evlife %.*s: warning: %s\n", static_cast<int>(command.size()), command.data(),
                no_event_text(input, selection).c_str());
 }

@@ -280,6 +280,9 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  r.after_end, seconds_between(r.first_t_us, r.last_t_us));
   }
   warn_earlier_frames("render", args.job.output, r.earlier_frames);
+  // Events the frames left out are named whatever -q says (the summary, -q's to skip, names them too).
+  if (args.quiet && render::ignored_events(r.stats) > 0)
+    std::fprintf(stderr, "evlife render: warning: not drawn: %s\n", render::ignored_events_text(r.stats).c_str());
   if (r.output_fault) {
     std::fprintf(stderr, "evlife render: output error: %s (%zu frames drawn before it)\n", r.output_fault->c_str(), r.frames);
     return kExitOutput;
@@ -360,7 +363,9 @@ int run_render(int argc, char** argv) {
   progress.finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   if (result.no_events) {
-    std::fprintf(stderr, "evlife render: %s holds no event: nothing to draw\n", args.input.c_str());
+    std::fprintf(stderr, "evlife render: %s: nothing to draw\n",
+                 args.input_options.filters() ? no_event_text(args.input, args.input_options).c_str()
+                                              : (args.input + " holds no event").c_str());
     return kExitInput;
   }
   if (!args.quiet && !result.setup_failed) print_summary(args, *source, result, wall_s);

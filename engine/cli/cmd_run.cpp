@@ -128,7 +128,8 @@ void print_help(std::FILE* out) {
       "                       (default 1). Without it: as fast as possible.\n"
       "  --tiles CxR          tiles per polarity (default 1x1: one worker per\n"
       "                       polarity, output identical to `evlife process`). The\n"
-      "                       2*C*R tiles are dealt to the workers round robin. Tiled\n"
+      "                       2*C*R tiles are dealt to the workers round robin (so\n"
+      "                       --workers is at most 2*C*R). Tiled\n"
       "                       output differs from the single-threaded one on a small\n"
       "                       share of events near borders (see README; --margin),\n"
       "                       and so between --workers counts that deal the tiles\n"
@@ -237,6 +238,13 @@ engine::EngineOptions engine_flags(const ParsedArgs& a, const config::Config& co
     throw UsageError("--margin " + std::string(*a.value("margin")) +
                      ": with --tiles 1x1 each worker's estimator sees its polarity's whole sensor, with no margin to "
                      "process; margins are for tiled layouts (e.g. --tiles 2x2 --margin 8)");
+  // Workers beyond the tiles would get no event and hold an estimator's memory each.
+  if (const int tiles = 2 * e.tiles_x * e.tiles_y; a.has("workers") && e.workers > tiles)
+    throw UsageError("--workers " + std::to_string(e.workers) + ": --tiles " + std::to_string(e.tiles_x) + "x" +
+                     std::to_string(e.tiles_y) + " makes " + std::to_string(tiles) +
+                     " tiles (per polarity), which keep at most " + std::to_string(tiles) +
+                     " workers busy; the others would get no event. Use --workers " + std::to_string(tiles) +
+                     " or more tiles (2*C*R >= workers, e.g. --tiles 2x2 for up to 8)");
   if (const auto s = a.value("policy")) {
     if (*s == "auto" || !engine::parse_overload_policy(*s, e.auto_policy, e.policy))
       throw UsageError("--policy " + *s + ": expected block or drop");
@@ -326,6 +334,8 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
   if (!r.video.empty() && r.render.fps == 0)
     throw UsageError("--video needs --fps > 0 (it plays at that rate)");
+  if (a.has("fps") && r.render.fps == 0 && r.render.at_us.empty())
+    throw UsageError("--fps 0 draws only the --at instants, and none is given: add --at T1,T2,... or --fps > 0");
   if (!r.video.empty() && r.render.fps < render::kMinVideoFps) {  // the encoders refuse it
     char text[96];
     std::snprintf(text, sizeof text, "--video plays at --fps: at least %g (a frame each %g s)", render::kMinVideoFps,

@@ -8,7 +8,7 @@ namespace {
 
 class AugmentedBinWriter final : public AugmentedEventWriter {
  public:
-  AugmentedBinWriter(const std::string& path, SensorSize sensor) : file_(path) {
+  AugmentedBinWriter(const std::string& path, SensorSize sensor) : file_(path, {augmented_bin::kHeaderBytes, augmented_bin::kRecordBytes}) {
     using namespace augmented_bin;
     unsigned char header[kHeaderBytes] = {};
     std::memcpy(header, kMagic.data(), kMagic.size());

@@ -14,7 +14,8 @@
 
 namespace evlife::io::detail {
 
-OutputFile::OutputFile(const std::string& path) : path_(path), buffer_(kBufferBytes) {
+OutputFile::OutputFile(const std::string& path, OutputRecords records)
+    : path_(path), buffer_(kBufferBytes), records_(records) {
   const std::string folder_problem = create_output_folders(path);
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) {
@@ -54,6 +55,7 @@ void OutputFile::append(const void* data, std::size_t bytes) {
 
 void OutputFile::write_all(const char* data, std::size_t bytes) {
   if (fd_ < 0) throw WriteError(path_, "write after close");
+  const char* const start = data;
   while (bytes > 0) {
     const ssize_t n = ::write(fd_, data, bytes);
     if (n < 0) {
@@ -63,11 +65,33 @@ void OutputFile::write_all(const char* data, std::size_t bytes) {
         continue;
       }
       const int err = errno;
-      throw WriteError(path_, std::string("write failed: ") + std::strerror(err), err);
+      throw WriteError(path_, std::string("write failed: ") + std::strerror(err) +
+                                  keep_whole_records(start, static_cast<std::size_t>(data - start)), err);
     }
     data += n;
     bytes -= static_cast<std::size_t>(n);
+    file_bytes_ += static_cast<std::uint64_t>(n);
   }
+}
+
+std::string OutputFile::keep_whole_records(const char* data, std::size_t written) {
+  if (waits_for_reader_) return {};  // a FIFO's reader took what it took
+  std::uint64_t keep = file_bytes_;
+  if (records_.record_bytes == 0) {  // lines: up to the last newline written
+    std::size_t i = written;
+    while (i > 0 && data[i - 1] != '\n') --i;
+    keep = file_bytes_ - written + i;
+    if (i == 0) {  // none in this write: the file ended on a line before it (writes start at one)
+      keep = file_bytes_ - written;
+    }
+  } else if (file_bytes_ > records_.header_bytes) {
+    keep = records_.header_bytes +
+           (file_bytes_ - records_.header_bytes) / records_.record_bytes * records_.record_bytes;
+  }
+  if (keep == file_bytes_) return {};
+  if (::ftruncate(fd_, static_cast<off_t>(keep)) != 0) return " (a record is cut at the file's end)";
+  file_bytes_ = keep;
+  return " (the file ends after its last whole record)";
 }
 
 void OutputFile::wait_for_reader(std::size_t bytes_left) {

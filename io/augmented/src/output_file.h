@@ -3,17 +3,27 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace evlife::io::detail {
+
+/// The records a file is made of, so that a failed write (a full disk) cuts
+/// it back to its last whole one: a reader then takes every record written,
+/// not stop at a cut one. `record_bytes` 0: lines (text); else records of
+/// that size after a header of `header_bytes`.
+struct OutputRecords {
+  std::size_t header_bytes = 0;
+  std::size_t record_bytes = 0;
+};
 
 class OutputFile {
  public:
   static constexpr std::size_t kBufferBytes = 1 << 20;
 
   /// Creates/truncates `path`; throws WriteError.
-  explicit OutputFile(const std::string& path);
+  explicit OutputFile(const std::string& path, OutputRecords records = {});
   /// Closes without reporting errors (use close() to learn about them).
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
@@ -35,6 +45,9 @@ class OutputFile {
 
  private:
   void write_all(const char* data, std::size_t bytes);
+  // After a failed write of `written` of the bytes at `data`: the file cut
+  // back to its last whole record; a note for the error saying so.
+  std::string keep_whole_records(const char* data, std::size_t written);
   // A FIFO without room: waits for it, or throws WriteError on a stop (stop.h).
   void wait_for_reader(std::size_t bytes_left);
   std::string path_;
@@ -42,6 +55,8 @@ class OutputFile {
   bool waits_for_reader_ = false;  // a FIFO, written without blocking
   std::vector<char> buffer_;
   std::size_t used_ = 0;
+  OutputRecords records_;
+  std::uint64_t file_bytes_ = 0;  // written so far
 };
 
 }  // namespace evlife::io::detail
