@@ -1394,6 +1394,61 @@ TEST(IoFormatsHdf5, ALibraryCrashReadingAChunkEndsTheReadingAfterTheEventsBefore
   EXPECT_EQ(r.error->event_index(), 65'536);
 }
 
+// A copy of the process made by fork() (Python's os.fork, a multiprocessing
+// pool) with a reader open: each process reads every event, neither
+// disturbs the other. The copy had used the original's reading child and
+// socket: both read each other's answers (times going backwards), or the
+// copy killed the original's child when its reader closed ("the HDF5
+// library crashes reading it (signal 9, Killed)"), a review helper's finding.
+TEST(IoFormatsHdf5, AForkedCopyOfTheProcessReadsWithoutDisturbingTheOriginal) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("forked.h5");
+  const std::vector<Event> written = write_plain_events(path, 300'000);  // 5 of the reader's slabs
+  for (const bool copy_reads : {false, true}) {
+    SCOPED_TRACE(copy_reads ? "the copy reads too" : "the copy closes its reader");
+    auto reader = evlife::io::open_event_reader(path);
+    std::vector<Event> events(70'000);
+    ASSERT_EQ(reader->read(events), events.size());  // the reading child is there
+    const pid_t copy = fork();
+    ASSERT_GE(copy, 0);
+    if (copy == 0) {
+      bool all_same = true;
+      if (copy_reads) {
+        std::vector<Event> chunk(10'000);
+        std::size_t n = events.size();
+        try {
+          while (const std::size_t k = reader->read(chunk)) {
+            for (std::size_t i = 0; i < k; ++i)
+              all_same = all_same && n + i < written.size() && same(chunk[i], written[n + i]);
+            n += k;
+          }
+        } catch (const ReadError&) {
+          all_same = false;
+        }
+        all_same = all_same && n == written.size();
+      }
+      reader.reset();
+      _exit(all_same ? 0 : 1);
+    }
+    std::vector<Event> chunk(10'000);
+    std::size_t n = events.size();
+    std::optional<ReadError> error;
+    try {
+      while (const std::size_t k = reader->read(chunk)) {
+        for (std::size_t i = 0; i < k; ++i) ASSERT_TRUE(same(chunk[i], written[n + i])) << n + i;
+        n += k;
+      }
+    } catch (const ReadError& e) {
+      error = e;
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(copy, &status, 0), copy);
+    EXPECT_FALSE(error) << error->what();
+    EXPECT_EQ(n, written.size());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the copy's reading failed";
+  }
+}
+
 // A DSEC t_offset of many values: read into the reader's one int64 it
 // overflowed it (H5Dread of the whole dataset); now it is refused.
 TEST(IoFormatsHdf5, ATimeOffsetOfManyValuesIsRefusedNotReadPastItsInteger) {

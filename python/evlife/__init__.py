@@ -27,6 +27,7 @@ Units: t in microseconds (int64), lifetime and prediction_error in
 microseconds, vx and vy in pixels per second; lifetime 0 = noise.
 """
 import atexit as _atexit
+import operator as _operator
 
 import numpy as _np
 
@@ -128,9 +129,27 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
     Returns a uint8 array of shape (height, width, 3), RGB (the pixels of the
     PNG `evlife render` writes), ready for matplotlib's imshow.
     """
-    return _evlife._frame(_as_augmented(augmented), int(t_us), sensor, mode, color, scale,
-                          bool(caption), bool(legend), bool(thinning),
-                          (float(lifetime_range_ms[0]), float(lifetime_range_ms[1])))
+    instant = _whole_microseconds(t_us)
+    try:
+        low_ms, high_ms = (float(v) for v in lifetime_range_ms)
+    except (TypeError, ValueError):
+        raise ValueError("frame: lifetime_range_ms must be (MIN, MAX) in milliseconds, got %r"
+                         % (lifetime_range_ms,)) from None
+    return _evlife._frame(_as_augmented(augmented), instant, sensor, mode, color, scale,
+                          bool(caption), bool(legend), bool(thinning), (low_ms, high_ms))
+
+
+def _whole_microseconds(t_us):
+    """t_us as an int; a fraction is refused (0.5 meant as seconds was drawn at 0)."""
+    try:
+        return _operator.index(t_us)
+    except TypeError:
+        pass
+    value = float(t_us)
+    if not value.is_integer():
+        raise ValueError("frame: t_us is microseconds on the recording's clock, got %r (not whole: seconds? "
+                         "augmented['t'][0] + 500_000 is 0.5 s in)" % (t_us,))
+    return int(value)
 
 
 def write(path, augmented, sensor):

@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl/filesystem.h>
+#include <unistd.h>
 
 #include <filesystem>
 
@@ -16,6 +17,33 @@
 namespace evlife::python {
 
 namespace py = pybind11;
+
+/// The GIL released for a C++ call, as py::gil_scoped_release, but safe in a
+/// daemon thread that comes back while the interpreter finalizes (a script's
+/// end, a thread pool's worker mid-call): taking the GIL then ends the thread
+/// by pthread_exit, whose unwinding through this noexcept destructor called
+/// std::terminate (SIGABRT, exit 134). Such a thread waits here for the
+/// process's end instead. (Only daemon threads run during finalization.)
+class ReleasedGil {
+ public:
+  ReleasedGil() : state_(PyEval_SaveThread()) {}
+  ~ReleasedGil() {
+#if PY_VERSION_HEX >= 0x030D0000
+    const bool finalizing = Py_IsFinalizing() != 0;
+#else
+    const bool finalizing = _Py_IsFinalizing() != 0;
+#endif
+    if (finalizing) {
+      for (;;) pause();
+    }
+    PyEval_RestoreThread(state_);
+  }
+  ReleasedGil(const ReleasedGil&) = delete;
+  ReleasedGil& operator=(const ReleasedGil&) = delete;
+
+ private:
+  PyThreadState* state_;
+};
 
 void bind_reader(py::module_& m);     // read, open, Reader, read_augmented, write
 void bind_estimator(py::module_& m);  // LifetimeEstimator, process

@@ -51,8 +51,9 @@ std::string with_python_keywords(const std::string& message) {
 
 void raise_input_error(const io::ReadError& e, py::object partial) {
   std::error_code ec;
-  const bool missing = !e.path().empty() && e.event_index() < 0 && e.byte_offset() < 0 &&
-                       !std::filesystem::exists(e.path(), ec);
+  // (An empty name too, as Python's open(""): no file is named so.)
+  const bool missing = e.event_index() < 0 && e.byte_offset() < 0 &&
+                       (e.path().empty() || !std::filesystem::exists(e.path(), ec));
   if (missing) {
     // errno for `e.errno == errno.ENOENT`; no filename or strerror, which
     // would make str() Python's "[Errno 2] ...", not the CLI's message.

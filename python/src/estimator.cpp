@@ -52,7 +52,7 @@ class Estimator {
     SignalCheck signals(/*long_call=*/cols.size > kBlockEvents);
     std::size_t processed = 0;
     {
-      py::gil_scoped_release release;
+      ReleasedGil release;
       std::lock_guard lock(mutex_);
       check = check_events(cols, estimator_.options().sensor, last_t_us_);
       if (check.bad_index == SIZE_MAX) {
@@ -85,7 +85,7 @@ class Estimator {
   }
 
   void reset() {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     std::lock_guard lock(mutex_);
     estimator_.reset();
     last_t_us_ = INT64_MIN;
@@ -94,7 +94,7 @@ class Estimator {
   py::dict stats() {
     LifetimeStats s;
     {
-      py::gil_scoped_release release;
+      ReleasedGil release;
       std::lock_guard lock(mutex_);
       s = estimator_.stats();
     }
@@ -236,7 +236,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   FileRun run;
   SignalCheck signals;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     try {
       run = run_file(path, user, r, crop, one_thread, signals, [](SensorSize) {},
                      [&](std::span<const AugmentedEvent> block) {
@@ -268,7 +268,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   FileRun run;
   SignalCheck signals;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
     try {
       run = run_file(
@@ -317,7 +317,7 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   FileRun run;
   SignalCheck signals;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     const auto probe = io::open_unchecked_event_reader(path, source);
     if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
     else if (user) run.sensor = *user;
@@ -367,7 +367,7 @@ py::dict process_time_range(const std::string& path, const std::string& output,
   io::ReaderOptions source = reader_options(s, std::nullopt, std::nullopt, topic, time_unit);
   std::uint64_t events = 0, with_lifetime = 0;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     auto reader = io::open_event_reader(path, source);
     r.config.estimator.sensor = s;
     LifetimeEstimator estimator(r.config.estimator);
@@ -451,7 +451,7 @@ void bind_estimator(py::module_& m) {
                                     "file stating estimator.sensor)");
              // A large sensor's planes are allocated and zeroed (0.2 s at 1280x720, seconds at
              // 4096x4096): the other Python threads run meanwhile.
-             py::gil_scoped_release release;
+             ReleasedGil release;
              return std::make_unique<Estimator>(std::move(r));
            }),
            py::arg("sensor"), py::kw_only(), py::arg("config") = py::none())
@@ -499,7 +499,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
         }
         std::unique_ptr<Estimator> estimator;
         {
-          py::gil_scoped_release release;  // as LifetimeEstimator(): its planes are allocated without the GIL
+          ReleasedGil release;  // as LifetimeEstimator(): its planes are allocated without the GIL
           estimator = std::make_unique<Estimator>(std::move(r));
         }
         return estimator->process(input);

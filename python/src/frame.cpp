@@ -99,7 +99,7 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
 
   cv::Mat rgb;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     ArraySource source(events, sensor);
     ActiveEventMap set(sensor, thinning);
     render::FixedWindowMap window(sensor);

@@ -49,7 +49,7 @@ py::array read_all(io::EventReader& reader, SignalCheck& signals) {
   std::vector<Event> events;
   std::optional<io::ReadError> fault;
   {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     std::size_t good = 0;  // events.size() beyond it: a block being filled
     try {
       while (!signals.pending()) {
@@ -93,7 +93,7 @@ class Reader {
     bool closed = false;
     SignalCheck signals(/*long_call=*/n_max > kReadBlock);
     {
-      py::gil_scoped_release release;
+      ReleasedGil release;
       std::lock_guard lock(mutex_);
       if (pending_) {  // a fault met after good events last time: raised now, once
         fault.swap(pending_);
@@ -134,7 +134,7 @@ class Reader {
   }
 
   void close() {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     std::lock_guard lock(mutex_);
     reader_.reset();
   }
@@ -147,7 +147,7 @@ class Reader {
   auto query(F f) const {
     std::optional<decltype(f(std::declval<const io::EventReader&>()))> value;
     {
-      py::gil_scoped_release release;
+      ReleasedGil release;
       std::lock_guard lock(mutex_);
       if (reader_) value.emplace(f(*reader_));
     }
@@ -189,7 +189,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
   {
     const io::ReaderOptions options =
         reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
-    py::gil_scoped_release release;
+    ReleasedGil release;
     try {
       reader = io::open_event_reader(path, with_stated_sensor(path, options));
     } catch (const io::ReadError& e) {
@@ -305,7 +305,7 @@ good events come first, the next chunk raises evlife.InputError.)")
          const std::optional<std::string>& time_unit) {
         const io::ReaderOptions options =
             reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
-        py::gil_scoped_release release;
+        ReleasedGil release;
         return std::make_unique<Reader>(path.string(), with_stated_sensor(path.string(), options), chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
@@ -332,7 +332,7 @@ from_s, to_s, topic, time_unit and errors as evlife.read.)");
         std::optional<SensorSize> sensor;
         std::size_t good = 0;  // events.size() beyond it: a block being filled
         {
-          py::gil_scoped_release release;
+          ReleasedGil release;
           try {
             reader = io::open_augmented_reader(path);
             sensor = reader->sensor_size();
@@ -374,7 +374,7 @@ for CSV.)");
           raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(bad.index),
                                           bad.what + "; nothing was written to " + path));
         }
-        py::gil_scoped_release release;
+        ReleasedGil release;
         auto writer = io::open_augmented_writer(path, s);
         writer->write(std::span(data, n));
         writer->close();

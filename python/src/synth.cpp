@@ -130,7 +130,7 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
     throw_memory_error(spec, duration_s, background_bytes);  // the command line's rule (memory_check.h)
   io::SyntheticScene scene;
   try {
-    py::gil_scoped_release release;
+    ReleasedGil release;
     scene = textured ? io::generate_textured_scene(texture) : io::generate_scene(spec);
   } catch (const std::bad_alloc&) {  // pybind11 said only "std::bad_alloc"
     throw_memory_error(spec, duration_s, 0.0);

@@ -74,6 +74,10 @@ def test_missing_file_is_filenotfounderror(tmp_path):
             call(missing)
         assert str(e.value) == expected
         assert isinstance(e.value, OSError) and e.value.errno == errno.ENOENT
+    # An empty name, as Python's open(""): an InputError before (a review's finding).
+    for call in (evlife.read, evlife.open, evlife.process):
+        with pytest.raises(FileNotFoundError):
+            call("")
 
 
 def test_unknown_format_is_inputerror_with_the_cli_message(tmp_path):

@@ -65,3 +65,11 @@ def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
         with pytest.raises(ValueError, match=r"0 < MIN < MAX <= 1e9, got"):
             evlife.frame(aug, t0, sensor=sensor, lifetime_range_ms=bad)
     assert evlife.frame(aug, t0, sensor=sensor, lifetime_range_ms=(0.3, 1e9)).ndim == 3
+    # A review's findings: a range of one number (IndexError), an instant in seconds by mistake
+    # (0.5 drawn at t = 0, silently); a whole float and a NumPy integer are instants.
+    with pytest.raises(ValueError, match=r"lifetime_range_ms must be \(MIN, MAX\)"):
+        evlife.frame(aug, t0, sensor=sensor, lifetime_range_ms=(1,))
+    with pytest.raises(ValueError, match="microseconds on the recording's clock, got 0.5"):
+        evlife.frame(aug, 0.5, sensor=sensor)
+    assert np.array_equal(evlife.frame(aug, float(t0 + 300_000), sensor=sensor, caption=False, legend=False), a)
+    assert np.array_equal(evlife.frame(aug, aug["t"][0] + 300_000, sensor=sensor, caption=False, legend=False), a)

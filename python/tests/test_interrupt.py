@@ -126,3 +126,23 @@ def test_an_interrupted_read_keeps_the_events_read(large_h5):
     reader.close()
     assert e.events_processed == len(e.partial) < len(whole)
     assert np.array_equal(np.concatenate([e.partial, rest]), whole)
+
+
+def test_a_daemon_thread_inside_a_call_at_the_scripts_end_does_not_abort_the_process():
+    """A daemon thread (a thread pool's worker) mid-call when the script
+    ends: taking the GIL back during the interpreter's finalization ended the
+    thread by pthread_exit through a noexcept destructor, std::terminate:
+    SIGABRT, exit 134, in about 2 runs of 3 (a review helper's finding)."""
+    import subprocess
+    import sys
+    script = (
+        "import threading, time, evlife\n"
+        "def loop():\n"
+        "    while True:\n"
+        "        evlife.read(%r)\n"
+        "threading.Thread(target=loop, daemon=True).start()\n"
+        "time.sleep(0.2)\n" % data("reference/stripes.mat"))
+    for _ in range(10):  # (2/3)^10: under 2 % that the abort slips through
+        run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                             env=dict(os.environ))
+        assert run.returncode == 0, run.stderr

@@ -52,6 +52,10 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
     if (forked == 0) {
       close(ready[0]);
       for (const int sig : {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
+      // A terminal's Ctrl-C reaches the whole process group: the parent
+      // decides (an inherited handler, Python's, would act in the child).
+      // Its end of the socket closes when it ends, which ends the child.
+      for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) signal(sig, SIG_IGN);
       H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // an API call: it takes the library's lock
       const char byte = 1;
       if (write(ready[1], &byte, 1) != 1) _exit(0);  // the parent is gone

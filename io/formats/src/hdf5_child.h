@@ -17,7 +17,8 @@ namespace evlife::io::detail {
 
 /// Forks a child that resets the crash signals to their default action (a
 /// crash handler inherited from the parent, a sanitizer's or a fuzzer's,
-/// would report the child's crash as the parent's), takes libhdf5's lock once
+/// would report the child's crash as the parent's), ignores the signals that
+/// ask a process to stop (the parent's to act on), takes libhdf5's lock once
 /// and then runs `body(context)`, which must end with _exit. Returns the
 /// child's pid, or -1 when none could be started (no fork, or every child
 /// stuck on the library's lock): the caller goes on without a child.

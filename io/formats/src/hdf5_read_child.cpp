@@ -163,6 +163,7 @@ bool read_selection(hid_t dataset, hid_t memory_type, const Hdf5Selection& selec
 bool Hdf5ReadChild::read(hid_t dataset, hid_t memory_type, const Hdf5Selection& selection, void* out,
                          std::size_t out_bytes) {
   if (fault_) return false;
+  if (owner_ != getpid()) forget_after_fork();
   const std::uint64_t bytes = selection_bytes(dataset, memory_type, selection);
   if (bytes == 0 || bytes > out_bytes) return selection.count == 0 && !selection.whole;  // nothing to read
   if (child_ < 0 && !in_process_ && !start()) in_process_ = true;
@@ -281,10 +282,27 @@ bool Hdf5ReadChild::start() {
   socket_ = pair[0];
   slot_ = slot;
   child_ = child;
+  owner_ = getpid();
   return true;
 }
 
+// In a copy of the process made by fork() (Python's os.fork, a
+// multiprocessing pool): the child and the shared region are the original
+// process's. Killing that child, or asking it, would break the original's
+// reading (its answers read by either process): this copy lets go of them
+// and forks its own child at its next read.
+void Hdf5ReadChild::forget_after_fork() noexcept {
+  if (slot_ >= 0) g_parent_sockets[slot_].store(0);
+  if (socket_ >= 0) close(socket_);  // this process's copy of the original's end
+  if (shared_ != nullptr) munmap(shared_, kSharedBytes);  // this process's view only
+  socket_ = slot_ = -1;
+  child_ = -1;
+  shared_ = nullptr;
+  owner_ = getpid();
+}
+
 void Hdf5ReadChild::stop() noexcept {
+  if (owner_ != getpid()) forget_after_fork();
   if (child_ > 0) {
     kill(child_, SIGKILL);  // idle, waiting for a request: nothing of it to keep
     waitpid(child_, nullptr, 0);
@@ -297,7 +315,7 @@ void Hdf5ReadChild::stop() noexcept {
 }
 
 Hdf5ReadChild::~Hdf5ReadChild() {
-  stop();
+  stop();  // (in a forked copy: forgets the original's child and region)
   if (shared_ != nullptr) munmap(shared_, kSharedBytes);
 }
 

@@ -63,10 +63,12 @@ class Hdf5ReadChild {
   int exchange(const void* request, std::size_t request_bytes);
   bool receive(void* out, std::size_t bytes);  // false: the child ended or hung (fault_ set)
   void child_ended(int wait_status);
+  void forget_after_fork() noexcept;  // in a forked copy of the process that started the child
 
   int socket_ = -1;
   unsigned char* shared_ = nullptr;  // the region the child reads the values into
   pid_t child_ = -1;
+  pid_t owner_ = -1;  // the process that forked child_ and mapped shared_
   int slot_ = -1;  // in the registry of sockets other children close
   bool in_process_ = false;
   std::optional<Hdf5ChildFault> fault_;
