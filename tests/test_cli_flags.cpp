@@ -637,7 +637,8 @@ TEST_F(CliFlags, SynthesizedHdf5StatesItsSensor) {
 // warning; render said the file "holds no event"), render -q leaving most
 // events out of its frames (the count was in the summary, which -q skips),
 // run --fps 0 without --at (no frame drawn, exit 0) and more --workers than
-// tiles (idle workers holding an estimator's memory each).
+// tiles (idle workers holding an estimator's memory each), an engine key set
+// for process.
 TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
   const std::string off = path("off.txt");
   {
@@ -670,6 +671,10 @@ TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
   EXPECT_EQ(idle.exit_code, 2) << idle.output;
   EXPECT_TRUE(has(idle, "--workers 3: --tiles 1x1 makes 2 tiles")) << idle.output;
   EXPECT_EQ(run("run " + sample() + " --workers 8 --tiles 2x2 -q -o " + path("eight.bin")).exit_code, 0);
+  // An engine key set for a command that runs no engine (it was range-checked, then ignored).
+  const RunResult engine_key = run("process " + sample() + " --set engine.workers=32 -q -o " + path("e.bin"));
+  EXPECT_EQ(engine_key.exit_code, 2) << engine_key.output;
+  EXPECT_TRUE(has(engine_key, "--set engine.workers=32: engine settings are `evlife run`'s")) << engine_key.output;
 }
 
 }  // namespace

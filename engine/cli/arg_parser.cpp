@@ -133,7 +133,13 @@ std::int64_t parse_time_flag(std::string_view name, std::string_view text) {
 }
 
 bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
-  out.config = load_command_config(a);
+  out.config = load_command_config(a);  // (its ranges first: a bad value is named where it was set)
+  // process, render, eval run no engine: an engine key set for them would be ignored.
+  // (A --config file's engine: section is left alone: one file serves every command.)
+  for (const std::string& v : a.values("set"))
+    if (v.starts_with("engine."))
+      throw UsageError("--set " + v + ": engine settings are `evlife run`'s; this command runs no engine (one "
+                       "thread, in order)");
   out.print_config = a.has("print-config");
   out.quiet = a.has("quiet");
   if (out.print_config) return false;
