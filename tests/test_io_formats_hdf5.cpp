@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <lzf.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -1446,6 +1447,47 @@ TEST(IoFormatsHdf5, AForkedCopyOfTheProcessReadsWithoutDisturbingTheOriginal) {
     EXPECT_FALSE(error) << error->what();
     EXPECT_EQ(n, written.size());
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the copy's reading failed";
+  }
+}
+
+// The reading child keeps none of the process's descriptors but its own: a
+// pipe to another program reaches its end of file when the process closes
+// its end (with the child holding a copy, `wc` waited as long as the reader
+// lived, a review helper's finding). A child killed from outside is said so,
+// not called a corrupt file.
+TEST(IoFormatsHdf5, TheReadingChildHoldsNoDescriptorOfTheProcessAndIsNamedWhenKilled) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("descriptors.h5");
+  write_plain_events(path, 200'000);
+  int pipe_ends[2];
+  ASSERT_EQ(pipe(pipe_ends), 0);
+  auto reader = evlife::io::open_event_reader(path);
+  std::vector<Event> events(70'000);
+  ASSERT_EQ(reader->read(events), events.size());  // the reading child is there, forked with the pipe open
+  close(pipe_ends[1]);
+  pollfd end{pipe_ends[0], POLLIN, 0};
+  ASSERT_EQ(poll(&end, 1, 5'000), 1) << "the pipe's writing end is still open somewhere";
+  char byte = 0;
+  EXPECT_EQ(read(pipe_ends[0], &byte, 1), 0);  // its end of file
+  close(pipe_ends[0]);
+
+  // This process's children: the reading child (the probe's has ended).
+  std::vector<pid_t> children;
+  for (const auto& task : fs::directory_iterator("/proc/self/task")) {
+    std::ifstream list(task.path() / "children");
+    for (pid_t pid = 0; list >> pid;) children.push_back(pid);
+  }
+  ASSERT_EQ(children.size(), 1u);
+  ASSERT_EQ(kill(children[0], SIGTERM), 0);
+  try {
+    while (reader->read(events) > 0) {
+    }
+    FAIL() << "the reading went on without its child";
+  } catch (const ReadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("its reading process was killed (signal " + std::to_string(SIGTERM)), std::string::npos)
+        << what;
+    EXPECT_EQ(what.find("corrupt"), std::string::npos) << what;
   }
 }
 

@@ -21,7 +21,7 @@ class AugmentedHdf5Reader final : public AugmentedEventReader {
   explicit AugmentedHdf5Reader(std::unique_ptr<Hdf5Reader> events) : events_(std::move(events)) {
     sensor_ = events_->sensor_size().value_or(SensorSize{0, 0});
     events_buffer_.resize(kBlock);
-    for (auto& column : columns_) column.resize(kBlock);
+    for (auto& column : columns_) column.resize(kColumnRows);
   }
 
   std::size_t read(std::span<AugmentedEvent> out) override {
@@ -31,11 +31,21 @@ class AugmentedHdf5Reader final : public AugmentedEventReader {
     // before them, as from every reader.
     const std::size_t n = events_->read(std::span(events_buffer_).first(want));
     if (n == 0) return 0;
-    const std::array<float*, 4> columns{columns_[0].data(), columns_[1].data(), columns_[2].data(),
-                                        columns_[3].data()};
-    events_->read_float_rows(static_cast<std::int64_t>(index_), n, columns);
+    if (index_ < columns_first_ || index_ + n > columns_first_ + columns_rows_) {
+      // The next kColumnRows rows of the four columns at once: each read is
+      // a round trip to the reader's child (hdf5_read_child.h).
+      const auto rows = static_cast<std::size_t>(
+          std::min<std::int64_t>(events_->event_count() - static_cast<std::int64_t>(index_), kColumnRows));
+      const std::array<float*, 4> columns{columns_[0].data(), columns_[1].data(), columns_[2].data(),
+                                          columns_[3].data()};
+      events_->read_float_rows(static_cast<std::int64_t>(index_), rows, columns);  // (n <= rows: read as events)
+      columns_first_ = index_;
+      columns_rows_ = rows;
+    }
+    const std::size_t at = index_ - columns_first_;
     for (std::size_t i = 0; i < n; ++i) {
-      out[i] = AugmentedEvent{events_buffer_[i], columns_[0][i], columns_[1][i], columns_[2][i], columns_[3][i]};
+      out[i] = AugmentedEvent{events_buffer_[i], columns_[0][at + i], columns_[1][at + i], columns_[2][at + i],
+                              columns_[3][at + i]};
     }
     const RecordFault bad = first_unreadable_record(out.first(n), sensor_, last_t_us_);
     if (bad.index > 0) last_t_us_ = out[bad.index - 1].event.t_us;
@@ -55,12 +65,15 @@ class AugmentedHdf5Reader final : public AugmentedEventReader {
 
  private:
   static constexpr std::size_t kBlock = 8192;
+  static constexpr std::size_t kColumnRows = Hdf5Reader::kChunkEvents;
+  static_assert(kColumnRows >= kBlock);
 
   std::unique_ptr<Hdf5Reader> events_;
   SensorSize sensor_;
   std::vector<Event> events_buffer_;
   std::array<std::vector<float>, 4> columns_;
   std::uint64_t index_ = 0;  // rows delivered
+  std::uint64_t columns_first_ = 0, columns_rows_ = 0;  // the rows columns_ hold
   std::int64_t last_t_us_ = INT64_MIN;
   std::optional<ReadError> pending_;
 };

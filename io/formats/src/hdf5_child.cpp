@@ -20,6 +20,7 @@ namespace {
 constexpr int kLockWaitMs = 300;  // a child not past the lock by then is stuck on it
 constexpr int kForks = 4;
 constexpr int kBackoffMs[kForks] = {0, 20, 100, 500};
+constexpr unsigned kStuckChildLifeS = 2;  // > kLockWaitMs: the parent kills it first while it lives
 
 // Whether the child wrote its byte within `ms` (false: stuck on the lock).
 bool child_ready(int ready_fd, int ms) {
@@ -52,11 +53,17 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
     if (forked == 0) {
       close(ready[0]);
       for (const int sig : {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
-      // A terminal's Ctrl-C reaches the whole process group: the parent
-      // decides (an inherited handler, Python's, would act in the child).
-      // Its end of the socket closes when it ends, which ends the child.
-      for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) signal(sig, SIG_IGN);
+      // A terminal's Ctrl-C, hang-up or quit reaches the whole process
+      // group: the parent decides (an inherited handler, Python's, would act
+      // in the child), and its ending ends the child.
+      // (SIGTERM stays: `kill` ends a child; the parent names it killed from outside.)
+      for (const int sig : {SIGINT, SIGHUP, SIGQUIT, SIGPIPE}) signal(sig, SIG_IGN);
+      // A child stuck on the lock is killed by its parent; one whose parent
+      // died first ends by this alarm, cancelled once past the lock.
+      signal(SIGALRM, SIG_DFL);
+      alarm(kStuckChildLifeS);
       H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // an API call: it takes the library's lock
+      alarm(0);
       const char byte = 1;
       if (write(ready[1], &byte, 1) != 1) _exit(0);  // the parent is gone
       close(ready[1]);
@@ -81,12 +88,15 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
 Hdf5ChildFault hdf5_child_fault(int wait_status) {
   if (WIFSIGNALED(wait_status)) {
     const int sig = WTERMSIG(wait_status);
-    return {"crashes", "(signal " + std::to_string(sig) + ", " + strsignal(sig) + ")"};
+    const std::string which = "(signal " + std::to_string(sig) + ", " + strsignal(sig);
+    for (const int crash : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSYS, SIGTRAP})
+      if (sig == crash) return {"crashes", which + ")", true};
+    return {"was killed", which + ", from outside)", false};
   }
   // The child exits 0 unless something killed it in its own way (e.g. a
   // sanitizer's report of the same crash): as bad as a signal.
   if (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) != 0)
-    return {"fails hard", "(exit status " + std::to_string(WEXITSTATUS(wait_status)) + ")"};
+    return {"fails hard", "(exit status " + std::to_string(WEXITSTATUS(wait_status)) + ")", true};
   return {};
 }
 

@@ -25,10 +25,13 @@ namespace evlife::io::detail {
 pid_t fork_hdf5_child(void (*body)(void* context), void* context);
 
 /// How a child ended, for an error message: {"crashes", "(signal 11,
-/// Segmentation fault)"}, {"fails hard", "(exit status 1)"} (a sanitizer's
-/// report of the crash), or empty texts when it exited 0.
+/// Segmentation fault)", corrupt}, {"fails hard", "(exit status 1)",
+/// corrupt} (a sanitizer's report of the crash), {"was killed", "(signal 15,
+/// Terminated, from outside)"} (not the file's doing), or empty texts when it
+/// exited 0.
 struct Hdf5ChildFault {
   std::string verb, detail;
+  bool corrupt = false;  // the file's doing: libhdf5 crashed or hung on it
 };
 Hdf5ChildFault hdf5_child_fault(int wait_status);
 

@@ -23,6 +23,8 @@ constexpr auto kTimeout = std::chrono::seconds(10);
 // In the child: the reader's opening calls, on every dataset it may open.
 void probe(void* context) {
   const char* path = static_cast<const char*>(context);
+  // The parent kills a hanging probe after kTimeout; one whose parent died first ends by this alarm.
+  alarm(static_cast<unsigned>(std::chrono::duration_cast<std::chrono::seconds>(kTimeout).count()) + 5);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file >= 0) {
     for (const char* name : {"width", "height"}) (void)read_int_attribute(file, name);  // the reader's lookups
@@ -122,9 +124,10 @@ bool probe_in_child(const std::string& path) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  if (const auto fault = detail::hdf5_child_fault(status); !fault.verb.empty())
+  const auto fault = detail::hdf5_child_fault(status);
+  if (fault.corrupt)
     throw ReadError(path, -1, -1, "the HDF5 library " + fault.verb + " opening this file " + fault.detail + ": corrupt HDF5");
-  return true;
+  return fault.verb.empty();  // (killed from outside: not probed)
 }
 
 }  // namespace

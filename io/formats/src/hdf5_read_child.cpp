@@ -8,10 +8,11 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <cstdlib>
 
 namespace evlife::io::detail {
@@ -22,21 +23,6 @@ namespace {
 // opens) from a slow card takes seconds.
 constexpr auto kAnswerTimeout = std::chrono::seconds(60);
 constexpr int kPollSliceMs = 100;  // between checks that the child still runs
-
-// The parents' ends of every child's socket, so that a child forked later
-// closes its copies of them: a reader that closes its end must reach its
-// child, not a copy in another reader's child. Lock-free: read by a child
-// forked while another thread may be changing it.
-constexpr int kSlots = 64;
-std::atomic<int> g_parent_sockets[kSlots] = {};  // 0: free (fd 0 is never a socket of ours)
-
-int register_socket(int fd) {
-  for (int i = 0; i < kSlots; ++i) {
-    int expected = 0;
-    if (g_parent_sockets[i].compare_exchange_strong(expected, fd)) return i;
-  }
-  return -1;  // none free: a child may linger until this one's reader closes
-}
 
 struct Request {
   std::int64_t dataset;
@@ -85,27 +71,54 @@ H5T_conv_ret_t refuse_lossy_conversion(H5T_conv_except_t kind, hid_t, hid_t, voi
 }
 
 struct ChildContext {
-  int socket;         // the child's end
-  int parent_socket;  // the parent's end, closed in the child
+  int socket;             // the child's end
+  int file_fd;            // the file's descriptor in libhdf5 (-1: unknown)
+  pid_t parent;
   unsigned char* values;  // the shared region the child reads into
 };
 
-// In the child: answers requests until the parent closes its end.
+// Closes every descriptor from `first` on but `keep` (sorted, >= first).
+void close_all_but(int first, std::initializer_list<int> keep) {
+  for (const int k : keep) {
+    if (k < first) continue;
+    if (k > first) close_range(static_cast<unsigned>(first), static_cast<unsigned>(k - 1), 0);
+    first = k + 1;
+  }
+  close_range(static_cast<unsigned>(first), ~0U, 0);
+}
+
+// Whether a request came (false: the parent ended or closed its end).
+bool wait_for_request(const ChildContext& c) {
+  for (;;) {
+    pollfd fd{c.socket, POLLIN, 0};
+    const int polled = poll(&fd, 1, 1000);
+    if (polled > 0) return true;
+    if (polled < 0 && errno != EINTR) return false;
+    if (getppid() != c.parent) return false;  // adopted: the parent is gone
+  }
+}
+
+// In the child: answers requests until the parent closes its end or ends.
 void serve(void* context) {
   // (No PR_SET_PDEATHSIG: it follows the forking thread, which may end
-  // before the reader. The parent's end closes when its process ends.)
-  const auto* c = static_cast<const ChildContext*>(context);
-  close(c->parent_socket);
-  for (auto& slot : g_parent_sockets) {
-    const int fd = slot.load();
-    if (fd > 0 && fd != c->socket) close(fd);
+  // before the reader. Its socket's end closing, or being adopted, ends it.)
+  const auto& c = *static_cast<const ChildContext*>(context);
+  // The parent's descriptors (its end of this socket, other readers' ends,
+  // pipes to its children, its outputs) held here would keep their other
+  // ends waiting (a pipe's reader for its end of file) as long as the
+  // reader lives. Kept: the standard ones (a sanitizer's report), the
+  // socket, the file libhdf5 reads.
+  if (c.file_fd >= 0) {
+    close_all_but(3, {std::min(c.socket, c.file_fd), std::max(c.socket, c.file_fd)});
+  } else {
+    close_all_but(3, {c.socket});  // (another driver than sec2: its descriptors unknown; not closed)
   }
   std::vector<unsigned char> type_code;
   for (;;) {
     Request r{};
-    if (!read_all(c->socket, &r, sizeof r)) _exit(0);  // the parent closed its end
+    if (!wait_for_request(c) || !read_all(c.socket, &r, sizeof r)) _exit(0);
     type_code.resize(r.type_bytes);
-    if (!read_all(c->socket, type_code.data(), type_code.size())) _exit(0);
+    if (!read_all(c.socket, type_code.data(), type_code.size())) _exit(0);
     const hid_t type = H5Tdecode(type_code.data());
     const hid_t dataset = r.dataset;
     // Only handles inherited from the parent are read (the child opens no
@@ -113,11 +126,40 @@ void serve(void* context) {
     const bool known = H5Iget_type(dataset) == H5I_DATASET;
     const bool ok = known && type >= 0 && r.bytes <= kSharedBytes &&
                     read_selection(dataset, type,
-                                   Hdf5Selection{r.first, r.count, r.columns, r.column, r.whole != 0}, c->values);
+                                   Hdf5Selection{r.first, r.count, r.columns, r.column, r.whole != 0}, c.values);
     if (type >= 0) H5Tclose(type);
     const unsigned char status = ok ? kRead : known ? kFailed : kUnknownDataset;
-    if (!write_all(c->socket, &status, 1)) _exit(0);
+    if (!write_all(c.socket, &status, 1)) _exit(0);
   }
+}
+
+// The descriptor libhdf5 reads `dataset`'s file through (the default sec2
+// driver's), or -1.
+int file_descriptor_of(hid_t dataset) {
+  const hid_t file = H5Iget_file_id(dataset);
+  if (file < 0) return -1;
+  const hid_t access = H5Fget_access_plist(file);
+  int fd = -1;
+  void* handle = nullptr;
+  if (access >= 0 && H5Pget_driver(access) == H5FD_SEC2 && H5Fget_vfd_handle(file, access, &handle) >= 0 &&
+      handle != nullptr)
+    fd = *static_cast<int*>(handle);
+  if (access >= 0) H5Pclose(access);
+  H5Fclose(file);
+  return fd;
+}
+
+// Whether `child` waits for the disk (state D): slow storage, not a hang.
+bool waits_for_disk(pid_t child) {
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(child));
+  std::FILE* f = std::fopen(path, "r");
+  if (f == nullptr) return false;
+  char line[512] = {};
+  const bool read = std::fgets(line, sizeof line, f) != nullptr;
+  std::fclose(f);
+  const char* end_of_name = read ? std::strrchr(line, ')') : nullptr;  // "pid (name) S ..."
+  return end_of_name != nullptr && end_of_name[1] == ' ' && end_of_name[2] == 'D';
 }
 
 }  // namespace
@@ -166,7 +208,8 @@ bool Hdf5ReadChild::read(hid_t dataset, hid_t memory_type, const Hdf5Selection& 
   if (owner_ != getpid()) forget_after_fork();
   const std::uint64_t bytes = selection_bytes(dataset, memory_type, selection);
   if (bytes == 0 || bytes > out_bytes) return selection.count == 0 && !selection.whole;  // nothing to read
-  if (child_ < 0 && !in_process_ && !start()) in_process_ = true;
+  if (child_ < 0 && !in_process_ && (std::getenv("EVLIFE_HDF5_IN_PROCESS") != nullptr || !start(dataset)))
+    in_process_ = true;
   if (in_process_) return read_selection(dataset, memory_type, selection, out);
   if (bytes > kSharedBytes) {  // in pieces of rows that fit the region (a whole dataset cannot be cut)
     if (selection.whole) return false;
@@ -191,7 +234,7 @@ bool Hdf5ReadChild::read(hid_t dataset, hid_t memory_type, const Hdf5Selection& 
   int answer = exchange(request_.data(), request_.size());
   if (answer == kUnknownDataset) {  // opened since the child was forked: a child that knows it
     stop();
-    if (!start()) {
+    if (!start(dataset)) {
       in_process_ = true;
       return read_selection(dataset, memory_type, selection, out);
     }
@@ -217,7 +260,12 @@ bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
   auto deadline = std::chrono::steady_clock::now() + kAnswerTimeout;
   while (bytes > 0) {
     pollfd fd{socket_, POLLIN, 0};
+    const auto before = std::chrono::steady_clock::now();
     const int polled = poll(&fd, 1, kPollSliceMs);
+    // A slice that took far longer than asked: this process was stopped
+    // (Ctrl-Z) or starved, not waiting on the child; that time is not the child's.
+    if (const auto slept = std::chrono::steady_clock::now() - before; slept > 10 * std::chrono::milliseconds(kPollSliceMs))
+      deadline += slept;
     if (polled > 0) {
       const ssize_t n = recv(socket_, p, bytes, 0);
       if (n > 0) {
@@ -238,11 +286,15 @@ bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
       child_ended(done == child_ ? status : 0);
       return false;
     }
+    if (polled == 0 && std::chrono::steady_clock::now() > deadline && waits_for_disk(child_)) {
+      deadline = std::chrono::steady_clock::now() + kAnswerTimeout;  // slow storage, still reading
+      continue;
+    }
     if (polled != 0 || std::chrono::steady_clock::now() > deadline) {
       kill(child_, SIGKILL);
       waitpid(child_, nullptr, 0);
       child_ = -1;
-      fault_ = Hdf5ChildFault{"hangs", "(no answer in " + std::to_string(kAnswerTimeout.count()) + " s)"};
+      fault_ = Hdf5ChildFault{"hangs", "(no answer in " + std::to_string(kAnswerTimeout.count()) + " s)", true};
       stop();
       return false;
     }
@@ -253,12 +305,12 @@ bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
 void Hdf5ReadChild::child_ended(int wait_status) {
   child_ = -1;
   auto fault = hdf5_child_fault(wait_status);
-  if (fault.verb.empty()) fault = {"ends", "(its reading process ended)"};
+  if (fault.verb.empty()) fault = {"ends", "(its reading process ended)", false};
   fault_ = fault;
   stop();
 }
 
-bool Hdf5ReadChild::start() {
+bool Hdf5ReadChild::start(hid_t dataset) {
   int pair[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, pair) != 0) return false;
   if (shared_ == nullptr) {
@@ -270,17 +322,14 @@ bool Hdf5ReadChild::start() {
     }
     shared_ = static_cast<unsigned char*>(region);
   }
-  ChildContext context{pair[1], pair[0], shared_};
-  const int slot = register_socket(pair[0]);
+  ChildContext context{pair[1], file_descriptor_of(dataset), getpid(), shared_};
   const pid_t child = fork_hdf5_child(&serve, &context);
   close(pair[1]);
   if (child < 0) {
-    if (slot >= 0) g_parent_sockets[slot].store(0);
     close(pair[0]);
     return false;
   }
   socket_ = pair[0];
-  slot_ = slot;
   child_ = child;
   owner_ = getpid();
   return true;
@@ -292,10 +341,9 @@ bool Hdf5ReadChild::start() {
 // reading (its answers read by either process): this copy lets go of them
 // and forks its own child at its next read.
 void Hdf5ReadChild::forget_after_fork() noexcept {
-  if (slot_ >= 0) g_parent_sockets[slot_].store(0);
   if (socket_ >= 0) close(socket_);  // this process's copy of the original's end
   if (shared_ != nullptr) munmap(shared_, kSharedBytes);  // this process's view only
-  socket_ = slot_ = -1;
+  socket_ = -1;
   child_ = -1;
   shared_ = nullptr;
   owner_ = getpid();
@@ -308,8 +356,6 @@ void Hdf5ReadChild::stop() noexcept {
     waitpid(child_, nullptr, 0);
     child_ = -1;
   }
-  if (slot_ >= 0) g_parent_sockets[slot_].store(0);
-  slot_ = -1;
   if (socket_ >= 0) close(socket_);
   socket_ = -1;
 }

@@ -58,7 +58,7 @@ class Hdf5ReadChild {
   const std::optional<Hdf5ChildFault>& fault() const noexcept { return fault_; }
 
  private:
-  bool start();                      // forks the child; false: read in this process
+  bool start(hid_t dataset);  // forks the child (keeping `dataset`'s file open); false: read in this process
   // The child's answer to one request, kFailed also when it ended or hung.
   int exchange(const void* request, std::size_t request_bytes);
   bool receive(void* out, std::size_t bytes);  // false: the child ended or hung (fault_ set)
@@ -69,7 +69,6 @@ class Hdf5ReadChild {
   unsigned char* shared_ = nullptr;  // the region the child reads the values into
   pid_t child_ = -1;
   pid_t owner_ = -1;  // the process that forked child_ and mapped shared_
-  int slot_ = -1;  // in the registry of sockets other children close
   bool in_process_ = false;
   std::optional<Hdf5ChildFault> fault_;
   std::vector<unsigned char> request_;

@@ -491,8 +491,10 @@ std::vector<ContainerStream> Hdf5Reader::streams() const {
 // Why a read failed, in parentheses: libhdf5 crashed or hung in the child
 // that read, else a filter this HDF5 cannot load, else `otherwise`.
 std::string Hdf5Reader::why_unread(const char* otherwise) const {
-  if (const auto& fault = reads_->fault())
-    return " (the HDF5 library " + fault->verb + " reading it " + fault->detail + ": corrupt HDF5)";
+  if (const auto& fault = reads_->fault()) {
+    return fault->corrupt ? " (the HDF5 library " + fault->verb + " reading it " + fault->detail + ": corrupt HDF5)"
+                          : " (its reading process " + fault->verb + " " + fault->detail + ")";
+  }
   return unloadable_filter_.empty() ? " (" + std::string(otherwise) + ")" : " (dataset " + unloadable_filter_ + ")";
 }
 
