@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <initializer_list>
+#include <limits>
 #include <cstdlib>
 
 namespace evlife::io::detail {
@@ -77,14 +78,24 @@ struct ChildContext {
   unsigned char* values;  // the shared region the child reads into
 };
 
+// Closes the descriptors [first, last].
+void close_from_to(int first, int last) {
+  if (first > last) return;
+  if (close_range(static_cast<unsigned>(first), static_cast<unsigned>(last), 0) == 0) return;
+  // A kernel without close_range (before 5.9, or a filter refusing it): one at a time.
+  const long open_max = sysconf(_SC_OPEN_MAX);
+  const int bound = std::min(last, static_cast<int>(std::min<long>(open_max > 0 ? open_max : 1024, 1 << 16)) - 1);
+  for (int fd = first; fd <= bound; ++fd) close(fd);
+}
+
 // Closes every descriptor from `first` on but `keep` (sorted, >= first).
 void close_all_but(int first, std::initializer_list<int> keep) {
   for (const int k : keep) {
     if (k < first) continue;
-    if (k > first) close_range(static_cast<unsigned>(first), static_cast<unsigned>(k - 1), 0);
+    close_from_to(first, k - 1);
     first = k + 1;
   }
-  close_range(static_cast<unsigned>(first), ~0U, 0);
+  close_from_to(first, std::numeric_limits<int>::max());
 }
 
 // Whether a request came (false: the parent ended or closed its end).
