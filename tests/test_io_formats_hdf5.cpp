@@ -1478,14 +1478,14 @@ TEST(IoFormatsHdf5, TheReadingChildHoldsNoDescriptorOfTheProcessAndIsNamedWhenKi
     for (pid_t pid = 0; list >> pid;) children.push_back(pid);
   }
   ASSERT_EQ(children.size(), 1u);
-  ASSERT_EQ(kill(children[0], SIGTERM), 0);
+  ASSERT_EQ(kill(children[0], SIGKILL), 0);
   try {
     while (reader->read(events) > 0) {
     }
     FAIL() << "the reading went on without its child";
   } catch (const ReadError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("its reading process was killed (signal " + std::to_string(SIGTERM)), std::string::npos)
+    EXPECT_NE(what.find("its reading process was killed (signal " + std::to_string(SIGKILL)), std::string::npos)
         << what;
     EXPECT_EQ(what.find("corrupt"), std::string::npos) << what;
   }

@@ -38,9 +38,16 @@ class AugmentedHdf5Reader final : public AugmentedEventReader {
           std::min<std::int64_t>(events_->event_count() - static_cast<std::int64_t>(index_), kColumnRows));
       const std::array<float*, 4> columns{columns_[0].data(), columns_[1].data(), columns_[2].data(),
                                           columns_[3].data()};
-      events_->read_float_rows(static_cast<std::int64_t>(index_), rows, columns);  // (n <= rows: read as events)
+      try {
+        events_->read_float_rows(static_cast<std::int64_t>(index_), rows, columns);  // (n <= rows: read as events)
+        columns_rows_ = rows;
+      } catch (const ReadError&) {
+        // A value no float holds further on: this block's rows alone, so that
+        // the blocks before it are delivered and the error names its own.
+        events_->read_float_rows(static_cast<std::int64_t>(index_), n, columns);
+        columns_rows_ = n;
+      }
       columns_first_ = index_;
-      columns_rows_ = rows;
     }
     const std::size_t at = index_ - columns_first_;
     for (std::size_t i = 0; i < n; ++i) {

@@ -54,10 +54,13 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
       close(ready[0]);
       for (const int sig : {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
       // A terminal's Ctrl-C, hang-up or quit reaches the whole process
-      // group: the parent decides (an inherited handler, Python's, would act
-      // in the child), and its ending ends the child.
-      // (SIGTERM stays: `kill` ends a child; the parent names it killed from outside.)
-      for (const int sig : {SIGINT, SIGHUP, SIGQUIT, SIGPIPE}) signal(sig, SIG_IGN);
+      // group: the parent decides (an inherited handler, Python's or the
+      // CLI's, would act in the child), and its ending ends the child.
+      // (SIGTERM too: a service manager's stop reaches every process of the
+      // group, and a child that died under its parent's read would turn a
+      // clean stop into an input error. SIGKILL ends a child; the parent
+      // names it killed from outside.)
+      for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) signal(sig, SIG_IGN);
       // A child stuck on the lock is killed by its parent; one whose parent
       // died first ends by this alarm, cancelled once past the lock.
       signal(SIGALRM, SIG_DFL);

@@ -26,8 +26,8 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context);
 
 /// How a child ended, for an error message: {"crashes", "(signal 11,
 /// Segmentation fault)", corrupt}, {"fails hard", "(exit status 1)",
-/// corrupt} (a sanitizer's report of the crash), {"was killed", "(signal 15,
-/// Terminated, from outside)"} (not the file's doing), or empty texts when it
+/// corrupt} (a sanitizer's report of the crash), {"was killed", "(signal 9,
+/// Killed, from outside)"} (not the file's doing), or empty texts when it
 /// exited 0.
 struct Hdf5ChildFault {
   std::string verb, detail;

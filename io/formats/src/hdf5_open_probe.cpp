@@ -111,23 +111,31 @@ bool probe_in_child(const std::string& path) {
   // No child (no fork, or every child stuck on the library's lock, another
   // thread keeping it busy): go on without the probe.
   if (child < 0) return false;
-  const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+  auto deadline = std::chrono::steady_clock::now() + kTimeout;
   int status = 0;
+  auto last = std::chrono::steady_clock::now();
   while (true) {
     const pid_t done = waitpid(child, &status, WNOHANG);
     if (done == child) break;
     if (done < 0) return false;
-    if (std::chrono::steady_clock::now() > deadline) {
+    // A step far longer than its 1 ms: this process was stopped (Ctrl-Z); not the probe's time.
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last > std::chrono::seconds(1)) deadline += now - last;
+    last = now;
+    if (now > deadline) {
       kill(child, SIGKILL);
       waitpid(child, &status, 0);
       throw ReadError(path, -1, -1, "the HDF5 library hangs opening this file (corrupt HDF5?)");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
-  const auto fault = detail::hdf5_child_fault(status);
-  if (fault.corrupt)
-    throw ReadError(path, -1, -1, "the HDF5 library " + fault.verb + " opening this file " + fault.detail + ": corrupt HDF5");
-  return fault.verb.empty();  // (killed from outside: not probed)
+  // A probe killed from outside (the OOM killer: a corrupt file can make
+  // libhdf5 ask for any size) says nothing of the file: refused all the
+  // same, never opened unprobed.
+  if (const auto fault = detail::hdf5_child_fault(status); !fault.verb.empty())
+    throw ReadError(path, -1, -1, "the HDF5 library " + fault.verb + " opening this file " + fault.detail +
+                                      (fault.corrupt ? ": corrupt HDF5" : ""));
+  return true;
 }
 
 }  // namespace

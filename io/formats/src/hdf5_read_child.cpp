@@ -1,9 +1,12 @@
 #include "hdf5_read_child.h"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,10 +14,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
-#include <initializer_list>
-#include <limits>
 #include <cstdlib>
+#include <cstring>
 
 namespace evlife::io::detail {
 namespace {
@@ -72,30 +73,34 @@ H5T_conv_ret_t refuse_lossy_conversion(H5T_conv_except_t kind, hid_t, hid_t, voi
 }
 
 struct ChildContext {
-  int socket;             // the child's end
-  int file_fd;            // the file's descriptor in libhdf5 (-1: unknown)
+  int socket;  // the child's end
   pid_t parent;
   unsigned char* values;  // the shared region the child reads into
 };
 
-// Closes the descriptors [first, last].
-void close_from_to(int first, int last) {
-  if (first > last) return;
-  if (close_range(static_cast<unsigned>(first), static_cast<unsigned>(last), 0) == 0) return;
-  // A kernel without close_range (before 5.9, or a filter refusing it): one at a time.
-  const long open_max = sysconf(_SC_OPEN_MAX);
-  const int bound = std::min(last, static_cast<int>(std::min<long>(open_max > 0 ? open_max : 1024, 1 << 16)) - 1);
-  for (int fd = first; fd <= bound; ++fd) close(fd);
-}
-
-// Closes every descriptor from `first` on but `keep` (sorted, >= first).
-void close_all_but(int first, std::initializer_list<int> keep) {
-  for (const int k : keep) {
-    if (k < first) continue;
-    close_from_to(first, k - 1);
-    first = k + 1;
+// Closes the parent's descriptors that the child must not hold: pipes and
+// sockets (their other ends would wait for an end of file as long as the
+// reader lives: a pipe to `wc`, another reader's socket to its child) and
+// files open for writing (the command's outputs, their locks). Kept: 0-2 (a
+// sanitizer's report), the child's socket, and files open read-only, which
+// libhdf5 reads (the reader's file, files its external links opened, a
+// driver's several files).
+void close_inherited_descriptors(int socket) {
+  DIR* dir = opendir("/proc/self/fd");
+  if (dir == nullptr) return;  // (no /proc: none closed)
+  std::vector<int> fds;
+  while (const dirent* entry = readdir(dir)) {
+    char* end = nullptr;
+    const long fd = std::strtol(entry->d_name, &end, 10);
+    if (*end == '\0' && end != entry->d_name && fd > 2 && fd != socket && fd != dirfd(dir)) fds.push_back(static_cast<int>(fd));
   }
-  close_from_to(first, std::numeric_limits<int>::max());
+  closedir(dir);
+  for (const int fd : fds) {
+    struct stat st {};
+    const int flags = fcntl(fd, F_GETFL);
+    if (flags >= 0 && (flags & O_ACCMODE) == O_RDONLY && fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) continue;
+    close(fd);
+  }
 }
 
 // Whether a request came (false: the parent ended or closed its end).
@@ -114,16 +119,7 @@ void serve(void* context) {
   // (No PR_SET_PDEATHSIG: it follows the forking thread, which may end
   // before the reader. Its socket's end closing, or being adopted, ends it.)
   const auto& c = *static_cast<const ChildContext*>(context);
-  // The parent's descriptors (its end of this socket, other readers' ends,
-  // pipes to its children, its outputs) held here would keep their other
-  // ends waiting (a pipe's reader for its end of file) as long as the
-  // reader lives. Kept: the standard ones (a sanitizer's report), the
-  // socket, the file libhdf5 reads.
-  if (c.file_fd >= 0) {
-    close_all_but(3, {std::min(c.socket, c.file_fd), std::max(c.socket, c.file_fd)});
-  } else {
-    close_all_but(3, {c.socket});  // (another driver than sec2: its descriptors unknown; not closed)
-  }
+  close_inherited_descriptors(c.socket);
   std::vector<unsigned char> type_code;
   for (;;) {
     Request r{};
@@ -144,20 +140,10 @@ void serve(void* context) {
   }
 }
 
-// The descriptor libhdf5 reads `dataset`'s file through (the default sec2
-// driver's), or -1.
-int file_descriptor_of(hid_t dataset) {
-  const hid_t file = H5Iget_file_id(dataset);
-  if (file < 0) return -1;
-  const hid_t access = H5Fget_access_plist(file);
-  int fd = -1;
-  void* handle = nullptr;
-  if (access >= 0 && H5Pget_driver(access) == H5FD_SEC2 && H5Fget_vfd_handle(file, access, &handle) >= 0 &&
-      handle != nullptr)
-    fd = *static_cast<int*>(handle);
-  if (access >= 0) H5Pclose(access);
-  H5Fclose(file);
-  return fd;
+// EVLIFE_HDF5_IN_PROCESS=1: the reads in the process, no child (memory).
+bool reads_in_process_by_choice() {
+  const char* value = std::getenv("EVLIFE_HDF5_IN_PROCESS");
+  return value != nullptr && std::strcmp(value, "1") == 0;
 }
 
 // Whether `child` waits for the disk (state D): slow storage, not a hang.
@@ -219,8 +205,7 @@ bool Hdf5ReadChild::read(hid_t dataset, hid_t memory_type, const Hdf5Selection& 
   if (owner_ != getpid()) forget_after_fork();
   const std::uint64_t bytes = selection_bytes(dataset, memory_type, selection);
   if (bytes == 0 || bytes > out_bytes) return selection.count == 0 && !selection.whole;  // nothing to read
-  if (child_ < 0 && !in_process_ && (std::getenv("EVLIFE_HDF5_IN_PROCESS") != nullptr || !start(dataset)))
-    in_process_ = true;
+  if (child_ < 0 && !in_process_ && (reads_in_process_by_choice() || !start())) in_process_ = true;
   if (in_process_) return read_selection(dataset, memory_type, selection, out);
   if (bytes > kSharedBytes) {  // in pieces of rows that fit the region (a whole dataset cannot be cut)
     if (selection.whole) return false;
@@ -245,7 +230,7 @@ bool Hdf5ReadChild::read(hid_t dataset, hid_t memory_type, const Hdf5Selection& 
   int answer = exchange(request_.data(), request_.size());
   if (answer == kUnknownDataset) {  // opened since the child was forked: a child that knows it
     stop();
-    if (!start(dataset)) {
+    if (!start()) {
       in_process_ = true;
       return read_selection(dataset, memory_type, selection, out);
     }
@@ -321,7 +306,7 @@ void Hdf5ReadChild::child_ended(int wait_status) {
   stop();
 }
 
-bool Hdf5ReadChild::start(hid_t dataset) {
+bool Hdf5ReadChild::start() {
   int pair[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, pair) != 0) return false;
   if (shared_ == nullptr) {
@@ -333,7 +318,7 @@ bool Hdf5ReadChild::start(hid_t dataset) {
     }
     shared_ = static_cast<unsigned char*>(region);
   }
-  ChildContext context{pair[1], file_descriptor_of(dataset), getpid(), shared_};
+  ChildContext context{pair[1], getpid(), shared_};
   const pid_t child = fork_hdf5_child(&serve, &context);
   close(pair[1]);
   if (child < 0) {

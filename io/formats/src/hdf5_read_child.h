@@ -58,7 +58,7 @@ class Hdf5ReadChild {
   const std::optional<Hdf5ChildFault>& fault() const noexcept { return fault_; }
 
  private:
-  bool start(hid_t dataset);  // forks the child (keeping `dataset`'s file open); false: read in this process
+  bool start();  // forks the child; false: read in this process
   // The child's answer to one request, kFailed also when it ended or hung.
   int exchange(const void* request, std::size_t request_bytes);
   bool receive(void* out, std::size_t bytes);  // false: the child ended or hung (fault_ set)
