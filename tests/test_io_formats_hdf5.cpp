@@ -1491,6 +1491,65 @@ TEST(IoFormatsHdf5, TheReadingChildHoldsNoDescriptorOfTheProcessAndIsNamedWhenKi
   }
 }
 
+// A DSEC file whose t column lives in another file behind an HDF5 external
+// link: read whole. (A first version of the reading child closed every
+// descriptor but the reader's file's: the linked file's too, and the valid
+// file failed as "corrupt data", a review helper's finding.)
+TEST(IoFormatsHdf5, AColumnBehindAnExternalLinkIsRead) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string times = dir.file("times.h5"), path = dir.file("linked.h5");
+  const std::size_t n = 100'000;  // two of the reader's slabs
+  std::vector<std::uint16_t> x(n), y(n);
+  std::vector<std::uint32_t> t(n);
+  std::vector<std::uint8_t> p(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = static_cast<std::uint16_t>(i % 640), y[i] = static_cast<std::uint16_t>(i % 480);
+    t[i] = static_cast<std::uint32_t>(3 * i), p[i] = static_cast<std::uint8_t>(i % 2);
+  }
+  const hid_t other = H5Fcreate(times.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  write_dataset(other, "t", H5T_STD_U32LE, H5T_NATIVE_UINT32, t);
+  H5Fclose(other);
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t group = H5Gcreate2(file, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  write_dataset(group, "x", H5T_STD_U16LE, H5T_NATIVE_UINT16, x);
+  write_dataset(group, "y", H5T_STD_U16LE, H5T_NATIVE_UINT16, y);
+  write_dataset(group, "p", H5T_STD_U8LE, H5T_NATIVE_UINT8, p);
+  ASSERT_GE(H5Lcreate_external(times.c_str(), "/t", group, "t", H5P_DEFAULT, H5P_DEFAULT), 0);
+  H5Gclose(group);
+  H5Fclose(file);
+  const ReadResult r = read_all(path, /*checked=*/false);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), n);
+  EXPECT_EQ(r.events[n - 1].t_us, static_cast<std::int64_t>(3 * (n - 1)));
+  EXPECT_EQ(r.events[n - 1].x, (n - 1) % 640);
+}
+
+// An augmented column of doubles with a value no float holds at row 50,000:
+// the rows of the reads before it are delivered, the error names its read. (Reading the columns in slabs of 65,536 rows lost them: 0 rows,
+// the error at event 0, a review helper's finding.)
+TEST(IoFormatsHdf5, AnAugmentedValueNoFloatHoldsEndsTheReadingAfterTheBlocksBefore) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const SensorSize sensor{64, 48};
+  const std::vector<AugmentedEvent> written = make_events(60'000, sensor);
+  const std::string path = dir.file("double_lifetime.h5");
+  write_augmented(path, written, sensor);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  ASSERT_GE(H5Ldelete(file, "lifetime", H5P_DEFAULT), 0);
+  std::vector<double> lifetimes(written.size());
+  for (std::size_t i = 0; i < written.size(); ++i) lifetimes[i] = written[i].lifetime_us;
+  lifetimes[50'000] = 1e300;
+  ASSERT_TRUE(evlife::test::write_hdf5_dataset(file, "lifetime", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, lifetimes, {}, {}));
+  H5Fclose(file);
+  const AugmentedReadResult r = read_augmented(path, 1000);  // reads of 1,000 records
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.records.size(), 50'000u);  // the reads before row 50,000's
+  EXPECT_EQ(r.error->event_index(), 50'000) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find("'lifetime' cannot be read from event 50000"), std::string::npos)
+      << r.error->what();
+  for (std::size_t i = 0; i < r.records.size(); ++i) ASSERT_TRUE(same_bits(r.records[i], written[i])) << i;
+}
+
 // A DSEC t_offset of many values: read into the reader's one int64 it
 // overflowed it (H5Dread of the whole dataset); now it is refused.
 TEST(IoFormatsHdf5, ATimeOffsetOfManyValuesIsRefusedNotReadPastItsInteger) {
