@@ -1525,8 +1525,9 @@ TEST(IoFormatsHdf5, AColumnBehindAnExternalLinkIsRead) {
 }
 
 // An augmented column of doubles with a value no float holds at row 50,000:
-// the rows of the reads before it are delivered, the error names its read. (Reading the columns in slabs of 65,536 rows lost them: 0 rows,
-// the error at event 0, a review helper's finding.)
+// the rows of the reads before it are delivered, the error names its read.
+// (Reading the columns in slabs of 65,536 rows lost them: 0 rows, the error
+// at event 0, a review helper's finding.)
 TEST(IoFormatsHdf5, AnAugmentedValueNoFloatHoldsEndsTheReadingAfterTheBlocksBefore) {
   const ScratchDir dir("test_io_formats_hdf5");
   const SensorSize sensor{64, 48};
