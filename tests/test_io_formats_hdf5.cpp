@@ -1538,7 +1538,7 @@ TEST(IoFormatsHdf5, AnAugmentedValueNoFloatHoldsEndsTheReadingAfterTheBlocksBefo
   ASSERT_GE(file, 0);
   ASSERT_GE(H5Ldelete(file, "lifetime", H5P_DEFAULT), 0);
   std::vector<double> lifetimes(written.size());
-  for (std::size_t i = 0; i < written.size(); ++i) lifetimes[i] = written[i].lifetime_us;
+  for (std::size_t i = 0; i < written.size(); ++i) lifetimes[i] = static_cast<double>(written[i].lifetime_us);
   lifetimes[50'000] = 1e300;
   ASSERT_TRUE(evlife::test::write_hdf5_dataset(file, "lifetime", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, lifetimes, {}, {}));
   H5Fclose(file);
