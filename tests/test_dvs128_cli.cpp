@@ -119,4 +119,31 @@ TEST(Dvs128Cli, RunFromTheCameraWritesEverythingReadThenReportsTheUnplug) {
   std::remove(out_path.c_str());
 }
 
+// A --biases file that cannot be read, or holds a bad line, is a setting
+// refused before the camera opens: exit 2 (as a bad --config), the file and
+// line named, no request sent to the camera. It was exit 3, "input error",
+// as if the camera's events were bad.
+TEST(Dvs128Cli, ABadBiasFileIsASettingRefusedBeforeTheCameraOpens) {
+  UsbTestbed bed;
+  auto& cam = bed.add_dvs128("SN-7");
+  const std::string dir = std::string(EVLIFE_BINARY_DIR);
+  const std::string bad = dir + "/test_dvs128_cli_bad_biases.yaml";
+  {
+    std::ofstream f(bad);
+    f << "cas: 5\nrefr: -1\n";
+  }
+  const std::string out_path = dir + "/test_dvs128_cli_biases.csv";
+  const struct {
+    std::string file, said;
+  } cases[] = {{dir + "/no_such_biases.yaml", dir + "/no_such_biases.yaml: cannot open the DVS128 bias file"},
+               {bad, bad + ":2: bias 'refr' must be an integer"}};
+  for (const auto& c : cases) {
+    const auto r = run_cli("run --source dvs128:SN-7 --biases " + c.file + " --quiet -o " + out_path, "biases");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("configuration error: " + c.said), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(cam.vendor_requests().empty());
+  std::remove(bad.c_str());
+}
+
 }  // namespace

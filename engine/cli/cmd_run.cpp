@@ -198,7 +198,7 @@ struct RunArgs {
   io::ReaderOptions input_options;  // --topic
   double speed = 0.0;
   std::string output;
-  std::string biases;
+  std::optional<io::Dvs128Biases> biases;  // --biases FILE, read while parsing
   std::string frames_dir;
   std::string video;
   bool window = false;
@@ -296,7 +296,6 @@ RunArgs parse_run_args(int argc, char** argv) {
     if (s->empty()) throw UsageError("-o needs a file name (.csv, .bin or .h5); without -o the output is discarded");
     r.output = *s;
   }
-  if (const auto s = a.value("biases")) r.biases = *s;
   if (const auto s = a.value("duration")) {
     if (!r.source.starts_with("synth:"))
       throw UsageError("--duration sets a synth: scene's length; " + r.source + " runs to its end (a file: --to T)");
@@ -357,8 +356,15 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.video))
     throw UsageError("--video " + *refusal);
-  if (!r.biases.empty() && !engine::is_dvs128_spec(r.source))
-    throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
+  if (const auto file = a.value("biases")) {
+    if (!engine::is_dvs128_spec(r.source))
+      throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
+    try {  // read once (a pipe reads once), before the camera opens; a bad file is a bad setting, as --config's
+      r.biases = io::Dvs128Biases::load_file(*file);
+    } catch (const std::runtime_error& e) {
+      throw config::ConfigError(e.what());
+    }
+  }
   if (engine::is_dvs128_spec(r.source)) {  // a camera streams at its own pace, on its own sensor
     for (const char* replay_only : {"realtime", "packet-us", "sensor"}) {
       if (a.has(replay_only))
@@ -375,7 +381,7 @@ RunArgs parse_run_args(int argc, char** argv) {
 // `stop`: a signal during a file's scan for its sensor size ends the scan.
 std::unique_ptr<engine::EventSource> make_source(const RunArgs& r, const std::atomic<bool>* stop) {
   std::string_view spec = r.source;
-  if (engine::is_dvs128_spec(spec)) return engine::make_dvs128_source(spec, r.biases);
+  if (engine::is_dvs128_spec(spec)) return engine::make_dvs128_source(spec, r.biases.value_or(io::Dvs128Biases{}));
   if (spec.starts_with("synth:")) {
     const auto duration_us = std::llround(r.duration_s * 1e6);  // 0.2 s: 199999.99999999997 us
     std::unique_ptr<io::EventReader> scene;

@@ -95,13 +95,17 @@ bool is_dvs128_spec(std::string_view spec) {
 
 std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec,
                                                  const std::string& biases_file) {
+  return make_dvs128_source(spec, biases_file.empty() ? io::Dvs128Biases{} : io::Dvs128Biases::load_file(biases_file));
+}
+
+std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec, const io::Dvs128Biases& biases) {
   if (!is_dvs128_spec(spec)) {
     throw std::invalid_argument("not a DVS128 source spec: '" + std::string(spec) +
                                 "' (expected dvs128 or dvs128:SERIAL)");
   }
   Dvs128Source::Options options;
   if (spec.size() > 7) options.serial = std::string(spec.substr(7));
-  if (!biases_file.empty()) options.biases = io::Dvs128Biases::load_file(biases_file);
+  options.biases = biases;
   return std::make_unique<Dvs128Source>(options);
 }
 

@@ -94,5 +94,8 @@ bool is_dvs128_spec(std::string_view spec);
 /// io::Dvs128Error / std::runtime_error with a message ready for the user.
 std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec,
                                                  const std::string& biases_file = {});
+/// The same with the biases given (read by the caller: `evlife run` reads
+/// its --biases file while parsing, where a bad one is a setting refused).
+std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec, const io::Dvs128Biases& biases);
 
 }  // namespace evlife::engine
