@@ -211,6 +211,12 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   EXPECT_TRUE(has(r, "time range")) << r.output;
   const RunResult ok = run("render " + path("a.bin") + " -o " + path("in.png") + " --at 0.2");
   EXPECT_FALSE(has(ok, "warning")) << ok.output;
+  // run --at says it too (it drew the frame in silence).
+  const RunResult run_late = run("run " + in + " --frames " + path("run_late") + " --fps 0 --at 0.2,300000,5 -q");
+  EXPECT_EQ(run_late.exit_code, 0) << run_late.output;
+  EXPECT_TRUE(has(run_late, "evlife run: warning: 2 of the --at instants lie after the last event")) << run_late.output;
+  const RunResult run_ok = run("run " + in + " --frames " + path("run_ok") + " --fps 0 --at 0.2 -q");
+  EXPECT_FALSE(has(run_ok, "warning")) << run_ok.output;
   const RunResult none = run("process " + in + " -o " + path("none.bin") + " --from 300000");
   EXPECT_EQ(none.exit_code, 0);
   EXPECT_TRUE(has(none, "warning: no event of")) << none.output;

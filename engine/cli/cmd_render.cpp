@@ -24,6 +24,7 @@
 #include "command_start.h"
 #include "command.h"
 #include "earlier_frames_warning.h"
+#include "instants_after_end_warning.h"
 #include "stop_signals.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
@@ -272,13 +273,7 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  (r.output_fault ? *r.output_fault : r.input_fault.value_or("")).c_str());
     return r.output_fault ? kExitOutput : kExitInput;
   }
-  if (r.after_end > 0 && !args.job.at_us.empty()) {
-    std::fprintf(stderr,
-                 "evlife render: warning: %zu of the --at instants lie after the last event "
-                 "(the recording is %.6f s long; --at takes seconds from the first event, or "
-                 "a unit: 500ms, 20us)\n",
-                 r.after_end, seconds_between(r.first_t_us, r.last_t_us));
-  }
+  if (!args.job.at_us.empty()) warn_instants_after_end("render", r.after_end, r.first_t_us, r.last_t_us);
   warn_earlier_frames("render", args.job.output, r.earlier_frames);
   // Events the frames left out are named whatever -q says (the summary, -q's to skip, names them too).
   if (args.quiet && render::ignored_events(r.stats) > 0)

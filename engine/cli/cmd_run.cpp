@@ -31,6 +31,7 @@
 #include "command_start.h"
 #include "command.h"
 #include "earlier_frames_warning.h"
+#include "instants_after_end_warning.h"
 #include "memory_check.h"
 #include "stop_signals.h"
 #include "evlife/config/config.h"
@@ -735,6 +736,13 @@ int run_engine(int argc, char** argv) {
   if (result.status == engine::RunStatus::completed && result.stats.events_in == 0)  // as process
     warn_empty_crop("run", std::string(file_of_source(args.source)), args.input_options);
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
+  if (render_stage && result.status == engine::RunStatus::completed && result.stats.has_time_range) {
+    const auto& stats = result.stats;
+    const std::uint64_t span_us = static_cast<std::uint64_t>(stats.last_t_us) - static_cast<std::uint64_t>(stats.first_t_us);
+    const auto& at = args.render.at_us;  // from the first event (never negative), as the span
+    const auto late = std::count_if(at.begin(), at.end(), [&](std::int64_t t) { return static_cast<std::uint64_t>(t) > span_us; });
+    warn_instants_after_end("run", static_cast<std::size_t>(late), stats.first_t_us, stats.last_t_us);
+  }
   return run_exit_status(result, render_stage.get(), args.quiet);
 }
 
