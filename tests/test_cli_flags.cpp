@@ -214,7 +214,12 @@ TEST_F(CliFlags, TimeRangeInSummariesAndAWarningPastTheEnd) {
   // run --at says it too (it drew the frame in silence).
   const RunResult run_late = run("run " + in + " --frames " + path("run_late") + " --fps 0 --at 0.2,300000,5 -q");
   EXPECT_EQ(run_late.exit_code, 0) << run_late.output;
-  EXPECT_TRUE(has(run_late, "evlife run: warning: 2 of the --at instants lie after the last event")) << run_late.output;
+  EXPECT_TRUE(has(run_late, "evlife run: warning: 2 of the --at instants lie after the last event (the events read "
+                            "span 0.29")) << run_late.output;
+  // With --from, the instants count from the first event read: the span said is the crop's.
+  const RunResult run_crop = run("run " + in + " --from 0.2 --frames " + path("run_crop") + " --fps 0 --at 0.05,0.2 -q");
+  EXPECT_TRUE(has(run_crop, "warning: 1 of the --at instants lie after the last event (the events read span 0.09"))
+      << run_crop.output;
   const RunResult run_ok = run("run " + in + " --frames " + path("run_ok") + " --fps 0 --at 0.2 -q");
   EXPECT_FALSE(has(run_ok, "warning")) << run_ok.output;
   const RunResult none = run("process " + in + " -o " + path("none.bin") + " --from 300000");

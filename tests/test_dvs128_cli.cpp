@@ -120,9 +120,9 @@ TEST(Dvs128Cli, RunFromTheCameraWritesEverythingReadThenReportsTheUnplug) {
 }
 
 // A --biases file that cannot be read, or holds a bad line, is a setting
-// refused before the camera opens: exit 2 (as a bad --config), the file and
-// line named, no request sent to the camera. It was exit 3, "input error",
-// as if the camera's events were bad.
+// refused: exit 2 (as a bad --config), the file and line named, no request
+// sent to the camera. It was exit 3, "input error", as if the camera's
+// events were bad. An empty name is a usage error (it read as no file).
 TEST(Dvs128Cli, ABadBiasFileIsASettingRefusedBeforeTheCameraOpens) {
   UsbTestbed bed;
   auto& cam = bed.add_dvs128("SN-7");
@@ -142,6 +142,9 @@ TEST(Dvs128Cli, ABadBiasFileIsASettingRefusedBeforeTheCameraOpens) {
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("configuration error: " + c.said), std::string::npos) << r.err;
   }
+  const auto empty = run_cli("run --source dvs128:SN-7 --biases '' --quiet -o " + out_path, "biases");
+  EXPECT_EQ(empty.exit_code, 2) << empty.err;
+  EXPECT_NE(empty.err.find("--biases needs a file"), std::string::npos) << empty.err;
   EXPECT_TRUE(cam.vendor_requests().empty());
   std::remove(bad.c_str());
 }

@@ -273,7 +273,8 @@ int exit_status(const RenderArgs& args, const render::RecordingRenderResult& r) 
                  (r.output_fault ? *r.output_fault : r.input_fault.value_or("")).c_str());
     return r.output_fault ? kExitOutput : kExitInput;
   }
-  if (!args.job.at_us.empty()) warn_instants_after_end("render", r.after_end, r.first_t_us, r.last_t_us);
+  if (!args.job.at_us.empty())
+    warn_instants_after_end("render", r.after_end, r.first_t_us, r.last_t_us, InstantsOrigin::recording);
   warn_earlier_frames("render", args.job.output, r.earlier_frames);
   // Events the frames left out are named whatever -q says (the summary, -q's to skip, names them too).
   if (args.quiet && render::ignored_events(r.stats) > 0)

@@ -357,15 +357,11 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto refusal = io::output_overwrites_input(std::string(file_of_source(r.source)), r.video))
     throw UsageError("--video " + *refusal);
-  if (const auto file = a.value("biases")) {
-    if (!engine::is_dvs128_spec(r.source))
-      throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
-    try {  // read once (a pipe reads once), before the camera opens; a bad file is a bad setting, as --config's
-      r.biases = io::Dvs128Biases::load_file(*file);
-    } catch (const std::runtime_error& e) {
-      throw config::ConfigError(e.what());
-    }
-  }
+  const auto biases_file = a.value("biases");
+  if (biases_file && biases_file->empty())
+    throw UsageError("--biases needs a file of `name: value` lines; without --biases the built-in biases are sent");
+  if (biases_file && !engine::is_dvs128_spec(r.source))
+    throw UsageError("--biases sets a DVS128 camera's biases: the source " + r.source + " has none");
   if (engine::is_dvs128_spec(r.source)) {  // a camera streams at its own pace, on its own sensor
     for (const char* replay_only : {"realtime", "packet-us", "sensor"}) {
       if (a.has(replay_only))
@@ -375,6 +371,13 @@ RunArgs parse_run_args(int argc, char** argv) {
   } else if (a.has("packet-us") && r.speed <= 0) {  // (the camera's case is refused above)
     throw UsageError("--packet-us sets the packets of a paced replay: add --realtime (unpaced, a replay hands "
                      "its events over as fast as the workers take them)");
+  }
+  if (biases_file) {  // last: read once (a pipe reads once), and only for a command line found valid
+    try {
+      r.biases = io::Dvs128Biases::load_file(*biases_file);
+    } catch (const std::runtime_error& e) {  // a bad setting, as a bad --config
+      throw config::ConfigError(e.what());
+    }
   }
   return r;
 }
@@ -741,7 +744,8 @@ int run_engine(int argc, char** argv) {
     const std::uint64_t span_us = static_cast<std::uint64_t>(stats.last_t_us) - static_cast<std::uint64_t>(stats.first_t_us);
     const auto& at = args.render.at_us;  // from the first event (never negative), as the span
     const auto late = std::count_if(at.begin(), at.end(), [&](std::int64_t t) { return static_cast<std::uint64_t>(t) > span_us; });
-    warn_instants_after_end("run", static_cast<std::size_t>(late), stats.first_t_us, stats.last_t_us);
+    warn_instants_after_end("run", static_cast<std::size_t>(late), stats.first_t_us, stats.last_t_us,
+                            InstantsOrigin::events_read);
   }
   return run_exit_status(result, render_stage.get(), args.quiet);
 }

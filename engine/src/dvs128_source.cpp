@@ -93,16 +93,25 @@ bool is_dvs128_spec(std::string_view spec) {
   return spec == "dvs128" || spec.substr(0, 7) == "dvs128:";
 }
 
-std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec,
-                                                 const std::string& biases_file) {
-  return make_dvs128_source(spec, biases_file.empty() ? io::Dvs128Biases{} : io::Dvs128Biases::load_file(biases_file));
-}
+namespace {
 
-std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec, const io::Dvs128Biases& biases) {
+void require_dvs128_spec(std::string_view spec) {
   if (!is_dvs128_spec(spec)) {
     throw std::invalid_argument("not a DVS128 source spec: '" + std::string(spec) +
                                 "' (expected dvs128 or dvs128:SERIAL)");
   }
+}
+
+}  // namespace
+
+std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec,
+                                                 const std::string& biases_file) {
+  require_dvs128_spec(spec);  // named before the bias file
+  return make_dvs128_source(spec, biases_file.empty() ? io::Dvs128Biases{} : io::Dvs128Biases::load_file(biases_file));
+}
+
+std::unique_ptr<Dvs128Source> make_dvs128_source(std::string_view spec, const io::Dvs128Biases& biases) {
+  require_dvs128_spec(spec);
   Dvs128Source::Options options;
   if (spec.size() > 7) options.serial = std::string(spec.substr(7));
   options.biases = biases;

@@ -8,7 +8,8 @@
 // Axes as every file reader: x = 0 left, y = 0 top (x = 127 - raw x,
 // y = 127 - raw y), polarity raw bit 0 = 0 -> ON; see io/dvs128_decoder.h.
 //
-// For `evlife run`: make_dvs128_source("dvs128[:SERIAL]", biases_file).
+// For `evlife run`: make_dvs128_source("dvs128[:SERIAL]", biases), the
+// --biases file read while its command line is parsed.
 #pragma once
 
 #include <atomic>
