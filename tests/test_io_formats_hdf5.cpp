@@ -1595,9 +1595,9 @@ TEST(IoFormatsHdf5, ColumnsOpenedAfterTheFirstReadAreReadToo) {
 // AddressSanitizer (clang 14's allocator is not locked around fork), a
 // reading child forked while that thread held an allocator lock waited on it
 // forever inside H5Dread, and the valid file was said to hang the library
-// after 60 s (`evlife run`, 1 run in 12 under ASan); such a process now
-// reads without a child there. The release build's glibc malloc is locked
-// around fork: its children read.
+// after 60 s (`evlife run`, 1 run in 12 under ASan; this test, round 0 of 3
+// runs in 3); the children are now forked with it locked
+// (allocator_safe_fork.h). The release build's glibc malloc locks itself.
 TEST(IoFormatsHdf5, FilesReadWhileAnotherThreadAllocatesReadWhole) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("busy.h5");

@@ -1,6 +1,5 @@
 #include "hdf5_child.h"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <hdf5.h>
 #include <poll.h>
@@ -14,6 +13,8 @@
 #include <cstdint>
 #include <cstring>
 #include <thread>
+
+#include "allocator_safe_fork.h"
 
 namespace evlife::io::detail {
 namespace {
@@ -38,48 +39,14 @@ bool child_ready(int ready_fd, int ms) {
   }
 }
 
-// g++ says __SANITIZE_ADDRESS__, clang __has_feature(address_sanitizer).
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
-// Whether this process runs threads besides the caller (true when /proc
-// cannot say).
-bool other_threads_run() {
-  DIR* tasks = opendir("/proc/self/task");
-  if (tasks == nullptr) return true;
-  int threads = 0;
-  while (const dirent* entry = readdir(tasks)) threads += entry->d_name[0] != '.';
-  closedir(tasks);
-  return threads != 1;
-}
-
-// Whether a child forked now could wait forever on a lock of the memory
-// allocator that another thread held at the fork. glibc's malloc (the
-// release builds') is locked around fork; the AddressSanitizer of clang 14
-// (Debian 12's) is not (LLVM 17 added it): its child, forked while another
-// thread refilled its allocation cache, waited in malloc inside H5Dread,
-// and a valid file was said to hang the library (`evlife run` under the CI's
-// ASan pass). Such a process goes without a child.
-bool allocator_unsafe_to_fork() { return kAddressSanitizer && other_threads_run(); }
-
 }  // namespace
 
 pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
-  if (allocator_unsafe_to_fork()) return -1;
   for (int attempt = 0; attempt < kForks; ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(kBackoffMs[attempt]));
     int ready[2];
     if (pipe2(ready, O_CLOEXEC) != 0) return -1;
-    const pid_t forked = fork();
+    const pid_t forked = allocator_safe_fork();
     if (forked < 0) {
       close(ready[0]);
       close(ready[1]);

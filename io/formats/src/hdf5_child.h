@@ -20,9 +20,8 @@ namespace evlife::io::detail {
 /// would report the child's crash as the parent's), ignores the signals that
 /// ask a process to stop (the parent's to act on), takes libhdf5's lock once
 /// and then runs `body(context)`, which must end with _exit. Returns the
-/// child's pid, or -1 when none could be started (no fork, every child
-/// stuck on the library's lock, or an AddressSanitizer build's process with
-/// other threads, whose allocator is not safe to fork): the caller goes on
+/// child's pid, or -1 when none could be started (no fork, or every child
+/// stuck on the library's lock; allocator_safe_fork.h): the caller goes on
 /// without a child.
 pid_t fork_hdf5_child(void (*body)(void* context), void* context);
 
