@@ -248,13 +248,12 @@ int Hdf5ReadChild::exchange(const void* request, std::size_t request_bytes) {
     return kFailed;
   }
   unsigned char answer = kFailed;
-  return receive(&answer, 1) ? answer : kFailed;
+  return receive_answer(answer) ? answer : kFailed;
 }
 
-bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
-  auto* p = static_cast<unsigned char*>(out);
+bool Hdf5ReadChild::receive_answer(unsigned char& answer) {
   auto deadline = std::chrono::steady_clock::now() + kAnswerTimeout;
-  while (bytes > 0) {
+  for (;;) {
     pollfd fd{socket_, POLLIN, 0};
     const auto before = std::chrono::steady_clock::now();
     const int polled = poll(&fd, 1, kPollSliceMs);
@@ -263,13 +262,8 @@ bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
     if (const auto slept = std::chrono::steady_clock::now() - before; slept > 10 * std::chrono::milliseconds(kPollSliceMs))
       deadline += slept;
     if (polled > 0) {
-      const ssize_t n = recv(socket_, p, bytes, 0);
-      if (n > 0) {
-        p += n;
-        bytes -= static_cast<std::size_t>(n);
-        deadline = std::chrono::steady_clock::now() + kAnswerTimeout;  // progress
-        continue;
-      }
+      const ssize_t n = recv(socket_, &answer, 1, 0);
+      if (n == 1) return true;
       if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     } else if (polled < 0 && errno == EINTR) {
       continue;
@@ -295,7 +289,6 @@ bool Hdf5ReadChild::receive(void* out, std::size_t bytes) {
       return false;
     }
   }
-  return true;
 }
 
 void Hdf5ReadChild::child_ended(int wait_status) {

@@ -61,7 +61,7 @@ class Hdf5ReadChild {
   bool start();  // forks the child; false: read in this process
   // The child's answer to one request, kFailed also when it ended or hung.
   int exchange(const void* request, std::size_t request_bytes);
-  bool receive(void* out, std::size_t bytes);  // false: the child ended or hung (fault_ set)
+  bool receive_answer(unsigned char& answer);  // false: the child ended or hung (fault_ set)
   void child_ended(int wait_status);
   void forget_after_fork() noexcept;  // in a forked copy of the process that started the child
 
