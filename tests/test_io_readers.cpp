@@ -304,6 +304,28 @@ TEST_F(MatFiles, MissingVariableAndWrongShapeAreNamed) {
   EXPECT_NE(std::string(r.error->what()).find("transpose"), std::string::npos) << r.error->what();
 }
 
+// A MAT-file cut inside a variable's tag or data, or whose tag is corrupt,
+// is named so at the byte offset (a review helper's garfield.mat cut at 132
+// bytes said only "no variable 'events' (found: none)", no offset).
+TEST_F(MatFiles, ACutOrCorruptVariableTagIsNamedAtItsOffset) {
+  const std::vector<char> whole = handmade_mat(3, {1, 2, 3, 4}, 1, 4, "evts");  // one element at 128
+  ReadAll r = read_all(write("tag_cut.mat", std::vector<char>(whole.begin(), whole.begin() + 132)));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->byte_offset(), 128);
+  EXPECT_NE(std::string(r.error->what()).find("truncated: a variable's 8-byte tag is cut after 4 bytes"),
+            std::string::npos) << r.error->what();
+  r = read_all(write("data_cut.mat", std::vector<char>(whole.begin(), whole.end() - 8)));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->byte_offset(), 128);
+  EXPECT_NE(std::string(r.error->what()).find("past the file's end"), std::string::npos) << r.error->what();
+  std::vector<char> bad_type = whole;
+  bad_type[128] = 0x4e;  // type 78: no MAT type
+  r = read_all(write("bad_type.mat", bad_type));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("skipped an element of type 78 at byte offset 128"), std::string::npos)
+      << r.error->what();
+}
+
 TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   // rows: (1,1,1,0) (2,2,5,1) → polarity 5 at index 1
   std::string path = write("pol.mat", handmade_mat(3, {1, 2, 1, 2, 1, 5, 0, 1}, 2, 4, "events"));

@@ -335,6 +335,43 @@ TEST_F(Writers, TruncatedBinDeliversWholeRecordsThenIndexAndOffset) {
   EXPECT_TRUE(read_back(head).error);
 }
 
+// A version-1 header stating another record or header size is corrupt
+// (version 1's sizes are 32 and 32), refused at open at byte offset 8: a
+// review helper's byte changed to a record of 4896 B read every 153rd event,
+// `render --at` exiting 0. A later version's larger records (appended
+// fields) are read by their leading fields.
+TEST_F(Writers, AVersionOneHeaderOfOtherSizesIsRefusedALaterVersionsIsRead) {
+  const std::vector<AugmentedEvent> events = tricky_events(300);
+  const std::string full = path("v1.bin");
+  write_all(full, events);
+  const std::string bytes = file_text(full);
+  const auto with_u16 = [](std::string b, std::size_t at, unsigned value) {
+    b[at] = static_cast<char>(value & 0xFF);
+    b[at + 1] = static_cast<char>(value >> 8);
+    return b;
+  };
+  for (const auto& [at, value] : {std::pair{12u, 4896u}, std::pair{12u, 64u}, std::pair{10u, 64u}}) {
+    SCOPED_TRACE(std::to_string(at) + " = " + std::to_string(value));
+    const std::string p = path("corrupt.bin");
+    std::ofstream(p, std::ios::binary) << with_u16(bytes, at, value);
+    const Readback r = read_back(p);
+    ASSERT_TRUE(r.error);
+    EXPECT_TRUE(r.events.empty());
+    EXPECT_EQ(r.error->byte_offset(), 8);
+    EXPECT_NE(std::string(r.error->what()).find("unsupported augmented .bin header (version 1"), std::string::npos)
+        << r.error->what();
+  }
+  // Version 2 with 40-byte records: 8 bytes appended to each record.
+  std::string later = with_u16(with_u16(bytes.substr(0, 32), 8, 2), 12, 40);
+  for (std::size_t i = 0; i < events.size(); ++i) later += bytes.substr(32 + 32 * i, 32) + std::string(8, '\x5a');
+  const std::string p = path("v2.bin");
+  std::ofstream(p, std::ios::binary) << later;
+  const Readback r = read_back(p, 77);
+  ASSERT_FALSE(r.error) << r.error->what();
+  ASSERT_EQ(r.events.size(), events.size());
+  for (std::size_t i = 0; i < events.size(); ++i) ASSERT_TRUE(same(r.events[i], events[i])) << i;
+}
+
 // A CSV cut inside a row (a full disk) delivers the complete rows, then an
 // error at the cut row: that row never passes as an event with fewer fields
 // or a shortened last number.

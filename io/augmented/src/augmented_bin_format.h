@@ -6,8 +6,9 @@
 //     height | 8 reserved zero bytes
 //   record (32 B): i64 t_us | u16 x | u16 y | i8 p (+1/-1) | 3 zero bytes |
 //     f32 lifetime_us | f32 vx_px_s | f32 vy_px_s | f32 prediction_error_us (NaN = none)
-// Readers accept larger header_bytes / record_bytes (later versions append
-// fields) and use the leading fields they know.
+// Readers accept larger header_bytes / record_bytes from later versions
+// (which append fields) and use the leading fields they know; a version-1
+// header stating other sizes is refused as corrupt.
 #pragma once
 
 #include <bit>

@@ -24,7 +24,12 @@ class AugmentedBinReader final : public AugmentedEventReader {
     const auto version = get<std::uint16_t>(header, 8);
     header_bytes_ = get<std::uint16_t>(header, 10);
     record_bytes_ = get<std::uint16_t>(header, 12);
-    if (version < 1 || header_bytes_ < kHeaderBytes || record_bytes_ < kRecordBytes)
+    // Version 1's sizes are its own: other sizes in a version-1 header are
+    // corruption (a record of 4896 B read every 153rd event), not a later
+    // version's appended fields.
+    const bool sizes_fit_version = version == 1 ? header_bytes_ == kHeaderBytes && record_bytes_ == kRecordBytes
+                                                : header_bytes_ >= kHeaderBytes && record_bytes_ >= kRecordBytes;
+    if (version < 1 || !sizes_fit_version)
       throw ReadError(path, 8, -1,
                       "unsupported augmented .bin header (version " + std::to_string(version) +
                           ", header " + std::to_string(header_bytes_) + " B, record " +

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "byte_cursor.h"
@@ -270,7 +272,10 @@ class MatReader final : public EventReader {
       fail(126, "big-endian MAT-files are not supported (save it on a little-endian machine)");
     std::vector<std::string> seen;
     std::uint64_t offset = kHeaderBytes;
+    std::uint64_t element = offset;  // where the last element read began
+    std::optional<std::pair<std::uint32_t, std::uint64_t>> unknown;  // the first element of another type, skipped
     while (offset + 8 <= file_.size_bytes()) {
+      element = offset;
       std::byte tag[8];
       file_.read_at(offset, tag);
       const std::uint32_t type = load_le32(tag);
@@ -286,6 +291,7 @@ class MatReader final : public EventReader {
       } else if (type == miMATRIX) {
         probe = std::make_unique<RawCursor>(file_, offset, payload + bytes);
       }
+      if (!probe && !unknown) unknown = std::pair{type, offset};
       if (probe) {
         const MatrixHeader h = parse_matrix_header(*probe, header_fail);
         if (h.name == "events") {
@@ -298,6 +304,18 @@ class MatReader final : public EventReader {
     }
     std::string names;
     for (const std::string& s : seen) names += (names.empty() ? "" : ", ") + s;
+    if (unknown)  // not a variable (a corrupt tag, or a type MATLAB does not write at the top)
+      names += (names.empty() ? "no variable; " : "; ") + std::string("skipped an element of type ") +
+               std::to_string(unknown->first) + " at byte offset " + std::to_string(unknown->second);
+    const std::string found = "no variable 'events' before it (found: " + (names.empty() ? "none" : names) + ")";
+    // Elements end where the file does; a cut file ends inside one.
+    if (offset < file_.size_bytes())
+      fail(static_cast<std::int64_t>(offset), "truncated: a variable's 8-byte tag is cut after " +
+                                                  std::to_string(file_.size_bytes() - offset) + " bytes; " + found);
+    if (offset > file_.size_bytes())
+      fail(static_cast<std::int64_t>(element), "truncated or corrupt: the variable here states " +
+                                                   std::to_string(offset - element - 8) + " bytes, past the file's end (" +
+                                                   std::to_string(file_.size_bytes()) + " bytes); " + found);
     fail(-1, "no variable 'events' in the MAT-file (found: " + (names.empty() ? "none" : names) + ")");
   }
 
