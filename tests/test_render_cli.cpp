@@ -537,6 +537,30 @@ TEST_F(RenderCliTest, RunDrawsRendersFramesOnAnySensor) {
   EXPECT_TRUE(drawn == evlife::test::read_text_file(path("by_run") + name));
 }
 
+// A corrupt time that jumps ahead (event 1000 at 50 s, its successors at
+// 50 ms on) ends render's reading before an instant after 50 ms as a later
+// event would: the frame lacked the events behind it and render exited 0
+// (a review helper's byte changed in a Prophesee .dat; `process` says exit 3
+// of the same file). Now the event after the one that ended the reading is
+// read too: exit 3 naming it. A real gap (the outlier last) stays exit 0.
+TEST_F(RenderCliTest, ACorruptTimeAheadOfTheInstantsIsAnInputErrorNotAShortFrame) {
+  const std::string csv = path("jump.csv");
+  {
+    std::ofstream f(csv);
+    for (int i = 0; i < 2000; ++i)
+      f << (i % 64) << ',' << (i / 64) % 64 << ",1," << (i == 1000 ? 50'000'000 : i * 50) << '\n';
+  }
+  for (const std::string at : {"--at 0.06", "--fps 100 --to 0.06"}) {
+    const auto r = run("render '" + csv + "' -o '" + path("jump") + "' " + at + " -q");
+    EXPECT_EQ(r.exit_code, 3) << at << "\n" << r.output;
+    EXPECT_NE(r.output.find("(event index 1001"), std::string::npos) << at << "\n" << r.output;
+  }
+  const std::string gap = path("gap.csv");
+  write_events_then_outlier(gap, 50'000'000);  // 2000 events, then one at 50 s: a real gap, the file's end
+  const auto r = run("render '" + gap + "' -o '" + path("gap.png") + "' --at 0.06 -q");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // A frame folder used twice: the frames of the earlier run that this one did
 // not replace are counted in a warning (a video of the folder would mix them
 // in); a run that replaces every one of them is silent, and so is `run`'s.

@@ -14,6 +14,7 @@
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
+#include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
 #include "evlife/render/render_cursor.h"
 #include "options.h"
@@ -106,7 +107,10 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
     render::RenderCursor cursor(source, set, &window);
     const std::int64_t first_t = *cursor.first_t_us();
     cursor.advance_to(t_us);
-    const cv::Mat& bgr = composer.compose(set, window, t_us, t_us - first_t);
+    // The caption's time from the first event, saturated (t_us - first_t overflowed at -2^63: "t = +9.2e12 s").
+    const std::int64_t rel_us =
+        t_us >= first_t ? render::clock_span_us(first_t, t_us) : -render::clock_span_us(t_us, first_t);
+    const cv::Mat& bgr = composer.compose(set, window, t_us, rel_us);
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   }
   py::array_t<std::uint8_t> out({rgb.rows, rgb.cols, 3});

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -82,10 +83,14 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
     options.time_unit = *time_unit;
   }
   const auto to_us = [](const char* name, double seconds) {
+    char given[32];
+    std::snprintf(given, sizeof given, "%g", seconds);  // (std::to_string wrote 1e300's 301 digits)
     if (!(seconds >= 0.0 && seconds <= 1e9))  // also NaN
-      throw py::value_error(std::string(name) + " must be seconds after the first event, >= 0, got " +
-                            std::to_string(seconds));
-    return static_cast<std::int64_t>(std::llround(seconds * 1e6));
+      throw py::value_error(std::string(name) + " must be seconds after the first event, in [0, 1e9], got " + given);
+    const auto us = static_cast<std::int64_t>(std::llround(seconds * 1e6));
+    if (us == 0 && seconds > 0.0)  // as the CLI's --from/--to: not "to_s must be after from_s"
+      throw py::value_error(std::string(name) + " = " + given + " s rounds to 0 us: 0 or at least 1e-6 (1 us)");
+    return us;
   };
   if (from_s) options.from_us = to_us("from_s", *from_s);
   if (to_s) options.to_us = to_us("to_s", *to_s);

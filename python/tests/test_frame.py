@@ -73,3 +73,20 @@ def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
         evlife.frame(aug, 0.5, sensor=sensor)
     assert np.array_equal(evlife.frame(aug, float(t0 + 300_000), sensor=sensor, caption=False, legend=False), a)
     assert np.array_equal(evlife.frame(aug, aug["t"][0] + 300_000, sensor=sensor, caption=False, legend=False), a)
+
+
+def test_an_augmented_array_of_0_1_polarity_is_refused_naming_the_convention(stripes):
+    # A review helper's finding: bool or 0/1 polarity (as `process` takes it) was "corrupt record: polarity 0"
+    # without a word of what it should be.
+    _, _, aug, sensor = stripes
+    zero_one = aug.copy()
+    zero_one["p"] = (aug["p"] > 0).astype(zero_one.dtype["p"])
+    with pytest.raises(evlife.InputError, match=r"polarity 0 \(an augmented event's is \+1 or -1\)"):
+        evlife.frame(zero_one, int(aug["t"][0]), sensor=sensor)
+
+
+def test_the_clocks_ends_are_captioned_on_their_side_of_the_first_event():
+    # A review helper's finding: t_us - first_t overflowed at -2**63, captioned "t = 9223372036854.771484 s"
+    # as 2**63 - 1 is: the two images were equal.
+    aug = evlife.process(evlife.read(data("rpg_txt/slider_depth_events_chunk.txt")))
+    assert not np.array_equal(evlife.frame(aug, -2**63), evlife.frame(aug, 2**63 - 1))

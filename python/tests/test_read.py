@@ -146,6 +146,11 @@ def test_from_and_to_read_what_the_cli_reads(tmp_path):
         evlife.open(h5, from_s=0.5, to_s=0.2)
     with pytest.raises(ValueError, match=r"to_s must be after from_s \(0 without it\)"):
         evlife.read(h5, to_s=0.0)  # nothing to read: it returned an empty array
+    # A helper's findings: the reason given was wrong (1e-7 is after 0; 1e300 is >= 0, and its 301 digits were printed).
+    with pytest.raises(ValueError, match=r"^to_s = 1e-07 s rounds to 0 us: 0 or at least 1e-6 \(1 us\)$"):
+        evlife.read(h5, to_s=1e-7)
+    with pytest.raises(ValueError, match=r"^from_s must be seconds after the first event, in \[0, 1e9\], got 1e\+300$"):
+        evlife.read(h5, from_s=1e300)
 
 
 def test_open_yields_bounded_chunks_equal_to_read():

@@ -43,4 +43,14 @@ void RenderCursor::advance_to(std::int64_t t_us) {
   }
 }
 
+void RenderCursor::read_past_next() {
+  if (pos_ + 1 != count_ || ended_) return;  // none next, or its successor is read (and checked) already
+  buffer_[0] = buffer_[pos_];  // kept: the next event, then what the source has after it
+  pos_ = 0;
+  count_ = 1;
+  const std::size_t more = source_.read(std::span(buffer_).subspan(1));
+  count_ += more;
+  if (more == 0) ended_ = true;
+}
+
 }  // namespace evlife::render

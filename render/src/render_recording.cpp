@@ -148,6 +148,16 @@ RecordingRenderResult render_recording(
       break;
     }
   }
+  // Every frame drawn: the event that ended the reading must be followed by
+  // a later one (or none), else a corrupt time ended it early (exit 3, as
+  // `process` says of the same file, not exit 0 with frames missing events).
+  if (!input_fault && !output_fault && !(stop && stop->load(std::memory_order_relaxed))) {
+    try {
+      cursor.read_past_next();
+    } catch (const io::ReadError& e) {
+      input_fault = e.what();
+    }
+  }
   try {
     sink->finish();
   } catch (const std::runtime_error& e) {

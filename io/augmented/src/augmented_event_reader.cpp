@@ -82,7 +82,8 @@ RecordFault first_unreadable_record(std::span<const AugmentedEvent> records, Sen
                                     std::int64_t last_t_us) {
   for (std::size_t i = 0; i < records.size(); ++i) {
     const Event& e = records[i].event;
-    if (e.p != 1 && e.p != -1) return {i, "corrupt record: polarity " + std::to_string(e.p)};
+    if (e.p != 1 && e.p != -1)
+      return {i, "corrupt record: polarity " + std::to_string(e.p) + " (an augmented event's is +1 or -1)"};
     if (auto fault = augmented_values_fault(records[i])) return {i, "corrupt record: " + *fault};
     if (sensor.width > 0 && !sensor.contains(e.x, e.y)) {
       return {i, "event at (x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") is outside the " +

@@ -35,6 +35,12 @@ class RenderCursor {
   std::optional<std::int64_t> next_t_us() const noexcept {
     return pos_ < count_ ? std::optional<std::int64_t>(buffer_[pos_].event.t_us) : std::nullopt;
   }
+  /// Reads the event after the next one when it is not read yet, so that a
+  /// read error right after the cursor is raised, not left unread: a time
+  /// that a corrupt record made jump ahead stops advance_to like a later
+  /// event would, and only its successor, going back, shows the fault (the
+  /// frames before it lack the events behind it). Read errors propagate.
+  void read_past_next();
   /// Time of the latest event fed (INT64_MIN before the first).
   std::int64_t last_fed_t_us() const noexcept { return last_fed_t_us_; }
   std::uint64_t events_fed() const noexcept { return events_fed_; }
