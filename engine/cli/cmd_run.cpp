@@ -741,9 +741,10 @@ int run_engine(int argc, char** argv) {
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
   if (render_stage && result.status == engine::RunStatus::completed && result.stats.has_time_range) {
     const auto& stats = result.stats;
-    const std::uint64_t span_us = static_cast<std::uint64_t>(stats.last_t_us) - static_cast<std::uint64_t>(stats.first_t_us);
+    const std::uint64_t read_us = span_us(stats.first_t_us, stats.last_t_us);
     const auto& at = args.render.at_us;  // from the first event (never negative), as the span
-    const auto late = std::count_if(at.begin(), at.end(), [&](std::int64_t t) { return static_cast<std::uint64_t>(t) > span_us; });
+    const auto late =
+        std::count_if(at.begin(), at.end(), [&](std::int64_t t) { return static_cast<std::uint64_t>(t) > read_us; });
     warn_instants_after_end("run", static_cast<std::size_t>(late), stats.first_t_us, stats.last_t_us,
                             InstantsOrigin::events_read);
   }

@@ -7,7 +7,7 @@ namespace evlife::render {
 
 RenderCursor::RenderCursor(AugmentedSource& source, ActiveEventMap& set, FixedWindowMap* window,
                            std::size_t buffer_events)
-    : source_(source), set_(set), window_(window), buffer_(std::max<std::size_t>(buffer_events, 1)) {}
+    : source_(source), set_(set), window_(window), buffer_(std::max<std::size_t>(buffer_events, 2)) {}
 
 bool RenderCursor::refill() {
   if (ended_) return false;

@@ -30,9 +30,10 @@ __attribute__((weak)) void StackDepotUnlockAll();
 #endif
 
 namespace evlife::io::detail {
-namespace {
 
 #ifdef EVLIFE_ADDRESS_SANITIZER
+namespace {
+
 // Whether this process runs threads besides the caller (true when /proc
 // cannot say).
 bool other_threads_run() {
@@ -43,9 +44,9 @@ bool other_threads_run() {
   closedir(tasks);
   return threads != 1;
 }
-#endif
 
 }  // namespace
+#endif
 
 pid_t allocator_safe_fork() {
 #ifdef EVLIFE_ADDRESS_SANITIZER

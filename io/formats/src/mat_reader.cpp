@@ -307,16 +307,16 @@ class MatReader final : public EventReader {
     if (unknown)  // not a variable (a corrupt tag, or a type MATLAB does not write at the top)
       names += (names.empty() ? "no variable; " : "; ") + std::string("skipped an element of type ") +
                std::to_string(unknown->first) + " at byte offset " + std::to_string(unknown->second);
-    const std::string found = "no variable 'events' before it (found: " + (names.empty() ? "none" : names) + ")";
+    const std::string found = "(found: " + (names.empty() ? "none" : names) + ")";
     // Elements end where the file does; a cut file ends inside one.
     if (offset < file_.size_bytes())
       fail(static_cast<std::int64_t>(offset), "truncated: a variable's 8-byte tag is cut after " +
-                                                  std::to_string(file_.size_bytes() - offset) + " bytes; " + found);
+                                                  std::to_string(file_.size_bytes() - offset) + " bytes; no variable 'events' before it " + found);
     if (offset > file_.size_bytes())
       fail(static_cast<std::int64_t>(element), "truncated or corrupt: the variable here states " +
                                                    std::to_string(offset - element - 8) + " bytes, past the file's end (" +
-                                                   std::to_string(file_.size_bytes()) + " bytes); " + found);
-    fail(-1, "no variable 'events' in the MAT-file (found: " + (names.empty() ? "none" : names) + ")");
+                                                   std::to_string(file_.size_bytes()) + " bytes); no variable 'events' before it " + found);
+    fail(-1, "no variable 'events' in the MAT-file " + found);
   }
 
   void setup(const MatrixHeader& h, bool compressed, std::uint64_t element_offset,

@@ -16,7 +16,8 @@ namespace evlife::render {
 
 class RenderCursor {
  public:
-  /// `window` may be null when no fixed window is drawn.
+  /// `window` may be null when no fixed window is drawn. The buffer holds at
+  /// least 2 events (read_past_next keeps one and reads behind it).
   RenderCursor(AugmentedSource& source, ActiveEventMap& set, FixedWindowMap* window,
                std::size_t buffer_events = 8192);
 
