@@ -34,6 +34,7 @@
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_memory.h"
 #include "evlife/render/frame_sink.h"
 #include "evlife/render/media.h"
 #include "evlife/render/output_kind.h"
@@ -42,7 +43,6 @@
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
-#include "memory_check.h"
 
 namespace evlife::cli::render_command {
 namespace {
@@ -338,7 +338,7 @@ int run_render(int argc, char** argv) {
     return kExitInput;
   }
   const cv::Size frame = render::frame_size_for(args.job, source->sensor());
-  if (const auto refusal = frame_memory_refusal(frame.width, frame.height)) {
+  if (const auto refusal = render::frame_memory_refusal(frame)) {
     std::fprintf(stderr, "evlife render: %s (sensor %dx%d at --scale %d): lower --scale\n", refusal->c_str(),
                  source->sensor().width, source->sensor().height, render::frame_style(args.job, source->sensor()).scale);
     return kExitUsage;

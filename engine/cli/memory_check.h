@@ -1,5 +1,5 @@
 // Before allocating the estimators' state (~80 bytes per pixel each) or a
-// synthetic scene's background, or drawing a frame: a refusal naming what it would take when that
+// synthetic scene's background (a frame: render/frame_memory.h): a refusal naming what it would take when that
 // exceeds the memory this machine has available, instead of an OOM kill or a
 // bare std::bad_alloc.
 #pragma once
@@ -22,9 +22,5 @@ std::optional<std::string> scene_memory_refusal(const io::TexturedSceneSpec& spe
 /// "needs ..." when `estimators` estimators for `sensor` exceed MemAvailable
 /// (/proc/meminfo); nothing when they fit or it is unknown.
 std::optional<std::string> estimator_memory_refusal(SensorSize sensor, int estimators);
-
-/// "a frame of WxH px needs ..." when one drawn frame (3 bytes a pixel, the
-/// least a colour frame and its encoding take) exceeds MemAvailable.
-std::optional<std::string> frame_memory_refusal(int width_px, int height_px);
 
 }  // namespace evlife::cli

@@ -127,7 +127,8 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
     --no-thinning, --lifetime-range.
 
     Returns a uint8 array of shape (height, width, 3), RGB (the pixels of the
-    PNG `evlife render` writes), ready for matplotlib's imshow.
+    PNG `evlife render` writes), ready for matplotlib's imshow. A frame larger
+    than the memory available raises MemoryError naming its size.
     """
     instant = _whole_microseconds(t_us)
     try:

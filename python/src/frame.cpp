@@ -16,6 +16,7 @@
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
+#include "evlife/render/frame_memory.h"
 #include "evlife/render/render_cursor.h"
 #include "options.h"
 
@@ -97,6 +98,14 @@ py::array frame(const py::array& augmented, std::int64_t t_us, const py::object&
   style.lifetime_min_us = 1000.0 * range_ms.first;
   style.lifetime_max_us = 1000.0 * range_ms.second;
   render::FrameComposer composer(render::parse_view_mode(mode), style, mode);
+  // As `evlife render`: a frame too large is refused before OpenCV's "Insufficient memory".
+  if (const auto refusal = render::frame_memory_refusal(composer.frame_size(sensor))) {
+    PyErr_SetString(PyExc_MemoryError, ("frame: " + *refusal + " (sensor " + std::to_string(sensor.width) + "x" +
+                                        std::to_string(sensor.height) + " at scale " + std::to_string(style.scale) +
+                                        "): lower scale")
+                                           .c_str());
+    throw py::error_already_set();
+  }
 
   cv::Mat rgb;
   {

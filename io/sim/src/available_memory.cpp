@@ -1,9 +1,10 @@
+#include "evlife/io/available_memory.h"
+
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 #include <string>
-
-#include "evlife/io/synthetic_scene.h"
 
 namespace evlife::io {
 
@@ -16,6 +17,18 @@ std::optional<std::uint64_t> available_memory_bytes() {
     if (key == "MemAvailable:") return kib * 1024;
   }
   return std::nullopt;
+}
+
+std::string gigabytes_text(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GB", static_cast<double>(bytes) * 1e-9);
+  return text;
+}
+
+std::optional<std::string> beyond_available_memory(std::uint64_t bytes) {
+  const std::optional<std::uint64_t> available = available_memory_bytes();
+  if (!available || bytes <= *available) return std::nullopt;
+  return ", more than the " + gigabytes_text(*available) + " of memory available";
 }
 
 }  // namespace evlife::io

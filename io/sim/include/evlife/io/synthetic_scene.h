@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "evlife/algo/event.h"
+#include "evlife/io/available_memory.h"
 #include "evlife/io/event_reader.h"
 
 namespace evlife::io {
@@ -195,9 +196,6 @@ double background_events_per_s(SensorSize sensor, double noise_rate_hz_per_px, c
 /// `evlife synth --noise-rate 10000 --sensor 128x128 --duration 0.04 -o x.h5`).
 std::uint64_t scene_reader_memory_bytes(const SceneSpec& spec);
 
-/// MemAvailable of /proc/meminfo in bytes, what those figures are weighed
-/// against (`evlife synth`, evlife.synth); nothing when it is unknown.
-std::optional<std::uint64_t> available_memory_bytes();
 
 /// Human-readable names of the features (gratings first, then bars).
 std::vector<std::string> scene_feature_names(const SceneSpec& spec);
