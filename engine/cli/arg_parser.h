@@ -250,7 +250,9 @@ std::string table_flags_help(ForEach for_each) {
                        (info.key.ends_with("_s") ? "T" : "N");
     head.resize(std::max<std::size_t>(head.size() + 1, 23), ' ');
     std::string line = head + std::string(info.doc) + ";";
-    const std::string range = " " + info.range_text() + ".";
+    std::string range = " ";  // appended, not `" " + string&&`: GCC 12's false -Wrestrict (PR 105329)
+    range += info.range_text();
+    range += '.';
     if (line.size() + range.size() > 80) {  // the range on a line of its own
       out += line + "\n";
       line = std::string(23, ' ') + range.substr(1);

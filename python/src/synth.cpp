@@ -8,6 +8,7 @@
 
 #include "bindings.h"
 #include "dtypes.h"
+#include "errors.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/textured_scene.h"
 #include "options.h"
@@ -129,11 +130,19 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   if (const auto available = io::available_memory_bytes(); available && background_bytes > static_cast<double>(*available))
     throw_memory_error(spec, duration_s, background_bytes);  // the command line's rule (memory_check.h)
   io::SyntheticScene scene;
+  SignalCheck signals;  // Ctrl-C: minutes of a long scene were deaf to it
   try {
     ReleasedGil release;
-    scene = textured ? io::generate_textured_scene(texture) : io::generate_scene(spec);
+    const io::GenerationStop stop = [&signals] { return signals.pending(); };
+    scene = textured ? io::generate_textured_scene(texture, stop) : io::generate_scene(spec, stop);
   } catch (const std::bad_alloc&) {  // pybind11 said only "std::bad_alloc"
     throw_memory_error(spec, duration_s, 0.0);
+  }
+  if (!scene.complete || signals.pending_now()) {
+    const std::size_t n = scene.events.size();
+    scene = {};  // its memory back before the exception travels
+    SignalCheck::raise("synth: interrupted after " + std::to_string(n) + " of the scene's events were generated",
+                       py::none(), n, py::none());
   }
   py::list names;
   for (const std::string& n : scene.feature_names) names.append(n);
@@ -157,7 +166,8 @@ void bind_synth(py::module_& m) {
         "dvs for textured, ideal for the bars); "
         "keywords: the pixel options of `evlife synth` with '_' for '-' (latency_us=300, "
         "cutoff_hz=100, ...), noise_rate, jitter_us. The same arguments give the same arrays. "
-        "A scene whose background alone exceeds the memory raises MemoryError before generating.");
+        "A scene whose background alone exceeds the memory raises MemoryError before generating; "
+        "Ctrl-C raises evlife.Interrupted (events_processed: the events generated, dropped).");
 }
 
 }  // namespace evlife::python

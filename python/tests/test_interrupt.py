@@ -146,3 +146,15 @@ def test_a_daemon_thread_inside_a_call_at_the_scripts_end_does_not_abort_the_pro
         run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
                              env=dict(os.environ))
         assert run.returncode == 0, run.stderr
+
+
+@pytest.mark.parametrize("scene,pixel", [("large", None), ("textured", "dvs")])
+def test_an_interrupted_synth_stops_soon(scene, pixel):
+    # A review helper's finding: synth ran deaf to Ctrl-C to its end (13 s for "large", duration=60),
+    # then the KeyboardInterrupt dropped the scene all the same.
+    import time
+    started = time.monotonic()
+    e = interrupt_during(lambda: evlife.synth(scene, duration=60, pixel=pixel))
+    assert time.monotonic() - started < 5  # stopped within a slice or a tile of the signal, not at the end
+    assert isinstance(e, KeyboardInterrupt) and e.partial is None and e.events_written is None
+    assert "synth: interrupted after %d of the scene's events were generated" % e.events_processed in str(e)

@@ -445,7 +445,7 @@ std::size_t SyntheticSceneReader::read_with_truth(std::span<Event> out, std::spa
 
 std::size_t SyntheticSceneReader::read(std::span<Event> out) { return read_with_truth(out, {}); }
 
-SyntheticScene generate_scene(const SceneSpec& spec) {
+SyntheticScene generate_scene(const SceneSpec& spec, const GenerationStop& stop) {
   SyntheticSceneReader reader(spec);
   SyntheticScene scene;
   scene.spec = spec;
@@ -455,6 +455,10 @@ SyntheticScene generate_scene(const SceneSpec& spec) {
   while (const std::size_t n = reader.read_with_truth(events, truth)) {
     scene.events.insert(scene.events.end(), events.begin(), events.begin() + static_cast<std::ptrdiff_t>(n));
     scene.truth.insert(scene.truth.end(), truth.begin(), truth.begin() + static_cast<std::ptrdiff_t>(n));
+    if (stop && stop()) {
+      scene.complete = false;
+      break;
+    }
   }
   return scene;
 }

@@ -388,7 +388,7 @@ std::uint64_t textured_scene_memory_bytes(const TexturedSceneSpec& spec) {
   return static_cast<std::uint64_t>(events * kBytesPerHeldEvent);
 }
 
-SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec) {
+SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec, const GenerationStop& stop) {
   if (std::string why = validate_textured_scene_spec(spec); !why.empty()) {
     throw std::invalid_argument("textured scene: " + why);
   }
@@ -411,6 +411,10 @@ SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec) {
     std::snprintf(name, sizeof name, "texture tile %zu, %.0f deg, lifetime %.0f us", k,
                   std::atan2(tile.dir_y, tile.dir_x) * 180.0 / std::numbers::pi, tile.lifetime_us);
     scene.feature_names.emplace_back(name);
+    if (stop && stop()) {
+      scene.complete = false;
+      return scene;
+    }
   }
   add_noise(spec, sampler, stamped);
   // Time order; ties in the order generated (stable): deterministic.

@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -181,7 +182,12 @@ struct SyntheticScene {
   std::vector<Event> events;        ///< time-ordered
   std::vector<EventTruth> truth;    ///< truth[i] describes events[i]
   std::vector<std::string> feature_names;  ///< gratings first, then bars
+  bool complete = true;  ///< false: the generation's stop() ended it early (what was generated is kept)
 };
+
+/// Asked between slices or tiles of a long generation (Ctrl-C in Python):
+/// true ends it early, with SyntheticScene::complete false.
+using GenerationStop = std::function<bool()>;
 
 /// Returns "" when the spec is usable, else a message naming the field.
 std::string validate_scene_spec(const SceneSpec& spec);
@@ -200,8 +206,9 @@ std::uint64_t scene_reader_memory_bytes(const SceneSpec& spec);
 /// Human-readable names of the features (gratings first, then bars).
 std::vector<std::string> scene_feature_names(const SceneSpec& spec);
 
-/// Generates the whole scene in memory. Throws std::invalid_argument on a bad spec.
-SyntheticScene generate_scene(const SceneSpec& spec);
+/// Generates the whole scene in memory (`stop` asked after each slice: the
+/// slices before it are kept). Throws std::invalid_argument on a bad spec.
+SyntheticScene generate_scene(const SceneSpec& spec, const GenerationStop& stop = {});
 
 // ---- Presets (the scene families of the accuracy test and `evlife synth`) ----
 

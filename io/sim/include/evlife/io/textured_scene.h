@@ -79,8 +79,10 @@ TexturedSceneSpec textured_scene_like(const SceneSpec& scene);
 /// tile has moved, burst_index = events of the same polarity at the pixel
 /// since it was last quiet for 2 true lifetimes). spec.sensor of the result
 /// is the sensor; its gratings and bars are empty. Throws
-/// std::invalid_argument on a bad spec.
-SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec);
+/// std::invalid_argument on a bad spec. `stop` is asked after each tile and
+/// before the background: stopped, the scene holds no event (its events are
+/// time-ordered only once all are generated).
+SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec, const GenerationStop& stop = {});
 
 /// What generate_textured_scene holds (the scene whole), for a refusal
 /// before it starts: the background events at ~135 B each (event, truth and
