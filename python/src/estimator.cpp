@@ -253,6 +253,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
                   result, run.events, py::none());
   }
   warn_rejected(path, run);
+  warn_empty_crop("evlife.process", path, crop, run.events);
   return result;
 }
 
@@ -295,6 +296,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     signals.raise("interrupted; the first " + std::to_string(run.events) + " events were written to " + output,
                   py::none(), run.events, py::int_(run.events));
   }
+  warn_empty_crop("evlife.process_file", path, crop, run.events);
   py::dict d;
   d["events"] = run.events;
   d["with_lifetime"] = run.with_lifetime;
@@ -527,7 +529,8 @@ Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them; an array's event beyond
 +-2^62 us too), ValueError for bad options. Events of a recording that the
 estimator rejects (labelled noise; the CLI summary's "rejected" line) are
-warned of with a RuntimeWarning that counts them.)");
+warned of with a RuntimeWarning that counts them; so is a from_s / to_s that
+selects no event (as the CLI's warning).)");
 
   m.def(
       "process_file",

@@ -99,6 +99,15 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
   return options;
 }
 
+void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
+                     std::uint64_t events) {
+  if (events > 0 || (!crop.from_us && !crop.to_us)) return;
+  const std::string text = std::string(function) + ": no event of " + path +
+                           " within from_s/to_s (seconds after its first event; evlife.scan gives its t_first "
+                           "and t_last)";
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+}
+
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor) {
   if (sensor.is_none()) return std::nullopt;
   return sensor_from_python(sensor);

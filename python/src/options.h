@@ -41,6 +41,12 @@ py::dict options_dict(const config::Config& c);
 /// (width, height) -> SensorSize; TypeError/ValueError otherwise.
 SensorSize sensor_from_python(const py::object& sensor);
 /// The same, None -> nullopt.
+/// A RuntimeWarning "FUNCTION: no event of PATH within from_s/to_s ..." when
+/// `events` is 0 and `crop` selects a time range: an empty result says why
+/// (the CLI's warning). Needs the GIL.
+void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
+                     std::uint64_t events);
+
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
 /// What evlife.read, open, process and process_file read: `sensor`, the

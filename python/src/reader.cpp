@@ -183,12 +183,12 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
                       const std::optional<std::string>& time_unit) {
   std::unique_ptr<io::EventReader> reader;
   std::optional<io::ReadError> fault;
+  io::ReaderOptions options;
   // Before the opening (a bag's index, a file's start): a Ctrl-C there is
   // evlife.Interrupted too, not a KeyboardInterrupt out of the next Python call.
   SignalCheck signals;
   {
-    const io::ReaderOptions options =
-        reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
+    options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
     ReleasedGil release;
     try {
       reader = io::open_event_reader(path, with_stated_sensor(path, options));
@@ -199,7 +199,9 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
   // A fault at open (a bag cut before its first message): no event before it,
   // an empty .partial as for a fault at the first event, not None.
   if (fault) raise_input_error(*fault, adopt(std::vector<Event>{}, event_dtype()));
-  return read_all(*reader, signals);
+  py::array events = read_all(*reader, signals);
+  warn_empty_crop("evlife.read", path, options, static_cast<std::uint64_t>(events.shape(0)));
+  return events;
 }
 
 void bind_reader(py::module_& m) {
@@ -232,7 +234,8 @@ HDF5 units attribute's, else seconds for fractions or floats, else us). Raises F
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
-holds the events before the fault.)");
+holds the events before the fault. A from_s / to_s that selects no event
+is warned of (RuntimeWarning), as by the CLI.)");
 
   py::class_<Reader>(m, "Reader", R"(A recording read in chunks of bounded size (see evlife.open).
 

@@ -3,6 +3,7 @@ import shutil
 import sqlite3
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -151,6 +152,23 @@ def test_from_and_to_read_what_the_cli_reads(tmp_path):
         evlife.read(h5, to_s=1e-7)
     with pytest.raises(ValueError, match=r"^from_s must be seconds after the first event, in \[0, 1e9\], got 1e\+300$"):
         evlife.read(h5, from_s=1e300)
+
+
+def test_a_crop_past_the_end_is_warned_of_as_the_cli_does(tmp_path):
+    # A review helper's finding: evlife.process(f, from_s=1000.0) returned 0 events without a word,
+    # where `evlife process --from 1000` warns "no event of F within --from/--to".
+    src = data(RECORDINGS["mat"])
+    said = r"no event of %s within from_s/to_s \(seconds after its first event; evlife.scan" % src
+    with pytest.warns(RuntimeWarning, match="^evlife.read: " + said):
+        assert len(evlife.read(src, from_s=1000.0)) == 0
+    with pytest.warns(RuntimeWarning, match="^evlife.process: " + said):
+        assert len(evlife.process(src, from_s=1000.0)) == 0
+    with pytest.warns(RuntimeWarning, match="^evlife.process_file: " + said):
+        assert evlife.process_file(src, tmp_path / "none.bin", from_s=1000.0)["events"] == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a crop that selects events, or no crop: no warning
+        assert len(evlife.read(src, from_s=0.2, to_s=0.5)) > 0
+        assert len(evlife.process(src, to_s=0.1)) > 0
 
 
 def test_open_yields_bounded_chunks_equal_to_read():
