@@ -236,6 +236,24 @@ TEST(Config, WrongTypeIsAnError) {
   EXPECT_NE(msg.find("estimator.window_size"), std::string::npos) << msg;
 }
 
+// A review helper's finding: a whole number beyond its field's type (2^31 + 1
+// for an int) was "'2147483649' is not a valid integer", where 100 is "out of range".
+TEST(Config, AWholeNumberBeyondItsTypeIsOutOfRangeNotNoInteger) {
+  for (const std::string text : {"2147483649", "-2147483653", "0x80000000", "99999999999999999999999"}) {
+    const std::string msg = error_of([&] { ConfigBuilder().set("estimator.window_size=" + text); });
+    EXPECT_NE(msg.find("--set estimator.window_size=" + text + ": estimator.window_size = " + text +
+                       " is out of range; allowed: odd, [3, 15]"),
+              std::string::npos)
+        << msg;
+  }
+  const std::string negative_seed = error_of([] { ConfigBuilder().set("estimator.seed=-3"); });
+  EXPECT_NE(negative_seed.find("estimator.seed = -3 is out of range"), std::string::npos) << negative_seed;
+  for (const std::string text : {"five", "5.5", "0x", "+", "1e3", "0xg"}) {
+    const std::string msg = error_of([&] { ConfigBuilder().set("estimator.window_size=" + text); });
+    EXPECT_NE(msg.find("estimator.window_size = '" + text + "' is not a valid integer"), std::string::npos) << msg;
+  }
+}
+
 TEST(Config, SetOverridesFileAndDefaults) {
   const auto path = write_temp("partial.yaml",
                                "estimator:\n"

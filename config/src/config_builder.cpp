@@ -20,6 +20,7 @@
 #include "evlife/config/config_key.h"
 #include "evlife/engine/engine_options.h"
 #include "evlife/io/installed_file.h"
+#include "key_helpers.h"
 
 namespace evlife::config {
 namespace {
@@ -136,6 +137,11 @@ void ConfigBuilder::assign(std::string_view key, std::string_view value, const s
   const ConfigKey* k = find_config_key(key);
   if (!k) throw ConfigError(unknown_key_message(where, key));
   if (!k->parse(config_, value)) {
+    // A whole number beyond the field's type (2^31 for an int) is out of range, as 100 is, not "no integer".
+    if (k->type == "integer" && detail::is_integer_text(value)) {
+      throw ConfigError(where + ": " + std::string(key) + " = " + std::string(value) + " is out of range; allowed: " +
+                        k->allowed);
+    }
     throw ConfigError(where + ": " + std::string(key) + " = '" + std::string(value) +
                       "' is not a valid " + k->type + " (allowed: " + k->allowed + ")");
   }

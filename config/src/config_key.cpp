@@ -85,6 +85,16 @@ bool parse_integer(std::string_view text, T& out) {
 }  // namespace
 
 bool parse_int64(std::string_view text, long long& out) { return parse_integer(text, out); }
+
+bool is_integer_text(std::string_view text) {
+  if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
+  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
+  if (hex) text.remove_prefix(2);
+  const auto digit = [hex](char c) {
+    return (c >= '0' && c <= '9') || (hex && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F')));
+  };
+  return !text.empty() && std::all_of(text.begin(), text.end(), digit);
+}
 bool parse_uint64(std::string_view text, unsigned long long& out) {
   return parse_integer(text, out);
 }

@@ -21,6 +21,9 @@ bool parse_bool(std::string_view text, bool& out);
 bool parse_double(std::string_view text, double& out);
 bool parse_int64(std::string_view text, long long& out);
 bool parse_uint64(std::string_view text, unsigned long long& out);
+/// The text is a whole number as parse_int64 reads it (sign, decimal or 0x
+/// hex), of any size: what a value beyond its field's type is.
+bool is_integer_text(std::string_view text);
 std::string format_double(double v);  // shortest text that parses back exactly
 
 /// The key of one option of a table (evlife/algo/option_info.h): its name is
