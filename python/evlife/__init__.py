@@ -94,9 +94,16 @@ def _as_augmented(augmented):
 
 
 def _fitting_column(column, name, target):
-    # NumPy's assignment wraps (x = 65541 becomes 5) and truncates (x = 3.7
-    # becomes 3): an integer field takes integers within its range only.
-    if target.kind not in "iu":
+    # NumPy's assignment wraps (x = 65541 becomes 5), truncates (x = 3.7
+    # becomes 3) and overflows (a float64 lifetime of 1e300 becomes float32's
+    # inf): a field takes values its type holds only.
+    if target.kind == "f":
+        if column.dtype.kind == "f" and column.dtype.itemsize > target.itemsize:
+            high = float(_np.finfo(target).max)
+            outside = _np.flatnonzero(_np.isfinite(column) & (_np.abs(column) > high))
+            if outside.size:
+                i = int(outside[0])
+                _raise_field_error(i, "%s = %g, beyond %s's range (+-%g)" % (name, float(column[i]), target, high))
         return column
     if column.dtype.kind not in "iub":
         raise TypeError("augmented: field %s must hold integers (%s), got %s" % (name, target, column.dtype))
@@ -104,11 +111,15 @@ def _fitting_column(column, name, target):
     outside = _np.flatnonzero((column < info.min) | (column > info.max))
     if outside.size:
         i = int(outside[0])
-        error = InputError("augmented: event %d has %s = %d, outside %s's range [%d, %d] (event index %d)"
-                           % (i, name, int(column[i]), target, info.min, info.max, i))
-        error.path, error.byte_offset, error.event_index, error.partial = "augmented", -1, i, None
-        raise error
+        _raise_field_error(i, "%s = %d, outside %s's range [%d, %d]" % (name, int(column[i]), target, info.min,
+                                                                      info.max))
     return column
+
+
+def _raise_field_error(i, what):
+    error = InputError("augmented: event %d has %s (event index %d)" % (i, what, i))
+    error.path, error.byte_offset, error.event_index, error.partial = "augmented", -1, i, None
+    raise error
 
 
 def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", scale=None,

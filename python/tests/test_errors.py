@@ -1,6 +1,7 @@
 """Errors: Python exceptions carrying the command line's messages."""
 import errno
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -281,6 +282,19 @@ def test_values_an_integer_field_cannot_hold_are_named_not_wrapped():
         evlife.frame(floats, 30, sensor=(16, 16))
     with pytest.raises(TypeError, match="scale must be a whole number"):
         evlife.frame(evlife.process(evlife.read(data(RECORDINGS["mat"]))[:100], sensor=(128, 128)), 0, scale=2.5)
+    # A review helper's finding: a float64 lifetime beyond float32 became inf on the conversion and was
+    # then called "lifetime inf us", a value the array never held.
+    aug["x"] = 1
+    aug["lifetime"] = [100.0, 200.0, 1e300]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nor NumPy's "overflow encountered in cast"
+        with pytest.raises(evlife.InputError, match=r"^augmented: event 2 has lifetime = 1e\+300, beyond float32's "
+                                                    r"range \(\+-3\.40282e\+38\) \(event index 2\)$") as raised:
+            evlife.frame(aug, 30, sensor=(16, 16))
+        assert raised.value.event_index == 2
+        aug["lifetime"][2] = -np.inf  # not finite: the record's own check names it, as before
+        with pytest.raises(evlife.InputError, match=r"lifetime -inf us"):
+            evlife.frame(aug, 30, sensor=(16, 16))
 
 
 def test_sensors_no_camera_has_are_refused_before_writing(tmp_path):
