@@ -183,6 +183,33 @@ TEST(IoCsv, UnreadableFileNamesTheLayouts) {
   }
 }
 
+// A review helper's finding: a bad value in the first lines (the ones the
+// layout is told by) was "no accepted layout fits the first lines" with no
+// line or value, where the same fault after them is named with its line.
+TEST(IoCsv, ABadValueInTheFirstLinesIsNamedWithItsLineForEachLayout) {
+  const ScratchDir dir("test_io_csv");
+  const std::string text = "# x,y,t,p\n1,2,10,1\n3,4,20,0\n5,6,30,5\n7,8,40,1\n";
+  try {
+    (void)read_all(dir.save("bad_p.csv", text));
+    ADD_FAILURE() << "read";
+  } catch (const io::ReadError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("no accepted layout fits the first lines (as x,y,p,t, line 2's column 2 = 10 is not a polarity "
+                     "(1 ON, 0 or -1 OFF); as x,y,t,p, line 4's column 3 = 5 is not a polarity (1 ON, 0 or -1 OFF); "
+                     "as t,x,y,p, line 4's column 3 = 5 is not a polarity (1 ON, 0 or -1 OFF))"),
+              std::string::npos)
+        << m;
+  }
+  try {
+    (void)read_all(dir.save("back.csv", "1,2,10,1\n3,4,20.5,0\n5,6,15,1\n"));
+    ADD_FAILURE() << "read";
+  } catch (const io::ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("as x,y,t,p, line 3's column 2 = 15 goes back in time (line 2's is 20.5)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(IoCsv, BadLineStopsWithItsLineEventsBeforeKept) {
   const ScratchDir dir("test_io_csv");
   const std::string path = dir.save("cut.csv", "x,y,t,p\n10,20,1000,1\n11,21,1500,0\n639,479,22x0,1\n1,1,3000,1\n");

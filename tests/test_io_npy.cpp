@@ -5,6 +5,8 @@
 // after the events before them.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -82,6 +84,42 @@ TEST(Npy, ArraysThatAreNotEventsAreRefusedWithTheirReason) {
     EXPECT_NE(message.find(name + ".npy"), std::string::npos) << message;
     EXPECT_NE(message.find(why), std::string::npos) << name << ": " << message;
   }
+}
+
+/// An N x 4 '<i8' .npy of `rows` (NumPy's version 1.0 header, padded to 64 bytes).
+std::string save_rows_npy(const std::string& name, const std::vector<std::array<std::int64_t, 4>>& rows) {
+  std::string header = "{'descr': '<i8', 'fortran_order': False, 'shape': (" + std::to_string(rows.size()) + ", 4), }";
+  header.append(64 - (10 + header.size() + 1) % 64, ' ');
+  header += '\n';
+  const std::string path = testing::TempDir() + name;
+  std::ofstream out(path, std::ios::binary);
+  out.write("\x93NUMPY\x01\x00", 8);
+  const auto header_bytes = static_cast<std::uint16_t>(header.size());
+  out.put(static_cast<char>(header_bytes & 0xff)).put(static_cast<char>(header_bytes >> 8)) << header;
+  for (const auto& row : rows) out.write(reinterpret_cast<const char*>(row.data()), sizeof row);  // little-endian host
+  return path;
+}
+
+// A review helper's finding: a bad value in the first rows (the ones the
+// layout is told by) was "no layout fits its first rows" with no row or
+// value, where the same fault after them is named with its record.
+TEST(Npy, ABadValueInTheFirstRowsIsNamedWithItsRecordForEachLayout) {
+  const std::vector<std::pair<std::array<std::int64_t, 4>, std::string>> cases = {
+      {{5, 6, 30, 5}, "as x,y,t,p, record 2's column 3 = 5 is not a polarity (1 ON, 0 or -1 OFF)"},
+      {{5, 6, 15, 1}, "as x,y,t,p, record 2's column 2 = 15 goes back in time (record 1's is 20)"},
+      {{70000, 6, 30, 1}, "as x,y,t,p, record 2's column 0 = 70000 is not x (an integer 0..65535)"},
+  };
+  for (const auto& [bad, why] : cases) {
+    const std::string path = save_rows_npy("bad_first_rows.npy", {{9, 2, 10, 1}, {3, 4, 20, 0}, bad, {7, 8, 40, 1}});
+    const std::string message = evlife::test::open_error(path);
+    EXPECT_NE(message.find("no layout fits its first rows (as x,y,p,t, record "), std::string::npos) << message;
+    EXPECT_NE(message.find(why), std::string::npos) << message;
+  }
+  // The same rows without the fault read (the writer above is right).
+  const std::string good = save_rows_npy("good_first_rows.npy", {{9, 2, 10, 1}, {3, 4, 20, 0}, {5, 6, 30, 1}});
+  const ReadAll r = evlife::test::read_all(good);
+  EXPECT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 3U);
 }
 
 TEST(Npy, AFaultPartWayComesAfterTheEventsBeforeIt) {

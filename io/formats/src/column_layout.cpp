@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace evlife::io::detail {
@@ -58,8 +60,56 @@ int column_role(const std::string& name, std::int64_t& unit) {
   return -1;
 }
 
+namespace {
+// x,y,p,t (metavision_file_to_csv), x,y,t,p, t,x,y,p: kUnnamedLayouts' order.
+constexpr std::array<Layout, 3> kCandidates = {{{0, 1, 3, 2}, {0, 1, 2, 3}, {1, 2, 0, 3}}};
+}  // namespace
+
+void ColumnTraits::add(std::size_t row, bool is_polarity, bool is_coordinate, bool is_fraction, bool below_previous) {
+  const auto r = static_cast<std::int64_t>(row);
+  fractional = fractional || is_fraction;
+  if (polarity && !is_polarity) not_polarity_row = r;
+  if (coordinate && !is_coordinate) not_coordinate_row = r;
+  if (non_decreasing && below_previous) decreasing_row = r;
+  polarity = polarity && is_polarity;
+  coordinate = coordinate && is_coordinate;
+  non_decreasing = non_decreasing && !below_previous;
+}
+
+std::string no_layout_reasons(const std::array<ColumnTraits, 4>& c,
+                              const std::function<std::string(std::size_t)>& row_name,
+                              const std::function<std::string(std::size_t, int)>& value) {
+  std::string text;
+  for (const Layout& l : kCandidates) {
+    const auto at = [&](Role r) {
+      const int column = l[static_cast<std::size_t>(r)];
+      return std::pair{column, c[static_cast<std::size_t>(column)]};
+    };
+    const auto said = [&](std::int64_t row, int column, const std::string& what) {
+      const auto r = static_cast<std::size_t>(row);
+      return row_name(r) + "'s column " + std::to_string(column) + " = " + value(r, column) + " " + what;
+    };
+    std::string why;
+    if (const auto [column, t] = at(kP); !t.polarity) {
+      why = said(t.not_polarity_row, column, "is not a polarity (1 ON, 0 or -1 OFF)");
+    } else if (const auto [tc, tt] = at(kT); !tt.non_decreasing) {
+      const auto r = static_cast<std::size_t>(tt.decreasing_row);
+      why = said(tt.decreasing_row, tc, "goes back in time (" + row_name(r - 1) + "'s is " + value(r - 1, tc) + ")");
+    } else {
+      for (const Role role : {kX, kY}) {
+        const auto [xc, xt] = at(role);
+        if (xt.coordinate) continue;
+        why = said(xt.not_coordinate_row, xc, std::string("is not ") + "xy"[role] + " (an integer 0..65535)");
+        break;
+      }
+    }
+    if (why.empty()) continue;  // it fits: only the others are ruled out
+    text += (text.empty() ? "as " : "; as ") + layout_text(l, 4) + ", " + why;
+  }
+  return text;
+}
+
 LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& c) {
-  constexpr std::array<Layout, 3> kCandidates = {{{0, 1, 3, 2}, {0, 1, 2, 3}, {1, 2, 0, 3}}};
   auto at = [&c](const Layout& l, Role r) -> const ColumnTraits& {
     return c[static_cast<std::size_t>(l[static_cast<std::size_t>(r)])];
   };

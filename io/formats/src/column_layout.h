@@ -4,7 +4,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace evlife::io::detail {
@@ -48,6 +50,15 @@ struct ColumnTraits {
   bool non_decreasing = true;  ///< never decreases from row to row
   bool fractional = false;     ///< some value written or stored as a fraction
   bool moving = false;         ///< its first and last rows differ in their integer part
+  // The first sampled row that broke polarity, coordinate, non_decreasing (-1: none): for messages.
+  std::int64_t not_polarity_row = -1;
+  std::int64_t not_coordinate_row = -1;
+  std::int64_t decreasing_row = -1;
+
+  /// Sampled row `row`'s value, in order from row 0: `is_polarity` (an
+  /// integer in [-1, 1]), `is_coordinate`, `is_fraction`, and `below_previous`
+  /// (row > 0 and smaller than the row before).
+  void add(std::size_t row, bool is_polarity, bool is_coordinate, bool is_fraction, bool below_previous);
 };
 
 struct LayoutChoice {
@@ -60,5 +71,13 @@ struct LayoutChoice {
 /// coordinates); among several, the only one whose t is fractional, else the
 /// only one whose t moves; else none.
 LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& columns);
+
+/// Why no unnamed layout fits, layout by layout, with the row and value that
+/// rule each out: "as x,y,p,t, record 1's column 2 = 10 is not a polarity (...);
+/// as x,y,t,p, ...". `row_name(r)`: "record 1", "line 2"; `value(r, column)`:
+/// the value as stored or written.
+std::string no_layout_reasons(const std::array<ColumnTraits, 4>& columns,
+                              const std::function<std::string(std::size_t)>& row_name,
+                              const std::function<std::string(std::size_t, int)>& value);
 
 }  // namespace evlife::io::detail

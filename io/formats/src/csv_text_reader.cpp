@@ -115,12 +115,16 @@ struct Detection {
 Detection detect(const char* p, const char* end) {
   Detection d;
   std::vector<std::array<DecimalNumber, 4>> rows;
+  std::vector<std::array<std::string, 4>> row_fields;  // as written, for the messages
+  std::vector<std::size_t> row_lines;                  // 1-based line numbers
+  std::size_t line_number = 0;
   bool first = true;
   while (p < end && rows.size() < kSampleLines) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     if (nl == nullptr) break;  // whole lines only
     const char* line = p;
     p = nl + 1;
+    ++line_number;
     if (is_comment_or_blank(line, nl)) continue;
     std::array<Field, 64> f{};
     if (first) {
@@ -172,6 +176,9 @@ Detection detect(const char* p, const char* end) {
       return d;
     }
     rows.push_back(row);
+    row_fields.emplace_back();
+    for (std::size_t i = 0; i < 4; ++i) row_fields.back()[i].assign(f[i].begin, f[i].end);
+    row_lines.push_back(line_number);
   }
   if (rows.empty()) {
     d.why = "no event line found";
@@ -182,22 +189,25 @@ Detection detect(const char* p, const char* end) {
     ColumnTraits& tc = traits[c];
     for (std::size_t r = 0; r < rows.size(); ++r) {
       const DecimalNumber& v = rows[r][c];
-      tc.fractional = tc.fractional || written_as_fraction(v);
-      tc.polarity = tc.polarity && v.integral && v.int_part <= 1;
-      tc.coordinate = tc.coordinate && !v.negative && v.integral && v.int_part <= 65535;
+      std::int64_t a = 0, b = 0;
       if (r > 0) {
-        std::int64_t a = 0, b = 0;
         to_us(rows[r - 1][c], 1'000'000'000, a);
         to_us(v, 1'000'000'000, b);
-        tc.non_decreasing = tc.non_decreasing && b >= a;
       }
+      tc.add(r, v.integral && v.int_part <= 1, !v.negative && v.integral && v.int_part <= 65535,
+             written_as_fraction(v), b < a);
     }
     tc.moving = rows.size() > 1 && rows.front()[c].int_part != rows.back()[c].int_part;
   }
   const LayoutChoice choice = choose_layout(traits);
-  if (choice.fitting != 1) {
-    d.why = choice.fitting == 0 ? "no accepted layout fits the first lines"
-                                : "the first lines fit several layouts (add a header line, e.g. x,y,t,p)";
+  if (choice.fitting == 0) {
+    const auto line = [&](std::size_t row) { return "line " + std::to_string(row_lines[row]); };
+    const auto value = [&](std::size_t row, int column) { return row_fields[row][static_cast<std::size_t>(column)]; };
+    d.why = "no accepted layout fits the first lines (" + no_layout_reasons(traits, line, value) + ")";
+    return d;
+  }
+  if (choice.fitting > 1) {
+    d.why = "the first lines fit several layouts (add a header line, e.g. x,y,t,p)";
     return d;
   }
   d.ok = true;

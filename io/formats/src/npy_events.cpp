@@ -308,21 +308,24 @@ class NpyEventReader final : public EventReader {
       for (std::size_t r = 0; r < rows; ++r) {
         const Number v = sampled(r, columns_[c]);
         std::int64_t unused = 0;
-        tc.fractional = tc.fractional || (v.is_float && v.f != std::floor(v.f));
-        tc.polarity = tc.polarity && as_integer(v, -1, 1, unused);
-        tc.coordinate = tc.coordinate && as_integer(v, 0, 65535, unused);
-        if (r > 0) tc.non_decreasing = tc.non_decreasing && !(as_double(v) < as_double(sampled(r - 1, columns_[c])));
+        tc.add(r, as_integer(v, -1, 1, unused), as_integer(v, 0, 65535, unused), v.is_float && v.f != std::floor(v.f),
+               r > 0 && as_double(v) < as_double(sampled(r - 1, columns_[c])));
       }
       if (rows > 1)
         tc.moving = std::floor(as_double(sampled(0, columns_[c]))) != std::floor(as_double(sampled(rows - 1, columns_[c])));
     }
     const LayoutChoice choice = choose_layout(traits);
-    if (choice.fitting != 1) {
-      refuse(where(records_.front()) +
-             (choice.fitting == 0 ? "no layout fits its first rows"
-                                  : "its first rows fit several layouts (save a structured array with named fields "
-                                    "instead)"));
+    if (choice.fitting == 0) {
+      const auto record = [](std::size_t row) { return "record " + std::to_string(row); };
+      const auto value = [&](std::size_t row, int column) {
+        return number_text(sampled(row, columns_[static_cast<std::size_t>(column)]));
+      };
+      refuse(where(records_.front()) + "no layout fits its first rows (" + no_layout_reasons(traits, record, value) +
+             ")");
     }
+    if (choice.fitting > 1)
+      refuse(where(records_.front()) +
+             "its first rows fit several layouts (save a structured array with named fields instead)");
     std::array<Column, 4> by_role{};
     for (std::size_t r = 0; r < 4; ++r) by_role[r] = columns_[static_cast<std::size_t>(choice.layout[r])];
     columns_ = by_role;
