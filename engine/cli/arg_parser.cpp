@@ -269,13 +269,9 @@ io::ReaderOptions parse_input_options(const ParsedArgs& a, bool crop) {
     options.time_unit = *unit;
   }
   if (const auto pol = a.value("polarity")) {
-    if (*pol == "on") {
-      options.polarity = io::PolarityFilter::on;
-    } else if (*pol == "off") {
-      options.polarity = io::PolarityFilter::off;
-    } else if (*pol != "both") {
-      throw UsageError("--polarity " + *pol + ": expected on, off or both");
-    }
+    const std::optional<io::PolarityFilter> filter = io::parse_polarity_filter(*pol);
+    if (!filter) throw UsageError("--polarity " + *pol + ": expected on, off or both");
+    options.polarity = *filter;
   }
   if (!crop) return options;
   for (const char* name : {"from", "to"}) {

@@ -30,7 +30,8 @@ class Interrupted(KeyboardInterrupt):  # Ctrl-C during process(), process_file()
 def formats() -> list[Tuple[str, str]]: ...
 def read(path: StrPath, sensor: Optional[Sensor] = None, *, from_s: Optional[float] = None,
          to_s: Optional[float] = None, topic: Optional[str] = None,
-         time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None) -> npt.NDArray[np.void]: ...
+         time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None,
+         polarity: Optional[Literal["on", "off", "both"]] = None) -> npt.NDArray[np.void]: ...
 
 class Reader:
     @property
@@ -60,7 +61,8 @@ class Reader:
 def open(path: StrPath, sensor: Optional[Sensor] = None, chunk_events: int = 1048576, *,
          from_s: Optional[float] = None, to_s: Optional[float] = None,
          topic: Optional[str] = None,
-         time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None) -> Reader: ...
+         time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None,
+         polarity: Optional[Literal["on", "off", "both"]] = None) -> Reader: ...
 def scan(input: StrPath, sensor: Optional[Sensor] = None, *,
          config: Optional[StrPath] = None, topic: Optional[str] = None,
          time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None) -> dict[str, Any]: ...
@@ -105,11 +107,13 @@ def process(input: Union[StrPath, Any], sensor: Optional[Sensor] = None, *,
             config: Optional[StrPath] = None, one_thread: bool = False,
             from_s: Optional[float] = None, to_s: Optional[float] = None,
             topic: Optional[str] = None, time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None,
+            polarity: Optional[Literal["on", "off", "both"]] = None,
             **options: Any) -> npt.NDArray[np.void]: ...
 def process_file(input: StrPath, output: StrPath, sensor: Optional[Sensor] = None, *,
                  config: Optional[StrPath] = None, one_thread: bool = False,
                  from_s: Optional[float] = None, to_s: Optional[float] = None,
                  topic: Optional[str] = None, time_unit: Optional[Literal["s", "ms", "us", "ns"]] = None,
+                 polarity: Optional[Literal["on", "off", "both"]] = None,
                  **options: Any) -> dict[str, Any]: ...
 def frame(augmented: Any, t_us: int, sensor: Optional[Sensor] = None, mode: str = "lifetime", *,
           color: Literal["lifetime", "polarity", "plain"] = "lifetime",

@@ -395,7 +395,7 @@ def _config_read_once(function):
 @_config_read_once
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
                   extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
-                  topic=None, time_unit=None, **options):
+                  topic=None, time_unit=None, polarity=None, **options):
     """Process many recordings on Dask distributed, one task per recording.
 
     paths: recordings (any format of `evlife process`).
@@ -405,7 +405,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     scheduler: None = a LocalCluster of `workers` processes on this machine
     (one thread each), or a scheduler address ("tcp://host:8786"), a
     distributed.Client or a cluster object.
-    sensor, config, from_s, to_s, topic, time_unit, **options: as
+    sensor, config, from_s, to_s, topic, time_unit, polarity, **options: as
     evlife.process (every estimator keyword); checked here before any task
     starts (ValueError / TypeError). topic: the same ROS topic (or HDF5
     camera, .npz array) in every file; time_unit: of every CSV/NumPy file.
@@ -437,10 +437,10 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         _evlife._check_sensor(sensor)  # not LifetimeEstimator(sensor): 1.4 GB for the largest
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
-    _evlife._check_reader_options(from_s, to_s, time_unit)
+    _evlife._check_reader_options(from_s, to_s, time_unit, polarity)
     _check_topic(topic)
-    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic), ("time_unit", time_unit))
-            if v is not None}
+    crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic), ("time_unit", time_unit),
+                              ("polarity", polarity)) if v is not None}
     os.makedirs(out_dir, exist_ok=True)
     outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension, out_dir)]
     if not paths:

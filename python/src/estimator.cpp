@@ -479,11 +479,11 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
       [](const py::object& input, const py::object& sensor, const py::object& config,
          bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
          const std::optional<std::string>& topic, const std::optional<std::string>& time_unit,
-         const py::kwargs& kw) -> py::array {
+         const std::optional<std::string>& polarity, const py::kwargs& kw) -> py::array {
         if (py::isinstance<py::str>(input) || py::isinstance<py::bytes>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = path_from_python(input);
-          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic, time_unit), one_thread,
-                              config, kw);
+          return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic, time_unit, polarity),
+                              one_thread, config, kw);
         }
         if (py::hasattr(input, "read") && !py::hasattr(input, "dtype"))  // not an array of events: "no field 't'" said less
           throw py::type_error("input: a file object; give its path (or an array with t, x, y, p fields)");
@@ -491,6 +491,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
         if (time_unit) throw py::value_error("time_unit is a file's; an array's t is in microseconds");
+        if (polarity) throw py::value_error("polarity chooses the events of a file; select an array's with a mask on its p");
         // The command line's rule: sensor=, else the configured estimator.sensor
         // (config=; the events' own size replaced it), else the events' size.
         ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw);
@@ -509,6 +510,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
       py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
+      py::arg("polarity") = py::none(),
       R"(Lifetime and velocity of every event of a recording or an array: `evlife process`.
 
 input: a path (every format of `evlife process`) or an array with t, x, y, p
@@ -524,7 +526,8 @@ from_s, to_s (a path only): the events from from_s to to_s (exclusive) seconds
 after the first event, as --from / --to; the estimator starts at from_s, and
 an HDF5 file is not decoded before it (evlife.read). topic (a path only): a ROS
 bag's event topic, an HDF5 file's camera (MVSEC, M3ED) or an .npz array, as --topic;
-time_unit (a path only): as --time-unit (evlife.read).
+time_unit (a path only): as --time-unit (evlife.read); polarity (a path
+only): 'on' or 'off' processes only those events, as --polarity.
 Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them; an array's event beyond
 +-2^62 us too), ValueError for bad options. Events of a recording that the
@@ -537,13 +540,16 @@ selects no event (as the CLI's warning).)");
       [](const py::object& input, const py::object& output, const py::object& sensor,
          const py::object& config, bool one_thread, std::optional<double> from_s,
          std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit, const py::kwargs& kw) {
+         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity,
+         const py::kwargs& kw) {
         return process_to_file(path_from_python(input), path_from_python(output), sensor,
-                               reader_options(std::nullopt, from_s, to_s, topic, time_unit), one_thread, config, kw);
+                               reader_options(std::nullopt, from_s, to_s, topic, time_unit, polarity), one_thread,
+                               config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
       py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
+      py::arg("polarity") = py::none(),
       R"(`evlife process INPUT -o OUTPUT` in constant memory: the same file, byte for byte.
 
 OUTPUT: .bin, .csv or .h5. Returns {'events', 'with_lifetime', 'sensor',
@@ -561,11 +567,13 @@ as evlife.process.)");
 
   m.def(
       "_check_reader_options",
-      [](std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& time_unit) {
-        reader_options(std::nullopt, from_s, to_s, std::nullopt, time_unit);
+      [](std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& time_unit,
+         const std::optional<std::string>& polarity) {
+        reader_options(std::nullopt, from_s, to_s, std::nullopt, time_unit, polarity);
       },
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("time_unit") = py::none(),
-      "ValueError unless from_s / to_s / time_unit are valid (as evlife.process checks them).");
+      py::arg("polarity") = py::none(),
+      "ValueError unless from_s / to_s / time_unit / polarity are valid (as evlife.process checks them).");
 
   m.def(
       "_refuse_overwriting_input",

@@ -71,8 +71,14 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
 
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
                                  std::optional<double> to_s, const std::optional<std::string>& topic,
-                                 const std::optional<std::string>& time_unit) {
+                                 const std::optional<std::string>& time_unit,
+                                 const std::optional<std::string>& polarity) {
   io::ReaderOptions options(sensor, true);
+  if (polarity) {
+    const std::optional<io::PolarityFilter> filter = io::parse_polarity_filter(*polarity);
+    if (!filter) throw py::value_error("polarity: expected 'on', 'off' or 'both', got '" + *polarity + "'");
+    options.polarity = *filter;
+  }
   if (topic) {
     if (topic->empty()) throw py::value_error("topic: empty topic name");
     options.topic = *topic;
@@ -101,10 +107,12 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
 
 void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
                      std::uint64_t events) {
-  if (events > 0 || (!crop.from_us && !crop.to_us)) return;
-  const std::string text = std::string(function) + ": no event of " + path +
-                           " within from_s/to_s (seconds after its first event; evlife.scan gives its t_first "
-                           "and t_last)";
+  if (events > 0 || !crop.filters()) return;
+  std::string text = std::string(function) + ": no event of " + path;
+  if (crop.polarity != io::PolarityFilter::both)
+    text += crop.polarity == io::PolarityFilter::on ? " is ON (polarity='on')" : " is OFF (polarity='off')";
+  if (crop.from_us || crop.to_us)
+    text += " within from_s/to_s (seconds after its first event; evlife.scan gives its t_first and t_last)";
   if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
 }
 

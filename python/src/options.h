@@ -42,7 +42,7 @@ py::dict options_dict(const config::Config& c);
 SensorSize sensor_from_python(const py::object& sensor);
 /// The same, None -> nullopt.
 /// A RuntimeWarning "FUNCTION: no event of PATH within from_s/to_s ..." when
-/// `events` is 0 and `crop` selects a time range: an empty result says why
+/// `events` is 0 and `crop` selects a time range or a polarity: an empty result says why
 /// (the CLI's warning). Needs the GIL.
 void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
                      std::uint64_t events);
@@ -52,12 +52,14 @@ std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 /// What evlife.read, open, process and process_file read: `sensor`, the
 /// CLI's --from / --to as from_s / to_s, seconds after the first event of the
 /// file, --topic (a ROS bag's event topic, an HDF5 file's camera, an .npz
-/// array) and --time-unit (CSV/text and NumPy files: s, ms, us or ns).
+/// array), --time-unit (CSV/text and NumPy files: s, ms, us or ns) and
+/// --polarity ("on", "off", "both").
 /// ValueError for a negative time, to_s not after from_s or an empty topic
 /// (as the CLI).
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
                                  std::optional<double> to_s, const std::optional<std::string>& topic = std::nullopt,
-                                 const std::optional<std::string>& time_unit = std::nullopt);
+                                 const std::optional<std::string>& time_unit = std::nullopt,
+                                 const std::optional<std::string>& polarity = std::nullopt);
 
 void bind_options(py::module_& m);
 

@@ -180,7 +180,7 @@ io::ReaderOptions with_stated_sensor(const std::string& path, io::ReaderOptions 
 
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
                       std::optional<double> to_s, const std::optional<std::string>& topic,
-                      const std::optional<std::string>& time_unit) {
+                      const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
   std::unique_ptr<io::EventReader> reader;
   std::optional<io::ReadError> fault;
   io::ReaderOptions options;
@@ -188,7 +188,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
   // evlife.Interrupted too, not a KeyboardInterrupt out of the next Python call.
   SignalCheck signals;
   {
-    options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
+    options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit, polarity);
     ReleasedGil release;
     try {
       reader = io::open_event_reader(path, with_stated_sensor(path, options));
@@ -209,11 +209,12 @@ void bind_reader(py::module_& m) {
       "read",
       [](const std::filesystem::path& path, const py::object& sensor, std::optional<double> from_s,
          std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit) {
-        return read_events(path.string(), sensor, from_s, to_s, topic, time_unit);
+         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
+        return read_events(path.string(), sensor, from_s, to_s, topic, time_unit, polarity);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::kw_only(), py::arg("from_s") = py::none(),
       py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
+      py::arg("polarity") = py::none(),
         R"(Read every event of a recording into a NumPy structured array.
 
 Fields: t (int64, microseconds), x, y (uint16; x = 0 left, y = 0 top),
@@ -230,7 +231,9 @@ davis/right/events, M3ED prophesee/right; the left by default), or an .npz
 archive's array of events, as --topic. time_unit: 's', 'ms', 'us' or 'ns', the
 unit of a CSV/text, NumPy or HDF5 file's time column, as --time-unit
 (default: its name's, its datetime64 type's, which refuses another, or its
-HDF5 units attribute's, else seconds for fractions or floats, else us). Raises FileNotFoundError for a missing file and
+HDF5 units attribute's, else seconds for fractions or floats, else us).
+polarity: 'on' or 'off' reads only the ON or OFF events, as --polarity
+('both', the default, reads every event). Raises FileNotFoundError for a missing file and
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
@@ -305,15 +308,15 @@ good events come first, the next chunk raises evlife.InputError.)")
       "open",
       [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
          std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit) {
+         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
         const io::ReaderOptions options =
-            reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit);
+            reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit, polarity);
         ReleasedGil release;
         return std::make_unique<Reader>(path.string(), with_stated_sensor(path.string(), options), chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
-      py::arg("time_unit") = py::none(),
+      py::arg("time_unit") = py::none(), py::arg("polarity") = py::none(),
       R"(Open a recording for reading in chunks (recordings larger than memory).
 
 Returns an evlife.Reader with .sensor ((width, height) or None), .format and

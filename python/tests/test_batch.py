@@ -93,6 +93,8 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
         batch.process_slices(path, tmp_path / "x.bin", warmup_ms=float("nan"))
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_files([path], tmp_path, time_unit="fortnights")
+    with pytest.raises(ValueError, match="polarity: expected 'on', 'off' or 'both', got 'up'"):
+        batch.process_files([path], tmp_path, polarity="up")
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_slices(path, tmp_path / "x.bin", time_unit="fortnights")
     # A LocalCluster of no worker would wait for ever.
@@ -130,6 +132,16 @@ def test_a_time_unit_reaches_every_task(tmp_path):
     assert table[0].path == str(npy)
     assert open(table[0].output, "rb").read() == expected.read_bytes()
     assert evlife.scan(npy, time_unit="ms")["t_last"] == int(events["t"][-1] // 1000) * 1000
+
+
+def test_a_polarity_reaches_every_task(tmp_path):
+    from evlife import batch
+    path = data("reference/stripes.mat")
+    expected = tmp_path / "cli.bin"
+    cli("process", path, "-o", expected, "-q", "--polarity", "off")
+    table = batch.process_files([path], tmp_path / "out", workers=1, progress=False, polarity="off")
+    assert table[0].error is None, table[0].error
+    assert open(table[0].output, "rb").read() == expected.read_bytes()
 
 
 def test_a_configuration_from_a_pipe_reaches_every_task(tmp_path):

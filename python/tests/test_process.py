@@ -293,3 +293,28 @@ def test_process_from_and_to_equal_the_cli(tmp_path):
         assert written.read_bytes() == cli_file.read_bytes()
     with pytest.raises(ValueError, match="mask"):
         evlife.process(evlife.read(src), sensor=(128, 128), from_s=0.3)
+
+
+def test_polarity_selects_the_events_the_cli_polarity_flag_does(tmp_path):
+    # The CLI's --polarity had no Python counterpart (a review helper's finding).
+    src = data(RECORDINGS["mat"])
+    whole = evlife.read(src)
+    for polarity, keep in (("on", whole["p"] > 0), ("off", whole["p"] < 0)):
+        assert 1000 < keep.sum() < len(whole)
+        assert_same_events(evlife.read(src, polarity=polarity), whole[keep], ["t", "x", "y", "p"])
+        with evlife.open(src, chunk_events=50_000, polarity=polarity) as r:
+            assert_same_events(np.concatenate(list(r)), whole[keep], ["t", "x", "y", "p"])
+        expected, _ = cli_bin(tmp_path, src, "--polarity", polarity)
+        assert_same_events(evlife.process(src, polarity=polarity), expected)
+        written = tmp_path / ("%s.bin" % polarity)
+        assert evlife.process_file(src, written, polarity=polarity)["events"] == keep.sum()
+        assert written.read_bytes() == (tmp_path / "stripes.mat.bin").read_bytes()
+    assert len(evlife.read(src, polarity="both")) == len(whole)
+    with pytest.raises(ValueError, match=r"^polarity: expected 'on', 'off' or 'both', got 'ON'$"):
+        evlife.read(src, polarity="ON")
+    with pytest.raises(ValueError, match="mask on its p"):
+        evlife.process(whole, polarity="on")
+    off_only = tmp_path / "off.npy"
+    np.save(off_only, np.stack([whole["x"], whole["y"], whole["t"], whole["p"]], axis=1)[whole["p"] < 0].astype(np.int64))
+    with pytest.warns(RuntimeWarning, match=r"evlife.read: no event of .*off.npy is ON \(polarity='on'\)$"):
+        assert len(evlife.read(off_only, polarity="on")) == 0

@@ -131,6 +131,13 @@ std::unique_ptr<EventReader> open_decoder(const std::string& path, const ReaderO
 
 }  // namespace
 
+std::optional<PolarityFilter> parse_polarity_filter(std::string_view text) {
+  if (text == "on") return PolarityFilter::on;
+  if (text == "off") return PolarityFilter::off;
+  if (text == "both") return PolarityFilter::both;
+  return std::nullopt;
+}
+
 std::unique_ptr<EventReader> open_event_reader(const std::string& path,
                                                const ReaderOptions& options) {
   // Checked before cropped: an event that --from or --polarity drops is

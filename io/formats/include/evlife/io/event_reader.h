@@ -144,6 +144,8 @@ class EventReader {
 
 /// Which polarities a reader delivers.
 enum class PolarityFilter { both, on, off };
+/// "on", "off", "both" (--polarity, Python's polarity=); nullopt for other text.
+std::optional<PolarityFilter> parse_polarity_filter(std::string_view text);
 
 /// What open_event_reader checks on top of decoding.
 struct ReaderOptions {
