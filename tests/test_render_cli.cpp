@@ -753,6 +753,28 @@ TEST_F(RenderCliTest, EvalDrawsTheCompareFrameWhereAskedAndSaysWhenNothingWasSam
             std::string::npos);
 }
 
+// A recording without an edge anywhere (isolated events 4 px apart): no fixed
+// window shows an edge pixel, so completeness has no reference. It was 100 %,
+// and the score the thin-edge share alone; now "n/a" and empty CSV fields.
+TEST_F(RenderCliTest, EvalSaysCompletenessHasNoReferenceWhereNoWindowShowsAnEdge) {
+  const std::string csv = path("isolated.csv");
+  {
+    std::ofstream out(csv);
+    out << "x,y,t,p\n";
+    for (int i = 0; i < 3000; ++i) out << 4 * (i % 30) << "," << 4 * ((i / 30) % 30) << "," << 1000 + 100 * i << ",1\n";
+  }
+  const auto r = run("eval '" + csv + "' -o '" + path("isolated") + "' --sensor 128x128");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("over "), std::string::npos) << r.output;  // instants were sampled
+  EXPECT_EQ(r.output.find("100.0 %  1.000"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("px      n/a  n/a\n"), std::string::npos) << r.output;
+  const std::string summary = evlife::test::read_text_file(path("isolated") + "/sharpness_summary.csv");
+  EXPECT_NE(summary.find("\nlifetime (ours),"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(",,\n"), std::string::npos) << summary;  // completeness and score: no figure
+  EXPECT_EQ(summary.find("nan"), std::string::npos) << summary;
+  const std::string html = evlife::test::read_text_file(path("isolated") + "/summary.html");
+  EXPECT_NE(html.find("<td>n/a</td><td>n/a</td></tr>"), std::string::npos);
+}
 
 // A pause of an hour (an outlier's timestamp, a recording resumed): its 72,000
 // instants, where no fixed window draws a pixel, are counted, not sampled (they

@@ -271,16 +271,27 @@ void histogram_outputs(const ReportDir& dir, const std::string& stem, const std:
   csv.close();
 }
 
+// NaN (a completeness without reference edges, its score): "n/a", not "nan %".
 std::string pct(double share) {
+  if (std::isnan(share)) return "n/a";
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f %%", 100.0 * share);
   return buf;
 }
 
 std::string fmt(const char* format, double v) {
+  if (std::isnan(v)) return "n/a";
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
+}
+
+// A CSV field: empty for NaN (no figure), as pandas and spreadsheets read a missing value.
+std::string csv_field(double v) {
+  if (std::isnan(v)) return {};
+  std::ostringstream text;
+  text << v;
+  return text.str();
 }
 
 // Why the sharpness has no instant (its table would be the empty pool's defaults).
@@ -409,7 +420,8 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
         plot[m].y.push_back(q.score());
         csv << s.t_s << "," << kMethodNames[m] << "," << q.sharpness.active_pixels << "," << q.sharpness.edge_pixels
             << "," << q.sharpness.thin_edge_pixels << "," << q.sharpness.thin_edge_share() << ","
-            << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
+            << q.sharpness.mean_edge_thickness_px << "," << csv_field(q.completeness.share()) << ","
+            << csv_field(q.score()) << "\n";
       }
     }
     csv.close();
@@ -434,7 +446,8 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
       }
       sum << "," << static_cast<double>(q.sharpness.active_pixels) / n
           << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
-          << q.sharpness.mean_edge_thickness_px << "," << q.completeness.share() << "," << q.score() << "\n";
+          << q.sharpness.mean_edge_thickness_px << "," << csv_field(q.completeness.share()) << ","
+          << csv_field(q.score()) << "\n";
     }
     sum.close();
   }
@@ -646,10 +659,10 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
   for (const auto& r : runs) {
     std::fprintf(out,
                  "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "
-                 "%6.2f ms, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %.3f\n",
+                 "%9s, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %s\n",
                  r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
-                 100.0 * r.share_with_prediction(), r.median_lifetime_ms(),
-                 100.0 * r.abs_error_us.cdf_at_bin_end(99), r.median_error_over_lifetime());
+                 100.0 * r.share_with_prediction(), fmt("%.2f ms", r.median_lifetime_ms()).c_str(),
+                 100.0 * r.abs_error_us.cdf_at_bin_end(99), fmt("%.3f", r.median_error_over_lifetime()).c_str());
   }
   // Never a silent drop: the frames leave these out (a --sensor smaller than the events', a corrupt time).
   if (render::ignored_events(sharp.frame_events) > 0)
@@ -663,9 +676,9 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                sharp.samples.size(), empty_instants_note(sharp).c_str());
   for (std::size_t m = 0; m < kMethods; ++m) {
     const MethodQuality& q = sharp.pooled[m];
-    std::fprintf(out, "    %-20s %5.1f %%  %5.2f px  %5.1f %%  %.3f\n", kMethodNames[m],
+    std::fprintf(out, "    %-20s %5.1f %%  %5.2f px  %7s  %s\n", kMethodNames[m],
                  100.0 * q.sharpness.thin_edge_share(), q.sharpness.mean_edge_thickness_px,
-                 100.0 * q.completeness.share(), q.score());
+                 pct(q.completeness.share()).c_str(), fmt("%.3f", q.score()).c_str());
   }
 }
 

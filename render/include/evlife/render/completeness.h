@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 
 #include <opencv2/core.hpp>
 
@@ -14,9 +15,10 @@ struct Completeness {
   std::size_t reference_edge_pixels = 0;  ///< edge pixels (extent >= 3) of the reference image
   std::size_t covered_pixels = 0;         ///< of those, drawn within 1 px by the measured image
 
-  /// covered / reference edge pixels, 0..1 (1 for a reference without edges).
+  /// covered / reference edge pixels, 0..1; NaN for a reference without
+  /// edges (nothing to be complete against: it was 1, a perfect score).
   double share() const noexcept {
-    return reference_edge_pixels == 0 ? 1.0
+    return reference_edge_pixels == 0 ? std::numeric_limits<double>::quiet_NaN()
                                       : static_cast<double>(covered_pixels) / static_cast<double>(reference_edge_pixels);
   }
   Completeness& operator+=(const Completeness& o) noexcept {

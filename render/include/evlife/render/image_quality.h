@@ -17,7 +17,8 @@ struct ImageQuality {
   Sharpness sharpness;
   Completeness completeness;  ///< against the instant's best fixed window
 
-  /// completeness x thin-edge share, 0..1: high only when complete and sharp.
+  /// completeness x thin-edge share, 0..1: high only when complete and sharp
+  /// (NaN where no reference edge says what complete is).
   double score() const noexcept { return completeness.share() * sharpness.thin_edge_share(); }
   ImageQuality& operator+=(const ImageQuality& o) noexcept {
     sharpness += o.sharpness;
