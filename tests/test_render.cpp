@@ -521,6 +521,31 @@ TEST(Plot, DrawsTheRequestedSizeAndRejectsMismatchedSeries) {
   EXPECT_THROW(evlife::render::draw_plot(o, {s}), std::invalid_argument);
 }
 
+// A point without a value (NaN: eval's score where completeness has no
+// reference) leaves a gap; the line was drawn across it as if it had one.
+TEST(Plot, APointWithoutAValueIsAGapNotABridge) {
+  evlife::render::PlotOptions o;
+  o.width = 400;
+  o.height = 300;
+  o.y_min = 0.0;
+  o.y_max = 1.0;
+  evlife::render::PlotSeries s;
+  s.label = "a";
+  s.x = {0, 1, 2, 3, 4};
+  s.y = {0.5, 0.5, 0.5, 0.5, 0.5};
+  const auto drawn_px = [&](const evlife::render::PlotSeries& series) {
+    cv::Mat hits;
+    cv::inRange(evlife::render::draw_plot(o, {series}), series.color - cv::Scalar(1, 1, 1),
+                series.color + cv::Scalar(1, 1, 1), hits);
+    return cv::countNonZero(hits);
+  };
+  const int whole = drawn_px(s);
+  s.y[2] = std::numeric_limits<double>::quiet_NaN();
+  const int gapped = drawn_px(s);
+  EXPECT_LT(gapped, whole - 100) << "the line from x = 1 to 3 is drawn: " << gapped << " of " << whole << " px";
+  EXPECT_GT(gapped, 100);  // the runs on either side are
+}
+
 TEST(Parsing, DurationsAndModes) {
   using evlife::render::parse_duration_us;
   EXPECT_EQ(parse_duration_us("30ms"), 30000);

@@ -22,7 +22,7 @@ class InputError(ValueError):
     partial: Optional[npt.NDArray[np.void]]
     events_written: Optional[int]  # process_file: the events its output holds
 
-class Interrupted(KeyboardInterrupt):  # Ctrl-C during process(), process_file() or LifetimeEstimator.process()
+class Interrupted(KeyboardInterrupt):  # Ctrl-C during read(), process(), process_file(), synth() or LifetimeEstimator.process()
     partial: Optional[npt.NDArray[np.void]]  # the outputs of the events processed
     events_processed: int
     events_written: Optional[int]  # process_file: the events its output holds

@@ -5,8 +5,8 @@ several formats need the file's size, so a stream is first copied into a
 temporary file (in $TMPDIR, else /tmp), as the command line does with `-` and
 pipes. The copy keeps the pipe's extension (formats told by it: .dat, .bag)
 and is removed when the call returns; for evlife.open, when its StreamReader
-is closed or garbage-collected. InputErrors and Interrupted name the stream,
-not the copy (a warning of rejected events names the copy).
+is closed or garbage-collected. InputErrors, Interrupted and the
+RuntimeWarnings of a call name the stream, not the copy.
 """
 import builtins
 import contextlib
@@ -14,6 +14,7 @@ import functools
 import os
 import stat
 import tempfile
+import warnings
 import weakref
 
 from . import _evlife
@@ -150,9 +151,20 @@ def reading_streams(function, argument, output=None):
             return function(*args, **kwargs)  # its own error
         if written and written.given(args, kwargs) and is_stream(where.of(args, kwargs)):
             _evlife._refuse_overwriting_input(where.of(args, kwargs), written.of(args, kwargs))
-        with readable(where.of(args, kwargs)) as source:
+        stream = where.of(args, kwargs)
+        with readable(stream) as source:
             args, kwargs = where.replaced(args, kwargs, source)
-            return function(*args, **kwargs)
+            if source is stream:
+                return function(*args, **kwargs)
+            # The copy's warnings, said of the stream after the call (catch_warnings
+            # is process-wide: only here, where a pipe is read, not on every call).
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                result = function(*args, **kwargs)
+            name = os.fsdecode(os.fspath(stream))
+            for w in caught:
+                warnings.warn(str(w.message).replace(source, name), w.category, stacklevel=2)
+            return result
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
     return public(wrapper)
 

@@ -22,6 +22,7 @@ constexpr const char* kInterruptedDoc =
     "events processed, or None), events_processed, events_written (how many\n"
     "events process_file's output holds, else None). LifetimeEstimator.process:\n"
     "its state includes the events processed; go on with events[events_processed:].\n"
+    "synth: partial is None, events_processed the events generated (dropped).\n"
     "On the main thread, with Python's default SIGINT handler (a handler of your\n"
     "own runs after the call, as before).";
 constexpr auto kSignalCheckPeriod = std::chrono::milliseconds(100);
@@ -103,6 +104,11 @@ void SignalCheck::raise(const std::string& message, py::object partial, std::uin
   error.attr("events_written") = std::move(events_written);
   PyErr_SetObject(g_interrupted, error.ptr());
   throw py::error_already_set();
+}
+
+void warn_at_callers_line(const std::string& text) {
+  // Level 1 is the wrapper's own line in _streams.py; 2 the line that called evlife.
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 2) != 0) throw py::error_already_set();
 }
 
 void bind_errors(py::module_& m) {

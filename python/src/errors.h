@@ -53,6 +53,11 @@ class SignalCheck {
   std::chrono::steady_clock::time_point next_check_{};
 };
 
+/// A RuntimeWarning with `text`, attributed to the user's line: the caller of
+/// the Python wrapper every public reading function has (_streams.py). An
+/// exception where warnings are errors (py::error_already_set). Needs the GIL.
+void warn_at_callers_line(const std::string& text);
+
 void bind_errors(py::module_& m);
 
 }  // namespace evlife::python

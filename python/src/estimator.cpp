@@ -224,7 +224,7 @@ void warn_rejected(const std::string& path, const FileRun& run) {
   if (run.stats.rejected() == 0) return;
   const std::string text = "evlife.process: " + path + ": events rejected (labelled noise, lifetime 0): " +
                            rejected_events_text(run.stats);
-  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  warn_at_callers_line(text);
 }
 
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
@@ -532,8 +532,8 @@ Errors: FileNotFoundError, evlife.InputError (with .partial: the augmented
 events before the fault, as the CLI writes them; an array's event beyond
 +-2^62 us too), ValueError for bad options. Events of a recording that the
 estimator rejects (labelled noise; the CLI summary's "rejected" line) are
-warned of with a RuntimeWarning that counts them; so is a from_s / to_s that
-selects no event (as the CLI's warning).)");
+warned of with a RuntimeWarning that counts them; so is a from_s / to_s or
+polarity that selects no event (as the CLI's warning).)");
 
   m.def(
       "process_file",

@@ -113,7 +113,7 @@ void warn_empty_crop(const char* function, const std::string& path, const io::Re
     text += crop.polarity == io::PolarityFilter::on ? " is ON (polarity='on')" : " is OFF (polarity='off')";
   if (crop.from_us || crop.to_us)
     text += " within from_s/to_s (seconds after its first event; evlife.scan gives its t_first and t_last)";
-  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  warn_at_callers_line(text);
 }
 
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor) {

@@ -237,8 +237,8 @@ polarity: 'on' or 'off' reads only the ON or OFF events, as --polarity
 evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
-holds the events before the fault. A from_s / to_s that selects no event
-is warned of (RuntimeWarning), as by the CLI.)");
+holds the events before the fault. A from_s / to_s or polarity that selects
+no event is warned of (RuntimeWarning), as by the CLI.)");
 
   py::class_<Reader>(m, "Reader", R"(A recording read in chunks of bounded size (see evlife.open).
 
@@ -326,7 +326,7 @@ iteration over chunks of at most chunk_events events:
         for chunk in r:
             ...
 
-from_s, to_s, topic, time_unit and errors as evlife.read.)");
+from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
 
   m.def(
       "read_augmented",

@@ -139,7 +139,7 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
     throw_memory_error(spec, duration_s, 0.0);
   }
   if (!scene.complete || signals.pending_now()) {
-    const std::size_t n = scene.events.size();
+    const std::size_t n = scene.complete ? scene.events.size() : scene.generated_events;
     scene = {};  // its memory back before the exception travels
     SignalCheck::raise("synth: interrupted after " + std::to_string(n) + " of the scene's events were generated",
                        py::none(), n, py::none());

@@ -157,4 +157,5 @@ def test_an_interrupted_synth_stops_soon(scene, pixel):
     e = interrupt_during(lambda: evlife.synth(scene, duration=60, pixel=pixel))
     assert time.monotonic() - started < 5  # stopped within a slice or a tile of the signal, not at the end
     assert isinstance(e, KeyboardInterrupt) and e.partial is None and e.events_written is None
+    assert e.events_processed > 0  # what was generated before the stop (a textured scene's said 0)
     assert "synth: interrupted after %d of the scene's events were generated" % e.events_processed in str(e)

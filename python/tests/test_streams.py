@@ -114,6 +114,26 @@ def test_a_bad_stream_is_named_not_its_copy(tmp_path, temp_dir):
     assert list(temp_dir.iterdir()) == []
 
 
+def test_a_warning_of_a_pipe_names_the_pipe_at_the_callers_line(tmp_path, temp_dir):
+    # A review helper's finding: the RuntimeWarning of a crop that selects nothing named the deleted copy
+    # (/tmp/evlife-stream-….txt), and every warning pointed at _streams.py, not at the user's call.
+    with open(data(SLIDER), "rb") as f:
+        payload = f.read()
+    for source in ("pipe", "file"):
+        if source == "pipe":
+            path, writer = pipe(tmp_path, payload, name="w%d.txt" % len(list(tmp_path.iterdir())))
+        else:
+            path, writer = data(SLIDER), None
+        with pytest.warns(RuntimeWarning) as caught:
+            evlife.read(path, from_s=1000.0)
+        if writer:
+            writer.join()
+        assert len(caught) == 1
+        assert str(caught[0].message).startswith("evlife.read: no event of %s within from_s/to_s" % path)
+        assert caught[0].filename == __file__, caught[0].filename  # this call's line, not _streams.py's
+    assert list(temp_dir.iterdir()) == []
+
+
 def test_a_pipe_given_as_input_and_output_is_refused_before_it_is_read(tmp_path, temp_dir):
     # The check compared the output with the copy: the pipe was read, then its open for writing
     # waited for a reader for good (the command line refuses it).

@@ -120,18 +120,26 @@ cv::Mat draw_plot(const PlotOptions& o, const std::vector<PlotSeries>& series) {
       }
       continue;
     }
+    // A point without a value (NaN: eval's score without a reference) is a gap in the line, not a bridge.
     std::vector<cv::Point> pts;
+    const auto draw_run = [&] {
+      for (std::size_t i = 1; i < pts.size(); ++i) {
+        if (s.dashed)
+          dashed_line(canvas, pts[i - 1], pts[i], s.color, s.thickness);
+        else
+          cv::line(canvas, pts[i - 1], pts[i], s.color, s.thickness, cv::LINE_AA);
+      }
+      pts.clear();
+    };
     for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+        draw_run();
+        continue;
+      }
       if (s.style == PlotSeries::Style::step && !pts.empty()) pts.push_back({local(s.x[i], 0).x, pts.back().y});
       pts.push_back(local(s.x[i], s.y[i]));
     }
-    for (std::size_t i = 1; i < pts.size(); ++i) {
-      if (s.dashed)
-        dashed_line(canvas, pts[i - 1], pts[i], s.color, s.thickness);
-      else
-        cv::line(canvas, pts[i - 1], pts[i], s.color, s.thickness, cv::LINE_AA);
-    }
+    draw_run();
   }
   cv::rectangle(img, area, black, 1);
 

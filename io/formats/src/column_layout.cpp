@@ -78,6 +78,7 @@ void ColumnTraits::add(std::size_t row, bool is_polarity, bool is_coordinate, bo
 
 std::string no_layout_reasons(const std::array<ColumnTraits, 4>& c,
                               const std::function<std::string(std::size_t)>& row_name,
+                              const std::function<std::string(int)>& column_name,
                               const std::function<std::string(std::size_t, int)>& value) {
   std::string text;
   for (const Layout& l : kCandidates) {
@@ -87,7 +88,7 @@ std::string no_layout_reasons(const std::array<ColumnTraits, 4>& c,
     };
     const auto said = [&](std::int64_t row, int column, const std::string& what) {
       const auto r = static_cast<std::size_t>(row);
-      return row_name(r) + "'s column " + std::to_string(column) + " = " + value(r, column) + " " + what;
+      return row_name(r) + "'s " + column_name(column) + " = " + value(r, column) + " " + what;
     };
     std::string why;
     if (const auto [column, t] = at(kP); !t.polarity) {

@@ -74,10 +74,12 @@ LayoutChoice choose_layout(const std::array<ColumnTraits, 4>& columns);
 
 /// Why no unnamed layout fits, layout by layout, with the row and value that
 /// rule each out: "as x,y,p,t, record 1's column 2 = 10 is not a polarity (...);
-/// as x,y,t,p, ...". `row_name(r)`: "record 1", "line 2"; `value(r, column)`:
-/// the value as stored or written.
+/// as x,y,t,p, ...". `row_name(r)`: "record 1", "line 2"; `column_name(c)`:
+/// "column 2" (0-based, as NumPy counts), "field 3" (1-based, as a line's);
+/// `value(r, column)`: the value as stored or written.
 std::string no_layout_reasons(const std::array<ColumnTraits, 4>& columns,
                               const std::function<std::string(std::size_t)>& row_name,
+                              const std::function<std::string(int)>& column_name,
                               const std::function<std::string(std::size_t, int)>& value);
 
 }  // namespace evlife::io::detail

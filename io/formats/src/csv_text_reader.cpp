@@ -189,21 +189,26 @@ Detection detect(const char* p, const char* end) {
     ColumnTraits& tc = traits[c];
     for (std::size_t r = 0; r < rows.size(); ++r) {
       const DecimalNumber& v = rows[r][c];
-      std::int64_t a = 0, b = 0;
+      // Compared as µs of seconds (what differs by less than 1 µs counts as equal); beyond
+      // int64 µs (epoch ns read as seconds) as written: an overflow is no step back.
+      bool below_previous = false;
       if (r > 0) {
-        to_us(rows[r - 1][c], 1'000'000'000, a);
-        to_us(v, 1'000'000'000, b);
+        std::int64_t a = 0, b = 0;
+        below_previous = to_us(rows[r - 1][c], 1'000'000'000, a) && to_us(v, 1'000'000'000, b)
+                             ? b < a
+                             : decimal_less(v, rows[r - 1][c]);
       }
       tc.add(r, v.integral && v.int_part <= 1, !v.negative && v.integral && v.int_part <= 65535,
-             written_as_fraction(v), b < a);
+             written_as_fraction(v), below_previous);
     }
     tc.moving = rows.size() > 1 && rows.front()[c].int_part != rows.back()[c].int_part;
   }
   const LayoutChoice choice = choose_layout(traits);
   if (choice.fitting == 0) {
     const auto line = [&](std::size_t row) { return "line " + std::to_string(row_lines[row]); };
+    const auto field = [](int c) { return "field " + std::to_string(c + 1); };
     const auto value = [&](std::size_t row, int column) { return row_fields[row][static_cast<std::size_t>(column)]; };
-    d.why = "no accepted layout fits the first lines (" + no_layout_reasons(traits, line, value) + ")";
+    d.why = "no accepted layout fits the first lines (" + no_layout_reasons(traits, line, field, value) + ")";
     return d;
   }
   if (choice.fitting > 1) {

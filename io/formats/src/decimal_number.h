@@ -40,6 +40,21 @@ inline bool as_uint(const DecimalNumber& n, std::uint64_t max, std::uint64_t& v)
   return true;
 }
 
+/// a < b as written (their first 9 fraction digits): no unit, no overflow.
+inline bool decimal_less(const DecimalNumber& a, const DecimalNumber& b) noexcept {
+  const auto frac9 = [](const DecimalNumber& n) {
+    std::uint64_t f = n.frac;
+    for (int d = n.frac_digits; d < 9; ++d) f *= 10;
+    return f;
+  };
+  const auto negative = [](const DecimalNumber& n) { return n.negative && (n.int_part != 0 || n.frac != 0); };
+  if (negative(a) != negative(b)) return negative(a);
+  const auto smaller = [&](const DecimalNumber& x, const DecimalNumber& y) {  // in magnitude
+    return x.int_part != y.int_part ? x.int_part < y.int_part : frac9(x) < frac9(y);
+  };
+  return negative(a) ? smaller(b, a) : smaller(a, b);
+}
+
 /// The value in `unit_ns` (ns per unit) as µs, rounded to nearest; false when
 /// it does not fit.
 bool to_us(const DecimalNumber& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept;

@@ -317,11 +317,12 @@ class NpyEventReader final : public EventReader {
     const LayoutChoice choice = choose_layout(traits);
     if (choice.fitting == 0) {
       const auto record = [](std::size_t row) { return "record " + std::to_string(row); };
-      const auto value = [&](std::size_t row, int column) {
-        return number_text(sampled(row, columns_[static_cast<std::size_t>(column)]));
+      const auto column_name = [](int c) { return "column " + std::to_string(c); };
+      const auto value = [&](std::size_t row, int c) {
+        return number_text(sampled(row, columns_[static_cast<std::size_t>(c)]));
       };
-      refuse(where(records_.front()) + "no layout fits its first rows (" + no_layout_reasons(traits, record, value) +
-             ")");
+      refuse(where(records_.front()) + "no layout fits its first rows (" +
+             no_layout_reasons(traits, record, column_name, value) + ")");
     }
     if (choice.fitting > 1)
       refuse(where(records_.front()) +

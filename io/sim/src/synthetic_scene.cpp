@@ -457,6 +457,7 @@ SyntheticScene generate_scene(const SceneSpec& spec, const GenerationStop& stop)
     scene.truth.insert(scene.truth.end(), truth.begin(), truth.begin() + static_cast<std::ptrdiff_t>(n));
     if (stop && stop()) {
       scene.complete = false;
+      scene.generated_events = scene.events.size();
       break;
     }
   }

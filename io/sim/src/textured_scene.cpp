@@ -413,6 +413,7 @@ SyntheticScene generate_textured_scene(const TexturedSceneSpec& spec, const Gene
     scene.feature_names.emplace_back(name);
     if (stop && stop()) {
       scene.complete = false;
+      scene.generated_events = stamped.size();
       return scene;
     }
   }
