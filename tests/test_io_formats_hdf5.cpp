@@ -1735,6 +1735,14 @@ TEST(IoFormatsConvertCli, HelpAndBadArguments) {
   EXPECT_EQ(run_cli("convert --help"), 0);
   EXPECT_EQ(run_cli("convert only-one-argument"), 2);
   EXPECT_EQ(run_cli("convert /nonexistent.raw /tmp/x.h5"), 3);
+  // A review helper's finding: to .csv / .bin a missing input was exit 2, advising
+  // `evlife process /nonexistent.h5 -o x.csv`; the input's fault comes first.
+  EXPECT_EQ(run_cli("convert /nonexistent.h5 /tmp/x.csv"), 3);
+  EXPECT_EQ(run_cli("convert /nonexistent.h5 /tmp/x.bin"), 3);
+  const fs::path recording = fs::temp_directory_path() / "evlife_test_convert_to_csv.txt";
+  std::ofstream(recording) << "x,y,t,p\n1,2,10,1\n3,4,20,0\n";
+  EXPECT_EQ(run_cli("convert " + recording.string() + " /tmp/x.csv"), 2);  // a readable recording: the advice
+  fs::remove(recording);
 }
 
 }  // namespace

@@ -370,6 +370,18 @@ TEST_F(Writers, AVersionOneHeaderOfOtherSizesIsRefusedALaterVersionsIsRead) {
   ASSERT_FALSE(r.error) << r.error->what();
   ASSERT_EQ(r.events.size(), events.size());
   for (std::size_t i = 0; i < events.size(); ++i) ASSERT_TRUE(same(r.events[i], events[i])) << i;
+  // A review helper's finding: a version-2 header stating 65535 header bytes, longer than the file, read
+  // as 0 events, exit 0 (its 300 records lost without a word); a version 1 cut in its header said so already.
+  const std::string long_header = path("v2_long_header.bin");
+  std::ofstream(long_header, std::ios::binary) << with_u16(with_u16(bytes, 8, 2), 10, 65535);
+  const Readback cut = read_back(long_header);
+  ASSERT_TRUE(cut.error);
+  EXPECT_TRUE(cut.events.empty());
+  EXPECT_EQ(cut.error->byte_offset(), static_cast<std::int64_t>(bytes.size()));
+  EXPECT_NE(std::string(cut.error->what()).find("truncated: the header needs 65535 bytes, the file has " +
+                                                std::to_string(bytes.size())),
+            std::string::npos)
+      << cut.error->what();
 }
 
 // A CSV cut inside a row (a full disk) delivers the complete rows, then an

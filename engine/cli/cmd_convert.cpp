@@ -231,14 +231,6 @@ int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const st
 int convert_events(const std::string& input, const std::string& output,
                    std::optional<SensorSize> sensor_arg, const io::ReaderOptions& input_options,
                    bool unchecked, bool one_thread, bool quiet, const StopRequest& stop) {
-  if (has_extension(output, {".csv", ".bin"})) {
-    std::fprintf(stderr,
-                 "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
-                 "  run `evlife process %s -o %s` for those;\n"
-                 "  convert writes a recording's plain events to .txt or .h5 (see --help)\n",
-                 output.c_str(), input.c_str(), output.c_str());
-    return kExitUsage;
-  }
   std::unique_ptr<io::EventReader> reader;
   std::optional<SensorSize> sensor;
   try {
@@ -254,6 +246,16 @@ int convert_events(const std::string& input, const std::string& output,
     }
   } catch (const io::ReadError& e) {
     return open_fault_exit("convert", input, e);
+  }
+  // After the input opened: a missing or corrupt input is that input error, not
+  // advice to process a file that cannot be read.
+  if (has_extension(output, {".csv", ".bin"})) {
+    std::fprintf(stderr,
+                 "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
+                 "  run `evlife process %s -o %s` for those;\n"
+                 "  convert writes a recording's plain events to .txt or .h5 (see --help)\n",
+                 output.c_str(), input.c_str(), output.c_str());
+    return kExitUsage;
   }
   if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);  // a stated size wins
   std::unique_ptr<io::EventWriter> writer;

@@ -558,6 +558,10 @@ int run_exit_status(const engine::RunResult& result, const engine::RenderStage* 
         std::fprintf(stderr, "evlife run: warning: %llu events lost before the engine (the device's buffer overflowed)\n",
                      static_cast<unsigned long long>(result.stats.source_lost));
       }
+      if (const std::uint64_t missed = render_stage ? render_stage->frames_missed() : 0; missed > 0 && quiet) {
+        std::fprintf(stderr, "evlife run: warning: %llu frames due not drawn (their events were skipped: the render "
+                     "thread fell behind; --policy block waits instead)\n", static_cast<unsigned long long>(missed));
+      }
       break;
     case engine::RunStatus::interrupted:
       std::fprintf(stderr, "evlife run: interrupted; all %llu accepted events were written%s\n", written,

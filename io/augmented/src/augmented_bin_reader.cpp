@@ -34,6 +34,11 @@ class AugmentedBinReader final : public AugmentedEventReader {
                       "unsupported augmented .bin header (version " + std::to_string(version) +
                           ", header " + std::to_string(header_bytes_) + " B, record " +
                           std::to_string(record_bytes_) + " B)");
+    // A later version's longer header, cut or corrupt: no record to read was 0 events and exit 0.
+    if (file_.size_bytes() < header_bytes_)
+      throw ReadError(path, static_cast<std::int64_t>(file_.size_bytes()), -1,
+                      "truncated: the header needs " + std::to_string(header_bytes_) + " bytes, the file has " +
+                          std::to_string(file_.size_bytes()));
     const auto width = get<std::uint32_t>(header, 16);
     const auto height = get<std::uint32_t>(header, 20);
     if (width > 65536 || height > 65536)
