@@ -715,6 +715,32 @@ TEST_F(CliTest, ABinThatIsNotEvlifesIsNamedSoByEveryCommand) {
       << again.output;
 }
 
+// A review helper's finding: evlife's augmented CSV with one header byte
+// changed ("lifetimf") read as a plain CSV (other columns ignored): convert
+// wrote its events without lifetimes and eval estimated them again, exit 0.
+TEST_F(CliTest, AnAugmentedCsvWithADamagedHeaderIsNamedNotReadAsPlainEvents) {
+  const std::string good = path("good.csv").string();
+  ASSERT_EQ(run("process '" + kRpgText + "' -o '" + good + "' -q").exit_code, 0);
+  std::string text = evlife::test::read_text_file(good);
+  const std::string header = "x,y,t,p,lifetime,vx,vy,prediction_error";
+  ASSERT_EQ(text.rfind(header, 0), 0U);
+  text.replace(0, header.size(), "x,y,t,p,lifetimf,vx,vy,prediction_error");
+  const std::string bad = path("bad.csv").string();
+  std::ofstream(bad, std::ios::binary) << text;
+  for (const std::string& command : {"info '" + bad + "'", "convert '" + bad + "' '" + path("b.h5").string() + "'",
+                                    "eval '" + bad + "' -o '" + path("b_eval").string() + "'"}) {
+    const RunResult r = run(command);
+    EXPECT_EQ(r.exit_code, 3) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(bad + ": evlife's augmented CSV with a damaged header: 'x,y,t,p,lifetimf,"),
+              std::string::npos)
+        << command << "\n" << r.output;
+  }
+  // A CSV of another tool's with more columns than x, y, t, p is still plain events.
+  const std::string other = path("other.csv").string();
+  std::ofstream(other) << "x,y,t,p,vx,vy\n1,2,10,1,0.5,0.5\n3,4,20,0,0.5,0.5\n";
+  EXPECT_EQ(run("convert '" + other + "' '" + path("o.h5").string() + "' -q").exit_code, 0);
+}
+
 // An output naming the input (itself, or through a link) would truncate it
 // before the reader reaches its end: every command that reads a file and
 // writes events refuses it (exit 2) and leaves the input as it was.

@@ -13,16 +13,41 @@
 namespace evlife::io::detail {
 namespace {
 
+// evlife's header with one of its last four names changed (a byte flipped:
+// "lifetimf"): eight fields, x,y,t,p first, three of the other four in place.
+bool damaged_header(std::string_view line) {
+  std::string_view expected = kAugmentedCsvHeader;
+  int fields = 0, matching_tail = 0;
+  while (true) {
+    const std::size_t got_end = line.find(','), want_end = expected.find(',');
+    const std::string_view got = line.substr(0, got_end), want = expected.substr(0, want_end);
+    if (fields < 4 && got != want) return false;
+    if (fields >= 4 && got == want) ++matching_tail;
+    ++fields;
+    if (got_end == std::string_view::npos || want_end == std::string_view::npos) {
+      return got_end == want_end && fields == 8 && matching_tail >= 3;
+    }
+    line.remove_prefix(got_end + 1);
+    expected.remove_prefix(want_end + 1);
+  }
+}
+
 class AugmentedCsvReader final : public AugmentedEventReader {
  public:
   explicit AugmentedCsvReader(const std::string& path) : lines_(path) {
     std::string_view line;
     const bool has_line = next_line(line);
     if (pending_) throw *pending_;
-    if (!has_line || strip_cr(line) != kAugmentedCsvHeader)
+    if (!has_line || strip_cr(line) != kAugmentedCsvHeader) {
+      if (has_line && damaged_header(strip_cr(line)))  // never read as plain events, its lifetimes dropped
+        throw AugmentedColumnsError(path, 0, -1,
+                                    "evlife's augmented CSV with a damaged header: '" +
+                                        std::string(strip_cr(line).substr(0, 100)) + "', not '" +
+                                        std::string(kAugmentedCsvHeader) + "'");
       throw ReadError(path, 0, -1,
                       "not an augmented CSV: the first line must be '" +
                           std::string(kAugmentedCsvHeader) + "'");
+    }
   }
 
   std::size_t read(std::span<AugmentedEvent> out) override {
