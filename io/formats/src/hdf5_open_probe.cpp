@@ -19,6 +19,11 @@ namespace evlife::io {
 namespace {
 
 constexpr auto kTimeout = std::chrono::seconds(10);
+// The probe's exit status when libhdf5 refuses to open the file: the parent
+// then never calls H5Fopen on it itself (a failed open left libhdf5's state
+// half built: "HDF5: infinite loop closing library" and a line of its free
+// lists at the process's exit, after the error).
+constexpr int kCannotOpenExit = 3;
 
 // In the child: the reader's opening calls, on every dataset it may open.
 void probe(void* context) {
@@ -43,7 +48,7 @@ void probe(void* context) {
     }
     H5Fclose(file);
   }
-  _exit(0);
+  _exit(file >= 0 ? 0 : kCannotOpenExit);
 }
 
 bool probe_in_child(const std::string& path);
@@ -129,6 +134,8 @@ bool probe_in_child(const std::string& path) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kCannotOpenExit)
+    throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
   // A probe killed from outside (the OOM killer: a corrupt file can make
   // libhdf5 ask for any size) says nothing of the file: refused all the
   // same, never opened unprobed.
