@@ -735,10 +735,15 @@ TEST_F(CliTest, AnAugmentedCsvWithADamagedHeaderIsNamedNotReadAsPlainEvents) {
               std::string::npos)
         << command << "\n" << r.output;
   }
-  // A CSV of another tool's with more columns than x, y, t, p is still plain events.
-  const std::string other = path("other.csv").string();
-  std::ofstream(other) << "x,y,t,p,vx,vy\n1,2,10,1,0.5,0.5\n3,4,20,0,0.5,0.5\n";
-  EXPECT_EQ(run("convert '" + other + "' '" + path("o.h5").string() + "' -q").exit_code, 0);
+  // CSVs of other tools with more columns than x, y, t, p are still plain events, evlife's names among
+  // them too (a review helper's finding on a first version, which refused the second).
+  for (const auto& [names, rows] : {std::pair{"x,y,t,p,vx,vy", "1,2,10,1,0.5,0.5\n3,4,20,0,0.5,0.5\n"},
+                                    std::pair{"x,y,t,p,lifetime,vx,vy,confidence",
+                                              "1,2,10,1,0.5,0.5,0.5,0.5\n3,4,20,0,0.5,0.5,0.5,0.5\n"}}) {
+    const std::string other = path("other.csv").string();
+    std::ofstream(other) << names << "\n" << rows;
+    EXPECT_EQ(run("convert '" + other + "' '" + path("o.h5").string() + "' -q").exit_code, 0) << names;
+  }
 }
 
 // An output naming the input (itself, or through a link) would truncate it

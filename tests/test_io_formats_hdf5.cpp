@@ -6,6 +6,8 @@
 #include <lzf.h>
 #include <poll.h>
 #include <signal.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -39,6 +41,7 @@
 #include "hdf5_dataset.h"
 #include "hdf5_open_probe.h"
 #include "hdf5_reader.h"
+#include "read_all.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -1708,6 +1711,25 @@ TEST(IoFormatsConvertCli, AFileTheLibraryCannotOpenLeavesNoLibraryNoiseAtExit) {
   EXPECT_NE(r.output.find(path + ": HDF5 library cannot open the file (corrupt?)"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("HDF5:"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("FL,FL"), std::string::npos) << r.output;
+}
+
+// A review helper's finding on the change above: a file whose open failed for
+// HDF5's file lock (another process writing it) was kept refused, as corrupt,
+// for a minute after the lock was gone. The lock is said, and not kept.
+TEST(IoFormatsHdf5, AFileLockedByItsWriterIsSaidSoAndReadOnceFree) {
+  const ScratchDir dir("test_io_formats_hdf5");
+  const std::string path = dir.file("locked.h5");
+  write_augmented(path, make_events(2'000, {64, 48}), SensorSize{64, 48});
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);  // as a writer's H5Fcreate holds it
+  const std::string message = evlife::test::open_error(path);
+  EXPECT_NE(message.find("another process holds its lock (writing it?); HDF5_USE_FILE_LOCKING=FALSE reads it anyway"),
+            std::string::npos)
+      << message;
+  ASSERT_EQ(::flock(fd, LOCK_UN), 0);
+  ::close(fd);
+  EXPECT_EQ(evlife::test::open_error(path), "opened without error");
 }
 
 TEST(IoFormatsConvertCli, RecordingToHdf5HoldsTheDecodedEvents) {

@@ -544,6 +544,14 @@ TEST(Plot, APointWithoutAValueIsAGapNotABridge) {
   const int gapped = drawn_px(s);
   EXPECT_LT(gapped, whole - 100) << "the line from x = 1 to 3 is drawn: " << gapped << " of " << whole << " px";
   EXPECT_GT(gapped, 100);  // the runs on either side are
+  s.y = {std::numeric_limits<double>::quiet_NaN(), 0.5, std::numeric_limits<double>::quiet_NaN(), 0.25,
+         std::numeric_limits<double>::quiet_NaN()};
+  const int legend_only = [&] {
+    evlife::render::PlotSeries none = s;
+    none.y.assign(5, std::numeric_limits<double>::quiet_NaN());
+    return drawn_px(none);
+  }();
+  EXPECT_GT(drawn_px(s), legend_only) << "values between gaps are drawn (as dots)";
 }
 
 TEST(Parsing, DurationsAndModes) {

@@ -14,7 +14,6 @@ import functools
 import os
 import stat
 import tempfile
-import warnings
 import weakref
 
 from . import _evlife
@@ -156,15 +155,13 @@ def reading_streams(function, argument, output=None):
             args, kwargs = where.replaced(args, kwargs, source)
             if source is stream:
                 return function(*args, **kwargs)
-            # The copy's warnings, said of the stream after the call (catch_warnings
-            # is process-wide: only here, where a pipe is read, not on every call).
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                result = function(*args, **kwargs)
-            name = os.fsdecode(os.fspath(stream))
-            for w in caught:
-                warnings.warn(str(w.message).replace(source, name), w.category, stacklevel=2)
-            return result
+            # The call's warnings name the pipe, not its copy (per thread, in C++:
+            # warnings.catch_warnings would catch every thread's).
+            _evlife._stream_alias(source, os.fsdecode(os.fspath(stream)))
+            try:
+                return function(*args, **kwargs)
+            finally:
+                _evlife._stream_alias("", "")
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
     return public(wrapper)
 

@@ -106,7 +106,17 @@ void SignalCheck::raise(const std::string& message, py::object partial, std::uin
   throw py::error_already_set();
 }
 
-void warn_at_callers_line(const std::string& text) {
+// The temporary copy of the named pipe this thread's call reads, and the
+// pipe's name (_streams.py sets them around the call): per thread, where
+// warnings.catch_warnings would redirect every thread's warnings.
+thread_local std::string t_stream_copy, t_stream_name;
+
+void warn_at_callers_line(std::string text) {
+  if (!t_stream_copy.empty()) {
+    for (std::size_t at = text.find(t_stream_copy); at != std::string::npos;
+         at = text.find(t_stream_copy, at + t_stream_name.size()))
+      text.replace(at, t_stream_copy.size(), t_stream_name);
+  }
   // Level 1 is the wrapper's own line in _streams.py; 2 the line that called evlife.
   if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 2) != 0) throw py::error_already_set();
 }
@@ -115,6 +125,15 @@ void bind_errors(py::module_& m) {
   g_input_error = PyErr_NewExceptionWithDoc("evlife.InputError", kInputErrorDoc, PyExc_ValueError,
                                             nullptr);
   m.attr("InputError") = py::handle(g_input_error);
+  m.def(
+      "_stream_alias",
+      [](const std::string& copy, const std::string& name) {
+        t_stream_copy = copy;
+        t_stream_name = name;
+      },
+      py::arg("copy"), py::arg("name"),
+      "Internal: this thread's calls name `copy` (a pipe's temporary copy) as `name` in their warnings; "
+      "('', '') to end.");
   g_interrupted = PyErr_NewExceptionWithDoc("evlife.Interrupted", kInterruptedDoc, PyExc_KeyboardInterrupt, nullptr);
   m.attr("Interrupted") = py::handle(g_interrupted);
   py::register_exception_translator([](std::exception_ptr p) {

@@ -54,9 +54,11 @@ class SignalCheck {
 };
 
 /// A RuntimeWarning with `text`, attributed to the user's line: the caller of
-/// the Python wrapper every public reading function has (_streams.py). An
-/// exception where warnings are errors (py::error_already_set). Needs the GIL.
-void warn_at_callers_line(const std::string& text);
+/// the Python wrapper every public reading function has (_streams.py); the
+/// copy of a named pipe this thread reads (_stream_alias) is named as the
+/// pipe. An exception where warnings are errors (py::error_already_set).
+/// Needs the GIL.
+void warn_at_callers_line(std::string text);
 
 void bind_errors(py::module_& m);
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bindings.h"
+#include "errors.h"
 #include "evlife/config/config_key.h"
 
 namespace evlife::python {

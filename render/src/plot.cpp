@@ -123,6 +123,8 @@ cv::Mat draw_plot(const PlotOptions& o, const std::vector<PlotSeries>& series) {
     // A point without a value (NaN: eval's score without a reference) is a gap in the line, not a bridge.
     std::vector<cv::Point> pts;
     const auto draw_run = [&] {
+      if (pts.size() == 1)  // a value between two gaps: a dot, not nothing
+        cv::circle(canvas, pts[0], std::max(1, s.thickness), s.color, cv::FILLED, cv::LINE_AA);
       for (std::size_t i = 1; i < pts.size(); ++i) {
         if (s.dashed)
           dashed_line(canvas, pts[i - 1], pts[i], s.color, s.thickness);

@@ -1,10 +1,13 @@
 // Reads the augmented CSV back: exact header, then
 // `x,y,t,p,lifetime,vx,vy,prediction_error` rows (empty prediction_error = NaN).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "augmented_formats.h"
 #include "evlife/io/augmented_event_reader.h"
@@ -13,19 +16,33 @@
 namespace evlife::io::detail {
 namespace {
 
-// evlife's header with one of its last four names changed (a byte flipped:
-// "lifetimf"): eight fields, x,y,t,p first, three of the other four in place.
+// One byte changed, added or lost (a damaged byte, not another tool's name).
+bool one_edit_apart(std::string_view a, std::string_view b) {
+  if (a.size() < b.size()) std::swap(a, b);
+  if (a.size() - b.size() > 1) return false;
+  std::size_t i = 0;
+  while (i < b.size() && a[i] == b[i]) ++i;
+  const std::size_t skip_b = a.size() == b.size() ? 1 : 0;  // changed, else one byte of `a` is extra
+  return a.substr(i + 1) == b.substr(std::min(b.size(), i + skip_b));
+}
+
+// evlife's header with one of its last four names damaged by a byte
+// ("lifetimf"): eight fields, x,y,t,p first, three of the other four in
+// place and the fourth one edit from its name. (x,y,t,p,lifetime,vx,vy,
+// confidence is another tool's: read as plain events.)
 bool damaged_header(std::string_view line) {
   std::string_view expected = kAugmentedCsvHeader;
   int fields = 0, matching_tail = 0;
+  bool near = true;
   while (true) {
     const std::size_t got_end = line.find(','), want_end = expected.find(',');
     const std::string_view got = line.substr(0, got_end), want = expected.substr(0, want_end);
     if (fields < 4 && got != want) return false;
     if (fields >= 4 && got == want) ++matching_tail;
+    if (fields >= 4 && got != want) near = near && one_edit_apart(got, want);
     ++fields;
     if (got_end == std::string_view::npos || want_end == std::string_view::npos) {
-      return got_end == want_end && fields == 8 && matching_tail >= 3;
+      return got_end == want_end && fields == 8 && matching_tail >= 3 && near;
     }
     line.remove_prefix(got_end + 1);
     expected.remove_prefix(want_end + 1);

@@ -22,8 +22,15 @@ constexpr auto kTimeout = std::chrono::seconds(10);
 // The probe's exit status when libhdf5 refuses to open the file: the parent
 // then never calls H5Fopen on it itself (a failed open left libhdf5's state
 // half built: "HDF5: infinite loop closing library" and a line of its free
-// lists at the process's exit, after the error).
+// lists at the process's exit, after the error). Not kept as the file's
+// verdict: a file locked by its writer opens once the lock is gone.
 constexpr int kCannotOpenExit = 3;
+constexpr int kLockedExit = 4;  // refused for HDF5's file lock: another process writes it
+
+herr_t find_lock_error(unsigned /*n*/, const H5E_error2_t* error, void* found) {
+  if (error->min_num == H5E_CANTLOCKFILE) *static_cast<bool*>(found) = true;
+  return 0;
+}
 
 // In the child: the reader's opening calls, on every dataset it may open.
 void probe(void* context) {
@@ -47,11 +54,20 @@ void probe(void* context) {
       H5Dclose(dataset);
     }
     H5Fclose(file);
+    _exit(0);
   }
-  _exit(file >= 0 ? 0 : kCannotOpenExit);
+  bool locked = false;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, &find_lock_error, &locked);
+  _exit(locked ? kLockedExit : kCannotOpenExit);
 }
 
 bool probe_in_child(const std::string& path);
+
+// A refusal that says nothing lasting of the file (its open failed now: a
+// lock): not kept as its verdict.
+struct UnkeptOpenFault : ReadError {
+  using ReadError::ReadError;
+};
 
 }  // namespace
 
@@ -96,6 +112,8 @@ void probe_hdf5_open_in_child(const std::string& path) {
   bool probed = false;
   try {
     probed = probe_in_child(path);
+  } catch (const UnkeptOpenFault& e) {
+    throw ReadError(e);  // asked again next time
   } catch (const ReadError& e) {
     fault = e;
     probed = true;
@@ -134,8 +152,12 @@ bool probe_in_child(const std::string& path) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kLockedExit)
+    throw UnkeptOpenFault(path, -1, -1,
+                          "HDF5 library cannot open the file: another process holds its lock (writing it?); "
+                          "HDF5_USE_FILE_LOCKING=FALSE reads it anyway");
   if (WIFEXITED(status) && WEXITSTATUS(status) == kCannotOpenExit)
-    throw ReadError(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
+    throw UnkeptOpenFault(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
   // A probe killed from outside (the OOM killer: a corrupt file can make
   // libhdf5 ask for any size) says nothing of the file: refused all the
   // same, never opened unprobed.
