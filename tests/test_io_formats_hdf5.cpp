@@ -1708,7 +1708,10 @@ TEST(IoFormatsConvertCli, AFileTheLibraryCannotOpenLeavesNoLibraryNoiseAtExit) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   const auto r = evlife::test::run_cli(EVLIFE_CLI_PATH, "info " + path, fs::temp_directory_path() / "evlife_test_hdf5_cli.log");
   EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_NE(r.output.find(path + ": HDF5 library cannot open the file (corrupt?)"), std::string::npos) << r.output;
+  // (Under ASan the library's request of 1.3e18 bytes aborts the probe's child: "crashes opening".)
+  EXPECT_TRUE(r.output.find(path + ": HDF5 library cannot open the file (corrupt?)") != std::string::npos ||
+              r.output.find(path + ": the HDF5 library crashes opening this file") != std::string::npos)
+      << r.output;
   EXPECT_EQ(r.output.find("HDF5:"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("FL,FL"), std::string::npos) << r.output;
 }
