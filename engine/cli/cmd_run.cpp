@@ -548,6 +548,16 @@ int run_exit_status(const engine::RunResult& result, const engine::RenderStage* 
   const auto dropped = static_cast<unsigned long long>(result.stats.events_dropped);
   const std::string and_dropped =
       dropped == 0 ? std::string() : fmt::format(" ({} more dropped: --policy drop, the workers fell behind)", dropped);
+  // Frames the render thread could not draw whole (policy drop), however the run ended.
+  if (render_stage && quiet) {
+    if (const std::uint64_t missed = render_stage->frames_missed(); missed > 0)
+      std::fprintf(stderr, "evlife run: warning: %llu frames due not drawn (their events were skipped: the render "
+                   "thread fell behind; --policy block waits instead)\n", static_cast<unsigned long long>(missed));
+    if (const std::uint64_t incomplete = render_stage->frames_incomplete(); incomplete > 0)
+      std::fprintf(stderr, "evlife run: warning: %llu frames drawn blank or partial (their instants' events were "
+                   "skipped: the render thread fell behind; --policy block waits instead)\n",
+                   static_cast<unsigned long long>(incomplete));
+  }
   switch (result.status) {
     case engine::RunStatus::completed:
       if (dropped > 0 && quiet) {
@@ -557,10 +567,6 @@ int run_exit_status(const engine::RunResult& result, const engine::RenderStage* 
       if (result.stats.source_lost > 0 && quiet) {
         std::fprintf(stderr, "evlife run: warning: %llu events lost before the engine (the device's buffer overflowed)\n",
                      static_cast<unsigned long long>(result.stats.source_lost));
-      }
-      if (const std::uint64_t missed = render_stage ? render_stage->frames_missed() : 0; missed > 0 && quiet) {
-        std::fprintf(stderr, "evlife run: warning: %llu frames due not drawn (their events were skipped: the render "
-                     "thread fell behind; --policy block waits instead)\n", static_cast<unsigned long long>(missed));
       }
       break;
     case engine::RunStatus::interrupted:
