@@ -516,7 +516,7 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
                            "frames after such a stretch may lack its long-lived events)",
                    static_cast<unsigned long long>(incomplete));
     if (const std::uint64_t missed = render_stage->frames_missed(); missed > 0)
-      std::fprintf(stdout, " (%llu due not drawn: their events were skipped, the render thread behind)",
+      std::fprintf(stdout, " (%llu due not drawn: their events were dropped, the workers or the render thread behind)",
                    static_cast<unsigned long long>(missed));
     std::fprintf(stdout, "\n");
   }
@@ -551,8 +551,9 @@ int run_exit_status(const engine::RunResult& result, const engine::RenderStage* 
   // Frames the render thread could not draw whole (policy drop), however the run ended.
   if (render_stage && quiet) {
     if (const std::uint64_t missed = render_stage->frames_missed(); missed > 0)
-      std::fprintf(stderr, "evlife run: warning: %llu frames due not drawn (their events were skipped: the render "
-                   "thread fell behind; --policy block waits instead)\n", static_cast<unsigned long long>(missed));
+      std::fprintf(stderr, "evlife run: warning: %llu frames due not drawn (their events were dropped: the workers or "
+                   "the render thread fell behind; --policy block waits instead)\n",
+                   static_cast<unsigned long long>(missed));
     if (const std::uint64_t incomplete = render_stage->frames_incomplete(); incomplete > 0)
       std::fprintf(stderr, "evlife run: warning: %llu frames drawn blank or partial (their instants' events were "
                    "skipped: the render thread fell behind; --policy block waits instead)\n",

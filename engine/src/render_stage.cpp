@@ -2,6 +2,7 @@
 #if __has_include("evlife/render/frame_composer.h")
 #include "evlife/engine/render_stage.h"
 
+#include <algorithm>
 #include <exception>
 #include <optional>
 #include <stdexcept>
@@ -149,9 +150,12 @@ StepResult RenderStage::step() noexcept {
       // asked-for instants after the end.
       const bool at_draws_it = next_at_ < at_us_.size() && at_us_[next_at_] == next_frame_t_us_;
       if (fps_ > 0 && last_t_us_ != INT64_MIN) {
-        // The clock frames through the run's last event; those past this
-        // thread's last event were skipped with its events (counted).
-        const std::int64_t run_last = std::max(last_t_us_, tap_.last_offered_t_us.load(std::memory_order_relaxed));
+        // The clock frames through the run's last event (a dropped one too:
+        // the workers behind); those past this thread's last event were
+        // skipped with its events (counted).
+        const std::int64_t run_last =
+            std::max({last_t_us_, tap_.last_offered_t_us.load(std::memory_order_relaxed),
+                      tap_.last_dropped_t_us.load(std::memory_order_relaxed)});
         const std::uint64_t owed =
             render::frames_before(first_t_us_, next_frame_, run_last == INT64_MAX ? INT64_MAX : run_last + 1, fps_);
         const bool draws_last = next_frame_t_us_ <= last_t_us_ && !at_draws_it;

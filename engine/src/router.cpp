@@ -109,9 +109,16 @@ void Router::stage_with_margins(std::size_t n) noexcept {
   }
 }
 
+// The render thread counts the frames due up to a dropped event (RenderTap::last_dropped_t_us).
+void Router::note_drop_for_render() noexcept {
+  if (RenderTap* tap = state_.render_tap.get(); tap != nullptr && chunk_count_ > 0)
+    tap->last_dropped_t_us.store(chunk_[chunk_count_ - 1].t_us, std::memory_order_relaxed);
+}
+
 void Router::drop_for_worker(int w) noexcept {
   const std::size_t owned = stage_owned_count_[static_cast<std::size_t>(w)];
   if (owned != 0) {
+    note_drop_for_render();
     for (std::size_t i = 0; i < chunk_count_; ++i)
       if (chunk_owner_[i] == w) chunk_owner_[i] = OrderBatch::kDropped;
     state_.router_counters.dropped.add(owned);
@@ -142,6 +149,7 @@ bool Router::dispatch_pending() noexcept {
       !take_or_wait(state_.order_free, order_, drop ? 0 : PipelineState::kOrderPoolBit)) {
     order_ = nullptr;
     if (drop) {  // nothing dispatched yet: the whole chunk goes
+      note_drop_for_render();
       counters.dropped.add(chunk_count_);
       counters.dropped_no_order.add(chunk_count_);
       have_chunk_ = false;

@@ -66,9 +66,10 @@ class RenderStage final : public AuxStage {
   std::uint64_t frames_not_drawn() const noexcept { return not_drawn_.load(std::memory_order_relaxed); }
   /// Clock frames of the stretches without events that were skipped (see take_notice()).
   std::uint64_t frames_in_skipped_gaps() const noexcept { return gap_frames_.load(std::memory_order_relaxed); }
-  /// Clock frames due before the run's last event that were never drawn:
-  /// the events after the last one this thread received were skipped
-  /// (policy drop, the render thread behind). Known once finished.
+  /// Clock frames due before the run's last event (a dropped one too) that
+  /// were never drawn: the events after the last one this thread
+  /// received were dropped (policy drop: the workers or the render thread
+  /// behind). Known once finished.
   std::uint64_t frames_missed() const noexcept { return missed_.load(std::memory_order_relaxed); }
   /// Frames drawn at an instant whose events were skipped (policy drop, the
   /// render thread behind): blank or partial, counted among frames_written().

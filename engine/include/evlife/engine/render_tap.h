@@ -70,6 +70,11 @@ class RenderTap {
   /// The last offered event's time, dropped or not (merger writes; read after
   /// closed()): the clock frames owed up to it are counted when not drawn.
   std::atomic<std::int64_t> last_offered_t_us{INT64_MIN};
+  /// The last time of a chunk the router dropped (some or all of it: policy
+  /// drop, the workers behind; router writes; read after closed(), the
+  /// router's end having reached the merger): when the recording's last
+  /// events are dropped, the frames due up to them are counted when not drawn.
+  std::atomic<std::int64_t> last_dropped_t_us{INT64_MIN};
 
  private:
   std::vector<std::unique_ptr<RenderBatch>> pool_;

@@ -32,6 +32,7 @@ class Router {
   template <class Pool, class Item>
   bool take_or_wait(Pool& pool, Item*& item, std::uint64_t wait_bit) noexcept;
   void stage_chunk(std::size_t n) noexcept;  // split chunk_ into per-worker staging
+  void note_drop_for_render() noexcept;
   void stage_owner_only(std::size_t n) noexcept;    // layout.owner_only()
   void stage_with_margins(std::size_t n) noexcept;  // the general case
   bool dispatch_pending() noexcept;           // true when the chunk is fully handed on
