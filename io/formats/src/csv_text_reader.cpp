@@ -115,7 +115,7 @@ struct Detection {
 Detection detect(const char* p, const char* end) {
   Detection d;
   std::vector<std::array<DecimalNumber, 4>> rows;
-  std::vector<std::array<std::string, 4>> row_fields;  // as written, for the messages
+  std::vector<std::array<Field, 4>> row_fields;  // as written (views of the head), for the messages
   std::vector<std::size_t> row_lines;                  // 1-based line numbers
   std::size_t line_number = 0;
   bool first = true;
@@ -176,8 +176,7 @@ Detection detect(const char* p, const char* end) {
       return d;
     }
     rows.push_back(row);
-    row_fields.emplace_back();
-    for (std::size_t i = 0; i < 4; ++i) row_fields.back()[i].assign(f[i].begin, f[i].end);
+    row_fields.push_back({f[0], f[1], f[2], f[3]});
     row_lines.push_back(line_number);
   }
   if (rows.empty()) {
@@ -207,7 +206,10 @@ Detection detect(const char* p, const char* end) {
   if (choice.fitting == 0) {
     const auto line = [&](std::size_t row) { return "line " + std::to_string(row_lines[row]); };
     const auto field = [](int c) { return "field " + std::to_string(c + 1); };
-    const auto value = [&](std::size_t row, int column) { return row_fields[row][static_cast<std::size_t>(column)]; };
+    const auto value = [&](std::size_t row, int column) {
+      const Field& written = row_fields[row][static_cast<std::size_t>(column)];
+      return std::string(written.begin, written.end);
+    };
     d.why = "no accepted layout fits the first lines (" + no_layout_reasons(traits, line, field, value) + ")";
     return d;
   }

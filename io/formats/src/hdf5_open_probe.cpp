@@ -157,7 +157,7 @@ bool probe_in_child(const std::string& path) {
                           "HDF5 library cannot open the file: another process holds its lock (writing it?); "
                           "HDF5_USE_FILE_LOCKING=FALSE reads it anyway");
   if (WIFEXITED(status) && WEXITSTATUS(status) == kCannotOpenExit)
-    throw UnkeptOpenFault(path, -1, -1, "HDF5 library cannot open the file (corrupt?)");
+    throw UnkeptOpenFault(path, -1, -1, kHdf5CannotOpen);
   // A probe killed from outside (the OOM killer: a corrupt file can make
   // libhdf5 ask for any size) says nothing of the file: refused all the
   // same, never opened unprobed.

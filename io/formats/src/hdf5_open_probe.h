@@ -13,11 +13,18 @@ namespace evlife::io {
 /// Opens `path`, its sensor attributes and the event datasets of every known
 /// layout with their units attributes in a child process. Throws ReadError if
 /// the child dies of a signal, exits non-zero (a sanitizer's report) or hangs
-/// on the file (> 10 s); returns normally otherwise (errors the library
-/// reports are left to the reader, which names them). The verdict on a file
-/// is kept for a minute while it is the same file, unchanged (device, inode,
-/// size, modification and change times): a command opening it again
-/// (format, sensor, events) waits out a hang once.
+/// on the file (> 10 s), or libhdf5 will not open it (kHdf5CannotOpen, or
+/// another process's file lock: then this process never calls H5Fopen on it);
+/// returns normally otherwise (errors the library reports past the open are
+/// left to the reader, which names them). The verdict on a file is kept for
+/// a minute while it is the same file, unchanged (device, inode, size,
+/// modification and change times): a command opening it again (format,
+/// sensor, events) waits out a hang once. A refused open is not kept: a lock
+/// goes away.
 void probe_hdf5_open_in_child(const std::string& path);
+
+/// The refusal of a file libhdf5 will not open (the probe's child's verdict,
+/// or the reader's own H5Fopen where no child could be forked).
+inline constexpr const char* kHdf5CannotOpen = "HDF5 library cannot open the file (corrupt?)";
 
 }  // namespace evlife::io
