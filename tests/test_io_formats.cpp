@@ -1106,3 +1106,16 @@ TEST(IoFormatsDecimal, ExponentsReadExactlyAsTheirPlainSpelling) {
   for (const char* bad : {"", "e5", "1e", "1e+", "1.5e400", "1e40x", "--1", ".", "1.2.3", "1e-41", "nan"})
     EXPECT_FALSE(parse_seconds(bad).ok) << bad;
 }
+
+// Every time an event can hold (|t| <= 2^62 us, event.h) reads from text, as
+// `convert` writes it in seconds: the conversion went through 64-bit ns and
+// refused all past 2^62 ns (~146 years of us, "too large for the time unit").
+TEST(IoFormatsDecimal, TimesUpToTheEventRangeReadInSeconds) {
+  EXPECT_EQ(parse_seconds("1000000000000.000000").t_us, std::int64_t{1'000'000'000'000'000'000});
+  EXPECT_EQ(parse_seconds("4611686018427.387904").t_us, std::int64_t{1} << 62);
+  EXPECT_EQ(parse_seconds("-4611686018427.387904").t_us, -(std::int64_t{1} << 62));
+  EXPECT_EQ(parse_seconds("4611686018427.3879045").t_us, (std::int64_t{1} << 62) + 1);  // rounded, as below
+  // Beyond int64 µs: refused, never wrapped.
+  EXPECT_FALSE(parse_seconds("9300000000000").ok);
+  EXPECT_FALSE(parse_seconds("18446744073709551615").ok);
+}

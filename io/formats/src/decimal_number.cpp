@@ -102,17 +102,25 @@ bool parse_decimal(const char* p, const char* end, DecimalNumber& n) noexcept {
   return any && p == end;
 }
 
+namespace {
+__extension__ using Wide = __int128;  // GCC and Clang on 64-bit targets (x86-64, aarch64)
+}  // namespace
+
 bool to_us(const DecimalNumber& n, std::int64_t unit_ns, std::int64_t& t_us) noexcept {
-  // value_ns = int_part * unit_ns + frac * unit_ns / 10^digits (digits <= 9).
+  // value_ns = int_part * unit_ns + frac * unit_ns / 10^digits (digits <= 9),
+  // in 128 bits: 19 digits of seconds are < 2^64 * 10^9 ns, far inside, so
+  // every time the events can hold (|t| <= 2^62 us, event.h) reads, in any
+  // unit (in 64-bit ns the limit was 146 years of us: what `convert` wrote
+  // of a later time did not read back).
   const int digits = std::min(n.frac_digits, 9);
-  if (n.int_part > static_cast<std::uint64_t>(INT64_MAX / 2 / unit_ns)) return false;
-  std::int64_t ns = static_cast<std::int64_t>(n.int_part) * unit_ns;
+  const auto unit = static_cast<Wide>(unit_ns);
+  Wide ns = static_cast<Wide>(n.int_part) * unit;
   std::int64_t pow10 = 1;
   for (int i = 0; i < digits; ++i) pow10 *= 10;
-  // frac < 10^9 and unit_ns <= 10^9: the product fits in int64.
-  ns += (static_cast<std::int64_t>(n.frac) * unit_ns + (n.round_up ? unit_ns / 2 : 0)) / pow10;
-  const std::int64_t us = (ns + 500) / 1000;
-  t_us = n.negative ? -us : us;
+  ns += (static_cast<Wide>(n.frac) * unit + (n.round_up ? unit / 2 : 0)) / pow10;
+  const Wide us = (ns + 500) / 1000;
+  if (us > static_cast<Wide>(INT64_MAX)) return false;
+  t_us = n.negative ? -static_cast<std::int64_t>(us) : static_cast<std::int64_t>(us);
   return true;
 }
 
