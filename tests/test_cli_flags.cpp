@@ -389,12 +389,22 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   EXPECT_EQ(run("run file: -q").exit_code, 2);
   EXPECT_EQ(run("synth -q --pixel dvs --jitter-us 500 --duration 10ms -o " + path("j.txt")).exit_code, 2);
   EXPECT_EQ(run("render " + sample() + " -q -o " + path("pngs") + " --fps 10 --video-fps 5").exit_code, 2);
-  const RunResult topic = run("info " + sample() + " --topic /dvs/events");
-  EXPECT_EQ(topic.exit_code, 3) << topic.output;
-  EXPECT_TRUE(has(topic, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; this rpg-text file")) << topic.output;
-  const RunResult unit = run("info " + sample() + " --time-unit ns");
-  EXPECT_EQ(unit.exit_code, 3) << unit.output;
-  EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files")) << unit.output;
+  // A format with one stream and its own time unit: a usage error of every
+  // command (it was exit 3, an input error, though the file was sound).
+  for (const std::string& command :
+       {"info " + sample(), "process -q " + sample() + " -o " + path("t.bin"),
+        "run -q " + sample() + " -o " + path("t.bin"), "convert " + sample() + " " + path("t.csv"),
+        "render -q " + sample() + " -o " + path("t.png") + " --at 0.1", "eval -q " + sample() + " -o " + path("tev")}) {
+    const RunResult topic = run(command + " --topic /dvs/events");
+    EXPECT_EQ(topic.exit_code, 2) << command << ": " << topic.output;
+    EXPECT_TRUE(has(topic, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; "
+                           "this rpg-text file"))
+        << command << ": " << topic.output;
+    const RunResult unit = run(command + " --time-unit ns");
+    EXPECT_EQ(unit.exit_code, 2) << command << ": " << unit.output;
+    EXPECT_TRUE(has(unit, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files")) << unit.output;
+    EXPECT_TRUE(has(unit, "(see evlife " + command.substr(0, command.find(' ')) + " --help)")) << unit.output;
+  }
   // A replay's pacing and sensor on the camera (refused before it is opened: no camera needed here).
   for (const char* given : {"--realtime=0.5", "--packet-us 500", "--sensor 64x64"}) {
     const std::string flag = given;

@@ -201,12 +201,20 @@ void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize
                static_cast<int>(input.size()), input.data(), used.width, used.height);
 }
 
+int usage_exit(std::string_view command, std::string_view message) {
+  const int c = static_cast<int>(command.size());
+  std::fprintf(stderr, "evlife %.*s: %.*s\n(see evlife %.*s --help)\n", c, command.data(),
+               static_cast<int>(message.size()), message.data(), c, command.data());
+  return kExitUsage;
+}
+
 int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e) {
   if (io::stop_requested()) {
     std::fprintf(stderr, "evlife %.*s: interrupted while opening %s: nothing processed\n",
                  static_cast<int>(command.size()), command.data(), input.c_str());
     return kExitInterrupted;
   }
+  if (dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr) return usage_exit(command, e.what());
   std::fprintf(stderr, "evlife %.*s: input error: %s\n", static_cast<int>(command.size()), command.data(), e.what());
   return kExitInput;
 }

@@ -123,9 +123,13 @@ void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::st
 void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize> flag, const config::LoadedConfig& c,
                               std::string_view input, SensorSize used);
 
+/// A usage error: "evlife COMMAND: MESSAGE", where to read more, exit 2.
+int usage_exit(std::string_view command, std::string_view message);
+
 /// An input error met while COMMAND opened INPUT: "interrupted while opening
 /// INPUT: nothing processed" and exit 130 where a stop signal came (io/stop.h:
-/// a bag's decompression ends so), else "input error: WHAT" and exit 3.
+/// a bag's decompression ends so); an option the input's format does not take
+/// (io::OptionNotTaken) is a usage error, exit 2; else "input error: WHAT", exit 3.
 int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e);
 
 /// "no event of INPUT", and where --from/--to selected the events, how to

@@ -216,7 +216,8 @@ int run_info(int argc, char** argv) {
   try {
     if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented, stop);
   } catch (const io::ReadError& e) {
-    if (stop.requested()) return open_fault_exit("info", shown, e);
+    if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
+      return open_fault_exit("info", shown, e);
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
   }
@@ -224,7 +225,8 @@ int run_info(int argc, char** argv) {
   try {
     reader = io::open_unchecked_event_reader(path, options);
   } catch (const io::ReadError& e) {
-    if (stop.requested()) return open_fault_exit("info", shown, e);
+    if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
+      return open_fault_exit("info", shown, e);
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
   }

@@ -640,6 +640,8 @@ int run_engine(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "evlife run: %s\n", e.what());
     return kExitUsage;
+  } catch (const io::OptionNotTaken& e) {
+    return usage_exit("run", e.what());
   } catch (const std::exception& e) {
     if (!stop.requested()) {  // else a stop ended the opening (a bag's decompression: io/stop.h)
       std::fprintf(stderr, "evlife run: input error: %s\n", e.what());

@@ -32,8 +32,7 @@ std::optional<int> start_command(const char* command, int argc, char** argv, voi
   try {
     parse();
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "evlife %s: %s\n(see evlife %s --help)\n", command, e.what(), command);
-    return kExitUsage;
+    return usage_exit(command, e.what());
   } catch (const config::ConfigError& e) {
     std::fprintf(stderr, "evlife %s: configuration error: %s\n", command, e.what());
     return kExitUsage;

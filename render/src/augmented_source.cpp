@@ -81,6 +81,8 @@ std::unique_ptr<AugmentedSource> open_augmented_source(const std::string& path,
   std::unique_ptr<io::EventReader> raw;
   try {
     raw = io::open_event_reader(path, input);
+  } catch (const io::OptionNotTaken&) {  // the format is known: the option is at fault, not the file
+    throw;
   } catch (const io::ReadError& e) {
     throw io::ReadError(path, e.byte_offset(), e.event_index(),
                         e.reason() + " (and not an augmented file: " + augmented_error.reason() + ")");

@@ -50,11 +50,11 @@ std::unique_ptr<EventReader> open_as(const detail::ReaderFormat& f, const std::s
   const std::string format(f.name);
   const auto takes = [&f](std::string_view option) { return f.options_taken.find(option) != std::string_view::npos; };
   if (!options.topic.empty() && !takes("topic")) {
-    throw ReadError(path, -1, -1, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; "
+    throw OptionNotTaken(path, -1, -1, "--topic chooses a stream of a ROS bag, MCAP or HDF5 file or an array of an .npz; "
                                   "this " + format + " file has one stream");
   }
   if (!options.time_unit.empty() && !takes("time-unit")) {
-    throw ReadError(path, -1, -1, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files; "
+    throw OptionNotTaken(path, -1, -1, "--time-unit gives the time column's unit of CSV/text, NumPy and HDF5 files; "
                                   "this " + format + " file has its own");
   }
   return f.open_with_options != nullptr ? f.open_with_options(path, options) : f.open(path);

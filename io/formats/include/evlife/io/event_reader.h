@@ -40,6 +40,14 @@ class ReadError : public std::runtime_error {
   std::int64_t event_index_;
 };
 
+/// A reader option (`topic`, `time_unit`) that the file's format does not
+/// take: the caller's choice is at fault, not the file (the CLI exits 2, as
+/// for any flag that has nothing to act on; Python raises it as InputError).
+class OptionNotTaken : public ReadError {
+ public:
+  using ReadError::ReadError;
+};
+
 /// A stream of a container file (a ROS bag's topic, an MVSEC file's camera), for `evlife info`.
 struct ContainerStream {
   std::string name;            ///< e.g. "/dvs/events"
