@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl/filesystem.h>
+#include <cxxabi.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -33,15 +34,27 @@ class ReleasedGil {
 #else
     const bool finalizing = _Py_IsFinalizing() != 0;
 #endif
-    if (finalizing) {
-      for (;;) pause();
+    if (finalizing) wait_for_the_process_end();
+    // Finalization can also begin while this thread waits for the GIL (the
+    // main thread holds it until it finalizes): the thread's exit is then a
+    // forced unwind from inside the wait, caught here so that it never
+    // leaves this noexcept destructor (1 run in ~60 aborted with the check
+    // above alone).
+    try {
+      PyEval_RestoreThread(state_);
+    } catch (abi::__forced_unwind&) {
+      wait_for_the_process_end();
     }
-    PyEval_RestoreThread(state_);
   }
   ReleasedGil(const ReleasedGil&) = delete;
   ReleasedGil& operator=(const ReleasedGil&) = delete;
 
  private:
+  // Never returns (nor rethrows a caught forced unwind: the thread ends with the process).
+  [[noreturn]] static void wait_for_the_process_end() {
+    for (;;) pause();
+  }
+
   PyThreadState* state_;
 };
 
