@@ -2,10 +2,12 @@
 // frames at chosen instants, videos, exit codes, and the evaluation's numbers
 // checked against `evlife process` output decoded here.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -362,6 +364,31 @@ TEST_F(RenderCliTest, EvalReportsATextFileTheDiskRefused) {
     EXPECT_EQ(r.exit_code, 4) << name << ": " << r.output;
     EXPECT_NE(r.output.find("cannot write " + dir + "/" + name), std::string::npos) << r.output;
   }
+}
+
+// A PNG whose last bytes the disk refuses (here a file size limit one byte
+// short of the image, RLIMIT_FSIZE, whose write() stops short as a full
+// disk's does): OpenCV's imwrite flushed its last stdio buffer in an
+// unchecked fclose, so the cut image passed with exit 0 (render's frames,
+// run's, eval's figures alike). Now an output error naming the file and why.
+TEST_F(RenderCliTest, AnImageTheDiskCutsAtItsLastBytesIsAnOutputError) {
+  const std::string whole = path("whole.png");
+  ASSERT_EQ(run("render '" + kGarfield + "' -o '" + whole + "' --at 0.1 -q").exit_code, 0);
+  const auto bytes = static_cast<rlim_t>(fs::file_size(whole));
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  if (before.rlim_max != RLIM_INFINITY && before.rlim_max < bytes) GTEST_SKIP() << "a lower hard limit";
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);  // write() fails with EFBIG instead
+  rlimit limited = before;
+  limited.rlim_cur = bytes - 1;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+  const std::string cut = path("cut.png");
+  const auto r = run("render '" + kGarfield + "' -o '" + cut + "' --at 0.1 -q");
+  setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("cannot write " + cut + ": File too large"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(cut)) << "the cut image is removed, not left to read as one";
 }
 
 TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {

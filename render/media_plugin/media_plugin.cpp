@@ -3,6 +3,7 @@
 #include <exception>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -79,9 +80,9 @@ class OpenCvWindow final : public Window {
 
 class OpenCvBackend final : public MediaBackend {
  public:
-  bool write_image(const std::string& path, const cv::Mat& image) override {
+  bool encode_image(const std::string& extension, const cv::Mat& image, std::vector<unsigned char>& bytes) override {
     try {
-      return cv::imwrite(path, image);
+      return cv::imencode(extension, image, bytes);
     } catch (const cv::Exception&) {
       return false;
     }
@@ -102,7 +103,7 @@ class OpenCvBackend final : public MediaBackend {
 }  // namespace
 }  // namespace evlife::render::detail
 
-extern "C" __attribute__((visibility("default"))) evlife::render::detail::MediaBackend* evlife_media_backend_v1() {
+extern "C" __attribute__((visibility("default"))) evlife::render::detail::MediaBackend* evlife_media_backend_v2() {
   static evlife::render::detail::OpenCvBackend backend;
   return &backend;
 }

@@ -1,8 +1,13 @@
 #include "evlife/render/media.h"
 
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <stdexcept>
@@ -68,10 +73,35 @@ detail::MediaBackend& backend() {
   return *loaded;
 }
 
+// The whole file, every write and the close checked (a full disk shows at
+// either); a file cut short is removed, not left to read as an image.
+// "" on success, else why not.
+std::string write_whole_file(const std::string& path, const std::vector<unsigned char>& bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return std::strerror(errno);
+  int err = 0;
+  for (std::size_t done = 0; done < bytes.size() && err == 0;) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n > 0) done += static_cast<std::size_t>(n);
+    else if (n == 0) err = EIO;
+    else if (errno != EINTR) err = errno;
+  }
+  struct stat st {};
+  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err == 0) return {};
+  if (regular) ::unlink(path.c_str());
+  return std::string(std::strerror(err)) + (regular ? " (the cut file removed)" : "");
+}
+
 }  // namespace
 
 void write_image(const std::string& path, const cv::Mat& image) {
-  if (!backend().write_image(path, image)) throw std::runtime_error("cannot write " + path);
+  std::vector<unsigned char> bytes;
+  if (!backend().encode_image(std::filesystem::path(path).extension().string(), image, bytes))
+    throw std::runtime_error("cannot write " + path + ": the image cannot be encoded in its extension's format");
+  if (const std::string why = write_whole_file(path, bytes); !why.empty())
+    throw std::runtime_error("cannot write " + path + ": " + why);
 }
 
 cv::Mat read_image(const std::string& path) { return backend().read_image(path); }
