@@ -342,11 +342,22 @@ TEST_F(CliFlags, LifetimeRangeNamesOneRangeForEveryValueOutsideIt) {
   }
 }
 
-// A whole-number flag given a fraction names its own range, not int64's.
+// A whole-number flag given a fraction names its own range, not int64's;
+// given no number at all ("nan", hex, past a double) too, not the parser's
+// placeholder ("expected a number in [-1e+300, 1e+300]" before).
 TEST_F(CliFlags, AWholeNumberFlagNamesItsRange) {
   const RunResult r = run("run " + sample() + " --workers 2.5");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(has(r, "--workers 2.5: expected a whole number in [1, 32]")) << r.output;
+  for (const auto& [flag, said] : std::vector<std::pair<std::string, std::string>>{
+           {"--workers nan", "--workers nan: expected a whole number in [1, 32]"},
+           {"--batch-events 0x10", "--batch-events 0x10: expected a whole number in [16, 65536]"},
+           {"--margin 1e400", "--margin 1e400: expected a whole number in -1 (auto) or [0, 1024]"}}) {
+    const RunResult bad = run("run " + sample() + " -q " + flag);
+    EXPECT_EQ(bad.exit_code, 2) << flag;
+    EXPECT_TRUE(has(bad, said)) << bad.output;
+    EXPECT_FALSE(has(bad, "1e+300")) << bad.output;
+  }
 }
 
 // Frames of a sensor of a few pixels: the default upscaling stays within

@@ -228,19 +228,19 @@ T parse_number(std::string_view name, std::string_view text, T lo, T hi) {
 template <typename T>
 void parse_table_flag(const OptionInfo& info, std::string_view text, T& field) {
   double v = 0.0;
-  if constexpr (std::is_floating_point_v<T>) {
-    if (info.key.ends_with("_s")) {
-      v = static_cast<double>(parse_time_flag(info.flag, text)) * 1e-6;
-    } else {
-      v = parse_number<double>(info.flag, text, -1e300, 1e300);
-    }
+  bool number = true;
+  if (std::is_floating_point_v<T> && info.key.ends_with("_s")) {
+    v = static_cast<double>(parse_time_flag(info.flag, text)) * 1e-6;
+  } else if (const auto parsed = parse_decimal(text)) {
+    v = *parsed;
   } else {
-    v = parse_number<double>(info.flag, text, -1e300, 1e300);
+    number = false;  // "nan", "0x10", "1e400": said with the flag's own range, not a parser's placeholder
   }
   const bool whole = std::is_floating_point_v<T> || v == std::floor(v);
-  if (!whole || !info.contains(v)) {
+  if (!number || !whole || !info.contains(v)) {
+    const char* kind = std::is_integral_v<T> ? "a whole number in " : "a number in ";
     throw UsageError("--" + std::string(info.flag) + " " + std::string(text) + ": expected " +
-                     (whole ? "" : "a whole number in ") + info.range_text());
+                     (number && whole ? "" : kind) + info.range_text());
   }
   field = static_cast<T>(v);
 }
