@@ -391,6 +391,25 @@ TEST_F(RenderCliTest, AnImageTheDiskCutsAtItsLastBytesIsAnOutputError) {
   EXPECT_FALSE(fs::exists(cut)) << "the cut image is removed, not left to read as one";
 }
 
+// An empty output is a bad command line, as `run -o ''` is; a folder that
+// cannot be made says why (before: exit 4 "cannot create directory :
+// Invalid argument" from render, "cannot create directory " from eval, and
+// eval's reason left out for a path through a file).
+TEST_F(RenderCliTest, AnEmptyOrUnmakeableOutputFolderIsNamedWithWhy) {
+  for (const std::string& args : {"render '" + kGarfield + "' -o '' --at 0.1", "render '" + kGarfield +
+                                  "' --frames '' --at 0.1", "eval '" + kGarfield + "' -o ''"}) {
+    const auto r = run(args + " -q");
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("is empty"), std::string::npos) << r.output;
+  }
+  const std::string file = path("a_file");
+  std::ofstream(file) << "x";
+  const auto r = run("eval '" + kGarfield + "' -o '" + file + "/report' -q");
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("cannot create directory " + file + "/report: Not a directory"), std::string::npos)
+      << r.output;
+}
+
 TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
   // A raw recording cut inside a record (every estimator run stops at the
   // fault) and an augmented .bin cut the same way (the lifetimes of the file).

@@ -134,6 +134,8 @@ EvalArgs parse_eval_args(int argc, char** argv) {
     throw UsageError(refusal);
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR");
+  if (out->empty())  // (it was taken for the folder "": exit 4 "cannot create directory ")
+    throw UsageError("-o is empty: give the folder the report is written into");
   e.output = *out;
   // The report written over its input, refused before any work (the writers check each file again).
   for (const std::string& name : render::eval::report_file_names()) {
@@ -162,8 +164,9 @@ int eval_recording(int argc, char** argv) {
   }
   std::error_code ec;
   fs::create_directories(args.output, ec);
-  if (ec || !fs::is_directory(args.output)) {
-    std::fprintf(stderr, "evlife eval: output error: cannot create directory %s\n", args.output.c_str());
+  if (ec || !fs::is_directory(args.output)) {  // why, as render's and run's frame folders say it
+    std::fprintf(stderr, "evlife eval: output error: cannot create directory %s: %s\n", args.output.c_str(),
+                 ec ? ec.message().c_str() : "not a directory");
     return kExitOutput;
   }
   render::eval::EvaluationOptions options;

@@ -147,6 +147,9 @@ RenderArgs parse_render_args(int argc, char** argv) {
   refuse_estimator_settings_for_augmented("render", r, a.values("set"));
   const auto out = a.value("output");
   if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
+  if (out->empty())  // (it was taken for the folder "": exit 4 "cannot create directory : Invalid argument")
+    throw UsageError("the output (-o, --frames or --video) is empty: give a folder (PNG frames), FILE.png, "
+                     "OUT.mp4 or OUT.avi");
   r.job.output = *out;
   const render::OutputKind kind = render::output_kind(r.job.output);
   if (kind == render::OutputKind::unsupported)
