@@ -360,6 +360,21 @@ TEST_F(CliFlags, AWholeNumberFlagNamesItsRange) {
   }
 }
 
+// More tiles than the sensor has pixels across, by the flag or the key:
+// the refusal names the flag, its value and the sensor (before: exit 2
+// "tiles_x: must be 1..min(sensor width, 4096)", the layout's field name).
+TEST_F(CliFlags, TilesBeyondTheSensorNameTheFlagAndTheSensor) {
+  const std::string src = "run --source synth:edges --sensor 32x24 --duration 10ms -q ";
+  const RunResult flag = run(src + "--tiles 40x2");
+  EXPECT_EQ(flag.exit_code, 2) << flag.output;
+  EXPECT_TRUE(has(flag, "--tiles 40x2: more tiles than pixels across the 32x24 sensor")) << flag.output;
+  EXPECT_TRUE(has(flag, "at most --tiles 32x2")) << flag.output;
+  const RunResult key = run(src + "--set engine.tiles_y=30");
+  EXPECT_EQ(key.exit_code, 2) << key.output;
+  EXPECT_TRUE(has(key, "--tiles 1x30: more tiles than pixels across the 32x24 sensor")) << key.output;
+  EXPECT_FALSE(has(key, "tiles_y: must be")) << key.output;
+}
+
 // Frames of a sensor of a few pixels: the default upscaling stays within
 // its limit (it asked for 42 at 12 x 12: "unexpected error").
 TEST_F(CliFlags, ATinySensorRendersAndEvaluates) {

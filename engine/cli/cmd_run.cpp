@@ -664,7 +664,17 @@ int run_engine(int argc, char** argv) {
     std::fprintf(stderr, "evlife run: real-time setting refused, nothing processed: %s\n", refused.c_str());
     return kExitRealtime;
   }
-  // The tiling fits the sensor (known only now) before -o is opened.
+  // The tiling fits the sensor (known only now) before -o is opened, said
+  // with the flag, its value and the sensor (the layout's own refusal,
+  // "tiles_x: must be 1..min(sensor width, 4096)", named none of them).
+  if (const SensorSize s = source->sensor_size(); args.engine.tiles_x > s.width || args.engine.tiles_y > s.height) {
+    std::fprintf(stderr,
+                 "evlife run: --tiles %dx%d: more tiles than pixels across the %dx%d sensor of %s (a tile is at least "
+                 "one pixel): at most --tiles %dx%d\n",
+                 args.engine.tiles_x, args.engine.tiles_y, s.width, s.height, source->describe().c_str(),
+                 std::min(args.engine.tiles_x, s.width), std::min(args.engine.tiles_y, s.height));
+    return kExitUsage;
+  }
   try {
     const engine::TileLayout layout(source->sensor_size(), args.engine.workers, args.engine.tiles_x,
                                     args.engine.tiles_y, engine::effective_margin_px(args.engine));
