@@ -504,6 +504,26 @@ TEST_F(Writers, CsvBadRowOrHeaderIsReportedWithLine) {
 }
 
 
+// The header alone without its '\n' (a hand-made empty file): an empty
+// augmented CSV, as with the '\n' (refused as a truncated line, so commands
+// said "not a readable CSV/text event file"). A cut row is still refused.
+TEST_F(Writers, AnAugmentedCsvHeaderWithoutItsNewlineIsAnEmptyFile) {
+  const std::string header = "x,y,t,p,lifetime,vx,vy,prediction_error";
+  for (const std::string& text : {header, header + "\r"}) {
+    const std::string p = path("bare.csv");
+    std::ofstream(p, std::ios::binary) << text;
+    const Readback r = read_back(p);
+    EXPECT_FALSE(r.error) << r.error->what();
+    EXPECT_TRUE(r.events.empty());
+    EXPECT_NE(evlife::io::open_if_augmented(p), nullptr);
+  }
+  const std::string p = path("cut.csv");
+  std::ofstream(p, std::ios::binary) << header << "\n1,2,10,1,5,0,0";
+  const Readback r = read_back(p);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string(r.error->what()).find("line 2: truncated"), std::string::npos) << r.error->what();
+}
+
 // A line longer than the reader's 1 MiB buffer: an error at its offset, the
 // event before it kept (it was lost when the error was thrown at once).
 TEST_F(Writers, CsvLineLongerThanTheBufferIsReportedAtItsOffset) {

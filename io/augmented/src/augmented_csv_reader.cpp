@@ -146,7 +146,10 @@ class AugmentedCsvReader final : public AugmentedEventReader {
       return false;
     }
     if (next == LineReader::Next::end_of_file) return false;
-    if (lines_.peeked_unterminated() && !strip_cr(line).empty()) {
+    // The header alone without its '\n' loses no row: the empty file it is
+    // (as with the '\n'; it was refused, then misread as no event file).
+    const bool bare_header = line_number_ == 0 && strip_cr(line) == kAugmentedCsvHeader;
+    if (lines_.peeked_unterminated() && !strip_cr(line).empty() && !bare_header) {
       // The writer ends every row: a last row without one was cut (a full
       // disk), and its last field may parse as another number.
       pending_.emplace(lines_.path(), static_cast<std::int64_t>(lines_.offset()), static_cast<std::int64_t>(index_),
