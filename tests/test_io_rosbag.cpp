@@ -427,6 +427,36 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
   EXPECT_EQ(by_message.events.size(), 1u);
 }
 
+// A metadata.yaml that lists its files in YAML's flow style reads (taken
+// for no list before); one without the key, or an empty file, is named with
+// what is wrong.
+TEST(Rosbag2Reader, AMetadataYamlIsReadInFlowStyleAndABrokenOneSaysWhatIsWrong) {
+  const ScratchDir dir{"test_io_rosbag"};
+  const fs::path folder = fs::path(dir.file("flow"));
+  fs::create_directories(folder);
+  for (int i = 0; i < 2; ++i) {
+    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    db.insert(1, 1, i, event_array({ros::RosEvent{std::int64_t{i} * 1'000'000, 1, 1, 1}}, 64, 64));
+  }
+  const std::string head = "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n";
+  std::ofstream(folder / "metadata.yaml") << head << "  relative_file_paths: [bag_0.db3, 'bag_1.db3']\n";
+  const ReadAll r = read_all(folder.string());
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 2u);
+  const std::string metadata = (folder / "metadata.yaml").string();
+  for (const auto& [text, why] : {std::pair<std::string, std::string>{"", "no relative_file_paths key"},
+                                  {"{{{ not yaml: [\n", "no relative_file_paths key"},
+                                  {head, "no relative_file_paths key"},
+                                  {head + "  relative_file_paths: []\n", "lists no file under relative_file_paths"}}) {
+    std::ofstream(folder / "metadata.yaml") << text;
+    const std::string what = evlife::test::open_error(folder.string());
+    EXPECT_EQ(what.rfind(metadata + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find(why), std::string::npos) << text << ": " << what;
+  }
+}
+
 /// `file` compressed as rosbag2's compressor does it (--compression-mode
 /// file): one zstd stream fed in pieces, ended with the last, to `out`.
 void zstd_file(const std::string& file, const std::string& out_path) {

@@ -71,7 +71,7 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
   if (std::ifstream in(metadata); in) {
     std::string line, storage, compression_format, compression_mode, version;
     std::vector<std::string> listed;
-    bool in_list = false;
+    bool in_list = false, has_list_key = false;
     const auto value_of = [](const std::string& t, std::string_view key, std::string& out) {
       if (t.rfind(key, 0) == 0 && out.empty()) out = trimmed(t.substr(key.size()));
     };
@@ -82,7 +82,20 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
       value_of(t, "compression_format:", compression_format);
       value_of(t, "compression_mode:", compression_mode);
       if (t == "relative_file_paths:") {
-        in_list = true;
+        in_list = has_list_key = true;
+      } else if (t.rfind("relative_file_paths: [", 0) == 0 && t.back() == ']') {
+        // The flow style other YAML writers use (PyYAML's default for a list of
+        // names): valid YAML, it was taken for no list.
+        has_list_key = true;
+        std::string_view items(t);
+        items = items.substr(items.find('[') + 1);
+        items.remove_suffix(1);
+        while (!items.empty()) {
+          const std::size_t comma = std::min(items.find(','), items.size());
+          if (std::string item = trimmed(std::string(items.substr(0, comma))); !item.empty())
+            listed.push_back(std::move(item));
+          items.remove_prefix(std::min(comma + 1, items.size()));
+        }
       } else if (in_list && t.rfind("- ", 0) == 0) {
         listed.push_back(trimmed(t.substr(2)));
       } else if (in_list) {
@@ -124,8 +137,12 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
       throw ReadError(metadata.string(), -1, -1,
                       "rosbag2 storage '" + storage + "' is not readable (sqlite3 .db3 bags, and .mcap files)");
     }
-    if (files.empty())
-      throw ReadError(metadata.string(), -1, -1, "rosbag2 metadata lists no relative_file_paths");
+    if (files.empty()) {  // what is wrong: a file that is no rosbag2 metadata, or an empty list
+      throw ReadError(metadata.string(), -1, -1,
+                      has_list_key ? "rosbag2 metadata lists no file under relative_file_paths"
+                                   : "no relative_file_paths key: not rosbag2 metadata, or a damaged file (the bag's "
+                                     "files cannot be told; without metadata.yaml its .db3 files are read)");
+    }
     return files;
   }
   // No metadata.yaml: a recording that did not stop cleanly (rosbag2 writes it
