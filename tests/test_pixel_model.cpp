@@ -13,6 +13,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -502,6 +503,32 @@ TEST(PixelModel, SynthCommandLine) {
   const auto quantum = run("synth -o '" + out + "' --pixel dvs --timestamp-quantum-us 2.5");
   EXPECT_EQ(quantum.exit_code, 2);
   EXPECT_NE(quantum.output.find("timestamp-quantum-us 2.5: a whole number of us"), std::string::npos) << quantum.output;
+}
+
+// The truth CSV's p is +1 / -1, as evlife's other outputs (.h5, process's
+// .csv) and unlike the .txt's 1 / 0: the help said only the .txt's 1 / 0, the
+// truth's convention nowhere.
+TEST(PixelModel, SynthTruthPolarityIsWhatItsHelpSays) {
+  const test::ScratchDir dir("test_pixel_model_truth_p");
+  const auto help = run_in(dir, "synth --help");
+  ASSERT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("where p is +1 = ON, -1 = OFF"), std::string::npos) << help.output;
+  const std::string out = dir.file("s.txt"), truth = dir.file("t.csv");
+  ASSERT_EQ(run_in(dir, "synth -q -o '" + out + "' --duration 0.02 --truth '" + truth + "'").exit_code, 0);
+  const std::vector<Event> events = test::read_all(out).events;
+  std::istringstream rows(test::read_text_file(truth));
+  std::string row;
+  std::getline(rows, row);  // the header
+  std::size_t i = 0;
+  std::set<int> seen;
+  for (; std::getline(rows, row) && i < events.size(); ++i) {
+    int p = 0;
+    ASSERT_EQ(std::sscanf(row.c_str(), "%*d,%*d,%*d,%d", &p), 1) << row;
+    EXPECT_EQ(p, events[i].p) << "row " << i + 1;  // the reader's +1 / -1, from the .txt's 1 / 0
+    seen.insert(p);
+  }
+  EXPECT_EQ(i, events.size());
+  EXPECT_EQ(seen, (std::set<int>{-1, 1}));
 }
 
 // `evlife synth --scene textured`: the generator's events (dvs pixels by
