@@ -33,6 +33,7 @@ import sys
 import threading
 import time
 import uuid
+import warnings
 from collections import namedtuple
 
 from . import _evlife
@@ -133,15 +134,22 @@ def _partial_name(output, run):
 
 def _process_one(path, output, run, sensor, config, one_thread, crop, options):
     """The task: runs in a worker (the output renamed there: the client may
-    not see the worker's files); never raises (a failure is the row's error)."""
+    not see the worker's files); never raises (a failure is the row's error).
+    Returns (row, its warnings as (text, category)) for the caller to warn of."""
     start = time.perf_counter()
     partial = _partial_name(output, run)
     _streams._remove(partial)  # a retry's (a worker died): not this attempt's
     try:
         from evlife import _evlife as core
-        r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
+        # Kept for the caller (process_files warns at its line): the worker printed
+        # them on its stderr at Dask's line (distributed/worker.py), never caught.
+        # The filter is the process's: a worker of several threads may mix them.
+        with warnings.catch_warnings(record=True) as warned:
+            warnings.simplefilter("always")
+            r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
     except Exception as e:  # reported by name in the table, the other files go on
+        warned = []
         # An input fault leaves the events before it written: the row counts
         # them (0 where it came before the output was opened: no output, and a
         # file of the output's name left as it was, as the command line does).
@@ -155,7 +163,8 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
             _streams._remove(partial)
             error = error or "cannot write %s: %s" % (output, e.strerror)
             events, share, output = None, None, None
-    return FileResult(path, events, share, time.perf_counter() - start, output, error)
+    return (FileResult(path, events, share, time.perf_counter() - start, output, error),
+            [(str(w.message), w.category) for w in warned])
 
 
 @contextlib.contextmanager
@@ -462,11 +471,14 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
         rows = [None] * len(futures)
+        task_warnings = []
         try:
             for done, future in enumerate(as_completed(futures), 1):
                 i = index[future.key]
                 try:
-                    row = future.result()._replace(path=paths[i])
+                    row, warned = future.result()
+                    row = row._replace(path=paths[i])
+                    task_warnings += warned
                 except Exception as e:  # the worker died: still reported by name
                     row = FileResult(paths[i], None, None, 0.0, None, "%s: %s" % (type(e).__name__, e))
                 rows[i] = row
@@ -482,8 +494,12 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                 for f in futures:  # finished before the cancel: their rows, as if waited for
                     i = index[f.key]
                     if rows[i] is None and f.status == "finished":
-                        rows[i] = f.result()._replace(path=paths[i])
+                        rows[i] = f.result()[0]._replace(path=paths[i])
         else:
+            # After every row (a filter making them errors cuts no task short);
+            # stacklevel 3: the caller's line, past _config_read_once.
+            for text, category in task_warnings:
+                warnings.warn(text, category, stacklevel=3)
             return BatchResult(rows)
     finally:
         with _sigint_ignored(interrupted):

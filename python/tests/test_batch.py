@@ -134,6 +134,22 @@ def test_a_time_unit_reaches_every_task(tmp_path):
     assert evlife.scan(npy, time_unit="ms")["t_last"] == int(events["t"][-1] // 1000) * 1000
 
 
+def test_a_tasks_warning_is_the_callers_at_its_line(tmp_path):
+    # A crop past the end: the task's RuntimeWarning, at the line that called
+    # process_files (the worker printed it on its stderr at Dask's line).
+    import warnings
+    from evlife import batch
+    with warnings.catch_warnings(record=True) as warned:
+        warnings.simplefilter("always", RuntimeWarning)
+        table = batch.process_files([data("reference/stripes.mat")], tmp_path / "out", workers=1,
+                                    progress=False, from_s=1000.0)
+    assert table[0].error is None and table[0].events == 0
+    ours = [w for w in warned if "no event of" in str(w.message)]
+    assert len(ours) == 1, [str(w.message) for w in warned]
+    assert ours[0].category is RuntimeWarning
+    assert ours[0].filename == __file__, ours[0].filename
+
+
 def test_a_polarity_reaches_every_task(tmp_path):
     from evlife import batch
     path = data("reference/stripes.mat")
