@@ -89,6 +89,19 @@ TEST_F(CliFlags, DidYouMeanForCommandsAndFlags) {
   EXPECT_FALSE(has(far, "did you mean")) << far.output;
 }
 
+// `info` has no -q (its help lists none: its output is the description): it
+// is refused, without the guess "did you mean '--to'?" that any one-letter
+// option got.
+TEST_F(CliFlags, AnUnknownOneLetterOptionGetsNoGuess) {
+  const RunResult help = run("info --help");
+  EXPECT_FALSE(has(help, "-q")) << help.output;
+  const RunResult q = run("info -q " + sample());
+  EXPECT_EQ(q.exit_code, 2);
+  EXPECT_TRUE(has(q, "unknown option '-q'")) << q.output;
+  EXPECT_FALSE(has(q, "did you mean")) << q.output;
+  EXPECT_FALSE(has(run("process -x " + sample()), "did you mean"));
+}
+
 // -j2 and -oFILE as getopt takes them (help names -j and -o; they were
 // refused as "unknown option '-j2' (did you mean '--to'?)").
 TEST_F(CliFlags, ShortOptionsTakeAnAttachedValue) {

@@ -50,6 +50,9 @@ std::string unknown_option_message(std::string_view arg, std::span<const OptionS
   const std::vector<std::string_view> views(names.begin(), names.end());
   const std::string_view word = arg.substr(0, arg.find('='));
   std::string msg = "unknown option '" + std::string(arg) + "'";
+  // A one-letter option is a few edits from any short long name: `info -q`
+  // was asked "did you mean '--to'?". Its help lists the letters there are.
+  if (arg.size() == 2 && arg[1] != '-') return msg;
   if (const std::string best = config::closest_name(word, views); !best.empty())
     msg += " (did you mean '" + best + "'?)";
   return msg;
