@@ -374,6 +374,18 @@ TEST(Rosbag2Reader, TopicChoice) {
   }
 }
 
+/// A split bag's files bag_0.db3 ... in `folder`, each one event of x = y = i at i s.
+void write_split_bag(const fs::path& folder, int files) {
+  fs::create_directories(folder);
+  for (int i = 0; i < files; ++i) {
+    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
+    create_tables(db.db);
+    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
+    const auto x = static_cast<std::uint16_t>(i);
+    db.insert(1, 1, i, event_array({ros::RosEvent{std::int64_t{i} * 1'000'000, x, x, 1}}, 64, 64));
+  }
+}
+
 // A split bag without metadata.yaml: its files bag_0 ... bag_11 are read in
 // the order they were recorded (as strings bag_10 came before bag_2: the time
 // went backwards at the third file and the rest was lost). A folder in MCAP
@@ -381,14 +393,7 @@ TEST(Rosbag2Reader, TopicChoice) {
 TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
   const ScratchDir dir{"test_io_rosbag"};
   const fs::path folder = fs::path(dir.file("split"));
-  fs::create_directories(folder);
-  for (int i = 0; i < 12; ++i) {
-    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    const auto x = static_cast<std::uint16_t>(i);
-    db.insert(1, 1, i, event_array({ros::RosEvent{std::int64_t{i} * 1'000'000, x, x, 1}}, 64, 64));
-  }
+  write_split_bag(folder, 12);
   const ReadAll r = read_all(folder.string());
   ASSERT_FALSE(r.error) << r.error->what();
   ASSERT_EQ(r.events.size(), 12u);
@@ -433,13 +438,7 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
 TEST(Rosbag2Reader, AMetadataYamlIsReadInFlowStyleAndABrokenOneSaysWhatIsWrong) {
   const ScratchDir dir{"test_io_rosbag"};
   const fs::path folder = fs::path(dir.file("flow"));
-  fs::create_directories(folder);
-  for (int i = 0; i < 2; ++i) {
-    Db db((folder / ("bag_" + std::to_string(i) + ".db3")).string());
-    create_tables(db.db);
-    exec(db.db, "INSERT INTO topics VALUES (1, '/events', 'dvs_msgs/msg/EventArray', 'cdr', '')");
-    db.insert(1, 1, i, event_array({ros::RosEvent{std::int64_t{i} * 1'000'000, 1, 1, 1}}, 64, 64));
-  }
+  write_split_bag(folder, 2);
   const std::string head = "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n";
   std::ofstream(folder / "metadata.yaml") << head << "  relative_file_paths: [bag_0.db3, 'bag_1.db3']\n";
   const ReadAll r = read_all(folder.string());
