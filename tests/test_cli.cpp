@@ -135,14 +135,45 @@ TEST_F(CliTest, StdinAndNamedPipesReadAsTheFileDoes) {
   const RunResult b = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
   ASSERT_EQ(b.exit_code, 0) << b.output;
   EXPECT_TRUE(evlife::test::read_text_file(path("stdin_bin.csv")) == evlife::test::read_text_file(path("bin.csv")));
-  // A fault in the stream is named as the stream's (the copy is called
-  // `stdin`), not as an anonymous temporary file, and the copy is removed.
+  // A fault in the stream is named as the stream's (`stdin`, not its
+  // temporary copy: StdinIsNamedStdinNotItsCopy), and the copy is removed.
   std::ofstream(script) << "export TMPDIR='" << tmp.string() << "'\n"
                         << "printf '1 2 3 1\\n0.5 2 3 1\\n' | '" << kCli << "' process - -o '"
                         << path("backwards.csv").string() << "'\n";
   const RunResult fault = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "pipes.log");
   EXPECT_EQ(fault.exit_code, 3) << fault.output;
-  EXPECT_NE(fault.output.find("/stdin: timestamp goes backwards"), std::string::npos) << fault.output;
+  EXPECT_NE(fault.output.find("input error: stdin: timestamp goes backwards"), std::string::npos) << fault.output;
+  EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
+}
+
+// What was piped to stdin is named `stdin` in every message, as the user
+// gave it: an error at open (no format), one after events (time going back)
+// and a warning (a crop that selects nothing). Before, they named its
+// temporary copy (`$TMPDIR/evlife-Ab12Cd/stdin: ...`), a path the user never
+// typed and that is gone by the time they read it.
+TEST_F(CliTest, StdinIsNamedStdinNotItsCopy) {
+  const fs::path tmp = path("tmp");
+  fs::create_directories(tmp);
+  const std::string backwards = "printf '1 2 3 1\\n0.5 2 3 1\\n'";
+  const std::string garbage = "printf '\\001\\002 not events'";
+  const std::string csv = path("o.csv").string();
+  struct Case {
+    std::string feed, command, expected;
+  };
+  for (const Case& c : {Case{backwards, "process - -q -o '" + csv + "'", "input error: stdin: timestamp goes backwards"},
+                        Case{backwards, "convert - '" + path("o.txt").string() + "' -q",
+                             "input error: stdin: timestamp goes backwards"},
+                        Case{backwards, "info -", "info: stdin: timestamp goes backwards"},
+                        Case{garbage, "process - -q -o '" + csv + "'", "input error: stdin: "},
+                        Case{"printf '1 2 3 1\\n'", "process - -q --from 10s -o '" + csv + "'",
+                             "warning: no event of stdin within"}}) {
+    const fs::path script = path("stdin.sh");
+    std::ofstream(script) << "export TMPDIR='" << tmp.string() << "'\n"
+                          << c.feed << " | timeout -k 5 60 '" << kCli << "' " << c.command << "\n";
+    const RunResult r = evlife::test::run_cli("/bin/sh", "'" + script.string() + "'", dir_.path() / "stdin.log");
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.command << ": " << r.output;
+    EXPECT_FALSE(evlife::test::names_a_stream_copy(r.output, tmp)) << c.command << ": " << r.output;
+  }
   EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
 }
 

@@ -5,6 +5,7 @@
 // one range per option (the engine's table) and the recording's time range
 // in the summaries.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -735,6 +736,37 @@ TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
   const RunResult engine_key = run("process " + sample() + " --set engine.workers=32 -q -o " + path("e.bin"));
   EXPECT_EQ(engine_key.exit_code, 2) << engine_key.output;
   EXPECT_TRUE(has(engine_key, "--set engine.workers=32: engine settings are `evlife run`'s")) << engine_key.output;
+}
+
+// Every command given a named pipe names the pipe as given in its messages:
+// the warning that --sensor is ignored (the text states its size) and the
+// error of a time going back. Before, they named the pipe's temporary copy
+// (`$TMPDIR/evlife-Ab12Cd/rec.txt: timestamp goes backwards`), which the user
+// never typed and which is gone when they read it.
+TEST_F(CliFlags, EveryCommandNamesANamedPipeAsGivenNotItsCopy) {
+  const fs::path tmp = path("tmp");
+  fs::create_directories(tmp);
+  const std::string fifo = path("rec.txt");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string stated = " --sensor 64x64 -q";  // ignored: the text states 240x180
+  for (const std::string& command :
+       {"process '" + fifo + "' -o " + path("a.csv") + stated, "run '" + fifo + "' -o " + path("b.bin") + stated,
+        "render '" + fifo + "' -o " + path("c.png") + " --at 0.000002" + stated,
+        "eval '" + fifo + "' -o " + path("ev") + stated, "convert '" + fifo + "' " + path("d.txt") + stated,
+        "info '" + fifo + "'"}) {
+    const std::string script = path("fifo.sh");
+    std::ofstream(script) << "export TMPDIR='" << tmp.string() << "'\n"
+                          << "printf '240 180\\n0.000001 1 1 1\\n0.000003 2 2 0\\n0.000002 3 2 1\\n' > '" << fifo << "' &\n"
+                          << "timeout -k 5 60 '" << kCli << "' " << command << "\n";
+    const RunResult r = evlife::test::run_cli("/bin/sh", "'" + script + "'", dir_.path() / "fifo.log");
+    EXPECT_EQ(r.exit_code, 3) << command << ": " << r.output;
+    EXPECT_TRUE(has(r, fifo + ": timestamp goes backwards")) << command << ": " << r.output;
+    if (command.find(stated) != std::string::npos) {
+      EXPECT_TRUE(has(r, "--sensor 64x64 ignored: " + fifo + " states 240x180")) << command << ": " << r.output;
+    }
+    EXPECT_FALSE(evlife::test::names_a_stream_copy(r.output, tmp)) << command << ": " << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(tmp)) << "a copy was left in " << tmp;
 }
 
 }  // namespace

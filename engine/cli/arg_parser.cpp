@@ -10,6 +10,7 @@
 #include "evlife/config/config_key.h"
 #include "evlife/io/augmented_event_reader.h"
 #include "evlife/io/stop.h"
+#include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 
 namespace evlife::cli {
@@ -188,9 +189,9 @@ std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const
 
 void warn_sensor_flag_ignored(std::string_view command, SensorSize flag, std::string_view input, SensorSize used) {
   if (flag == used) return;
-  std::fprintf(stderr, "evlife %.*s: warning: --sensor %dx%d ignored: %.*s states %dx%d\n",
+  std::fprintf(stderr, "evlife %.*s: warning: --sensor %dx%d ignored: %s states %dx%d\n",
                static_cast<int>(command.size()), command.data(), flag.width, flag.height,
-               static_cast<int>(input.size()), input.data(), used.width, used.height);
+               io::name_in_messages(std::string(input)).c_str(), used.width, used.height);
 }
 
 void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize> flag, const config::LoadedConfig& c,
@@ -199,9 +200,9 @@ void warn_user_sensor_ignored(std::string_view command, std::optional<SensorSize
   const config::KeyOrigin* origin = c.builder.user_origin_of_input_keys();
   const SensorSize set = c.config.estimator.sensor;
   if (origin == nullptr || set == used) return;
-  std::fprintf(stderr, "evlife %.*s: warning: estimator.sensor %dx%d (%s) ignored: %.*s states %dx%d\n",
+  std::fprintf(stderr, "evlife %.*s: warning: estimator.sensor %dx%d (%s) ignored: %s states %dx%d\n",
                static_cast<int>(command.size()), command.data(), set.width, set.height, origin->where.c_str(),
-               static_cast<int>(input.size()), input.data(), used.width, used.height);
+               io::name_in_messages(std::string(input)).c_str(), used.width, used.height);
 }
 
 int usage_exit(std::string_view command, std::string_view message) {
@@ -214,7 +215,7 @@ int usage_exit(std::string_view command, std::string_view message) {
 int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e) {
   if (io::stop_requested()) {
     std::fprintf(stderr, "evlife %.*s: interrupted while opening %s: nothing processed\n",
-                 static_cast<int>(command.size()), command.data(), input.c_str());
+                 static_cast<int>(command.size()), command.data(), io::name_in_messages(input).c_str());
     return kExitInterrupted;
   }
   if (dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr) return usage_exit(command, e.what());
@@ -223,7 +224,7 @@ int open_fault_exit(std::string_view command, const std::string& input, const io
 }
 
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {
-  std::string text = "no event of " + input;
+  std::string text = "no event of " + io::name_in_messages(input);
   if (selection.polarity != io::PolarityFilter::both)
     text += selection.polarity == io::PolarityFilter::on ? " is ON (--polarity on)" : " is OFF (--polarity off)";
   if (selection.from_us || selection.to_us)

@@ -20,6 +20,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
+#include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "stop_signals.h"
@@ -161,7 +162,7 @@ int report(const Outcome& o, const std::string& input, const std::string& output
     return kExitOutput;
   }
   if (!quiet) {
-    std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", input.c_str(),
+    std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", io::name_in_messages(input).c_str(),
                  output.c_str(), o.written, what.c_str());
   }
   if (o.input_fault) {
@@ -254,7 +255,7 @@ int convert_events(const std::string& input, const std::string& output,
                  "evlife convert: %s: .csv and .bin hold augmented events (lifetime, velocity):\n"
                  "  run `evlife process %s -o %s` for those;\n"
                  "  convert writes a recording's plain events to .txt or .h5 (see --help)\n",
-                 output.c_str(), input.c_str(), output.c_str());
+                 output.c_str(), InputSpool::as_argument(input).c_str(), output.c_str());
     return kExitUsage;
   }
   if (sensor_arg) warn_sensor_flag_ignored("convert", *sensor_arg, input, *sensor);  // a stated size wins
@@ -327,7 +328,7 @@ int convert(int argc, char** argv) {
                           : unchecked               ? "--unchecked"
                                                     : "--one-thread";
       std::fprintf(stderr, "evlife convert: warning: %s ignored: %s is evlife's output (checked as it is read)\n",
-                   flags, input.c_str());
+                   flags, io::name_in_messages(input).c_str());
     }
     return convert_augmented(std::move(augmented), input, output, sensor, quiet, stop);
   }

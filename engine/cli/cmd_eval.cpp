@@ -25,6 +25,7 @@
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
+#include "evlife/io/stream_copy_name.h"
 #include "evlife/render/evaluation.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
@@ -191,7 +192,7 @@ int eval_recording(int argc, char** argv) {
   } catch (const io::ReadError& e) {
     return open_fault_exit("eval", args.input, e);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "evlife eval: %s: %s\n", args.input.c_str(), e.what());
+    std::fprintf(stderr, "evlife eval: %s: %s\n", io::name_in_messages(args.input).c_str(), e.what());
     return kExitInput;
   }
   warn_user_sensor_ignored("eval", args.sensor, args.config, args.input, evaluation.sensor);

@@ -209,6 +209,7 @@ int run_info(int argc, char** argv) {
   }
   std::optional<InputSpool> spool;  // FILE `-` or a pipe: read from a copy
   if (const auto done = spool_stream_input("info", path, true, spool)) return *done;
+  // The description names the copy as well; messages name `path` as the stream (io::name_in_messages).
   const std::string shown = spool ? spool->stream() + " (a stream, read from its copy " + path + ")" : path;
   const StopRequest stop;  // Ctrl-C: the events read so far are described, the stream's copy removed
   // evlife's own outputs first (as `render` reads them): their CSV would
@@ -217,7 +218,7 @@ int run_info(int argc, char** argv) {
     if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented, stop);
   } catch (const io::ReadError& e) {
     if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
-      return open_fault_exit("info", shown, e);
+      return open_fault_exit("info", path, e);
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
   }
@@ -226,7 +227,7 @@ int run_info(int argc, char** argv) {
     reader = io::open_unchecked_event_reader(path, options);
   } catch (const io::ReadError& e) {
     if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
-      return open_fault_exit("info", shown, e);
+      return open_fault_exit("info", path, e);
     std::fprintf(stderr, "evlife info: %s\n", e.what());
     return kExitInput;
   }
@@ -257,7 +258,7 @@ int run_info(int argc, char** argv) {
   if (const std::string_view layout = reader->layout_name(); !layout.empty())
     std::printf("layout     %.*s\n", static_cast<int>(layout.size()), layout.data());
   print_events(tally, reader->sensor_size(), reader->sensor_size_note());
-  if (tally.on + tally.off == 0 && fault.empty() && !stop.requested()) warn_empty_crop("info", shown, options);
+  if (tally.on + tally.off == 0 && fault.empty() && !stop.requested()) warn_empty_crop("info", path, options);
   std::printf("triggers   %s\n", thousands(reader->trigger_count()).c_str());
   std::printf("skipped    %s records that are not events (triggers included)\n",
               thousands(reader->skipped_record_count()).c_str());

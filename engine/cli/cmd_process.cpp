@@ -27,6 +27,7 @@
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
 #include "evlife/io/stop.h"
+#include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 #include "input_spool.h"
 #include "lifetime_summary.h"
@@ -147,7 +148,7 @@ struct ResolvedSensor {
 ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg,
                               const io::EventReader& probe, const StopRequest& stop) {
   if (const auto s = io::stated_sensor_size(probe, args.sensor)) {
-    warn_user_sensor_ignored("process", args.sensor, args.config, probe.format_name(), *s);
+    warn_user_sensor_ignored("process", args.sensor, args.config, args.input, *s);
     if (const std::string guessed = probe.sensor_size_note(); !guessed.empty()) return {*s, guessed};
     return {*s, "stated by the " + std::string(probe.format_name()) + " file"};
   }
@@ -159,7 +160,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
     std::error_code ec;
     if (std::filesystem::file_size(args.input, ec) > (std::uintmax_t{64} << 20) && !ec) {
       std::fprintf(stderr, "evlife process: %s states no sensor size: scanning the data for it "
-                   "(pass --sensor WxH to skip this pass)\n", args.input.c_str());
+                   "(pass --sensor WxH to skip this pass)\n", io::name_in_messages(args.input).c_str());
     }
   }
   // Smallest sensor holding every event; a fault after some events leaves
@@ -173,7 +174,7 @@ ResolvedSensor resolve_sensor(const ProcessArgs& args, const config::Config& cfg
   if (scanned.width > kLargestKnownSide || scanned.height > kLargestKnownSide) {
     std::fprintf(stderr, "evlife process: warning: the events of %s span %dx%d pixels; if the sensor is smaller, "
                  "pass --sensor WxH: an event outside it is then reported with its index\n",
-                 args.input.c_str(), scanned.width, scanned.height);
+                 io::name_in_messages(args.input).c_str(), scanned.width, scanned.height);
   }
   return {scanned, "scanned from the data"};
 }
@@ -182,7 +183,7 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
                    const ResolvedSensor& sensor, const LifetimeEstimator& estimator,
                    const LifetimeSummary& summary, const engine::ProcessStreamResult& result,
                    double wall_s) {
-  std::fprintf(stdout, "evlife process: %s -> %s\n", args.input.c_str(), args.output.c_str());
+  std::fprintf(stdout, "evlife process: %s -> %s\n", io::name_in_messages(args.input).c_str(), args.output.c_str());
   std::fprintf(stdout, "  input               %.*s, sensor %dx%d (%s)\n",
                static_cast<int>(reader.format_name().size()), reader.format_name().data(),
                sensor.size.width, sensor.size.height, sensor.source.c_str());
@@ -268,7 +269,7 @@ int process_recording(int argc, char** argv) {
   }
   cfg.estimator.sensor = sensor.size;
   if (const auto refusal = estimator_memory_refusal(sensor.size, 1)) {
-    std::fprintf(stderr, "evlife process: %s: %s (sensor: %s)\n", args.input.c_str(), refusal->c_str(),
+    std::fprintf(stderr, "evlife process: %s: %s (sensor: %s)\n", io::name_in_messages(args.input).c_str(), refusal->c_str(),
                  sensor.source.c_str());
     return kExitInput;
   }
@@ -278,7 +279,7 @@ int process_recording(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     // (A scanned sensor this large got resolve_sensor's warning, which says what to do.)
     std::fprintf(stderr, "evlife process: %s: sensor %dx%d (%s) is not usable: %s\n",
-                 args.input.c_str(), sensor.size.width, sensor.size.height, sensor.source.c_str(),
+                 io::name_in_messages(args.input).c_str(), sensor.size.width, sensor.size.height, sensor.source.c_str(),
                  e.what());
     return kExitInput;
   }

@@ -29,6 +29,7 @@
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
+#include "evlife/io/stream_copy_name.h"
 #include "evlife/render/active_event_set.h"
 #include "evlife/render/augmented_source.h"
 #include "evlife/render/fixed_window_map.h"
@@ -330,14 +331,14 @@ int run_render(int argc, char** argv) {
                                            stop.flag());
     if (stop.requested()) {
       std::fprintf(stderr, "evlife render: interrupted while scanning %s for its sensor size: nothing drawn\n",
-                   args.input.c_str());
+                   io::name_in_messages(args.input).c_str());
       return kExitInterrupted;
     }
     warn_user_sensor_ignored("render", args.sensor, args.config, args.input, source->sensor());
   } catch (const io::ReadError& e) {
     return open_fault_exit("render", args.input, e);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "evlife render: %s: %s\n", args.input.c_str(), e.what());
+    std::fprintf(stderr, "evlife render: %s: %s\n", io::name_in_messages(args.input).c_str(), e.what());
     return kExitInput;
   }
   const cv::Size frame = render::frame_size_for(args.job, source->sensor());
@@ -364,7 +365,7 @@ int run_render(int argc, char** argv) {
   if (result.no_events) {
     std::fprintf(stderr, "evlife render: %s: nothing to draw\n",
                  args.input_options.filters() ? no_event_text(args.input, args.input_options).c_str()
-                                              : (args.input + " holds no event").c_str());
+                                              : (io::name_in_messages(args.input) + " holds no event").c_str());
     return kExitInput;
   }
   if (!args.quiet && !result.setup_failed) print_summary(args, *source, result, wall_s);

@@ -47,6 +47,7 @@
 #include "evlife/io/output_path.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/stop.h"
+#include "evlife/io/stream_copy_name.h"
 #include "evlife/io/textured_scene.h"
 #include "evlife/render/frame_clock.h"
 #include "evlife/render/frame_composer.h"
@@ -651,7 +652,7 @@ int run_engine(int argc, char** argv) {
   if (stop.requested()) {
     // (Opening may scan a file for its sensor size, decompress a bag or generate a synth: scene.)
     std::fprintf(stderr, "evlife run: interrupted while opening %s: nothing processed%s\n",
-                 args.source.c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
+                 io::name_in_messages(std::string(file_of_source(args.source))).c_str(), args.output.empty() ? "" : fmt::format(", {} not written", args.output).c_str());
     return kExitInterrupted;
   }
   warn_user_sensor_ignored("run", args.sensor, args.config, file_of_source(args.source), source->sensor_size());

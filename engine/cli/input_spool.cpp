@@ -46,8 +46,8 @@ bool InputSpool::needed(const std::string& input) {
 InputSpool::InputSpool(const std::string& input, const char* command, bool quiet)
     : stream_(stream_name(input)) {
   // The copy lives in a private folder under the stream's own name ("stdin",
-  // or the pipe's file name), so that every reader message that names the
-  // copy also says which stream it came from: `/tmp/evlife-Ab12Cd/stdin: ...`.
+  // or the pipe's file name: its extension tells some formats); messages
+  // name it as the stream itself (name_, from the open on).
   std::string folder = io::temp_dir() + "/evlife-XXXXXX";
   if (::mkdtemp(folder.data()) == nullptr) {
     throw std::runtime_error(stream_ + ": cannot create a temporary folder to hold the stream (" + folder +
@@ -55,6 +55,7 @@ InputSpool::InputSpool(const std::string& input, const char* command, bool quiet
   }
   folder_ = folder;
   path_ = folder_ + "/" + copy_name(input);
+  name_.emplace(path_, stream_);
   Descriptor out{::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600)};
   if (out.fd < 0) {
     const int err = errno;
@@ -113,9 +114,15 @@ void InputSpool::copy(const std::string& input, int out, const char* command, bo
   }
 }
 
+std::string InputSpool::as_argument(const std::string& input) {
+  const std::string name = io::name_in_messages(input);
+  return name != input && name == stream_name("-") ? "-" : name;
+}
+
 void InputSpool::remove_copy() noexcept {
   ::unlink(path_.c_str());
   ::rmdir(folder_.c_str());
+  name_.reset();
 }
 
 InputSpool::~InputSpool() { remove_copy(); }

@@ -3,14 +3,17 @@
 // its format, and several formats need its size, so such a stream is first
 // copied into a temporary file (`$TMPDIR/evlife-XXXXXX/stdin`, else under
 // /tmp; a pipe's copy keeps the pipe's file name), which the readers then
-// take as INPUT and which is removed when the command ends. Formats are
-// then recognised by their content (text, CSV, AEDAT, Prophesee RAW, MATLAB,
-// HDF5); a named pipe's own extension still counts (x.dat, x.bag).
+// take as INPUT and which is removed when the command ends. Messages name the
+// copy as the stream (`stdin`, the pipe's path as given: io::StreamCopyName).
+// Formats are then recognised by their content (text, CSV, AEDAT, Prophesee
+// RAW, MATLAB, HDF5); a named pipe's own extension still counts (x.dat, x.bag).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+
+#include "evlife/io/stream_copy_name.h"
 
 namespace evlife::cli {
 
@@ -31,6 +34,10 @@ class InputSpool {
   /// What the stream is called: "stdin" or the pipe's path.
   const std::string& stream() const noexcept { return stream_; }
   static std::string stream_name(const std::string& input) { return input == "-" ? "stdin" : input; }
+  /// `input` (a path, or a stream's copy) as a command line takes it again:
+  /// `-` for stdin's copy, a pipe's path for its copy (for advice such as
+  /// "run `evlife process INPUT -o …`").
+  static std::string as_argument(const std::string& input);
   std::uint64_t bytes() const noexcept { return bytes_; }
 
   struct Interrupted {};
@@ -42,6 +49,7 @@ class InputSpool {
   std::string stream_;
   std::string folder_;
   std::string path_;
+  std::optional<io::StreamCopyName> name_;  // while the copy exists
   std::uint64_t bytes_ = 0;
 };
 

@@ -9,6 +9,7 @@
 #include "evlife/engine/monotonic_clock.h"
 #include "evlife/engine/prefetch_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
+#include "evlife/io/stream_copy_name.h"
 
 namespace evlife::engine {
 namespace {
@@ -46,7 +47,7 @@ std::unique_ptr<ReplaySource> ReplaySource::from_reader(std::unique_ptr<io::Even
                                                         double speed, SourceKind kind) {
   const std::optional<SensorSize> size = sensor ? sensor : reader->sensor_size();
   if (!size)
-    throw std::invalid_argument(reader->path() +
+    throw std::invalid_argument(io::name_in_messages(reader->path()) +
                                 ": the file does not state its sensor size; give --sensor WxH");
   return std::unique_ptr<ReplaySource>(new ReplaySource(std::move(reader), *size, speed, kind));
 }
@@ -64,7 +65,7 @@ ReplaySource::ReplaySource(std::unique_ptr<io::EventReader> reader, SensorSize s
                            double speed, SourceKind kind)
     : reader_(read_ahead_if_paced(std::move(reader), speed)), buffer_(kReadAheadEvents), sensor_(sensor), kind_(kind),
       pacer_(speed),
-      description_("file:" + reader_->path() + " (" + std::string(reader_->format_name()) + ")") {
+      description_("file:" + io::name_in_messages(reader_->path()) + " (" + std::string(reader_->format_name()) + ")") {
   std::error_code ec;
   if (std::filesystem::is_regular_file(reader_->path(), ec)) file_bytes_ = std::filesystem::file_size(reader_->path(), ec);
   if (ec) file_bytes_ = 0;
@@ -102,7 +103,7 @@ bool ReplaySource::refill() noexcept {
   } catch (const std::exception& e) {
     error_ = e.what();
   } catch (...) {
-    error_ = reader_->path() + ": unknown read error";
+    error_ = io::name_in_messages(reader_->path()) + ": unknown read error";
   }
   status_ = SourceStatus::error;
   return false;

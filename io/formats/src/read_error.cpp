@@ -1,6 +1,7 @@
 #include <string>
 
 #include "evlife/io/event_reader.h"
+#include "evlife/io/stream_copy_name.h"
 
 namespace evlife::io {
 namespace {
@@ -59,10 +60,12 @@ std::string compose(const std::string& path, std::int64_t byte_offset, std::int6
 
 }  // namespace
 
+// The file as the user gave it: a stream's temporary copy is named after the
+// stream (`stdin`, the pipe's path), in what() and path() alike.
 ReadError::ReadError(const std::string& path, std::int64_t byte_offset, std::int64_t event_index,
                      const std::string& what)
-    : std::runtime_error(printable(compose(path, byte_offset, event_index, what))),
-      path_(path),
+    : std::runtime_error(printable(compose(name_in_messages(path), byte_offset, event_index, what))),
+      path_(name_in_messages(path)),
       reason_(printable(what)),
       byte_offset_(byte_offset),
       event_index_(event_index) {}
