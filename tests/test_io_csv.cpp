@@ -229,6 +229,44 @@ TEST(IoCsv, BadLineStopsWithItsLineEventsBeforeKept) {
   EXPECT_EQ(r.error->byte_offset(), 8 + 13 + 13);  // the lines before
 }
 
+// A review helper's finding: a file whose only line (an event, or the header
+// alone) lacked the final '\n' was "not a readable CSV/text event file: no
+// event line found" (RPG text without a .txt name: "unknown event file
+// format"): the layout was told from whole lines only, the file's last taken
+// for cut. It reads as with the '\n'; a row cut short is still named.
+TEST(IoCsv, AFilesLastLineWithoutNewlineReadsAsWithIt) {
+  const ScratchDir dir("test_io_csv");
+  struct Case {
+    const char* name;  // .data: told by content, not by the name
+    std::string text;
+    const char* format;
+    std::size_t events;
+  };
+  for (const Case& c : {Case{"one.csv", "10,20,1,1000", "csv", 1}, Case{"header.csv", "x,y,t,p", "csv", 0},
+                        Case{"one.data", "10,20,1,1000", "csv", 1}, Case{"header.data", "x,y,t,p", "csv", 0},
+                        Case{"two.csv", "10,20,1,1000\n11,21,0,1500", "csv", 2},
+                        Case{"rpg.data", "0.000001 1 1 1", "rpg-text", 1}}) {
+    for (const std::string& text : {c.text, c.text + "\n"}) {
+      const ReadAll r = read_all(dir.save(c.name, text));
+      EXPECT_FALSE(r.error) << text << ": " << r.error->what();
+      EXPECT_EQ(r.format, c.format) << text;
+      EXPECT_EQ(r.events.size(), c.events) << text;
+    }
+  }
+  const ReadAll one = read_all(dir.save("one.csv", "10,20,1,1000"));
+  ASSERT_EQ(one.events.size(), 1U);
+  EXPECT_TRUE(same(one.events, {{1000, 10, 20, 1}}));
+  // A cut row: refused as before, with its line and offset.
+  const ReadAll cut = read_all(dir.save("cut.csv", "x,y,t,p\n1,2,10,1\n3,4,2"));
+  ASSERT_TRUE(cut.error);
+  EXPECT_EQ(cut.events.size(), 1U);
+  EXPECT_EQ(cut.error->byte_offset(), 17);
+  EXPECT_NE(std::string(cut.error->what()).find("line 3: expected 4 fields 'x,y,t,p'"), std::string::npos)
+      << cut.error->what();
+  EXPECT_NE(evlife::test::open_error(dir.save("cut_only.csv", "1,2,1")).find("a line has 3 fields, not 4"),
+            std::string::npos);
+}
+
 // A line longer than the reader's 1 MiB buffer stops the file there, the
 // events before it kept.
 TEST(IoCsv, LineLongerThanTheBufferStopsAtItsOffset) {

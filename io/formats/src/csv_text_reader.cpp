@@ -112,7 +112,9 @@ struct Detection {
   std::string why;           // when !ok
 };
 
-Detection detect(const char* p, const char* end) {
+/// `whole_file`: [p, end) ends the file, so a last line without '\n' is whole
+/// (a file's only line often lacks it); else that line may be cut and is not looked at.
+Detection detect(const char* p, const char* end, bool whole_file) {
   Detection d;
   std::vector<std::array<DecimalNumber, 4>> rows;
   std::vector<std::array<Field, 4>> row_fields;  // as written (views of the head), for the messages
@@ -121,9 +123,10 @@ Detection detect(const char* p, const char* end) {
   bool first = true;
   while (p < end && rows.size() < kSampleLines) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (nl == nullptr) break;  // whole lines only
+    if (nl == nullptr && !whole_file) break;  // whole lines only
+    if (nl == nullptr) nl = end;
     const char* line = p;
-    p = nl + 1;
+    p = nl == end ? end : nl + 1;
     ++line_number;
     if (is_comment_or_blank(line, nl)) continue;
     std::array<Field, 64> f{};
@@ -229,7 +232,7 @@ class CsvTextReader final : public EventReader {
   CsvTextReader(const std::string& path, const ReaderOptions& options)
       : lines_(path) {
     const std::string_view head = lines_.buffered();
-    const Detection d = detect(head.data(), head.data() + head.size());
+    const Detection d = detect(head.data(), head.data() + head.size(), lines_.buffered_to_end());
     if (!d.ok) throw ReadError(path, 0, -1, "not a readable CSV/text event file: " + d.why + "; " + layouts());
     sep_ = d.sep;
     layout_ = d.layout;
@@ -365,7 +368,7 @@ class CsvTextReader final : public EventReader {
 SniffResult sniff_csv_text(std::span<const std::byte> head, std::string_view path) {
   const bool csv = has_extension(path, ".csv") || has_extension(path, ".tsv");
   const std::string_view text = without_byte_order_mark({reinterpret_cast<const char*>(head.data()), head.size()});
-  const Detection d = detect(text.data(), text.data() + text.size());
+  const Detection d = detect(text.data(), text.data() + text.size(), head_is_whole_file(head));
   // Space-separated `t x y p` with t in seconds stays the rpg-text reader's.
   if (d.ok && !d.rpg_like) return SniffResult::by_content;
   return csv ? SniffResult::by_extension : SniffResult::no;

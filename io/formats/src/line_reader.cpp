@@ -26,6 +26,7 @@ LineReader::Next LineReader::refill() {
       file_.read_at(file_pos_, std::as_writable_bytes(buffer_.span()).subspan(leftover));
   file_pos_ += got;
   end_ += got;
+  at_end_ = end_ < buffer_.size();
   return got > 0 ? Next::line : Next::end_of_file;
 }
 

@@ -69,6 +69,8 @@ class LineReader {
 
   /// The bytes read and not consumed yet (after construction: the file's head).
   std::string_view buffered() const noexcept { return {buffer_.data() + pos_, end_ - pos_}; }
+  /// buffered() runs to the end of the file: its last line is whole even without '\n'.
+  bool buffered_to_end() const noexcept { return at_end_; }
   /// File offset of the next line (the bytes consumed).
   std::uint64_t offset() const noexcept { return offset_; }
   const std::string& path() const noexcept { return file_.path(); }
@@ -85,6 +87,7 @@ class LineReader {
   std::size_t pos_ = 0, end_ = 0;  // unconsumed bytes: buffer_[pos_, end_)
   std::size_t line_bytes_ = 0;     // what consume() moves past
   bool unterminated_ = false;      // the peeked line ends the file without '\n'
+  bool at_end_ = false;            // the last read stopped short: buffer_[end_] is the file's end
   std::uint64_t file_pos_ = 0;     // file offset of buffer_[end_]
   std::uint64_t offset_ = 0;       // file offset of buffer_[pos_]
 };

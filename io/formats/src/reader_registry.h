@@ -52,6 +52,10 @@ struct ReaderFormat {
 
 inline constexpr std::size_t kSniffBytes = 4096;
 
+/// A sniffed `head` shorter than kSniffBytes is the whole file: its last line
+/// is whole even without '\n' (else it may be cut by the sniff window).
+inline bool head_is_whole_file(std::span<const std::byte> head) noexcept { return head.size() < kSniffBytes; }
+
 #define EVLIFE_READER_FORMAT(id) extern const ReaderFormat id##_format;
 #include "reader_formats.def"
 #undef EVLIFE_READER_FORMAT

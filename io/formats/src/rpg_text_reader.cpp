@@ -229,7 +229,8 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
   bool size_line_seen = false;
   while (p < end) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (nl == nullptr) break;  // need a whole line
+    if (nl == nullptr && !head_is_whole_file(head)) break;  // need a whole line (the file's last may lack '\n')
+    if (nl == nullptr) nl = end;
     const char* q = p;
     skip_spaces(q, nl);
     if (q != nl && *q != '#') {
@@ -241,7 +242,7 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
       if (ok) skip_spaces(q, nl);
       if (ok && q == nl && !size_line_seen) {  // the optional first line "width height": events follow
         size_line_seen = true;
-        p = nl + 1;
+        p = nl == end ? end : nl + 1;
         continue;
       }
       ok = ok && parse_uint(q, nl, 65536, b);
@@ -252,7 +253,7 @@ SniffResult sniff_rpg_text(std::span<const std::byte> head, std::string_view pat
       if (ok && q == nl) return SniffResult::by_content;
       break;
     }
-    p = nl + 1;
+    p = nl == end ? end : nl + 1;
   }
   return txt ? SniffResult::by_extension : SniffResult::no;
 }
