@@ -770,3 +770,28 @@ TEST_F(CliFlags, EveryCommandNamesANamedPipeAsGivenNotItsCopy) {
 }
 
 }  // namespace
+
+namespace {
+
+// A render mode or colour the render library refuses names the flag it came
+// in, in render as in run (render said only `window must be longer than 0 in
+// 'window:0'` and `unknown colour mode 'bogus'`).
+TEST_F(CliFlags, ARefusedModeOrColourNamesItsFlag) {
+  const std::string in = path("two.txt");
+  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  const std::string render = "render " + in + " --sensor 8x8 -o " + path("f.png") + " --at 0";
+  for (const auto& [flags, message] :
+       {std::pair{" --mode window:0", "evlife render: --mode window must be longer than 0 in 'window:0'"},
+        std::pair{" -m window:0", "evlife render: --mode window must be longer than 0 in 'window:0'"},
+        std::pair{" --color bogus", "evlife render: --color unknown colour mode 'bogus' (use lifetime"}}) {
+    const RunResult r = run(render + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
+    EXPECT_TRUE(has(r, message)) << flags << ": " << r.output;
+    EXPECT_TRUE(has(r, "(see evlife render --help)")) << flags << ": " << r.output;
+  }
+  const RunResult r = run("run " + in + " --sensor 8x8 --frames " + path("fr") + " --mode window:0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r, "evlife run: --mode window must be longer than 0 in 'window:0'")) << r.output;
+}
+
+}  // namespace

@@ -78,6 +78,19 @@ T parse_number(std::string_view name, std::string_view text, T lo, T hi);
 /// "500ms", "20us" or a bare number of seconds, >= 0, in microseconds.
 std::int64_t parse_time_flag(std::string_view name, std::string_view text);
 
+/// A flag's value read by a parser that throws std::invalid_argument naming
+/// the value (render::parse_view_mode, parse_color_mode): `parse()`'s result,
+/// else UsageError "--`name` WHAT", e.g. "--mode window must be longer than 0
+/// in 'window:0'" (the one rule of render's and run's --mode and --color).
+template <typename Parse>
+auto parse_flag_with(std::string_view name, Parse&& parse) -> decltype(parse()) {
+  try {
+    return parse();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError("--" + std::string(name) + " " + e.what());
+  }
+}
+
 /// A flag of an option table (evlife/algo/option_info.h): the flag's value,
 /// checked against the table's range, into `field`. Floating fields whose
 /// key ends in "_s" take a time with units (stats-period 500ms).

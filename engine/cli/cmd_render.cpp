@@ -173,12 +173,10 @@ RenderArgs parse_render_args(int argc, char** argv) {
   }
   if (const auto m = a.value("mode")) r.job.mode = *m;
   bool lifetime_view = false;  // the active events drawn (lifetime, compare): what thinning and the colours act on
-  try {
-    for (const render::View& v : render::parse_view_mode(r.job.mode)) lifetime_view = lifetime_view || v.lifetime;
-    if (const auto c = a.value("color")) r.job.color = render::parse_color_mode(*c);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
+  for (const render::View& v : parse_flag_with("mode", [&] { return render::parse_view_mode(r.job.mode); }))
+    lifetime_view = lifetime_view || v.lifetime;
+  if (const auto c = a.value("color"))
+    r.job.color = parse_flag_with("color", [&] { return render::parse_color_mode(*c); });
   // Flags that would change nothing (they were accepted and ignored).
   if (!lifetime_view && a.has("no-thinning"))
     throw UsageError("--no-thinning: --mode " + r.job.mode + " draws no lifetime image to thin");

@@ -318,11 +318,8 @@ RunArgs parse_run_args(int argc, char** argv) {
   }
   if (const auto s = a.value("mode")) {
     r.render.mode = *s;
-    try {  // as `evlife render`: a bad mode is the command line's error, before any file is touched
-      (void)render::parse_view_mode(r.render.mode);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--mode ") + e.what());
-    }
+    // as `evlife render`: a bad mode is the command line's error, before any file is touched
+    (void)parse_flag_with("mode", [&] { return render::parse_view_mode(r.render.mode); });
   }
   if (const auto s = a.value("fps")) {  // 0: only the --at instants
     r.render.fps = parse_number<double>("fps", *s, 0, 100000);
