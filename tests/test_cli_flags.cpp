@@ -795,3 +795,24 @@ TEST_F(CliFlags, ARefusedModeOrColourNamesItsFlag) {
 }
 
 }  // namespace
+
+namespace {
+
+// eval's --frame-at, also spelled --at, is named in its errors as it was typed
+// (`--at 0.1,0.2` was called `--frame-at 0.1,0.2`).
+TEST_F(CliFlags, AnOptionsErrorNamesItAsTyped) {
+  const std::string in = path("two.txt");
+  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  const std::string eval = "eval " + in + " --sensor 8x8 -o " + path("ev");
+  const RunResult at = run(eval + " --at 0.1,0.2");
+  EXPECT_EQ(at.exit_code, 2) << at.output;
+  EXPECT_TRUE(has(at, "evlife eval: --at 0.1,0.2: expected")) << at.output;
+  EXPECT_FALSE(has(at, "--frame-at")) << at.output;
+  const RunResult inline_at = run(eval + " --at=x");
+  EXPECT_TRUE(has(inline_at, "evlife eval: --at x: expected")) << inline_at.output;
+  const RunResult frame_at = run(eval + " --frame-at x");
+  EXPECT_EQ(frame_at.exit_code, 2) << frame_at.output;
+  EXPECT_TRUE(has(frame_at, "evlife eval: --frame-at x: expected")) << frame_at.output;
+}
+
+}  // namespace

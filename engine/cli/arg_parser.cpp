@@ -26,6 +26,12 @@ std::vector<std::string> ParsedArgs::values(std::string_view name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
+std::string ParsedArgs::typed_name(std::string_view name) const {
+  const auto it = spelled_.find(name);
+  if (it == spelled_.end() || !it->second.starts_with("--")) return std::string(name);  // -m: its long name
+  return it->second.substr(2);
+}
+
 namespace {
 
 // True when the comma-separated `list` holds `name`.
@@ -63,7 +69,6 @@ std::string unknown_option_message(std::string_view arg, std::span<const OptionS
 
 ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options) {
   ParsedArgs out;
-  std::map<std::string, std::string> spelled;  // option -> how it was first written (an alias?)
   bool options_done = false;
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
@@ -117,11 +122,11 @@ ParsedArgs parse_args(int argc, char** argv, std::span<const OptionSpec> options
     const std::string spelling(arg[1] == '-' ? arg.substr(0, arg.find('=')) : arg.substr(0, 2));  // "--at", "-o"
     auto& slot = out.values_[name];
     if (!slot.empty() && !spec->repeatable) {
-      const std::string& first = spelled[name];
+      const std::string& first = out.spelled_[name];
       if (first != spelling) throw UsageError("'" + first + "' and '" + spelling + "' are the same option: give it once");
       throw UsageError("option '" + spelling + "' given more than once");
     }
-    if (slot.empty()) spelled[name] = spelling;
+    if (slot.empty()) out.spelled_[name] = spelling;
     slot.push_back(std::move(value));
   }
   return out;

@@ -59,10 +59,14 @@ class ParsedArgs {
   std::optional<std::string> value(std::string_view name) const;
   /// Every value of a repeatable option, in command-line order.
   std::vector<std::string> values(std::string_view name) const;
+  /// The long name option `name` was given under, for its errors: an alias
+  /// of OptionSpec::also as typed (eval's --at for --frame-at), else `name`.
+  std::string typed_name(std::string_view name) const;
 
  private:
   friend ParsedArgs parse_args(int, char**, std::span<const OptionSpec>);
   std::map<std::string, std::vector<std::string>, std::less<>> values_;
+  std::map<std::string, std::string, std::less<>> spelled_;  ///< option -> how it was first written: "--at", "-o"
 };
 
 /// Parses argv[1..argc) (argv[0] is the subcommand name). Throws UsageError;

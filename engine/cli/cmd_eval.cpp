@@ -145,7 +145,7 @@ EvalArgs parse_eval_args(int argc, char** argv) {
   }
   if (const auto s = a.value("sample-every")) e.sample_every_us = parse_time_flag("sample-every", *s);
   if (const auto s = a.value("frame-at")) {
-    e.frame_at_us = parse_time_flag("frame-at", *s);
+    e.frame_at_us = parse_time_flag(a.typed_name("frame-at"), *s);  // --at or --frame-at, as typed
     e.frame_at_given = true;
   }
   if (e.sample_every_us < 1000) throw UsageError("--sample-every must be at least 1ms");
