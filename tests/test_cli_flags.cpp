@@ -816,3 +816,28 @@ TEST_F(CliFlags, AnOptionsErrorNamesItAsTyped) {
 }
 
 }  // namespace
+
+namespace {
+
+// An empty entry of an --at list is a usage error naming it, in render and
+// run (`--at 0.5,,0.6` drew 0.5 and 0.6 without a word of the gap).
+TEST_F(CliFlags, AnEmptyEntryOfAnInstantListIsRefused) {
+  const std::string in = path("two.txt");
+  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  for (const std::string& command :
+       {"render " + in + " --sensor 8x8 -o " + path("fr"), "run " + in + " --sensor 8x8 --frames " + path("fr")}) {
+    const std::string name = command.substr(0, command.find(' '));
+    for (const auto& [list, message] : {std::pair{"0.5,,0.6", "--at 0.5,,0.6: entry 2 of 3 is empty"},
+                                        std::pair{"0.5,", "--at 0.5,: entry 2 of 2 is empty"},
+                                        std::pair{",0.5", "--at ,0.5: entry 1 of 2 is empty"}}) {
+      const RunResult r = run(command + " --at " + list);
+      EXPECT_EQ(r.exit_code, 2) << command << " --at " << list << ": " << r.output;
+      EXPECT_TRUE(has(r, "evlife " + name + ": " + message)) << command << " --at " << list << ": " << r.output;
+      EXPECT_TRUE(has(r, "(see evlife " + name + " --help)")) << r.output;
+    }
+    EXPECT_TRUE(has(run(command + " --at ''"), "evlife " + name + ": --at: no time given"));
+  }
+  EXPECT_FALSE(fs::exists(path("fr")));
+}
+
+}  // namespace

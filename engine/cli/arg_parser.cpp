@@ -259,16 +259,20 @@ SensorSize parse_sensor_size(std::string_view text) {
 }
 
 std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text) {
+  if (text.empty()) throw UsageError("--" + std::string(option) + ": no time given");
+  const std::size_t entries = static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1;
   std::vector<std::int64_t> instants;
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const std::string item = text.substr(start, comma - start);
     start = comma + 1;
-    if (item.empty()) continue;
+    if (item.empty()) {  // (it was skipped: "0.5,,0.6" drew two frames without a word)
+      throw UsageError("--" + std::string(option) + " " + text + ": entry " + std::to_string(instants.size() + 1) +
+                       " of " + std::to_string(entries) + " is empty");
+    }
     instants.push_back(parse_time_flag(option, item));
   }
-  if (instants.empty()) throw UsageError("--" + std::string(option) + ": no time given");
   std::sort(instants.begin(), instants.end());
   instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
   return instants;

@@ -190,7 +190,8 @@ void refuse_estimator_settings_for_augmented(std::string_view command, const Com
 bool has_extension(const std::string& path, std::initializer_list<std::string_view> extensions);
 
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
-/// sorted, without repeats; `option` names the flag in errors. Throws UsageError.
+/// sorted, without repeats; `option` names the flag in errors. Throws UsageError,
+/// also for an empty entry ("0.5,,0.6").
 std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text);
 
 /// The input selection shared by every command that reads events: --topic
