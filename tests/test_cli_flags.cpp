@@ -37,6 +37,12 @@ class CliFlags : public testing::Test {
     }
     return p;
   }
+  // Two events, a user's smallest text file (read with --sensor 8x8).
+  std::string two_events() const {
+    const std::string p = path("two.txt");
+    if (!fs::exists(p)) std::ofstream(p) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+    return p;
+  }
   const evlife::test::ScratchDir dir_{"test_cli_flags"};
 };
 
@@ -777,8 +783,7 @@ namespace {
 // in, in render as in run (render said only `window must be longer than 0 in
 // 'window:0'` and `unknown colour mode 'bogus'`).
 TEST_F(CliFlags, ARefusedModeOrColourNamesItsFlag) {
-  const std::string in = path("two.txt");
-  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  const std::string in = two_events();
   const std::string render = "render " + in + " --sensor 8x8 -o " + path("f.png") + " --at 0";
   for (const auto& [flags, message] :
        {std::pair{" --mode window:0", "evlife render: --mode window must be longer than 0 in 'window:0'"},
@@ -794,15 +799,10 @@ TEST_F(CliFlags, ARefusedModeOrColourNamesItsFlag) {
   EXPECT_TRUE(has(r, "evlife run: --mode window must be longer than 0 in 'window:0'")) << r.output;
 }
 
-}  // namespace
-
-namespace {
-
 // eval's --frame-at, also spelled --at, is named in its errors as it was typed
 // (`--at 0.1,0.2` was called `--frame-at 0.1,0.2`).
 TEST_F(CliFlags, AnOptionsErrorNamesItAsTyped) {
-  const std::string in = path("two.txt");
-  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  const std::string in = two_events();
   const std::string eval = "eval " + in + " --sensor 8x8 -o " + path("ev");
   const RunResult at = run(eval + " --at 0.1,0.2");
   EXPECT_EQ(at.exit_code, 2) << at.output;
@@ -815,15 +815,10 @@ TEST_F(CliFlags, AnOptionsErrorNamesItAsTyped) {
   EXPECT_TRUE(has(frame_at, "evlife eval: --frame-at x: expected")) << frame_at.output;
 }
 
-}  // namespace
-
-namespace {
-
 // An empty entry of an --at list is a usage error naming it, in render and
 // run (`--at 0.5,,0.6` drew 0.5 and 0.6 without a word of the gap).
 TEST_F(CliFlags, AnEmptyEntryOfAnInstantListIsRefused) {
-  const std::string in = path("two.txt");
-  std::ofstream(in) << "0.000001 1 1 1\n0.000002 2 2 0\n";
+  const std::string in = two_events();
   for (const std::string& command :
        {"render " + in + " --sensor 8x8 -o " + path("fr"), "run " + in + " --sensor 8x8 --frames " + path("fr")}) {
     const std::string name = command.substr(0, command.find(' '));
