@@ -676,6 +676,31 @@ TEST_F(CliFlags, RenderStopsBeforeAnHourOfBlankFrames) {
   EXPECT_EQ(run("render " + outlier + " -q -o " + path("frames_to") + " --fps 30 --to 1").exit_code, 0);
 }
 
+// A stretch without events (a timestamp outlier, hours ahead) had a paced
+// replay wait it out in silence, its progress at 100 %: each is said before
+// the wait, -q or not (as render's gaps). 120 s at --realtime=1000: 0.12 s.
+TEST_F(CliFlags, RealtimeRunSaysEachLongGapBeforeWaitingItOut) {
+  const std::string gaps = path("gaps.txt");
+  {
+    std::ofstream text(gaps);
+    text << "0 1 1 1\n0.0005 2 2 0\n0.001 3 3 1\n120 4 4 1\n120.0005 5 5 0\n240 6 6 1\n";
+  }
+  const RunResult r = run("run " + gaps + " --realtime=1000 -q -o " + path("rt.bin"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r, "warning: the replay waits 0.12 s (120 s of recording time x 1/1000) for the next event at t = "
+                     "120000000 us (none since t = 1000 us): a gap in the recording; Ctrl-C stops"))
+      << r.output;
+  EXPECT_TRUE(has(r, "for the next event at t = 240000000 us (none since t = 120000500 us)")) << r.output;
+  std::size_t said = 0;
+  for (std::size_t at = r.output.find("a gap in the recording"); at != std::string::npos;
+       at = r.output.find("a gap in the recording", at + 1))
+    ++said;
+  EXPECT_EQ(said, 2u) << r.output;  // once per gap, not once per wake-up of the wait
+  const RunResult unpaced = run("run " + gaps + " -q -o " + path("fast.bin"));
+  EXPECT_EQ(unpaced.exit_code, 0) << unpaced.output;
+  EXPECT_FALSE(has(unpaced, "a gap in the recording")) << unpaced.output;  // nothing is waited for
+}
+
 }  // namespace
 
 namespace {

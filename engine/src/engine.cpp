@@ -259,7 +259,9 @@ RunResult Engine::run() {
   const auto period_ns = static_cast<std::int64_t>(std::ceil(options_.stats_period_s * 1e9));
   const std::int64_t started_ns = monotonic_ns();
   std::int64_t next_report_ns = started_ns + period_ns;
-  const auto say_notices = [this] {
+  const auto say_notices = [this, &source] {
+    for (std::string notice = source.take_notice(); !notice.empty(); notice = source.take_notice())
+      spdlog::warn("replay: {}", notice);
     for (AuxStage* aux : pipeline_.aux_stages())
       for (std::string notice = aux->take_notice(); !notice.empty(); notice = aux->take_notice())
         spdlog::warn("render: {}", notice);

@@ -61,13 +61,7 @@ void RenderStage::advance_clock() noexcept {
 }
 
 void RenderStage::record_gap(const render::EventGap& gap, bool skipped) noexcept {
-  const std::uint64_t written = gaps_written_.load(std::memory_order_relaxed);
-  if (written - gaps_read_.load(std::memory_order_acquire) >= kGapSlots) {  // the monitor is behind: counted
-    gaps_unsaid_.fetch_add(1, std::memory_order_relaxed);
-    return;
-  }
-  gaps_[written % kGapSlots] = SaidGap{gap, skipped};
-  gaps_written_.store(written + 1, std::memory_order_release);
+  gaps_.put(SaidGap{gap, skipped});
 }
 
 void RenderStage::feed(const AugmentedEvent& a) noexcept {
@@ -124,18 +118,12 @@ void RenderStage::feed(const AugmentedEvent& a) noexcept {
 }
 
 std::string RenderStage::take_notice() {
-  const std::uint64_t read = gaps_read_.load(std::memory_order_relaxed);
-  if (read == gaps_written_.load(std::memory_order_acquire)) {
-    const std::uint64_t unsaid = gaps_unsaid_.exchange(0, std::memory_order_relaxed);
-    return unsaid == 0 ? std::string{}
-                       : std::to_string(unsaid) + " more stretches without events, not said (the warnings came faster "
-                                                  "than they were printed)";
-  }
-  const SaidGap& said = gaps_[read % kGapSlots];
-  std::string text = said.gap.text(fps_) + (said.skipped ? " Skipped, not drawn (evlife render --from/--to draws them)"
-                                                         : " Ctrl-C stops the drawing (the events are still written)");
-  gaps_read_.store(read + 1, std::memory_order_release);  // its slot may be written again
-  return text;
+  return gaps_.take_text(
+      [this](const SaidGap& said) {
+        return said.gap.text(fps_) + (said.skipped ? " Skipped, not drawn (evlife render --from/--to draws them)"
+                                                   : " Ctrl-C stops the drawing (the events are still written)");
+      },
+      "stretches without events");
 }
 
 StepResult RenderStage::step() noexcept {

@@ -1,8 +1,10 @@
 #include "evlife/engine/replay_source.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -120,6 +122,13 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
   const std::int64_t now_ns = monotonic_ns();
   const std::int64_t due_us = pacer_.due_until_us(pending_.front().t_us, now_ns);
   if (pacer_.paced()) {
+    const std::int64_t next_t_us = pending_.front().t_us;
+    std::int64_t gap_us = 0;  // times up to 2^62 apart each way: overflowed, the gap is huge (time order)
+    if (released_t_us_ != INT64_MIN &&
+        (__builtin_sub_overflow(next_t_us, released_t_us_, &gap_us) || gap_us >= kEventGapNoticeUs)) {
+      waits_.put(Wait{released_t_us_, next_t_us});  // said once: the event is released before the next pull
+      released_t_us_ = INT64_MIN;
+    }
     // The packet holding the first pending event arrives at the end of its
     // slot; without packets, when the event is due.
     const std::int64_t first_due_ns = pacer_.due_at_ns(pending_.front().t_us);
@@ -144,9 +153,27 @@ std::size_t ReplaySource::pull(std::span<Event> out) noexcept {
     last_arrival_ns_ = arrival_ns;
     last_oldest_ns_ = first_due_ns;
   }
+  released_t_us_ = pending_[n - 1].t_us;
   std::copy_n(pending_.begin(), n, out.begin());
   pending_ = pending_.subspan(n);
   return n;
+}
+
+std::string ReplaySource::take_notice() {
+  return waits_.take_text(
+      [this](const Wait& wait) {
+        const double gap_s = (static_cast<double>(wait.next_us) - static_cast<double>(wait.from_us)) * 1e-6;
+        const double wait_s = gap_s / pacer_.speed();
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "warning: the replay waits %.*f s (%.0f s of recording time x 1/%g) for the next event at t = "
+                      "%lld us (none since t = %lld us): a gap in the recording; Ctrl-C stops, without --realtime it "
+                      "replays at full speed",
+                      wait_s < 10.0 ? 2 : 0, wait_s, gap_s, pacer_.speed(), static_cast<long long>(wait.next_us),
+                      static_cast<long long>(wait.from_us));
+        return std::string(text);
+      },
+      "waits for the next event");
 }
 
 }  // namespace evlife::engine

@@ -13,6 +13,11 @@ namespace evlife {
 /// per-pixel plane sized from a file's stated or scanned sensor.
 inline constexpr int kMaxSensorSide = 4096;
 
+/// A stretch without events this long (event time, us) or longer is said to
+/// the user (a timestamp outlier?): before `render --fps`/`run --fps` draw
+/// its empty frames, and before `run --realtime` waits it out.
+inline constexpr std::int64_t kEventGapNoticeUs = 60'000'000;
+
 /// Sensor geometry in pixels.
 struct SensorSize {
   int width = 0;

@@ -12,6 +12,7 @@ class EventClockPacer {
   explicit EventClockPacer(double speed = 0.0) : speed_(speed) {}
 
   bool paced() const noexcept { return speed_ > 0.0; }
+  double speed() const noexcept { return speed_; }
 
   /// Latest event time (us) due at wall time now_ns; the first call anchors
   /// the event clock at `first_event_t_us`.

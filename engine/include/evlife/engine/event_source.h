@@ -101,6 +101,10 @@ class EventSource {
   /// thread. Negative when unknown (live sources, inputs of unknown size).
   virtual double fraction_read() const noexcept { return -1.0; }
 
+  /// The next warning for the user, oldest first, taken by the engine's
+  /// monitor thread (pull() does not print) until it is empty: none (yet).
+  virtual std::string take_notice() { return {}; }
+
   /// Asks a pull() in progress (or the next one) to return promptly and the
   /// source to finish with end_of_stream. Thread-safe; idempotent.
   virtual void request_stop() noexcept = 0;

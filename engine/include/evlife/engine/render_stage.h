@@ -17,6 +17,7 @@
 
 #include "evlife/algo/active_event_map.h"
 #include "evlife/engine/aux_stage.h"
+#include "evlife/engine/notice_ring.h"
 #include "evlife/engine/render_tap.h"
 #include "evlife/render/fixed_window_map.h"
 #include "evlife/render/frame_clock.h"
@@ -109,18 +110,12 @@ class RenderStage final : public AuxStage {
   std::int64_t skipped_from_us_ = INT64_MAX;
   std::int64_t skipped_to_us_ = INT64_MIN;
   std::atomic<bool> stop_{false};
-  // The gaps to say: a ring the render thread writes (gaps_written_,
-  // release) and the monitor reads (gaps_read_, release once a slot is
-  // read); a gap met while the ring is full is counted in gaps_unsaid_.
+  // The gaps to say, made on the render thread, said by the monitor.
   struct SaidGap {
     render::EventGap gap;
     bool skipped = false;
   };
-  static constexpr std::size_t kGapSlots = 16;
-  std::array<SaidGap, kGapSlots> gaps_{};
-  std::atomic<std::uint64_t> gaps_written_{0};
-  std::atomic<std::uint64_t> gaps_read_{0};
-  std::atomic<std::uint64_t> gaps_unsaid_{0};
+  NoticeRing<SaidGap> gaps_;
   // A huge stretch's clock frames skipped: from skip_from_frame_ (0: none), skip_frames_ of them.
   std::uint64_t skip_from_frame_ = 0;
   std::uint64_t skip_frames_ = 0;

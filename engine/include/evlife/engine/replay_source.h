@@ -14,6 +14,7 @@
 
 #include "evlife/engine/event_clock_pacer.h"
 #include "evlife/engine/event_source.h"
+#include "evlife/engine/notice_ring.h"
 #include "evlife/io/event_reader.h"
 
 namespace evlife::engine {
@@ -61,6 +62,10 @@ class ReplaySource final : public EventSource {
   std::int64_t last_arrival_ns() const noexcept override { return last_arrival_ns_; }
   std::int64_t last_oldest_ns() const noexcept override { return last_oldest_ns_; }
   double fraction_read() const noexcept override { return fraction_read_.load(std::memory_order_relaxed); }
+  /// Paced: each stretch without events of kEventGapNoticeUs or more, said
+  /// before the replay waits it out (a timestamp outlier would have it wait
+  /// hours in silence).
+  std::string take_notice() override;
 
   /// Paced replays hand events over in packets, as a camera's USB transfers
   /// do: every `packet_us` of wall-clock time, the events due by then (an
@@ -98,6 +103,14 @@ class ReplaySource final : public EventSource {
   std::int64_t crop_span_us_ = 0;  // 0: no --to
   std::int64_t crop_first_t_us_ = INT64_MIN;
   std::atomic<double> fraction_read_{-1.0};
+  // Paced: the last event handed out (INT64_MIN: none yet) and the long
+  // waits to say, each as (that event's time, the next event's).
+  std::int64_t released_t_us_ = INT64_MIN;
+  struct Wait {
+    std::int64_t from_us = 0;
+    std::int64_t next_us = 0;
+  };
+  NoticeRing<Wait, 4> waits_;
 };
 
 }  // namespace evlife::engine

@@ -90,9 +90,8 @@ struct EventGap {
 /// millions of blank frames.
 constexpr std::uint64_t kEventGapStopFrames = 100'000;
 
-/// Said when it holds at least this many frames and lasts this long.
+/// Said when it holds at least this many frames and lasts kEventGapNoticeUs (event.h).
 constexpr std::uint64_t kEventGapNoticeFrames = 1000;
-constexpr std::int64_t kEventGapNoticeUs = 60'000'000;
 inline std::optional<EventGap> event_gap_to_notice(std::int64_t from_us, std::int64_t next_event_us,
                                                    std::uint64_t empty_frames) noexcept {
   if (empty_frames < kEventGapNoticeFrames || next_event_us - from_us < kEventGapNoticeUs) return std::nullopt;
