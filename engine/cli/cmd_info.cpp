@@ -212,24 +212,25 @@ int run_info(int argc, char** argv) {
   // The description names the copy as well; messages name `path` as the stream (io::name_in_messages).
   const std::string shown = spool ? spool->stream() + " (a stream, read from its copy " + path + ")" : path;
   const StopRequest stop;  // Ctrl-C: the events read so far are described, the stream's copy removed
+  // A fault at open: a stop or an option the format does not take as every command says them, else the file's.
+  const auto open_fault = [&](const io::ReadError& e) -> int {
+    if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
+      return open_fault_exit("info", path, e);
+    std::fprintf(stderr, "evlife info: %s\n", e.what());
+    return kExitInput;
+  };
   // evlife's own outputs first (as `render` reads them): their CSV would
   // otherwise pass for a plain x,y,t,p file and the .bin for no format.
   try {
     if (const auto augmented = io::open_if_augmented(path)) return describe_augmented(path, shown, *augmented, stop);
   } catch (const io::ReadError& e) {
-    if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
-      return open_fault_exit("info", path, e);
-    std::fprintf(stderr, "evlife info: %s\n", e.what());
-    return kExitInput;
+    return open_fault(e);
   }
   std::unique_ptr<io::EventReader> reader;
   try {
     reader = io::open_unchecked_event_reader(path, options);
   } catch (const io::ReadError& e) {
-    if (stop.requested() || dynamic_cast<const io::OptionNotTaken*>(&e) != nullptr)
-      return open_fault_exit("info", path, e);
-    std::fprintf(stderr, "evlife info: %s\n", e.what());
-    return kExitInput;
+    return open_fault(e);
   }
   std::vector<Event> batch(1 << 16);
   EventTally tally;
