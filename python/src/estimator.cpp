@@ -29,6 +29,14 @@ namespace {
 
 constexpr std::size_t kBlockEvents = 1 << 16;  // as `evlife process`
 
+// The keywords of each function besides the estimator's (a misspelling of
+// one is said so: resolve_options).
+const std::vector<std::string_view> kEstimatorKeywords = {"sensor", "config"};
+const std::vector<std::string_view> kProcessKeywords = {"input",  "sensor", "config",    "one_thread", "from_s",
+                                                        "to_s",   "topic",  "time_unit", "polarity"};
+const std::vector<std::string_view> kProcessFileKeywords = {"input", "output", "sensor",    "config",  "one_thread",
+                                                            "from_s", "to_s",  "topic", "time_unit", "polarity"};
+
 /// The estimator with what Python needs around it: the time of the last
 /// event (order is checked across calls) and a lock (calls from several
 /// threads run one at a time).
@@ -230,7 +238,7 @@ void warn_rejected(const std::string& path, const FileRun& run) {
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
                        bool one_thread, const py::object& config, const py::dict& options) {
   // The sensor argument only counts when the format states none (as --sensor).
-  const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
+  const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options, kProcessKeywords);
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   std::vector<AugmentedEvent> out;
   FileRun run;
@@ -263,7 +271,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
 py::dict process_to_file(const std::string& path, const std::string& output,
                          const py::object& sensor, const io::ReaderOptions& crop, bool one_thread,
                          const py::object& config, const py::dict& options) {
-  const ResolvedOptions r = resolve_options("evlife.process", py::none(), config, options);
+  const ResolvedOptions r = resolve_options("evlife.process_file", py::none(), config, options, kProcessFileKeywords);
   const std::optional<SensorSize> user = optional_sensor_from_python(sensor);
   if (const auto refusal = io::output_overwrites_input(path, output)) throw std::invalid_argument(*refusal);
   FileRun run;
@@ -447,7 +455,7 @@ void bind_estimator(py::module_& m) {
                  "inside the task, or send evlife.process / evlife.process_file to the workers");
            })
       .def(py::init([](const py::object& sensor, const py::object& config, const py::kwargs& kw) {
-             ResolvedOptions r = resolve_options("evlife.LifetimeEstimator", sensor, config, kw);
+             ResolvedOptions r = resolve_options("evlife.LifetimeEstimator", sensor, config, kw, kEstimatorKeywords);
              if (!r.sensor)  // None built the library's default 128x128 unsaid
                throw py::type_error("evlife.LifetimeEstimator: sensor=(width, height) is required (or a config= "
                                     "file stating estimator.sensor)");
@@ -494,7 +502,7 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
         if (polarity) throw py::value_error("polarity chooses the events of a file; select an array's with a mask on its p");
         // The command line's rule: sensor=, else the configured estimator.sensor
         // (config=; the events' own size replaced it), else the events' size.
-        ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw);
+        ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw, kProcessKeywords);
         if (!r.sensor) {
           // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
           const SensorSize d = sensor_from_events(event_columns(input));

@@ -1,5 +1,6 @@
 #include "options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -165,7 +166,8 @@ void load_config_argument(config::ConfigBuilder& b, const py::object& config_pat
 }  // namespace
 
 ResolvedOptions resolve_options(const std::string& where, const py::object& sensor,
-                                const py::object& config_path, const py::dict& options) {
+                                const py::object& config_path, const py::dict& options,
+                                const std::vector<std::string_view>& own_keywords) {
   config::ConfigBuilder b;
   load_config_argument(b, config_path);
   for (const auto& [k, v] : options) {
@@ -173,8 +175,18 @@ ResolvedOptions resolve_options(const std::string& where, const py::object& sens
     const std::string key = std::string(kEstimatorPrefix) + keyword;
     const config::ConfigKey* ck = config::find_config_key(key);
     if (ck == nullptr || !is_estimator_key(*ck)) {
-      // The configuration's own message (closest key, the keys of the section).
       std::string message = where + "() got an unexpected keyword argument '" + keyword + "'";
+      // A misspelling of the function's own keywords (one_thred=, form_s=) is
+      // said so, not as an unknown estimator key (with the estimator's keys).
+      std::vector<std::string> names;
+      for (const auto& c : config::config_keys())
+        if (is_estimator_key(c)) names.push_back(c.name.substr(kEstimatorPrefix.size()));
+      std::vector<std::string_view> candidates(own_keywords.begin(), own_keywords.end());
+      candidates.insert(candidates.end(), names.begin(), names.end());
+      const std::string best = config::closest_name(keyword, candidates);
+      if (std::find(own_keywords.begin(), own_keywords.end(), best) != own_keywords.end())
+        throw py::type_error(message + " (did you mean '" + best + "'?)");
+      // The configuration's own message (closest key, the keys of the section).
       try {
         b.set(key, "0", where);
       } catch (const config::ConfigError& e) {

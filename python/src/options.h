@@ -8,6 +8,8 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "evlife/algo/event.h"
 #include "evlife/config/config.h"
@@ -31,9 +33,12 @@ struct ResolvedOptions {
 /// no `config_path`, else that file), then applies `options` and `sensor`
 /// ((width, height) or None) and validates. `where` names the caller in
 /// messages, e.g. "evlife.LifetimeEstimator". Unknown keywords raise
-/// TypeError, bad values ValueError (the CLI's text).
+/// TypeError, bad values ValueError (the CLI's text); one nearest to a name
+/// of `own_keywords` (the caller's other keywords: one_thread, from_s, ...)
+/// is said to be its misspelling.
 ResolvedOptions resolve_options(const std::string& where, const py::object& sensor,
-                                const py::object& config_path, const py::dict& options);
+                                const py::object& config_path, const py::dict& options,
+                                const std::vector<std::string_view>& own_keywords = {});
 
 /// The estimator keywords' current values in `c`, {name: value}.
 py::dict options_dict(const config::Config& c);

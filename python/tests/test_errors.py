@@ -59,6 +59,31 @@ def test_wrong_types_and_unknown_keywords_raise_typeerror():
         evlife.LifetimeEstimator(sensor=(128, 128), config=3)
 
 
+def test_a_misspelled_keyword_of_the_function_is_named_as_such(tmp_path):
+    # Before: "evlife.process() got an unexpected keyword argument 'one_thred': evlife.process:
+    # unknown configuration key 'estimator.one_thred'; keys of 'estimator': ..." (process_file's
+    # named evlife.process, and sensr= was asked "did you mean 'estimator.seed'?").
+    path = data(RECORDINGS["mat"])
+    events = np.zeros(1, evlife.EVENT_DTYPE)
+    cases = [
+        (lambda: evlife.process_file(path, tmp_path / "x.bin", one_thred=True), "process_file", "one_thred",
+         "one_thread"),
+        (lambda: evlife.process(path, form_s=0.5), "process", "form_s", "from_s"),
+        (lambda: evlife.process(events, sensr=(8, 8)), "process", "sensr", "sensor"),
+        (lambda: evlife.process(path, time_units="us"), "process", "time_units", "time_unit"),
+        (lambda: evlife.LifetimeEstimator((8, 8), confg="c.yaml"), "LifetimeEstimator", "confg", "config"),
+    ]
+    for call, function, given, meant in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.%s() got an unexpected keyword argument '%s' (did you mean '%s'?)" % (
+            function, given, meant)
+    assert not (tmp_path / "x.bin").exists()
+    # An estimator key's misspelling keeps the configuration's message.
+    with pytest.raises(TypeError, match=r"^evlife.process_file\(\) got .*'windowsize'.*did you mean 'estimator.window_size'"):
+        evlife.process_file(path, tmp_path / "x.bin", windowsize=5)
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")
