@@ -205,21 +205,25 @@ class StreamReader:
 
     @contextlib.contextmanager
     def _naming_the_stream(self):
+        # Its warnings (a crop that selected nothing) name the pipe too, at the caller's line.
+        _evlife._stream_alias(self._copy, self.path)
         try:
             yield
         except _evlife.InputError as e:
             raise _named_after(e, self._stream, self._copy)
+        finally:
+            _evlife._stream_alias("", "")
 
     def read(self, max_events=None):
         with self._naming_the_stream():
-            return self._reader.read(max_events)
+            return self._reader._read(max_events)
 
     def __iter__(self):
         return self
 
     def __next__(self):
         with self._naming_the_stream():
-            return next(self._reader)
+            return self._reader._next()
 
     def close(self):
         self._reader.close()

@@ -111,14 +111,14 @@ void SignalCheck::raise(const std::string& message, py::object partial, std::uin
 // warnings.catch_warnings would redirect every thread's warnings.
 thread_local std::string t_stream_copy, t_stream_name;
 
-void warn_at_callers_line(std::string text) {
+void warn_at_callers_line(std::string text, int stacklevel) {
   if (!t_stream_copy.empty()) {
     for (std::size_t at = text.find(t_stream_copy); at != std::string::npos;
          at = text.find(t_stream_copy, at + t_stream_name.size()))
       text.replace(at, t_stream_copy.size(), t_stream_name);
   }
   // Level 1 is the wrapper's own line in _streams.py; 2 the line that called evlife.
-  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 2) != 0) throw py::error_already_set();
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), stacklevel) != 0) throw py::error_already_set();
 }
 
 void bind_errors(py::module_& m) {

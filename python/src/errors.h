@@ -57,8 +57,9 @@ class SignalCheck {
 /// the Python wrapper every public reading function has (_streams.py); the
 /// copy of a named pipe this thread reads (_stream_alias) is named as the
 /// pipe. An exception where warnings are errors (py::error_already_set).
-/// Needs the GIL.
-void warn_at_callers_line(std::string text);
+/// Needs the GIL. `stacklevel` as warnings.warn's: 1 for a method the user
+/// calls directly (evlife.Reader's, which have no wrapper).
+void warn_at_callers_line(std::string text, int stacklevel = 2);
 
 void bind_errors(py::module_& m);
 

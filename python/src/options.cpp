@@ -108,14 +108,14 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
 }
 
 void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
-                     std::uint64_t events) {
+                     std::uint64_t events, int stacklevel) {
   if (events > 0 || !crop.filters()) return;
   std::string text = std::string(function) + ": no event of " + path;
   if (crop.polarity != io::PolarityFilter::both)
     text += crop.polarity == io::PolarityFilter::on ? " is ON (polarity='on')" : " is OFF (polarity='off')";
   if (crop.from_us || crop.to_us)
     text += " within from_s/to_s (seconds after its first event; evlife.scan gives its t_first and t_last)";
-  warn_at_callers_line(text);
+  warn_at_callers_line(text, stacklevel);
 }
 
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor) {

@@ -50,7 +50,7 @@ SensorSize sensor_from_python(const py::object& sensor);
 /// `events` is 0 and `crop` selects a time range or a polarity: an empty result says why
 /// (the CLI's warning). Needs the GIL.
 void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
-                     std::uint64_t events);
+                     std::uint64_t events, int stacklevel = 2);
 
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 

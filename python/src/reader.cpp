@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -78,19 +79,22 @@ py::array read_all(io::EventReader& reader, SignalCheck& signals) {
 class Reader {
  public:
   Reader(const std::string& path, const io::ReaderOptions& options, std::size_t chunk_events)
-      : chunk_events_(chunk_events) {
+      : chunk_events_(chunk_events), path_(path), options_(options) {
     if (chunk_events == 0) throw py::value_error("chunk_events must be at least 1");
     reader_ = io::open_event_reader(path, options);
   }
 
-  py::array read(std::optional<std::size_t> max_events) {
+  /// The next chunk; at the end of a recording of which from_s / to_s or
+  /// polarity selected no event, a RuntimeWarning as evlife.read's (once),
+  /// attributed `stacklevel` frames up (1: the line that called read).
+  py::array read(std::optional<std::size_t> max_events, int stacklevel = 1) {
     if (max_events == std::size_t{0})  // an empty chunk is the end of the recording
       throw py::value_error("max_events must be at least 1");
     const std::size_t n_max = max_events.value_or(chunk_events_);
     std::vector<Event> events;  // grows block by block: a large max_events costs nothing
     std::size_t n = 0;
     std::optional<io::ReadError> fault;
-    bool closed = false;
+    bool closed = false, none_delivered = false;
     SignalCheck signals(/*long_call=*/n_max > kReadBlock);
     {
       ReleasedGil release;
@@ -112,6 +116,8 @@ class Reader {
           if (n == 0) fault.emplace(e);  // else: the good events first, the fault next call
           else pending_.emplace(e);
         }
+        delivered_ += n;
+        none_delivered = delivered_ == 0;
       }
     }
     if (closed) throw py::value_error("the reader is closed");
@@ -124,11 +130,14 @@ class Reader {
                              " events of the chunk (in .partial; the next read goes on after them)",
                          chunk, n, py::none());
     }
+    // The end of a recording of which the crop selected nothing: said once, as evlife.read says it.
+    if (n == 0 && none_delivered && !warned_.exchange(true))
+      warn_empty_crop("evlife.open", path_, options_, 0, stacklevel);
     return chunk;
   }
 
-  py::array next() {
-    py::array chunk = read(std::nullopt);
+  py::array next(int stacklevel = 1) {
+    py::array chunk = read(std::nullopt, stacklevel);
     if (chunk.shape(0) == 0) throw py::stop_iteration();
     return chunk;
   }
@@ -159,6 +168,10 @@ class Reader {
  private:
   std::unique_ptr<io::EventReader> reader_;
   std::size_t chunk_events_;
+  std::string path_;
+  io::ReaderOptions options_;
+  std::uint64_t delivered_ = 0;  // events returned so far
+  std::atomic<bool> warned_{false};
   std::optional<io::ReadError> pending_;
   mutable std::mutex mutex_;
 };
@@ -296,11 +309,19 @@ good events come first, the next chunk raises evlife.InputError.)")
             return skipped_kinds_dict(r.query([](const io::EventReader& e) { return e.skipped_record_kinds(); }));
           },
           "skipped_records by kind, {kind: count}, where the format tells them apart.")
-      .def("read", &Reader::read, py::arg("max_events") = py::none(),
-           "The next chunk of at most max_events (default chunk_events) events; empty at the end.")
+      .def(
+          "read", [](Reader& r, std::optional<std::size_t> max_events) { return r.read(max_events); },
+          py::arg("max_events") = py::none(),
+          "The next chunk of at most max_events (default chunk_events) events; empty at the end (a from_s / to_s "
+          "or polarity that selected no event is then warned of, as by evlife.read).")
+      .def(
+          "_read", [](Reader& r, std::optional<std::size_t> max_events) { return r.read(max_events, 2); },
+          py::arg("max_events") = py::none(), "Internal: read() for a wrapper (StreamReader): warnings at its caller.")
+      .def(
+          "_next", [](Reader& r) { return r.next(2); }, "Internal: __next__() for a wrapper (StreamReader).")
       .def("close", &Reader::close)
       .def("__iter__", [](py::object self) { return self; })
-      .def("__next__", &Reader::next)
+      .def("__next__", [](Reader& r) { return r.next(); })
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](Reader& r, py::args) { r.close(); });
 

@@ -171,6 +171,27 @@ def test_a_crop_past_the_end_is_warned_of_as_the_cli_does(tmp_path):
         assert len(evlife.process(src, to_s=0.1)) > 0
 
 
+def test_a_crop_of_open_that_selects_nothing_is_warned_of_as_by_read():
+    # Before: `for chunk in evlife.open(f, from_s=1000.0)` (or polarity="on" of an OFF-only file) ended
+    # without a chunk or a word, where evlife.read, process and process_file warn.
+    src = data(RECORDINGS["mat"])
+    said = r"^evlife.open: no event of %s within from_s/to_s \(seconds after its first event" % src
+    with pytest.warns(RuntimeWarning, match=said) as caught:
+        assert list(evlife.open(src, from_s=1000.0)) == []
+    assert len(caught) == 1 and caught[0].filename == __file__  # at the loop's line
+    with pytest.warns(RuntimeWarning, match=said) as caught:
+        with evlife.open(src, from_s=1000.0) as r:
+            assert len(r.read()) == 0
+            assert len(r.read()) == 0  # said once
+    assert len(caught) == 1 and caught[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a crop that selects events, or none: no warning at the end
+        with evlife.open(src, from_s=0.2, to_s=0.5, chunk_events=10_000) as r:
+            assert sum(len(c) for c in r) > 0
+            assert len(r.read()) == 0
+        assert sum(len(c) for c in evlife.open(src, chunk_events=100_000)) > 0
+
+
 def test_open_yields_bounded_chunks_equal_to_read():
     path = data(RECORDINGS["evt2"])
     whole = evlife.read(path)

@@ -131,6 +131,17 @@ def test_a_warning_of_a_pipe_names_the_pipe_at_the_callers_line(tmp_path, temp_d
         assert len(caught) == 1
         assert str(caught[0].message).startswith("evlife.read: no event of %s within from_s/to_s" % path)
         assert caught[0].filename == __file__, caught[0].filename  # this call's line, not _streams.py's
+        # evlife.open's reader, at its end (it said nothing before), the same.
+        if source == "pipe":
+            path, writer = pipe(tmp_path, payload, name="o%d.txt" % len(list(tmp_path.iterdir())))
+        with pytest.warns(RuntimeWarning) as caught:
+            with evlife.open(path, from_s=1000.0) as r:
+                assert list(r) == []
+        if writer:
+            writer.join()
+        assert len(caught) == 1
+        assert str(caught[0].message).startswith("evlife.open: no event of %s within from_s/to_s" % path)
+        assert caught[0].filename == __file__, caught[0].filename
     assert list(temp_dir.iterdir()) == []
 
 
