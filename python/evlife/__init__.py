@@ -152,16 +152,32 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
 
 
 def _whole_microseconds(t_us):
-    """t_us as an int; a fraction is refused (0.5 meant as seconds was drawn at 0)."""
+    """t_us as an int; a fraction is refused (0.5 meant as seconds was drawn at 0), so is what is no
+    number (None, a text, an array: the float() or pybind11 error named no argument) or lies beyond
+    int64 (pybind11's TypeError printed the whole augmented array)."""
     try:
-        return _operator.index(t_us)
+        instant = _operator.index(t_us)
     except TypeError:
-        pass
-    value = float(t_us)
-    if not value.is_integer():
-        raise ValueError("frame: t_us is microseconds on the recording's clock, got %r (not whole: seconds? "
-                         "augmented['t'][0] + 500_000 is 0.5 s in)" % (t_us,))
-    return int(value)
+        try:
+            if isinstance(t_us, (str, bytes)):
+                raise TypeError
+            value = float(t_us)
+        except (TypeError, ValueError):
+            raise TypeError("frame: t_us is microseconds on the recording's clock (an integer), got %s"
+                            % _short_repr(t_us)) from None
+        if not value.is_integer():
+            raise ValueError("frame: t_us is microseconds on the recording's clock, got %r (not whole: seconds? "
+                             "augmented['t'][0] + 500_000 is 0.5 s in)" % (t_us,))
+        instant = int(value)
+    if not -2**63 <= instant < 2**63:
+        raise ValueError("frame: t_us = %s is beyond int64 (evlife's time type: microseconds on the "
+                         "recording's clock)" % _short_repr(t_us))
+    return instant
+
+
+def _short_repr(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def write(path, augmented, sensor):

@@ -73,6 +73,16 @@ def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
         evlife.frame(aug, 0.5, sensor=sensor)
     assert np.array_equal(evlife.frame(aug, float(t0 + 300_000), sensor=sensor, caption=False, legend=False), a)
     assert np.array_equal(evlife.frame(aug, aug["t"][0] + 300_000, sensor=sensor, caption=False, legend=False), a)
+    # Before: t_us past int64 raised pybind11's "_frame(): incompatible function arguments" with the whole
+    # array printed; None, a text ("5" was drawn at t = 5 us) or an array named no argument.
+    for beyond in (2**63, -2**63 - 1, 1e19, np.uint64(2**64 - 1)):
+        with pytest.raises(ValueError, match=r"^frame: t_us = \S+ is beyond int64 \(evlife's time type"):
+            evlife.frame(aug, beyond, sensor=sensor)
+    for no_instant in (None, "5", b"5", aug["t"][:2], [t0]):
+        with pytest.raises(TypeError, match=r"^frame: t_us is microseconds on the recording's clock \(an integer\), got"):
+            evlife.frame(aug, no_instant, sensor=sensor)
+    assert evlife.frame(aug, 2**63 - 1, sensor=sensor).ndim == 3
+    assert evlife.frame(aug, np.array(t0), sensor=sensor).ndim == 3  # a 0-d array is a number
 
 
 def test_an_augmented_array_of_0_1_polarity_is_refused_naming_the_convention(stripes):
