@@ -143,6 +143,20 @@ def test_read_augmented_reads_every_output_format_as_written(tmp_path):
         evlife.read_augmented(tmp_path / "plain.h5")
 
 
+def test_read_augmented_of_a_recording_says_it_is_one():
+    # Before: read_augmented("stripes.mat") (or an .aedat4, an np.save'd .npy) raised "not an augmented CSV:
+    # the first line must be 'x,y,t,p,lifetime,...'", naming a format the file never claimed to be.
+    for name in ("mat", "aedat4", "rpg-text"):
+        path = data(RECORDINGS[name])
+        with pytest.raises(evlife.InputError) as e:
+            evlife.read_augmented(path)
+        assert str(e.value).startswith(
+            "%s: a recording (%s), not evlife's output: evlife.read reads its events, evlife.process estimates "
+            "them; read_augmented reads the .bin, .csv or .h5 that `evlife process -o` and evlife.write write"
+            % (path, name)), str(e.value)
+        assert e.value.path == path and e.value.partial is None
+
+
 @pytest.mark.parametrize("ext", ["bin", "csv", "h5"])
 def test_process_file_on_one_thread_writes_the_same_bytes(ext, tmp_path):
     # Decoding ahead and writing behind change when the work is done, not what
