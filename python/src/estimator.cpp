@@ -594,6 +594,17 @@ as evlife.process.)");
       "process_file and the command line refuse it.");
 
   m.def(
+      "_check_options",
+      [](const std::string& where, const std::vector<std::string>& own_keywords, const py::object& config,
+         const py::kwargs& kw) {
+        const std::vector<std::string_view> own(own_keywords.begin(), own_keywords.end());
+        (void)resolve_options(where, py::none(), config, kw, own);
+      },
+      py::arg("where"), py::arg("own_keywords"), py::kw_only(), py::arg("config") = py::none(),
+      "TypeError/ValueError unless the keywords are estimator options, as LifetimeEstimator checks them, named as\n"
+      "`where`() (evlife.batch's functions); one near a name of own_keywords is said to be its misspelling.");
+
+  m.def(
       "_check_sensor", [](const py::object& sensor) { (void)sensor_from_python(sensor); }, py::arg("sensor"),
       "TypeError/ValueError unless sensor is a camera's (width, height), as LifetimeEstimator checks it\n"
       "(without making one: up to 1.4 GB for the largest).");

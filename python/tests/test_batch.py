@@ -52,6 +52,32 @@ def test_bad_options_fail_before_any_task(tmp_path):
         batch.process_files([data("reference/stripes.mat")], tmp_path, windowsize=5)
 
 
+def test_a_misspelled_keyword_of_a_batch_function_is_named_as_such(tmp_path):
+    # Before: process_files(..., worker=3) raised "evlife.LifetimeEstimator() got an unexpected keyword
+    # argument 'worker': evlife.LifetimeEstimator: unknown configuration key 'estimator.worker'; keys of ...".
+    from evlife import batch
+    path = data("reference/stripes.mat")
+    cases = [
+        (lambda: batch.process_files([path], tmp_path / "o", worker=3), "process_files", "worker", "workers"),
+        (lambda: batch.process_files([path], tmp_path / "o", extention=".csv"), "process_files", "extention",
+         "extension"),
+        (lambda: batch.process_slices(path, tmp_path / "o.bin", slice=3), "process_slices", "slice", "slices"),
+        (lambda: batch.process_slices(path, tmp_path / "o.bin", warmup=50), "process_slices", "warmup",
+         "warmup_ms"),
+    ]
+    for call, function, given, meant in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.batch.%s() got an unexpected keyword argument '%s' (did you mean '%s'?)" % (
+            function, given, meant)
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_files\(\) got an unexpected keyword argument "
+                                        r"'windowsize'.*did you mean 'estimator.window_size'"):
+        batch.process_files([path], tmp_path / "o", windowsize=5)
+    with pytest.raises(ValueError, match=r"set at evlife.batch.process_slices\(window_size=4\)"):
+        batch.process_slices(path, tmp_path / "o.bin", window_size=4)
+    assert not (tmp_path / "o").exists() and not (tmp_path / "o.bin").exists()
+
+
 def test_output_names_are_unique_whatever_the_recordings_are_called():
     from evlife import batch
     names = batch._output_names(["a/g.mat", "b/g.mat", "g-2.dat", "c/G.txt", "g.dat"], ".bin")
