@@ -1,11 +1,37 @@
 #include "event_columns.h"
 
 #include <algorithm>
+#include <string>
 
 #include "dtypes.h"
 
 namespace evlife::python {
 namespace {
+
+// ", it has fields ts, x, y, polarity": the names an array (dtype.names), a
+// dict (keys) or a DataFrame (columns) has, for the message of a missing one;
+// "" when it has none to tell.
+std::string fields_it_has(const py::handle& events) {
+  py::object names = py::none();
+  try {
+    if (py::hasattr(events, "dtype")) names = events.attr("dtype").attr("names");
+    else if (py::hasattr(events, "columns")) names = events.attr("columns");
+    else if (py::isinstance<py::dict>(events)) names = py::reinterpret_borrow<py::dict>(events).attr("keys")();
+  } catch (const py::error_already_set&) {
+    return "";
+  }
+  if (names.is_none()) return "";
+  std::string text;
+  std::size_t count = 0;
+  for (const py::handle n : names) {
+    if (++count > 12) {
+      text += ", ...";
+      break;
+    }
+    text += (text.empty() ? "" : ", ") + py::str(n).cast<std::string>();
+  }
+  return text.empty() ? "" : ", it has fields " + text;
+}
 
 Column column(const py::handle& events, const char* name, py::object& keep, bool allow_bool) {
   py::object col;
@@ -16,8 +42,10 @@ Column column(const py::handle& events, const char* name, py::object& keep, bool
         !e.matches(PyExc_IndexError) && !e.matches(PyExc_TypeError)) {
       throw;
     }
+    // (Its fields named: ts, polarity or x_pos, evlife.read's spellings of a file's columns, are not taken here.)
     throw py::type_error(std::string("events: no field '") + name +
-                         "' (expected an array with fields t, x, y, p, e.g. from evlife.read)");
+                         "' (expected an array with fields t, x, y, p, e.g. from evlife.read" + fields_it_has(events) +
+                         ")");
   }
   py::array a = py::array::ensure(col);
   if (!a || a.ndim() != 1) {

@@ -215,6 +215,17 @@ def test_arrays_without_integer_t_x_y_p_raise_typeerror():
     est = evlife.LifetimeEstimator(sensor=(128, 128))
     with pytest.raises(TypeError, match="no field 'p'"):
         est.process(np.zeros(3, dtype=[("t", "i8"), ("x", "u2"), ("y", "u2")]))
+    # Before: "events: no field 't' (expected an array with fields t, x, y, p, e.g. from evlife.read)" alone,
+    # for a DSEC-like array whose fields (ts, polarity) evlife.read takes from a file: what it has is said.
+    with pytest.raises(TypeError) as e:
+        est.process(np.zeros(3, dtype=[("ts", "i8"), ("x", "u2"), ("y", "u2"), ("polarity", "i1")]))
+    assert str(e.value) == ("events: no field 't' (expected an array with fields t, x, y, p, e.g. from evlife.read, "
+                            "it has fields ts, x, y, polarity)")
+    with pytest.raises(TypeError, match=r"no field 'p' \(.*, it has fields t, x, y, pol\)$"):
+        evlife.process({"t": [1], "x": [1], "y": [1], "pol": [1]})
+    with pytest.raises(TypeError, match=r"^events: no field 't' \(expected an array with fields t, x, y, p, e.g. "
+                                        r"from evlife.read\)$"):
+        est.process(np.zeros(3, "i8"))  # no fields at all: nothing more to say
     with pytest.raises(TypeError, match="integer microseconds"):
         est.process(np.zeros(3, dtype=[("t", "f8"), ("x", "u2"), ("y", "u2"), ("p", "i1")]))
     with pytest.raises(ValueError, match="differ in length"):
