@@ -609,8 +609,14 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     path = os.path.abspath(os.fsdecode(path))
     output = os.path.abspath(os.fsdecode(output))  # the parts are written where the workers run
     _check_workers(workers, scheduler)
-    if slices < 1:
-        raise ValueError("slices must be at least 1")
+    # slices=2.5 raised range()'s "'float' object cannot be interpreted as an integer"; True made one slice.
+    try:
+        count = operator.index(slices)
+    except TypeError:
+        count = 0
+    if isinstance(slices, bool) or count < 1:
+        raise ValueError("slices must be a whole number of at least 1, got %r" % (slices,))
+    slices = count
     parts = ["%s.part%d.bin" % (output, k) for k in range(slices)]
     for target in [output] + parts:  # the rule of process_file and the CLI, theirs
         _evlife._refuse_overwriting_input(path, target)

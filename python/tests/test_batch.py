@@ -117,6 +117,10 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
         batch.process_files([path], tmp_path, from_s=0.5, to_s=0.2)
     with pytest.raises(ValueError, match="warmup_ms"):
         batch.process_slices(path, tmp_path / "x.bin", warmup_ms=float("nan"))
+    # Before: slices=2.5 raised "'float' object cannot be interpreted as an integer", naming nothing.
+    for bad in (2.5, "2", True, 0, -1):
+        with pytest.raises(ValueError, match=r"^slices must be a whole number of at least 1, got %s$" % repr(bad)):
+            batch.process_slices(path, tmp_path / "x.bin", slices=bad)
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_files([path], tmp_path, time_unit="fortnights")
     with pytest.raises(ValueError, match="polarity: expected 'on', 'off' or 'both', got 'up'"):
