@@ -25,6 +25,7 @@ installed package) and the paths readable where they run.
 """
 import contextlib
 import functools
+import inspect
 import operator
 import os
 import shutil
@@ -401,11 +402,11 @@ def _config_read_once(function):
     return wrapper
 
 
-# The functions' own keywords (a misspelling of one is said so, not taken for an estimator key).
-_PROCESS_FILES_KEYWORDS = ("paths", "out_dir", "scheduler", "workers", "sensor", "config", "extension", "progress",
-                           "one_thread", "from_s", "to_s", "topic", "time_unit", "polarity")
-_PROCESS_SLICES_KEYWORDS = ("path", "output", "slices", "warmup_ms", "scheduler", "workers", "sensor", "config",
-                            "progress", "topic", "time_unit")
+def _own_keywords(function):
+    """The named parameters of `function` (through _config_read_once to the function's own signature):
+    a misspelling of one is said so, not taken for an estimator key."""
+    return tuple(name for name, parameter in inspect.signature(function).parameters.items()
+                 if parameter.kind is not parameter.VAR_KEYWORD)
 
 
 @_config_read_once
@@ -450,7 +451,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     # Bad options fail now, with the command line's message, not once per task; named as this
     # function's (a misspelled workers= or extension= was "evlife.LifetimeEstimator() got an
     # unexpected keyword argument ...: unknown configuration key 'estimator.worker'").
-    _evlife._check_options("evlife.batch.process_files", _PROCESS_FILES_KEYWORDS, config=config, **options)
+    _evlife._check_options("evlife.batch.process_files", _own_keywords(process_files), config=config, **options)
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
         _evlife._check_sensor(sensor)  # not LifetimeEstimator(sensor): 1.4 GB for the largest
@@ -624,7 +625,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         raise ValueError("process_slices writes a .bin file: %s" % output)
     if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker
         raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
-    _evlife._check_options("evlife.batch.process_slices", _PROCESS_SLICES_KEYWORDS, config=config, **options)
+    _evlife._check_options("evlife.batch.process_slices", _own_keywords(process_slices), config=config, **options)
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     _check_topic(topic)
     _evlife._check_reader_options(time_unit=time_unit)

@@ -189,6 +189,36 @@ io::ReaderOptions with_stated_sensor(const std::string& path, io::ReaderOptions 
   return options;
 }
 
+/// io::open_augmented_reader(path), but a recording (stripes.mat, a .npy) that
+/// it refused as "not an augmented CSV: the first line must be 'x,y,t,p,...'"
+/// is said to be one, with what reads it.
+std::unique_ptr<io::AugmentedEventReader> open_augmented_or_say_a_recording(const std::string& path) {
+  try {
+    return io::open_augmented_reader(path);
+  } catch (const io::AugmentedColumnsError&) {  // evlife's output, damaged: its own message
+    throw;
+  } catch (const io::ReadError&) {
+    if (io::names_augmented_bin(path)) throw;
+    std::string format;
+    bool recording_events = false;  // an empty file is no recording either
+    try {
+      const auto recording = io::open_unchecked_event_reader(path);
+      format = std::string(recording->format_name());
+      Event first;
+      recording_events = recording->read(std::span(&first, 1)) > 0;
+    } catch (const io::ReadError&) {
+      recording_events = !format.empty();  // a recording's format, cut or corrupt further on
+    }
+    // Neither (or HDF5 events, which its reader names as such): the augmented readers' reason.
+    if (!recording_events || format == "hdf5") throw;
+    throw io::ReadError(path, 0, -1,
+                        "a recording (" + format +
+                            "), not evlife's output: evlife.read reads its events, evlife.process "
+                            "estimates them; read_augmented reads the .bin, .csv or .h5 that `evlife "
+                            "process -o` and evlife.write write");
+  }
+}
+
 }  // namespace
 
 py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
@@ -361,32 +391,7 @@ from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
         {
           ReleasedGil release;
           try {
-            try {
-              reader = io::open_augmented_reader(path);
-            } catch (const io::AugmentedColumnsError&) {  // evlife's output, damaged: its own message
-              throw;
-            } catch (const io::ReadError&) {
-              // A recording (stripes.mat, a .npy) was refused as "not an augmented CSV: the first
-              // line must be 'x,y,t,p,...'": said what it is, and what reads it.
-              if (io::names_augmented_bin(path)) throw;
-              std::string format;
-              bool recording_events = false;  // an empty file is no recording either
-              try {
-                const auto recording = io::open_unchecked_event_reader(path);
-                format = std::string(recording->format_name());
-                Event first;
-                recording_events = recording->read(std::span(&first, 1)) > 0;
-              } catch (const io::ReadError&) {
-                recording_events = !format.empty();  // a recording's format, cut or corrupt further on
-              }
-              // Neither (or HDF5 events, which its reader names as such): the augmented readers' reason.
-              if (!recording_events || format == "hdf5") throw;
-              throw io::ReadError(path, 0, -1,
-                                  "a recording (" + format +
-                                      "), not evlife's output: evlife.read reads its events, evlife.process "
-                                      "estimates them; read_augmented reads the .bin, .csv or .h5 that `evlife "
-                                      "process -o` and evlife.write write");
-            }
+            reader = open_augmented_or_say_a_recording(path);
             sensor = reader->sensor_size();
             for (;;) {
               events.resize(good + kReadBlock);
