@@ -1000,6 +1000,46 @@ TEST(IoFormatsCorruption, UnknownWordTypesAreReportedAtTheirOffset) {
   }
 }
 
+// Bytes overwritten with 0xFF (a bad flash sector, a buffer never filled)
+// read as CONTINUED words. A CONTINUED word only goes on from an OTHERS word,
+// so a run of them after events is an error at its first word, after the
+// events before it; an OTHERS word with its CONTINUED words is skipped.
+TEST(IoFormatsCorruption, RunsOf0xFFAreReportedAtTheirFirstWord) {
+  const ScratchDir dir("test_io_formats");
+  for (const auto& [sample, word_bytes] : {std::pair{kEvt2, std::size_t{4}}, std::pair{kEvt3, std::size_t{2}}}) {
+    const std::vector<Event> full = read_all(sample).events;
+    std::vector<std::uint8_t> bytes = load(sample);
+    const std::size_t data = prophesee_header_end(bytes);
+    const std::size_t at = data + word_bytes * 40'000;
+    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + 4096),
+              std::uint8_t{0xFF});
+    const ReadResult r = read_all(dir.save("ff_run.raw", bytes), 999);
+    ASSERT_TRUE(r.error) << sample;
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find("CONTINUED"), std::string::npos) << r.error->what();
+    EXPECT_GT(r.events.size(), 1000u);
+    EXPECT_TRUE(is_prefix(r.events, full));
+
+    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(data), bytes.end(), std::uint8_t{0xFF});
+    const ReadResult all = read_all(dir.save("all_ff.raw", bytes));
+    ASSERT_TRUE(all.error) << sample;
+    EXPECT_EQ(all.error->byte_offset(), static_cast<std::int64_t>(data)) << all.error->what();
+    EXPECT_TRUE(all.events.empty());
+  }
+  // OTHERS, then two CONTINUED words: three skipped records between two events.
+  const ReadResult evt2 = read_all(dir.save("others2.raw", with_words("% evt 2.0\n% geometry 640x480\n",
+      std::vector<std::uint32_t>{0x80000001u, 0x10000000u | (5u << 11) | 6u, 0xE0000000u, 0xFFFFFFFFu,
+                                 0xF0000000u, 0x00000000u | (7u << 11) | 8u})));
+  ASSERT_FALSE(evt2.error) << evt2.error->what();
+  EXPECT_EQ(evt2.events.size(), 2u);
+  EXPECT_EQ(evt2.skipped, 3u);
+  const ReadResult evt3 = read_all(dir.save("others3.raw", with_words("% evt 3.0\n% geometry 640x480\n",
+      std::vector<std::uint16_t>{0x8001, 0x0003, 0x2004, 0xE000, 0x7FFF, 0xFFFF, 0x2005})));
+  ASSERT_FALSE(evt3.error) << evt3.error->what();
+  EXPECT_EQ(evt3.events.size(), 2u);
+  EXPECT_EQ(evt3.skipped, 3u);
+}
+
 TEST(IoFormatsCorruption, DatPolarityOutOfRangeIsReported) {
   const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kDat);

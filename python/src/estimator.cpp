@@ -262,6 +262,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   }
   warn_rejected(path, run);
   warn_empty_crop("evlife.process", path, crop, run.events);
+  warn_skipped_records("evlife.process", path, run.skipped_records, run.skipped_kinds);
   return result;
 }
 
@@ -541,7 +542,8 @@ events before the fault, as the CLI writes them; an array's event beyond
 +-2^62 us too), ValueError for bad options. Events of a recording that the
 estimator rejects (labelled noise; the CLI summary's "rejected" line) are
 warned of with a RuntimeWarning that counts them; so is a from_s / to_s or
-polarity that selects no event (as the CLI's warning).)");
+polarity that selects no event (as the CLI's warning), and so are the
+records of a recording that are not events (triggers, IMU samples, frames).)");
 
   m.def(
       "process_file",

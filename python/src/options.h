@@ -52,6 +52,12 @@ SensorSize sensor_from_python(const py::object& sensor);
 void warn_empty_crop(const char* function, const std::string& path, const io::ReaderOptions& crop,
                      std::uint64_t events, int stacklevel = 2);
 
+/// A RuntimeWarning "FUNCTION: PATH: N non-event records of the format
+/// skipped (kind N, ...)" when `count` > 0: triggers, IMU samples, frames,
+/// words of no event a whole-file call read past (the CLI's summary line).
+void warn_skipped_records(const char* function, const std::string& path, std::uint64_t count,
+                          const std::vector<io::SkippedKindCount>& kinds, int stacklevel = 2);
+
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
 /// What evlife.read, open, process and process_file read: `sensor`, the

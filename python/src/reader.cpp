@@ -244,6 +244,7 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
   if (fault) raise_input_error(*fault, adopt(std::vector<Event>{}, event_dtype()));
   py::array events = read_all(*reader, signals);
   warn_empty_crop("evlife.read", path, options, static_cast<std::uint64_t>(events.shape(0)));
+  warn_skipped_records("evlife.read", path, reader->skipped_record_count(), reader->skipped_record_kinds());
   return events;
 }
 
@@ -281,7 +282,8 @@ evlife.InputError (a ValueError) for an unknown format, corrupt or truncated
 data, an event outside the sensor or a timestamp going backwards; its message
 names the file, event index and byte offset, and its `partial` attribute
 holds the events before the fault. A from_s / to_s or polarity that selects
-no event is warned of (RuntimeWarning), as by the CLI.)");
+no event is warned of (RuntimeWarning), as by the CLI; so are the format's
+records that are not events (triggers, IMU samples, frames: skipped, counted).)");
 
   py::class_<Reader>(m, "Reader", R"(A recording read in chunks of bounded size (see evlife.open).
 

@@ -269,6 +269,22 @@ def test_skipped_records_are_counted_as_the_cli_counts_them(tmp_path):
         assert r.skipped_records == expected
 
 
+def test_skipped_records_of_a_whole_file_call_are_warned_of(tmp_path):
+    # Before: evlife.read and evlife.process of a recording with triggers, IMU samples or frames
+    # returned its events without a word of the records they read past; the CLI's summary counts them.
+    path = data(RECORDINGS["aedat4"])
+    expected = evlife.scan(path)["skipped_records"]
+    said = r"%s: %d non-event records of the format skipped" % (path, expected)
+    with pytest.warns(RuntimeWarning, match="^evlife.read: " + said) as caught:
+        assert len(evlife.read(path)) > 0
+    assert len(caught) == 1 and caught[0].filename == __file__  # at the caller's line
+    with pytest.warns(RuntimeWarning, match="^evlife.process: " + said):
+        assert len(evlife.process(path)) > 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a recording of events only: no warning
+        assert len(evlife.read(data(RECORDINGS["evt3"]))) > 0
+
+
 def test_read_checks_the_given_sensor():
     path = data(RECORDINGS["mat"])
     with pytest.raises(evlife.InputError, match="outside the 64x64 sensor") as e:

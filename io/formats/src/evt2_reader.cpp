@@ -17,6 +17,7 @@ constexpr std::size_t kEvt2WordBytes = 4;
 std::size_t Evt2Reader::read(std::span<Event> out) {
   if (error_) throw *error_;
   std::size_t n = 0;
+  std::uint32_t previous_type = previous_type_;
   while (n < out.size()) {
     if (file_.fill(kEvt2WordBytes) < kEvt2WordBytes) {
       if (file_.available() != 0) {
@@ -34,6 +35,8 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
       std::uint32_t w;
       std::memcpy(&w, bytes + i * kEvt2WordBytes, kEvt2WordBytes);
       const std::uint32_t type = w >> 28;
+      const bool continues_others = previous_type == 14 || previous_type == 15;
+      previous_type = type;
       if (type <= 1) {  // CD_OFF / CD_ON
         const std::uint32_t x = (w >> 11) & 0x7FF;
         const std::uint32_t y = w & 0x7FF;
@@ -55,8 +58,13 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
         time_high_.update(w & 0x0FFFFFFF);
       } else if (type == 10) {  // EXT_TRIGGER
         ++trigger_count_;
-      } else if (type == 14 || type == 15) {  // OTHERS, CONTINUED
-        ++other_count_;
+      } else if (type == 14 || (type == 15 && continues_others)) {
+        ++other_count_;  // OTHERS and the CONTINUED words that go on from it
+      } else if (type == 15) {  // continues nothing: 0xFF bytes read so
+        error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt2WordBytes), event_count_,
+                       "EVT 2.0 CONTINUED word with no OTHERS word before it: corrupt data "
+                       "(a run of 0xFF bytes reads so)");
+        break;
       } else {
         error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt2WordBytes),
                        event_count_, "unknown EVT 2.0 word type " + std::to_string(type));
@@ -66,6 +74,7 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
     file_.consume(i * kEvt2WordBytes);
     if (error_) break;
   }
+  previous_type_ = previous_type;
   if (error_ && n == 0) throw *error_;
   return n;
 }

@@ -22,6 +22,7 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
   std::size_t n = 0;
   std::size_t i = 0;
   bool fault = false;
+  std::uint32_t previous_type = previous_type_;
   // Each word may add up to kMaxEventsPerWord events: stop while that still fits.
   for (; i < words && n + kMaxEventsPerWord <= out.size(); ++i) {
     std::uint16_t w;
@@ -93,11 +94,18 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
         ++trigger_count_;
         if (trigger_sink_ != nullptr) trigger_sink_->on_trigger(t_us_, w & 1, (w >> 8) & 0xF);
         break;
-      case 0x7:  // CONTINUED_4
-      case 0xE:  // OTHERS
-      case 0xF:  // CONTINUED_12
+      case 0xE:  // OTHERS: may go on in CONTINUED words
         ++other_count_;
         break;
+      case 0x7:    // CONTINUED_4
+      case 0xF: {  // CONTINUED_12: only after OTHERS (a run of 0xFF bytes is not one)
+        if (previous_type != 0xE && previous_type != 0x7 && previous_type != 0xF) {
+          fault = true;
+          break;
+        }
+        ++other_count_;
+        break;
+      }
       default:
         fault = true;
         break;
@@ -106,7 +114,9 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
       fault_word_ = w;
       break;
     }
+    previous_type = w >> 12;
   }
+  previous_type_ = previous_type;
   return Result{i, n, fault};
 }
 
@@ -121,6 +131,10 @@ std::string Evt3Decoder::fault_message() const {
     case 0x4:
     case 0x5:
       return "EVT 3.0 vector event beyond the sensor (base x=" + std::to_string(base_x_) + ")";
+    case 0x7:
+    case 0xF:
+      return "EVT 3.0 CONTINUED word (type " + std::to_string(type) +
+             ") with no OTHERS word before it: corrupt data (a run of 0xFF bytes reads so)";
     default:
       return "unknown EVT 3.0 word type " + std::to_string(type);
   }

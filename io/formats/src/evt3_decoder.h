@@ -10,8 +10,10 @@
 // no time and are skipped and counted, as OpenEB's decoder does; events
 // come from ADDR_X 2 (one event) and VECT_12 4 / VECT_8 5 (a bit mask of up to
 // 12 / 8 events at base x + i, base x then advances by 12 / 8). EXT_TRIGGER 10
-// is counted (and handed to a TriggerSink if set); CONTINUED_4 7, OTHERS 14,
-// CONTINUED_12 15 are skipped and counted. Times are in µs.
+// is counted (and handed to a TriggerSink if set); OTHERS 14 and the
+// CONTINUED_4 7 / CONTINUED_12 15 words that go on from it are skipped and
+// counted. A CONTINUED word after any other word is a fault: it continues
+// nothing, and corrupt data (0xFF bytes) reads as CONTINUED_12. Times are in µs.
 #pragma once
 
 #include <cstddef>
@@ -72,6 +74,7 @@ class Evt3Decoder {
   bool has_time_base_ = false;  // a TIME_HIGH was seen
   Evt3TriggerSink* trigger_sink_ = nullptr;
   std::uint16_t fault_word_ = 0;
+  std::uint32_t previous_type_ = 0;  // type of the last word decoded (CONTINUED's check)
 };
 
 }  // namespace evlife::io

@@ -2,9 +2,11 @@
 
 namespace evlife::io {
 
-std::string skipped_kinds_text(const EventReader& reader) {
+std::string skipped_kinds_text(const EventReader& reader) { return skipped_kinds_text(reader.skipped_record_kinds()); }
+
+std::string skipped_kinds_text(const std::vector<SkippedKindCount>& kinds) {
   std::string text;
-  for (const SkippedKindCount& k : reader.skipped_record_kinds()) {
+  for (const SkippedKindCount& k : kinds) {
     if (!text.empty()) text += ", ";
     text.append(k.kind);
     text += ' ' + std::to_string(k.count);

@@ -67,6 +67,7 @@ class EventReader;
 /// reader.skipped_record_kinds() as "kind N, kind N" (empty when the format
 /// does not tell its skipped records apart): for the commands' summaries.
 std::string skipped_kinds_text(const EventReader& reader);
+std::string skipped_kinds_text(const std::vector<SkippedKindCount>& kinds);
 /// "(non-event records of the format: kind N, ...)", and with the count in
 /// front, "N (...)": the summaries' line for reader.skipped_record_count() > 0.
 std::string skipped_records_note(const EventReader& reader);
