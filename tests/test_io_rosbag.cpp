@@ -433,20 +433,26 @@ TEST(Rosbag2Reader, ASplitBagsFilesAreReadInTheirNumbersOrder) {
 }
 
 // A metadata.yaml that lists its files in YAML's flow style reads (taken
-// for no list before); one without the key, or an empty file, is named with
-// what is wrong.
+// for no list before), over one line or several; one without the key, an
+// empty file, or a text that is not YAML is named with what is wrong.
 TEST(Rosbag2Reader, AMetadataYamlIsReadInFlowStyleAndABrokenOneSaysWhatIsWrong) {
   const ScratchDir dir{"test_io_rosbag"};
   const fs::path folder = fs::path(dir.file("flow"));
   write_split_bag(folder, 2);
   const std::string head = "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n";
-  std::ofstream(folder / "metadata.yaml") << head << "  relative_file_paths: [bag_0.db3, 'bag_1.db3']\n";
-  const ReadAll r = read_all(folder.string());
-  ASSERT_FALSE(r.error) << r.error->what();
-  EXPECT_EQ(r.events.size(), 2u);
+  // One line, or several (a long list as a YAML writer wraps it: "no relative_file_paths key"
+  // before), or the list on the line after its key.
+  for (const std::string list : {"  relative_file_paths: [bag_0.db3, 'bag_1.db3']\n",
+                                 "  relative_file_paths: [bag_0.db3,\n    \"bag_1.db3\"]\n",
+                                 "  relative_file_paths:\n    [bag_0.db3, bag_1.db3]\n"}) {
+    std::ofstream(folder / "metadata.yaml") << head << list;
+    const ReadAll r = read_all(folder.string());
+    ASSERT_FALSE(r.error) << list << ": " << r.error->what();
+    EXPECT_EQ(r.events.size(), 2u) << list;
+  }
   const std::string metadata = (folder / "metadata.yaml").string();
   for (const auto& [text, why] : {std::pair<std::string, std::string>{"", "no relative_file_paths key"},
-                                  {"{{{ not yaml: [\n", "no relative_file_paths key"},
+                                  {"{{{ not yaml: [\n", "not YAML (line 2, column 1: "},
                                   {head, "no relative_file_paths key"},
                                   {head + "  relative_file_paths: []\n", "lists no file under relative_file_paths"}}) {
     std::ofstream(folder / "metadata.yaml") << text;

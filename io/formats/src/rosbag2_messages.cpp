@@ -1,6 +1,7 @@
 #include "rosbag2_messages.h"
 
 #include <sqlite3.h>
+#include <yaml-cpp/yaml.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -31,13 +32,6 @@ bool is_compressed_db3_name(const fs::path& p) {
   return p.extension() == ".zstd" && p.stem().extension() == ".db3";
 }
 
-std::string trimmed(std::string s) {
-  const auto not_space = [](char c) { return c != ' ' && c != '\t' && c != '\r' && c != '"' && c != '\''; };
-  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
-  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
-  return s;
-}
-
 /// File names in the order rosbag2 splits them: digit runs compare as
 /// numbers (bag_2 before bag_10; as strings bag_10 came first and the bag's
 /// time went backwards at its third file).
@@ -64,59 +58,72 @@ bool split_file_order_less(const std::string& a, const std::string& b) {
   return a < b;  // equal as numbers (bag_01, bag_1): any fixed order
 }
 
+struct BagMetadata {
+  int version = 0;  // 0: not stated
+  std::string storage, compression_format, compression_mode;
+  std::vector<std::string> files;  // relative_file_paths, as listed
+  bool has_file_list = false;      // the key is there (maybe with no file)
+};
+
+/// metadata.yaml's keys evlife uses, under rosbag2_bagfile_information (or
+/// at the top, where another writer left that key out). Parsed as YAML
+/// (yaml-cpp): block or flow lists, over one line or several, quoted or not.
+BagMetadata read_bag_metadata(const std::string& path) {
+  YAML::Node loaded;
+  try {
+    loaded = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw ReadError(path, -1, -1,
+                    "not YAML (line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1) +
+                        ": " + e.msg + "): a damaged rosbag2 metadata file (the bag's files cannot be told; without "
+                        "metadata.yaml its .db3 files are read)");
+  }
+  BagMetadata m;
+  const YAML::Node& root = loaded;  // const: a look-up never adds a key
+  if (!root.IsMap()) return m;      // empty, or a text: no key
+  // (A missing key gives an invalid node: only IsDefined() may be asked of it.)
+  const YAML::Node wrapped = root["rosbag2_bagfile_information"];
+  const YAML::Node info = wrapped.IsDefined() && wrapped.IsMap() ? wrapped : root;
+  const auto text = [&](const char* key) -> std::string {
+    const YAML::Node v = info[key];
+    if (!v.IsDefined() || v.IsNull()) return {};
+    if (!v.IsScalar()) throw ReadError(path, -1, -1, std::string(key) + " is not a single value");
+    return v.Scalar();
+  };
+  m.storage = text("storage_identifier");
+  m.compression_format = text("compression_format");
+  m.compression_mode = text("compression_mode");
+  m.version = std::atoi(text("version").c_str());
+  const YAML::Node files = info["relative_file_paths"];
+  m.has_file_list = files.IsDefined();
+  if (!m.has_file_list) return m;
+  if (files.IsSequence()) {
+    for (const YAML::Node& f : files) {
+      if (!f.IsScalar()) throw ReadError(path, -1, -1, "relative_file_paths holds an entry that is not a file name");
+      if (!f.Scalar().empty()) m.files.push_back(f.Scalar());
+    }
+  } else if (files.IsScalar() && !files.Scalar().empty()) {  // one name, not a list
+    m.files.push_back(files.Scalar());
+  }
+  return m;
+}
+
 /// The .db3 files of a bag folder, in reading order.
 std::vector<std::string> bag_folder_files(const std::string& dir) {
   std::vector<std::string> files;
   const fs::path metadata = fs::path(dir) / "metadata.yaml";
   if (std::ifstream in(metadata); in) {
-    std::string line, storage, compression_format, compression_mode, version;
-    std::vector<std::string> listed;
-    bool in_list = false, has_list_key = false;
-    const auto value_of = [](const std::string& t, std::string_view key, std::string& out) {
-      if (t.rfind(key, 0) == 0 && out.empty()) out = trimmed(t.substr(key.size()));
-    };
-    while (std::getline(in, line)) {
-      const std::string t = trimmed(line);
-      value_of(t, "storage_identifier:", storage);
-      value_of(t, "version:", version);  // the bag's: the first in the file
-      value_of(t, "compression_format:", compression_format);
-      value_of(t, "compression_mode:", compression_mode);
-      if (t == "relative_file_paths:") {
-        in_list = has_list_key = true;
-      } else if (t.rfind("relative_file_paths: [", 0) == 0 && t.back() == ']') {
-        // The flow style other YAML writers use (PyYAML's default for a list of
-        // names): valid YAML, it was taken for no list.
-        has_list_key = true;
-        std::string_view items(t);
-        items = items.substr(items.find('[') + 1);
-        items.remove_suffix(1);
-        while (!items.empty()) {
-          const std::size_t comma = std::min(items.find(','), items.size());
-          if (std::string item = trimmed(std::string(items.substr(0, comma))); !item.empty())
-            listed.push_back(std::move(item));
-          items.remove_prefix(std::min(comma + 1, items.size()));
-        }
-      } else if (in_list && t.rfind("- ", 0) == 0) {
-        listed.push_back(trimmed(t.substr(2)));
-      } else if (in_list) {
-        in_list = false;
-      }
-    }
+    const BagMetadata m = read_bag_metadata(metadata.string());
+    const std::string &storage = m.storage, &compression_format = m.compression_format,
+                      &compression_mode = m.compression_mode;
     // Up to version 3 rosbag2 wrote the paths with the bag folder's name in
     // front (relative to the folder's parent), as its reader resolves them.
-    const int bag_version = std::atoi(version.c_str());
     // ("bag/", "." and "./" name the folder too: its parent is that of the absolute path).
     std::error_code cwd_error;  // no working directory: the path as given
     fs::path folder = fs::absolute(dir, cwd_error).lexically_normal();
     if (!folder.has_filename()) folder = folder.parent_path();
-    const fs::path base = bag_version >= 1 && bag_version <= 3 ? folder.parent_path() : fs::path(dir);
-    for (const std::string& f : listed) files.push_back((base / f).string());
-    const auto quoted_off = [](std::string v) {
-      if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'') && v.back() == v.front()) v = v.substr(1, v.size() - 2);
-      return v;
-    };
-    compression_format = quoted_off(compression_format);
-    compression_mode = quoted_off(compression_mode);
+    const fs::path base = m.version >= 1 && m.version <= 3 ? folder.parent_path() : fs::path(dir);
+    for (const std::string& f : m.files) files.push_back((base / f).string());
     // zstd by message (each message a frame) or by file (NAME.db3.zstd): both read.
     if (!compression_format.empty() && compression_mode != "NONE" && compression_mode != "none" &&
         !compression_mode.empty() && compression_format != "zstd") {
@@ -139,7 +146,7 @@ std::vector<std::string> bag_folder_files(const std::string& dir) {
     }
     if (files.empty()) {  // what is wrong: a file that is no rosbag2 metadata, or an empty list
       throw ReadError(metadata.string(), -1, -1,
-                      has_list_key ? "rosbag2 metadata lists no file under relative_file_paths"
+                      m.has_file_list ? "rosbag2 metadata lists no file under relative_file_paths"
                                    : "no relative_file_paths key: not rosbag2 metadata, or a damaged file (the bag's "
                                      "files cannot be told; without metadata.yaml its .db3 files are read)");
     }
