@@ -457,7 +457,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         _evlife._check_sensor(sensor)  # not LifetimeEstimator(sensor): 1.4 GB for the largest
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
-    _evlife._check_reader_options(from_s, to_s, time_unit, polarity)
+    _evlife._check_reader_options(from_s, to_s, time_unit, polarity, where="evlife.batch.process_files")
     _check_topic(topic)
     crop = {k: v for k, v in (("from_s", from_s), ("to_s", to_s), ("topic", topic), ("time_unit", time_unit),
                               ("polarity", polarity)) if v is not None}
@@ -628,7 +628,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     _evlife._check_options("evlife.batch.process_slices", _own_keywords(process_slices), config=config, **options)
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     _check_topic(topic)
-    _evlife._check_reader_options(time_unit=time_unit)
+    _evlife._check_reader_options(time_unit=time_unit, where="evlife.batch.process_slices")
     info = _evlife.scan(path, sensor, config=config, topic=topic, time_unit=time_unit)
     t0, t1 = info["t_first"], info["t_last"] + 1
     cuts = [t0 + (t1 - t0) * k // slices for k in range(slices)] + [t1]

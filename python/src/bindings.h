@@ -63,10 +63,8 @@ void bind_estimator(py::module_& m);  // LifetimeEstimator, process
 void bind_frame(py::module_& m);      // frame
 void bind_synth(py::module_& m);      // synth, TRUTH_DTYPE
 
-/// evlife.read's body: from_s / to_s are seconds after the first event;
-/// topic: a ROS bag's event topic, an HDF5 file's camera (--topic).
-py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
-                      std::optional<double> to_s, const std::optional<std::string>& topic);
+/// evlife.read's body: every event of `path` that `options` select (reader_options).
+py::array read_events(const std::string& path, const io::ReaderOptions& options);
 
 /// A str, bytes or os.PathLike as the file name's bytes (os.fsencode: a name
 /// that is not UTF-8 stays the file's), as evlife.read's `path` takes it.

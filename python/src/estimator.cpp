@@ -34,6 +34,7 @@ constexpr std::size_t kBlockEvents = 1 << 16;  // as `evlife process`
 const std::vector<std::string_view> kEstimatorKeywords = {"sensor", "config"};
 const std::vector<std::string_view> kProcessKeywords = {"input",  "sensor", "config",    "one_thread", "from_s",
                                                         "to_s",   "topic",  "time_unit", "polarity"};
+const std::vector<std::string_view> kScanKeywords = {"input", "sensor", "config", "topic", "time_unit"};
 const std::vector<std::string_view> kProcessFileKeywords = {"input", "output", "sensor",    "config",  "one_thread",
                                                             "from_s", "to_s",  "topic", "time_unit", "polarity"};
 
@@ -486,9 +487,11 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
   m.def(
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         bool one_thread, std::optional<double> from_s, std::optional<double> to_s,
-         const std::optional<std::string>& topic, const std::optional<std::string>& time_unit,
-         const std::optional<std::string>& polarity, const py::kwargs& kw) -> py::array {
+         bool one_thread, const OptionalFloatArgument& from_s_arg, const OptionalFloatArgument& to_s_arg,
+         const OptionalStrArgument& topic_arg, const OptionalStrArgument& time_unit_arg,
+         const OptionalStrArgument& polarity_arg, const py::kwargs& kw) -> py::array {
+        const auto [from_s, to_s, topic, time_unit, polarity] =
+            reader_arguments("evlife.process", from_s_arg, to_s_arg, topic_arg, time_unit_arg, polarity_arg);
         if (py::isinstance<py::str>(input) || py::isinstance<py::bytes>(input) || py::hasattr(input, "__fspath__")) {
           const std::string path = path_from_python(input);
           return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic, time_unit, polarity),
@@ -548,13 +551,15 @@ records of a recording that are not events (triggers, IMU samples, frames).)");
   m.def(
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         const py::object& config, bool one_thread, std::optional<double> from_s,
-         std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity,
+         const py::object& config, bool one_thread, const OptionalFloatArgument& from_s,
+         const OptionalFloatArgument& to_s, const OptionalStrArgument& topic,
+         const OptionalStrArgument& time_unit, const OptionalStrArgument& polarity,
          const py::kwargs& kw) {
-        return process_to_file(path_from_python(input), path_from_python(output), sensor,
-                               reader_options(std::nullopt, from_s, to_s, topic, time_unit, polarity), one_thread,
-                               config, kw);
+        const std::string in = path_from_python(input), out = path_from_python(output);
+        return process_to_file(in, out, sensor,
+                               reader_options("evlife.process_file", std::nullopt, from_s, to_s, topic, time_unit,
+                                              polarity),
+                               one_thread, config, kw);
       },
       py::arg("input"), py::arg("output"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("one_thread") = false, py::arg("from_s") = py::none(),
@@ -577,12 +582,12 @@ as evlife.process.)");
 
   m.def(
       "_check_reader_options",
-      [](std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& time_unit,
-         const std::optional<std::string>& polarity) {
-        reader_options(std::nullopt, from_s, to_s, std::nullopt, time_unit, polarity);
+      [](const OptionalFloatArgument& from_s, const OptionalFloatArgument& to_s,
+         const OptionalStrArgument& time_unit, const OptionalStrArgument& polarity, const std::string& where) {
+        reader_options(where, std::nullopt, from_s, to_s, py::none(), time_unit, polarity);
       },
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("time_unit") = py::none(),
-      py::arg("polarity") = py::none(),
+      py::arg("polarity") = py::none(), py::kw_only(), py::arg("where") = "evlife.batch",
       "ValueError unless from_s / to_s / time_unit / polarity are valid (as evlife.process checks them).");
 
   m.def(
@@ -614,8 +619,12 @@ as evlife.process.)");
   m.def(
       "scan",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         const std::optional<std::string>& topic, const std::optional<std::string>& time_unit) {
-        return scan_file(path_from_python(input), sensor, config, topic, time_unit);
+         const OptionalStrArgument& topic, const OptionalStrArgument& time_unit, const py::kwargs& kw) {
+        refuse_keywords("evlife.scan", kw, kScanKeywords);
+        const std::string path = path_argument("evlife.scan", "input", input);
+        const auto topic_name = optional_str_argument("evlife.scan", "topic", topic);
+        const auto unit = optional_str_argument("evlife.scan", "time_unit", time_unit);
+        return scan_file(path, sensor, config, topic_name, unit);
       },
       py::arg("input"), py::arg("sensor") = py::none(), py::kw_only(),
       py::arg("config") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),

@@ -69,7 +69,107 @@ py::object key_value(const config::ConfigKey& key, const config::Config& c) {
   return py::str(text);
 }
 
+// repr(value), cut short: an array's would fill the screen.
+std::string short_repr(const py::handle& value) {
+  std::string text;
+  try {
+    text = py::repr(value).cast<std::string>();
+  } catch (const py::error_already_set&) {
+    text = "?";
+  }
+  return text.size() <= 80 ? text : text.substr(0, 77) + "...";
+}
+
 }  // namespace
+
+void raise_argument_type_error(const std::string& where, const char* name, const std::string& expected,
+                               const py::handle& value) {
+  throw py::type_error(where + "(): " + name + " must be " + expected + ", got " +
+                       py::str(py::type::of(value).attr("__name__")).cast<std::string>() + " " + short_repr(value));
+}
+
+void raise_argument_range_error(const std::string& where, const char* name, long long min, unsigned long long max,
+                                const py::handle& value) {
+  const py::int_ number(py::reinterpret_borrow<py::object>(value).attr("__index__")());
+  const bool below = number < py::int_(min);
+  throw py::value_error(where + "(): " + name + " must be " +
+                        (below ? "at least " + std::to_string(min) : "at most " + std::to_string(max)) + ", got " +
+                        short_repr(number));
+}
+
+std::string path_argument(const std::string& where, const char* name, const py::handle& value) {
+  try {
+    return path_from_python(value);
+  } catch (const py::type_error& e) {
+    throw py::type_error(where + "(): " + name + ": " + e.what());
+  }
+}
+
+double float_argument(const std::string& where, const char* name, const py::handle& value, const char* unit) {
+  try {
+    return py::cast<double>(value);
+  } catch (const py::cast_error&) {
+    raise_argument_type_error(where, name, std::string("a number (") + unit + ")", value);
+  }
+}
+
+std::optional<double> optional_float_argument(const std::string& where, const char* name, const py::handle& value,
+                                              const char* unit) {
+  if (value.is_none()) return std::nullopt;
+  return float_argument(where, name, value, unit);
+}
+
+std::string str_argument(const std::string& where, const char* name, const py::handle& value) {
+  try {
+    return py::cast<std::string>(value);
+  } catch (const py::cast_error&) {
+    raise_argument_type_error(where, name, "a str", value);
+  }
+}
+
+std::optional<std::string> optional_str_argument(const std::string& where, const char* name,
+                                                 const py::handle& value) {
+  if (value.is_none()) return std::nullopt;
+  return str_argument(where, name, value);
+}
+
+std::string misspelled_keyword(std::string_view keyword, const std::vector<std::string_view>& keywords,
+                               const std::vector<std::string_view>& others) {
+  std::vector<std::string_view> candidates(keywords.begin(), keywords.end());
+  candidates.insert(candidates.end(), others.begin(), others.end());
+  const std::string best = config::closest_name(keyword, candidates);
+  return std::find(keywords.begin(), keywords.end(), best) != keywords.end() ? best : std::string();
+}
+
+std::string unexpected_keyword(const std::string& where, std::string_view keyword) {
+  return where + "() got an unexpected keyword argument '" + std::string(keyword) + "'";
+}
+
+void refuse_keywords(const std::string& where, const py::dict& kwargs, const std::vector<std::string_view>& keywords) {
+  for (const auto& [k, v] : kwargs) {
+    const std::string keyword = py::str(k).cast<std::string>();
+    const std::string meant = misspelled_keyword(keyword, keywords);
+    throw py::type_error(unexpected_keyword(where, keyword) + (meant.empty() ? "" : " (did you mean '" + meant + "'?)"));
+  }
+}
+
+ReaderArguments reader_arguments(const std::string& where, const py::handle& from_s, const py::handle& to_s,
+                                 const py::handle& topic, const py::handle& time_unit, const py::handle& polarity) {
+  ReaderArguments a;  // in the order of the signature: the first wrong one is named
+  a.from_s = optional_float_argument(where, "from_s", from_s, "seconds");
+  a.to_s = optional_float_argument(where, "to_s", to_s, "seconds");
+  a.topic = optional_str_argument(where, "topic", topic);
+  a.time_unit = optional_str_argument(where, "time_unit", time_unit);
+  a.polarity = optional_str_argument(where, "polarity", polarity);
+  return a;
+}
+
+io::ReaderOptions reader_options(const std::string& where, std::optional<SensorSize> sensor, const py::handle& from_s,
+                                 const py::handle& to_s, const py::handle& topic, const py::handle& time_unit,
+                                 const py::handle& polarity) {
+  const ReaderArguments a = reader_arguments(where, from_s, to_s, topic, time_unit, polarity);
+  return reader_options(sensor, a.from_s, a.to_s, a.topic, a.time_unit, a.polarity);
+}
 
 io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional<double> from_s,
                                  std::optional<double> to_s, const std::optional<std::string>& topic,
@@ -185,17 +285,14 @@ ResolvedOptions resolve_options(const std::string& where, const py::object& sens
     const std::string key = std::string(kEstimatorPrefix) + keyword;
     const config::ConfigKey* ck = config::find_config_key(key);
     if (ck == nullptr || !is_estimator_key(*ck)) {
-      std::string message = where + "() got an unexpected keyword argument '" + keyword + "'";
+      std::string message = unexpected_keyword(where, keyword);
       // A misspelling of the function's own keywords (one_thred=, form_s=) is
       // said so, not as an unknown estimator key (with the estimator's keys).
       std::vector<std::string> names;
       for (const auto& c : config::config_keys())
         if (is_estimator_key(c)) names.push_back(c.name.substr(kEstimatorPrefix.size()));
-      std::vector<std::string_view> candidates(own_keywords.begin(), own_keywords.end());
-      candidates.insert(candidates.end(), names.begin(), names.end());
-      const std::string best = config::closest_name(keyword, candidates);
-      if (std::find(own_keywords.begin(), own_keywords.end(), best) != own_keywords.end())
-        throw py::type_error(message + " (did you mean '" + best + "'?)");
+      const std::string best = misspelled_keyword(keyword, own_keywords, {names.begin(), names.end()});
+      if (!best.empty()) throw py::type_error(message + " (did you mean '" + best + "'?)");
       // The configuration's own message (closest key, the keys of the section).
       try {
         b.set(key, "0", where);

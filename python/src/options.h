@@ -6,6 +6,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -18,6 +19,75 @@
 namespace evlife::python {
 
 namespace py = pybind11;
+
+/// Any object: an argument pybind11 hands over as it is, converted by the
+/// function itself so that a wrong one is named ("evlife.read(): from_s must
+/// be a number (seconds), got str '0.5'"), where pybind11's "incompatible
+/// function arguments" named none and printed every argument (a whole array).
+/// Each type shows in the signature (help()) as the type it stands for.
+inline bool is_any_object(PyObject*) { return true; }
+#define EVLIFE_ARGUMENT_TYPE(Name)                          \
+  class Name : public py::object {                           \
+   public:                                                   \
+    PYBIND11_OBJECT_DEFAULT(Name, py::object, is_any_object) \
+  };
+EVLIFE_ARGUMENT_TYPE(PathArgument)           // os.PathLike
+EVLIFE_ARGUMENT_TYPE(FloatArgument)          // float
+EVLIFE_ARGUMENT_TYPE(IntArgument)            // int
+EVLIFE_ARGUMENT_TYPE(StrArgument)            // str
+EVLIFE_ARGUMENT_TYPE(OptionalFloatArgument)  // Optional[float]
+EVLIFE_ARGUMENT_TYPE(OptionalIntArgument)    // Optional[int]
+EVLIFE_ARGUMENT_TYPE(OptionalStrArgument)    // Optional[str]
+#undef EVLIFE_ARGUMENT_TYPE
+
+/// The conversions of those arguments, as pybind11 made them (the same values
+/// pass), else TypeError "WHERE(): NAME must be ..., got TYPE REPR" (the repr
+/// cut short), or ValueError for a whole number below `min` / beyond the type.
+std::string path_argument(const std::string& where, const char* name, const py::handle& value);
+double float_argument(const std::string& where, const char* name, const py::handle& value, const char* unit);
+std::optional<double> optional_float_argument(const std::string& where, const char* name, const py::handle& value,
+                                              const char* unit);
+std::string str_argument(const std::string& where, const char* name, const py::handle& value);
+std::optional<std::string> optional_str_argument(const std::string& where, const char* name, const py::handle& value);
+/// TypeError "WHERE(): NAME must be EXPECTED, got TYPE REPR".
+[[noreturn]] void raise_argument_type_error(const std::string& where, const char* name, const std::string& expected,
+                                            const py::handle& value);
+/// ValueError "WHERE(): NAME must be at least MIN, got VALUE" (or beyond MAX).
+[[noreturn]] void raise_argument_range_error(const std::string& where, const char* name, long long min,
+                                             unsigned long long max, const py::handle& value);
+template <class Int>
+Int int_argument(const std::string& where, const char* name, const py::handle& value, const char* unit,
+                 long long min) {
+  try {
+    return py::cast<Int>(value);
+  } catch (const py::cast_error&) {
+  }
+  if (!PyFloat_Check(value.ptr()) && py::hasattr(value, "__index__"))  // a whole number the type cannot hold
+    raise_argument_range_error(where, name, min, static_cast<unsigned long long>(std::numeric_limits<Int>::max()),
+                               value);
+  raise_argument_type_error(where, name, std::string("a whole number (") + unit + ")", value);
+}
+template <class Int>
+std::optional<Int> optional_int_argument(const std::string& where, const char* name, const py::handle& value,
+                                         const char* unit, long long min) {
+  if (value.is_none()) return std::nullopt;
+  return int_argument<Int>(where, name, value, unit, min);
+}
+
+/// The one of `keywords` that `keyword` misspells, or "": the nearest name
+/// (config::closest_name, the rule of the CLI's options and keys) among
+/// `keywords` and `others` when it is one of `keywords` (others: a function's
+/// estimator options, which have their own message).
+std::string misspelled_keyword(std::string_view keyword, const std::vector<std::string_view>& keywords,
+                               const std::vector<std::string_view>& others = {});
+
+/// "WHERE() got an unexpected keyword argument 'KEYWORD'", as Python says it.
+std::string unexpected_keyword(const std::string& where, std::string_view keyword);
+
+/// TypeError for the first keyword of `kwargs` (those pybind11 matched to no
+/// parameter): unexpected_keyword, with " (did you mean 'NAME'?)" for the one
+/// of `keywords` (the function's) it misspells.
+void refuse_keywords(const std::string& where, const py::dict& kwargs, const std::vector<std::string_view>& keywords);
 
 /// The prefix of the keys that are estimator keywords.
 inline constexpr std::string_view kEstimatorPrefix = "estimator.";
@@ -72,6 +142,35 @@ io::ReaderOptions reader_options(std::optional<SensorSize> sensor, std::optional
                                  const std::optional<std::string>& time_unit = std::nullopt,
                                  const std::optional<std::string>& polarity = std::nullopt);
 
+/// from_s, to_s, topic, time_unit, polarity as given in Python (None, a
+/// number, a str), converted by the *_argument functions: a wrong type is a
+/// TypeError naming `where` and the argument.
+struct ReaderArguments {
+  std::optional<double> from_s, to_s;
+  std::optional<std::string> topic, time_unit, polarity;
+};
+ReaderArguments reader_arguments(const std::string& where, const py::handle& from_s, const py::handle& to_s,
+                                 const py::handle& topic, const py::handle& time_unit, const py::handle& polarity);
+/// reader_options of reader_arguments.
+io::ReaderOptions reader_options(const std::string& where, std::optional<SensorSize> sensor, const py::handle& from_s,
+                                 const py::handle& to_s, const py::handle& topic, const py::handle& time_unit,
+                                 const py::handle& polarity);
+
 void bind_options(py::module_& m);
 
 }  // namespace evlife::python
+
+// The signature help() shows for each argument type: the type it stands for.
+namespace pybind11::detail {
+#define EVLIFE_ARGUMENT_TYPE_NAME(Name, shown) \
+  template <>                                  \
+  struct handle_type_name<evlife::python::Name> { static constexpr auto name = const_name(shown); };
+EVLIFE_ARGUMENT_TYPE_NAME(PathArgument, "os.PathLike")
+EVLIFE_ARGUMENT_TYPE_NAME(FloatArgument, "float")
+EVLIFE_ARGUMENT_TYPE_NAME(IntArgument, "int")
+EVLIFE_ARGUMENT_TYPE_NAME(StrArgument, "str")
+EVLIFE_ARGUMENT_TYPE_NAME(OptionalFloatArgument, "Optional[float]")
+EVLIFE_ARGUMENT_TYPE_NAME(OptionalIntArgument, "Optional[int]")
+EVLIFE_ARGUMENT_TYPE_NAME(OptionalStrArgument, "Optional[str]")
+#undef EVLIFE_ARGUMENT_TYPE_NAME
+}  // namespace pybind11::detail

@@ -28,6 +28,13 @@ namespace {
 
 constexpr std::size_t kReadBlock = 1 << 16;
 
+// The keywords of each function (a misspelling of one is said so: refuse_keywords).
+const std::vector<std::string_view> kReadKeywords = {"path", "sensor", "from_s", "to_s", "topic", "time_unit",
+                                                     "polarity"};
+const std::vector<std::string_view> kOpenKeywords = {"path",   "sensor", "chunk_events", "from_s",
+                                                     "to_s",   "topic",  "time_unit",    "polarity"};
+const std::vector<std::string_view> kReaderReadKeywords = {"max_events"};
+
 py::object sensor_tuple(std::optional<SensorSize> s) {
   if (!s) return py::none();
   return py::make_tuple(s->width, s->height);
@@ -219,19 +226,21 @@ std::unique_ptr<io::AugmentedEventReader> open_augmented_or_say_a_recording(cons
   }
 }
 
+// Reader.read's max_events (None: chunk_events), and no other keyword.
+std::optional<std::size_t> max_events_argument(const py::handle& max_events, const py::dict& kw) {
+  refuse_keywords("evlife.Reader.read", kw, kReaderReadKeywords);
+  return optional_int_argument<std::size_t>("evlife.Reader.read", "max_events", max_events, "events", 1);
+}
+
 }  // namespace
 
-py::array read_events(const std::string& path, const py::object& sensor, std::optional<double> from_s,
-                      std::optional<double> to_s, const std::optional<std::string>& topic,
-                      const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
+py::array read_events(const std::string& path, const io::ReaderOptions& options) {
   std::unique_ptr<io::EventReader> reader;
   std::optional<io::ReadError> fault;
-  io::ReaderOptions options;
   // Before the opening (a bag's index, a file's start): a Ctrl-C there is
   // evlife.Interrupted too, not a KeyboardInterrupt out of the next Python call.
   SignalCheck signals;
   {
-    options = reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit, polarity);
     ReleasedGil release;
     try {
       reader = io::open_event_reader(path, with_stated_sensor(path, options));
@@ -251,10 +260,13 @@ py::array read_events(const std::string& path, const py::object& sensor, std::op
 void bind_reader(py::module_& m) {
   m.def(
       "read",
-      [](const std::filesystem::path& path, const py::object& sensor, std::optional<double> from_s,
-         std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
-        return read_events(path.string(), sensor, from_s, to_s, topic, time_unit, polarity);
+      [](const PathArgument& path, const py::object& sensor, const OptionalFloatArgument& from_s,
+         const OptionalFloatArgument& to_s, const OptionalStrArgument& topic, const OptionalStrArgument& time_unit,
+         const OptionalStrArgument& polarity, const py::kwargs& kw) {
+        refuse_keywords("evlife.read", kw, kReadKeywords);
+        const std::string file = path_argument("evlife.read", "path", path);
+        const std::optional<SensorSize> size = optional_sensor_from_python(sensor);
+        return read_events(file, reader_options("evlife.read", size, from_s, to_s, topic, time_unit, polarity));
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::kw_only(), py::arg("from_s") = py::none(),
       py::arg("to_s") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
@@ -342,12 +354,18 @@ good events come first, the next chunk raises evlife.InputError.)")
           },
           "skipped_records by kind, {kind: count}, where the format tells them apart.")
       .def(
-          "read", [](Reader& r, std::optional<std::size_t> max_events) { return r.read(max_events); },
+          "read",
+          [](Reader& r, const OptionalIntArgument& max_events, const py::kwargs& kw) {
+            return r.read(max_events_argument(max_events, kw));
+          },
           py::arg("max_events") = py::none(),
           "The next chunk of at most max_events (default chunk_events) events; empty at the end (a from_s / to_s "
           "or polarity that selected no event is then warned of, as by evlife.read).")
       .def(
-          "_read", [](Reader& r, std::optional<std::size_t> max_events) { return r.read(max_events, 2); },
+          "_read",
+          [](Reader& r, const OptionalIntArgument& max_events, const py::kwargs& kw) {
+            return r.read(max_events_argument(max_events, kw), 2);
+          },
           py::arg("max_events") = py::none(), "Internal: read() for a wrapper (StreamReader): warnings at its caller.")
       .def(
           "_next", [](Reader& r) { return r.next(2); }, "Internal: __next__() for a wrapper (StreamReader).")
@@ -359,13 +377,18 @@ good events come first, the next chunk raises evlife.InputError.)")
 
   m.def(
       "open",
-      [](const std::filesystem::path& path, const py::object& sensor, std::size_t chunk_events,
-         std::optional<double> from_s, std::optional<double> to_s, const std::optional<std::string>& topic,
-         const std::optional<std::string>& time_unit, const std::optional<std::string>& polarity) {
+      [](const PathArgument& path_arg, const py::object& sensor, const IntArgument& chunk_events_arg,
+         const OptionalFloatArgument& from_s, const OptionalFloatArgument& to_s, const OptionalStrArgument& topic,
+         const OptionalStrArgument& time_unit, const OptionalStrArgument& polarity, const py::kwargs& kw) {
+        refuse_keywords("evlife.open", kw, kOpenKeywords);
+        const std::string path = path_argument("evlife.open", "path", path_arg);
+        const std::optional<SensorSize> size = optional_sensor_from_python(sensor);
+        const auto chunk_events = int_argument<std::size_t>("evlife.open", "chunk_events", chunk_events_arg,
+                                                            "events", 1);
         const io::ReaderOptions options =
-            reader_options(optional_sensor_from_python(sensor), from_s, to_s, topic, time_unit, polarity);
+            reader_options("evlife.open", size, from_s, to_s, topic, time_unit, polarity);
         ReleasedGil release;
-        return std::make_unique<Reader>(path.string(), with_stated_sensor(path.string(), options), chunk_events);
+        return std::make_unique<Reader>(path, with_stated_sensor(path, options), chunk_events);
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),

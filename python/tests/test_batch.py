@@ -123,6 +123,12 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
             batch.process_slices(path, tmp_path / "x.bin", slices=bad)
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_files([path], tmp_path, time_unit="fortnights")
+    # Before: "_check_reader_options(): incompatible function arguments", naming neither function nor argument.
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_files\(\): from_s must be a number \(seconds\), "
+                                        r"got str '0.5'$"):
+        batch.process_files([path], tmp_path, from_s="0.5")
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_slices\(\): time_unit must be a str, got int 1$"):
+        batch.process_slices(path, tmp_path / "x.bin", time_unit=1)
     with pytest.raises(ValueError, match="polarity: expected 'on', 'off' or 'both', got 'up'"):
         batch.process_files([path], tmp_path, polarity="up")
     with pytest.raises(ValueError, match="time_unit"):

@@ -84,6 +84,72 @@ def test_a_misspelled_keyword_of_the_function_is_named_as_such(tmp_path):
         evlife.process_file(path, tmp_path / "x.bin", windowsize=5)
 
 
+def test_reading_functions_name_a_misspelled_keyword_and_an_argument_of_the_wrong_type(tmp_path):
+    # Before: pybind11's "read(): incompatible function arguments. The following argument types are
+    # supported: 1. (path: os.PathLike, ...) Invoked with: '...'; kwargs: form_s=0.5", naming nothing.
+    path = data(RECORDINGS["mat"])
+    reader = evlife.open(path)
+    misspelled = [
+        (lambda: evlife.read(path, form_s=0.5), "read", "form_s", "from_s"),
+        (lambda: evlife.open(path, chunk_event=10), "open", "chunk_event", "chunk_events"),
+        (lambda: evlife.scan(path, sensr=(8, 8)), "scan", "sensr", "sensor"),
+        (lambda: reader.read(max_event=5), "Reader.read", "max_event", "max_events"),
+    ]
+    for call, function, given, meant in misspelled:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.%s() got an unexpected keyword argument '%s' (did you mean '%s'?)" % (
+            function, given, meant)
+    with pytest.raises(TypeError) as e:
+        evlife.read(path, colour="red")
+    assert str(e.value) == "evlife.read() got an unexpected keyword argument 'colour'"
+    wrong_types = [
+        (lambda: evlife.read(path, from_s="0.5"), TypeError, "evlife.read(): from_s must be a number (seconds), got str '0.5'"),
+        (lambda: evlife.read(path, to_s=[1]), TypeError, "evlife.read(): to_s must be a number (seconds), got list [1]"),
+        (lambda: evlife.read(path, topic=3), TypeError, "evlife.read(): topic must be a str, got int 3"),
+        (lambda: evlife.read(path, polarity=1), TypeError, "evlife.read(): polarity must be a str, got int 1"),
+        (lambda: evlife.read(3), TypeError, "evlife.read(): path: expected a path (str, bytes or os.PathLike), got int"),
+        (lambda: evlife.open(path, chunk_events="10"), TypeError,
+         "evlife.open(): chunk_events must be a whole number (events), got str '10'"),
+        (lambda: evlife.open(path, chunk_events=2.5), TypeError,
+         "evlife.open(): chunk_events must be a whole number (events), got float 2.5"),
+        (lambda: evlife.open(path, chunk_events=-1), ValueError, "evlife.open(): chunk_events must be at least 1, got -1"),
+        (lambda: evlife.open(path, time_unit=1), TypeError, "evlife.open(): time_unit must be a str, got int 1"),
+        (lambda: evlife.scan(path, topic=3), TypeError, "evlife.scan(): topic must be a str, got int 3"),
+        (lambda: reader.read(max_events="5"), TypeError,
+         "evlife.Reader.read(): max_events must be a whole number (events), got str '5'"),
+        (lambda: reader.read(-1), ValueError, "evlife.Reader.read(): max_events must be at least 1, got -1"),
+        (lambda: evlife.process(path, from_s="0.5"), TypeError,
+         "evlife.process(): from_s must be a number (seconds), got str '0.5'"),
+        (lambda: evlife.process(np.zeros(2, evlife.EVENT_DTYPE), to_s="1"), TypeError,
+         "evlife.process(): to_s must be a number (seconds), got str '1'"),
+        (lambda: evlife.process_file(path, tmp_path / "x.bin", from_s="0.5"), TypeError,
+         "evlife.process_file(): from_s must be a number (seconds), got str '0.5'"),
+        # A long value is cut short, not printed whole.
+        (lambda: evlife.read(path, from_s=np.arange(10000)), TypeError,
+         "evlife.read(): from_s must be a number (seconds), got ndarray array([   0,    1,    2, ..., 9997, 9998, 9999])"),
+    ]
+    for call, error, message in wrong_types:
+        with pytest.raises(error) as e:
+            call()
+        assert str(e.value) == message
+    with pytest.raises(TypeError) as e:
+        evlife.read(path, topic=["x"] * 100)
+    assert len(str(e.value)) < 150 and str(e.value).endswith("...")
+    assert not (tmp_path / "x.bin").exists()
+    # What pybind11 converted before still passes, as before.
+    n = len(evlife.read(path))
+    assert len(evlife.read(path, from_s=np.float64(0.0), to_s=np.int64(1000))) == n
+    assert len(evlife.read(path, topic=None, time_unit=None, polarity=None)) == n
+    with evlife.open(path, None, np.int64(7)) as r:
+        assert r.chunk_events == 7 and len(r.read(np.int64(5))) == 5 and len(r.read()) == 7
+    with pytest.raises(ValueError, match="^chunk_events must be at least 1$"):
+        evlife.open(path, chunk_events=0)
+    with pytest.raises(ValueError, match="^max_events must be at least 1$"):
+        reader.read(0)
+    reader.close()
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")
