@@ -109,7 +109,8 @@ double float_argument(const std::string& where, const char* name, const py::hand
   try {
     return py::cast<double>(value);
   } catch (const py::cast_error&) {
-    raise_argument_type_error(where, name, std::string("a number (") + unit + ")", value);
+    raise_argument_type_error(where, name, std::string("a number") + (*unit ? std::string(" (") + unit + ")" : ""),
+                              value);
   }
 }
 

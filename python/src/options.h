@@ -43,6 +43,7 @@ EVLIFE_ARGUMENT_TYPE(OptionalStrArgument)    // Optional[str]
 /// The conversions of those arguments, as pybind11 made them (the same values
 /// pass), else TypeError "WHERE(): NAME must be ..., got TYPE REPR" (the repr
 /// cut short), or ValueError for a whole number below `min` / beyond the type.
+/// `unit` ("seconds", "events"; "" for none) is said in parentheses.
 std::string path_argument(const std::string& where, const char* name, const py::handle& value);
 double float_argument(const std::string& where, const char* name, const py::handle& value, const char* unit);
 std::optional<double> optional_float_argument(const std::string& where, const char* name, const py::handle& value,
@@ -65,7 +66,8 @@ Int int_argument(const std::string& where, const char* name, const py::handle& v
   if (!PyFloat_Check(value.ptr()) && py::hasattr(value, "__index__"))  // a whole number the type cannot hold
     raise_argument_range_error(where, name, min, static_cast<unsigned long long>(std::numeric_limits<Int>::max()),
                                value);
-  raise_argument_type_error(where, name, std::string("a whole number (") + unit + ")", value);
+  raise_argument_type_error(where, name, std::string("a whole number") + (*unit ? std::string(" (") + unit + ")" : ""),
+                            value);
 }
 template <class Int>
 std::optional<Int> optional_int_argument(const std::string& where, const char* name, const py::handle& value,

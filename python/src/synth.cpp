@@ -1,9 +1,11 @@
 // evlife.synth: the synthetic scenes of `evlife synth` (bars, a texture;
 // ideal or DVS pixels) as NumPy arrays, with their ground truth per event.
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <new>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bindings.h"
@@ -52,9 +54,35 @@ py::dtype truth_dtype() {
   throw py::error_already_set();
 }
 
-py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, double duration_s, std::uint64_t seed,
-                const py::object& pixel_arg, const py::kwargs& pixel_options) {
+constexpr const char* kWhere = "evlife.synth";
+
+// The keyword options besides the arguments: the pixel parameters of `evlife
+// synth` ('-' -> '_'), noise_rate, jitter_us.
+std::vector<std::string> option_names() {
+  std::vector<std::string> names = {"noise_rate", "jitter_us"};
+  for (const io::PixelParameter& p : io::pixel_parameters()) {
+    std::string py_name = p.name;
+    for (char& c : py_name) c = c == '-' ? '_' : c;
+    names.push_back(py_name);
+  }
+  return names;
+}
+
+py::tuple synth(const StrArgument& scene_arg, const py::object& sensor_arg, const FloatArgument& duration_arg,
+                const IntArgument& seed_arg, const py::object& pixel_arg, const py::kwargs& pixel_options) {
+  // A keyword that is none of the function's: named, with the one it misspells.
+  const std::vector<std::string> options = option_names();
+  std::vector<std::string_view> keywords = {"scene", "sensor", "duration", "seed", "pixel"};
+  keywords.insert(keywords.end(), options.begin(), options.end());
+  py::dict unknown;
+  for (const auto& [key, value] : pixel_options)
+    if (std::find(options.begin(), options.end(), py::str(key).cast<std::string>()) == options.end())
+      unknown[key] = value;
+  refuse_keywords(kWhere, unknown, keywords);
+  const std::string scene_name = str_argument(kWhere, "scene", scene_arg);
   const SensorSize sensor = sensor_arg.is_none() ? SensorSize{128, 128} : sensor_from_python(sensor_arg);
+  const double duration_s = float_argument(kWhere, "duration", duration_arg, "seconds");
+  const auto seed = int_argument<std::uint64_t>(kWhere, "seed", seed_arg, "", 0);
   if (!(duration_s >= 1e-3 && duration_s <= 3600.0)) throw py::value_error("duration: expected 0.001 .. 3600 s");
   const auto duration_us = static_cast<std::int64_t>(duration_s * 1e6 + 0.5);
   io::SceneSpec spec;
@@ -82,13 +110,9 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
   // noise_rate, jitter_us.
   for (const auto& [key, value] : pixel_options) {
     const auto name = key.cast<std::string>();
-    double v = 0.0;
-    try {
-      if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value)) throw py::cast_error();  // "5" is text
-      v = value.cast<double>();
-    } catch (const py::cast_error&) {
-      throw py::type_error(name + ": expected a number, got " + py::repr(value).cast<std::string>());
-    }
+    if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value))  // "5" is text
+      raise_argument_type_error(kWhere, name.c_str(), "a number", value);
+    const double v = float_argument(kWhere, name.c_str(), value, "");
     if (name == "noise_rate") {
       if (!(v >= 0.0 && v <= 1e4)) throw py::value_error("noise_rate: expected 0 .. 1e4 events per pixel per second");
       spec.noise_rate_hz_per_px = v;
@@ -114,7 +138,7 @@ py::tuple synth(const std::string& scene_name, const py::object& sensor_arg, dou
       spec.pixel.*p.field = v;
       known = true;
     }
-    if (!known) throw py::type_error("synth() got an unexpected keyword argument '" + name + "'");
+    if (!known) throw py::type_error(unexpected_keyword(kWhere, name));  // (refused above)
   }
   spec.sensor = sensor;
   const io::TexturedSceneSpec texture = io::textured_scene_like(spec);

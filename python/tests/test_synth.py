@@ -77,6 +77,36 @@ def test_bad_arguments_raise():
         evlife.synth("bar", pixel=3)  # pybind's "Unable to cast" RuntimeError named nothing
 
 
+def test_a_misspelled_keyword_or_an_argument_of_the_wrong_type_is_named():
+    # Before: "synth() got an unexpected keyword argument 'duraton'" (which it misspells unsaid), and
+    # pybind11's "synth(): incompatible function arguments. ..." for duration="1", seed=1.5, scene=3.
+    cases = [
+        (lambda: evlife.synth("edges", duraton=1), TypeError,
+         "evlife.synth() got an unexpected keyword argument 'duraton' (did you mean 'duration'?)"),
+        (lambda: evlife.synth("edges", pixel="dvs", latncy_us=300), TypeError,
+         "evlife.synth() got an unexpected keyword argument 'latncy_us' (did you mean 'latency_us'?)"),
+        (lambda: evlife.synth("edges", bogus="x"), TypeError, "evlife.synth() got an unexpected keyword argument 'bogus'"),
+        (lambda: evlife.synth("edges", duration="1"), TypeError,
+         "evlife.synth(): duration must be a number (seconds), got str '1'"),
+        (lambda: evlife.synth("edges", seed=1.5), TypeError, "evlife.synth(): seed must be a whole number, got float 1.5"),
+        (lambda: evlife.synth("edges", seed=-1), ValueError, "evlife.synth(): seed must be at least 0, got -1"),
+        (lambda: evlife.synth(3), TypeError, "evlife.synth(): scene must be a str, got int 3"),
+        (lambda: evlife.synth("edges", pixel="dvs", latency_us="300"), TypeError,
+         "evlife.synth(): latency_us must be a number, got str '300'"),
+        (lambda: evlife.synth("edges", noise_rate=np.zeros(10000)), TypeError,
+         "evlife.synth(): noise_rate must be a number, got ndarray array([0., 0., 0., ..., 0., 0., 0.])"),
+    ]
+    for call, error, message in cases:
+        with pytest.raises(error) as e:
+            call()
+        assert str(e.value) == message
+    # What passed before passes as before (NumPy scalars, an int duration).
+    a, _, _ = evlife.synth("edges", (32, 32), np.float64(0.05), np.int64(2), noise_rate=np.float32(1))
+    b, _, _ = evlife.synth(scene="edges", sensor=(32, 32), duration=0.05, seed=2, noise_rate=1.0)
+    assert np.array_equal(a, b)
+    assert len(evlife.synth("edges", sensor=(32, 32), duration=1)[0]) > 0
+
+
 def test_a_scene_larger_than_the_memory_is_a_memory_error_that_says_what_to_lower():
     # 4096 x 4096 pixels x 3600 s x 1e4 Hz = 6.04e14 noise events x 64 bytes (event 16, truth 48),
     # in no machine's memory: refused before any allocation (it failed after a minute of paging).
