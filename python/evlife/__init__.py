@@ -27,6 +27,8 @@ Units: t in microseconds (int64), lifetime and prediction_error in
 microseconds, vx and vy in pixels per second; lifetime 0 = noise.
 """
 import atexit as _atexit
+import functools as _functools
+import inspect as _inspect
 import operator as _operator
 
 import numpy as _np
@@ -122,6 +124,30 @@ def _raise_field_error(i, what):
     raise error
 
 
+def _naming_keywords(function):
+    """`function` (a Python function of the package) saying a keyword it has not as the C++ functions
+    do: "evlife.frame() got an unexpected keyword argument 'scal' (did you mean 'scale'?)" (Python
+    said "frame() got ..."). Looked at only when the call raised TypeError: correct calls pay nothing."""
+    keywords = [name for name, p in _inspect.signature(function).parameters.items() if p.kind != p.VAR_KEYWORD]
+    where = "evlife." + function.__name__
+
+    @_functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except TypeError:
+            unknown = {k: v for k, v in kwargs.items() if k not in keywords}
+            if not unknown:
+                raise
+        try:
+            _evlife._refuse_keywords(where, unknown, keywords)
+        except TypeError as e:
+            raise e from None
+        raise AssertionError("unreachable")
+    return wrapper
+
+
+@_naming_keywords
 def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", scale=None,
           caption=True, legend=True, thinning=True, lifetime_range_ms=(0.3, 30.0)):
     """The frame `evlife render` draws at instant t_us, as an RGB image.
@@ -180,6 +206,7 @@ def _short_repr(value):
     return text if len(text) <= 80 else text[:77] + "..."
 
 
+@_naming_keywords
 def write(path, augmented, sensor):
     return _evlife.write(path, _as_augmented(augmented), sensor)
 

@@ -467,7 +467,13 @@ void bind_estimator(py::module_& m) {
              return std::make_unique<Estimator>(std::move(r));
            }),
            py::arg("sensor"), py::kw_only(), py::arg("config") = py::none())
-      .def("process", &Estimator::process, py::arg("events"),
+      .def(
+          "process",
+          [](Estimator& e, const py::handle& events, const py::kwargs& kw) {
+            refuse_keywords("evlife.LifetimeEstimator.process", kw, {"events"});
+            return e.process(events);
+          },
+          py::arg("events"),
            R"(Estimate lifetime and velocity of every event (in time order, also across calls).
 
 Returns a new array of evlife.AUGMENTED_DTYPE, one row per input event, in

@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include <pybind11/stl.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -321,8 +323,16 @@ ResolvedOptions resolve_options(const std::string& where, const py::object& sens
 
 void bind_options(py::module_& m) {
   m.def(
+      "_refuse_keywords",
+      [](const std::string& where, const py::dict& kwargs, const std::vector<std::string>& keywords) {
+        refuse_keywords(where, kwargs, {keywords.begin(), keywords.end()});
+      },
+      py::arg("where"), py::arg("kwargs"), py::arg("keywords"),
+      "Internal: TypeError for the first of kwargs, as the C++ functions say it (did you mean one of keywords?).");
+  m.def(
       "estimator_options",
-      [](py::object config_path) {
+      [](py::object config_path, const py::kwargs& kw) {
+        refuse_keywords("evlife.estimator_options", kw, {"config"});
         config::ConfigBuilder b;
         load_config_argument(b, config_path);
         const config::Config c = b.build();

@@ -406,8 +406,8 @@ from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
 
   m.def(
       "read_augmented",
-      [](const std::filesystem::path& fs_path) {
-        const std::string path = fs_path.string();
+      [](const PathArgument& path_arg) {
+        const std::string path = path_argument("evlife.read_augmented", "path", path_arg);
         std::unique_ptr<io::AugmentedEventReader> reader;
         std::vector<AugmentedEvent> events;
         std::optional<io::ReadError> fault;
@@ -442,8 +442,8 @@ for CSV.)");
 
   m.def(
       "write",
-      [](const std::filesystem::path& fs_path, const py::array& augmented, const py::object& sensor) {
-        const std::string path = fs_path.string();
+      [](const PathArgument& path_arg, const py::array& augmented, const py::object& sensor) {
+        const std::string path = path_argument("evlife.write", "path", path_arg);
         if (!is_exact(augmented, augmented_dtype())) {
           throw py::type_error("write: expected a 1-D contiguous array of evlife.AUGMENTED_DTYPE");
         }

@@ -150,6 +150,34 @@ def test_reading_functions_name_a_misspelled_keyword_and_an_argument_of_the_wron
     reader.close()
 
 
+def test_write_read_augmented_and_the_estimator_name_a_bad_keyword_or_path_without_the_array(tmp_path):
+    # Before: pybind11's "write(): incompatible function arguments. ... Invoked with: 3, array([...])"
+    # (the array printed), "read_augmented(): incompatible function arguments", Python's "write() got
+    # an unexpected keyword argument 'sensr'", and for LifetimeEstimator.process(a, inplace=True) and
+    # estimator_options(confg=...) pybind11's message with every argument.
+    augmented = evlife.process(data(RECORDINGS["mat"]))
+    estimator = evlife.LifetimeEstimator((240, 180))
+    cases = [
+        (lambda: evlife.write(3, augmented, (240, 180)),
+         "evlife.write(): path: expected a path (str, bytes or os.PathLike), got int"),
+        (lambda: evlife.write(tmp_path / "x.bin", augmented, sensr=(240, 180)),
+         "evlife.write() got an unexpected keyword argument 'sensr' (did you mean 'sensor'?)"),
+        (lambda: evlife.read_augmented(3),
+         "evlife.read_augmented(): path: expected a path (str, bytes or os.PathLike), got int"),
+        (lambda: estimator.process(augmented, inplace=True),
+         "evlife.LifetimeEstimator.process() got an unexpected keyword argument 'inplace'"),
+        (lambda: evlife.estimator_options(confg="c.yaml"),
+         "evlife.estimator_options() got an unexpected keyword argument 'confg' (did you mean 'config'?)"),
+    ]
+    for call, message in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == message
+    assert not (tmp_path / "x.bin").exists()
+    evlife.write(path=tmp_path / "x.bin", augmented=augmented, sensor=(240, 180))
+    assert len(evlife.read_augmented(path=tmp_path / "x.bin")[0]) == len(augmented)
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")

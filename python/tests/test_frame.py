@@ -85,6 +85,30 @@ def test_frame_moves_with_time_and_rejects_bad_arguments(stripes):
     assert evlife.frame(aug, np.array(t0), sensor=sensor).ndim == 3  # a 0-d array is a number
 
 
+def test_a_misspelled_keyword_or_a_mode_of_the_wrong_type_is_named_without_the_array(stripes):
+    # Before: pybind11's "_frame(): incompatible function arguments. ... Invoked with: array([...])"
+    # (the augmented array printed) for mode=3, and Python's "frame() got an unexpected keyword
+    # argument 'scal'" (which it misspells unsaid).
+    _, _, augmented, sensor = stripes
+    t = int(augmented["t"][0]) + 100_000
+    cases = [
+        (lambda: evlife.frame(augmented, t, sensor, mode=3), "evlife.frame(): mode must be a str, got int 3"),
+        (lambda: evlife.frame(augmented, t, sensor, color=None), "evlife.frame(): color must be a str, got NoneType None"),
+        (lambda: evlife.frame(augmented, t, sensor, scal=2),
+         "evlife.frame() got an unexpected keyword argument 'scal' (did you mean 'scale'?)"),
+        (lambda: evlife.frame(augmented, t, sensr=sensor), "evlife.frame() got an unexpected keyword argument 'sensr' "
+         "(did you mean 'sensor'?)"),
+    ]
+    for call, message in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == message
+    # A TypeError of the call itself is its own (no keyword is unknown).
+    with pytest.raises(TypeError, match="multiple values for argument 't_us'"):
+        evlife.frame(augmented, t, t_us=t)
+    assert evlife.frame(augmented, t, sensor, "lifetime", color="plain").shape[2] == 3
+
+
 def test_an_augmented_array_of_0_1_polarity_is_refused_naming_the_convention(stripes):
     # A review helper's finding: bool or 0/1 polarity (as `process` takes it) was "corrupt record: polarity 0"
     # without a word of what it should be.
