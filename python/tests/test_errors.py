@@ -150,6 +150,29 @@ def test_reading_functions_name_a_misspelled_keyword_and_an_argument_of_the_wron
     reader.close()
 
 
+def test_every_keyword_of_the_signature_is_offered_for_its_misspelling():
+    # The C++ lists of each function's keywords (kReadKeywords, ...) are those help() shows: a
+    # misspelling of any of them is said to be one (a list behind the signature would drop it).
+    path = data(RECORDINGS["mat"])
+    reader = evlife.open(path)
+    functions = [("read", evlife.read, evlife._evlife.read), ("open", evlife.open, evlife._evlife.open),
+                 ("scan", evlife.scan, evlife._evlife.scan), ("Reader.read", reader.read, evlife._evlife.Reader.read),
+                 ("synth", evlife.synth, evlife._evlife.synth),
+                 ("estimator_options", evlife.estimator_options, evlife._evlife.estimator_options)]
+    for name, call, binding in functions:
+        signature = binding.__doc__.split("\n")[0]
+        parameters = signature[signature.index("(") + 1:signature.rindex(") ->")].split(", ")
+        keywords = [p.split(":")[0] for p in parameters if p.split(":")[0] not in ("self", "*", "**kwargs")]
+        assert len(keywords) >= 1, signature
+        for keyword in keywords:
+            with pytest.raises(TypeError) as e:
+                call(path, **{keyword + "x": 1}) if name not in ("Reader.read", "synth", "estimator_options") \
+                    else call(**{keyword + "x": 1})
+            assert str(e.value) == "evlife.%s() got an unexpected keyword argument '%sx' (did you mean '%s'?)" % (
+                name, keyword, keyword)
+    reader.close()
+
+
 def test_write_read_augmented_and_the_estimator_name_a_bad_keyword_or_path_without_the_array(tmp_path):
     # Before: pybind11's "write(): incompatible function arguments. ... Invoked with: 3, array([...])"
     # (the array printed), "read_augmented(): incompatible function arguments", Python's "write() got
