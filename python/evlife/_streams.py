@@ -214,9 +214,10 @@ class StreamReader:
         finally:
             _evlife._stream_alias("", "")
 
-    def read(self, max_events=None):
+    def read(self, max_events=None, **kwargs):
+        # Other keywords go on to Reader.read, which names a misspelt one (did you mean).
         with self._naming_the_stream():
-            return self._reader._read(max_events)
+            return self._reader._read(max_events, **kwargs)
 
     def __iter__(self):
         return self

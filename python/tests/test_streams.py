@@ -80,6 +80,10 @@ def test_open_keeps_the_copy_while_its_reader_lives(tmp_path, temp_dir):
     chunks = list(reader)
     assert np.array_equal(np.concatenate(chunks), evlife.read(path))
     assert max(len(c) for c in chunks) <= 7000
+    # As Reader.read: a misspelt keyword is named with the one meant (Python's plain message before).
+    with pytest.raises(TypeError, match=r"^evlife.Reader.read\(\) got an unexpected keyword argument "
+                                        r"'max_event' \(did you mean 'max_events'\?\)$"):
+        reader.read(max_event=5)
     del reader, chunks
     gc.collect()
     assert list(temp_dir.iterdir()) == []
