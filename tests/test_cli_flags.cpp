@@ -10,6 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -351,6 +354,53 @@ TEST_F(CliFlags, HelpNamesTheConfigurationReadAndWhoTakesInput) {
   }
   EXPECT_TRUE(has(run("--help"), "all but synth and devices take\n-i/--input FILE")) << run("--help").output;
   EXPECT_TRUE(has(run("synth -i x"), "unknown option '-i'"));
+}
+
+// Every flag a command accepts is named in its --help (README: "every command
+// has a --help that explains its flags with an example"), read from the option
+// table of its engine/cli/cmd_<name>.cpp, aliases and other spellings included
+// (--help itself is said once, by `evlife --help`). process, info and convert
+// took -i/--input without naming it, info had no example.
+TEST_F(CliFlags, EveryHelpNamesEveryFlagTheCommandTakesAndGivesAnExample) {
+  const std::vector<std::pair<std::string, std::string>> shared = {
+      {"kInputOptionSpec", "input"}, {"kConfigOptionSpec", "config"}, {"kSetOptionSpec", "set"},
+      {"kPrintConfigOptionSpec", "print-config"}, {"kTopicOptionSpec", "topic"},
+      {"kTimeUnitOptionSpec", "time-unit"}, {"kPolarityOptionSpec", "polarity"},
+      {"kFromOptionSpec", "from"}, {"kToOptionSpec", "to"}};
+  // {"name", 'a' or 0, ..., "also,names"} in the command's OptionSpec table.
+  const std::regex entry(R"re(\{"([a-z0-9-]+)",\s*(?:'(.)'|0)\s*,\s*(?:true|false)\s*,\s*(?:true|false)\s*(?:,\s*"([a-z0-9,-]*)")?\s*\})re");
+  for (const std::string command : {"convert", "eval", "info", "process", "render", "run", "synth"}) {
+    std::ifstream in(std::string(EVLIFE_SOURCE_DIR) + "/engine/cli/cmd_" + command + ".cpp");
+    ASSERT_TRUE(in) << command;
+    const std::string source((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t begin = source.find("OptionSpec k");
+    ASSERT_NE(begin, std::string::npos) << command;
+    const std::string table = source.substr(begin, source.find("};", begin) - begin);
+    std::set<std::string> flags;
+    for (std::sregex_iterator m(table.begin(), table.end(), entry), end; m != end; ++m) {
+      flags.insert("--" + (*m)[1].str());
+      if ((*m)[2].matched) flags.insert("-" + (*m)[2].str());
+      std::stringstream also((*m)[3].str());
+      for (std::string name; std::getline(also, name, ',');) {
+        if (!name.empty()) flags.insert("--" + name);
+      }
+    }
+    for (const auto& [constant, name] : shared) {
+      if (table.find(constant) != std::string::npos) flags.insert("--" + name);
+    }
+    if (table.find("kInputOptionSpec") != std::string::npos) flags.insert("-i");
+    flags.erase("--help");
+    flags.erase("-h");
+    ASSERT_GE(flags.size(), 3u) << command << ": the option table was not found in its source";
+    const RunResult help = run(command + " --help");
+    ASSERT_EQ(help.exit_code, 0) << command;
+    for (const std::string& flag : flags) {
+      // The flag as a word: not "--topic" inside "--topics", nor "-i" in "--input".
+      const std::regex named("(^|[^A-Za-z0-9-])" + flag + "([^A-Za-z0-9-]|$)");
+      EXPECT_TRUE(std::regex_search(help.output, named)) << command << " --help does not name " << flag;
+    }
+    EXPECT_TRUE(has(help, "Example")) << command << " --help has no example";
+  }
 }
 
 // A lifetime range's MIN has one range, whether zero or negative.

@@ -69,6 +69,7 @@ void print_help(std::FILE* out) {
       "               use `evlife process INPUT -o OUT.bin`).\n"
       "\n"
       "Options:\n"
+      "  -i, --input FILE, -o, --output FILE  INPUT and OUTPUT, as the two arguments.\n"
       "  --sensor WxH   sensor size to check coordinates against (and to store in\n"
       "                 HDF5) when the format does not state one.\n"
       "  --unchecked    write events exactly as decoded: no check of coordinates\n"

@@ -35,7 +35,8 @@ void print_help(std::FILE* out) {
   std::fprintf(out,
                "evlife info — what a recording holds\n"
                "\n"
-               "Usage: evlife info FILE [--topic NAME] [--time-unit U]\n"
+               "Usage: evlife info FILE [--topic NAME] [--time-unit U] [--polarity on|off|both]\n"
+               "                        [--from T] [--to T]\n"
                "\n"
                "Prints the format, the sensor size (stated by the file, else the range the\n"
                "events span), the number of events (ON / OFF), the first and last timestamp\n"
@@ -51,13 +52,20 @@ void print_help(std::FILE* out) {
                "in constant memory; corrupt data is reported after the figures of the\n"
                "events before it.\n"
                "\n"
-               "Options:\n",
+               "Options:\n"
+               "  -i, --input FILE   the FILE (also as the first argument).\n",
                BusyPixels::kMinRateHz);
   std::fputs((std::string(kInputOptionsHelp) + std::string(kCropOptionsHelp)).c_str(), out);
   std::fprintf(out,
+               "  -h, --help         this text.\n"
                "\n"
                "Exit status: 0 done; 2 bad command line; 3 input error (corrupt data, or\n"
-               "timestamps that go backwards: described in full, the first one named).\n");
+               "timestamps that go backwards: described in full, the first one named).\n"
+               "\n"
+               "Examples:\n"
+               "  evlife info recording.aedat4\n"
+               "  evlife info bag/ --topic /event_camera/events   # a ROS bag of several event topics\n"
+               "  evlife info lifetimes.bin                        # output of evlife process\n");
 }
 
 std::string thousands(std::uint64_t v) {

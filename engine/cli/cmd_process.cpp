@@ -73,6 +73,7 @@ void print_help(std::FILE* out) {
       "                     binary, 32 bytes per event (see README). FILE.h5: HDF5, one\n"
       "                     dataset per column (x, y, t, p, lifetime, vx, vy,\n"
       "                     prediction_error), for Python (h5py).\n"
+      "  -i, --input FILE   the INPUT (also as the first argument).\n"
       "  --sensor WxH       sensor size in pixels, e.g. 240x180. Used when the format does\n"
       "                     not state one (the format wins). Without it: estimator.sensor.*\n"
       "                     if you set it, else the smallest sensor holding every event\n"

@@ -109,7 +109,7 @@ void print_help(std::FILE* out) {
       "\n"
       "Sources (--source):\n"
       "  file:PATH | PATH     a recording, any format `evlife process` reads (also as\n"
-      "                       `evlife run PATH` or -i PATH); replayed\n"
+      "                       `evlife run PATH` or -i/--input PATH); replayed\n"
       "                       as fast as the workers go, or paced with --realtime.\n"
       "  dvs128[:SERIAL]      the DVS128 camera over USB (--biases FILE); a live\n"
       "                       source: runs until SIGINT; a vanished camera ends the\n"
