@@ -1040,6 +1040,47 @@ TEST(IoFormatsCorruption, RunsOf0xFFAreReportedAtTheirFirstWord) {
   EXPECT_EQ(evt3.skipped, 3u);
 }
 
+// A block of the file never written (power lost while recording: the file
+// system hands back zeros) reads in EVT 2.0 as OFF events at (0, 0), all at
+// one time: an error at the block's first word instead, wherever the block
+// lies in the reader's buffer. One zero word is an event, also the last.
+TEST(IoFormatsCorruption, ZeroFilledEvt2AndEvt21DataIsReportedAtItsFirstWord) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<Event> full = read_all(kEvt2).events;
+  const std::vector<std::uint8_t> bytes = load(kEvt2);
+  const std::size_t data = prophesee_header_end(bytes);
+  // Around the end of the reader's first 1 MiB buffer, and far from it.
+  std::vector<std::size_t> starts = {data + 4 * 40'000};
+  for (std::size_t at = data + (std::size_t{1} << 20) - 512; at < data + (std::size_t{1} << 20) + 512; at += 4)
+    starts.push_back(at - (at - data) % 4);
+  for (const std::size_t at : starts) {
+    std::vector<std::uint8_t> zeroed = bytes;
+    std::fill(zeroed.begin() + static_cast<std::ptrdiff_t>(at), zeroed.begin() + static_cast<std::ptrdiff_t>(at + 8),
+              std::uint8_t{0});
+    const ReadResult r = read_all(dir.save("zeros.raw", zeroed), 4096);
+    ASSERT_TRUE(r.error) << at;
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find("zero-filled"), std::string::npos) << r.error->what();
+    // Every event before the block, and none of it.
+    const std::vector<std::uint8_t> before(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at));
+    EXPECT_EQ(r.events.size(), read_all(dir.save("before.raw", before)).events.size()) << at;
+    EXPECT_TRUE(is_prefix(r.events, full)) << at;
+  }
+  const std::string header = "% evt 2.0\n% geometry 640x480\n";
+  const ReadResult lone = read_all(dir.save("lone_zero.raw", with_words(header,
+      std::vector<std::uint32_t>{0x80000001u, 0u, 0x10000000u | (5u << 11) | 6u, 0u})));
+  ASSERT_FALSE(lone.error) << lone.error->what();
+  ASSERT_EQ(lone.events.size(), 3u);
+  EXPECT_TRUE(lone.events[0].x == 0 && lone.events[0].y == 0 && lone.events[0].p == -1 && lone.events[0].t_us == 64);
+  const std::string header21 = "% evt 2.1\n% geometry 320x320\n";
+  const std::vector<std::uint64_t> words21 = {evt21_time_high(1), evt21_event(1, 0, 0, 0, 1), 0, 0,
+                                              evt21_event(1, 0, 32, 0, 1)};
+  const ReadResult r21 = read_all(dir.save("zeros21.raw", with_words(header21, words21)));
+  ASSERT_TRUE(r21.error);
+  EXPECT_EQ(r21.error->byte_offset(), static_cast<std::int64_t>(header21.size() + 2 * 8)) << r21.error->what();
+  EXPECT_EQ(r21.events.size(), 1u);
+}
+
 TEST(IoFormatsCorruption, DatPolarityOutOfRangeIsReported) {
   const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kDat);

@@ -78,6 +78,7 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
     }
   };
   emit_pending();
+  bool previous_word_zero = previous_word_zero_;
   while (n < out.size()) {
     if (file_.fill(kEvt21WordBytes) < kEvt21WordBytes) {
       if (file_.available() != 0) {
@@ -92,6 +93,15 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
     for (; i < words && n < out.size(); ++i) {
       const std::uint64_t w = word_at(bytes + i * kEvt21WordBytes, layout_);
       const auto type = static_cast<std::uint32_t>(w >> 60);
+      if (w == 0 && previous_word_zero) [[unlikely]] {  // a word of no pixel, twice: no encoder writes that
+        error_.emplace(path(),
+                       file_.offset() + static_cast<std::int64_t>(i * kEvt21WordBytes) -
+                           static_cast<std::int64_t>(kEvt21WordBytes),
+                       event_count_,
+                       "zero-filled EVT 2.1 data (a block of the file never written: power lost while recording?)");
+        break;
+      }
+      previous_word_zero = w == 0;
       if (type <= kTypePos) {
         const std::uint32_t mask = lower_half(w);
         const std::uint32_t x = x_of(w), y = y_of(w);
@@ -128,6 +138,7 @@ std::size_t Evt21Reader::read(std::span<Event> out) {
     file_.consume(i * kEvt21WordBytes);
     if (error_) break;
   }
+  previous_word_zero_ = previous_word_zero;
   if (error_ && n == 0) throw *error_;
   return n;
 }

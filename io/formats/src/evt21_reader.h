@@ -2,7 +2,9 @@
 // words whose top 4 bits give the type: EVT_NEG 0 / EVT_POS 1 (t low 6 bits
 // at 54-59, x of a 32-pixel group at 43-53, y at 32-42, bit n of 0-31: an
 // event at x + n), EVT_TIME_HIGH 8 (bits 32-59 = t >> 6), EXT_TRIGGER 10
-// (skipped, counted), OTHERS 14 (skipped, counted).
+// (skipped, counted), OTHERS 14 (skipped, counted). Two zero words in a row
+// (no pixel set, twice: no encoder writes that) are an error at the first:
+// a block of the file never written, as a power cut leaves it.
 //
 // Byte order (Prophesee's EVT 2.1 page): GenX320 stores each word as one
 // little-endian 64-bit value; IMX636 as two little-endian 32-bit halves,
@@ -43,6 +45,7 @@ class Evt21Reader final : public PropheseeWordReader {
   // time_high_ is still the word's.
   std::uint64_t pending_word_ = 0;
   std::uint32_t pending_mask_ = 0;
+  bool previous_word_zero_ = false;  // the last word read was all zero (a second is an error)
 };
 
 }  // namespace evlife::io

@@ -19,7 +19,8 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
   std::size_t n = 0;
   std::uint32_t previous_type = previous_type_;
   while (n < out.size()) {
-    if (file_.fill(kEvt2WordBytes) < kEvt2WordBytes) {
+    // Two words when the file has them: a zero word's check looks at the next.
+    if (file_.fill(2 * kEvt2WordBytes) < kEvt2WordBytes) {
       if (file_.available() != 0) {
         error_.emplace(path(), file_.offset(), event_count_,
                        "truncated EVT 2.0 word (" + std::to_string(file_.available()) +
@@ -28,12 +29,23 @@ std::size_t Evt2Reader::read(std::span<Event> out) {
       break;
     }
     // At most one event per word, so `words` never overruns `out`.
-    const std::size_t words = std::min(file_.available() / kEvt2WordBytes, out.size() - n);
+    const std::size_t buffered = file_.available() / kEvt2WordBytes;
+    const std::size_t words = std::min(buffered, out.size() - n);
     const std::uint8_t* bytes = file_.data();
     std::size_t i = 0;
     for (; i < words; ++i) {
       std::uint32_t w;
       std::memcpy(&w, bytes + i * kEvt2WordBytes, kEvt2WordBytes);
+      if (w == 0) [[unlikely]] {  // an OFF event at (0, 0), or the first of a zero-filled block
+        if (i + 1 == buffered) {
+          if (i > 0) break;  // the next word is not buffered yet: looked at after the refill
+        } else if (std::uint32_t next; std::memcpy(&next, bytes + (i + 1) * kEvt2WordBytes, kEvt2WordBytes), next == 0) {
+          error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(i * kEvt2WordBytes), event_count_,
+                         "zero-filled EVT 2.0 data: a pixel cannot fire twice in one microsecond (a block of the file "
+                         "never written: power lost while recording?)");
+          break;
+        }
+      }
       const std::uint32_t type = w >> 28;
       const bool continues_others = previous_type == 14 || previous_type == 15;
       previous_type = type;

@@ -3,7 +3,9 @@
 // x at 11-21, y at 0-10), EV_TIME_HIGH 8 (bits 0-27 = t >> 6), EXT_TRIGGER 10
 // (skipped, counted), OTHERS 14 and the CONTINUED 15 words that go on from it
 // (skipped, counted). A CONTINUED word after any other word continues nothing:
-// an error (corrupt data: 0xFF bytes read as CONTINUED).
+// an error (corrupt data: 0xFF bytes read as CONTINUED); so are two zero
+// words in a row (two OFF events at (0, 0) in one microsecond: a block of the
+// file never written, as a power cut leaves it), at the first of them.
 #pragma once
 
 #include <cstddef>
