@@ -436,7 +436,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     by name in its row (and in .failed; events: those written before an input
     fault, else None; output: None where no file was written); the others are
     not affected. Each task writes out_dir/.evlife-partial-RUN.NAME and
-    renames it NAME when it ends. Ctrl-C raises evlife.Interrupted whose
+    renames it NAME when it ends (a task whose worker died, which Dask gave
+    up on with KilledWorker: its partial file removed, its row's error says
+    so). Ctrl-C raises evlife.Interrupted whose
     .partial is the BatchResult: the finished rows, and a row per unfinished
     recording saying nothing was written (its partial file removed on the
     LocalCluster made here, whose workers stop; a cluster of yours may still
@@ -491,7 +493,12 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                     row = row._replace(path=paths[i])
                     task_warnings += warned
                 except Exception as e:  # the worker died: still reported by name
-                    row = FileResult(paths[i], None, None, 0.0, None, "%s: %s" % (type(e).__name__, e))
+                    # Dask gave up on the task (KilledWorker): its partial output,
+                    # cut where the worker died, is removed where this process sees it.
+                    with contextlib.suppress(OSError):
+                        _streams._remove(_partial_name(outputs[i], run))
+                    row = FileResult(paths[i], None, None, 0.0, None, "%s: %s (nothing written; its partial output, "
+                                     "if any, was removed)" % (type(e).__name__, e))
                 rows[i] = row
                 if progress:
                     status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)

@@ -516,3 +516,35 @@ def test_partial_names_take_no_recordings_or_outputs_name(tmp_path):
     assert (out / ".evlife-partial.a.mat").read_bytes() == open(src, "rb").read()  # the input kept
     assert table[2].error is not None and "cannot write" in table[2].error and table[2].output is None
     assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")]
+
+
+def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path):
+    # A worker killed while writing (out of memory, a node lost): Dask gives
+    # up with KilledWorker. Its cut .evlife-partial-RUN.NAME stayed in out_dir
+    # (a .bin cut short reads as a shorter recording) and the row said nothing of it.
+    import dask
+    from distributed import Client, LocalCluster
+    from evlife import batch
+
+    def die_mid_write(path, output, *args, **kwargs):  # the worker dies with the partial output half written
+        with open(output, "wb") as f:
+            f.write(b"\0" * 4096)
+        os._exit(1)
+
+    def install():
+        from evlife import _evlife
+        _evlife.process_file = die_mid_write  # this worker process only: its replacement runs the real one
+
+    out = tmp_path / "out"
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
+                Client(cluster) as client:
+            client.run(install)
+            table = batch.process_files([data("reference/garfield.mat")], out, client, progress=False)
+            client.wait_for_workers(1)  # the nanny's new worker: not closed while it starts
+    row = table[0]
+    assert row.error is not None and "KilledWorker" in row.error, row
+    assert row.output is None and row.events is None
+    assert "partial output" in row.error and "removed" in row.error, row.error
+    assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")], os.listdir(out)
+
