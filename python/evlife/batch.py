@@ -149,6 +149,7 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
             warnings.simplefilter("always")
             r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
+        warned = [(str(w.message), w.category) for w in warned] + _dropped_warnings(path, r)
     except Exception as e:  # reported by name in the table, the other files go on
         warned = []
         # An input fault leaves the events before it written: the row counts
@@ -164,8 +165,29 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
             _streams._remove(partial)
             error = error or "cannot write %s: %s" % (output, e.strerror)
             events, share, output = None, None, None
-    return (FileResult(path, events, share, time.perf_counter() - start, output, error),
-            [(str(w.message), w.category) for w in warned])
+    return FileResult(path, events, share, time.perf_counter() - start, output, error), warned
+
+
+def _dropped_warnings(path, r):
+    """What process_file's dict counts and the command line's summary prints,
+    but its row has no field for: events the estimator rejected (labelled
+    noise, lifetime 0) and the format's non-event records skipped, as
+    RuntimeWarnings naming the recording (evlife.process and evlife.read warn
+    of them too)."""
+    warned = []
+    rejected = r.get("rejected") or {}
+    if any(rejected.values()):
+        warned.append(("evlife.batch.process_files: %s: events rejected (labelled noise, lifetime 0): %d outside "
+                       "the sensor, %d bad polarity, %d time beyond +-2^62 us" % (
+                           path, rejected.get("out_of_sensor", 0), rejected.get("bad_polarity", 0),
+                           rejected.get("time_out_of_range", 0)), RuntimeWarning))
+    if r.get("skipped_records"):
+        kinds = r.get("skipped_record_kinds") or {}
+        by_kind = ", ".join("%s %s" % (count, kind) for kind, count in kinds.items())
+        warned.append(("evlife.batch.process_files: %s: %d non-event records of the format skipped%s, as the "
+                       "CLI's summary counts them; evlife.open(path).skipped_record_kinds has them too" % (
+                           path, r["skipped_records"], " (%s)" % by_kind if by_kind else ""), RuntimeWarning))
+    return warned
 
 
 @contextlib.contextmanager
@@ -435,7 +457,10 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     seconds, output, error) per path, in order. A failed recording is reported
     by name in its row (and in .failed; events: those written before an input
     fault, else None; output: None where no file was written); the others are
-    not affected. Each task writes out_dir/.evlife-partial-RUN.NAME and
+    not affected. Events a task's estimator rejected (labelled noise) and
+    records of the format it skipped, which the command line's summary
+    counts, are RuntimeWarnings naming the recording, at the caller's line
+    (as every task's warnings, once every row is in). Each task writes out_dir/.evlife-partial-RUN.NAME and
     renames it NAME when it ends (a task whose worker died, which Dask gave
     up on with KilledWorker: its partial file removed, its row's error says
     so). Ctrl-C raises evlife.Interrupted whose

@@ -548,3 +548,23 @@ def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path):
     assert "partial output" in row.error and "removed" in row.error, row.error
     assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")], os.listdir(out)
 
+
+def test_rejected_events_and_skipped_records_of_a_task_are_warned_of(tmp_path):
+    # evlife.process warns of events the estimator rejected (labelled noise)
+    # and the CLI prints them; process_files' row said "ok" and nothing more.
+    import warnings
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))
+    events["t"][-3:] = 2**62 + np.arange(3)  # beyond +-2^62 us: rejected by the estimator
+    np.save(tmp_path / "late.npy", events)
+    aedat4 = data(RECORDINGS["aedat4"])  # frames/IMU records: skipped, as the CLI's summary counts them
+    with warnings.catch_warnings(record=True) as warned:
+        warnings.simplefilter("always", RuntimeWarning)
+        table = batch.process_files([str(tmp_path / "late.npy"), aedat4], tmp_path / "out", workers=1,
+                                    progress=False, sensor=(240, 180))
+    assert not table.failed, table
+    ours = [w for w in warned if issubclass(w.category, RuntimeWarning) and "evlife.batch" in str(w.message)]
+    texts = [str(w.message) for w in ours]
+    assert any("late.npy" in t and "rejected" in t and "time beyond" in t for t in texts), texts
+    assert any("sample.aedat4" in t and "non-event records" in t for t in texts), texts
+    assert all(w.filename == __file__ for w in ours), [w.filename for w in ours]
