@@ -637,7 +637,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     the slices in order; returns a BatchResult with one row per slice
     (path "PATH[k]"). scheduler, workers, sensor, config, topic, time_unit, **options: as
     process_files. Raises on failure (the slices are one result: no part file
-    stays, nor a partial output).
+    stays, nor a partial output); on Ctrl-C the slices not yet running are
+    cancelled, on a cluster of yours too.
     """
     path = os.path.abspath(os.fsdecode(path))
     output = os.path.abspath(os.fsdecode(output))  # the parts are written where the workers run
@@ -693,6 +694,10 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         # (an output that was there before is kept unless the join began).
         if futures and isinstance(e, Exception):
             wait(futures)  # no slice writes its part after the removal
+        elif futures:  # Ctrl-C: the slices not yet running never start (on a cluster of yours
+            # they ran on after the call had raised, each writing its part file after the removal)
+            with _sigint_ignored(True):
+                client.cancel([f for f in futures if not f.done()])
         for leftover in parts + ([output] if joining else []):
             try:
                 os.remove(leftover)

@@ -568,3 +568,41 @@ def test_rejected_events_and_skipped_records_of_a_task_are_warned_of(tmp_path):
     assert any("late.npy" in t and "rejected" in t and "time beyond" in t for t in texts), texts
     assert any("sample.aedat4" in t and "non-event records" in t for t in texts), texts
     assert all(w.filename == __file__ for w in ours), [w.filename for w in ours]
+
+
+def test_ctrl_c_in_process_slices_on_your_cluster_leaves_no_part_file(tmp_path, monkeypatch):
+    # Ctrl-C while process_slices waited on a cluster of the user's: its
+    # queued slices were not cancelled and ran on, each writing its
+    # OUTPUT.partK.bin after the call had removed the parts and raised.
+    import time
+    import distributed
+    from distributed import Client, LocalCluster
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))
+    span = int(events["t"][-1]) + 1000
+    big = np.tile(events, 4)
+    big["t"] = np.concatenate([events["t"] + k * span for k in range(4)])
+    np.save(tmp_path / "big.npy", big)
+    output = tmp_path / "sl.bin"
+    first_part = tmp_path / "sl.bin.part0.bin"
+    result = distributed.Future.result
+
+    def interrupted_once_slice_0_writes(self, *args, **kwargs):  # Ctrl-C while waiting, as the user presses it
+        monkeypatch.setattr(distributed.Future, "result", result)
+        deadline = time.monotonic() + 60
+        while not first_part.exists() and time.monotonic() < deadline:
+            time.sleep(0.005)
+        raise KeyboardInterrupt
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr(distributed.Future, "result", interrupted_once_slice_0_writes)
+        # Kept, as an interactive session keeps the last exception (sys.last_value) and its frames.
+        with pytest.raises(KeyboardInterrupt) as caught:
+            batch.process_slices(big_path := str(tmp_path / "big.npy"), output, slices=6, scheduler=client,
+                                 sensor=(240, 180), progress=False)
+        # The worker's one thread: this runs after every slice it still runs (submitted before it).
+        assert client.submit(os.path.exists, big_path, pure=False).result()
+        assert caught.value is not None
+    assert not [n for n in os.listdir(tmp_path) if ".part" in n], os.listdir(tmp_path)
+    assert not output.exists()
