@@ -505,7 +505,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         # last task to finish is then a small one, so workers end together.
         futures = [client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
                                  crop, dict(options), pure=False, priority=_size_or_zero(p),
-                                 key="evlife-%s-%d-%s" % (run, i, os.path.basename(p)))
+                                 key="evlife-%s-%d-%s" % (run, i, _key_text(os.path.basename(p))))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
         rows = [None] * len(futures)
@@ -549,6 +549,14 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
             for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
                 c.close()
     raise _interrupted(rows, paths, outputs, run, before, own_cluster=scheduler is None)
+
+
+def _key_text(name):
+    """A file name as Dask's messages (msgpack, UTF-8) can carry it in a task key:
+    a name that is not UTF-8 (b"caf\\xe9.mat", its lone surrogate after
+    os.fsdecode) with its bytes as \\xNN (the surrogate broke the connection,
+    every task cancelled)."""
+    return os.fsencode(name).decode("utf-8", "backslashreplace")
 
 
 def _identity(path):

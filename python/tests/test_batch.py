@@ -606,3 +606,21 @@ def test_ctrl_c_in_process_slices_on_your_cluster_leaves_no_part_file(tmp_path, 
         assert caught.value is not None
     assert not [n for n in os.listdir(tmp_path) if ".part" in n], os.listdir(tmp_path)
     assert not output.exists()
+
+
+def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
+    # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
+    # them): its task key held the name's lone surrogate, which Dask's messages
+    # (msgpack) cannot encode. The connection broke and every row, the other
+    # recordings' too, failed with CancelledError after pages of tracebacks.
+    from evlife import batch
+    src = data("reference/garfield.mat")
+    latin1 = os.path.join(os.fsencode(tmp_path), b"caf\xe9.mat")
+    shutil.copy(src, latin1)
+    plain = str(tmp_path / "plain.mat")
+    shutil.copy(src, plain)
+    table = batch.process_files([latin1, plain], tmp_path / "out", workers=1, progress=False)
+    assert not table.failed, table
+    assert [r.path for r in table] == [os.fsdecode(latin1), plain]
+    assert os.fsencode(table[0].output).endswith(b"/caf\xe9.bin")
+    assert open(table[0].output, "rb").read() == open(table[1].output, "rb").read()
