@@ -144,9 +144,9 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
         from evlife import _evlife as core
         # Kept for the caller (process_files warns at its line): the worker printed
         # them on its stderr at Dask's line (distributed/worker.py), never caught.
-        # The filter is the process's: a worker of several threads may mix them.
-        with warnings.catch_warnings(record=True) as warned:
-            warnings.simplefilter("always")
+        # Per thread: a worker of several threads, or the caller's own process
+        # (LocalCluster(processes=False)), runs several tasks at once.
+        with _warnings_of_this_thread() as warned:
             r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
         warned = [(str(w.message), w.category) for w in warned] + _dropped_warnings(path, r)
@@ -166,6 +166,57 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
             error = error or "cannot write %s: %s" % (output, e.strerror)
             events, share, output = None, None, None
     return FileResult(path, events, share, time.perf_counter() - start, output, error), warned
+
+
+_capture_lock = threading.Lock()
+_capture = {"tasks": 0, "show": None, "always": None}
+_capture_thread = threading.local()
+
+
+def _show_or_keep(message):
+    """warnings._showwarnmsg while a task runs in this process: the warnings of
+    a task's thread kept in its list, every other thread's shown as before."""
+    log = getattr(_capture_thread, "log", None)
+    if log is not None:
+        log.append(message)
+    else:
+        _capture["show"](message)
+
+
+@contextlib.contextmanager
+def _warnings_of_this_thread():
+    """The warnings this thread issues meanwhile, every one (an "always"
+    filter), in the list it yields. Not warnings.catch_warnings, which patches
+    the process's warnings module for the whole block: two tasks' blocks that
+    overlapped on threads of one process (a worker of several threads, a
+    LocalCluster(processes=False) in the caller's process) swapped their
+    warnings, and the one left last restored the other's recorder, which
+    then took every later warning of the process, unseen. Here the first task
+    in installs the process's hook and the last one out removes it."""
+    log = []
+    with _capture_lock:
+        if _capture["tasks"] == 0:
+            _capture["show"] = warnings._showwarnmsg
+            _capture["always"] = ("always", None, Warning, None, 0)
+            warnings._showwarnmsg = _show_or_keep
+            warnings.filters.insert(0, _capture["always"])
+            warnings._filters_mutated()
+        _capture["tasks"] += 1
+    _capture_thread.log = log
+    try:
+        yield log
+    finally:
+        _capture_thread.log = None
+        with _capture_lock:
+            _capture["tasks"] -= 1
+            if _capture["tasks"] == 0:
+                if warnings._showwarnmsg is _show_or_keep:
+                    warnings._showwarnmsg = _capture["show"]
+                for k, f in enumerate(warnings.filters):
+                    if f is _capture["always"]:
+                        del warnings.filters[k]
+                        break
+                warnings._filters_mutated()
 
 
 def _dropped_warnings(path, r):

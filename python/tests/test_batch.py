@@ -624,3 +624,50 @@ def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_pat
     assert [r.path for r in table] == [os.fsdecode(latin1), plain]
     assert os.fsencode(table[0].output).endswith(b"/caf\xe9.bin")
     assert open(table[0].output, "rb").read() == open(table[1].output, "rb").read()
+
+
+def test_threaded_workers_keep_each_tasks_warnings_and_leave_the_callers_warnings_as_they_were(tmp_path, monkeypatch):
+    # A LocalCluster(processes=False) (a notebook's): the tasks run on threads
+    # of the caller's process, and each task's warnings.catch_warnings
+    # patched and restored the process's warnings module. Two tasks that
+    # overlapped (A enters, B enters, A leaves, B leaves) left A's recorder
+    # installed for good: every later warning of the process went into a dead
+    # list, unseen, and the "always" filter stayed; B's warning was printed on
+    # stderr, not the caller's.
+    import threading
+    import time
+    import warnings
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    out = tmp_path / "out"
+    both_inside = threading.Barrier(2, timeout=30)
+
+    def fake_process_file(path, output, *args, **kwargs):
+        both_inside.wait()  # both tasks inside their warnings capture
+        if path.endswith("b.mat"):  # B goes on once A has left its capture (A's output renamed after it)
+            deadline = time.monotonic() + 30
+            while not (out / "a.bin").exists() and time.monotonic() < deadline:
+                time.sleep(0.005)
+        warnings.warn("task warning of %s" % path, RuntimeWarning)
+        with open(output, "wb") as f:
+            f.write(b"x")
+        return {"events": 1, "with_lifetime": 1, "rejected": {}, "skipped_records": 0}
+
+    paths = []
+    for name in ("a.mat", "b.mat"):
+        shutil.copy(data("reference/garfield.mat"), tmp_path / name)
+        paths.append(str(tmp_path / name))
+    monkeypatch.setattr(_evlife, "process_file", fake_process_file)
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        filters, show = list(warnings.filters), warnings._showwarnmsg_impl
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+                Client(cluster) as client:
+            with warnings.catch_warnings(record=True) as warned:
+                warnings.simplefilter("always", RuntimeWarning)
+                table = batch.process_files(paths, out, client, progress=False)
+            after = list(warnings.filters), warnings._showwarnmsg_impl
+    assert not table.failed, table
+    texts = sorted(str(w.message) for w in warned if "task warning" in str(w.message))
+    assert texts == ["task warning of %s" % p for p in paths], texts
+    assert after == (filters, show)
