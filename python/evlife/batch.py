@@ -735,7 +735,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
                                  cuts[k + 1] if k + 1 < slices else None,
                                  warmup_us, config, topic, time_unit, dict(options), pure=False,
-                                 key="evlife-slice-%s-%d" % (run, k))
+                                 key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
                    for k in range(slices)]
         rows = []
         for k, f in enumerate(futures):

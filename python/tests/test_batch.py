@@ -671,3 +671,31 @@ def test_threaded_workers_keep_each_tasks_warnings_and_leave_the_callers_warning
     texts = sorted(str(w.message) for w in warned if "task warning" in str(w.message))
     assert texts == ["task warning of %s" % p for p in paths], texts
     assert after == (filters, show)
+
+
+def test_a_slice_whose_worker_dies_names_the_recording_and_leaves_no_part_file(tmp_path):
+    # KilledWorker said only "Attempted to run task evlife-slice-RUN-0": not which recording.
+    import dask
+    from distributed import Client, LocalCluster
+    from evlife import batch
+
+    def die_mid_write(path, part, *args, **kwargs):
+        with open(part, "wb") as f:
+            f.write(b"\0" * 4096)
+        os._exit(1)
+
+    def install():
+        from evlife import _evlife
+        _evlife._process_time_range = die_mid_write
+
+    output = tmp_path / "sl.bin"
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
+                Client(cluster) as client:
+            client.run(install)
+            with pytest.raises(Exception) as caught:
+                batch.process_slices(data("reference/garfield.mat"), output, slices=2, scheduler=client,
+                                     progress=False)
+            client.wait_for_workers(1)
+    assert "garfield.mat" in str(caught.value), caught.value
+    assert not [n for n in os.listdir(tmp_path) if ".part" in n] and not output.exists(), os.listdir(tmp_path)
