@@ -515,7 +515,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     renames it NAME when it ends (a task whose worker died, which Dask gave
     up on with KilledWorker: its partial file removed, its row's error says
     so). Ctrl-C raises evlife.Interrupted whose
-    .partial is the BatchResult: the finished rows, and a row per unfinished
+    .partial is the BatchResult: the finished rows (their warnings issued), and a row per unfinished
     recording saying nothing was written (its partial file removed on the
     LocalCluster made here, whose workers stop; a cluster of yours may still
     run the task) or that its task ended meanwhile; no file of out_dir is
@@ -588,7 +588,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                 for f in futures:  # finished before the cancel: their rows, as if waited for
                     i = index[f.key]
                     if rows[i] is None and f.status == "finished":
-                        rows[i] = f.result()[0]._replace(path=paths[i])
+                        row, warned = f.result()
+                        rows[i] = row._replace(path=paths[i])
+                        task_warnings += warned
         else:
             # After every row (a filter making them errors cuts no task short);
             # stacklevel 3: the caller's line, past _config_read_once.
@@ -599,7 +601,13 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         with _sigint_ignored(interrupted):
             for c in to_close:  # a cluster of our own: its workers stop (a task cut short)
                 c.close()
-    raise _interrupted(rows, paths, outputs, run, before, own_cluster=scheduler is None)
+    error = _interrupted(rows, paths, outputs, run, before, own_cluster=scheduler is None)
+    # The finished rows' warnings, as after a whole batch (they were dropped);
+    # one that a filter makes an error does not take the interruption's place.
+    for text, category in task_warnings:
+        with contextlib.suppress(Warning):
+            warnings.warn(text, category, stacklevel=3)
+    raise error
 
 
 def _key_text(name):

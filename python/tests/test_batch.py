@@ -699,3 +699,31 @@ def test_a_slice_whose_worker_dies_names_the_recording_and_leaves_no_part_file(t
             client.wait_for_workers(1)
     assert "garfield.mat" in str(caught.value), caught.value
     assert not [n for n in os.listdir(tmp_path) if ".part" in n] and not output.exists(), os.listdir(tmp_path)
+
+
+def test_ctrl_c_keeps_the_warnings_of_the_finished_rows(tmp_path, monkeypatch):
+    # The warnings of the recordings finished before Ctrl-C (events rejected
+    # here) were dropped with the interruption, though their rows are in .partial.
+    import warnings
+    import distributed
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))
+    events["t"][-3:] = 2**62 + np.arange(3)
+    np.save(tmp_path / "late.npy", events)
+    real = distributed.as_completed
+
+    def interrupted_after_the_first(futures, *args, **kwargs):  # Ctrl-C once a row is in
+        yield next(iter(real(futures, *args, **kwargs)))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(distributed, "as_completed", interrupted_after_the_first)
+    with warnings.catch_warnings(record=True) as warned:
+        warnings.simplefilter("always", RuntimeWarning)
+        with pytest.raises(evlife.Interrupted) as caught:
+            batch.process_files([str(tmp_path / "late.npy"), data("reference/garfield.mat")], tmp_path / "out",
+                                workers=1, progress=False, sensor=(240, 180))
+    late = caught.value.partial[0]
+    assert late.error is None and late.events > 0, caught.value.partial  # the largest: first
+    texts = [str(w.message) for w in warned if "evlife.batch" in str(w.message)]
+    assert any("late.npy" in t and "rejected" in t for t in texts), texts
+    assert all(w.filename == __file__ for w in warned if "evlife.batch" in str(w.message))
