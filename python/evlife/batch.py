@@ -168,6 +168,8 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
     return FileResult(path, events, share, time.perf_counter() - start, output, error), warned
 
 
+# The private hooks of CPython's warnings module that a per-thread capture needs (Debian 12's 3.11 has them).
+_PER_THREAD_WARNINGS = hasattr(warnings, "_showwarnmsg") and hasattr(warnings, "_filters_mutated")
 _capture_lock = threading.Lock()
 _capture = {"tasks": 0, "show": None, "always": None}
 _capture_thread = threading.local()
@@ -193,6 +195,11 @@ def _warnings_of_this_thread():
     warnings, and the one left last restored the other's recorder, which
     then took every later warning of the process, unseen. Here the first task
     in installs the process's hook and the last one out removes it."""
+    if not _PER_THREAD_WARNINGS:  # a Python without these hooks: the process's, as before
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            yield caught
+        return
     log = []
     with _capture_lock:
         if _capture["tasks"] == 0:
