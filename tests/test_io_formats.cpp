@@ -1000,6 +1000,20 @@ TEST(IoFormatsCorruption, UnknownWordTypesAreReportedAtTheirOffset) {
   }
 }
 
+// `bytes` with `n` bytes from `at` on set to `fill`, read in buffers of
+// `buffer` events: the read must fail at `at`, its message saying `said`.
+ReadResult read_filled_at(const ScratchDir& dir, std::vector<std::uint8_t> bytes, std::size_t at, std::size_t n,
+                          std::uint8_t fill, const std::string& said, std::size_t buffer) {
+  std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + n), fill);
+  const ReadResult r = read_all(dir.save("filled.raw", bytes), buffer);
+  EXPECT_TRUE(r.error) << "filled at " << at;
+  if (r.error) {
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find(said), std::string::npos) << r.error->what();
+  }
+  return r;
+}
+
 // Bytes overwritten with 0xFF (a bad flash sector, a buffer never filled)
 // read as CONTINUED words. A CONTINUED word only goes on from an OTHERS word,
 // so a run of them after events is an error at its first word, after the
@@ -1011,12 +1025,7 @@ TEST(IoFormatsCorruption, RunsOf0xFFAreReportedAtTheirFirstWord) {
     std::vector<std::uint8_t> bytes = load(sample);
     const std::size_t data = prophesee_header_end(bytes);
     const std::size_t at = data + word_bytes * 40'000;
-    std::fill(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + 4096),
-              std::uint8_t{0xFF});
-    const ReadResult r = read_all(dir.save("ff_run.raw", bytes), 999);
-    ASSERT_TRUE(r.error) << sample;
-    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
-    EXPECT_NE(std::string(r.error->what()).find("CONTINUED"), std::string::npos) << r.error->what();
+    const ReadResult r = read_filled_at(dir, bytes, at, 4096, 0xFF, "CONTINUED", 999);
     EXPECT_GT(r.events.size(), 1000u);
     EXPECT_TRUE(is_prefix(r.events, full));
 
@@ -1054,13 +1063,7 @@ TEST(IoFormatsCorruption, ZeroFilledEvt2AndEvt21DataIsReportedAtItsFirstWord) {
   for (std::size_t at = data + (std::size_t{1} << 20) - 512; at < data + (std::size_t{1} << 20) + 512; at += 4)
     starts.push_back(at - (at - data) % 4);
   for (const std::size_t at : starts) {
-    std::vector<std::uint8_t> zeroed = bytes;
-    std::fill(zeroed.begin() + static_cast<std::ptrdiff_t>(at), zeroed.begin() + static_cast<std::ptrdiff_t>(at + 8),
-              std::uint8_t{0});
-    const ReadResult r = read_all(dir.save("zeros.raw", zeroed), 4096);
-    ASSERT_TRUE(r.error) << at;
-    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(at)) << r.error->what();
-    EXPECT_NE(std::string(r.error->what()).find("zero-filled"), std::string::npos) << r.error->what();
+    const ReadResult r = read_filled_at(dir, bytes, at, 8, 0x00, "zero-filled", 4096);
     // Every event before the block, and none of it.
     const std::vector<std::uint8_t> before(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at));
     EXPECT_EQ(r.events.size(), read_all(dir.save("before.raw", before)).events.size()) << at;
