@@ -149,7 +149,9 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
         with _warnings_of_this_thread() as warned:
             r = core.process_file(path, partial, sensor, config=config, one_thread=one_thread, **crop, **options)
         events, share, error = r["events"], (r["with_lifetime"] / r["events"] if r["events"] else 0.0), None
-        warned = [(str(w.message), w.category) for w in warned] + _dropped_warnings(path, r)
+        # What the row has no field for, as evlife.process warns of it: rejected events, skipped records.
+        warned = [(str(w.message), w.category) for w in warned] + [
+            (text, RuntimeWarning) for text in core._dropped_warnings("evlife.batch.process_files", path, r)]
     except Exception as e:  # reported by name in the table, the other files go on
         warned = []
         # An input fault leaves the events before it written: the row counts
@@ -224,28 +226,6 @@ def _warnings_of_this_thread():
                         del warnings.filters[k]
                         break
                 warnings._filters_mutated()
-
-
-def _dropped_warnings(path, r):
-    """What process_file's dict counts and the command line's summary prints,
-    but its row has no field for: events the estimator rejected (labelled
-    noise, lifetime 0) and the format's non-event records skipped, as
-    RuntimeWarnings naming the recording (evlife.process and evlife.read warn
-    of them too)."""
-    warned = []
-    rejected = r.get("rejected") or {}
-    if any(rejected.values()):
-        warned.append(("evlife.batch.process_files: %s: events rejected (labelled noise, lifetime 0): %d outside "
-                       "the sensor, %d bad polarity, %d time beyond +-2^62 us" % (
-                           path, rejected.get("out_of_sensor", 0), rejected.get("bad_polarity", 0),
-                           rejected.get("time_out_of_range", 0)), RuntimeWarning))
-    if r.get("skipped_records"):
-        kinds = r.get("skipped_record_kinds") or {}
-        by_kind = ", ".join("%s %s" % (count, kind) for kind, count in kinds.items())
-        warned.append(("evlife.batch.process_files: %s: %d non-event records of the format skipped%s, as the "
-                       "CLI's summary counts them; evlife.open(path).skipped_record_kinds has them too" % (
-                           path, r["skipped_records"], " (%s)" % by_kind if by_kind else ""), RuntimeWarning))
-    return warned
 
 
 @contextlib.contextmanager

@@ -229,11 +229,43 @@ void add_rejected(py::dict& d, const FileRun& run) {
 
 // evlife.process(PATH) returns the events alone: rejected ones are warned of
 // (a RuntimeWarning; an exception where warnings are errors).
+std::string rejected_warning(const std::string& function, const std::string& path, const LifetimeStats& stats) {
+  if (stats.rejected() == 0) return {};
+  return function + ": " + path + ": events rejected (labelled noise, lifetime 0): " + rejected_events_text(stats);
+}
+
 void warn_rejected(const std::string& path, const FileRun& run) {
-  if (run.stats.rejected() == 0) return;
-  const std::string text = "evlife.process: " + path + ": events rejected (labelled noise, lifetime 0): " +
-                           rejected_events_text(run.stats);
-  warn_at_callers_line(text);
+  if (const std::string text = rejected_warning("evlife.process", path, run.stats); !text.empty())
+    warn_at_callers_line(text);
+}
+
+// The warnings evlife.process gives of what a file's run dropped (rejected
+// events, skipped records), from process_file's result: evlife.batch gives
+// them at its caller's line, for the workers' runs.
+std::vector<std::string> dropped_warnings(const std::string& function, const std::string& path, const py::dict& r) {
+  // A key that is not there counts 0 (a result of an older worker, or a test's stand-in).
+  const auto count_of = [](const py::dict& d, const char* key) {
+    return d.contains(key) ? d[key].cast<std::uint64_t>() : std::uint64_t{0};
+  };
+  const auto dict_of = [&r](const char* key) { return r.contains(key) ? r[key].cast<py::dict>() : py::dict(); };
+  std::vector<std::string> texts;
+  LifetimeStats stats;
+  const py::dict rejected = dict_of("rejected");
+  stats.out_of_sensor = count_of(rejected, "out_of_sensor");
+  stats.bad_polarity = count_of(rejected, "bad_polarity");
+  stats.time_out_of_range = count_of(rejected, "time_out_of_range");
+  if (std::string text = rejected_warning(function, path, stats); !text.empty()) texts.push_back(std::move(text));
+  std::vector<std::string> names;  // kept alive for the views of `kinds`
+  std::vector<io::SkippedKindCount> kinds;
+  for (const auto& [kind, count] : dict_of("skipped_record_kinds")) {
+    names.push_back(kind.cast<std::string>());
+    kinds.push_back({{}, count.cast<std::uint64_t>()});
+  }
+  for (std::size_t k = 0; k < kinds.size(); ++k) kinds[k].kind = names[k];  // (names grew: views taken after)
+  if (std::string text = skipped_records_warning(function, path, count_of(r, "skipped_records"), kinds);
+      !text.empty())
+    texts.push_back(std::move(text));
+  return texts;
 }
 
 py::array process_file(const std::string& path, const py::object& sensor, const io::ReaderOptions& crop,
@@ -586,6 +618,20 @@ and HDF5's deflate cost as much as the estimator); one_thread=True runs all
 on the calling thread (evlife.batch does: one file per core). Other arguments
 as evlife.process.)");
 
+  m.def(
+      "_dropped_warnings",
+      [](const std::string& function, const py::handle& path, const py::dict& result) {
+        py::list texts;  // a file name that is not UTF-8 as os.fsdecode gives it
+        for (const std::string& t : dropped_warnings(function, path_from_python(path), result)) {
+          PyObject* text = PyUnicode_DecodeUTF8(t.data(), static_cast<Py_ssize_t>(t.size()), "surrogateescape");
+          if (text == nullptr) throw py::error_already_set();
+          texts.append(py::reinterpret_steal<py::str>(text));
+        }
+        return texts;
+      },
+      py::arg("function"), py::arg("path"), py::arg("result"),
+      "Internal: the warnings evlife.process gives of rejected events and skipped records, from process_file's "
+      "result (evlife.batch gives them for its workers' runs).");
   m.def(
       "_check_reader_options",
       [](const OptionalFloatArgument& from_s, const OptionalFloatArgument& to_s,

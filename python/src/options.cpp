@@ -221,14 +221,19 @@ void warn_empty_crop(const char* function, const std::string& path, const io::Re
   warn_at_callers_line(text, stacklevel);
 }
 
+std::string skipped_records_warning(const std::string& function, const std::string& path, std::uint64_t count,
+                                    const std::vector<io::SkippedKindCount>& kinds) {
+  if (count == 0) return {};
+  const std::string by_kind = io::skipped_kinds_text(kinds);
+  return function + ": " + path + ": " + std::to_string(count) + " non-event records of the format skipped" +
+         (by_kind.empty() ? "" : " (" + by_kind + ")") +
+         ", as the CLI's summary counts them; evlife.open(path).skipped_record_kinds has them too";
+}
+
 void warn_skipped_records(const char* function, const std::string& path, std::uint64_t count,
                           const std::vector<io::SkippedKindCount>& kinds, int stacklevel) {
-  if (count == 0) return;
-  const std::string by_kind = io::skipped_kinds_text(kinds);
-  warn_at_callers_line(std::string(function) + ": " + path + ": " + std::to_string(count) +
-                           " non-event records of the format skipped" + (by_kind.empty() ? "" : " (" + by_kind + ")") +
-                           ", as the CLI's summary counts them; evlife.open(path).skipped_record_kinds has them too",
-                       stacklevel);
+  if (const std::string text = skipped_records_warning(function, path, count, kinds); !text.empty())
+    warn_at_callers_line(text, stacklevel);
 }
 
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor) {

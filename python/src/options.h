@@ -129,6 +129,9 @@ void warn_empty_crop(const char* function, const std::string& path, const io::Re
 /// words of no event a whole-file call read past (the CLI's summary line).
 void warn_skipped_records(const char* function, const std::string& path, std::uint64_t count,
                           const std::vector<io::SkippedKindCount>& kinds, int stacklevel = 2);
+/// Its text ("" when `count` is 0), for a caller that warns elsewhere (evlife.batch).
+std::string skipped_records_warning(const std::string& function, const std::string& path, std::uint64_t count,
+                                    const std::vector<io::SkippedKindCount>& kinds);
 
 std::optional<SensorSize> optional_sensor_from_python(const py::object& sensor);
 
