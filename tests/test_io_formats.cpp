@@ -1084,6 +1084,28 @@ TEST(IoFormatsCorruption, ZeroFilledEvt2AndEvt21DataIsReportedAtItsFirstWord) {
   EXPECT_EQ(r21.events.size(), 1u);
 }
 
+// EVT 3.0's zero word sets row y=0; two in a row (the row set again with
+// nothing between) is what no encoder writes and a lost write leaves. The
+// error names the block's first word (across ROS messages: RosPayloads).
+TEST(IoFormatsCorruption, ZeroFilledEvt3DataIsReportedAtItsFirstWord) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<Event> full = read_all(kEvt3).events;
+  const std::vector<std::uint8_t> bytes = load(kEvt3);
+  const std::size_t data = prophesee_header_end(bytes);
+  for (const std::size_t at : {data + 2 * 40'000, data + 2 * 40'001, bytes.size() - 4096}) {
+    const ReadResult r = read_filled_at(dir, bytes, at, 4096, 0x00, "zero-filled", 999);
+    const std::vector<std::uint8_t> before(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at));
+    EXPECT_EQ(r.events.size(), read_all(dir.save("before.raw", before)).events.size()) << at;
+    EXPECT_TRUE(is_prefix(r.events, full)) << at;
+  }
+  // One zero word (row 0) between events is a row address, not a fault.
+  const ReadResult lone = read_all(dir.save("lone_zero3.raw", with_words("% evt 3.0\n% geometry 640x480\n",
+      std::vector<std::uint16_t>{0x8001, 0x0003, 0x2004, 0x0000, 0x2005, 0x0000, 0x2006})));
+  ASSERT_FALSE(lone.error) << lone.error->what();
+  ASSERT_EQ(lone.events.size(), 3u);
+  EXPECT_TRUE(lone.events[1].x == 5 && lone.events[1].y == 0 && lone.events[2].x == 6 && lone.events[2].y == 0);
+}
+
 TEST(IoFormatsCorruption, DatPolarityOutOfRangeIsReported) {
   const ScratchDir dir("test_io_formats");
   std::vector<std::uint8_t> bytes = load(kDat);

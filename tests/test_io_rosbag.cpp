@@ -182,6 +182,30 @@ TEST(RosPayloads, Evt3StateCarriesAcrossMessages) {
   EXPECT_EQ(all[1].p, -1);
 }
 
+// Two zero words in a row (zero-filled data: no encoder sets row 0 twice with
+// nothing between) are a fault at the first, within a message or across two.
+TEST(RosPayloads, Evt3ZeroWordsInARowAreAFaultAtTheFirst) {
+  const auto decode = [](io::Evt3Decoder& decoder, const std::vector<std::uint16_t>& words) {
+    std::vector<std::uint8_t> bytes(words.size() * 2);
+    std::memcpy(bytes.data(), words.data(), bytes.size());
+    std::vector<Event> scratch;
+    std::vector<ros::RosEvent> out;
+    return std::pair{ros::decode_evt3(bytes, decoder, scratch, out), out.size()};
+  };
+  io::Evt3Decoder one;
+  const auto [fault, events] = decode(one, {0x8001, 0x0003, 0x2004, 0x0000, 0x0000, 0x2005});
+  ASSERT_TRUE(fault);
+  EXPECT_EQ(fault->byte_in_message, 6u);
+  EXPECT_NE(fault->what.find("zero-filled"), std::string::npos) << fault->what;
+  EXPECT_EQ(events, 1u);
+  io::Evt3Decoder two;
+  ASSERT_FALSE(decode(two, {0x8001, 0x0003, 0x2004, 0x0000}).first);
+  const auto [next, none] = decode(two, {0x0000, 0x2005});
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->byte_in_message, 0u);  // the first is in the message before
+  EXPECT_EQ(none, 0u);
+}
+
 // ---- through open_event_reader, as every command reads ----
 
 using evlife::test::ReadAll;

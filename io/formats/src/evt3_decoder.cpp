@@ -22,13 +22,20 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
   std::size_t n = 0;
   std::size_t i = 0;
   bool fault = false;
+  bool fault_began_a_word_before = false;
   std::uint32_t previous_type = previous_type_;
+  bool previous_word_zero = previous_word_zero_;
   // Each word may add up to kMaxEventsPerWord events: stop while that still fits.
   for (; i < words && n + kMaxEventsPerWord <= out.size(); ++i) {
     std::uint16_t w;
     std::memcpy(&w, bytes + i * kWordBytes, kWordBytes);
     switch (w >> 12) {
       case 0x0:  // ADDR_Y (bit 11: system type, ignored)
+        if (w == 0 && previous_word_zero) [[unlikely]] {  // row 0 set twice, nothing between: zero-filled data
+          fault = true;
+          fault_began_a_word_before = true;
+          break;
+        }
         if ((w & 0x7FFu) >= height_) {
           fault = true;  // y_ keeps its last good value
           break;
@@ -115,15 +122,20 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
       break;
     }
     previous_type = w >> 12;
+    previous_word_zero = w == 0;
   }
   previous_type_ = previous_type;
-  return Result{i, n, fault};
+  previous_word_zero_ = previous_word_zero;
+  return Result{i, n, fault, fault_began_a_word_before};
 }
 
 std::string Evt3Decoder::fault_message() const {
   const unsigned type = fault_word_ >> 12u;
   switch (type) {
     case 0x0:
+      if (fault_word_ == 0)
+        return "zero-filled EVT 3.0 data: row y=0 set twice with nothing between, which no encoder writes (a "
+               "block of the file never written: power lost while recording?)";
       return "EVT 3.0 row y=" + std::to_string(fault_word_ & 0x7FFu) + " outside the sensor";
     case 0x2:
       return "EVT 3.0 event at x=" + std::to_string(fault_word_ & 0x7FFu) + " y=" + std::to_string(y_) +

@@ -13,7 +13,9 @@
 // is counted (and handed to a TriggerSink if set); OTHERS 14 and the
 // CONTINUED_4 7 / CONTINUED_12 15 words that go on from it are skipped and
 // counted. A CONTINUED word after any other word is a fault: it continues
-// nothing, and corrupt data (0xFF bytes) reads as CONTINUED_12. Times are in µs.
+// nothing, and corrupt data (0xFF bytes) reads as CONTINUED_12. So is a
+// second zero word in a row (row y=0 set again with nothing between: the
+// zeros a file system leaves where a write was lost). Times are in µs.
 #pragma once
 
 #include <cstddef>
@@ -44,6 +46,9 @@ class Evt3Decoder {
     std::size_t words = 0;   ///< words consumed
     std::size_t events = 0;  ///< events written to out
     bool fault = false;      ///< the word at index `words` is bad: see fault_message()
+    /// The fault began one word earlier (the first of two zero words, maybe
+    /// the last word of the previous call): where the bad data starts.
+    bool fault_began_a_word_before = false;
   };
 
   /// Decodes up to `words` words from `bytes` into `out`, stopping while a
@@ -75,6 +80,7 @@ class Evt3Decoder {
   Evt3TriggerSink* trigger_sink_ = nullptr;
   std::uint16_t fault_word_ = 0;
   std::uint32_t previous_type_ = 0;  // type of the last word decoded (CONTINUED's check)
+  bool previous_word_zero_ = false;  // the last word was 0x0000 (a second in a row is a fault)
 };
 
 }  // namespace evlife::io

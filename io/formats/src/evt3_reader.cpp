@@ -25,7 +25,8 @@ std::size_t Evt3Reader::decode(std::span<Event> out) {
   constexpr std::size_t kWordBytes = Evt3Decoder::kWordBytes;
   const Evt3Decoder::Result r = decoder_.decode(file_.data(), file_.available() / kWordBytes, out);
   if (r.fault) {
-    error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(r.words * kWordBytes),
+    const std::int64_t back = r.fault_began_a_word_before ? std::int64_t{kWordBytes} : 0;
+    error_.emplace(path(), file_.offset() + static_cast<std::int64_t>(r.words * kWordBytes) - back,
                    event_count_ + static_cast<std::int64_t>(r.events), decoder_.fault_message());
   }
   file_.consume(r.words * kWordBytes);

@@ -260,7 +260,10 @@ std::optional<MessageFault> decode_evt3(std::span<const std::uint8_t> payload, E
       out[first + i] = RosEvent{e.t_us * 1000, e.x, e.y, e.p};
     }
     done += r.words;
-    if (r.fault) return MessageFault{done * Evt3Decoder::kWordBytes, decoder.fault_message()};
+    if (r.fault) {
+      const std::size_t bad_word = r.fault_began_a_word_before && done > 0 ? done - 1 : done;  // in this payload
+      return MessageFault{bad_word * Evt3Decoder::kWordBytes, decoder.fault_message()};
+    }
   }
   if (payload.size() % Evt3Decoder::kWordBytes != 0)
     return MessageFault{words * Evt3Decoder::kWordBytes, "evt3 payload of odd length"};
