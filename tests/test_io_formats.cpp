@@ -1058,9 +1058,10 @@ TEST(IoFormatsCorruption, ZeroFilledEvt2AndEvt21DataIsReportedAtItsFirstWord) {
   const std::vector<Event> full = read_all(kEvt2).events;
   const std::vector<std::uint8_t> bytes = load(kEvt2);
   const std::size_t data = prophesee_header_end(bytes);
-  // Around the end of the reader's first 1 MiB buffer, and far from it.
+  // Around the end of the reader's first 1 MiB buffer (at file offset 1 MiB:
+  // a block there starts with the buffer's last word), and far from it.
   std::vector<std::size_t> starts = {data + 4 * 40'000};
-  for (std::size_t at = data + (std::size_t{1} << 20) - 512; at < data + (std::size_t{1} << 20) + 512; at += 4)
+  for (std::size_t at = (std::size_t{1} << 20) - 16; at <= (std::size_t{1} << 20) + 16; at += 4)
     starts.push_back(at - (at - data) % 4);
   for (const std::size_t at : starts) {
     const ReadResult r = read_filled_at(dir, bytes, at, 8, 0x00, "zero-filled", 4096);
