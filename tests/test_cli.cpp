@@ -195,6 +195,13 @@ TEST_F(CliTest, BadConfigNamesKeyAndRange) {
   EXPECT_EQ(out_of_range.exit_code, 2);
   EXPECT_NE(out_of_range.output.find("estimator.window_size"), std::string::npos);
   EXPECT_NE(out_of_range.output.find("[3, 15]"), std::string::npos) << out_of_range.output;
+  // Hex was read for every integer key: 0x7 ran a 7-pixel window.
+  const RunResult hex = run("process '" + kRpgText + "' -o '" + path("o.csv").string() +
+                            "' --set estimator.window_size=0x7");
+  EXPECT_EQ(hex.exit_code, 2);
+  EXPECT_NE(hex.output.find("--set estimator.window_size=0x7: estimator.window_size = '0x7' is not a valid integer"),
+            std::string::npos)
+      << hex.output;
 
   std::ofstream(path("bad.yaml")) << "estimator:\n  window_size: 5\n  colour: red\n";
   const RunResult unknown = run("process '" + kRpgText + "' -o '" + path("o.csv").string() +

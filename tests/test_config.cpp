@@ -239,7 +239,7 @@ TEST(Config, WrongTypeIsAnError) {
 // A review helper's finding: a whole number beyond its field's type (2^31 + 1
 // for an int) was "'2147483649' is not a valid integer", where 100 is "out of range".
 TEST(Config, AWholeNumberBeyondItsTypeIsOutOfRangeNotNoInteger) {
-  for (const std::string text : {"2147483649", "-2147483653", "0x80000000", "99999999999999999999999"}) {
+  for (const std::string text : {"2147483649", "-2147483653", "99999999999999999999999"}) {
     const std::string msg = error_of([&] { ConfigBuilder().set("estimator.window_size=" + text); });
     EXPECT_NE(msg.find("--set estimator.window_size=" + text + ": estimator.window_size = " + text +
                        " is out of range; allowed: odd, [3, 15]"),
@@ -248,9 +248,53 @@ TEST(Config, AWholeNumberBeyondItsTypeIsOutOfRangeNotNoInteger) {
   }
   const std::string negative_seed = error_of([] { ConfigBuilder().set("estimator.seed=-3"); });
   EXPECT_NE(negative_seed.find("estimator.seed = -3 is out of range"), std::string::npos) << negative_seed;
-  for (const std::string text : {"five", "5.5", "0x", "+", "1e3", "0xg"}) {
+  for (const std::string text : {"five", "5.5", "0x", "+", "1e3", "0xg", "0x80000000"}) {
     const std::string msg = error_of([&] { ConfigBuilder().set("estimator.window_size=" + text); });
     EXPECT_NE(msg.find("estimator.window_size = '" + text + "' is not a valid integer"), std::string::npos) << msg;
+  }
+}
+
+// An integer key takes decimal digits with a sign, as Python's int() and
+// YAML 1.2 read them: `--set engine.workers=0x2` ran 2 workers (hex was read
+// for every integer key). Hexadecimal is the seed's alone (a bit pattern, the
+// shipped file's `seed: 0x5eed`). Floats: finite decimal numbers, 1e3 too.
+TEST(Config, AnIntegerIsDecimalDigitsNotHexNorAFloatsText) {
+  for (const std::string text : {"0x2", "0X2", "2.0", "2e0", "2abc", " 2 ", "0b10", "2_0", "0x"}) {
+    const std::string msg = error_of([&] { ConfigBuilder().set("engine.workers='" + text + "'"); });
+    EXPECT_NE(msg.find("--set engine.workers='" + text + "': engine.workers = '" + text +
+                       "' is not a valid integer (decimal digits; allowed: [1, 32])"),
+              std::string::npos)
+        << msg;
+  }
+  const auto path = write_temp("hex.yaml", "engine:\n  workers: 0x2\n");
+  const std::string msg = error_of([&] { ConfigBuilder().load_file(path); });
+  EXPECT_NE(msg.find(path + ":2: engine.workers = '0x2' is not a valid integer"), std::string::npos) << msg;
+  for (const auto& [text, workers] : {std::pair{"2", 2}, std::pair{"+2", 2}, std::pair{"02", 2}, std::pair{" 2 ", 2}}) {
+    ConfigBuilder b;
+    b.set(std::string("engine.workers=") + text);  // spaces around '=' are the --set syntax's
+    EXPECT_EQ(b.build().engine.workers, workers) << text;
+  }
+  for (const auto& [text, seed] : {std::pair{"0x5eed", 0x5eedull}, std::pair{"24301", 24301ull},
+                                   std::pair{"0XFFFFFFFFFFFFFFFF", ~0ull}}) {
+    ConfigBuilder b;
+    b.set(std::string("estimator.seed=") + text);
+    EXPECT_EQ(b.build().estimator.seed, seed) << text;
+  }
+  const std::string big_seed = error_of([] { ConfigBuilder().set("estimator.seed=0x10000000000000000"); });
+  EXPECT_NE(big_seed.find("estimator.seed = 0x10000000000000000 is out of range"), std::string::npos) << big_seed;
+  const std::string bad_seed = error_of([] { ConfigBuilder().set("estimator.seed=0x5eedz"); });
+  EXPECT_NE(bad_seed.find("'0x5eedz' is not a valid integer (decimal or 0x hex digits; allowed: "), std::string::npos)
+      << bad_seed;
+  ConfigBuilder floats;
+  floats.set("estimator.inlier_tolerance_us=1e3");
+  floats.set("estimator.outlier_fraction=.25");
+  EXPECT_EQ(floats.build().estimator.inlier_tolerance_us, 1000.0);
+  EXPECT_EQ(floats.build().estimator.outlier_fraction, 0.25);
+  for (const std::string text : {"nan", "inf", "-inf", ".inf", "1e400", "0x1p3", "1,5"}) {
+    const std::string err = error_of([&] { ConfigBuilder().set("estimator.inlier_tolerance_us=" + text); });
+    EXPECT_NE(err.find("estimator.inlier_tolerance_us = '" + text + "' is not a valid number (allowed: "),
+              std::string::npos)
+        << err;
   }
 }
 

@@ -138,12 +138,14 @@ void ConfigBuilder::assign(std::string_view key, std::string_view value, const s
   if (!k) throw ConfigError(unknown_key_message(where, key));
   if (!k->parse(config_, value)) {
     // A whole number beyond the field's type (2^31 for an int) is out of range, as 100 is, not "no integer".
-    if (k->type == "integer" && detail::is_integer_text(value)) {
+    if (k->type == "integer" && detail::is_integer_text(value, k->hex)) {
       throw ConfigError(where + ": " + std::string(key) + " = " + std::string(value) + " is out of range; allowed: " +
                         k->allowed);
     }
-    throw ConfigError(where + ": " + std::string(key) + " = '" + std::string(value) +
-                      "' is not a valid " + k->type + " (allowed: " + k->allowed + ")");
+    // "0x2" or "2.0" is a number, but not in the form an integer key takes: say which it takes.
+    const char* digits = k->type != "integer" ? "" : k->hex ? "decimal or 0x hex digits; " : "decimal digits; ";
+    throw ConfigError(where + ": " + std::string(key) + " = '" + std::string(value) + "' is not a valid " + k->type +
+                      " (" + digits + "allowed: " + k->allowed + ")");
   }
   origins_[std::string(key)] = KeyOrigin{where, by_user};
 }

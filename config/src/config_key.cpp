@@ -52,21 +52,24 @@ bool parse_double(std::string_view text, double& out) {
 }
 
 namespace {
-// Decimal or 0x-prefixed hexadecimal, whole text.
+// Removes a "0x" / "0X" prefix that is followed by something, where `hex`.
+bool remove_hex_prefix(std::string_view& text, bool hex) {
+  if (!hex || text.size() <= 2 || text[0] != '0' || (text[1] != 'x' && text[1] != 'X')) return false;
+  text.remove_prefix(2);
+  return true;
+}
+
+// Decimal, or 0x-prefixed hexadecimal where `hex`; whole text.
 template <typename T>
-bool parse_integer(std::string_view text, T& out) {
+bool parse_integer(std::string_view text, T& out, bool hex) {
   const bool plus = !text.empty() && text.front() == '+';  // one sign at most: "+-1" is no number
   if (plus) text.remove_prefix(1);
-  int base = 10;
   bool negative = false;
   if (!plus && !text.empty() && text.front() == '-') {
     negative = true;
     text.remove_prefix(1);
   }
-  if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
-    base = 16;
-    text.remove_prefix(2);
-  }
+  const int base = remove_hex_prefix(text, hex) ? 16 : 10;
   if (text.empty() || text.front() == '-' || text.front() == '+') return false;
   const char* end = text.data() + text.size();
   T v{};
@@ -84,19 +87,18 @@ bool parse_integer(std::string_view text, T& out) {
 }
 }  // namespace
 
-bool parse_int64(std::string_view text, long long& out) { return parse_integer(text, out); }
+bool parse_int64(std::string_view text, long long& out) { return parse_integer(text, out, /*hex=*/false); }
 
-bool is_integer_text(std::string_view text) {
+bool is_integer_text(std::string_view text, bool hex) {
   if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
-  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
-  if (hex) text.remove_prefix(2);
-  const auto digit = [hex](char c) {
-    return (c >= '0' && c <= '9') || (hex && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F')));
+  const bool base16 = remove_hex_prefix(text, hex);
+  const auto digit = [base16](char c) {
+    return (c >= '0' && c <= '9') || (base16 && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F')));
   };
   return !text.empty() && std::all_of(text.begin(), text.end(), digit);
 }
-bool parse_uint64(std::string_view text, unsigned long long& out) {
-  return parse_integer(text, out);
+bool parse_uint64(std::string_view text, unsigned long long& out, bool hex) {
+  return parse_integer(text, out, hex);
 }
 
 std::string format_double(double v) {

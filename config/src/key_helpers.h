@@ -19,11 +19,13 @@ namespace evlife::config::detail {
 
 bool parse_bool(std::string_view text, bool& out);
 bool parse_double(std::string_view text, double& out);
+// Integers: one sign at most and decimal digits, as Python's int() and YAML
+// 1.2 read them ("0x2", "2.0", "2e0" are none); 0x hexadecimal where `hex`.
 bool parse_int64(std::string_view text, long long& out);
-bool parse_uint64(std::string_view text, unsigned long long& out);
-/// The text is a whole number as parse_int64 reads it (sign, decimal or 0x
-/// hex), of any size: what a value beyond its field's type is.
-bool is_integer_text(std::string_view text);
+bool parse_uint64(std::string_view text, unsigned long long& out, bool hex);
+/// The text is a whole number as those read it, of any size: what a value
+/// beyond its field's type is.
+bool is_integer_text(std::string_view text, bool hex);
 std::string format_double(double v);  // shortest text that parses back exactly
 
 /// The key of one option of a table (evlife/algo/option_info.h): its name is
@@ -32,6 +34,11 @@ std::string format_double(double v);  // shortest text that parses back exactly
 /// a Config (called with Config& and const Config&).
 template <typename Field>
 ConfigKey table_key(std::string_view section, const OptionInfo& info, Field field);
+
+/// An unsigned option whose range is the whole 64-bit type is a bit pattern
+/// (the seed): written in hex too, and every value parsed is in its range (a
+/// double cannot tell the type's top values apart).
+constexpr bool is_bit_pattern(const OptionInfo& info) { return info.hi >= 1.8e19 && info.lo <= 0; }
 
 template <typename T, typename Field>
 ConfigKey number_key(std::string name, Field field, const OptionInfo& info) {
@@ -50,9 +57,11 @@ ConfigKey number_key(std::string name, Field field, const OptionInfo& info) {
     k.format = [field](const Config& c) { return format_double(field(c)); };
   } else if constexpr (std::is_unsigned_v<T>) {
     k.type = "integer";
-    k.parse = [field](Config& c, std::string_view text) {
+    k.hex = is_bit_pattern(info);
+    k.parse = [field, hex = k.hex](Config& c, std::string_view text) {
       unsigned long long v = 0;
-      if (!parse_uint64(text, v) || v > static_cast<unsigned long long>(std::numeric_limits<T>::max())) return false;
+      if (!parse_uint64(text, v, hex) || v > static_cast<unsigned long long>(std::numeric_limits<T>::max()))
+        return false;
       field(c) = static_cast<T>(v);
       return true;
     };
@@ -71,9 +80,7 @@ ConfigKey number_key(std::string name, Field field, const OptionInfo& info) {
     k.format = [field](const Config& c) { return std::to_string(field(c)); };
   }
   k.in_range = [field, info](const Config& c) {
-    // A range that spans the whole 64-bit type (a seed): every value parsed is
-    // in it (a double cannot tell the type's top values apart).
-    if (std::is_unsigned_v<T> && info.hi >= 1.8e19 && info.lo <= 0) return true;
+    if (std::is_unsigned_v<T> && is_bit_pattern(info)) return true;
     return info.contains(static_cast<double>(field(c)));
   };
   return k;

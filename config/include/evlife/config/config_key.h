@@ -16,6 +16,8 @@ struct ConfigKey {
   std::string name;     ///< dotted, e.g. "estimator.window_size"
   std::string type;     ///< "integer", "number", "boolean", "string"
   std::string allowed;  ///< human text of the allowed range, e.g. "odd, [3, 15]"
+  /// "integer": written in 0x hexadecimal too (a bit pattern: the seed); else decimal digits only.
+  bool hex = false;
   std::string doc;      ///< one line, from the option's table
   /// Parses `text` (a YAML scalar) into the field; false when it is not a
   /// value of `type` (the range is checked separately by in_range).
