@@ -655,7 +655,7 @@ def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, ti
     start = time.perf_counter()
     r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
                                  topic=topic, time_unit=time_unit, **options)
-    return r["events"], r["with_lifetime"], time.perf_counter() - start
+    return r["events"], r["with_lifetime"], time.perf_counter() - start, r["rejected"]
 
 
 _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records
@@ -692,7 +692,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     (path "PATH[k]"). scheduler, workers, sensor, config, topic, time_unit, **options: as
     process_files. Raises on failure (the slices are one result: no part file
     stays, nor a partial output); on Ctrl-C the slices not yet running are
-    cancelled, on a cluster of yours too.
+    cancelled, on a cluster of yours too. Rejected events and skipped non-event
+    records are warned of as evlife.process warns (RuntimeWarning), each counted once.
     """
     path = os.path.abspath(os.fsdecode(path))
     output = os.path.abspath(os.fsdecode(output))  # the parts are written where the workers run
@@ -732,9 +733,11 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
                                  warmup_us, config, topic, time_unit, dict(options), pure=False,
                                  key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
                    for k in range(slices)]
-        rows = []
+        rows, rejected = [], {}
         for k, f in enumerate(futures):
-            events, with_lifetime, seconds = f.result()
+            events, with_lifetime, seconds, slice_rejected = f.result()
+            for reason, count in slice_rejected.items():
+                rejected[reason] = rejected.get(reason, 0) + count
             rows.append(FileResult("%s[%d]" % (path, k), events,
                                    with_lifetime / events if events else 0.0, seconds, output, None))
             if progress:
@@ -761,4 +764,9 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     finally:
         for c in to_close:
             c.close()
+    # As evlife.process warns of what it dropped: the events the slices rejected, each in its own
+    # time range; the records of the format that are no events, from the scan (a slice's reader
+    # also counts those before its range, which it skips or drops).
+    for text in _evlife._dropped_warnings("evlife.batch.process_slices", path, dict(info, rejected=rejected)):
+        warnings.warn(text, RuntimeWarning, stacklevel=3)
     return BatchResult(rows)

@@ -399,7 +399,8 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
 // that started warmup_us earlier (its outputs before t_begin are dropped),
 // written to `output` as they come (constant memory, as process_file): one
 // slice of a recording processed in parallel with the others. On one thread:
-// the slices are the parallelism.
+// the slices are the parallelism. Its 'rejected' counts the events of
+// [t_begin, t_end) alone: another slice's warm-up re-reads them.
 py::dict process_time_range(const std::string& path, const std::string& output,
                             const py::object& sensor, std::int64_t t_begin, std::optional<std::int64_t> t_end,
                             std::int64_t warmup_us, bool skip_by_search, const py::object& config,
@@ -410,6 +411,7 @@ py::dict process_time_range(const std::string& path, const std::string& output,
   const SensorSize s = sensor_from_python(sensor);
   io::ReaderOptions source = reader_options(s, std::nullopt, std::nullopt, topic, time_unit);
   std::uint64_t events = 0, with_lifetime = 0;
+  FileRun own;  // the rejected events of the slice's own range (its stats)
   {
     ReleasedGil release;
     auto reader = io::open_event_reader(path, source);
@@ -424,6 +426,7 @@ py::dict process_time_range(const std::string& path, const std::string& output,
     if (skip_by_search) reader->skip_events_before(start);
     std::vector<Event> in(kBlockEvents);
     std::vector<AugmentedEvent> block(kBlockEvents);
+    LifetimeStats warm_up_stats;
     bool done = false;
     while (!done) {
       const std::size_t n = reader->read(in);
@@ -438,20 +441,27 @@ py::dict process_time_range(const std::string& path, const std::string& output,
         }
       }
       if (hi <= lo) continue;
-      estimator.process(std::span<const Event>(in.data() + lo, hi - lo),
-                        std::span(block.data(), hi - lo));
-      std::size_t first = 0;  // the warm-up's outputs are dropped
-      while (first < hi - lo && block[first].event.t_us < t_begin) ++first;
-      const std::span<const AugmentedEvent> kept(block.data() + first, hi - lo - first);
+      std::size_t first = lo;  // the warm-up's events: estimated apart, their outputs dropped
+      while (first < hi && in[first].t_us < t_begin) ++first;
+      if (first > lo) {
+        estimator.process(std::span<const Event>(in.data() + lo, first - lo), std::span(block.data(), first - lo));
+        warm_up_stats = estimator.stats();  // the counts before the slice's own events
+      }
+      const std::span<AugmentedEvent> kept(block.data(), hi - first);
+      estimator.process(std::span<const Event>(in.data() + first, hi - first), kept);
       for (const AugmentedEvent& e : kept) with_lifetime += !e.is_noise();
       events += kept.size();
       writer->write(kept);
     }
     writer->close();
+    for (const auto counter : {&LifetimeStats::out_of_sensor, &LifetimeStats::bad_polarity,
+                               &LifetimeStats::time_out_of_range, &LifetimeStats::time_backwards})
+      own.stats.*counter = estimator.stats().*counter - warm_up_stats.*counter;
   }
   py::dict d;
   d["events"] = events;
   d["with_lifetime"] = with_lifetime;
+  add_rejected(d, own);
   return d;
 }
 
@@ -698,7 +708,8 @@ as evlife.process.)");
       py::arg("config") = py::none(), py::arg("topic") = py::none(), py::arg("time_unit") = py::none(),
       "Internal (evlife.batch.process_slices): the events with t in [t_begin, t_end) (t_end None: no\n"
       "end) written to\n"
-      "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime'}.");
+      "output (.bin), the estimator started warmup_us before t_begin; {'events', 'with_lifetime', 'rejected'}\n"
+      "('rejected' as process_file's, of the events in [t_begin, t_end) only).");
 }
 
 }  // namespace evlife::python

@@ -252,8 +252,9 @@ def test_slices_reach_an_event_at_the_last_microsecond(tmp_path):
     events["t"][-1] = 2**63 - 1
     np.save(tmp_path / "tmax.npy", events)
     cli("process", tmp_path / "tmax.npy", "-o", tmp_path / "cli.bin", "-q", "--sensor", "54x61")
-    batch.process_slices(tmp_path / "tmax.npy", tmp_path / "sl.bin", slices=2, warmup_ms=1e19, workers=1,
-                         sensor=(54, 61), progress=False)
+    with pytest.warns(RuntimeWarning, match=r"tmax.npy: events rejected .* 1 time beyond \+-2\^62 us$"):
+        batch.process_slices(tmp_path / "tmax.npy", tmp_path / "sl.bin", slices=2, warmup_ms=1e19, workers=1,
+                             sensor=(54, 61), progress=False)
     assert (tmp_path / "sl.bin").read_bytes() == (tmp_path / "cli.bin").read_bytes()
 
 
@@ -568,6 +569,34 @@ def test_rejected_events_and_skipped_records_of_a_task_are_warned_of(tmp_path):
     assert any("late.npy" in t and "rejected" in t and "time beyond" in t for t in texts), texts
     assert any("sample.aedat4" in t and "non-event records" in t for t in texts), texts
     assert all(w.filename == __file__ for w in ours), [w.filename for w in ours]
+
+
+def test_process_slices_warns_of_rejected_events_and_skipped_records_as_evlife_process(tmp_path):
+    # process_slices said nothing of them, where evlife.process and process_files warn. Every
+    # warm-up here re-reads the first slice's rejected events: counted once, by the slice they are in.
+    import warnings
+    from evlife import batch
+    events = evlife.read(data("reference/stripes.mat"))
+    events["t"][:3] = -2**62 - 10 + np.arange(3)  # beyond +-2^62 us: rejected by the estimator,
+    events["t"][-3:] = 2**62 + 1 + np.arange(3)  # the first slice's and the last's
+    np.save(tmp_path / "far.npy", events)
+    aedat4 = os.path.abspath(data(RECORDINGS["aedat4"]))  # frames/IMU records: skipped, counted by one scan
+    for path in (str(tmp_path / "far.npy"), aedat4):  # absolute: process_slices names the path so
+        with warnings.catch_warnings(record=True) as expected:
+            warnings.simplefilter("always")
+            evlife.process(path)
+        expected = [str(w.message).replace("evlife.process:", "evlife.batch.process_slices:", 1)
+                    for w in expected if issubclass(w.category, RuntimeWarning)]
+        assert expected and all("rejected" in t or "non-event records" in t for t in expected), expected
+        if path.endswith("far.npy"):
+            assert expected == ["evlife.batch.process_slices: %s: events rejected (labelled noise, lifetime 0): "
+                                "0 outside the sensor, 0 bad polarity, 6 time beyond +-2^62 us" % path]
+        with warnings.catch_warnings(record=True) as warned:
+            warnings.simplefilter("always")
+            batch.process_slices(path, tmp_path / "sl.bin", slices=3, warmup_ms=1e19, workers=1, progress=False)
+        ours = [w for w in warned if issubclass(w.category, RuntimeWarning) and "evlife.batch" in str(w.message)]
+        assert [str(w.message) for w in ours] == expected
+        assert all(w.filename == __file__ for w in ours), [w.filename for w in ours]
 
 
 def test_ctrl_c_in_process_slices_on_your_cluster_leaves_no_part_file(tmp_path, monkeypatch):
