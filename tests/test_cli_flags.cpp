@@ -413,7 +413,7 @@ TEST_F(CliFlags, LifetimeRangeNamesOneRangeForEveryValueOutsideIt) {
 }
 
 // A whole-number flag given a fraction names its own range, not int64's;
-// given no number at all ("nan", hex, past a double) too, not the parser's
+// given no count at all ("nan", hex, past a double, 2.0) too, not the parser's
 // placeholder ("expected a number in [-1e+300, 1e+300]" before).
 TEST_F(CliFlags, AWholeNumberFlagNamesItsRange) {
   const RunResult r = run("run " + sample() + " --workers 2.5");
@@ -422,7 +422,11 @@ TEST_F(CliFlags, AWholeNumberFlagNamesItsRange) {
   for (const auto& [flag, said] : std::vector<std::pair<std::string, std::string>>{
            {"--workers nan", "--workers nan: expected a whole number in [1, 32]"},
            {"--batch-events 0x10", "--batch-events 0x10: expected a whole number in [16, 65536]"},
-           {"--margin 1e400", "--margin 1e400: expected a whole number in -1 (auto) or [0, 1024]"}}) {
+           {"--margin 1e400", "--margin 1e400: expected a whole number in -1 (auto) or [0, 1024]"},
+           // A count in decimal digits, as its key (--set engine.workers=2.0 is refused too).
+           {"--workers 2.0", "--workers 2.0: expected a whole number in [1, 32]"},
+           {"--batch-events 1e3", "--batch-events 1e3: expected a whole number in [16, 65536]"},
+           {"--tiles 2.0x2", "--tiles 2.0: expected a whole number in [1, 256]"}}) {
     const RunResult bad = run("run " + sample() + " -q " + flag);
     EXPECT_EQ(bad.exit_code, 2) << flag;
     EXPECT_TRUE(has(bad, said)) << bad.output;

@@ -19,6 +19,14 @@ std::optional<double> parse_decimal(std::string_view text) noexcept {
   return v;
 }
 
+bool is_decimal_integer(std::string_view text) noexcept {
+  if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
+  if (text.empty()) return false;
+  for (const char c : text)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+
 std::optional<std::int64_t> parse_time_us(std::string_view text) noexcept {
   std::string_view number = text;
   double unit_us = 1e6;

@@ -226,7 +226,8 @@ inline constexpr std::string_view kCropOptionsHelp =
 
 template <typename T>
 T parse_number(std::string_view name, std::string_view text, T lo, T hi) {
-  const auto v = parse_decimal(text);
+  // An integer is written in decimal digits, as its configuration key (a count of 2.0 or 2e0 is a slip).
+  const auto v = std::is_integral_v<T> && !is_decimal_integer(text) ? std::nullopt : parse_decimal(text);
   bool ok = v && *v >= static_cast<double>(lo) && *v <= static_cast<double>(hi);
   if constexpr (std::is_integral_v<T>) ok = ok && *v == static_cast<double>(static_cast<T>(*v));
   if (!ok) {
@@ -249,10 +250,10 @@ void parse_table_flag(const OptionInfo& info, std::string_view text, T& field) {
   bool number = true;
   if (std::is_floating_point_v<T> && info.key.ends_with("_s")) {
     v = static_cast<double>(parse_time_flag(info.flag, text)) * 1e-6;
-  } else if (const auto parsed = parse_decimal(text)) {
+  } else if (const auto parsed = parse_decimal(text); parsed && (!std::is_integral_v<T> || is_decimal_integer(text))) {
     v = *parsed;
   } else {
-    number = false;  // "nan", "0x10", "1e400": said with the flag's own range, not a parser's placeholder
+    number = false;  // "nan", "0x10", "1e400", a count of "2.0": said with the flag's own range
   }
   const bool whole = std::is_floating_point_v<T> || v == std::floor(v);
   if (!number || !whole || !info.contains(v)) {

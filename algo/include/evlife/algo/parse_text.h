@@ -13,6 +13,10 @@ namespace evlife {
 /// The whole text as a finite decimal number ("1.5", "-3", "+2e3"), else nullopt.
 std::optional<double> parse_decimal(std::string_view text) noexcept;
 
+/// One sign at most, then decimal digits only ("12", "-3", "+7"): how an
+/// integer flag is written; "2.0", "2e0" and "0x2" are no counts.
+bool is_decimal_integer(std::string_view text) noexcept;
+
 /// A time, >= 0, in microseconds: a number with a unit, "20us", "500ms",
 /// "1.5s", or a bare number in seconds ("0.5"), rounded to the microsecond.
 /// Else nullopt, also for a positive time that rounds to 0.
