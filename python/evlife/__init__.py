@@ -27,8 +27,6 @@ Units: t in microseconds (int64), lifetime and prediction_error in
 microseconds, vx and vy in pixels per second; lifetime 0 = noise.
 """
 import atexit as _atexit
-import functools as _functools
-import inspect as _inspect
 import operator as _operator
 
 import numpy as _np
@@ -53,17 +51,21 @@ from ._evlife import (  # noqa: F401  (the public C++ API)
 )
 from . import _evlife
 from . import _streams
+from ._arguments import naming_arguments as _naming_arguments
 
-# Named pipes and sockets as input: read from a temporary copy (_streams.py).
+# Named pipes and sockets as input: read from a temporary copy (_streams.py). Each function says a
+# call that does not fit its signature as Python says it (_arguments.py).
 read = _streams.reading_streams(read, "path")
 scan = _streams.reading_streams(scan, "input")
 process = _streams.reading_streams(process, "input")
 process_file = _streams.reading_streams(process_file, "input", output="output")
 open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
-read_augmented = _streams.picklable(read_augmented)
-synth = _streams.picklable(synth)
-estimator_options = _streams.picklable(estimator_options)
-formats = _streams.picklable(formats)
+read_augmented = _naming_arguments(read_augmented)
+synth = _naming_arguments(synth)
+estimator_options = _naming_arguments(estimator_options)
+formats = _naming_arguments(formats)
+LifetimeEstimator.__init__ = _naming_arguments(LifetimeEstimator.__init__, "LifetimeEstimator.__init__")
+LifetimeEstimator.process = _naming_arguments(LifetimeEstimator.process, "LifetimeEstimator.process")
 
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "Interrupted", "LifetimeEstimator", "Reader",
@@ -124,30 +126,7 @@ def _raise_field_error(i, what):
     raise error
 
 
-def _naming_keywords(function):
-    """`function` (a Python function of the package) saying a keyword it has not as the C++ functions
-    do: "evlife.frame() got an unexpected keyword argument 'scal' (did you mean 'scale'?)" (Python
-    said "frame() got ..."). Looked at only when the call raised TypeError: correct calls pay nothing."""
-    keywords = [name for name, p in _inspect.signature(function).parameters.items() if p.kind != p.VAR_KEYWORD]
-    where = "evlife." + function.__name__
-
-    @_functools.wraps(function)
-    def wrapper(*args, **kwargs):
-        try:
-            return function(*args, **kwargs)
-        except TypeError:
-            unknown = {k: v for k, v in kwargs.items() if k not in keywords}
-            if not unknown:
-                raise
-        try:
-            _evlife._refuse_keywords(where, unknown, keywords)
-        except TypeError as e:
-            raise e from None
-        raise AssertionError("unreachable")
-    return wrapper
-
-
-@_naming_keywords
+@_naming_arguments
 def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", scale=None,
           caption=True, legend=True, thinning=True, lifetime_range_ms=(0.3, 30.0)):
     """The frame `evlife render` draws at instant t_us, as an RGB image.
@@ -206,7 +185,7 @@ def _short_repr(value):
     return text if len(text) <= 80 else text[:77] + "..."
 
 
-@_naming_keywords
+@_naming_arguments
 def write(path, augmented, sensor):
     return _evlife.write(path, _as_augmented(augmented), sensor)
 

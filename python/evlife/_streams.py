@@ -17,6 +17,7 @@ import tempfile
 import weakref
 
 from . import _evlife
+from ._arguments import checking, public
 
 _CHUNK_BYTES = 1 << 20
 _DOC_NOTE = ("\n\nA named pipe or socket (<(zcat x.txt.gz), /dev/stdin in a pipeline) is first copied into a temporary file "
@@ -143,44 +144,28 @@ def reading_streams(function, argument, output=None):
     copy, a pipe as both passed, and the output's open waited for a reader)."""
     where = _PathArgument(argument)
     written = _PathArgument(output, 1) if output else None
+    checked = checking(function)  # a call that does not fit its signature, said as Python says it
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
-        if not where.given(args, kwargs):
-            return function(*args, **kwargs)  # its own error
-        if written and written.given(args, kwargs) and is_stream(where.of(args, kwargs)):
-            _evlife._refuse_overwriting_input(where.of(args, kwargs), written.of(args, kwargs))
-        stream = where.of(args, kwargs)
-        with readable(stream) as source:
-            args, kwargs = where.replaced(args, kwargs, source)
-            if source is stream:
-                return function(*args, **kwargs)
-            # The call's warnings name the pipe, not its copy (per thread, in C++:
-            # warnings.catch_warnings would catch every thread's).
-            _evlife._stream_alias(source, os.fsdecode(os.fspath(stream)))
-            try:
-                return function(*args, **kwargs)
-            finally:
-                _evlife._stream_alias("", "")
+        with checked(args, kwargs):
+            if not where.given(args, kwargs):
+                return function(*args, **kwargs)  # its own error
+            if written and written.given(args, kwargs) and is_stream(where.of(args, kwargs)):
+                _evlife._refuse_overwriting_input(where.of(args, kwargs), written.of(args, kwargs))
+            stream = where.of(args, kwargs)
+            with readable(stream) as source:
+                args, kwargs = where.replaced(args, kwargs, source)
+                if source is stream:
+                    return function(*args, **kwargs)
+                # The call's warnings name the pipe, not its copy (per thread, in C++:
+                # warnings.catch_warnings would catch every thread's).
+                _evlife._stream_alias(source, os.fsdecode(os.fspath(stream)))
+                try:
+                    return function(*args, **kwargs)
+                finally:
+                    _evlife._stream_alias("", "")
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
-    return public(wrapper)
-
-
-def public(wrapper):
-    """`wrapper` (functools.wraps of a C++ function) named evlife.NAME, where
-    pickle finds it: wraps copied the C++ function's evlife._evlife and
-    PyCapsule.NAME, which pickle cannot look up, so no function could be sent
-    to a Dask worker or a multiprocessing.Pool."""
-    wrapper.__module__ = "evlife"
-    wrapper.__qualname__ = wrapper.__name__
-    return wrapper
-
-
-def picklable(function):
-    """A C++ function of the module as a Python function pickle can find (public)."""
-    @functools.wraps(function)
-    def wrapper(*args, **kwargs):
-        return function(*args, **kwargs)
     return public(wrapper)
 
 
@@ -240,22 +225,24 @@ class StreamReader:
 def open_reading_streams(function):
     """evlife.open taking a stream: a StreamReader of its copy."""
     where = _PathArgument("path")
+    checked = checking(function)
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
-        if not where.given(args, kwargs) or not is_stream(where.of(args, kwargs)):
-            return function(*args, **kwargs)
-        stream = where.of(args, kwargs)
-        copy = _copy(stream)
-        args, kwargs = where.replaced(args, kwargs, copy)
-        try:
-            reader = function(*args, **kwargs)
-        except _evlife.InputError as e:
-            _remove(copy)
-            raise _named_after(e, stream, copy)
-        except BaseException:
-            _remove(copy)
-            raise
-        return StreamReader(reader, stream, copy)
+        with checked(args, kwargs):
+            if not where.given(args, kwargs) or not is_stream(where.of(args, kwargs)):
+                return function(*args, **kwargs)
+            stream = where.of(args, kwargs)
+            copy = _copy(stream)
+            args, kwargs = where.replaced(args, kwargs, copy)
+            try:
+                reader = function(*args, **kwargs)
+            except _evlife.InputError as e:
+                _remove(copy)
+                raise _named_after(e, stream, copy)
+            except BaseException:
+                _remove(copy)
+                raise
+            return StreamReader(reader, stream, copy)
     wrapper.__doc__ = (function.__doc__ or "") + _DOC_NOTE
     return public(wrapper)

@@ -335,6 +335,13 @@ void bind_options(py::module_& m) {
       py::arg("where"), py::arg("kwargs"), py::arg("keywords"),
       "Internal: TypeError for the first of kwargs, as the C++ functions say it (did you mean one of keywords?).");
   m.def(
+      "_misspelled_keyword",
+      [](const std::string& keyword, const std::vector<std::string>& keywords, const std::vector<std::string>& others) {
+        return misspelled_keyword(keyword, {keywords.begin(), keywords.end()}, {others.begin(), others.end()});
+      },
+      py::arg("keyword"), py::arg("keywords"), py::arg("others"),
+      "Internal: the one of keywords that keyword misspells (the nearest of keywords and others), or ''.");
+  m.def(
       "estimator_options",
       [](py::object config_path, const py::kwargs& kw) {
         refuse_keywords("evlife.estimator_options", kw, {"config"});

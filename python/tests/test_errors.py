@@ -201,6 +201,54 @@ def test_write_read_augmented_and_the_estimator_name_a_bad_keyword_or_path_witho
     assert len(evlife.read_augmented(path=tmp_path / "x.bin")[0]) == len(augmented)
 
 
+def test_a_misspelled_or_missing_required_argument_is_named(tmp_path):
+    # Before: pybind11's "read(): incompatible function arguments. The following argument types are
+    # supported: 1. (path: os.PathLike, ...) Invoked with: kwargs: pth='...'", naming nothing (the
+    # optional arguments' misspellings were named); Python's "frame() missing 1 required positional
+    # argument: 't_us'" for frame and write.
+    path, out = data(RECORDINGS["mat"]), tmp_path / "x.bin"
+    augmented = evlife.process(path)
+    estimator = evlife.LifetimeEstimator((240, 180))
+    misspelled = [
+        (lambda: evlife.read(pth=path), "read", "pth", "path"),
+        (lambda: evlife.read(pth=path, from_s=0.5), "read", "pth", "path"),
+        (lambda: evlife.open(paht=path, chunk_events=5), "open", "paht", "path"),
+        (lambda: evlife.scan(inptu=path), "scan", "inptu", "input"),
+        (lambda: evlife.process(inpt=path, window_size=7), "process", "inpt", "input"),
+        (lambda: evlife.process_file(path, outpt=out), "process_file", "outpt", "output"),
+        (lambda: evlife.read_augmented(pth=out), "read_augmented", "pth", "path"),
+        (lambda: evlife.write(out, augmentd=augmented, sensor=(240, 180)), "write", "augmentd", "augmented"),
+        (lambda: evlife.frame(augmented, t_u=0), "frame", "t_u", "t_us"),
+        (lambda: estimator.process(event=augmented), "LifetimeEstimator.process", "event", "events"),
+        (lambda: evlife.LifetimeEstimator(sensr=(8, 8)), "LifetimeEstimator", "sensr", "sensor"),
+    ]
+    for call, function, given, meant in misspelled:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.%s() got an unexpected keyword argument '%s' (did you mean '%s'?)" % (
+            function, given, meant)
+    missing = [
+        (lambda: evlife.read(), "read", "path"),
+        (lambda: evlife.read(sensor=(8, 8), colour="red"), "read", "path"),
+        (lambda: evlife.open(chunk_events=5), "open", "path"),
+        (lambda: evlife.scan(), "scan", "input"),
+        (lambda: evlife.process(window_size=7), "process", "input"),  # an estimator option, not a misspelling
+        (lambda: evlife.process_file(path), "process_file", "output"),
+        (lambda: evlife.read_augmented(), "read_augmented", "path"),
+        (lambda: evlife.write(out, augmented), "write", "sensor"),
+        (lambda: evlife.frame(augmented), "frame", "t_us"),
+        (lambda: estimator.process(), "LifetimeEstimator.process", "events"),
+        (lambda: evlife.LifetimeEstimator(window_size=7), "LifetimeEstimator", "sensor"),
+    ]
+    for call, function, name in missing:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.%s() missing required argument '%s'" % (function, name)
+    assert not out.exists()
+    # The calls that fit are as before, by position or keyword.
+    assert len(evlife.read(path=path)) == len(augmented) == len(estimator.process(events=evlife.read(path)))
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")

@@ -1,0 +1,98 @@
+"""Calls that do not fit a function's signature, said as Python says them and naming the function as
+evlife.NAME (pybind11 said "read(): incompatible function arguments" with every argument printed, and
+named neither the argument missing nor the keyword misspelt)."""
+import ast
+import contextlib
+import functools
+import inspect
+
+from . import _evlife
+
+_P = inspect.Parameter
+
+
+def public(wrapper, qualname=None):
+    """`wrapper` (functools.wraps of a C++ function) named evlife.NAME (or
+    evlife.QUALNAME, a method's: LifetimeEstimator.process), where pickle
+    finds it: wraps copied the C++ function's evlife._evlife and
+    PyCapsule.NAME, which pickle cannot look up, so no function could be sent
+    to a Dask worker or a multiprocessing.Pool."""
+    wrapper.__module__ = "evlife"
+    wrapper.__qualname__ = qualname or wrapper.__name__
+    return wrapper
+
+
+def naming_arguments(function, qualname=None):
+    """`function` (of the C++ module, or of the package) as a public function (public) whose calls are
+    checked as `checking` says."""
+    checked = checking(function, qualname)
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        with checked(args, kwargs):
+            return function(*args, **kwargs)
+    return public(wrapper, qualname)
+
+
+def checking(function, qualname=None):
+    """`with checked(args, kwargs): function(*args, **kwargs)`: a TypeError raised in it, when the call
+    does not fit the signature of `function` (evlife.QUALNAME), is replaced by the one Python would
+    raise, as "evlife.read() missing required argument 'path'", a keyword it has not with its
+    did-you-mean (as the C++ functions refuse theirs). Looked at only then: correct calls pay nothing.
+    A context, not a wrapper: no frame of its own, so the C++ functions' warnings, at a fixed
+    stacklevel, stay at the caller's line."""
+    signature = _signature(function)
+    where = "evlife." + (qualname or function.__name__).replace(".__init__", "")  # a class is called by its name
+
+    @contextlib.contextmanager
+    def checked(args, kwargs):
+        try:
+            yield
+        except TypeError:
+            try:
+                _refuse_call(where, signature, args, kwargs)
+            except TypeError as e:
+                raise e from None
+            raise
+    return checked
+
+
+def _signature(function):
+    """A Python function's signature; a C++ function's from the line pybind11 writes first in its
+    __doc__ ("read(path: os.PathLike, sensor: object = None, *, from_s: ... = None, **kwargs) ->
+    numpy.ndarray"), with a method's self positional only and each default as None (only there)."""
+    try:
+        return inspect.signature(function)
+    except ValueError:  # a C++ function
+        pass
+    line = function.__doc__.partition("\n")[0]
+    a = ast.parse("def f%s: pass" % line[line.index("("):line.rindex(" -> ")]).body[0].args
+    positional = a.posonlyargs + a.args
+    required = len(positional) - len(a.defaults)
+    parameters = [_P(p.arg, _P.POSITIONAL_ONLY if i < len(a.posonlyargs) or (i, p.arg) == (0, "self")
+                     else _P.POSITIONAL_OR_KEYWORD, default=_P.empty if i < required else None)
+                  for i, p in enumerate(positional)]
+    parameters += [_P(a.vararg.arg, _P.VAR_POSITIONAL)] if a.vararg else []
+    parameters += [_P(p.arg, _P.KEYWORD_ONLY, default=_P.empty if d is None else None)
+                   for p, d in zip(a.kwonlyargs, a.kw_defaults)]
+    parameters += [_P(a.kwarg.arg, _P.VAR_KEYWORD)] if a.kwarg else []
+    return inspect.Signature(parameters)
+
+
+def _refuse_call(where, signature, args, kwargs):
+    """TypeError when (args, kwargs) does not fit `signature`, in Python's order: a keyword it has not
+    (where **kwargs takes any, e.g. estimator options: one misspelling a missing argument), a required
+    argument missing."""
+    parameters = signature.parameters.values()
+    named = [p for p in parameters if p.kind not in (_P.VAR_POSITIONAL, _P.VAR_KEYWORD)]
+    keywords = [p.name for p in named if p.kind != _P.POSITIONAL_ONLY]
+    positional = [p for p in named if p.kind != _P.KEYWORD_ONLY]
+    given = [p.name for p in positional[:len(args)]] + list(kwargs)
+    missing = [p.name for p in named if p.default is _P.empty and p.name not in given]
+    any_keyword = any(p.kind == _P.VAR_KEYWORD for p in parameters)
+    unknown = [k for k in kwargs if k not in keywords
+               and (not any_keyword or _evlife._misspelled_keyword(k, missing, keywords))]
+    if unknown:
+        _evlife._refuse_keywords(where, {unknown[0]: kwargs[unknown[0]]}, keywords)
+    if missing:
+        raise TypeError("%s() missing required argument '%s'" % (where, missing[0]))
