@@ -36,9 +36,10 @@ def naming_arguments(function, qualname=None):
 
 def checking(function, qualname=None):
     """`with checked(args, kwargs): function(*args, **kwargs)`: a TypeError raised in it, when the call
-    does not fit the signature of `function` (evlife.QUALNAME), is replaced by the one Python would
-    raise, as "evlife.read() missing required argument 'path'", a keyword it has not with its
-    did-you-mean (as the C++ functions refuse theirs). Looked at only then: correct calls pay nothing.
+    does not fit the signature of `function` (evlife.QUALNAME), is replaced by one saying so in
+    Python's words, as "evlife.read() missing required argument 'path'" or "evlife.formats() takes 0
+    positional arguments but 1 was given", a keyword it has not with its did-you-mean (as the C++
+    functions refuse theirs). Looked at only then: correct calls pay nothing.
     A context, not a wrapper: no frame of its own, so the C++ functions' warnings, at a fixed
     stacklevel, stay at the caller's line."""
     signature = _signature(function)
@@ -81,18 +82,27 @@ def _signature(function):
 
 def _refuse_call(where, signature, args, kwargs):
     """TypeError when (args, kwargs) does not fit `signature`, in Python's order: a keyword it has not
-    (where **kwargs takes any, e.g. estimator options: one misspelling a missing argument), a required
-    argument missing."""
+    (where **kwargs takes any, e.g. estimator options: one misspelling a missing argument), one given
+    twice, too many positional arguments, a required argument missing."""
     parameters = signature.parameters.values()
     named = [p for p in parameters if p.kind not in (_P.VAR_POSITIONAL, _P.VAR_KEYWORD)]
     keywords = [p.name for p in named if p.kind != _P.POSITIONAL_ONLY]
     positional = [p for p in named if p.kind != _P.KEYWORD_ONLY]
-    given = [p.name for p in positional[:len(args)]] + list(kwargs)
+    by_position = [p.name for p in positional[:len(args)]]
+    given = by_position + list(kwargs)
     missing = [p.name for p in named if p.default is _P.empty and p.name not in given]
     any_keyword = any(p.kind == _P.VAR_KEYWORD for p in parameters)
     unknown = [k for k in kwargs if k not in keywords
                and (not any_keyword or _evlife._misspelled_keyword(k, missing, keywords))]
     if unknown:
         _evlife._refuse_keywords(where, {unknown[0]: kwargs[unknown[0]]}, keywords)
+    twice = [k for k in kwargs if k in by_position]
+    if twice:
+        raise TypeError("%s() got multiple values for argument '%s'" % (where, twice[0]))
+    if len(args) > len(positional) and not any(p.kind == _P.VAR_POSITIONAL for p in parameters):
+        least = sum(p.default is _P.empty for p in positional)
+        takes = str(least) if least == len(positional) else "from %d to %d" % (least, len(positional))
+        raise TypeError("%s() takes %s positional argument%s but %d %s given" % (
+            where, takes, "" if takes == "1" else "s", len(args), "was" if len(args) == 1 else "were"))
     if missing:
         raise TypeError("%s() missing required argument '%s'" % (where, missing[0]))

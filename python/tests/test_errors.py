@@ -249,6 +249,36 @@ def test_a_misspelled_or_missing_required_argument_is_named(tmp_path):
     assert len(evlife.read(path=path)) == len(augmented) == len(estimator.process(events=evlife.read(path)))
 
 
+def test_too_many_positional_arguments_are_said_as_python_says_them():
+    # Before: pybind11's "formats(): incompatible function arguments. The following argument types are
+    # supported: 1. () -> list Invoked with: 1", which said neither that formats takes no argument nor
+    # how many were given (an argument given twice alike).
+    path = data(RECORDINGS["mat"])
+    events = evlife.read(path)
+    cases = [
+        (lambda: evlife.formats(1), "evlife.formats() takes 0 positional arguments but 1 was given"),
+        (lambda: evlife.formats(1, 2), "evlife.formats() takes 0 positional arguments but 2 were given"),
+        (lambda: evlife.estimator_options(None, 1), "evlife.estimator_options() takes from 0 to 1 positional "
+         "arguments but 2 were given"),
+        (lambda: evlife.read(path, None, 0.5), "evlife.read() takes from 1 to 2 positional arguments but 3 were given"),
+        (lambda: evlife.read_augmented(path, 1), "evlife.read_augmented() takes 1 positional argument but 2 were given"),
+        (lambda: evlife.synth("edges", None, 1.0, 1, None, 2), "evlife.synth() takes from 0 to 5 positional arguments "
+         "but 6 were given"),
+        # An argument given twice: pybind11's message too.
+        (lambda: evlife.read(path, path=path), "evlife.read() got multiple values for argument 'path'"),
+        (lambda: evlife.process_file(path, "x.bin", output="y.bin"),
+         "evlife.process_file() got multiple values for argument 'output'"),
+        # A method counts its self, as Python's do.
+        (lambda: evlife.LifetimeEstimator((8, 8)).process(events, 1),
+         "evlife.LifetimeEstimator.process() takes 2 positional arguments but 3 were given"),
+    ]
+    for call, message in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == message
+    assert len(evlife.formats()) > 5
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")
