@@ -530,7 +530,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     outputs = [os.path.join(os.path.abspath(out_dir), n) for n in _output_names(paths, extension, out_dir)]
     if not paths:
         return BatchResult()
-    from distributed import as_completed
+    from distributed import KilledWorker, as_completed
     run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
     before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
     try:
@@ -555,6 +555,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                     row, warned = future.result()
                     row = row._replace(path=paths[i])
                     task_warnings += warned
+                    # Its events when counted (None: a failure that counted none), its time in the worker.
+                    figures = ("" if row.events is None else "%d events, " % row.events) + "%.2f s" % row.seconds
                 except Exception as e:  # the worker died: still reported by name
                     # Dask gave up on the task (KilledWorker): its partial output,
                     # cut where the worker died, is removed where this process sees it.
@@ -562,12 +564,13 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                         _streams._remove(_partial_name(outputs[i], run))
                     row = FileResult(paths[i], None, None, 0.0, None, "%s: %s (nothing written; its partial output, "
                                      "if any, was removed)" % (type(e).__name__, e))
+                    # No figure is known (the row's 0.0 s is none): what happened instead.
+                    figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else type(e).__name__)
                 rows[i] = row
                 if progress:
                     status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
-                    print("evlife.batch: %d/%d %s (%s events, %.2f s) %s" % (
-                        done, len(futures), paths[i], row.events, row.seconds, status),
-                        file=sys.stderr, flush=True)
+                    print("evlife.batch: %d/%d %s (%s) %s" % (done, len(futures), paths[i], figures, status),
+                          file=sys.stderr, flush=True)
         except KeyboardInterrupt:
             interrupted = True
             with _sigint_ignored(True):

@@ -1,5 +1,6 @@
 """evlife.batch on a Dask LocalCluster of 2 workers: the command line's files."""
 import os
+import re
 import shutil
 
 import numpy as np
@@ -494,7 +495,7 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
     assert e.events_processed == sum(r.events for r in rows if r.error is None)
 
 
-def test_partial_names_take_no_recordings_or_outputs_name(tmp_path):
+def test_partial_names_take_no_recordings_or_outputs_name(tmp_path, capsys):
     # A recording named as another's partial output, and a folder of an
     # output's name: each task writes its own file (the partial name holds the
     # call's random id), and a failed rename leaves no partial file behind.
@@ -508,8 +509,11 @@ def test_partial_names_take_no_recordings_or_outputs_name(tmp_path):
     (out / "c.bin").mkdir()  # a folder where an output goes
     c = tmp_path / "c.mat"
     shutil.copy(src, c)
-    table = batch.process_files([str(out / ".evlife-partial.a.mat"), str(a), str(c)], out, workers=1, progress=False)
+    table = batch.process_files([str(out / ".evlife-partial.a.mat"), str(a), str(c)], out, workers=1)
     assert table[0].error is None and table[1].error is None, table
+    # A failure that counted no event: its progress line has its seconds only (it said "None events").
+    assert re.search(r"^evlife.batch: \d/3 %s \(\d+\.\d\d s\) FAILED: cannot write " % re.escape(str(c)),
+                     capsys.readouterr().err, re.M)
     assert table[0].output != table[1].output
     first, _ = evlife.read_augmented(table[0].output)
     second, _ = evlife.read_augmented(table[1].output)
@@ -519,7 +523,7 @@ def test_partial_names_take_no_recordings_or_outputs_name(tmp_path):
     assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")]
 
 
-def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path):
+def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path, capsys):
     # A worker killed while writing (out of memory, a node lost): Dask gives
     # up with KilledWorker. Its cut .evlife-partial-RUN.NAME stayed in out_dir
     # (a .bin cut short reads as a shorter recording) and the row said nothing of it.
@@ -541,9 +545,13 @@ def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path):
         with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
                 Client(cluster) as client:
             client.run(install)
-            table = batch.process_files([data("reference/garfield.mat")], out, client, progress=False)
+            table = batch.process_files([data("reference/garfield.mat")], out, client)
             client.wait_for_workers(1)  # the nanny's new worker: not closed while it starts
     row = table[0]
+    # Its progress line said "(None events, 0.00 s)": neither figure was known.
+    progress = [line for line in capsys.readouterr().err.splitlines() if line.startswith("evlife.batch: 1/1 ")]
+    assert progress == ["evlife.batch: 1/1 %s (failed: worker killed) FAILED: %s" % (
+        data("reference/garfield.mat"), row.error.splitlines()[0])], progress
     assert row.error is not None and "KilledWorker" in row.error, row
     assert row.output is None and row.events is None
     assert "partial output" in row.error and "removed" in row.error, row.error
