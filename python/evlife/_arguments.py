@@ -44,6 +44,11 @@ def checking(function, qualname=None):
     stacklevel, stay at the caller's line."""
     signature = _signature(function)
     where = "evlife." + (qualname or function.__name__).replace(".__init__", "")  # a class is called by its name
+    # ... and without self: its arguments are counted as the call wrote them (LifetimeEstimator((8, 8), 1):
+    # "takes 1 positional argument but 2 were given", not Python's "__init__() takes 2 ... but 3").
+    constructor = (qualname or "").endswith(".__init__")
+    if constructor:
+        signature = signature.replace(parameters=list(signature.parameters.values())[1:])
 
     @contextlib.contextmanager
     def checked(args, kwargs):
@@ -51,7 +56,7 @@ def checking(function, qualname=None):
             yield
         except TypeError:
             try:
-                _refuse_call(where, signature, args, kwargs)
+                _refuse_call(where, signature, args[1:] if constructor else args, kwargs)
             except TypeError as e:
                 raise e from None
             raise

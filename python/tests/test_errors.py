@@ -271,6 +271,12 @@ def test_too_many_positional_arguments_are_said_as_python_says_them():
         # A method counts its self, as Python's do.
         (lambda: evlife.LifetimeEstimator((8, 8)).process(events, 1),
          "evlife.LifetimeEstimator.process() takes 2 positional arguments but 3 were given"),
+        # A class is called by its name, without self: its count is the call's (it said "takes 2
+        # positional arguments but 3 were given" of LifetimeEstimator((8, 8), 1)).
+        (lambda: evlife.LifetimeEstimator((8, 8), 1),
+         "evlife.LifetimeEstimator() takes 1 positional argument but 2 were given"),
+        (lambda: evlife.LifetimeEstimator((8, 8), 1, 2),
+         "evlife.LifetimeEstimator() takes 1 positional argument but 3 were given"),
     ]
     for call, message in cases:
         with pytest.raises(TypeError) as e:
