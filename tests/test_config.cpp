@@ -254,8 +254,8 @@ TEST(Config, AWholeNumberBeyondItsTypeIsOutOfRangeNotNoInteger) {
   }
 }
 
-// An integer key takes decimal digits with a sign, as Python's int() and
-// YAML 1.2 read them: `--set engine.workers=0x2` ran 2 workers (hex was read
+// An integer key takes decimal digits with one sign at most (not YAML 1.2's
+// 0x hex, nor Python's 2_0): `--set engine.workers=0x2` ran 2 workers (hex was read
 // for every integer key). Hexadecimal is the seed's alone (a bit pattern, the
 // shipped file's `seed: 0x5eed`). Floats: finite decimal numbers, 1e3 too.
 TEST(Config, AnIntegerIsDecimalDigitsNotHexNorAFloatsText) {

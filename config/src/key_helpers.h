@@ -19,8 +19,9 @@ namespace evlife::config::detail {
 
 bool parse_bool(std::string_view text, bool& out);
 bool parse_double(std::string_view text, double& out);
-// Integers: one sign at most and decimal digits, as Python's int() and YAML
-// 1.2 read them ("0x2", "2.0", "2e0" are none); 0x hexadecimal where `hex`.
+// Integers: one sign at most, then decimal digits only ("0x2", "2.0", "2e0",
+// "2_0" are none, though YAML 1.2's core schema reads 0x2 and Python's int()
+// 2_0); 0x hexadecimal where `hex`.
 bool parse_int64(std::string_view text, long long& out);
 bool parse_uint64(std::string_view text, unsigned long long& out, bool hex);
 /// The text is a whole number as those read it, of any size: what a value
