@@ -60,6 +60,7 @@ scan = _streams.reading_streams(scan, "input")
 process = _streams.reading_streams(process, "input")
 process_file = _streams.reading_streams(process_file, "input", output="output")
 open = _streams.open_reading_streams(open)  # noqa: A001  (evlife.open, as the C++ module names it)
+Reader.read = _streams.reader_read
 read_augmented = _naming_arguments(read_augmented)
 synth = _naming_arguments(synth)
 estimator_options = _naming_arguments(estimator_options)

@@ -169,6 +169,21 @@ def reading_streams(function, argument, output=None):
     return public(wrapper)
 
 
+# A call of Reader.read that does not fit its signature, said as Python says it (pybind11 named
+# nothing). A context around Reader._read, which warns 2 frames up: in a one-frame wrapper (reader_read,
+# StreamReader.read) its warnings stay at the line that called read.
+checked_read = checking(_evlife.Reader._read, "Reader.read")
+
+
+@functools.wraps(_evlife.Reader.read)
+def reader_read(self, *args, **kwargs):
+    with checked_read((self,) + args, kwargs):
+        return self._read(*args, **kwargs)
+
+
+reader_read = public(reader_read, "Reader.read")
+
+
 class StreamReader:
     """What evlife.open returns for a stream: the Reader of its temporary copy,
     with the same properties and methods, but `path` and the InputErrors of
@@ -199,10 +214,9 @@ class StreamReader:
         finally:
             _evlife._stream_alias("", "")
 
-    def read(self, max_events=None, **kwargs):
-        # Other keywords go on to Reader.read, which names a misspelt one (did you mean).
-        with self._naming_the_stream():
-            return self._reader._read(max_events, **kwargs)
+    def read(self, *args, **kwargs):
+        with self._naming_the_stream(), checked_read((self._reader,) + args, kwargs):
+            return self._reader._read(*args, **kwargs)
 
     def __iter__(self):
         return self

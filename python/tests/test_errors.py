@@ -285,6 +285,44 @@ def test_too_many_positional_arguments_are_said_as_python_says_them():
     assert len(evlife.formats()) > 5
 
 
+def test_reader_read_with_arguments_that_do_not_fit_is_said_as_python_says_it_and_warns_at_the_callers_line(
+        tmp_path):
+    # Before: reader.read(1, 2) raised pybind11's "read(): incompatible function arguments. The following
+    # argument types are supported: 1. (self: evlife._evlife.Reader, max_events: Optional[int] = None,
+    # **kwargs) ...", naming neither the function nor what did not fit.
+    import inspect
+    path = data(RECORDINGS["mat"])
+    pipe = tmp_path / "pipe.mat"
+    os.mkfifo(pipe)
+    for make in ("file", "pipe"):
+        with open(path, "rb") as f:
+            payload = f.read()
+        if make == "pipe":
+            import threading
+            writer = threading.Thread(target=lambda: pipe.write_bytes(payload))
+            writer.start()
+        with evlife.open(path if make == "file" else pipe, from_s=1000.0) as reader:
+            cases = [
+                (lambda: reader.read(1, 2), "evlife.Reader.read() takes from 1 to 2 positional arguments "
+                 "but 3 were given"),
+                (lambda: reader.read(1, max_events=2), "evlife.Reader.read() got multiple values for argument "
+                 "'max_events'"),
+            ]
+            for call, message in cases:
+                with pytest.raises(TypeError) as e:
+                    call()
+                assert str(e.value) == message, make
+            # The wrapper's warnings stay at the line that called read (Reader._read warns 2 frames up).
+            with pytest.warns(RuntimeWarning, match="^evlife.open: no event of") as caught:
+                line = inspect.currentframe().f_lineno + 1
+                assert len(reader.read()) == 0
+            assert (caught[0].filename, caught[0].lineno) == (__file__, line), make
+        if make == "pipe":
+            writer.join()
+    with evlife.open(path) as reader:
+        assert len(reader.read(5)) == len(reader.read(max_events=5)) == 5
+
+
 def test_config_paths_as_bytes_and_pathlike(tmp_path):
     config = tmp_path / "c.yaml"
     config.write_text("estimator:\n  window_size: 7\n")
