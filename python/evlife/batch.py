@@ -39,6 +39,7 @@ from collections import namedtuple
 
 from . import _evlife
 from . import _streams
+from ._arguments import checking
 
 __all__ = ["FileResult", "BatchResult", "process_files", "process_slices"]
 
@@ -448,28 +449,35 @@ def _client(scheduler, workers):
     return client, [client]
 
 
-def _config_read_once(function):
-    """`function` (process_files, process_slices) given a configuration that is
-    a pipe (config="/dev/stdin", <(...), a FIFO) reads a copy of it in $TMPDIR,
-    removed when it returns: its check of the options and then every task
-    opened it again, found it empty, and the defaults stood, silently."""
+def _batch_function(function):
+    """`function` (process_files, process_slices) as called by the user, in one frame (its
+    warnings, at stacklevel 3, stay at the caller's line):
+    a call that does not fit its signature said as evlife's functions say it (_arguments.checking:
+    Python's "process_files() missing 2 required positional arguments" named no evlife.batch, nor
+    the required argument a keyword misspelt);
+    a configuration that is a pipe (config="/dev/stdin", <(...), a FIFO) read from a copy of it in
+    $TMPDIR, removed when it returns: its check of the options and then every task opened it
+    again, found it empty, and the defaults stood, silently."""
+    checked = checking(function, "batch." + function.__name__)
+
     @functools.wraps(function)
-    def wrapper(*args, config=None, **kwargs):
-        if config is None:
-            return function(*args, config=config, **kwargs)
-        with _streams.readable(config) as copy:
-            return function(*args, config=copy, **kwargs)
+    def wrapper(*args, **kwargs):
+        with checked(args, kwargs):
+            if kwargs.get("config") is None:
+                return function(*args, **kwargs)
+            with _streams.readable(kwargs["config"]) as copy:
+                return function(*args, **dict(kwargs, config=copy))
     return wrapper
 
 
 def _own_keywords(function):
-    """The named parameters of `function` (through _config_read_once to the function's own signature):
+    """The named parameters of `function` (through _batch_function to the function's own signature):
     a misspelling of one is said so, not taken for an estimator key."""
     return tuple(name for name, parameter in inspect.signature(function).parameters.items()
                  if parameter.kind is not parameter.VAR_KEYWORD)
 
 
-@_config_read_once
+@_batch_function
 def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, config=None,
                   extension=".bin", progress=True, one_thread=True, from_s=None, to_s=None,
                   topic=None, time_unit=None, polarity=None, **options):
@@ -583,7 +591,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                         task_warnings += warned
         else:
             # After every row (a filter making them errors cuts no task short);
-            # stacklevel 3: the caller's line, past _config_read_once.
+            # stacklevel 3: the caller's line, past _batch_function.
             for text, category in task_warnings:
                 warnings.warn(text, category, stacklevel=3)
             return BatchResult(rows)
@@ -680,7 +688,7 @@ def _join_parts(output, parts):
         os.remove(part)
 
 
-@_config_read_once
+@_batch_function
 def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, workers=2,
                    sensor=None, config=None, progress=True, topic=None, time_unit=None, **options):
     """One long recording cut into `slices` equal time slices processed in parallel.

@@ -79,6 +79,39 @@ def test_a_misspelled_keyword_of_a_batch_function_is_named_as_such(tmp_path):
     assert not (tmp_path / "o").exists() and not (tmp_path / "o.bin").exists()
 
 
+def test_a_batch_call_that_does_not_fit_is_said_as_evlifes_functions_say_it(tmp_path):
+    # Before: Python's "process_files() missing 2 required positional arguments: 'paths' and 'out_dir'",
+    # and for process_files(pths=[...], out_dir=...) "missing 1 required positional argument: 'paths'",
+    # naming neither evlife.batch nor the misspelling; evlife.read(pth=p) says both.
+    from evlife import batch
+    path, o = data("reference/stripes.mat"), tmp_path / "o"
+    cases = [
+        (lambda: batch.process_files(), "process_files() missing required argument 'paths'"),
+        (lambda: batch.process_files([path], window_size=7), "process_files() missing required argument 'out_dir'"),
+        (lambda: batch.process_files(pths=[path], out_dir=o),
+         "process_files() got an unexpected keyword argument 'pths' (did you mean 'paths'?)"),
+        (lambda: batch.process_files([path], outdir=o),
+         "process_files() got an unexpected keyword argument 'outdir' (did you mean 'out_dir'?)"),
+        (lambda: batch.process_files([path], o, None, 2),
+         "process_files() takes from 2 to 3 positional arguments but 4 were given"),
+        (lambda: batch.process_files([path], o, out_dir=o),
+         "process_files() got multiple values for argument 'out_dir'"),
+        (lambda: batch.process_slices(), "process_slices() missing required argument 'path'"),
+        (lambda: batch.process_slices(path, slices=3), "process_slices() missing required argument 'output'"),
+        (lambda: batch.process_slices(pth=path, output=o),
+         "process_slices() got an unexpected keyword argument 'pth' (did you mean 'path'?)"),
+        (lambda: batch.process_slices(path, outpt=o),
+         "process_slices() got an unexpected keyword argument 'outpt' (did you mean 'output'?)"),
+        (lambda: batch.process_slices(path, o, 2, 100.0, None, 2),
+         "process_slices() takes from 2 to 5 positional arguments but 6 were given"),
+    ]
+    for call, message in cases:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value) == "evlife.batch." + message
+    assert not o.exists()
+
+
 def test_output_names_are_unique_whatever_the_recordings_are_called():
     from evlife import batch
     names = batch._output_names(["a/g.mat", "b/g.mat", "g-2.dat", "c/G.txt", "g.dat"], ".bin")
