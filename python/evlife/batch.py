@@ -705,6 +705,10 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     stays, nor a partial output); on Ctrl-C the slices not yet running are
     cancelled, on a cluster of yours too. Rejected events and skipped non-event
     records are warned of as evlife.process warns (RuntimeWarning), each counted once.
+    When it raises, nothing is warned of, as evlife.process when it raises (process_files
+    warns of its finished rows, whose outputs stay): the counts are of the one result,
+    which is not written: the skipped records are the whole file's (from its scan, not a
+    slice's), and the events a finished slice rejected were in a part file removed with it.
     """
     path = os.path.abspath(os.fsdecode(path))
     output = os.path.abspath(os.fsdecode(output))  # the parts are written where the workers run
