@@ -90,12 +90,12 @@ bool parse_integer(std::string_view text, T& out, bool hex) {
 bool parse_int64(std::string_view text, long long& out) { return parse_integer(text, out, /*hex=*/false); }
 
 bool is_integer_text(std::string_view text, bool hex) {
-  if (!text.empty() && (text.front() == '+' || text.front() == '-')) text.remove_prefix(1);
-  const bool base16 = remove_hex_prefix(text, hex);
-  const auto digit = [base16](char c) {
-    return (c >= '0' && c <= '9') || (base16 && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F')));
-  };
-  return !text.empty() && std::all_of(text.begin(), text.end(), digit);
+  std::string_view digits = text;
+  if (!digits.empty() && (digits.front() == '+' || digits.front() == '-')) digits.remove_prefix(1);
+  if (!remove_hex_prefix(digits, hex)) return is_decimal_integer(text);  // the flags' rule (parse_text.h)
+  return !digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) {
+    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+  });
 }
 bool parse_uint64(std::string_view text, unsigned long long& out, bool hex) {
   return parse_integer(text, out, hex);

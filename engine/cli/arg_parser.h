@@ -224,10 +224,18 @@ inline constexpr std::string_view kCropOptionsHelp =
     "                     HDF5 input starts at --from by a search on t, without\n"
     "                     decoding the events before it.\n";
 
+// The number in a flag's text: a finite decimal, for an integer flag in
+// decimal digits only, as its configuration key (a count of 2.0, 2e0 or 0x2
+// is a slip); else nullopt.
+template <typename T>
+std::optional<double> flag_number(std::string_view text) {
+  if (std::is_integral_v<T> && !is_decimal_integer(text)) return std::nullopt;
+  return parse_decimal(text);
+}
+
 template <typename T>
 T parse_number(std::string_view name, std::string_view text, T lo, T hi) {
-  // An integer is written in decimal digits, as its configuration key (a count of 2.0 or 2e0 is a slip).
-  const auto v = std::is_integral_v<T> && !is_decimal_integer(text) ? std::nullopt : parse_decimal(text);
+  const auto v = flag_number<T>(text);
   bool ok = v && *v >= static_cast<double>(lo) && *v <= static_cast<double>(hi);
   if constexpr (std::is_integral_v<T>) ok = ok && *v == static_cast<double>(static_cast<T>(*v));
   if (!ok) {
@@ -250,7 +258,7 @@ void parse_table_flag(const OptionInfo& info, std::string_view text, T& field) {
   bool number = true;
   if (std::is_floating_point_v<T> && info.key.ends_with("_s")) {
     v = static_cast<double>(parse_time_flag(info.flag, text)) * 1e-6;
-  } else if (const auto parsed = parse_decimal(text); parsed && (!std::is_integral_v<T> || is_decimal_integer(text))) {
+  } else if (const auto parsed = flag_number<T>(text)) {
     v = *parsed;
   } else {
     number = false;  // "nan", "0x10", "1e400", a count of "2.0": said with the flag's own range

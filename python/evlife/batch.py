@@ -35,7 +35,7 @@ import threading
 import time
 import uuid
 import warnings
-from collections import namedtuple
+from collections import Counter, namedtuple
 
 from . import _evlife
 from . import _streams
@@ -748,11 +748,10 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
                                  warmup_us, config, topic, time_unit, dict(options), pure=False,
                                  key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
                    for k in range(slices)]
-        rows, rejected = [], {}
+        rows, rejected = [], Counter()
         for k, f in enumerate(futures):
             events, with_lifetime, seconds, slice_rejected = f.result()
-            for reason, count in slice_rejected.items():
-                rejected[reason] = rejected.get(reason, 0) + count
+            rejected.update(slice_rejected)  # adds the counts
             rows.append(FileResult("%s[%d]" % (path, k), events,
                                    with_lifetime / events if events else 0.0, seconds, output, None))
             if progress:
@@ -782,6 +781,6 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     # As evlife.process warns of what it dropped: the events the slices rejected, each in its own
     # time range; the records of the format that are no events, from the scan (a slice's reader
     # also counts those before its range, which it skips or drops).
-    for text in _evlife._dropped_warnings("evlife.batch.process_slices", path, dict(info, rejected=rejected)):
+    for text in _evlife._dropped_warnings("evlife.batch.process_slices", path, dict(info, rejected=dict(rejected))):
         warnings.warn(text, RuntimeWarning, stacklevel=3)
     return BatchResult(rows)

@@ -23,15 +23,14 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
   std::size_t i = 0;
   bool fault = false;
   bool fault_began_a_word_before = false;
-  std::uint32_t previous_type = previous_type_;
-  bool previous_word_zero = previous_word_zero_;
+  std::uint32_t previous_word = previous_word_;
   // Each word may add up to kMaxEventsPerWord events: stop while that still fits.
   for (; i < words && n + kMaxEventsPerWord <= out.size(); ++i) {
     std::uint16_t w;
     std::memcpy(&w, bytes + i * kWordBytes, kWordBytes);
     switch (w >> 12) {
       case 0x0:  // ADDR_Y (bit 11: system type, ignored)
-        if (w == 0 && previous_word_zero) [[unlikely]] {  // row 0 set twice, nothing between: zero-filled data
+        if (w == 0 && previous_word == 0) [[unlikely]] {  // row 0 set twice, nothing between: zero-filled data
           fault = true;
           fault_began_a_word_before = true;
           break;
@@ -106,7 +105,8 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
         break;
       case 0x7:    // CONTINUED_4
       case 0xF: {  // CONTINUED_12: only after OTHERS (a run of 0xFF bytes is not one)
-        if (previous_type != 0xE && previous_type != 0x7 && previous_type != 0xF) {
+        if (const std::uint32_t previous_type = previous_word >> 12;
+            previous_type != 0xE && previous_type != 0x7 && previous_type != 0xF) {
           fault = true;
           break;
         }
@@ -121,11 +121,9 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
       fault_word_ = w;
       break;
     }
-    previous_type = w >> 12;
-    previous_word_zero = w == 0;
+    previous_word = w;
   }
-  previous_type_ = previous_type;
-  previous_word_zero_ = previous_word_zero;
+  previous_word_ = previous_word;
   return Result{i, n, fault, fault_began_a_word_before};
 }
 

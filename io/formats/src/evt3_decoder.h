@@ -79,8 +79,10 @@ class Evt3Decoder {
   bool has_time_base_ = false;  // a TIME_HIGH was seen
   Evt3TriggerSink* trigger_sink_ = nullptr;
   std::uint16_t fault_word_ = 0;
-  std::uint32_t previous_type_ = 0;  // type of the last word decoded (CONTINUED's check)
-  bool previous_word_zero_ = false;  // the last word was 0x0000 (a second in a row is a fault)
+  // The last word decoded (CONTINUED's check reads its type, the zero-fill
+  // check whether it was 0x0000); before the first, none: no type, not zero.
+  static constexpr std::uint32_t kNoWord = 0x10000;
+  std::uint32_t previous_word_ = kNoWord;
 };
 
 }  // namespace evlife::io
