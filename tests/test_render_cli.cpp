@@ -197,7 +197,8 @@ TEST_F(RenderCliTest, AVideoFrameWiderThanItsCodecAllowsIsRefused) {
 }
 
 // A frame larger than the memory there is is refused before anything is
-// drawn or written, naming its size and the flag to lower: exit 2, where
+// drawn or written (and before the estimator's planes, 1.5 GB here, are
+// touched: 20 s on a VM), naming its size and the flag to lower: exit 2, where
 // OpenCV's allocation failed as "unexpected error", exit 1.
 TEST_F(RenderCliTest, AFrameLargerThanTheMemoryIsRefusedUpFront) {
   // 3 x (4096 x 32 + 36) px wide, 4096 x 32 + 46 px high (compare, caption): 154.7 GB.

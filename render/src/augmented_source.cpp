@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "evlife/io/augmented_event_reader.h"
@@ -35,26 +37,42 @@ class AugmentedFileSource final : public AugmentedSource {
   SensorSize sensor_;
 };
 
+// The estimator's planes (40 B a pixel: 1.3 GB on a 4096x4096 sensor) are
+// allocated and written at the first read, not when the source is opened: a
+// command that refuses its job once the sensor is known (a frame too large for
+// the memory) says so at once, without first touching them.
 class EstimatingSource final : public AugmentedSource {
  public:
   EstimatingSource(std::unique_ptr<io::EventReader> reader, const LifetimeOptions& options)
-      : reader_(std::move(reader)), estimator_(options), estimating_(*reader_, estimator_, 4096) {}
-  std::size_t read(std::span<AugmentedEvent> out) override { return estimating_.read(out); }
-  SensorSize sensor() const override { return estimator_.options().sensor; }
-  std::string description() const override {
-    const auto& o = estimator_.options();
-    return file_name(reader_->path()) + " (" + std::string(reader_->format_name()) +
-           ", estimated on the fly, N=" + std::to_string(o.window_size) +
-           (o.regularization ? ", regularized" : ", not regularized") + ")";
+      : reader_(std::move(reader)), options_(options) {
+    // Bad options are refused here, as the estimator's constructor would.
+    if (const std::string err = validate_lifetime_options(options); !err.empty()) {
+      throw std::invalid_argument("LifetimeOptions." + err);
+    }
   }
-  const LifetimeStats* estimator_stats() const override { return &estimator_.stats(); }
+  std::size_t read(std::span<AugmentedEvent> out) override {
+    if (!estimating_) {
+      estimator_.emplace(options_);
+      estimating_.emplace(*reader_, *estimator_, 4096);
+    }
+    return estimating_->read(out);
+  }
+  SensorSize sensor() const override { return options_.sensor; }
+  std::string description() const override {
+    return file_name(reader_->path()) + " (" + std::string(reader_->format_name()) +
+           ", estimated on the fly, N=" + std::to_string(options_.window_size) +
+           (options_.regularization ? ", regularized" : ", not regularized") + ")";
+  }
+  const LifetimeStats* estimator_stats() const override { return estimator_ ? &estimator_->stats() : &no_events_; }
   std::uint64_t bytes_consumed() const override { return reader_->bytes_consumed(); }
   const io::EventReader* event_reader() const override { return reader_.get(); }
 
  private:
   std::unique_ptr<io::EventReader> reader_;
-  LifetimeEstimator estimator_;
-  io::EstimatingReader estimating_;  // after the two it refers to
+  LifetimeOptions options_;
+  LifetimeStats no_events_{};  // the counters before the first read
+  std::optional<LifetimeEstimator> estimator_;
+  std::optional<io::EstimatingReader> estimating_;  // after the two it refers to
 };
 
 }  // namespace
