@@ -67,6 +67,8 @@ estimator_options = _naming_arguments(estimator_options)
 formats = _naming_arguments(formats)
 LifetimeEstimator.__init__ = _naming_arguments(LifetimeEstimator.__init__, "LifetimeEstimator.__init__")
 LifetimeEstimator.process = _naming_arguments(LifetimeEstimator.process, "LifetimeEstimator.process")
+LifetimeEstimator.reset = _naming_arguments(LifetimeEstimator.reset, "LifetimeEstimator.reset")
+Reader.close = _naming_arguments(Reader.close, "Reader.close")
 
 __all__ = [
     "AUGMENTED_DTYPE", "EVENT_DTYPE", "TRUTH_DTYPE", "InputError", "Interrupted", "LifetimeEstimator", "Reader",

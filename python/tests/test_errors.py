@@ -277,6 +277,12 @@ def test_too_many_positional_arguments_are_said_as_python_says_them():
          "evlife.LifetimeEstimator() takes 1 positional argument but 2 were given"),
         (lambda: evlife.LifetimeEstimator((8, 8), 1, 2),
          "evlife.LifetimeEstimator() takes 1 positional argument but 3 were given"),
+        # The methods that take nothing (pybind11 said "close(): incompatible function arguments").
+        (lambda: evlife.LifetimeEstimator((8, 8)).reset(True),
+         "evlife.LifetimeEstimator.reset() takes 1 positional argument but 2 were given"),
+        (lambda: evlife.open(path).close(1), "evlife.Reader.close() takes 1 positional argument but 2 were given"),
+        (lambda: evlife.open(path).close(force=True), "evlife.Reader.close() got an unexpected keyword argument "
+         "'force'"),
     ]
     for call, message in cases:
         with pytest.raises(TypeError) as e:
