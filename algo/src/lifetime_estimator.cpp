@@ -55,10 +55,13 @@ const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
 }
 
 std::string rejected_events_text(const LifetimeStats& stats) {
-  return std::to_string(stats.out_of_sensor) + " outside the sensor, " + std::to_string(stats.bad_polarity) +
-         " bad polarity, " + std::to_string(stats.time_out_of_range) + " time beyond +-2^62 us" +
-         (stats.time_backwards == 0 ? std::string()
-                                    : ", " + std::to_string(stats.time_backwards) + " time going backwards");
+  std::string text;
+  for (const RejectionCounter& c : kRejectionCounters) {
+    const std::uint64_t n = stats.*c.count;
+    if (n == 0 && !c.said_when_zero) continue;
+    text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + c.text;
+  }
+  return text;
 }
 
 std::uint64_t LifetimeEstimator::state_bytes(SensorSize sensor) noexcept {

@@ -115,10 +115,7 @@ class Estimator {
     d["noise_unresolved"] = s.noise_unresolved;
     d["predictions"] = s.predictions;
     d["followers"] = s.followers;
-    d["out_of_sensor"] = s.out_of_sensor;
-    d["bad_polarity"] = s.bad_polarity;
-    d["time_out_of_range"] = s.time_out_of_range;
-    d["time_backwards"] = s.time_backwards;  // 0 here: process() raises on it first
+    for (const RejectionCounter& c : kRejectionCounters) d[c.name] = s.*c.count;  // time_backwards 0: process() raises first
     return d;
   }
 
@@ -221,9 +218,9 @@ void add_skipped(py::dict& d, const FileRun& run) {
 // "rejected" (evlife process prints them as its "rejected" line).
 void add_rejected(py::dict& d, const FileRun& run) {
   py::dict rejected;
-  rejected["out_of_sensor"] = run.stats.out_of_sensor;
-  rejected["bad_polarity"] = run.stats.bad_polarity;
-  rejected["time_out_of_range"] = run.stats.time_out_of_range;
+  for (const RejectionCounter& c : kRejectionCounters) {
+    if (c.why != Rejection::time_backwards) rejected[c.name] = run.stats.*c.count;  // the file's run raises on it
+  }
   d["rejected"] = rejected;
 }
 
@@ -251,9 +248,7 @@ std::vector<std::string> dropped_warnings(const std::string& function, const std
   std::vector<std::string> texts;
   LifetimeStats stats;
   const py::dict rejected = dict_of("rejected");
-  stats.out_of_sensor = count_of(rejected, "out_of_sensor");
-  stats.bad_polarity = count_of(rejected, "bad_polarity");
-  stats.time_out_of_range = count_of(rejected, "time_out_of_range");
+  for (const RejectionCounter& c : kRejectionCounters) stats.*c.count = count_of(rejected, c.name);
   if (std::string text = rejected_warning(function, path, stats); !text.empty()) texts.push_back(std::move(text));
   std::vector<std::string> names;  // kept alive for the views of `kinds`
   std::vector<io::SkippedKindCount> kinds;
@@ -454,9 +449,8 @@ py::dict process_time_range(const std::string& path, const std::string& output,
       writer->write(kept);
     }
     writer->close();
-    for (const auto counter : {&LifetimeStats::out_of_sensor, &LifetimeStats::bad_polarity,
-                               &LifetimeStats::time_out_of_range, &LifetimeStats::time_backwards})
-      own.stats.*counter = estimator.stats().*counter - warm_up_stats.*counter;
+    for (const RejectionCounter& c : kRejectionCounters)
+      own.stats.*c.count = estimator.stats().*c.count - warm_up_stats.*c.count;
   }
   py::dict d;
   d["events"] = events;

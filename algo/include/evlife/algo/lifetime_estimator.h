@@ -54,15 +54,41 @@ struct LifetimeStats {
   std::uint64_t time_backwards = 0;    ///< rejected: earlier than the last event of its polarity
 
   /// Events labelled noise unexamined: the four counters above.
-  std::uint64_t rejected() const noexcept { return out_of_sensor + bad_polarity + time_out_of_range + time_backwards; }
+  std::uint64_t rejected() const noexcept;
   /// The counter of a rejection (not `none`).
-  std::uint64_t& rejected_counter(Rejection why) noexcept {
-    return why == Rejection::out_of_sensor    ? out_of_sensor
-           : why == Rejection::bad_polarity   ? bad_polarity
-           : why == Rejection::time_backwards ? time_backwards
-                                              : time_out_of_range;
-  }
+  std::uint64_t& rejected_counter(Rejection why) noexcept;
 };
+
+/// A rejection's counter, its name (Python's dicts: LifetimeEstimator.stats,
+/// process_file's 'rejected') and its words in the reports: the one list of
+/// them, in the order they are reported.
+struct RejectionCounter {
+  Rejection why;
+  const char* name;
+  std::uint64_t LifetimeStats::*count;
+  const char* text;     ///< "N <text>" in rejected_events_text
+  bool said_when_zero;  ///< time going backwards is said only when there is any
+};
+inline constexpr std::array<RejectionCounter, 4> kRejectionCounters{{
+    {Rejection::out_of_sensor, "out_of_sensor", &LifetimeStats::out_of_sensor, "outside the sensor", true},
+    {Rejection::bad_polarity, "bad_polarity", &LifetimeStats::bad_polarity, "bad polarity", true},
+    {Rejection::time_out_of_range, "time_out_of_range", &LifetimeStats::time_out_of_range, "time beyond +-2^62 us",
+     true},
+    {Rejection::time_backwards, "time_backwards", &LifetimeStats::time_backwards, "time going backwards", false},
+}};
+
+inline std::uint64_t LifetimeStats::rejected() const noexcept {
+  std::uint64_t n = 0;
+  for (const RejectionCounter& c : kRejectionCounters) n += this->*c.count;
+  return n;
+}
+
+inline std::uint64_t& LifetimeStats::rejected_counter(Rejection why) noexcept {
+  for (const RejectionCounter& c : kRejectionCounters) {
+    if (c.why == why) return this->*c.count;
+  }
+  return time_out_of_range;  // not reached: every rejection but `none` is listed
+}
 
 /// "N outside the sensor, N bad polarity, N time beyond +-2^62 us" (and ", N
 /// time going backwards" when there are any): the rejected events, as `evlife
