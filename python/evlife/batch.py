@@ -26,6 +26,7 @@ installed package) and the paths readable where they run.
 import contextlib
 import functools
 import inspect
+import math
 import operator
 import os
 import shutil
@@ -45,7 +46,8 @@ __all__ = ["FileResult", "BatchResult", "process_files", "process_slices"]
 
 FileResult = namedtuple("FileResult", "path events lifetime_share seconds output error")
 FileResult.__doc__ = """One recording's row: path, events, lifetime_share (share of events
-with a lifetime, 0..1), seconds (in the worker), output (the written file),
+with a lifetime, 0..1), seconds (in the worker; NaN where not known: its worker
+died, or the task was interrupted before it finished), output (the written file),
 error (None, or the message of the failure; the events before an input
 fault are still written, as the command line does: events counts them, 0
 where the fault came before the output was opened, and output is then None;
@@ -70,8 +72,9 @@ class BatchResult(list):
         lines = ["%-40s %12s %9s %9s  %s" % ("path", "events", "lifetime", "seconds", "status")]
         for r in self:
             share = "" if r.lifetime_share is None else "%.1f %%" % (100.0 * r.lifetime_share)
-            lines.append("%-40s %12s %9s %9.2f  %s" % (
-                _short(r.path, 40), "" if r.events is None else r.events, share, r.seconds,
+            seconds = "" if math.isnan(r.seconds) else "%.2f" % r.seconds  # not known: blank, as events
+            lines.append("%-40s %12s %9s %9s  %s" % (
+                _short(r.path, 40), "" if r.events is None else r.events, share, seconds,
                 "ok" if r.error is None else "FAILED: " + _first_line(r.error)))
         return "\n".join(lines)
 
@@ -570,9 +573,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                     # cut where the worker died, is removed where this process sees it.
                     with contextlib.suppress(OSError):
                         _streams._remove(_partial_name(outputs[i], run))
-                    row = FileResult(paths[i], None, None, 0.0, None, "%s: %s (nothing written; its partial output, "
+                    row = FileResult(paths[i], None, None, math.nan, None, "%s: %s (nothing written; its partial output, "
                                      "if any, was removed)" % (type(e).__name__, e))
-                    # No figure is known (the row's 0.0 s is none): what happened instead.
+                    # No figure is known: what happened instead.
                     figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else type(e).__name__)
                 rows[i] = row
                 if progress:
@@ -644,7 +647,7 @@ def _interrupted(rows, paths, outputs, run, before, own_cluster):
         else:
             _streams._remove(_partial_name(outputs[i], run))
             what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
-        rows[i] = FileResult(paths[i], None, None, 0.0, output, what)
+        rows[i] = FileResult(paths[i], None, None, math.nan, output, what)
     finished = len(rows) - len(unfinished)
     error = _evlife.Interrupted("evlife.batch.process_files: interrupted; %d of %d recordings finished "
                                 "(their rows in .partial)" % (finished, len(rows)))

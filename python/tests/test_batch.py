@@ -1,4 +1,5 @@
 """evlife.batch on a Dask LocalCluster of 2 workers: the command line's files."""
+import math
 import os
 import re
 import shutil
@@ -516,6 +517,7 @@ def test_ctrl_c_keeps_the_finished_rows_and_removes_cut_outputs(tmp_path):
             continue
         assert "interrupted before it finished; nothing written" in r.error
         assert r.output is None and r.events is None
+        assert math.isnan(r.seconds)  # not known (it said 0.0)
         if final.name in ("a.bin", "b.bin"):
             assert final.read_bytes() == previous, (rows, os.listdir(out))
         else:
@@ -587,6 +589,9 @@ def test_a_worker_that_dies_mid_write_leaves_no_cut_partial_file(tmp_path, capsy
         data("reference/garfield.mat"), row.error.splitlines()[0])], progress
     assert row.error is not None and "KilledWorker" in row.error, row
     assert row.output is None and row.events is None
+    # Nor its time: NaN, a blank in the table (they said 0.0 and 0.00).
+    assert math.isnan(row.seconds)
+    assert re.search(r"garfield\.mat +FAILED: ", str(table)), str(table)
     assert "partial output" in row.error and "removed" in row.error, row.error
     assert not [n for n in os.listdir(out) if n.startswith(".evlife-partial-")], os.listdir(out)
 
