@@ -1281,7 +1281,8 @@ TEST(IoFormatsHdf5, AStringAttributeThatHangsTheLibraryBecomesReadError) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   const ReadResult r = read_all(path);
   ASSERT_TRUE(r.error);
-  EXPECT_NE(std::string(r.error->what()).find("the HDF5 library hangs opening this file"), std::string::npos)
+  EXPECT_NE(std::string(r.error->what()).find("the HDF5 library hangs opening this file (corrupt HDF5? no answer in 10 s)"),
+            std::string::npos)
       << r.error->what();
 }
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "evlife/io/event_reader.h"
@@ -148,7 +149,10 @@ bool probe_in_child(const std::string& path) {
     if (now > deadline) {
       kill(child, SIGKILL);
       waitpid(child, &status, 0);
-      throw ReadError(path, -1, -1, "the HDF5 library hangs opening this file (corrupt HDF5?)");
+      throw ReadError(path, -1, -1,
+                      "the HDF5 library hangs opening this file (corrupt HDF5? no answer in " +
+                          std::to_string(std::chrono::duration_cast<std::chrono::seconds>(kTimeout).count()) +
+                          " s)");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
