@@ -137,6 +137,67 @@ def _partial_name(output, run):
     return os.path.join(folder, ".evlife-partial-%s.%s" % (run, name))
 
 
+# progress=True: a line on stderr whenever no task has finished for this long, so a
+# recording that takes an hour does not leave its batch silent for an hour.
+STILL_RUNNING_EVERY_S = 30.0
+
+
+def _duration_text(seconds):
+    seconds = int(seconds)
+    return "%d s" % seconds if seconds < 120 else "%d min %02d s" % divmod(seconds, 60)
+
+
+class _StillRunning:
+    """While its `with` lasts, a thread that prints, whenever no task has
+    finished for STILL_RUNNING_EVERY_S, how long that has been and the files
+    being written: files(), called then, gives (name, path) pairs, and those
+    that exist are shown with their size (a cluster whose workers write where
+    this process cannot see shows none). finished(line) prints a task's line
+    (under the same lock: two threads, whole lines) and restarts the clock."""
+
+    def __init__(self, enabled, what, files):
+        self._enabled, self._what, self._files = enabled, what, files
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._last = time.monotonic()
+        self._thread = threading.Thread(target=self._watch, name="evlife.batch progress", daemon=True)
+
+    def __enter__(self):
+        if self._enabled:
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join()
+
+    def finished(self, line):
+        with self._lock:
+            self._last = time.monotonic()
+            if self._enabled:
+                print(line, file=sys.stderr, flush=True)
+
+    def _watch(self):
+        while True:
+            with self._lock:
+                due = self._last + STILL_RUNNING_EVERY_S - time.monotonic()
+            if self._stop.wait(max(due, 0.0)):
+                return
+            with self._lock:
+                quiet_s = time.monotonic() - self._last
+                if quiet_s < STILL_RUNNING_EVERY_S:
+                    continue  # a task finished meanwhile
+                written = []
+                for name, path in self._files():
+                    with contextlib.suppress(OSError):
+                        written.append("%s (%.1f MB)" % (name, os.path.getsize(path) / 1e6))
+                print("evlife.batch: %s; none finished for %s%s" % (
+                    self._what(), _duration_text(quiet_s),
+                    "; writing: " + ", ".join(written) if written else ""), file=sys.stderr, flush=True)
+                self._last = time.monotonic()  # the next line after as long again
+
+
 def _process_one(path, output, run, sensor, config, one_thread, crop, options):
     """The task: runs in a worker (the output renamed there: the client may
     not see the worker's files); never raises (a failure is the row's error).
@@ -500,7 +561,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     one_thread: True (the default) runs each recording on its worker's one
     thread: with one worker per core, reading ahead and writing behind would
     only compete with the other workers' estimators.
-    progress: a line per finished recording on stderr.
+    progress: a line per finished recording on stderr, and one whenever
+    none has finished for STILL_RUNNING_EVERY_S (30 s): how long, and the
+    outputs being written with their sizes (where this process sees them).
 
     Returns a BatchResult: one FileResult row (path, events, lifetime_share,
     seconds, output, error) per path, in order. A failed recording is reported
@@ -559,29 +622,34 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         index = {f.key: i for i, f in enumerate(futures)}
         rows = [None] * len(futures)
         task_warnings = []
+        still_running = _StillRunning(
+            progress, lambda: "%d/%d done" % (sum(r is not None for r in rows), len(rows)),
+            lambda: [(os.path.basename(outputs[i]), _partial_name(outputs[i], run))
+                     for i, r in enumerate(rows) if r is None])
         try:
-            for done, future in enumerate(as_completed(futures), 1):
-                i = index[future.key]
-                try:
-                    row, warned = future.result()
-                    row = row._replace(path=paths[i])
-                    task_warnings += warned
-                    # Its events when counted (None: a failure that counted none), its time in the worker.
-                    figures = ("" if row.events is None else "%d events, " % row.events) + "%.2f s" % row.seconds
-                except Exception as e:  # the worker died: still reported by name
-                    # Dask gave up on the task (KilledWorker): its partial output,
-                    # cut where the worker died, is removed where this process sees it.
-                    with contextlib.suppress(OSError):
-                        _streams._remove(_partial_name(outputs[i], run))
-                    row = FileResult(paths[i], None, None, math.nan, None, "%s: %s (nothing written; its partial output, "
-                                     "if any, was removed)" % (type(e).__name__, e))
-                    # No figure is known: what happened instead.
-                    figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else type(e).__name__)
-                rows[i] = row
-                if progress:
+            with still_running:
+                for done, future in enumerate(as_completed(futures), 1):
+                    i = index[future.key]
+                    try:
+                        row, warned = future.result()
+                        row = row._replace(path=paths[i])
+                        task_warnings += warned
+                        # Its events when counted (None: a failure that counted none), its time in the worker.
+                        figures = ("" if row.events is None else "%d events, " % row.events) + "%.2f s" % row.seconds
+                    except Exception as e:  # the worker died: still reported by name
+                        # Dask gave up on the task (KilledWorker): its partial output,
+                        # cut where the worker died, is removed where this process sees it.
+                        with contextlib.suppress(OSError):
+                            _streams._remove(_partial_name(outputs[i], run))
+                        row = FileResult(paths[i], None, None, math.nan, None,
+                                         "%s: %s (nothing written; its partial output, if any, was removed)"
+                                         % (type(e).__name__, e))
+                        # No figure is known: what happened instead.
+                        figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else type(e).__name__)
+                    rows[i] = row
                     status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
-                    print("evlife.batch: %d/%d %s (%s) %s" % (done, len(futures), paths[i], figures, status),
-                          file=sys.stderr, flush=True)
+                    still_running.finished("evlife.batch: %d/%d %s (%s) %s" % (
+                        done, len(futures), paths[i], figures, status))
         except KeyboardInterrupt:
             interrupted = True
             with _sigint_ignored(True):
@@ -704,7 +772,8 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     is identical. Writes `output` (.bin, the format of `evlife process`) with
     the slices in order; returns a BatchResult with one row per slice
     (path "PATH[k]"). scheduler, workers, sensor, config, topic, time_unit, **options: as
-    process_files. Raises on failure (the slices are one result: no part file
+    process_files. progress: a line per slice on stderr, in order, and the
+    slices' part files written while none finishes (as process_files). Raises on failure (the slices are one result: no part file
     stays, nor a partial output); on Ctrl-C the slices not yet running are
     cancelled, on a cluster of yours too. Rejected events and skipped non-event
     records are warned of as evlife.process warns (RuntimeWarning), each counted once.
@@ -752,14 +821,17 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
                                  key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
                    for k in range(slices)]
         rows, rejected = [], Counter()
-        for k, f in enumerate(futures):
-            events, with_lifetime, seconds, slice_rejected = f.result()
-            rejected.update(slice_rejected)  # adds the counts
-            rows.append(FileResult("%s[%d]" % (path, k), events,
-                                   with_lifetime / events if events else 0.0, seconds, output, None))
-            if progress:
-                print("evlife.batch: slice %d/%d of %s (%d events, %.2f s)" % (
-                    k + 1, slices, path, events, seconds), file=sys.stderr, flush=True)
+        still_running = _StillRunning(
+            progress, lambda: "%d/%d slices of %s done" % (sum(f.done() for f in futures), slices, path),
+            lambda: [(os.path.basename(parts[k]), parts[k]) for k, f in enumerate(futures) if not f.done()])
+        with still_running:
+            for k, f in enumerate(futures):
+                events, with_lifetime, seconds, slice_rejected = f.result()
+                rejected.update(slice_rejected)  # adds the counts
+                rows.append(FileResult("%s[%d]" % (path, k), events,
+                                       with_lifetime / events if events else 0.0, seconds, output, None))
+                still_running.finished("evlife.batch: slice %d/%d of %s (%d events, %.2f s)" % (
+                    k + 1, slices, path, events, seconds))
         wait(futures)
         joining = True
         _join_parts(output, parts)

@@ -802,3 +802,105 @@ def test_ctrl_c_keeps_the_warnings_of_the_finished_rows(tmp_path, monkeypatch):
     texts = [str(w.message) for w in warned if "evlife.batch" in str(w.message)]
     assert any("late.npy" in t and "rejected" in t for t in texts), texts
     assert all(w.filename == __file__ for w in warned if "evlife.batch" in str(w.message))
+
+
+class _LineWatch:
+    """sys.stderr for a test: keeps what is written, sets `seen` at the first
+    line holding `wanted`."""
+
+    def __init__(self, wanted):
+        self.wanted, self.text, self.seen = wanted, "", __import__("threading").Event()
+
+    def write(self, text):
+        self.text += text
+        if self.wanted in self.text:
+            self.seen.set()
+        return len(text)
+
+    def flush(self):
+        pass
+
+
+def test_a_batch_waiting_on_a_long_recording_says_it_is_still_running(tmp_path, monkeypatch):
+    # A recording that takes an hour left its batch silent for an hour: only finished
+    # recordings had a line. Here the task (on a thread of this process) waits for that
+    # line before it goes on, so the line comes before the task ends however fast the
+    # machine, and names the output being written with its size.
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    slider = data("rpg_txt/slider_depth_events_chunk.txt")
+    monkeypatch.setattr(batch, "STILL_RUNNING_EVERY_S", 0.3)
+    watch = _LineWatch("; writing: slider_depth_events_chunk.bin (1.0 MB)\n")
+    real_process_file = _evlife.process_file
+
+    def slow_process_file(path, output, *args, **kwargs):
+        with open(output, "wb") as f:
+            f.write(b"\0" * 1_000_000)
+        watch.seen.wait(60)
+        return real_process_file(path, output, *args, **kwargs)
+
+    monkeypatch.setattr(_evlife, "process_file", slow_process_file)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr("sys.stderr", watch)
+        table = batch.process_files([slider], tmp_path / "out", client)
+        monkeypatch.undo()
+    assert watch.seen.is_set(), watch.text
+    assert table[0].error is None and table[0].events > 0, table[0]
+    expected = tmp_path / "cli.bin"
+    cli("process", slider, "-o", expected, "-q")
+    assert open(table[0].output, "rb").read() == expected.read_bytes()
+    lines = watch.text.splitlines()
+    assert re.fullmatch(r"evlife\.batch: 0/1 done; none finished for \d+ s; writing: "
+                        r"slider_depth_events_chunk\.bin \(1\.0 MB\)", lines[0]), lines
+    assert lines[-1].startswith("evlife.batch: 1/1 %s (" % slider), lines
+
+
+def test_slices_waiting_on_a_long_slice_say_they_are_still_running(tmp_path, monkeypatch):
+    # As process_files: a slice that takes long gets a line while it runs, naming its part file.
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    slider = data("rpg_txt/slider_depth_events_chunk.txt")
+    monkeypatch.setattr(batch, "STILL_RUNNING_EVERY_S", 0.3)
+    watch = _LineWatch("; writing: sl.bin.part0.bin (1.0 MB)\n")
+    real_process_time_range = _evlife._process_time_range
+
+    def slow_process_time_range(path, part, *args, **kwargs):
+        with open(part, "wb") as f:
+            f.write(b"\0" * 1_000_000)
+        watch.seen.wait(60)
+        return real_process_time_range(path, part, *args, **kwargs)
+
+    monkeypatch.setattr(_evlife, "_process_time_range", slow_process_time_range)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr("sys.stderr", watch)
+        table = batch.process_slices(slider, tmp_path / "sl.bin", slices=2, scheduler=client)
+        monkeypatch.undo()
+    assert watch.seen.is_set(), watch.text
+    assert len(table) == 2 and all(r.events > 0 for r in table), table
+    lines = watch.text.splitlines()
+    assert re.fullmatch(r"evlife\.batch: 0/2 slices of %s done; none finished for \d+ s; writing: "
+                        r"sl\.bin\.part0\.bin \(1\.0 MB\)(, sl\.bin\.part1\.bin \(\d+\.\d MB\))?"
+                        % re.escape(slider), lines[0]), lines
+    assert lines[-1].startswith("evlife.batch: slice 2/2 of %s (" % slider), lines
+
+
+def test_the_still_running_line_names_the_outputs_being_written_with_their_sizes(tmp_path, monkeypatch):
+    from evlife import batch
+    written = tmp_path / "a.bin"
+    written.write_bytes(b"\0" * 2_500_000)
+    monkeypatch.setattr(batch, "STILL_RUNNING_EVERY_S", 0.1)
+    watch = _LineWatch("\n")
+    monkeypatch.setattr("sys.stderr", watch)
+    with batch._StillRunning(True, lambda: "2/5 done", lambda: [("a.bin", str(written)),
+                                                              ("b.bin", str(tmp_path / "not yet"))]):
+        assert watch.seen.wait(60)
+    assert watch.text.splitlines()[0] == "evlife.batch: 2/5 done; none finished for 0 s; writing: a.bin (2.5 MB)"
+    # progress=False: no thread, no line; a finished line is not printed either.
+    quiet = _LineWatch("\n")
+    monkeypatch.setattr("sys.stderr", quiet)
+    with batch._StillRunning(False, lambda: "0/1 done", lambda: []) as still_running:
+        still_running.finished("evlife.batch: 1/1 x (1 events, 0.00 s) ok")
+        assert not quiet.seen.wait(0.5)
+    assert quiet.text == ""
