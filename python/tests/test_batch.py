@@ -882,8 +882,8 @@ def test_slices_waiting_on_a_long_slice_say_they_are_still_running(tmp_path, mon
     lines = watch.text.splitlines()
     assert re.fullmatch(r"evlife\.batch: 0/2 slices of %s done; none finished for \d+ s; writing: "
                         r"sl\.bin\.part0\.bin \(1\.0 MB\)(, sl\.bin\.part1\.bin \(\d+\.\d MB\))?"
-                        % re.escape(slider), lines[0]), lines
-    assert lines[-1].startswith("evlife.batch: slice 2/2 of %s (" % slider), lines
+                        % re.escape(os.path.abspath(slider)), lines[0]), lines
+    assert lines[-1].startswith("evlife.batch: slice 2/2 of %s (" % os.path.abspath(slider)), lines
 
 
 def test_the_still_running_line_names_the_outputs_being_written_with_their_sizes(tmp_path, monkeypatch):

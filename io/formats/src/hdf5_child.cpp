@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 
@@ -88,6 +89,18 @@ pid_t fork_hdf5_child(void (*body)(void* context), void* context) {
     waitpid(forked, nullptr, 0);
   }
   return -1;
+}
+
+bool waits_for_disk(pid_t child) {
+  char path[64];
+  std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(child));
+  std::FILE* f = std::fopen(path, "r");
+  if (f == nullptr) return false;
+  char line[512] = {};
+  const bool read = std::fgets(line, sizeof line, f) != nullptr;
+  std::fclose(f);
+  const char* end_of_name = read ? std::strrchr(line, ')') : nullptr;  // "pid (name) S ..."
+  return end_of_name != nullptr && end_of_name[1] == ' ' && end_of_name[2] == 'D';
 }
 
 Hdf5ChildFault hdf5_child_fault(int wait_status) {

@@ -36,4 +36,9 @@ struct Hdf5ChildFault {
 };
 Hdf5ChildFault hdf5_child_fault(int wait_status);
 
+/// Whether `child` waits for the disk (state D in /proc/PID/stat): slow
+/// storage (a network file system, a spun-down disk), not a hang, so the
+/// children's time limits start again while it does.
+bool waits_for_disk(pid_t child);
+
 }  // namespace evlife::io::detail

@@ -146,6 +146,7 @@ bool probe_in_child(const std::string& path) {
     const auto now = std::chrono::steady_clock::now();
     if (now - last > std::chrono::seconds(1)) deadline += now - last;
     last = now;
+    if (now > deadline && detail::waits_for_disk(child)) deadline = now + kTimeout;  // slow storage, still opening
     if (now > deadline) {
       kill(child, SIGKILL);
       waitpid(child, &status, 0);

@@ -146,18 +146,6 @@ bool reads_in_process_by_choice() {
   return value != nullptr && std::strcmp(value, "1") == 0;
 }
 
-// Whether `child` waits for the disk (state D): slow storage, not a hang.
-bool waits_for_disk(pid_t child) {
-  char path[64];
-  std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(child));
-  std::FILE* f = std::fopen(path, "r");
-  if (f == nullptr) return false;
-  char line[512] = {};
-  const bool read = std::fgets(line, sizeof line, f) != nullptr;
-  std::fclose(f);
-  const char* end_of_name = read ? std::strrchr(line, ')') : nullptr;  // "pid (name) S ..."
-  return end_of_name != nullptr && end_of_name[1] == ' ' && end_of_name[2] == 'D';
-}
 
 }  // namespace
 
@@ -276,7 +264,7 @@ bool Hdf5ReadChild::receive_answer(unsigned char& answer) {
       child_ended(done == child_ ? status : 0);
       return false;
     }
-    if (polled == 0 && std::chrono::steady_clock::now() > deadline && waits_for_disk(child_)) {
+    if (polled == 0 && std::chrono::steady_clock::now() > deadline && detail::waits_for_disk(child_)) {
       deadline = std::chrono::steady_clock::now() + kAnswerTimeout;  // slow storage, still reading
       continue;
     }
