@@ -38,6 +38,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
+#include "hdf5_child.h"
 #include "hdf5_dataset.h"
 #include "hdf5_open_probe.h"
 #include "hdf5_reader.h"
@@ -1789,6 +1790,47 @@ TEST(IoFormatsConvertCli, HelpAndBadArguments) {
   std::ofstream(recording) << "x,y,t,p\n1,2,10,1\n3,4,20,0\n";
   EXPECT_EQ(run_cli("convert " + recording.string() + " /tmp/x.csv"), 2);  // a readable recording: the advice
   fs::remove(recording);
+}
+
+// The HDF5 children's time limits start again while a child waits for the
+// disk (slow storage, not a corrupt file): that is a process in state D. A
+// vfork()'s parent waits in that state until its child ends, which makes one
+// without a slow disk; a sleeping process (state S) and no process are not
+// waiting for the disk.
+TEST(Hdf5Child, AProcessInUninterruptibleWaitCountsAsWaitingForTheDisk) {
+  const pid_t waiting = fork();
+  ASSERT_GE(waiting, 0);
+  if (waiting == 0) {
+    if (vfork() == 0) {  // the vfork child: only system calls, then _exit
+      close(STDOUT_FILENO);  // (ctest reads the test's output until every holder closes it)
+      close(STDERR_FILENO);
+      const timespec pause{30, 0};
+      nanosleep(&pause, nullptr);
+      _exit(0);
+    }
+    _exit(0);
+  }
+  const pid_t sleeping = fork();
+  ASSERT_GE(sleeping, 0);
+  if (sleeping == 0) {
+    const timespec pause{30, 0};
+    nanosleep(&pause, nullptr);
+    _exit(0);
+  }
+  bool seen_waiting = false;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!seen_waiting && std::chrono::steady_clock::now() < deadline) {
+    seen_waiting = evlife::io::detail::waits_for_disk(waiting);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_TRUE(seen_waiting);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // well asleep by now
+  EXPECT_FALSE(evlife::io::detail::waits_for_disk(sleeping));
+  kill(sleeping, SIGKILL);
+  kill(waiting, SIGKILL);
+  waitpid(sleeping, nullptr, 0);
+  waitpid(waiting, nullptr, 0);
+  EXPECT_FALSE(evlife::io::detail::waits_for_disk(sleeping));  // reaped: no such process
 }
 
 }  // namespace

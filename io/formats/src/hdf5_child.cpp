@@ -97,9 +97,9 @@ bool waits_for_disk(pid_t child) {
   std::FILE* f = std::fopen(path, "r");
   if (f == nullptr) return false;
   char line[512] = {};
-  const bool read = std::fgets(line, sizeof line, f) != nullptr;
+  const bool got_line = std::fgets(line, sizeof line, f) != nullptr;
   std::fclose(f);
-  const char* end_of_name = read ? std::strrchr(line, ')') : nullptr;  // "pid (name) S ..."
+  const char* end_of_name = got_line ? std::strrchr(line, ')') : nullptr;  // "pid (name) S ..."
   return end_of_name != nullptr && end_of_name[1] == ' ' && end_of_name[2] == 'D';
 }
 

@@ -33,11 +33,26 @@ herr_t find_lock_error(unsigned /*n*/, const H5E_error2_t* error, void* found) {
   return 0;
 }
 
+constexpr unsigned kOrphanCheckS = 5;  // how often the probe asks whether its parent still waits for it
+pid_t probe_parent = 0;
+
+// The parent kills a probe that hangs (past kTimeout, not waiting for the
+// disk); one whose parent died first ends here. Not a plain alarm ending the
+// probe: a parent still waiting for a probe on slow storage keeps it alive.
+void end_if_orphaned(int /*signal*/) {
+  if (getppid() != probe_parent) _exit(kCannotOpenExit);
+  alarm(kOrphanCheckS);
+}
+
 // In the child: the reader's opening calls, on every dataset it may open.
 void probe(void* context) {
   const char* path = static_cast<const char*>(context);
-  // The parent kills a hanging probe after kTimeout; one whose parent died first ends by this alarm.
-  alarm(static_cast<unsigned>(std::chrono::duration_cast<std::chrono::seconds>(kTimeout).count()) + 5);
+  probe_parent = getppid();
+  struct sigaction orphan_check {};
+  orphan_check.sa_handler = &end_if_orphaned;
+  orphan_check.sa_flags = SA_RESTART;  // libhdf5's reads go on after the check
+  sigaction(SIGALRM, &orphan_check, nullptr);
+  alarm(kOrphanCheckS);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file >= 0) {
     for (const char* name : {"width", "height"}) (void)read_int_attribute(file, name);  // the reader's lookups
