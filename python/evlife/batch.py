@@ -730,14 +730,36 @@ def _check_topic(topic):
         raise ValueError("topic: a ROS topic or an HDF5 file's camera, got %r" % (topic,))
 
 
-def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, time_unit, options):
+def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, time_unit, options, stop):
     """The task of one slice: its augmented events written to `part` (.bin) as
-    they are estimated (constant memory, however long the slice)."""
+    they are estimated (constant memory, however long the slice). `stop`: the
+    name of the call's Dask Event, set once the call gave up on its slices
+    (_stop_slices): then no part is written, or the one written is removed."""
+    from distributed import Event
     from evlife import _evlife as core
+    if Event(stop).is_set():  # queued when the call gave up: Dask's cancel may reach the worker after it starts
+        return None
     start = time.perf_counter()
     r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
                                  topic=topic, time_unit=time_unit, **options)
+    if Event(stop).is_set():  # checked after the part is whole: see _stop_slices
+        with contextlib.suppress(FileNotFoundError):
+            os.remove(part)
+        return None
     return r["events"], r["with_lifetime"], time.perf_counter() - start, r["rejected"]
+
+
+def _stop_slices(client, stop, futures):
+    """The call gives up on its slices (a slice failed, or Ctrl-C): no part
+    file may stay. Dask cannot stop a running task, and a queued one can
+    start before the cancel reaches its worker, then create its part after
+    the call removed the parts. So the Event `stop` is set first, and each
+    slice checks it once its part is whole: either the slice sees it and
+    removes its own part, or its part existed before the Event was set and
+    the call's removal, which comes after, finds it."""
+    from distributed import Event
+    Event(stop, client=client).set()
+    client.cancel([f for f in futures if not f.done()])
 
 
 _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records
@@ -774,8 +796,10 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     (path "PATH[k]"). scheduler, workers, sensor, config, topic, time_unit, **options: as
     process_files. progress: a line per slice on stderr, in order, and the
     slices' part files written while none finishes (as process_files). Raises on failure (the slices are one result: no part file
-    stays, nor a partial output); on Ctrl-C the slices not yet running are
-    cancelled, on a cluster of yours too. Rejected events and skipped non-event
+    stays, nor a partial output); then, and on Ctrl-C, the slices not yet
+    running never start, on a cluster of yours too, and one still running there
+    removes its part when it ends (a Dask Event, "evlife-slices-stop-RUN", left set
+    on your scheduler). Rejected events and skipped non-event
     records are warned of as evlife.process warns (RuntimeWarning), each counted once.
     When it raises, nothing is warned of, as evlife.process when it raises (process_files
     warns of its finished rows, whose outputs stay): the counts are of the one result,
@@ -811,13 +835,14 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     warmup_us = min(int(round(warmup_ms * 1000.0)), 1 << 62)
     from distributed import wait
     client, to_close = _client(scheduler, workers)
-    futures, joining = [], False
+    futures, joining, gave_up = [], False, False
+    run = uuid.uuid4().hex[:8]
+    stop = "evlife-slices-stop-" + run  # set when the call gives up on its slices: _stop_slices
     try:
-        run = uuid.uuid4().hex[:8]
         # The last slice has no end: t_last + 1 is past int64 for an event at INT64_MAX.
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
                                  cuts[k + 1] if k + 1 < slices else None,
-                                 warmup_us, config, topic, time_unit, dict(options), pure=False,
+                                 warmup_us, config, topic, time_unit, dict(options), stop, pure=False,
                                  key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
                    for k in range(slices)]
         rows, rejected = [], Counter()
@@ -835,24 +860,23 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         wait(futures)
         joining = True
         _join_parts(output, parts)
-    except BaseException as e:
+    except BaseException:
         # The slices are one result: no part file, nor a partial output, stays
         # (an output that was there before is kept unless the join began).
-        if futures and isinstance(e, Exception):
-            wait(futures)  # no slice writes its part after the removal
-        elif futures:  # Ctrl-C: the slices not yet running never start (on a cluster of yours
-            # they ran on after the call had raised, each writing its part file after the removal)
-            with _sigint_ignored(True):
-                client.cancel([f for f in futures if not f.done()])
-        for leftover in parts + ([output] if joining else []):
-            try:
-                os.remove(leftover)
-            except OSError:
-                pass
+        gave_up = True
+        if futures:  # the slices not yet running never start (on a cluster of yours they ran on
+            # after a Ctrl-C, each writing its part file after the removal); the running ones remove theirs
+            with _sigint_ignored(True), contextlib.suppress(Exception):  # a scheduler gone: nothing runs
+                _stop_slices(client, stop, futures)
         raise
     finally:
-        for c in to_close:
-            c.close()
+        with _sigint_ignored(gave_up):
+            for c in to_close:  # a cluster of our own: its workers stop, a slice cut short in its part
+                c.close()
+            # After the close: a slice of our own cluster stopped between its creating its part and its check.
+            for leftover in (parts + ([output] if joining else [])) if gave_up else []:
+                with contextlib.suppress(OSError):
+                    os.remove(leftover)
     # As evlife.process warns of what it dropped: the events the slices rejected, each in its own
     # time range; the records of the format that are no events, from the scan (a slice's reader
     # also counts those before its range, which it skips or drops).

@@ -683,6 +683,46 @@ def test_ctrl_c_in_process_slices_on_your_cluster_leaves_no_part_file(tmp_path, 
     assert not output.exists()
 
 
+def test_a_slice_that_starts_as_process_slices_gives_up_leaves_no_part_file(tmp_path, monkeypatch):
+    # Dask cannot stop a running task, and a queued slice can start before the
+    # cancel reaches its worker: such a slice created its part file after the
+    # call had removed the parts and raised, and the file stayed. Here slice 0
+    # creates its part only once the call has raised, as a slice starting then.
+    import threading
+    import distributed
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    slider = data("rpg_txt/slider_depth_events_chunk.txt")
+    started, raised = threading.Event(), threading.Event()
+    real_process_time_range = _evlife._process_time_range
+
+    def late_process_time_range(path, part, *args, **kwargs):
+        started.set()
+        assert raised.wait(60)
+        return real_process_time_range(path, part, *args, **kwargs)
+
+    result = distributed.Future.result
+
+    def interrupted_once_slice_0_runs(self, *args, **kwargs):  # Ctrl-C while waiting
+        monkeypatch.setattr(distributed.Future, "result", result)
+        assert started.wait(60)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(_evlife, "_process_time_range", late_process_time_range)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr(distributed.Future, "result", interrupted_once_slice_0_runs)
+        with pytest.raises(KeyboardInterrupt):
+            batch.process_slices(slider, tmp_path / "sl.bin", slices=3, scheduler=client, progress=False)
+        assert not [n for n in os.listdir(tmp_path) if ".part" in n], os.listdir(tmp_path)
+        raised.set()
+        # The worker's one thread: this runs once slice 0 has ended (the others never start).
+        assert client.submit(os.path.exists, slider, pure=False).result()
+        written = [n for n in os.listdir(tmp_path) if ".part" in n]
+    assert not written, written
+    assert not (tmp_path / "sl.bin").exists()
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
