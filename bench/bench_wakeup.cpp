@@ -2,7 +2,9 @@
 // "What the latency is made of"): how late a short sleep ends (the paced
 // replay's problem; 1 ns timer slack as the source thread sets) and how long
 // a thread sleeping on the engine's Semaphore takes to run once signalled
-// from another core after that core went idle (a router -> worker hand-off).
+// from another core after that core went idle (a router -> worker hand-off),
+// and how often the machine takes a polling thread off its core for longer
+// than the latency target (BM_SpinGaps: what no engine setting can avoid).
 // Run: build/bench/bench_wakeup
 #include <benchmark/benchmark.h>
 
@@ -80,6 +82,51 @@ void BM_ThreadWakeup(benchmark::State& state) {
   set_percentiles(state, wake);
 }
 BENCHMARK(BM_ThreadWakeup)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Threads that only read the clock, as the engine's source and workers poll
+// with idle polling on: each gap between two reads is time the machine gave
+// the core to something else. An event arriving during the part of a gap
+// beyond 100 us waits over 100 us however fast the engine is, so where
+// beyond_100us_pct (summed over the threads, each on the event's path) nears
+// 1 %, a p99 under 100 us cannot hold at any rate.
+void BM_SpinGaps(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  constexpr std::int64_t kSpinNs = 5'000'000'000;
+  constexpr std::int64_t kTargetNs = 100'000;
+  std::vector<std::vector<std::int64_t>> gaps(static_cast<std::size_t>(threads));
+  for (auto _ : state) {
+    std::vector<std::thread> spinners;
+    for (int k = 0; k < threads; ++k) {
+      spinners.emplace_back([&gaps, k] {
+        std::vector<std::int64_t>& mine = gaps[static_cast<std::size_t>(k)];
+        mine.reserve(1 << 16);
+        const std::int64_t start = ee::monotonic_ns();
+        std::int64_t last = start;
+        while (last - start < kSpinNs) {
+          const std::int64_t now = ee::monotonic_ns();
+          if (now - last > 20'000) mine.push_back(now - last);
+          last = now;
+        }
+      });
+    }
+    for (std::thread& t : spinners) t.join();
+  }
+  std::int64_t over_target = 0, over_1ms = 0, beyond_target_ns = 0, longest = 0;
+  for (const std::vector<std::int64_t>& mine : gaps) {
+    for (const std::int64_t g : mine) {
+      over_target += g > kTargetNs;
+      over_1ms += g > 1'000'000;
+      beyond_target_ns += std::max<std::int64_t>(0, g - kTargetNs);
+      longest = std::max(longest, g);
+    }
+  }
+  const double seconds = static_cast<double>(kSpinNs) * 1e-9;
+  state.counters["over_100us_per_s"] = static_cast<double>(over_target) / seconds / threads;
+  state.counters["over_1ms_per_s"] = static_cast<double>(over_1ms) / seconds / threads;
+  state.counters["beyond_100us_pct"] = 100.0 * static_cast<double>(beyond_target_ns) * 1e-9 / seconds;
+  state.counters["max_us"] = static_cast<double>(longest) * 1e-3;
+}
+BENCHMARK(BM_SpinGaps)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 
