@@ -198,11 +198,74 @@ class _StillRunning:
                 self._last = time.monotonic()  # the next line after as long again
 
 
-def _process_one(path, output, run, sensor, config, one_thread, crop, options):
+def _stopped(stop):
+    """Whether the call that submitted this task has given up on it (its Dask
+    Event `stop` set: _give_up). A scheduler out of reach: not stopped (the
+    call could not set it either)."""
+    from distributed import Event
+    try:
+        return Event(stop).is_set()
+    except Exception:  # whatever the connection raises
+        return False
+
+
+def _give_up(client, stop, futures):
+    """The call gives up on its tasks (Ctrl-C; for slices also a failed one):
+    none may write after it. Dask cannot stop a running task, and a queued
+    one can start before the cancel reaches its worker. So the Event `stop`
+    is set first, and each task checks it when it starts and again once its
+    file is whole: either the task sees it and removes its file, or its file
+    was in place before the Event was set and the call, which looks after
+    setting it, finds it. A slice's part is in place as soon as it is whole;
+    a recording's output is renamed into place after the check, so the check
+    and the rename hold the Lock `stop` (_replace_unless_stopped), as the
+    setting does. The Event stays set on the scheduler (a few bytes per
+    interrupted call)."""
+    from distributed import Event, Lock
+    with contextlib.suppress(Exception):  # a scheduler gone: nothing runs
+        lock = Lock(stop, client=client)
+        held = lock.acquire(timeout=10)  # a task holds it for one rename; a worker that died holding it: 10 s
+        try:
+            Event(stop, client=client).set()
+        finally:
+            if held:
+                lock.release()
+    client.cancel([f for f in futures if not f.done()])
+
+
+def _replace_unless_stopped(partial, output, stop):
+    """os.replace(partial, output), unless the call has given up on this task
+    (_give_up): then `partial` is removed and False returned. Holding the
+    call's Lock, which it holds to set its Event: the rename comes before the
+    setting (the call then finds the output) or the task sees the Event."""
+    from distributed import Lock
+    lock, held = None, False
+    with contextlib.suppress(Exception):  # a scheduler out of reach: as before the Event
+        lock = Lock(stop)
+        held = lock.acquire(timeout=60)  # the call holds it for one message
+    try:
+        if _stopped(stop):
+            _streams._remove(partial)
+            return False
+        os.replace(partial, output)
+        return True
+    finally:
+        if held:
+            with contextlib.suppress(Exception):
+                lock.release()
+
+
+_NOTHING_WRITTEN = "interrupted before it finished; nothing written"
+
+
+def _process_one(path, output, run, sensor, config, one_thread, crop, options, stop):
     """The task: runs in a worker (the output renamed there: the client may
     not see the worker's files); never raises (a failure is the row's error).
-    Returns (row, its warnings as (text, category)) for the caller to warn of."""
+    Returns (row, its warnings as (text, category)) for the caller to warn of.
+    stop: the call's Event (_give_up): then nothing is written."""
     start = time.perf_counter()
+    if _stopped(stop):
+        return FileResult(path, None, None, math.nan, None, _NOTHING_WRITTEN), []
     partial = _partial_name(output, run)
     _streams._remove(partial)  # a retry's (a worker died): not this attempt's
     try:
@@ -227,7 +290,8 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options):
         output = None
     else:
         try:
-            os.replace(partial, output)
+            if not _replace_unless_stopped(partial, output, stop):  # the call gave up on it: nothing written
+                return FileResult(path, None, None, math.nan, None, _NOTHING_WRITTEN), []
         except OSError as e:  # e.g. a folder of the output's name
             _streams._remove(partial)
             error = error or "cannot write %s: %s" % (output, e.strerror)
@@ -578,9 +642,11 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     so). Ctrl-C raises evlife.Interrupted whose
     .partial is the BatchResult: the finished rows (their warnings issued), and a row per unfinished
     recording saying nothing was written (its partial file removed on the
-    LocalCluster made here, whose workers stop; a cluster of yours may still
-    run the task) or that its task ended meanwhile; no file of out_dir is
-    left cut, nor replaced but by a whole output.
+    LocalCluster made here, whose workers stop; on a cluster of yours a task
+    still running removes its partial file when it ends, and a queued one never
+    starts: a Dask Event, "evlife-batch-stop-RUN", left set on your scheduler)
+    or that its task ended meanwhile; no file of out_dir is left cut, nor
+    replaced but by a whole output, nor written after the call.
     """
     if isinstance(paths, (str, bytes, os.PathLike)):  # its characters are no recordings
         raise TypeError("paths: a list of recordings, not one path (process_files([%r], ...))" % (paths,))
@@ -606,6 +672,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         return BatchResult()
     from distributed import KilledWorker, as_completed
     run = uuid.uuid4().hex[:8]  # a fresh key per call: Dask must not reuse older results
+    stop = "evlife-batch-stop-" + run  # set when the call gives up on its tasks: _give_up
     before = [_identity(out) for out in outputs]  # an unfinished task's output, replaced meanwhile?
     try:
         client, to_close = _client(scheduler, workers)
@@ -616,7 +683,7 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         # Largest recordings first (Dask runs higher priority first): the
         # last task to finish is then a small one, so workers end together.
         futures = [client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
-                                 crop, dict(options), pure=False, priority=_size_or_zero(p),
+                                 crop, dict(options), stop, pure=False, priority=_size_or_zero(p),
                                  key="evlife-%s-%d-%s" % (run, i, _key_text(os.path.basename(p))))
                    for i, (p, out) in enumerate(zip(paths, outputs))]
         index = {f.key: i for i, f in enumerate(futures)}
@@ -653,11 +720,13 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         except KeyboardInterrupt:
             interrupted = True
             with _sigint_ignored(True):
-                client.cancel([f for f in futures if not f.done()])
+                _give_up(client, stop, futures)
                 for f in futures:  # finished before the cancel: their rows, as if waited for
                     i = index[f.key]
                     if rows[i] is None and f.status == "finished":
                         row, warned = f.result()
+                        if row.error == _NOTHING_WRITTEN:  # it saw the call give up: unfinished
+                            continue
                         rows[i] = row._replace(path=paths[i])
                         task_warnings += warned
         else:
@@ -701,20 +770,20 @@ def _interrupted(rows, paths, outputs, run, before, own_cluster):
     kept in .partial. An unfinished task wrote to its partial name only
     (_partial_name: a file cut short by the stop would read as a shorter
     recording, a .bin cut at a 4 KiB page holding whole records): removed
-    where its worker was stopped; a cluster not ours may still run it. A task
-    that ended after this call stopped waiting (its worker's last seconds)
-    renamed its output: said so, its figures unknown."""
+    where its worker was stopped; on a cluster not ours a task still running
+    removes it when it ends (_give_up). A task that ended after this call
+    stopped waiting (its worker's last seconds) renamed its output: said so
+    (where this process sees the workers' files), its figures unknown."""
     unfinished = [i for i, r in enumerate(rows) if r is None]
     for i in unfinished:
         output = None
-        if not own_cluster:
-            what = ("interrupted before it finished; its task may still run on your cluster and write %s"
-                    % outputs[i])
-        elif _identity(outputs[i]) != before[i]:
+        if _identity(outputs[i]) != before[i]:
             what, output = "interrupted; its task ended meanwhile and wrote its output (its figures not known)", outputs[i]
-        else:
+        elif own_cluster:
             _streams._remove(_partial_name(outputs[i], run))
-            what = "interrupted before it finished; nothing written (its partial output, if any, was removed)"
+            what = _NOTHING_WRITTEN + " (its partial output, if any, was removed)"
+        else:
+            what = _NOTHING_WRITTEN + " (a task still running on your cluster removes its partial output when it ends)"
         rows[i] = FileResult(paths[i], None, None, math.nan, output, what)
     finished = len(rows) - len(unfinished)
     error = _evlife.Interrupted("evlife.batch.process_files: interrupted; %d of %d recordings finished "
@@ -734,32 +803,18 @@ def _slice_task(path, part, sensor, t_begin, t_end, warmup_us, config, topic, ti
     """The task of one slice: its augmented events written to `part` (.bin) as
     they are estimated (constant memory, however long the slice). `stop`: the
     name of the call's Dask Event, set once the call gave up on its slices
-    (_stop_slices): then no part is written, or the one written is removed."""
-    from distributed import Event
+    (_give_up): then no part is written, or the one written is removed."""
     from evlife import _evlife as core
-    if Event(stop).is_set():  # queued when the call gave up: Dask's cancel may reach the worker after it starts
+    if _stopped(stop):  # queued when the call gave up: Dask's cancel may reach the worker after it starts
         return None
     start = time.perf_counter()
     r = core._process_time_range(path, part, sensor, t_begin, t_end, warmup_us, config=config,
                                  topic=topic, time_unit=time_unit, **options)
-    if Event(stop).is_set():  # checked after the part is whole: see _stop_slices
+    if _stopped(stop):  # checked once the part is whole: see _give_up
         with contextlib.suppress(FileNotFoundError):
             os.remove(part)
         return None
     return r["events"], r["with_lifetime"], time.perf_counter() - start, r["rejected"]
-
-
-def _stop_slices(client, stop, futures):
-    """The call gives up on its slices (a slice failed, or Ctrl-C): no part
-    file may stay. Dask cannot stop a running task, and a queued one can
-    start before the cancel reaches its worker, then create its part after
-    the call removed the parts. So the Event `stop` is set first, and each
-    slice checks it once its part is whole: either the slice sees it and
-    removes its own part, or its part existed before the Event was set and
-    the call's removal, which comes after, finds it."""
-    from distributed import Event
-    Event(stop, client=client).set()
-    client.cancel([f for f in futures if not f.done()])
 
 
 _BIN_HEADER_BYTES = 32  # the .bin format (README): a 32-byte header, then the records
@@ -837,7 +892,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     client, to_close = _client(scheduler, workers)
     futures, joining, gave_up = [], False, False
     run = uuid.uuid4().hex[:8]
-    stop = "evlife-slices-stop-" + run  # set when the call gives up on its slices: _stop_slices
+    stop = "evlife-slices-stop-" + run  # set when the call gives up on its slices: _give_up
     try:
         # The last slice has no end: t_last + 1 is past int64 for an event at INT64_MAX.
         futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
@@ -867,7 +922,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         if futures:  # the slices not yet running never start (on a cluster of yours they ran on
             # after a Ctrl-C, each writing its part file after the removal); the running ones remove theirs
             with _sigint_ignored(True), contextlib.suppress(Exception):  # a scheduler gone: nothing runs
-                _stop_slices(client, stop, futures)
+                _give_up(client, stop, futures)
         raise
     finally:
         with _sigint_ignored(gave_up):

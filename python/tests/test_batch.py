@@ -723,6 +723,51 @@ def test_a_slice_that_starts_as_process_slices_gives_up_leaves_no_part_file(tmp_
     assert not (tmp_path / "sl.bin").exists()
 
 
+def test_a_task_that_ends_after_ctrl_c_on_your_cluster_writes_nothing(tmp_path, monkeypatch):
+    # On a cluster of yours Dask cannot stop a running task: it renamed its
+    # output into out_dir after the call had raised (its row said it "may still
+    # run on your cluster and write" it), and a queued task could start before
+    # the cancel reached its worker. Here the running task ends once the call
+    # has raised, and the cancel never arrives (the queued task must not start).
+    import threading
+    import distributed
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    recordings = [data("reference/garfield.mat"), data("reference/stripes.mat")]
+    started, raised = threading.Event(), threading.Event()
+    real_process_file = _evlife.process_file
+    calls = []
+
+    def held_process_file(*args, **kwargs):
+        calls.append(args[0])
+        started.set()
+        assert raised.wait(60)
+        return real_process_file(*args, **kwargs)
+
+    def interrupted_once_a_task_runs(futures, *args, **kwargs):  # Ctrl-C while waiting
+        assert started.wait(60)
+        raise KeyboardInterrupt
+        yield  # never reached: a generator, as as_completed is iterated
+
+    monkeypatch.setattr(_evlife, "process_file", held_process_file)
+    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    monkeypatch.setattr(distributed, "as_completed", interrupted_once_a_task_runs)
+    out = tmp_path / "out"
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        with pytest.raises(evlife.Interrupted) as caught:
+            batch.process_files(recordings, out, client, progress=False)
+        rows = caught.value.partial
+        assert [r.error for r in rows] == ["interrupted before it finished; nothing written (a task still running "
+                                           "on your cluster removes its partial output when it ends)"] * 2, rows
+        raised.set()
+        # The worker's one thread: this runs once both tasks have ended.
+        assert client.submit(os.path.exists, recordings[0], pure=False).result()
+        written = os.listdir(out)
+    assert written == [], written
+    assert len(calls) == 1, calls  # the queued task saw the call give up before it read its recording
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
