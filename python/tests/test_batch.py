@@ -768,6 +768,36 @@ def test_a_task_that_ends_after_ctrl_c_on_your_cluster_writes_nothing(tmp_path, 
     assert len(calls) == 1, calls  # the queued task saw the call give up before it read its recording
 
 
+def test_a_task_renaming_its_output_as_the_call_gives_up_waits_for_the_lock_and_writes_nothing(tmp_path):
+    # The last window of the protocol above: the task checked the Event (not
+    # set) and is about to rename while the call sets it; the call then no
+    # longer looks for outputs. The check and the rename hold the call's Lock,
+    # as the setting does. Here the test is the call: it holds the Lock, the
+    # task comes to its rename, the Event is set, the Lock released. Whenever
+    # the task reached the rename, it must not write (without the Lock it
+    # renamed within the second it is given here).
+    import threading
+    import time
+    from distributed import Client, Event, LocalCluster, Lock
+    from evlife import batch
+    stop = "evlife-batch-stop-test"
+    partial, output = tmp_path / ".evlife-partial-test.x.bin", tmp_path / "x.bin"
+    partial.write_bytes(b"whole")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        lock = Lock(stop, client=client)
+        assert lock.acquire(timeout=10)
+        replaced = []
+        task = threading.Thread(target=lambda: replaced.append(batch._replace_unless_stopped(partial, output, stop)))
+        task.start()
+        time.sleep(1)  # the task comes to its rename (the Lock)
+        Event(stop, client=client).set()
+        lock.release()
+        task.join(60)
+        assert replaced == [False]
+    assert os.listdir(tmp_path) == []
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
