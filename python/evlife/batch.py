@@ -200,13 +200,17 @@ class _StillRunning:
 
 def _stopped(stop):
     """Whether the call that submitted this task has given up on it (its Dask
-    Event `stop` set: _give_up). A scheduler out of reach: not stopped (the
-    call could not set it either)."""
+    Event `stop` set: _give_up). A scheduler out of reach counts as stopped:
+    Ctrl-C in a terminal reaches the workers of a LocalCluster started by the
+    same script too, and ends their connection while the task's thread runs
+    on (the task then renamed its output after the call had raised); a
+    worker that lost its scheduler cannot deliver the task's result anyway
+    (Dask runs the task again elsewhere, or reports it lost)."""
     from distributed import Event
     try:
         return Event(stop).is_set()
-    except Exception:  # whatever the connection raises
-        return False
+    except Exception:  # whatever the connection raises (its rpc gone: AttributeError)
+        return True
 
 
 def _give_up(client, stop, futures):
@@ -240,7 +244,7 @@ def _replace_unless_stopped(partial, output, stop):
     setting (the call then finds the output) or the task sees the Event."""
     from distributed import Lock
     lock, held = None, False
-    with contextlib.suppress(Exception):  # a scheduler out of reach: as before the Event
+    with contextlib.suppress(Exception):  # a scheduler out of reach: _stopped() says stopped
         lock = Lock(stop)
         held = lock.acquire(timeout=60)  # the call holds it for one message
     try:
@@ -700,6 +704,8 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                     try:
                         row, warned = future.result()
                         row = row._replace(path=paths[i])
+                        if row.error == _NOTHING_WRITTEN:  # not given up on: its worker lost the scheduler (_stopped)
+                            row = row._replace(error="its worker could not reach the scheduler; nothing written")
                         task_warnings += warned
                         # Its events when counted (None: a failure that counted none), its time in the worker.
                         figures = ("" if row.events is None else "%d events, " % row.events) + "%.2f s" % row.seconds
@@ -906,7 +912,11 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
             lambda: [(os.path.basename(parts[k]), parts[k]) for k, f in enumerate(futures) if not f.done()])
         with still_running:
             for k, f in enumerate(futures):
-                events, with_lifetime, seconds, slice_rejected = f.result()
+                result = f.result()
+                if result is None:  # not given up on: its worker lost the scheduler (_stopped)
+                    raise RuntimeError("evlife.batch.process_slices: %s: slice %d wrote nothing: its worker could "
+                                       "not reach the scheduler" % (path, k))
+                events, with_lifetime, seconds, slice_rejected = result
                 rejected.update(slice_rejected)  # adds the counts
                 rows.append(FileResult("%s[%d]" % (path, k), events,
                                        with_lifetime / events if events else 0.0, seconds, output, None))

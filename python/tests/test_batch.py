@@ -798,6 +798,64 @@ def test_a_task_renaming_its_output_as_the_call_gives_up_waits_for_the_lock_and_
     assert os.listdir(tmp_path) == []
 
 
+def test_ctrl_c_in_a_terminal_reaching_the_workers_too_leaves_no_output_written_later(tmp_path):
+    # Ctrl-C in a terminal is a SIGINT to the whole foreground process group:
+    # the workers of a LocalCluster that the script started get it too. Their
+    # connection to the scheduler ends, but a task's thread runs on, and it
+    # renamed its output into out_dir after the call had raised and said it
+    # would not (the Event could not be read: taken as not given up on). Here
+    # the script holds its workers' tasks until the test lets them go, after
+    # the Ctrl-C.
+    import json
+    import signal
+    import subprocess
+    import sys
+    import time
+    started, go, out = tmp_path / "started", tmp_path / "go", tmp_path / "out"
+    script = tmp_path / "interrupted.py"
+    script.write_text(
+        "import json, os, time, evlife\n"
+        "from evlife import batch\n"
+        "from distributed import Client, LocalCluster\n"
+        "def hold_tasks():  # in each worker: a task waits for the test before it reads its recording\n"
+        "    from evlife import _evlife\n"
+        "    real = _evlife.process_file\n"
+        "    def held(*args, **kwargs):\n"
+        "        open(%r, 'w').close()\n"
+        "        while not os.path.exists(%r):\n"
+        "            time.sleep(0.02)\n"
+        "        return real(*args, **kwargs)\n"
+        "    _evlife.process_file = held\n"
+        "if __name__ == '__main__':\n"
+        "    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=':0') as c, \\\n"
+        "            Client(c) as client:\n"
+        "        client.run(hold_tasks)\n"
+        "        try:\n"
+        "            batch.process_files([%r], %r, client, progress=False)\n"
+        "        except evlife.Interrupted as e:\n"
+        "            print(json.dumps([r.error for r in e.partial]), flush=True)\n"
+        "        time.sleep(120)  # the cluster stays: the test ends this script\n"
+        % (str(started), str(go), data("reference/garfield.mat"), str(out)))
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(evlife.__file__)))
+    run = subprocess.Popen([sys.executable, str(script)], env=env, cwd=tmp_path, start_new_session=True,
+                           stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not started.exists():  # the task runs
+            assert run.poll() is None and time.monotonic() < deadline, "the task never started"
+            time.sleep(0.05)
+        os.killpg(run.pid, signal.SIGINT)  # Ctrl-C: the script and its workers
+        rows = json.loads(run.stdout.readline())
+        assert rows == ["interrupted before it finished; nothing written (a task still running on your "
+                        "cluster removes its partial output when it ends)"], rows
+        go.touch()  # the task reads on and ends within a second (it wrote out/garfield.bin then)
+        time.sleep(5)
+        assert sorted(os.listdir(out)) == [], os.listdir(out)
+    finally:
+        os.killpg(run.pid, signal.SIGKILL)
+        run.wait()
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
