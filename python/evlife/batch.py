@@ -207,10 +207,23 @@ def _stopped(stop):
     worker that lost its scheduler cannot deliver the task's result anyway
     (Dask runs the task again elsewhere, or reports it lost)."""
     from distributed import Event
+    client = _reaching_client()
     try:
-        return Event(stop).is_set()
+        return client is None or Event(stop, client=client).is_set()
     except Exception:  # whatever the connection raises (its rpc gone: AttributeError)
         return True
+
+
+def _reaching_client():
+    """This worker's Dask client while it is connected to the scheduler,
+    else None (a client reconnecting would hold a Lock's acquire for its
+    whole timeout)."""
+    from distributed import get_client
+    try:
+        client = get_client()
+    except Exception:  # no client to be had: no scheduler
+        return None
+    return client if client.status == "running" else None
 
 
 def _give_up(client, stop, futures):
@@ -227,6 +240,8 @@ def _give_up(client, stop, futures):
     interrupted call)."""
     from distributed import Event, Lock
     with contextlib.suppress(Exception):  # a scheduler gone: nothing runs
+        if client.status != "running":  # its scheduler lost: nothing to set nor cancel (an acquire would wait 10 s)
+            return
         lock = Lock(stop, client=client)
         held = lock.acquire(timeout=10)  # a task holds it for one rename; a worker that died holding it: 10 s
         try:
@@ -243,10 +258,11 @@ def _replace_unless_stopped(partial, output, stop):
     call's Lock, which it holds to set its Event: the rename comes before the
     setting (the call then finds the output) or the task sees the Event."""
     from distributed import Lock
-    lock, held = None, False
+    lock, held, client = None, False, _reaching_client()
     with contextlib.suppress(Exception):  # a scheduler out of reach: _stopped() says stopped
-        lock = Lock(stop)
-        held = lock.acquire(timeout=60)  # the call holds it for one message
+        if client is not None:
+            lock = Lock(stop, client=client)
+            held = lock.acquire(timeout=60)  # the call holds it for one message
     try:
         if _stopped(stop):
             _streams._remove(partial)
@@ -709,16 +725,18 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
                         task_warnings += warned
                         # Its events when counted (None: a failure that counted none), its time in the worker.
                         figures = ("" if row.events is None else "%d events, " % row.events) + "%.2f s" % row.seconds
-                    except Exception as e:  # the worker died: still reported by name
+                    except Exception as e:  # the worker died, the scheduler went away: still reported by name
                         # Dask gave up on the task (KilledWorker): its partial output,
                         # cut where the worker died, is removed where this process sees it.
                         with contextlib.suppress(OSError):
                             _streams._remove(_partial_name(outputs[i], run))
+                        lost = _scheduler_lost(client, e)
                         row = FileResult(paths[i], None, None, math.nan, None,
-                                         "%s: %s (nothing written; its partial output, if any, was removed)"
-                                         % (type(e).__name__, e))
+                                         "%s (nothing written; its partial output, if any, was removed)"
+                                         % (lost or "%s: %s" % (type(e).__name__, e)))
                         # No figure is known: what happened instead.
-                        figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else type(e).__name__)
+                        figures = "failed: " + ("worker killed" if isinstance(e, KilledWorker) else
+                                                "scheduler lost" if lost else type(e).__name__)
                     rows[i] = row
                     status = "ok" if row.error is None else "FAILED: " + _first_line(row.error)
                     still_running.finished("evlife.batch: %d/%d %s (%s) %s" % (
@@ -752,6 +770,16 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
         with contextlib.suppress(Warning):
             warnings.warn(text, category, stacklevel=3)
     raise error
+
+
+def _scheduler_lost(client, error):
+    """What to say of a task's `error` where Dask cancelled it because the
+    client lost its scheduler (a crash, a network cut; the row said only
+    "CancelledError: evlife-KEY"), else None."""
+    from distributed import CancelledError
+    if not isinstance(error, CancelledError) or client.status == "running":
+        return None
+    return "lost the connection to the scheduler %s (CancelledError)" % getattr(client.scheduler, "address", "")
 
 
 def _key_text(name):
@@ -912,7 +940,13 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
             lambda: [(os.path.basename(parts[k]), parts[k]) for k, f in enumerate(futures) if not f.done()])
         with still_running:
             for k, f in enumerate(futures):
-                result = f.result()
+                try:
+                    result = f.result()
+                except Exception as e:
+                    lost = _scheduler_lost(client, e)
+                    if lost is None:
+                        raise
+                    raise RuntimeError("evlife.batch.process_slices: %s: slice %d: %s" % (path, k, lost)) from e
                 if result is None:  # not given up on: its worker lost the scheduler (_stopped)
                     raise RuntimeError("evlife.batch.process_slices: %s: slice %d wrote nothing: its worker could "
                                        "not reach the scheduler" % (path, k))

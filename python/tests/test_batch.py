@@ -856,6 +856,107 @@ def test_ctrl_c_in_a_terminal_reaching_the_workers_too_leaves_no_output_written_
         run.wait()
 
 
+def test_a_scheduler_that_goes_away_is_named_in_the_rows_and_the_running_task_writes_nothing(tmp_path, monkeypatch):
+    # A cluster's scheduler crashes (or the network to it is cut) while a
+    # recording's task runs: Dask cancels every task, and the rows said only
+    # "CancelledError: evlife-3f2a9c1e-0-garfield.mat". The task's thread runs
+    # on in its worker; it must not rename its output into out_dir afterwards.
+    import contextlib
+    import threading
+    import time
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    started, release, renamed = threading.Event(), threading.Event(), []
+    real_process_file, real_replace = _evlife.process_file, batch._replace_unless_stopped
+
+    def held_process_file(*args, **kwargs):
+        started.set()
+        assert release.wait(60)
+        return real_process_file(*args, **kwargs)
+
+    def recorded_replace(*args):
+        renamed.append(real_replace(*args))
+        return renamed[-1]
+
+    monkeypatch.setattr(_evlife, "process_file", held_process_file)
+    monkeypatch.setattr(batch, "_replace_unless_stopped", recorded_replace)
+    out = tmp_path / "out"
+    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
+    cluster.shutdown_on_close = False  # (SpecCluster's) else Dask's exit handler closes it again: 10 s more
+    client = Client(cluster)
+    try:
+        address = cluster.scheduler.address
+        threading.Thread(target=lambda: started.wait(60) and cluster.sync(cluster.scheduler.close)).start()
+        table = batch.process_files([data("reference/garfield.mat")], out, client, progress=False)
+        release.set()
+        # The task ends in its worker thread at once (0.2 s here): it held its
+        # worker 30 s (Dask's connect timeout) waiting for the Lock from a
+        # client reconnecting to a scheduler that is gone.
+        deadline = time.monotonic() + 20
+        while not renamed and time.monotonic() < deadline:
+            time.sleep(0.05)
+        ended_in_time = list(renamed)  # (the close below ends a wait too)
+    finally:
+        release.set()
+        with contextlib.suppress(TimeoutError):  # its scheduler gone: a close waits out its timeouts (30 s)
+            cluster.close(timeout=2)
+        with contextlib.suppress(TimeoutError):
+            client.close(timeout=2)
+    assert [r.error for r in table] == ["lost the connection to the scheduler %s (CancelledError) (nothing written; "
+                                        "its partial output, if any, was removed)" % address], table
+    assert ended_in_time == [False]
+    assert os.listdir(out) == []
+
+
+def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_slice_leaves_no_part(tmp_path,
+                                                                                                   monkeypatch):
+    # As above, for slices: the call raised CancelledError naming a task key.
+    import contextlib
+    import threading
+    import time
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    started, release, checks = threading.Event(), threading.Event(), []
+    real_range, real_stopped = _evlife._process_time_range, batch._stopped
+
+    def held_range(*args, **kwargs):
+        started.set()
+        assert release.wait(60)
+        return real_range(*args, **kwargs)
+
+    def recorded_stopped(stop):  # the slice's checks: at its start, once its part is whole
+        checks.append(real_stopped(stop))
+        return checks[-1]
+
+    monkeypatch.setattr(_evlife, "_process_time_range", held_range)
+    monkeypatch.setattr(batch, "_stopped", recorded_stopped)
+    out = tmp_path / "out"
+    out.mkdir()
+    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
+    cluster.shutdown_on_close = False  # (SpecCluster's) else Dask's exit handler closes it again: 10 s more
+    client = Client(cluster)
+    try:
+        address = cluster.scheduler.address
+        threading.Thread(target=lambda: started.wait(60) and cluster.sync(cluster.scheduler.close)).start()
+        with pytest.raises(RuntimeError) as caught:
+            batch.process_slices(data("reference/garfield.mat"), out / "g.bin", 2, scheduler=client, progress=False)
+        release.set()
+        deadline = time.monotonic() + 20  # at once, as above
+        while (len(checks) < 2 or os.listdir(out)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        checked_in_time = list(checks)
+    finally:
+        release.set()
+        with contextlib.suppress(TimeoutError):
+            cluster.close(timeout=2)
+        with contextlib.suppress(TimeoutError):
+            client.close(timeout=2)
+    assert str(caught.value) == ("evlife.batch.process_slices: %s: slice 0: lost the connection to the scheduler %s "
+                                 "(CancelledError)" % (data("reference/garfield.mat"), address))
+    assert checked_in_time == [False, True]  # it saw no call to deliver to: it removed its part
+    assert os.listdir(out) == []
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
