@@ -699,21 +699,22 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     except KeyboardInterrupt:  # no task was submitted, to any cluster: every row is "nothing written"
         raise _interrupted([None] * len(paths), paths, outputs, run, before, True) from None
     interrupted = False
+    futures, index, rows, task_warnings = [], {}, [None] * len(paths), []
     try:
-        # Largest recordings first (Dask runs higher priority first): the
-        # last task to finish is then a small one, so workers end together.
-        futures = [client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
-                                 crop, dict(options), stop, pure=False, priority=_size_or_zero(p),
-                                 key="evlife-%s-%d-%s" % (run, i, _key_text(os.path.basename(p))))
-                   for i, (p, out) in enumerate(zip(paths, outputs))]
-        index = {f.key: i for i, f in enumerate(futures)}
-        rows = [None] * len(futures)
-        task_warnings = []
         still_running = _StillRunning(
             progress, lambda: "%d/%d done" % (sum(r is not None for r in rows), len(rows)),
             lambda: [(os.path.basename(outputs[i]), _partial_name(outputs[i], run))
                      for i, r in enumerate(rows) if r is None])
         try:
+            # Largest recordings first (Dask runs higher priority first): the
+            # last task to finish is then a small one, so workers end together.
+            # Inside the try: a Ctrl-C while thousands are submitted gives up on
+            # those submitted (they ran on and wrote after the call raised).
+            for i, (p, out) in enumerate(zip(paths, outputs)):
+                futures.append(client.submit(_process_one, os.path.abspath(p), out, run, sensor, config, one_thread,
+                                             crop, dict(options), stop, pure=False, priority=_size_or_zero(p),
+                                             key="evlife-%s-%d-%s" % (run, i, _key_text(os.path.basename(p)))))
+                index[futures[-1].key] = i
             with still_running:
                 for done, future in enumerate(as_completed(futures), 1):
                     i = index[future.key]
@@ -929,11 +930,11 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
     stop = "evlife-slices-stop-" + run  # set when the call gives up on its slices: _give_up
     try:
         # The last slice has no end: t_last + 1 is past int64 for an event at INT64_MAX.
-        futures = [client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
-                                 cuts[k + 1] if k + 1 < slices else None,
-                                 warmup_us, config, topic, time_unit, dict(options), stop, pure=False,
-                                 key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path))))
-                   for k in range(slices)]
+        for k in range(slices):  # appended one by one: a Ctrl-C meanwhile gives up on those submitted
+            futures.append(client.submit(_slice_task, path, parts[k], info["sensor"], cuts[k],
+                                         cuts[k + 1] if k + 1 < slices else None,
+                                         warmup_us, config, topic, time_unit, dict(options), stop, pure=False,
+                                         key="evlife-slice-%s-%d-%s" % (run, k, _key_text(os.path.basename(path)))))
         rows, rejected = [], Counter()
         still_running = _StillRunning(
             progress, lambda: "%d/%d slices of %s done" % (sum(f.done() for f in futures), slices, path),
@@ -963,10 +964,11 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         # The slices are one result: no part file, nor a partial output, stays
         # (an output that was there before is kept unless the join began).
         gave_up = True
-        if futures:  # the slices not yet running never start (on a cluster of yours they ran on
-            # after a Ctrl-C, each writing its part file after the removal); the running ones remove theirs
-            with _sigint_ignored(True), contextlib.suppress(Exception):  # a scheduler gone: nothing runs
-                _give_up(client, stop, futures)
+        # The slices not yet running never start (on a cluster of yours they ran on after a Ctrl-C,
+        # each writing its part file after the removal); the running ones remove theirs. Also with
+        # no future: a Ctrl-C inside the first submit may leave its slice queued.
+        with _sigint_ignored(True), contextlib.suppress(Exception):  # a scheduler gone: nothing runs
+            _give_up(client, stop, futures)
         raise
     finally:
         with _sigint_ignored(gave_up):

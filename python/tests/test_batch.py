@@ -957,6 +957,93 @@ def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_s
     assert os.listdir(out) == []
 
 
+def test_ctrl_c_while_the_tasks_are_submitted_gives_up_on_those_submitted(tmp_path, monkeypatch):
+    # Submitting thousands of recordings takes seconds: a Ctrl-C then raised
+    # a bare KeyboardInterrupt, and the tasks already submitted ran on (on a
+    # cluster of yours) and wrote their outputs after the call had raised.
+    # Here the second submit is interrupted while the first task runs; Dask's
+    # cancel never arrives (as where a task already runs).
+    import threading
+    import distributed
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    started, release = threading.Event(), threading.Event()
+    real_process_file, real_submit = _evlife.process_file, distributed.Client.submit
+
+    def held_process_file(*args, **kwargs):
+        started.set()
+        assert release.wait(60)
+        return real_process_file(*args, **kwargs)
+
+    def interrupted_second_submit(self, *args, **kwargs):
+        if kwargs["key"].endswith("-1-stripes.mat"):
+            assert started.wait(60)
+            raise KeyboardInterrupt
+        return real_submit(self, *args, **kwargs)
+
+    monkeypatch.setattr(_evlife, "process_file", held_process_file)
+    monkeypatch.setattr(distributed.Client, "submit", interrupted_second_submit)
+    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    out = tmp_path / "out"
+    recordings = [data("reference/garfield.mat"), data("reference/stripes.mat")]
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        try:
+            with pytest.raises(BaseException) as caught:  # (a bare KeyboardInterrupt would end pytest)
+                batch.process_files(recordings, out, client, progress=False)
+        finally:
+            release.set()
+        # The worker's one thread: this runs once the first task has ended.
+        assert real_submit(client, os.path.exists, recordings[0], pure=False).result()
+        written = os.listdir(out)
+    assert isinstance(caught.value, evlife.Interrupted), repr(caught.value)
+    assert [r.error for r in caught.value.partial] == [
+        "interrupted before it finished; nothing written (a task still running on your cluster removes its "
+        "partial output when it ends)"] * 2
+    assert written == [], written
+
+
+def test_ctrl_c_while_the_slices_are_submitted_leaves_no_part_file(tmp_path, monkeypatch):
+    # As above, for slices: the slices submitted before the Ctrl-C ran on and
+    # wrote their part files after the call had removed the parts.
+    import threading
+    import distributed
+    from distributed import Client, LocalCluster
+    from evlife import _evlife, batch
+    started, release = threading.Event(), threading.Event()
+    real_range, real_submit = _evlife._process_time_range, distributed.Client.submit
+
+    def held_range(*args, **kwargs):
+        started.set()
+        assert release.wait(60)
+        return real_range(*args, **kwargs)
+
+    def interrupted_second_submit(self, *args, **kwargs):
+        if "-slice-" in kwargs["key"] and "-1-" in kwargs["key"]:
+            assert started.wait(60)
+            raise KeyboardInterrupt
+        return real_submit(self, *args, **kwargs)
+
+    monkeypatch.setattr(_evlife, "_process_time_range", held_range)
+    monkeypatch.setattr(distributed.Client, "submit", interrupted_second_submit)
+    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    out = tmp_path / "out"
+    out.mkdir()
+    recording = data("reference/garfield.mat")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        try:
+            with pytest.raises(BaseException) as caught:
+                batch.process_slices(recording, out / "g.bin", 2, scheduler=client, progress=False)
+        finally:
+            release.set()
+        # The worker's one thread: this runs once the first slice has ended.
+        assert real_submit(client, os.path.exists, recording, pure=False).result()
+        written = os.listdir(out)
+    assert type(caught.value) is KeyboardInterrupt, repr(caught.value)
+    assert written == [], written
+
+
 def test_a_recording_whose_name_is_not_utf8_is_processed_with_the_others(tmp_path):
     # A file name in Latin-1 (b"caf\xe9.mat", as older systems and cameras write
     # them): its task key held the name's lone surrogate, which Dask's messages
