@@ -1,4 +1,5 @@
 """evlife.batch on a Dask LocalCluster of 2 workers: the command line's files."""
+import contextlib
 import math
 import os
 import re
@@ -856,52 +857,75 @@ def test_ctrl_c_in_a_terminal_reaching_the_workers_too_leaves_no_output_written_
         run.wait()
 
 
+def _held(monkeypatch, module, name):
+    """module.name patched to wait, once called, until `release` is set
+    (`started` set when called): a task that runs while the test acts."""
+    import threading
+    started, release = threading.Event(), threading.Event()
+    real = getattr(module, name)
+
+    def held(*args, **kwargs):
+        started.set()
+        assert release.wait(60)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, held)
+    return started, release
+
+
+@contextlib.contextmanager
+def _cluster_losing_its_scheduler(started, release):
+    """A thread-worker LocalCluster and its Client, whose scheduler is closed
+    once `started` is set; yields (client, the scheduler's address). At the
+    end `release` is set and both are closed without waiting out Dask's
+    timeouts for the scheduler that is gone (30 s)."""
+    import threading
+    from distributed import Client, LocalCluster
+    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
+    cluster.shutdown_on_close = False  # (SpecCluster's) else Dask's exit handler closes it again: 10 s more
+    client = Client(cluster)
+    try:
+        threading.Thread(target=lambda: started.wait(60) and cluster.sync(cluster.scheduler.close)).start()
+        yield client, cluster.scheduler.address
+    finally:
+        release.set()
+        with contextlib.suppress(TimeoutError):
+            cluster.close(timeout=2)
+        with contextlib.suppress(TimeoutError):
+            client.close(timeout=2)
+
+
+def _wait_for(condition):
+    """Polls `condition` for up to 20 s. A task whose worker lost its
+    scheduler ends at once (0.2 s here): it held its worker 30 s (Dask's
+    connect timeout) waiting for the call's Lock from a client reconnecting
+    to no scheduler."""
+    import time
+    deadline = time.monotonic() + 20
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(0.05)
+
+
 def test_a_scheduler_that_goes_away_is_named_in_the_rows_and_the_running_task_writes_nothing(tmp_path, monkeypatch):
     # A cluster's scheduler crashes (or the network to it is cut) while a
     # recording's task runs: Dask cancels every task, and the rows said only
     # "CancelledError: evlife-3f2a9c1e-0-garfield.mat". The task's thread runs
     # on in its worker; it must not rename its output into out_dir afterwards.
-    import contextlib
-    import threading
-    import time
-    from distributed import Client, LocalCluster
     from evlife import _evlife, batch
-    started, release, renamed = threading.Event(), threading.Event(), []
-    real_process_file, real_replace = _evlife.process_file, batch._replace_unless_stopped
-
-    def held_process_file(*args, **kwargs):
-        started.set()
-        assert release.wait(60)
-        return real_process_file(*args, **kwargs)
+    started, release = _held(monkeypatch, _evlife, "process_file")
+    renamed, real_replace = [], batch._replace_unless_stopped
 
     def recorded_replace(*args):
         renamed.append(real_replace(*args))
         return renamed[-1]
 
-    monkeypatch.setattr(_evlife, "process_file", held_process_file)
     monkeypatch.setattr(batch, "_replace_unless_stopped", recorded_replace)
     out = tmp_path / "out"
-    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
-    cluster.shutdown_on_close = False  # (SpecCluster's) else Dask's exit handler closes it again: 10 s more
-    client = Client(cluster)
-    try:
-        address = cluster.scheduler.address
-        threading.Thread(target=lambda: started.wait(60) and cluster.sync(cluster.scheduler.close)).start()
+    with _cluster_losing_its_scheduler(started, release) as (client, address):
         table = batch.process_files([data("reference/garfield.mat")], out, client, progress=False)
         release.set()
-        # The task ends in its worker thread at once (0.2 s here): it held its
-        # worker 30 s (Dask's connect timeout) waiting for the Lock from a
-        # client reconnecting to a scheduler that is gone.
-        deadline = time.monotonic() + 20
-        while not renamed and time.monotonic() < deadline:
-            time.sleep(0.05)
-        ended_in_time = list(renamed)  # (the close below ends a wait too)
-    finally:
-        release.set()
-        with contextlib.suppress(TimeoutError):  # its scheduler gone: a close waits out its timeouts (30 s)
-            cluster.close(timeout=2)
-        with contextlib.suppress(TimeoutError):
-            client.close(timeout=2)
+        _wait_for(lambda: renamed)
+        ended_in_time = list(renamed)  # (the close ends a wait too)
     assert [r.error for r in table] == ["lost the connection to the scheduler %s (CancelledError) (nothing written; "
                                         "its partial output, if any, was removed)" % address], table
     assert ended_in_time == [False]
@@ -911,93 +935,79 @@ def test_a_scheduler_that_goes_away_is_named_in_the_rows_and_the_running_task_wr
 def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_slice_leaves_no_part(tmp_path,
                                                                                                    monkeypatch):
     # As above, for slices: the call raised CancelledError naming a task key.
-    import contextlib
-    import threading
-    import time
-    from distributed import Client, LocalCluster
     from evlife import _evlife, batch
-    started, release, checks = threading.Event(), threading.Event(), []
-    real_range, real_stopped = _evlife._process_time_range, batch._stopped
-
-    def held_range(*args, **kwargs):
-        started.set()
-        assert release.wait(60)
-        return real_range(*args, **kwargs)
+    started, release = _held(monkeypatch, _evlife, "_process_time_range")
+    checks, real_stopped = [], batch._stopped
 
     def recorded_stopped(stop):  # the slice's checks: at its start, once its part is whole
         checks.append(real_stopped(stop))
         return checks[-1]
 
-    monkeypatch.setattr(_evlife, "_process_time_range", held_range)
     monkeypatch.setattr(batch, "_stopped", recorded_stopped)
     out = tmp_path / "out"
     out.mkdir()
-    cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0")
-    cluster.shutdown_on_close = False  # (SpecCluster's) else Dask's exit handler closes it again: 10 s more
-    client = Client(cluster)
-    try:
-        address = cluster.scheduler.address
-        threading.Thread(target=lambda: started.wait(60) and cluster.sync(cluster.scheduler.close)).start()
+    recording = data("reference/garfield.mat")
+    with _cluster_losing_its_scheduler(started, release) as (client, address):
         with pytest.raises(RuntimeError) as caught:
-            batch.process_slices(data("reference/garfield.mat"), out / "g.bin", 2, scheduler=client, progress=False)
+            batch.process_slices(recording, out / "g.bin", 2, scheduler=client, progress=False)
         release.set()
-        deadline = time.monotonic() + 20  # at once, as above
-        while (len(checks) < 2 or os.listdir(out)) and time.monotonic() < deadline:
-            time.sleep(0.05)
+        _wait_for(lambda: len(checks) >= 2 and not os.listdir(out))
         checked_in_time = list(checks)
-    finally:
-        release.set()
-        with contextlib.suppress(TimeoutError):
-            cluster.close(timeout=2)
-        with contextlib.suppress(TimeoutError):
-            client.close(timeout=2)
     assert str(caught.value) == ("evlife.batch.process_slices: %s: slice 0: lost the connection to the scheduler %s "
-                                 "(CancelledError)" % (data("reference/garfield.mat"), address))
+                                 "(CancelledError)" % (recording, address))
     assert checked_in_time == [False, True]  # it saw no call to deliver to: it removed its part
     assert os.listdir(out) == []
+
+
+def _interrupted_submit(monkeypatch, started, key_part):
+    """Client.submit patched to raise KeyboardInterrupt (Ctrl-C) for the task
+    whose key holds `key_part`, once `started`; Dask's cancel never arrives
+    (as where a task already runs). Returns the real submit."""
+    import distributed
+    real_submit = distributed.Client.submit
+
+    def submit(self, *args, **kwargs):
+        if key_part in kwargs["key"]:
+            assert started.wait(60)
+            raise KeyboardInterrupt
+        return real_submit(self, *args, **kwargs)
+
+    monkeypatch.setattr(distributed.Client, "submit", submit)
+    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    return real_submit
+
+
+def _interrupted_while_submitting(call, recording, release, real_submit, out):
+    """Runs call(client) on a thread-worker cluster; returns what it raised
+    and out's files once the held task ended (the worker's one thread runs a
+    later task after it)."""
+    from distributed import Client, LocalCluster
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        try:
+            with pytest.raises(BaseException) as caught:  # (a bare KeyboardInterrupt would end pytest)
+                call(client)
+        finally:
+            release.set()
+        assert real_submit(client, os.path.exists, recording, pure=False).result()
+        return caught.value, os.listdir(out)
 
 
 def test_ctrl_c_while_the_tasks_are_submitted_gives_up_on_those_submitted(tmp_path, monkeypatch):
     # Submitting thousands of recordings takes seconds: a Ctrl-C then raised
     # a bare KeyboardInterrupt, and the tasks already submitted ran on (on a
     # cluster of yours) and wrote their outputs after the call had raised.
-    # Here the second submit is interrupted while the first task runs; Dask's
-    # cancel never arrives (as where a task already runs).
-    import threading
-    import distributed
-    from distributed import Client, LocalCluster
+    # Here the second submit is interrupted while the first task runs.
     from evlife import _evlife, batch
-    started, release = threading.Event(), threading.Event()
-    real_process_file, real_submit = _evlife.process_file, distributed.Client.submit
-
-    def held_process_file(*args, **kwargs):
-        started.set()
-        assert release.wait(60)
-        return real_process_file(*args, **kwargs)
-
-    def interrupted_second_submit(self, *args, **kwargs):
-        if kwargs["key"].endswith("-1-stripes.mat"):
-            assert started.wait(60)
-            raise KeyboardInterrupt
-        return real_submit(self, *args, **kwargs)
-
-    monkeypatch.setattr(_evlife, "process_file", held_process_file)
-    monkeypatch.setattr(distributed.Client, "submit", interrupted_second_submit)
-    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    started, release = _held(monkeypatch, _evlife, "process_file")
+    real_submit = _interrupted_submit(monkeypatch, started, "-1-stripes.mat")
     out = tmp_path / "out"
     recordings = [data("reference/garfield.mat"), data("reference/stripes.mat")]
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client:
-        try:
-            with pytest.raises(BaseException) as caught:  # (a bare KeyboardInterrupt would end pytest)
-                batch.process_files(recordings, out, client, progress=False)
-        finally:
-            release.set()
-        # The worker's one thread: this runs once the first task has ended.
-        assert real_submit(client, os.path.exists, recordings[0], pure=False).result()
-        written = os.listdir(out)
-    assert isinstance(caught.value, evlife.Interrupted), repr(caught.value)
-    assert [r.error for r in caught.value.partial] == [
+    raised, written = _interrupted_while_submitting(
+        lambda client: batch.process_files(recordings, out, client, progress=False),
+        recordings[0], release, real_submit, out)
+    assert isinstance(raised, evlife.Interrupted), repr(raised)
+    assert [r.error for r in raised.partial] == [
         "interrupted before it finished; nothing written (a task still running on your cluster removes its "
         "partial output when it ends)"] * 2
     assert written == [], written
@@ -1006,41 +1016,16 @@ def test_ctrl_c_while_the_tasks_are_submitted_gives_up_on_those_submitted(tmp_pa
 def test_ctrl_c_while_the_slices_are_submitted_leaves_no_part_file(tmp_path, monkeypatch):
     # As above, for slices: the slices submitted before the Ctrl-C ran on and
     # wrote their part files after the call had removed the parts.
-    import threading
-    import distributed
-    from distributed import Client, LocalCluster
     from evlife import _evlife, batch
-    started, release = threading.Event(), threading.Event()
-    real_range, real_submit = _evlife._process_time_range, distributed.Client.submit
-
-    def held_range(*args, **kwargs):
-        started.set()
-        assert release.wait(60)
-        return real_range(*args, **kwargs)
-
-    def interrupted_second_submit(self, *args, **kwargs):
-        if "-slice-" in kwargs["key"] and "-1-" in kwargs["key"]:
-            assert started.wait(60)
-            raise KeyboardInterrupt
-        return real_submit(self, *args, **kwargs)
-
-    monkeypatch.setattr(_evlife, "_process_time_range", held_range)
-    monkeypatch.setattr(distributed.Client, "submit", interrupted_second_submit)
-    monkeypatch.setattr(distributed.Client, "cancel", lambda *args, **kwargs: None)
+    started, release = _held(monkeypatch, _evlife, "_process_time_range")
+    real_submit = _interrupted_submit(monkeypatch, started, "-1-garfield.mat")
     out = tmp_path / "out"
     out.mkdir()
     recording = data("reference/garfield.mat")
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
-            Client(cluster) as client:
-        try:
-            with pytest.raises(BaseException) as caught:
-                batch.process_slices(recording, out / "g.bin", 2, scheduler=client, progress=False)
-        finally:
-            release.set()
-        # The worker's one thread: this runs once the first slice has ended.
-        assert real_submit(client, os.path.exists, recording, pure=False).result()
-        written = os.listdir(out)
-    assert type(caught.value) is KeyboardInterrupt, repr(caught.value)
+    raised, written = _interrupted_while_submitting(
+        lambda client: batch.process_slices(recording, out / "g.bin", 2, scheduler=client, progress=False),
+        recording, release, real_submit, out)
+    assert type(raised) is KeyboardInterrupt, repr(raised)
     assert written == [], written
 
 
