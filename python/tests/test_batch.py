@@ -954,7 +954,7 @@ def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_s
         _wait_for(lambda: len(checks) >= 2 and not os.listdir(out))
         checked_in_time = list(checks)
     assert str(caught.value) == ("evlife.batch.process_slices: %s: slice 0: lost the connection to the scheduler %s "
-                                 "(CancelledError)" % (recording, address))
+                                 "(CancelledError)" % (os.path.abspath(recording), address))
     assert checked_in_time == [False, True]  # it saw no call to deliver to: it removed its part
     assert os.listdir(out) == []
 
