@@ -198,16 +198,17 @@ class _StillRunning:
                 self._last = time.monotonic()  # the next line after as long again
 
 
-def _stopped(stop):
+def _stopped(stop, client=None):
     """Whether the call that submitted this task has given up on it (its Dask
-    Event `stop` set: _give_up). A scheduler out of reach counts as stopped:
+    Event `stop` set: _give_up); `client`: this worker's _reaching_client(),
+    looked up when not given. A scheduler out of reach counts as stopped:
     Ctrl-C in a terminal reaches the workers of a LocalCluster started by the
     same script too, and ends their connection while the task's thread runs
     on (the task then renamed its output after the call had raised); a
     worker that lost its scheduler cannot deliver the task's result anyway
     (Dask runs the task again elsewhere, or reports it lost)."""
     from distributed import Event
-    client = _reaching_client()
+    client = client or _reaching_client()
     try:
         return client is None or Event(stop, client=client).is_set()
     except Exception:  # whatever the connection raises (its rpc gone: AttributeError)
@@ -264,7 +265,7 @@ def _replace_unless_stopped(partial, output, stop):
             lock = Lock(stop, client=client)
             held = lock.acquire(timeout=60)  # the call holds it for one message
     try:
-        if _stopped(stop):
+        if _stopped(stop, client):
             _streams._remove(partial)
             return False
         os.replace(partial, output)

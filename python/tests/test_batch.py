@@ -939,8 +939,8 @@ def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_s
     started, release = _held(monkeypatch, _evlife, "_process_time_range")
     checks, real_stopped = [], batch._stopped
 
-    def recorded_stopped(stop):  # the slice's checks: at its start, once its part is whole
-        checks.append(real_stopped(stop))
+    def recorded_stopped(*args):  # the slice's checks: at its start, once its part is whole
+        checks.append(real_stopped(*args))
         return checks[-1]
 
     monkeypatch.setattr(batch, "_stopped", recorded_stopped)
@@ -956,6 +956,26 @@ def test_a_scheduler_that_goes_away_is_named_by_process_slices_and_the_running_s
     assert str(caught.value) == ("evlife.batch.process_slices: %s: slice 0: lost the connection to the scheduler %s "
                                  "(CancelledError)" % (os.path.abspath(recording), address))
     assert checked_in_time == [False, True]  # it saw no call to deliver to: it removed its part
+    assert os.listdir(out) == []
+
+
+def test_a_task_that_could_not_ask_the_scheduler_says_so_where_the_call_still_waits(tmp_path, monkeypatch):
+    # A worker that cannot read the call's Event counts as given up on and
+    # writes nothing (_stopped); where its result reaches the call anyway
+    # (the connection came back), the row must not say "interrupted".
+    from distributed import Client, LocalCluster
+    from evlife import batch
+    monkeypatch.setattr(batch, "_stopped", lambda *args: True)
+    out = tmp_path / "out"
+    recording = data("reference/garfield.mat")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
+            Client(cluster) as client:
+        table = batch.process_files([recording], out, client, progress=False)
+        with pytest.raises(RuntimeError) as caught:
+            batch.process_slices(recording, out / "g.bin", 2, scheduler=client, progress=False)
+    assert [r.error for r in table] == ["its worker could not reach the scheduler; nothing written"], table
+    assert str(caught.value) == ("evlife.batch.process_slices: %s: slice 0 wrote nothing: its worker could not "
+                                 "reach the scheduler" % os.path.abspath(recording))
     assert os.listdir(out) == []
 
 
