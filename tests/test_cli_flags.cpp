@@ -816,6 +816,13 @@ TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
   const RunResult idle = run("run " + sample() + " --workers 3 -q");
   EXPECT_EQ(idle.exit_code, 2) << idle.output;
   EXPECT_TRUE(has(idle, "--workers 3: --tiles 1x1 makes 2 tiles")) << idle.output;
+  // The same count from the configuration (it ran, 30 idle workers holding an estimator each).
+  std::ofstream(path("w32.yaml")) << "engine:\n  workers: 32\n";
+  for (const std::string& from : {std::string("--set engine.workers=32"), "--config " + path("w32.yaml")}) {
+    const RunResult configured = run("run " + sample() + " " + from + " -q");
+    EXPECT_EQ(configured.exit_code, 2) << from << "\n" << configured.output;
+    EXPECT_TRUE(has(configured, "engine.workers = 32 (--set or --config): --tiles 1x1 makes 2 tiles")) << configured.output;
+  }
   EXPECT_EQ(run("run " + sample() + " --workers 8 --tiles 2x2 -q -o " + path("eight.bin")).exit_code, 0);
   // An engine key set for a command that runs no engine (it was range-checked, then ignored).
   const RunResult engine_key = run("process " + sample() + " --set engine.workers=32 -q -o " + path("e.bin"));

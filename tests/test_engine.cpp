@@ -13,10 +13,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,7 @@
 #include "evlife/engine/tile_layout.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
+#include "evlife/io/write_error.h"
 
 namespace ee = evlife::engine;
 using evlife::AugmentedEvent;
@@ -544,6 +547,49 @@ TEST(Engine, FailingSinkEndsRunWithErrorAndKeepsAccounting) {
   EXPECT_NE(r.stats.summary().find("but " + std::to_string(r.stats.sink_failed) + " of the out were not written"),
             std::string::npos)
       << r.stats.summary();
+}
+
+// A writer whose buffer the disk refused says how many records its file kept
+// (io::WriteError::records_in_file): the events handed to it beyond them are
+// counted not written, also those of chunks accepted before the error (the
+// count said 31,750 written of a /dev/full file holding none: a review's
+// finding). Finishing (the last flush) counts them too.
+TEST(Engine, AFailedOutputCountsWhatItsFileLacksNotWhatWasHandedAfter) {
+  const auto& events = stripes(5'000);
+  for (const bool at_finish : {false, true}) {
+    SCOPED_TRACE(at_finish ? "the last flush fails" : "a write fails");
+    ee::ReplaySource source(events, kDvs128);
+    std::size_t calls = 0, handed = 0;
+    static constexpr std::uint64_t kKept = 100;  // the file's whole records
+    const auto fail = [] {
+      throw evlife::io::WriteError("out.bin", "write failed: No space left on device (the file ends after its last "
+                                              "whole record: 100 records in it)", ENOSPC, kKept);
+    };
+    struct FullDiskSink final : ee::AugmentedSink {
+      std::function<void(std::span<const AugmentedEvent>)> on_write;
+      std::function<void()> on_finish;
+      void write(std::span<const AugmentedEvent> chunk) override { on_write(chunk); }
+      void finish() override { on_finish(); }
+    } sink;
+    sink.on_write = [&](std::span<const AugmentedEvent> chunk) {
+      if (!at_finish && ++calls == 3) fail();
+      handed += chunk.size();
+    };
+    sink.on_finish = [&] {
+      if (at_finish) fail();
+    };
+    ee::Engine engine(source, &sink, engine_options(2, 1, 1, kDvs128));
+    const ee::RunResult r = engine.run();
+    EXPECT_EQ(r.status, ee::RunStatus::sink_error);
+    ASSERT_GT(handed, kKept);
+    if (at_finish) {
+      EXPECT_EQ(r.stats.sink_failed, handed - kKept);
+    } else {
+      // Handed before the failing chunk, plus that chunk and every one after: all but the 100 kept.
+      EXPECT_EQ(r.stats.sink_failed, r.stats.events_out - kKept);
+    }
+    EXPECT_EQ(r.stats.events_in, r.stats.events_out + r.stats.events_dropped);
+  }
 }
 
 TEST(Engine, FileSourceReportsMissingFileAndBadOptions) {

@@ -11,10 +11,12 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -269,6 +271,72 @@ TEST(Faults, SynthToAFullDiskNamesTheFileAndWhatEachOutputGot) {
   EXPECT_TRUE(contains(f.err, "(" + std::to_string(lines) + " events handed to the writer of " + events.string() +
                                   ", 0 rows to that of " + truth.string() + " before it)"))
       << lines << " events in " << events << "\n" << describe(f);
+}
+
+// A file size limit (ulimit -f, RLIMIT_FSIZE): the write that passes it is an
+// output error, exit 4, the file cut back to its last whole record and the
+// error saying how many it holds (before, SIGXFSZ killed the process: exit
+// 153, no message, a text file ending inside a line, a PNG cut; a review's
+// finding). The limit is the child's alone: set around its spawn.
+TEST(Faults, AFileSizeLimitIsAnOutputErrorNotASignal) {
+  const ScratchDir dir("test_faults");
+  write_aedat2(dir.path() / "in.aedat", 20'000);
+  const std::string in = (dir.path() / "in.aedat").string();
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  if (before.rlim_max != RLIM_INFINITY && before.rlim_max < 100'000) GTEST_SKIP() << "a lower hard limit";
+  struct Case {
+    std::vector<std::string> args;
+    fs::path output;
+    std::size_t header_lines;  // lines of the output that are no record; SIZE_MAX: a folder of frames
+    rlim_t limit_bytes;        // a file's: inside a line, inside the first frame
+  };
+  const std::vector<Case> cases = {
+      {{"convert", in, (dir.path() / "out.txt").string()}, dir.path() / "out.txt", 0, 60'007},
+      {{"process", in, "-o", (dir.path() / "out.csv").string(), "-q"}, dir.path() / "out.csv", 1, 60'007},
+      {{"render", in, "-o", (dir.path() / "frames").string(), "--fps", "200", "-q"}, dir.path() / "frames", SIZE_MAX,
+       1'003},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args[0]);
+    rlimit limited = before;
+    limited.rlim_cur = c.limit_bytes;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+    const Child child = spawn_cli(c.args, dir, c.args[0]);
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &before), 0);
+    const Finished f = wait_cli(child);
+    ASSERT_TRUE(f.exited) << describe(f);
+    EXPECT_EQ(f.code, 4) << describe(f);
+    EXPECT_TRUE(contains(f.err, "File too large")) << describe(f);
+    if (c.header_lines == SIZE_MAX) {  // no frame left cut at the limit
+      for (const auto& entry : fs::directory_iterator(c.output))
+        EXPECT_LT(fs::file_size(entry.path()), c.limit_bytes) << entry.path();
+      EXPECT_TRUE(contains(f.err, "(the cut file removed)")) << describe(f);
+      continue;
+    }
+    const std::string text = slurp(c.output);
+    ASSERT_FALSE(text.empty()) << describe(f);
+    EXPECT_EQ(text.back(), '\n') << describe(f);
+    const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    EXPECT_TRUE(contains(f.err, "the file ends after its last whole record: " + std::to_string(lines - c.header_lines) +
+                                    " records in it"))
+        << lines << " lines\n" << describe(f);
+  }
+  // HDF5 keeps room to close its file under the limit, as on a nearly full disk: a file that
+  // opens, with the events before the chunk it refused (it was cut and no longer opened).
+  write_aedat2(dir.path() / "long.aedat", 100'000);
+  const fs::path h5 = dir.path() / "out.h5";
+  rlimit limited = before;
+  limited.rlim_cur = 2'500'000;  // below a chunk and the room to close: the first chunk is refused
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+  const Child child = spawn_cli({"convert", (dir.path() / "long.aedat").string(), h5.string()}, dir, "h5");
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &before), 0);
+  const Finished f = wait_cli(child);
+  ASSERT_TRUE(f.exited) << describe(f);
+  EXPECT_EQ(f.code, 4) << describe(f);
+  EXPECT_TRUE(contains(f.err, "the file size limit (ulimit -f) is near")) << describe(f);
+  const Finished info = run_cli({"info", h5.string()}, dir);
+  EXPECT_EQ(info.code, 0) << describe(info);
 }
 
 // A reader that leaves the pipe it reads from: the output behind -o (a FIFO)

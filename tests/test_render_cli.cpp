@@ -353,6 +353,56 @@ TEST_F(RenderCliTest, BadArgumentsAndInputsGiveClearErrors) {
   EXPECT_EQ(r.exit_code, 3);
 }
 
+// --frames and --video name the output as `evlife run` takes them: --frames a
+// folder whatever its name, --video a video only; -o by its extension
+// (render took both for -o: --video DIR/ wrote PNGs, --frames x.mp4 a video).
+TEST_F(RenderCliTest, FramesAndVideoFlagsNameTheOutputAsRunTakesThem) {
+  auto r = run("render '" + kStripes + "' --video '" + path("vdir") + "/' --at 0.1 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the video must end in .mp4 or .avi (--frames DIR for PNG frames)"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(path("vdir")));
+  r = run("render '" + kStripes + "' --frames '" + path("fx.mp4") + "' --at 0.1,0.2 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::is_directory(path("fx.mp4")));
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("fx.mp4")), fs::directory_iterator{}), 2);
+  r = run("render '" + kStripes + "' -o '" + path("a") + "' --frames '" + path("b") + "' --at 0.1 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("give one"), std::string::npos) << r.output;
+}
+
+// No frame is written over the input: a recording in the frames' folder under
+// a frame's name (it was replaced by the PNG, exit 0), also through a link.
+TEST_F(RenderCliTest, NoFrameIsWrittenOverTheInput) {
+  fs::create_directories(path("fdir"));
+  const std::string input = path("fdir") + "/frame_000000_t0.500000s.png";
+  fs::copy_file(kStripes, input);
+  fs::create_directories(path("ldir"));
+  fs::create_hard_link(input, path("ldir") + "/frame_000000_t0.500000s.png");
+  for (const std::string& command : {"render '" + input + "' -o '" + path("fdir") + "' --at 0.5",
+                                    "render '" + input + "' -o '" + path("ldir") + "' --at 0.5",
+                                    "run '" + input + "' --frames '" + path("fdir") + "' --fps 0 --at 0.5"}) {
+    SCOPED_TRACE(command);
+    const auto r = run(command);
+    EXPECT_EQ(r.exit_code, 4) << r.output;
+    EXPECT_NE(r.output.find("is the input file; refusing to overwrite it"), std::string::npos) << r.output;
+    EXPECT_EQ(fs::file_size(input), fs::file_size(kStripes));
+  }
+}
+
+// The summary says where noise is drawn: never in the lifetime view, as any
+// event in a fixed window (it said "never drawn" in every mode).
+TEST_F(RenderCliTest, TheSummarySaysWhereNoiseIsDrawn) {
+  for (const auto& [mode, said] : std::vector<std::pair<std::string, std::string>>{
+           {"lifetime", "noise (never drawn)"},
+           {"window:30ms", "noise (drawn as any event)"},
+           {"compare", "noise (drawn in the fixed windows only)"}}) {
+    const auto r = run("render '" + kStripes + "' -o '" + path("n_" + mode.substr(0, 3) + ".png") + "' --at 0.5 --mode " + mode);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(said), std::string::npos) << mode << "\n" << r.output;
+  }
+}
+
 // A text file of eval's that the disk refuses (here /dev/full: its writes fail
 // at the flush) is an output error naming it, not an empty file and exit 0.
 TEST_F(RenderCliTest, EvalReportsATextFileTheDiskRefused) {
@@ -533,6 +583,24 @@ TEST_F(RenderCliTest, EvalLifetimeHistogramMatchesProcessOutput) {
 // The medians eval reports (runs.csv, its summary) are those of the values,
 // within the +-1.2 % of the summaries of process and info, not the upper edge
 // of the plots' 0.2 ms (0.1 ms) bin that holds them (7.40 ms for 7.34).
+// What has no value is said so, not 0: the share of predictions below 10 ms
+// of a run without a prediction, the edge thickness of an image without an
+// edge ("0.0 %" and "0.00 px", read as none close and perfectly sharp).
+TEST_F(RenderCliTest, EvalSaysNaWhereAFigureHasNoValue) {
+  auto r = run("eval '" + kData + "/rosbag/test_data_mono_cd' -o '" + path("mono") + "'");  // 100 events, no prediction
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("with a prediction   0.0 %, median lifetime       n/a, |pred. err| < 10 ms:     n/a"),
+            std::string::npos)
+      << r.output;
+  std::string runs = evlife::test::read_text_file(path("mono") + "/runs.csv");
+  EXPECT_NE(runs.find(",0,nan,nan,nan,"), std::string::npos) << runs;  // predictions, medians, share below 10 ms
+  r = run("eval '" + kData + "/prophesee_dat/NCARS_obj_004397_td.dat' -o '" + path("ncars") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("fixed window 1 ms      0.0 %       n/a"), std::string::npos) << r.output;
+  const std::string sharpness = evlife::test::read_text_file(path("ncars") + "/sharpness.csv");
+  EXPECT_NE(sharpness.find("fixed window 1 ms,47,0,0,0,,"), std::string::npos) << sharpness;  // no edge pixel
+}
+
 TEST_F(RenderCliTest, EvalMediansAreTheValuesNotTheirBinsEdges) {
   auto r = run("process '" + kGarfield + "' -o '" + path("g.csv") + "' --to 0.3 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -814,7 +882,8 @@ TEST_F(RenderCliTest, EvalSaysCompletenessHasNoReferenceWhereNoWindowShowsAnEdge
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("over "), std::string::npos) << r.output;  // instants were sampled
   EXPECT_EQ(r.output.find("100.0 %  1.000"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("px      n/a  n/a\n"), std::string::npos) << r.output;
+  // No edge pixel either: its mean thickness has no value too (it said 0.00 px).
+  EXPECT_NE(r.output.find("0.0 %       n/a      n/a  n/a\n"), std::string::npos) << r.output;
   const std::string summary = evlife::test::read_text_file(path("isolated") + "/sharpness_summary.csv");
   EXPECT_NE(summary.find("\nlifetime (ours),"), std::string::npos) << summary;
   EXPECT_NE(summary.find(",,\n"), std::string::npos) << summary;  // completeness and score: no figure

@@ -97,6 +97,7 @@ void print_help(std::FILE* out) {
 }
 
 struct Outcome {
+  unsigned long long read = 0;
   unsigned long long written = 0;
   bool stopped = false;  // a stop signal: the events before it were written
   std::optional<std::string> input_fault;
@@ -122,6 +123,7 @@ Outcome copy_all(Reader& reader, Writer& writer, const StopRequest& stop) {
       break;
     }
     if (n == 0) break;
+    o.read += n;
     try {
       writer.write(std::span<const Record>(batch.data(), n));
     } catch (const io::WriteError& e) {
@@ -157,9 +159,9 @@ class EventsOfAugmented {
 
 int report(const Outcome& o, const std::string& input, const std::string& output,
            const std::string& what, bool quiet) {
-  if (o.output_fault) {  // "handed to the writer": a full disk may have kept fewer
-    std::fprintf(stderr, "evlife convert: output error: %s (%llu handed to the writer before it)\n",
-                 o.output_fault->c_str(), o.written);
+  if (o.output_fault) {  // what the file holds, the writer's error says (output_file.h)
+    std::fprintf(stderr, "evlife convert: output error: %s (%llu events read before it)\n",
+                 o.output_fault->c_str(), o.read);
     return kExitOutput;
   }
   if (!quiet) {

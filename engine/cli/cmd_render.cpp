@@ -26,6 +26,7 @@
 #include "earlier_frames_warning.h"
 #include "instants_after_end_warning.h"
 #include "stop_signals.h"
+#include "video_flag.h"
 #include "evlife/config/config.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
@@ -49,7 +50,7 @@ namespace evlife::cli::render_command {
 namespace {
 
 constexpr OptionSpec kRenderOptions[] = {
-    {"output", 'o', true, false, "frames,video"},  {"at", 0, true, false},
+    {"output", 'o', true, false},  {"frames", 0, true, false}, {"video", 0, true, false}, {"at", 0, true, false},
     {"fps", 0, true, false, "render-fps"},
     {"from", 0, true, false},      {"to", 0, true, false},          {"mode", 'm', true, false, "render-mode"},
     {"color", 0, true, false},     {"scale", 0, true, false},       {"no-caption", 0, false, false},
@@ -83,11 +84,12 @@ void print_render_help(std::FILE* out) {
       "  -o, --output PATH   required. A directory (created) for PNG frames named\n"
       "                      frame_NNNNNN_tSECONDS.png; FILE.png for one --at instant; or a\n"
       "                      video: .mp4 (codec mp4v) or .avi (codec MJPG), via OpenCV.\n"
-      "                      (--frames DIR and --video FILE, as in `evlife run`, too.)\n"
+      "  --frames DIR        as in `evlife run`: a folder of PNG frames, whatever its name.\n"
+      "  --video FILE        as in `evlife run`: a video, FILE ending in .mp4 or .avi.\n"
       "  -i, --input FILE    the INPUT (also as the first argument).\n"
       "  --at T1,T2,...      instants to draw, seconds from the first event (any value,\n"
       "                      not only frame multiples; e.g. 0.25,0.5,1.0 or 250ms,1s).\n"
-      "                      Drawn in increasing order in one pass.\n"
+      "                      Drawn in increasing order in one pass, each once.\n"
       "  --fps F             draw F frames per second of recording time (default 30 when\n"
       "                      --at is not given), from --from (default 0) to --to (default:\n"
       "                      the last event).\n"
@@ -146,17 +148,22 @@ RenderArgs parse_render_args(int argc, char** argv) {
   if (!parse_common_args(a, r, /*crop=*/false)) return r;  // --from/--to: the frames drawn
   refuse_selection_of_augmented(r.input_options, r.input);
   refuse_estimator_settings_for_augmented("render", r, a.values("set"));
-  const auto out = a.value("output");
-  if (!out) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
-  if (out->empty())  // (it was taken for the folder "": exit 4 "cannot create directory : Invalid argument")
+  const auto out = a.value("output"), frames = a.value("frames"), video = a.value("video");
+  if (int{out.has_value()} + int{frames.has_value()} + int{video.has_value()} > 1)
+    throw UsageError("-o, --frames and --video each name the output: give one");
+  if (!out && !frames && !video) throw UsageError("missing -o DIR|OUT.mp4|OUT.avi");
+  r.job.output = out ? *out : frames ? *frames : *video;
+  if (r.job.output.empty())  // (it was taken for the folder "": exit 4 "cannot create directory : Invalid argument")
     throw UsageError("the output (-o, --frames or --video) is empty: give a folder (PNG frames), FILE.png, "
                      "OUT.mp4 or OUT.avi");
-  r.job.output = *out;
-  const render::OutputKind kind = render::output_kind(r.job.output);
+  // -o by its extension; --frames and --video as `evlife run` takes them.
+  const render::OutputKind kind = frames ? render::OutputKind::frames_folder : render::output_kind(r.job.output);
+  if (video && kind != render::OutputKind::video) throw UsageError(video_flag_refusal(*video));
   if (kind == render::OutputKind::unsupported)
     throw UsageError("-o " + r.job.output + ": use a directory (PNG frames), FILE.png (one --at instant), .mp4 or .avi");
   r.job.video = kind == render::OutputKind::video;
   r.job.single_png = kind == render::OutputKind::single_png;
+  r.job.input = r.input;
   if (const auto refusal = io::output_overwrites_input(r.input, r.job.output)) throw UsageError("-o " + *refusal);
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
@@ -247,7 +254,7 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
   std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
                r.frames, r.frame_size.width, r.frame_size.height, source.sensor().width, source.sensor().height, r.scale,
                args.job.mode.c_str(), std::string(render::to_string(args.job.color)).c_str());
-  if (render::output_kind(args.job.output) == render::OutputKind::video) {
+  if (args.job.video) {
     const render::VideoFrameSize video = render::video_frame_size(r.frame_size.width, r.frame_size.height);
     std::fprintf(stdout, "  video               plays at %g fps%s\n", r.video_fps,
                  args.job.at_us.empty() && r.video_fps < args.job.fps ? " (slow motion: --fps is higher)" : "");
@@ -255,8 +262,14 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
       std::fprintf(stdout, "  video size          %dx%d px: frames padded black at the right and bottom (encoders need "
                            "even sides of at least %d px)\n", video.width, video.height, render::kMinVideoSidePx);
   }
-  std::fprintf(stdout, "  events              %llu read, %llu noise (never drawn), %llu thinned%s\n",
+  // Noise has no lifetime: the lifetime view never draws it, a fixed window does.
+  const std::vector<render::View> views = render::parse_view_mode(args.job.mode);
+  const auto lifetime_views = std::count_if(views.begin(), views.end(), [](const render::View& v) { return v.lifetime; });
+  std::fprintf(stdout, "  events              %llu read, %llu noise (%s), %llu thinned%s\n",
                static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
+               lifetime_views == static_cast<std::ptrdiff_t>(views.size()) ? "never drawn"
+               : lifetime_views > 0                                        ? "drawn in the fixed windows only"
+                                                                           : "drawn as any event",
                static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
   if (render::ignored_events(st) > 0) std::fprintf(stdout, "  ignored             %s\n", render::ignored_events_text(st).c_str());
   if (const io::EventReader* reader = source.event_reader(); reader && reader->skipped_record_count() > 0)

@@ -34,6 +34,7 @@
 #include "instants_after_end_warning.h"
 #include "memory_check.h"
 #include "stop_signals.h"
+#include "video_flag.h"
 #include "evlife/config/config.h"
 #include "evlife/engine/dvs128_source.h"
 #include "evlife/engine/engine.h"
@@ -241,8 +242,11 @@ engine::EngineOptions engine_flags(const ParsedArgs& a, const config::Config& co
                      ": with --tiles 1x1 each worker's estimator sees its polarity's whole sensor, with no margin to "
                      "process; margins are for tiled layouts (e.g. --tiles 2x2 --margin 8)");
   // Workers beyond the tiles would get no event and hold an estimator's memory each.
-  if (const int tiles = 2 * e.tiles_x * e.tiles_y; a.has("workers") && e.workers > tiles)
-    throw UsageError("--workers " + std::to_string(e.workers) + ": --tiles " + std::to_string(e.tiles_x) + "x" +
+  // Whether the count came from --workers or the configuration (--set, --config: it passed silently).
+  if (const int tiles = 2 * e.tiles_x * e.tiles_y; e.workers > tiles)
+    throw UsageError((a.has("workers") ? "--workers " + std::to_string(e.workers)
+                                       : "engine.workers = " + std::to_string(e.workers) + " (--set or --config)") +
+                     ": --tiles " + std::to_string(e.tiles_x) + "x" +
                      std::to_string(e.tiles_y) + " makes " + std::to_string(tiles) +
                      " tiles (per polarity), which keep at most " + std::to_string(tiles) +
                      " workers busy; the others would get no event. Use --workers " + std::to_string(tiles) +
@@ -314,7 +318,7 @@ RunArgs parse_run_args(int argc, char** argv) {
   if (const auto s = a.value("video")) {
     r.video = *s;
     if (render::output_kind(r.video) != render::OutputKind::video)
-      throw UsageError("--video " + r.video + ": the video must end in .mp4 or .avi (--frames DIR for PNG frames)");
+      throw UsageError(video_flag_refusal(r.video));
   }
   if (const auto s = a.value("mode")) {
     r.render.mode = *s;
@@ -687,7 +691,7 @@ int run_engine(int argc, char** argv) {
   std::unique_ptr<render::FrameSink> frame_sink;
   try {
     if (!args.frames_dir.empty()) {
-      frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir);
+      frame_sink = std::make_unique<render::PngFolderFrameSink>(args.frames_dir, std::string(file_of_source(args.source)));
     } else if (!args.video.empty()) {
       // As `evlife render`: real time up to kMaxVideoFps, slow motion beyond (an .avi at
       // thousands of fps was written corrupt).

@@ -98,6 +98,11 @@ int main(int argc, char** argv) {
   // write fail with EPIPE, reported as any output error (exit 4, the output
   // named, what was written kept), instead of killing the process silently.
   std::signal(SIGPIPE, SIG_IGN);
+  // Likewise a file size limit (ulimit -f): the write that passes it fails
+  // with EFBIG, an output error (the file cut back to its last whole record,
+  // an HDF5 file closed, a PNG removed), instead of SIGXFSZ killing the
+  // process silently with a cut file.
+  std::signal(SIGXFSZ, SIG_IGN);
   // A write to a FIFO whose reader takes nothing, and the decompression of a
   // file-compressed bag, give up on a stop signal (io/stop.h).
   evlife::io::set_stop_flag(&evlife::cli::g_stop_requested);

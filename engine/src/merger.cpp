@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "evlife/engine/monotonic_clock.h"
+#include "evlife/io/write_error.h"
 
 namespace evlife::engine {
 
@@ -46,7 +47,7 @@ StepResult Merger::step() noexcept {
           try {
             sink_->finish();
           } catch (const std::exception& e) {
-            sink_error_ = e.what();
+            sink_failed_with(e, 0);
           } catch (...) {
             sink_error_ = "unknown error while finishing the output";
           }
@@ -113,22 +114,33 @@ bool Merger::deliver(std::int64_t now_ns) noexcept {
   if (sink_ != nullptr && sink_error_.empty()) {
     try {
       sink_->write(merged);
+      sink_accepted_events_ += merged_count_;
     } catch (const std::exception& e) {
-      sink_error_ = e.what();
+      sink_failed_with(e, merged_count_);
     } catch (...) {
       sink_error_ = "unknown error while writing the output";
+      counters.sink_failed_events.add(merged_count_);
     }
+  } else if (!sink_error_.empty()) {
+    counters.sink_failed_events.add(merged_count_);  // after the error: none written
   }
-  if (!sink_error_.empty()) {
-    counters.sink_failed_events.add(merged_count_);
-    sink_failed_.store(true, std::memory_order_release);
-  }
+  if (!sink_error_.empty()) sink_failed_.store(true, std::memory_order_release);
   counters.latency_ns.record(now_ns - order_->arrival_ns, merged_count_);
   counters.age_ns.record(now_ns - order_->oldest_ns, merged_count_);
   counters.event_t_us.extend(merged.front().event.t_us, merged.back().event.t_us);
   counters.events_out.add(merged_count_);
   merged_count_ = 0;
   return true;
+}
+
+void Merger::sink_failed_with(const std::exception& e, std::size_t handed_now) noexcept {
+  sink_error_ = e.what();
+  std::uint64_t not_written = handed_now;
+  if (const auto* write_error = dynamic_cast<const io::WriteError*>(&e)) {
+    const std::uint64_t handed = sink_accepted_events_ + handed_now;
+    if (const auto kept = write_error->records_in_file(); kept && *kept <= handed) not_written = handed - *kept;
+  }
+  state_.merger_counters.sink_failed_events.add(not_written);
 }
 
 }  // namespace evlife::engine

@@ -96,6 +96,13 @@ bool SignalCheck::pending_now() {
   return interrupted_;
 }
 
+bool lock_unless_interrupted(std::unique_lock<std::timed_mutex>& lock, SignalCheck& signals) {
+  while (!lock.try_lock_for(std::chrono::milliseconds(20))) {
+    if (signals.pending()) return false;
+  }
+  return true;
+}
+
 void SignalCheck::raise(const std::string& message, py::object partial, std::uint64_t events_processed,
                         py::object events_written) {
   py::object error = py::reinterpret_borrow<py::object>(g_interrupted)(message);

@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <mutex>
 #include <string>
 
 #include "evlife/io/event_reader.h"
@@ -52,6 +53,12 @@ class SignalCheck {
   bool interrupted_ = false;
   std::chrono::steady_clock::time_point next_check_{};
 };
+
+/// Takes the mutex of `lock` (an object's lock that another Python thread's
+/// long call may hold: an estimator's process, a reader's read) in steps of
+/// 20 ms, so that Ctrl-C on the main thread ends the wait; false, unlocked,
+/// when `signals` saw one first. Without the GIL.
+bool lock_unless_interrupted(std::unique_lock<std::timed_mutex>& lock, SignalCheck& signals);
 
 /// A RuntimeWarning with `text`, attributed to the user's line: the caller of
 /// the Python wrapper every public reading function has (_streams.py); the

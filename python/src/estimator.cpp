@@ -59,12 +59,15 @@ class Estimator {
     auto* dst = static_cast<AugmentedEvent*>(out.mutable_data());
     EventCheck check;
     SignalCheck signals(/*long_call=*/cols.size > kBlockEvents);
+    SignalCheck waiting;
     std::size_t processed = 0;
+    bool locked = false;
     {
       ReleasedGil release;
-      std::lock_guard lock(mutex_);
-      check = check_events(cols, estimator_.options().sensor, last_t_us_);
-      if (check.bad_index == SIZE_MAX) {
+      std::unique_lock lock(mutex_, std::defer_lock);
+      locked = lock_unless_interrupted(lock, waiting);
+      if (locked) check = check_events(cols, estimator_.options().sensor, last_t_us_);
+      if (locked && check.bad_index == SIZE_MAX) {
         std::vector<Event> block(check.convert ? std::min(cols.size, kBlockEvents) : 0);
         while (processed < cols.size && !(processed > 0 && signals.pending())) {
           const std::size_t n = std::min(kBlockEvents, cols.size - processed);
@@ -80,6 +83,7 @@ class Estimator {
         }
       }
     }
+    if (!locked) raise_while_waiting("process", out[py::slice(0, 0, 1)]);
     if (check.bad_index != SIZE_MAX) {
       raise_input_error(io::ReadError("events", -1, static_cast<std::int64_t>(check.bad_index),
                                       check.what + "; no event of this call was processed"));
@@ -94,19 +98,31 @@ class Estimator {
   }
 
   void reset() {
-    ReleasedGil release;
-    std::lock_guard lock(mutex_);
-    estimator_.reset();
-    last_t_us_ = INT64_MIN;
+    SignalCheck waiting;
+    bool locked = false;
+    {
+      ReleasedGil release;
+      std::unique_lock lock(mutex_, std::defer_lock);
+      locked = lock_unless_interrupted(lock, waiting);
+      if (locked) {
+        estimator_.reset();
+        last_t_us_ = INT64_MIN;
+      }
+    }
+    if (!locked) raise_while_waiting("reset", py::none());
   }
 
   py::dict stats() {
     LifetimeStats s;
+    SignalCheck waiting;
+    bool locked = false;
     {
       ReleasedGil release;
-      std::lock_guard lock(mutex_);
-      s = estimator_.stats();
+      std::unique_lock lock(mutex_, std::defer_lock);
+      locked = lock_unless_interrupted(lock, waiting);
+      if (locked) s = estimator_.stats();
     }
+    if (!locked) raise_while_waiting("stats", py::none());
     py::dict d;
     d["events"] = s.events;
     d["noise"] = s.noise;
@@ -123,10 +139,18 @@ class Estimator {
   const config::Config& config() const { return resolved_.config; }
 
  private:
+  // Ctrl-C while another thread's call held the estimator: nothing done.
+  [[noreturn]] static void raise_while_waiting(const char* what, py::object partial) {
+    SignalCheck::raise(std::string("evlife.LifetimeEstimator.") + what +
+                           ": interrupted while another thread's call held the estimator; nothing done, its "
+                           "state as it was",
+                       std::move(partial), 0, py::none());
+  }
+
   ResolvedOptions resolved_;
   LifetimeEstimator estimator_;
   std::int64_t last_t_us_ = INT64_MIN;
-  std::mutex mutex_;
+  std::timed_mutex mutex_;
 };
 
 // What the sensor probe and scan read: the whole stream, read as `options`
@@ -539,8 +563,13 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
           return process_file(path, sensor, reader_options(std::nullopt, from_s, to_s, topic, time_unit, polarity),
                               one_thread, config, kw);
         }
-        if (py::hasattr(input, "read") && !py::hasattr(input, "dtype"))  // not an array of events: "no field 't'" said less
+        if (py::hasattr(input, "read") && !py::hasattr(input, "dtype")) {  // not an array of events: "no field 't'" said less
+          if (py::isinstance(input, py::module_::import("evlife._evlife").attr("Reader")))
+            throw py::type_error("input: an evlife.Reader gives a recording chunk by chunk; give the file's path, or "
+                                 "feed its chunks to one evlife.LifetimeEstimator (for chunk in reader: "
+                                 "estimator.process(chunk))");
           throw py::type_error("input: a file object; give its path (or an array with t, x, y, p fields)");
+        }
         if (from_s || to_s)
           throw py::value_error("from_s / to_s choose the events of a file; select an array's with a mask on its t");
         if (topic) throw py::value_error("topic chooses the stream of a file; an array has one");
@@ -550,8 +579,17 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
         // (config=; the events' own size replaced it), else the events' size.
         ResolvedOptions r = resolve_options("evlife.process", sensor, config, kw, kProcessKeywords);
         if (!r.sensor) {
-          // Within 1..kMaxSensorSide: an event beyond it is named by the conversion's check.
-          const SensorSize d = sensor_from_events(event_columns(input));
+          // Within 1..kMaxSensorSide; an event beyond it is named as the command line names it in a
+          // file that states no sensor (the size clamped to it was named, as if the user had given it).
+          const EventColumns cols = event_columns(input);
+          if (const std::size_t i = first_beyond_any_camera(cols); i != SIZE_MAX) {
+            raise_input_error(io::ReadError("events", -1, static_cast<std::int64_t>(i),
+                                            event_position_text(cols, i) + " is beyond any camera (at most " +
+                                                std::to_string(kMaxSensorSide) +
+                                                " px a side) and no sensor= is given: a corrupt record?; no event "
+                                                "of this call was processed"));
+          }
+          const SensorSize d = sensor_from_events(cols);
           r.config.estimator.sensor = SensorSize{std::max(d.width, 1), std::max(d.height, 1)};
         }
         std::unique_ptr<Estimator> estimator;

@@ -128,9 +128,8 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
     if (x < 0 || y < 0 || x >= sensor.width || y >= sensor.height) {
       r.bad_index = i;
       // (As written: a uint64 beyond INT64_MAX, not its clamped value.)
-      r.what = "event at (x " + (c.exact ? std::to_string(x) : c.x.text(i)) + ", y " +
-               (c.exact ? std::to_string(y) : c.y.text(i)) + ") is outside the " + std::to_string(sensor.width) +
-               "x" + std::to_string(sensor.height) + " sensor";
+      r.what = event_position_text(c, i) + " is outside the " + std::to_string(sensor.width) + "x" +
+               std::to_string(sensor.height) + " sensor";
       break;
     }
     if (t < last) {
@@ -185,6 +184,20 @@ SensorSize sensor_from_events(const EventColumns& c) noexcept {
     return max < 0 ? 0 : static_cast<int>(std::min<std::int64_t>(max, kMaxSensorSide - 1) + 1);
   };
   return {side(max_x), side(max_y)};
+}
+
+std::size_t first_beyond_any_camera(const EventColumns& c) noexcept {
+  for (std::size_t i = 0; i < c.size; ++i) {
+    const std::int64_t x = c.exact ? c.exact[i].x : c.x.get(i), y = c.exact ? c.exact[i].y : c.y.get(i);
+    if (x >= kMaxSensorSide || y >= kMaxSensorSide) return i;
+  }
+  return SIZE_MAX;
+}
+
+std::string event_position_text(const EventColumns& c, std::size_t i) {
+  // (As written: a uint64 beyond INT64_MAX, not its clamped value.)
+  return "event at (x " + (c.exact ? std::to_string(c.exact[i].x) : c.x.text(i)) + ", y " +
+         (c.exact ? std::to_string(c.exact[i].y) : c.y.text(i)) + ")";
 }
 
 }  // namespace evlife::python

@@ -102,7 +102,15 @@ EventCheck check_events(const EventColumns& c, SensorSize sensor, std::int64_t l
 /// Only for checked columns.
 void convert_events(const EventColumns& c, std::size_t first, std::span<Event> out) noexcept;
 
-/// Largest x + 1 and y + 1 (the smallest sensor holding every event).
+/// Largest x + 1 and y + 1 (the smallest sensor holding every event), each
+/// at most kMaxSensorSide.
 SensorSize sensor_from_events(const EventColumns& c) noexcept;
+
+/// The first event with x or y beyond any camera (kMaxSensorSide or more):
+/// where no sensor is given, a corrupt record; SIZE_MAX = none.
+std::size_t first_beyond_any_camera(const EventColumns& c) noexcept;
+
+/// "event at (x X, y Y)" of event i, the coordinates as written.
+std::string event_position_text(const EventColumns& c, std::size_t i);
 
 }  // namespace evlife::python

@@ -511,9 +511,13 @@ def test_an_event_beyond_any_sensor_is_named_when_the_sensor_is_inferred():
     # event beyond it is named (x near 2**63 overflowed the size to 0 before).
     for x in (65536, 2**63 - 1):
         events = {"t": np.arange(3), "x": np.array([1, x, 2]), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")}
-        with pytest.raises(evlife.InputError, match=r"event at \(x %d, y 0\) is outside the 4096x1 sensor.*"
-                                                    r"event index 1" % x):
+        # Named as the CLI names it in a file that states no sensor: it said "outside the 4096x1
+        # sensor", a size the user never gave.
+        with pytest.raises(evlife.InputError, match=r"event at \(x %d, y 0\) is beyond any camera \(at most 4096 px "
+                                                    r"a side\) and no sensor= is given.*event index 1" % x):
             evlife.process(events)
+        with pytest.raises(evlife.InputError, match=r"outside the 4096x4096 sensor.*event index 1"):
+            evlife.process(events, sensor=(4096, 4096))  # a size given is named as given
     # A bad option is said as such, not blamed on the inferred sensor.
     with pytest.raises(ValueError, match="window_size"):
         evlife.process({"t": np.arange(3), "x": np.arange(3), "y": np.zeros(3, "i8"), "p": np.ones(3, "i8")},

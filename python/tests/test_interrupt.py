@@ -168,3 +168,27 @@ def test_an_interrupted_synth_stops_soon(scene, pixel):
     assert isinstance(e, KeyboardInterrupt) and e.partial is None and e.events_written is None
     assert e.events_processed > 0  # what was generated before the stop (a textured scene's said 0)
     assert "synth: interrupted after %d of the scene's events were generated" % e.events_processed in str(e)
+
+
+def test_ctrl_c_while_another_threads_call_holds_the_estimator_ends_the_wait():
+    # A call waiting for an estimator that another thread's long call holds
+    # waited for that call's end, deaf to Ctrl-C (1.4-1.7 s for a signal sent
+    # at 0.2 s in a review). Nothing of the waiting call is done. (evlife.Reader
+    # waits for its lock the same way, lock_unless_interrupted(); its reads of
+    # the files here end too soon to be caught waiting.)
+    big = stripes_tiled(30)  # 10 M events: seconds of work for the other thread
+    est = evlife.LifetimeEstimator(sensor=(128, 128))
+    other = threading.Thread(target=est.process, args=(big,))
+    other.start()
+    try:
+        for call, name in [(lambda: est.stats, "stats"), (est.reset, "reset"),
+                           (lambda: est.process(big[:10]), "process")]:
+            e = interrupt_during(call)
+            assert other.is_alive(), "the wait ended with the other call, not with Ctrl-C"
+            assert e.events_processed == 0 and (e.partial is None or len(e.partial) == 0), e
+            assert ("evlife.LifetimeEstimator.%s: interrupted while another thread's call held the estimator"
+                    % name) in str(e)
+    finally:
+        other.join()
+    stats = est.stats  # the other call's alone: not reset, no event of the interrupted calls
+    assert stats["events"] == len(big), stats

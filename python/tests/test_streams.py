@@ -242,6 +242,10 @@ def test_what_is_no_path_is_a_typeerror_and_a_fault_before_any_event_says_none_w
         evlife.process_file(data(SLIDER), io.BytesIO())
     with pytest.raises(TypeError, match="a file object; give its path"):
         evlife.process(io.BytesIO(b"x"))
+    with evlife.open(data(SLIDER)) as reader:  # it was called "a file object" too
+        with pytest.raises(TypeError, match=r"an evlife.Reader gives a recording chunk by chunk; give the file's "
+                                            r"path, or feed its chunks to one evlife.LifetimeEstimator"):
+            evlife.process(reader)
     cut = tmp_path / "cut.mat"
     cut.write_bytes(open(data("reference/stripes.mat"), "rb").read()[:700_000])
     with pytest.raises(evlife.InputError) as raised:

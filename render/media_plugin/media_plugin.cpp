@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -18,7 +19,13 @@ class OpenCvVideo final : public VideoFile {
  public:
   bool open(const std::string& path, int fourcc, double fps, cv::Size frame_size) {
     path_ = path;
-    return writer_.open(path, fourcc, fps, frame_size, true);
+    // A failed open is evlife's own error to say (media.cpp: the path, the
+    // codec, what to try). OpenCV's log of the backends it tried came first
+    // ("[ERROR] ... raised OpenCV exception ... Assertion failed"), read as a crash.
+    const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+    const bool opened = writer_.open(path, fourcc, fps, frame_size, true);
+    cv::utils::logging::setLogLevel(level);
+    return opened;
   }
   void write(const cv::Mat& frame) override {
     writer_.write(frame);

@@ -420,7 +420,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
         plot[m].y.push_back(q.score());
         csv << s.t_s << "," << kMethodNames[m] << "," << q.sharpness.active_pixels << "," << q.sharpness.edge_pixels
             << "," << q.sharpness.thin_edge_pixels << "," << q.sharpness.thin_edge_share() << ","
-            << q.sharpness.mean_edge_thickness_px << "," << csv_field(q.completeness.share()) << ","
+            << csv_field(q.sharpness.mean_edge_thickness_px) << "," << csv_field(q.completeness.share()) << ","
             << csv_field(q.score()) << "\n";
       }
     }
@@ -446,7 +446,7 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
       }
       sum << "," << static_cast<double>(q.sharpness.active_pixels) / n
           << "," << static_cast<double>(q.sharpness.edge_pixels) / n << "," << q.sharpness.thin_edge_share() << ","
-          << q.sharpness.mean_edge_thickness_px << "," << csv_field(q.completeness.share()) << ","
+          << csv_field(q.sharpness.mean_edge_thickness_px) << "," << csv_field(q.completeness.share()) << ","
           << csv_field(q.score()) << "\n";
     }
     sum.close();
@@ -469,7 +469,7 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
       csv << "\"" << r.label << "\"," << r.window_size << "," << (r.regularization ? 1 : 0) << "," << r.events
           << "," << r.noise << "," << (r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0)
           << "," << r.predictions << "," << r.median_lifetime_ms() << ","
-          << r.median_abs_error_ms() << "," << r.abs_error_us.cdf_at_bin_end(99) << "," << r.wall_s
+          << r.median_abs_error_ms() << "," << r.share_abs_error_below_10ms() << "," << r.wall_s
           << "," << r.share_with_lifetime() << "," << r.share_with_prediction() << ","
           << r.median_error_over_lifetime() << "\n";
     }
@@ -499,7 +499,7 @@ void write_summary_html([[maybe_unused]] const EvaluationOptions& args, [[maybe_
          << fmt("%.2f ms", r.median_lifetime_ms()) << "</td><td>"
          << fmt("%.2f ms", r.median_abs_error_ms()) << "</td><td>"
          << fmt("%.3f", r.median_error_over_lifetime()) << "</td><td>"
-         << pct(r.abs_error_us.cdf_at_bin_end(99)) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
+         << pct(r.share_abs_error_below_10ms()) << "</td><td>" << fmt("%.2f s", r.wall_s) << "</td></tr>\n";
   }
   html << "</table>\n<h2>Sharpness (" << sharp.samples.size() << " instants, every "
        << static_cast<double>(args.sample_every_us) / 1000.0 << " ms" << empty_instants_note(sharp) << "; "
@@ -659,10 +659,10 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
   for (const auto& r : runs) {
     std::fprintf(out,
                  "  %-26s %9llu events, with a lifetime %5.1f %%, with a prediction %5.1f %%, median lifetime "
-                 "%9s, |pred. err| < 10 ms: %5.1f %%, median |pred. err|/lifetime %s\n",
+                 "%9s, |pred. err| < 10 ms: %7s, median |pred. err|/lifetime %s\n",
                  r.label.c_str(), static_cast<unsigned long long>(r.events), 100.0 * r.share_with_lifetime(),
                  100.0 * r.share_with_prediction(), fmt("%.2f ms", r.median_lifetime_ms()).c_str(),
-                 100.0 * r.abs_error_us.cdf_at_bin_end(99), fmt("%.3f", r.median_error_over_lifetime()).c_str());
+                 pct(r.share_abs_error_below_10ms()).c_str(), fmt("%.3f", r.median_error_over_lifetime()).c_str());
   }
   // Never a silent drop: the frames leave these out (a --sensor smaller than the events', a corrupt time).
   if (render::ignored_events(sharp.frame_events) > 0)
@@ -676,8 +676,8 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
                sharp.samples.size(), empty_instants_note(sharp).c_str());
   for (std::size_t m = 0; m < kMethods; ++m) {
     const MethodQuality& q = sharp.pooled[m];
-    std::fprintf(out, "    %-20s %5.1f %%  %5.2f px  %7s  %s\n", kMethodNames[m],
-                 100.0 * q.sharpness.thin_edge_share(), q.sharpness.mean_edge_thickness_px,
+    std::fprintf(out, "    %-20s %5.1f %%  %8s  %7s  %s\n", kMethodNames[m],
+                 100.0 * q.sharpness.thin_edge_share(), fmt("%.2f px", q.sharpness.mean_edge_thickness_px).c_str(),
                  pct(q.completeness.share()).c_str(), fmt("%.3f", q.score()).c_str());
   }
 }

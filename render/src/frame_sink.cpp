@@ -15,7 +15,7 @@
 
 namespace evlife::render {
 
-PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
+PngFolderFrameSink::PngFolderFrameSink(std::string dir, const std::string& input) : dir_(std::move(dir)) {
   std::error_code ec;
   std::filesystem::create_directories(dir_, ec);
   if (ec || !std::filesystem::is_directory(dir_)) {
@@ -24,7 +24,13 @@ PngFolderFrameSink::PngFolderFrameSink(std::string dir) : dir_(std::move(dir)) {
   }
   for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.starts_with("frame_") && name.ends_with(".png")) earlier_.insert(name);
+    if (!name.starts_with("frame_") || !name.ends_with(".png")) continue;
+    if (!input.empty()) {
+      if (const auto refusal = io::output_overwrites_input(input, entry.path().string())) {
+        throw std::runtime_error(*refusal + " (it has a frame's name in the frames' folder)");
+      }
+    }
+    earlier_.insert(name);
   }
 }
 

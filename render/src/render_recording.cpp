@@ -73,7 +73,7 @@ RecordingRenderResult render_recording(
     } else if (options.single_png) {
       sink = std::make_unique<ImageFileFrameSink>(options.output);
     } else {
-      sink = std::make_unique<PngFolderFrameSink>(options.output);
+      sink = std::make_unique<PngFolderFrameSink>(options.output, options.input);
     }
   } catch (const std::runtime_error& e) {
     result.output_fault = e.what();

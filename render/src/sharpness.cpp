@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <stdexcept>
 
 namespace evlife::render {
@@ -44,12 +45,14 @@ void run_lengths(const cv::Mat& mask, int dx, int dy, cv::Mat& runs) {
 }  // namespace
 
 Sharpness& Sharpness::operator+=(const Sharpness& o) noexcept {
-  const double total = mean_edge_thickness_px * static_cast<double>(edge_pixels) +
-                       o.mean_edge_thickness_px * static_cast<double>(o.edge_pixels);
+  const auto sum = [](const Sharpness& s) {  // of the thicknesses (NaN mean: no edge pixel)
+    return s.edge_pixels == 0 ? 0.0 : s.mean_edge_thickness_px * static_cast<double>(s.edge_pixels);
+  };
+  const double total = sum(*this) + sum(o);
   active_pixels += o.active_pixels;
   edge_pixels += o.edge_pixels;
   thin_edge_pixels += o.thin_edge_pixels;
-  mean_edge_thickness_px = edge_pixels == 0 ? 0.0 : total / static_cast<double>(edge_pixels);
+  mean_edge_thickness_px = edge_pixels == 0 ? std::numeric_limits<double>::quiet_NaN() : total / static_cast<double>(edge_pixels);
   return *this;
 }
 
@@ -103,7 +106,7 @@ Sharpness measure_sharpness(const cv::Mat& mask) {
       thickness_sum += t;
       if (t <= 2) ++s.thin_edge_pixels;
     }
-  s.mean_edge_thickness_px = s.edge_pixels == 0 ? 0.0 : thickness_sum / static_cast<double>(s.edge_pixels);
+  if (s.edge_pixels > 0) s.mean_edge_thickness_px = thickness_sum / static_cast<double>(s.edge_pixels);
   return s;
 }
 

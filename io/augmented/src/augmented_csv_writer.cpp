@@ -14,7 +14,7 @@ constexpr std::size_t kMaxRowBytes = 160;  // 2×5 + 20 + 2 + 4×15 + 8 separato
 
 class AugmentedCsvWriter final : public AugmentedEventWriter {
  public:
-  explicit AugmentedCsvWriter(const std::string& path) : file_(path) {
+  explicit AugmentedCsvWriter(const std::string& path) : file_(path, {.header_lines = 1}) {
     file_.append(kAugmentedCsvHeader.data(), kAugmentedCsvHeader.size());
     file_.append("\n", 1);
   }

@@ -4,9 +4,12 @@
 
 #include <hdf5.h>
 #include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -39,6 +42,18 @@ std::uint64_t free_bytes(const std::string& path) noexcept {
   struct statvfs fs {};
   if (statvfs(path.c_str(), &fs) != 0) return UINT64_MAX;
   return static_cast<std::uint64_t>(fs.f_bavail) * static_cast<std::uint64_t>(fs.f_frsize);
+}
+
+// Bytes the file at `path` may still grow by under the process's file size
+// limit (ulimit -f: a write past it fails as a full disk's does, and the file
+// could not be closed); UINT64_MAX when unlimited or unknown.
+std::uint64_t bytes_below_size_limit(const std::string& path) noexcept {
+  rlimit limit{};
+  struct stat st {};
+  if (getrlimit(RLIMIT_FSIZE, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY || ::stat(path.c_str(), &st) != 0)
+    return UINT64_MAX;
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  return limit.rlim_cur > size ? limit.rlim_cur - size : 0;
 }
 
 struct ColumnSpec {
@@ -217,13 +232,17 @@ class Hdf5ColumnFile {
     const std::size_t count = columns_.x.size();
     if (count == 0 || file_ < 0) return;
     // The chunk uncompressed: an upper bound of what it takes on disk.
-    if (const std::uint64_t free = free_bytes(path_); free < count * event_bytes_ + kCloseReserveBytes) {
+    const std::uint64_t free = free_bytes(path_), below_limit = bytes_below_size_limit(path_);
+    if (const std::uint64_t room = std::min(free, below_limit); room < count * event_bytes_ + kCloseReserveBytes) {
       failed_ = true;  // nothing of this chunk written: the file closes whole
-      throw WriteError(path_, "the disk is nearly full (" + std::to_string(free >> 10) + " KiB free): events " +
-                                  std::to_string(written_) + ".." + std::to_string(written_ + count) +
-                                  " not written, so that the HDF5 file can still be closed with the " +
-                                  std::to_string(written_) + " before them",
-                       ENOSPC);
+      const bool limit = below_limit < free;
+      throw WriteError(path_,
+                       (limit ? "the file size limit (ulimit -f) is near (" + std::to_string(room >> 10) + " KiB below it)"
+                              : "the disk is nearly full (" + std::to_string(room >> 10) + " KiB free)") +
+                           ": events " + std::to_string(written_) + ".." + std::to_string(written_ + count) +
+                           " not written, so that the HDF5 file can still be closed with the " +
+                           std::to_string(written_) + " before them",
+                       limit ? EFBIG : ENOSPC);
     }
     const Hdf5ErrorSilencer silence;
     const hsize_t start[1] = {written_};

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -65,18 +66,22 @@ void OutputFile::write_all(const char* data, std::size_t bytes) {
         continue;
       }
       const int err = errno;
-      throw WriteError(path_, std::string("write failed: ") + std::strerror(err) +
-                                  keep_whole_records(start, static_cast<std::size_t>(data - start)), err);
+      std::optional<std::uint64_t> records;
+      const std::string note = keep_whole_records(start, static_cast<std::size_t>(data - start), records);
+      throw WriteError(path_, std::string("write failed: ") + std::strerror(err) + note, err, records);
     }
+    if (records_.record_bytes == 0) file_lines_ += static_cast<std::uint64_t>(std::count(data, data + n, '\n'));
     data += n;
     bytes -= static_cast<std::size_t>(n);
     file_bytes_ += static_cast<std::uint64_t>(n);
   }
 }
 
-std::string OutputFile::keep_whole_records(const char* data, std::size_t written) {
+std::string OutputFile::keep_whole_records(const char* data, std::size_t written,
+                                           std::optional<std::uint64_t>& records_kept) {
   if (waits_for_reader_) return {};  // a FIFO's reader took what it took
   std::uint64_t keep = file_bytes_;
+  std::uint64_t records = 0;
   if (records_.record_bytes == 0) {  // lines: up to the last newline written
     std::size_t i = written;
     while (i > 0 && data[i - 1] != '\n') --i;
@@ -84,14 +89,18 @@ std::string OutputFile::keep_whole_records(const char* data, std::size_t written
     if (i == 0) {  // none in this write: the file ended on a line before it (writes start at one)
       keep = file_bytes_ - written;
     }
+    // What is cut holds no newline: every line counted stays.
+    records = file_lines_ > records_.header_lines ? file_lines_ - records_.header_lines : 0;
   } else if (file_bytes_ > records_.header_bytes) {
-    keep = records_.header_bytes +
-           (file_bytes_ - records_.header_bytes) / records_.record_bytes * records_.record_bytes;
+    records = (file_bytes_ - records_.header_bytes) / records_.record_bytes;
+    keep = records_.header_bytes + records * records_.record_bytes;
   }
-  if (keep == file_bytes_) return {};
-  if (::ftruncate(fd_, static_cast<off_t>(keep)) != 0) return " (a record is cut at the file's end)";
+  records_kept = records;
+  const std::string held = std::to_string(records) + (records == 1 ? " record" : " records");
+  if (keep == file_bytes_) return " (the file holds " + held + ", whole)";
+  if (::ftruncate(fd_, static_cast<off_t>(keep)) != 0) return " (a record is cut at the file's end, after " + held + ")";
   file_bytes_ = keep;
-  return " (the file ends after its last whole record)";
+  return " (the file ends after its last whole record: " + held + " in it)";
 }
 
 void OutputFile::wait_for_reader(std::size_t bytes_left) {

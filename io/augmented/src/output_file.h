@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,11 +12,13 @@ namespace evlife::io::detail {
 
 /// The records a file is made of, so that a failed write (a full disk) cuts
 /// it back to its last whole one: a reader then takes every record written,
-/// not stop at a cut one. `record_bytes` 0: lines (text); else records of
-/// that size after a header of `header_bytes`.
+/// not stop at a cut one, and the error says how many the file holds.
+/// `record_bytes` 0: lines (text), after `header_lines` that are no record;
+/// else records of that size after a header of `header_bytes`.
 struct OutputRecords {
   std::size_t header_bytes = 0;
   std::size_t record_bytes = 0;
+  std::size_t header_lines = 0;
 };
 
 class OutputFile {
@@ -46,8 +49,9 @@ class OutputFile {
  private:
   void write_all(const char* data, std::size_t bytes);
   // After a failed write of `written` of the bytes at `data`: the file cut
-  // back to its last whole record; a note for the error saying so.
-  std::string keep_whole_records(const char* data, std::size_t written);
+  // back to its last whole record; a note for the error saying so and how
+  // many whole records it holds (`records`; none for a FIFO).
+  std::string keep_whole_records(const char* data, std::size_t written, std::optional<std::uint64_t>& records);
   // A FIFO without room: waits for it, or throws WriteError on a stop (stop.h).
   void wait_for_reader(std::size_t bytes_left);
   std::string path_;
@@ -57,6 +61,7 @@ class OutputFile {
   std::size_t used_ = 0;
   OutputRecords records_;
   std::uint64_t file_bytes_ = 0;  // written so far
+  std::uint64_t file_lines_ = 0;  // newlines written so far (text files only)
 };
 
 }  // namespace evlife::io::detail

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,6 +50,11 @@ class Merger {
   std::unique_ptr<moodycamel::ProducerToken> order_free_token_;
   std::string sink_error_;
   std::atomic<bool> sink_failed_{false};
+  std::uint64_t sink_accepted_events_ = 0;  // handed to the sink without an error
+  // The sink's error: its text, and where its file says how many records it
+  // kept, the events handed to it that are not in it (before: only those
+  // handed after the error counted, not those the writer's buffer lost).
+  void sink_failed_with(const std::exception& e, std::size_t handed_now) noexcept;
   bool delivery_pending_ = false;
   bool finished_ = false;
 };

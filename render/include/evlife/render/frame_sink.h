@@ -48,7 +48,10 @@ class FrameSink {
 /// cannot be written.
 class PngFolderFrameSink final : public FrameSink {
  public:
-  explicit PngFolderFrameSink(std::string dir);
+  /// Throws std::runtime_error when the folder cannot be made, or holds
+  /// `input` (the recording drawn; through any link) under a frame's name: a
+  /// frame drawn there would overwrite it.
+  explicit PngFolderFrameSink(std::string dir, const std::string& input = {});
   void write(const FrameImage& frame, std::int64_t t_us) override;
   /// frame_*.png files the folder held before that this run did not write.
   std::size_t earlier_frames_left() const override { return earlier_.size(); }

@@ -29,6 +29,7 @@ inline constexpr double kMinVideoFps = 0.01;
 
 struct RecordingRenderOptions {
   std::string output;                ///< a folder, FILE.png or a video (.mp4, .avi)
+  std::string input;                 ///< the recording's file, if any: no frame is written over it
   bool video = false;                ///< output is a video
   bool single_png = false;           ///< output is one PNG (one --at instant)
   std::vector<std::int64_t> at_us;   ///< instants from the first event, sorted; empty: fps

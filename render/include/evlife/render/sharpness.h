@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include <opencv2/core.hpp>
 
@@ -18,7 +19,8 @@ struct Sharpness {
   std::size_t active_pixels = 0;
   std::size_t edge_pixels = 0;       ///< extent >= 3
   std::size_t thin_edge_pixels = 0;  ///< extent >= 3 and thickness <= 2
-  double mean_edge_thickness_px = 0; ///< mean thickness over edge pixels
+  /// Mean thickness over edge pixels; NaN without one (0 read as perfectly sharp).
+  double mean_edge_thickness_px = std::numeric_limits<double>::quiet_NaN();
 
   /// Share of active pixels on a thin edge, 0..1 (0 for an empty image).
   double thin_edge_share() const noexcept {
