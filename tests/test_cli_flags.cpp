@@ -165,6 +165,12 @@ TEST_F(CliFlags, TimesWithUnitsEverywhere) {
   const RunResult bad = run("synth -o " + path("x.txt") + " --duration 5parsecs");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_TRUE(has(bad, "--duration 5parsecs")) << bad.output;
+  // Every refused length is told synth's one range (-1 was told "0 or at least 1us", then 0 was refused).
+  for (const char* d : {"-1", "0", "1us", "5parsecs", "3601s"}) {
+    const RunResult refused = run("synth -o " + path("x.txt") + " --duration " + std::string(d));
+    EXPECT_EQ(refused.exit_code, 2) << d;
+    EXPECT_TRUE(has(refused, "--duration " + std::string(d) + ": expected 1ms..3600s")) << refused.output;
+  }
 }
 
 TEST_F(CliFlags, InputAndOutputSpellings) {

@@ -167,6 +167,12 @@ TEST(IoFormatsSamples, Aedat4DecodesCompletely) {
   expect_decoded(r, {111'954, {320, 240}, {1'605'537'493'718'345, 154, 204, -1},
                      {1'605'537'494'308'262, 88, 237, 1}, 18'342'405, 15'105'898, 55'023});
   EXPECT_EQ(r.skipped, 59u);  // IMU packets
+  // Said as packets of their stream's type (they were "59 records", no kind: 59 packets of many samples).
+  auto reader = evlife::io::open_event_reader(kAedat4);
+  std::vector<Event> all(200'000);
+  while (reader->read(all) > 0) {
+  }
+  EXPECT_EQ(evlife::io::skipped_kinds_text(*reader), "imu-packet 59");
   ASSERT_FALSE(r.events.empty());
   const double duration_s = static_cast<double>(r.events.back().t_us - r.events.front().t_us) * 1e-6;
   EXPECT_NEAR(duration_s, 0.59, 0.01);

@@ -850,6 +850,15 @@ TEST(LifetimeEstimator, FactoryEstimatorEqualsConstructedOne) {
   const LifetimeEstimatorOrError refused = make_lifetime_estimator(even);
   EXPECT_FALSE(refused);
   EXPECT_EQ(refused.error, "LifetimeOptions.window_size: 4 must be odd, in [3, 15]");
+  // A value just outside its range is shown as given, not rounded into the range beside it
+  // ("0.900000 must be in (0, 0.9]", "-0.000000 must be in [0, 1000]": a review's finding).
+  LifetimeOptions outside = options_for(s);
+  outside.outlier_fraction = 0.9000001;
+  EXPECT_EQ(make_lifetime_estimator(outside).error,
+            "LifetimeOptions.outlier_fraction: 0.9000001 must be in (0, 0.9]");
+  outside = options_for(s);
+  outside.lambda_decay_per_us = -1e-9;
+  EXPECT_EQ(make_lifetime_estimator(outside).error, "LifetimeOptions.lambda_decay_per_us: -1e-09 must be in [0, 1000]");
 }
 
 TEST(LifetimeEstimator, ProcessIsNoexcept) {

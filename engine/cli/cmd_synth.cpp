@@ -228,9 +228,13 @@ int synth(int argc, char** argv) {
       throw UsageError("--truth " + truth_path + ": the ground truth is written as CSV; name it .csv");
     scene_name = a.value("scene").value_or("mixed");
     const SensorSize sensor = parse_sensor_size(a.value("sensor").value_or("128x128"));
-    const std::int64_t duration_us = parse_time_flag("duration", a.value("duration").value_or("3"));
-    if (duration_us < 1000 || duration_us > 3600'000'000)
-      throw UsageError("--duration " + *a.value("duration") + ": expected 1ms..3600s");
+    // One range said for every refused value (a negative one was told the time flags' general
+    // "0 or at least 1us", then 0 and 1us were refused with this).
+    const std::string duration_text = a.value("duration").value_or("3");
+    const std::optional<std::int64_t> duration = parse_time_us(duration_text);
+    if (!duration || *duration < 1000 || *duration > 3600'000'000)
+      throw UsageError("--duration " + duration_text + ": expected 1ms..3600s (e.g. 1.5s, 500ms, or seconds)");
+    const std::int64_t duration_us = *duration;
     const std::uint64_t seed = parse_seed(a.value("seed").value_or("1"));
     const bool is_textured = scene_name == "textured";
     if (is_textured) {  // its spec is filled from `spec` below, once the pixels are set

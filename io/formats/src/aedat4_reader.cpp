@@ -4,9 +4,13 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstring>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "aedat4_generated.h"
 #include "reader_registry.h"
@@ -22,7 +26,21 @@ constexpr std::int32_t kMaxHeaderBytes = 16 << 20;
 struct StreamInfo {
   std::int32_t id = -1;
   std::optional<SensorSize> sensor;
+  std::vector<std::pair<std::int32_t, std::size_t>> others;  // every other stream: id, its kind's index
 };
+
+// What a skipped packet holds, by its stream's typeIdentifier: the kinds of
+// skipped_record_kinds(), in that order (the last for any other type).
+constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kSkippedPacketKinds{{
+    {"IMUS", "imu-packet"}, {"TRIG", "trigger-packet"}, {"FRME", "frame-packet"}, {"", "other-packet"}}};
+
+std::size_t packet_kind_of(std::string_view node) {
+  for (std::size_t k = 0; k + 1 < kSkippedPacketKinds.size(); ++k) {
+    const std::string tag = "key=\"typeIdentifier\" type=\"string\">" + std::string(kSkippedPacketKinds[k].first) + "<";
+    if (node.find(tag) != std::string_view::npos) return k;
+  }
+  return kSkippedPacketKinds.size() - 1;
+}
 
 // Integer value of `<attr key="KEY" type="int">N</attr>` in `xml`, if any.
 std::optional<int> xml_int_attr(std::string_view xml, std::string_view key) {
@@ -37,9 +55,11 @@ std::optional<int> xml_int_attr(std::string_view xml, std::string_view key) {
   return value;
 }
 
-// The first stream of type EVTS in the header's XML: streams are the nodes
-// named by a number under outInfo, e.g. <node name="0" path=".../outInfo/0/">.
+// The first stream of type EVTS in the header's XML, and the others' kinds:
+// streams are the nodes named by a number under outInfo, e.g. <node name="0"
+// path=".../outInfo/0/">.
 StreamInfo find_event_stream(std::string_view xml) {
+  StreamInfo info;
   std::vector<std::pair<std::int32_t, std::size_t>> streams;  // id, start of its node
   for (std::size_t at = xml.find("<node name=\""); at != std::string_view::npos;
        at = xml.find("<node name=\"", at + 1)) {
@@ -52,15 +72,16 @@ StreamInfo find_event_stream(std::string_view xml) {
     const std::size_t begin = streams[i].second;
     const std::size_t end = i + 1 < streams.size() ? streams[i + 1].second : xml.size();
     const std::string_view node = xml.substr(begin, end - begin);
-    if (node.find("key=\"typeIdentifier\" type=\"string\">EVTS<") == std::string_view::npos) continue;
-    StreamInfo info;
+    if (info.id >= 0 || node.find("key=\"typeIdentifier\" type=\"string\">EVTS<") == std::string_view::npos) {
+      info.others.emplace_back(streams[i].first, packet_kind_of(node));
+      continue;
+    }
     info.id = streams[i].first;
     const auto w = xml_int_attr(node, "sizeX");
     const auto h = xml_int_attr(node, "sizeY");
     if (w && h && *w > 0 && *h > 0) info.sensor = SensorSize{*w, *h};
-    return info;
   }
-  return {};
+  return info;
 }
 
 }  // namespace
@@ -109,6 +130,7 @@ Aedat4Reader::Aedat4Reader(const std::string& path) : file_(path) {
                     "AEDAT 4.0 file has no polarity event stream (typeIdentifier EVTS)");
   }
   event_stream_id_ = stream.id;
+  other_streams_ = stream.others;
   sensor_ = stream.sensor;
   const std::int64_t table = io_header->data_table_position();
   data_end_ = table > file_.offset() ? table : file_.size_bytes();
@@ -271,6 +293,10 @@ bool Aedat4Reader::next_packet() {
     }
     if (stream_id != event_stream_id_) {  // frames, IMU, triggers
       ++skipped_packets_;
+      std::size_t kind = kSkippedPacketKinds.size() - 1;  // a stream the header does not list: other
+      for (const auto& [id, k] : other_streams_)
+        if (id == stream_id) kind = k;
+      ++skipped_by_kind_[kind];
       if (file_.available() >= static_cast<std::size_t>(size)) {
         file_.consume(static_cast<std::size_t>(size));
       } else {
@@ -381,4 +407,11 @@ const ReaderFormat aedat4_format{"aedat4", "iniVation AEDAT 4.0 (DV; '#!AER-DAT4
                                  &sniff_aedat4, &open_aedat4};
 
 }  // namespace detail
+std::vector<SkippedKindCount> Aedat4Reader::skipped_record_kinds() const {
+  std::vector<SkippedKindCount> kinds;
+  for (std::size_t k = 0; k < kSkippedPacketKinds.size(); ++k)
+    if (skipped_by_kind_[k] > 0) kinds.push_back({kSkippedPacketKinds[k].second, skipped_by_kind_[k]});
+  return kinds;
+}
+
 }  // namespace evlife::io

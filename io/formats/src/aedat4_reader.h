@@ -6,6 +6,7 @@
 // are skipped and counted. Every packet is verified before it is read.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -34,8 +35,11 @@ class Aedat4Reader final : public EventReader {
   std::optional<SensorSize> sensor_size() const override { return sensor_; }
   std::string_view format_name() const override { return "aedat4"; }
   const std::string& path() const override { return file_.path(); }
-  /// Packets of other streams (frames, IMU, triggers) skipped.
+  /// Packets of other streams (frames, IMU, triggers) skipped: whole
+  /// packets, each of many samples, not decoded.
   std::uint64_t skipped_record_count() const override { return skipped_packets_; }
+  /// By their stream's type: imu-packet, trigger-packet, frame-packet, other-packet.
+  std::vector<SkippedKindCount> skipped_record_kinds() const override;
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());
   }
@@ -69,6 +73,8 @@ class Aedat4Reader final : public EventReader {
   std::size_t events_pos_ = 0;
   std::int64_t packet_offset_ = 0;
   std::uint64_t skipped_packets_ = 0;
+  std::array<std::uint64_t, 4> skipped_by_kind_{};  // [kind] (aedat4_reader.cpp: kSkippedPacketKinds)
+  std::vector<std::pair<std::int32_t, std::size_t>> other_streams_;  // the header's other streams: id, kind
   std::int64_t event_count_ = 0;
   std::optional<ReadError> error_;
   bool table_checked_ = false;

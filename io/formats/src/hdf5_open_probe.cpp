@@ -6,7 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -15,6 +19,7 @@
 #include "evlife/io/event_reader.h"
 #include "hdf5_attributes.h"
 #include "hdf5_child.h"
+#include "hdf5_signature.h"
 
 namespace evlife::io {
 namespace {
@@ -177,7 +182,7 @@ bool probe_in_child(const std::string& path) {
                           "HDF5 library cannot open the file: another process holds its lock (writing it?); "
                           "HDF5_USE_FILE_LOCKING=FALSE reads it anyway");
   if (WIFEXITED(status) && WEXITSTATUS(status) == kCannotOpenExit)
-    throw UnkeptOpenFault(path, -1, -1, kHdf5CannotOpen);
+    throw UnkeptOpenFault(path, -1, -1, hdf5_cannot_open_reason(path));
   // A probe killed from outside (the OOM killer: a corrupt file can make
   // libhdf5 ask for any size) says nothing of the file: refused all the
   // same, never opened unprobed.
@@ -188,5 +193,42 @@ bool probe_in_child(const std::string& path) {
 }
 
 }  // namespace
+
+namespace detail {
+
+std::optional<std::uint64_t> hdf5_stated_end(std::span<const std::uint8_t> head) noexcept {
+  if (!starts_with_hdf5_signature(head.data(), head.size()) || head.size() < 16) return std::nullopt;
+  const std::uint8_t version = head[8];
+  // (HDF5 file format specification, "Superblock": the offsets' size, then
+  // where the base address stands; the end-of-file address two offsets after it.)
+  const std::size_t offset_bytes = version <= 1 ? head[13] : head[9];
+  const std::size_t base_at = version == 0 ? 24 : version == 1 ? 28 : 12;
+  if (version > 3 || (offset_bytes != 2 && offset_bytes != 4 && offset_bytes != 8)) return std::nullopt;
+  const auto address = [&](std::size_t at) -> std::optional<std::uint64_t> {
+    if (at + offset_bytes > head.size()) return std::nullopt;
+    std::uint64_t v = 0;
+    for (std::size_t k = 0; k < offset_bytes; ++k) v |= std::uint64_t{head[at + k]} << (8 * k);  // little-endian
+    if (offset_bytes < 8 ? v == (std::uint64_t{1} << (8 * offset_bytes)) - 1 : v == UINT64_MAX) return std::nullopt;
+    return v;  // (all ones: the undefined address)
+  };
+  const auto base = address(base_at), end = address(base_at + 2 * offset_bytes);
+  if (!base || !end || *end > UINT64_MAX - *base) return std::nullopt;
+  return *base + *end;
+}
+
+}  // namespace detail
+
+std::string hdf5_cannot_open_reason(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<std::uint8_t, 64> head{};
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  const auto got = static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0));
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  const auto stated = detail::hdf5_stated_end(std::span(head.data(), got));
+  if (ec || !stated || size >= *stated) return kHdf5CannotOpen;
+  return std::string(kHdf5CannotOpen) + "; cut: the file has " + std::to_string(size) +
+         " bytes where its superblock states " + std::to_string(*stated) + " (a copy or download that stopped short?)";
+}
 
 }  // namespace evlife::io

@@ -6,6 +6,11 @@
 // follow are done by another child (hdf5_read_child.h).
 #pragma once
 
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
 #include <string>
 
 namespace evlife::io {
@@ -26,5 +31,18 @@ void probe_hdf5_open_in_child(const std::string& path);
 /// The refusal of a file libhdf5 will not open (the probe's child's verdict,
 /// or the reader's own H5Fopen where no child could be forked).
 inline constexpr const char* kHdf5CannotOpen = "HDF5 library cannot open the file (corrupt?)";
+
+/// kHdf5CannotOpen, and where the file is shorter than its superblock states
+/// (hdf5_stated_end), what the cut left: "cut: the file has N bytes where its
+/// superblock states M" (a copy or download that stopped short; the library
+/// says only that it cannot open it).
+std::string hdf5_cannot_open_reason(const std::string& path);
+
+namespace detail {
+/// Where the superblock at the start of `head` (a file's first bytes) says
+/// the file ends: its base address + end-of-file address, for superblock
+/// versions 0-3 with 2-, 4- or 8-byte offsets; nothing where it cannot tell.
+std::optional<std::uint64_t> hdf5_stated_end(std::span<const std::uint8_t> head) noexcept;
+}  // namespace detail
 
 }  // namespace evlife::io

@@ -317,7 +317,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path, const std::string& topic, const 
   file_bytes_ = static_cast<std::int64_t>(std::filesystem::file_size(path, size_error));
   if (size_error) file_bytes_ = 0;
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file_ < 0) throw ReadError(path, -1, -1, kHdf5CannotOpen);
+  if (file_ < 0) throw ReadError(path, -1, -1, hdf5_cannot_open_reason(path));
 
   std::string prefix;
   const char* names[4] = {"x", "y", "t", "p"};

@@ -138,9 +138,17 @@ void McapMessages::scan_data_section() {
   try {
     std::uint64_t pos = data_start_;
     Unit u;
+    // A record it cannot parse stops the scan as a fault does (said where its topics are missing).
+    const auto stopped_at = [&](std::uint64_t at, const char* what) {
+      scan_fault_.emplace(file_.path(), static_cast<std::int64_t>(at), -1,
+                          std::string("corrupt MCAP ") + what + " at this offset (the topics were listed up to it)");
+    };
     while (next_unit(pos, u)) {
       if (u.op != kChunk) {
-        if (!visit(Record{u.op, u.content})) break;
+        if (!visit(Record{u.op, u.content})) {
+          stopped_at(u.at, "record");
+          break;
+        }
         continue;
       }
       bool ok = true;
@@ -149,10 +157,15 @@ void McapMessages::scan_data_section() {
         ok = r && visit(*r);
         if (r) at += kRecordPrefix + r->content.size();
       }
-      if (!ok) break;
+      if (!ok) {
+        stopped_at(u.at, "record in the chunk");
+        break;
+      }
     }
-  } catch (const ReadError&) {
-    // the stream reports the fault when it gets there, after the events before it
+  } catch (const ReadError& e) {
+    // the stream reports the fault when it gets there, after the events before it; where the
+    // topics it stopped short of are asked for, opening reports it (listing_fault())
+    scan_fault_.emplace(e);
   }
   build_topics(counts);
 }

@@ -39,6 +39,10 @@ class McapMessages {
 
   /// Every topic (type = its schema name, serialization = message encoding).
   const std::vector<ros::TopicInfo>& topics() const noexcept { return topics_; }
+  /// The fault that stopped the scan of the data section at open (topics
+  /// listed from it), if any: where the topic asked for, or any event topic,
+  /// is missing, the file may be cut before it (ros::choose_topic).
+  const ReadError* listing_fault() const noexcept { return scan_fault_ ? &*scan_fault_ : nullptr; }
 
   /// Starts streaming the messages of topic `name` from the data section's start.
   void select(const std::string& name);
@@ -104,6 +108,7 @@ class McapMessages {
   std::uint64_t chunk_at_ = 0;
   std::optional<ros::ContainerFault> chunk_fault_;  ///< raised once pending_ is delivered
   std::optional<ros::ContainerFault> summary_fault_;  ///< raised at the end of the stream
+  std::optional<ReadError> scan_fault_;  ///< the fault that stopped scan_data_section()
   bool data_crc_wanted_ = true;  ///< false when the DataEnd found at open says 0
   std::uint32_t data_crc_ = 0;   ///< of the bytes streamed so far
   std::vector<std::uint8_t> scratch_;  ///< for CRCs of records not otherwise read

@@ -17,7 +17,7 @@ namespace {
 class McapReader final : public ros::TopicEventReader {
  public:
   McapReader(const std::string& path, const ReaderOptions& options) : bag_(path) {
-    const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic);
+    const ros::TopicInfo& topic = ros::choose_topic(path, bag_.topics(), options.topic, bag_.listing_fault());
     // ros1: a ROS 1 bag's messages as `mcap convert` stores them.
     if (topic.serialization != "cdr" && topic.serialization != "ros1") {
       throw ReadError(path, -1, -1, "topic '" + topic.name + "' is encoded as '" + topic.serialization +

@@ -6,10 +6,12 @@
 // text are all read from it, so a range is written once.
 #pragma once
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace evlife {
 
@@ -55,12 +57,25 @@ struct OptionInfo {
   }
 };
 
+/// An option's value as given: integers in digits, floating values in the
+/// shortest text that reads back as the value (std::to_string's six decimals
+/// showed 0.9000001 as "0.900000", inside the "(0, 0.9]" beside it).
+template <typename T>
+std::string option_value_text(T v) {
+  if constexpr (std::is_floating_point_v<T>) {
+    char buf[32];
+    return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+  } else {
+    return std::to_string(v);
+  }
+}
+
 /// "<key>: <value> must be in <range>" ("must be odd, in [3, 15]"), or ""
 /// when `v` is allowed.
 template <typename T>
 std::string check_option(const OptionInfo& info, T v) {
   if (info.contains(static_cast<double>(v))) return {};
-  return std::string(info.key) + ": " + std::to_string(v) + (info.odd ? " must be odd, in " : " must be in ") +
+  return std::string(info.key) + ": " + option_value_text(v) + (info.odd ? " must be odd, in " : " must be in ") +
          info.bounds_text();
 }
 
