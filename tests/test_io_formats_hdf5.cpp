@@ -366,14 +366,7 @@ TEST(IoFormatsHdf5, SameEventsGiveTheSameFile) {
 TEST(IoFormatsHdf5, PlainEventWriterRoundTrip) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("events.hdf5");
-  const std::vector<AugmentedEvent> augmented = make_events(1'000, {128, 128});
-  std::vector<Event> written;
-  for (const auto& a : augmented) written.push_back(a.event);
-  {
-    auto writer = evlife::io::open_event_writer(path);
-    writer->write(written);
-    writer->close();
-  }
+  const std::vector<Event> written = write_plain_events(path, 1'000);
   const ReadResult r = read_all(path);
   ASSERT_FALSE(r.error) << r.error->what();
   EXPECT_FALSE(r.sensor.has_value());  // open_event_writer knows no sensor
@@ -390,14 +383,7 @@ TEST(IoFormatsHdf5, PlainEventWriterRoundTrip) {
 TEST(IoFormatsHdf5, ACutFileIsSaidToBeCutWithTheSizeItsSuperblockStates) {
   const ScratchDir dir("test_io_formats_hdf5");
   const std::string path = dir.file("whole.h5");
-  const std::vector<AugmentedEvent> augmented = make_events(10'000, {128, 128});
-  std::vector<Event> written;
-  for (const auto& a : augmented) written.push_back(a.event);
-  {
-    auto writer = evlife::io::open_event_writer(path);
-    writer->write(written);
-    writer->close();
-  }
+  write_plain_events(path, 10'000);
   const auto whole = static_cast<std::size_t>(fs::file_size(path));
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
