@@ -290,6 +290,38 @@ TEST_F(MatFiles, ReadsDoubleClassStoredAsSmallIntegers) {
   EXPECT_TRUE(same(r.events[1], Event{300, 5, 6, -1}));
 }
 
+// What follows 'events' must end where the file does, as what precedes it:
+// bytes appended (here "GARBAGE"), or a later variable cut, are an input error
+// after every event at their offset (they were not looked at: exit 0). A
+// whole variable after 'events' is read as before.
+TEST_F(MatFiles, BytesAfterTheEventsVariableMustBeWholeElements) {
+  const std::vector<Event> events = some_events(5000);
+  const std::string two = dir_.file("two.mat");
+  matio_write<double>(two, events, MAT_C_DOUBLE, MAT_T_DOUBLE, MAT_COMPRESSION_ZLIB);
+  {
+    mat_t* mat = Mat_Open(two.c_str(), MAT_ACC_RDWR);
+    ASSERT_NE(mat, nullptr);
+    std::vector<double> other(300, 1.5);
+    std::size_t dims[2] = {300, 1};
+    matvar_t* var = Mat_VarCreate("other", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, other.data(), 0);
+    ASSERT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(var);
+    Mat_Close(mat);
+  }
+  const ReadAll whole = read_all(two);
+  ASSERT_FALSE(whole.error) << whole.error->what();
+  ASSERT_EQ(whole.events.size(), events.size());
+  std::ifstream in(two, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const std::string& damaged : {bytes + "GARBAGE", bytes.substr(0, bytes.size() - 100)}) {
+    const ReadAll r = read_all(write("damaged.mat", std::vector<char>(damaged.begin(), damaged.end())));
+    ASSERT_TRUE(r.error) << damaged.size();
+    EXPECT_EQ(r.events.size(), events.size());  // every event first
+    EXPECT_EQ(r.error->event_index(), static_cast<std::int64_t>(events.size()));
+    EXPECT_NE(std::string(r.error->what()).find("after the variable 'events'"), std::string::npos) << r.error->what();
+  }
+}
+
 TEST_F(MatFiles, MissingVariableAndWrongShapeAreNamed) {
   const std::string other = write("other.mat", handmade_mat(3, {1, 2, 3, 4}, 1, 4, "evts"));
   ReadAll r = read_all(other);

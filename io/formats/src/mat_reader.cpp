@@ -188,6 +188,7 @@ class MatReader final : public EventReader {
       if (compressed_ && cursors_[3] && !cursors_[3]->finish())
         pending_.emplace(file_.path(), -1, static_cast<std::int64_t>(rows_),
                          "variable 'events' after the last row: " + cursors_[3]->error());
+      if (!pending_ && trailing_fault_) pending_ = trailing_fault_;
       if (pending_) throw *pending_;
     }
     std::size_t n = 0;
@@ -296,6 +297,7 @@ class MatReader final : public EventReader {
         const MatrixHeader h = parse_matrix_header(*probe, header_fail);
         if (h.name == "events") {
           setup(h, type == miCOMPRESSED, offset, std::move(probe));
+          find_trailing_fault(payload + bytes);
           return;
         }
         seen.push_back(h.name);
@@ -317,6 +319,31 @@ class MatReader final : public EventReader {
                                                    std::to_string(offset - element - 8) + " bytes, past the file's end (" +
                                                    std::to_string(file_.size_bytes()) + " bytes); no variable 'events' before it " + found);
     fail(-1, "no variable 'events' in the MAT-file " + found);
+  }
+
+  // The elements after 'events' must end where the file does, as those before
+  // it: bytes appended (garbage, a second file) or a later variable cut are
+  // an input error after the last event (they were not looked at: exit 0).
+  void find_trailing_fault(std::uint64_t offset) {
+    const std::uint64_t size = file_.size_bytes();
+    while (offset + 8 <= size) {
+      std::byte tag[8];
+      file_.read_at(offset, tag);
+      const std::uint64_t end = offset + 8 + load_le32(tag + 4);
+      if (end > size) {
+        trailing_fault_.emplace(file_.path(), static_cast<std::int64_t>(offset), static_cast<std::int64_t>(rows_),
+                                "after the variable 'events': an element stating " + std::to_string(end - offset - 8) +
+                                    " bytes runs past the file's end (" + std::to_string(size) +
+                                    " bytes): a later variable cut, or bytes appended to the file?");
+        return;
+      }
+      offset = end;
+    }
+    if (offset < size) {
+      trailing_fault_.emplace(file_.path(), static_cast<std::int64_t>(offset), static_cast<std::int64_t>(rows_),
+                              "after the variable 'events': " + std::to_string(size - offset) +
+                                  " bytes that are no whole element (bytes appended to the file?)");
+    }
   }
 
   void setup(const MatrixHeader& h, bool compressed, std::uint64_t element_offset,
@@ -386,6 +413,7 @@ class MatReader final : public EventReader {
   std::vector<std::byte> raw_[4];
   std::vector<std::int64_t> values_[4];
   std::optional<ReadError> pending_;
+  std::optional<ReadError> trailing_fault_;  // find_trailing_fault(): raised after the last event
 };
 
 SniffResult sniff_mat(std::span<const std::byte> head, std::string_view path) {
