@@ -96,11 +96,10 @@ bool SignalCheck::pending_now() {
   return interrupted_;
 }
 
-bool lock_unless_interrupted(std::unique_lock<std::timed_mutex>& lock, SignalCheck& signals) {
-  while (!lock.try_lock_for(std::chrono::milliseconds(20))) {
-    if (signals.pending()) return false;
-  }
-  return true;
+void raise_interrupted_while_waiting(const std::string& who, const char* object, const char* nothing,
+                                     py::object partial) {
+  SignalCheck::raise(who + ": interrupted while another thread's call held " + object + "; " + nothing,
+                     std::move(partial), 0, py::none());
 }
 
 void SignalCheck::raise(const std::string& message, py::object partial, std::uint64_t events_processed,

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <string>
 
+#include "bindings.h"  // ReleasedGil
 #include "evlife/io/event_reader.h"
 
 namespace evlife::python {
@@ -54,11 +55,28 @@ class SignalCheck {
   std::chrono::steady_clock::time_point next_check_{};
 };
 
-/// Takes the mutex of `lock` (an object's lock that another Python thread's
-/// long call may hold: an estimator's process, a reader's read) in steps of
-/// 20 ms, so that Ctrl-C on the main thread ends the wait; false, unlocked,
-/// when `signals` saw one first. Without the GIL.
-bool lock_unless_interrupted(std::unique_lock<std::timed_mutex>& lock, SignalCheck& signals);
+/// Runs f() holding `mutex` (an object's lock that another Python thread's
+/// long call may hold: an estimator's process, a reader's read), the GIL
+/// released; waits in steps of 20 ms, so that Ctrl-C on the main thread ends
+/// the wait: then false, f not run (raise_interrupted_while_waiting()). Call
+/// it with the GIL.
+template <class F>
+[[nodiscard]] bool run_locked_unless_interrupted(std::timed_mutex& mutex, F&& f) {
+  SignalCheck waiting;
+  const ReleasedGil release;
+  std::unique_lock lock(mutex, std::defer_lock);
+  while (!lock.try_lock_for(std::chrono::milliseconds(20))) {
+    if (waiting.pending()) return false;
+  }
+  f();
+  return true;
+}
+
+/// evlife.Interrupted "`who`: interrupted while another thread's call held
+/// `object`; `nothing`" (run_locked_unless_interrupted() returned false),
+/// with `partial` and no event processed.
+[[noreturn]] void raise_interrupted_while_waiting(const std::string& who, const char* object, const char* nothing,
+                                                  py::object partial = py::none());
 
 /// A RuntimeWarning with `text`, attributed to the user's line: the caller of
 /// the Python wrapper every public reading function has (_streams.py); the

@@ -59,15 +59,10 @@ class Estimator {
     auto* dst = static_cast<AugmentedEvent*>(out.mutable_data());
     EventCheck check;
     SignalCheck signals(/*long_call=*/cols.size > kBlockEvents);
-    SignalCheck waiting;
     std::size_t processed = 0;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (locked) check = check_events(cols, estimator_.options().sensor, last_t_us_);
-      if (locked && check.bad_index == SIZE_MAX) {
+    const bool locked = run_locked_unless_interrupted(mutex_, [&] {
+      check = check_events(cols, estimator_.options().sensor, last_t_us_);
+      if (check.bad_index == SIZE_MAX) {
         std::vector<Event> block(check.convert ? std::min(cols.size, kBlockEvents) : 0);
         while (processed < cols.size && !(processed > 0 && signals.pending())) {
           const std::size_t n = std::min(kBlockEvents, cols.size - processed);
@@ -82,7 +77,7 @@ class Estimator {
           processed += n;
         }
       }
-    }
+    });
     if (!locked) raise_while_waiting("process", out[py::slice(0, 0, 1)]);
     if (check.bad_index != SIZE_MAX) {
       raise_input_error(io::ReadError("events", -1, static_cast<std::int64_t>(check.bad_index),
@@ -98,30 +93,16 @@ class Estimator {
   }
 
   void reset() {
-    SignalCheck waiting;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (locked) {
-        estimator_.reset();
-        last_t_us_ = INT64_MIN;
-      }
-    }
+    const bool locked = run_locked_unless_interrupted(mutex_, [&] {
+      estimator_.reset();
+      last_t_us_ = INT64_MIN;
+    });
     if (!locked) raise_while_waiting("reset", py::none());
   }
 
   py::dict stats() {
     LifetimeStats s;
-    SignalCheck waiting;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (locked) s = estimator_.stats();
-    }
+    const bool locked = run_locked_unless_interrupted(mutex_, [&] { s = estimator_.stats(); });
     if (!locked) raise_while_waiting("stats", py::none());
     py::dict d;
     d["events"] = s.events;
@@ -141,10 +122,8 @@ class Estimator {
  private:
   // Ctrl-C while another thread's call held the estimator: nothing done.
   [[noreturn]] static void raise_while_waiting(const char* what, py::object partial) {
-    SignalCheck::raise(std::string("evlife.LifetimeEstimator.") + what +
-                           ": interrupted while another thread's call held the estimator; nothing done, its "
-                           "state as it was",
-                       std::move(partial), 0, py::none());
+    raise_interrupted_while_waiting(std::string("evlife.LifetimeEstimator.") + what, "the estimator",
+                                    "nothing done, its state as it was", std::move(partial));
   }
 
   ResolvedOptions resolved_;

@@ -103,15 +103,8 @@ class Reader {
     std::optional<io::ReadError> fault;
     bool closed = false, none_delivered = false;
     SignalCheck signals(/*long_call=*/n_max > kReadBlock);
-    SignalCheck waiting;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (!locked) {
-        // nothing read: raised below
-      } else if (pending_) {  // a fault met after good events last time: raised now, once
+    const bool locked = run_locked_unless_interrupted(mutex_, [&] {
+      if (pending_) {  // a fault met after good events last time: raised now, once
         fault.swap(pending_);
       } else if (!reader_) {
         closed = true;
@@ -131,7 +124,7 @@ class Reader {
         delivered_ += n;
         none_delivered = delivered_ == 0;
       }
-    }
+    });
     if (!locked) raise_while_waiting("evlife.Reader.read", adopt(std::vector<Event>{}, event_dtype()));
     if (closed) throw py::value_error("the reader is closed");
     if (fault) raise_input_error(*fault);
@@ -156,15 +149,8 @@ class Reader {
   }
 
   void close() {
-    SignalCheck waiting;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (locked) reader_.reset();
-    }
-    if (!locked) raise_while_waiting("evlife.Reader.close", py::none());
+    if (!run_locked_unless_interrupted(mutex_, [&] { reader_.reset(); }))
+      raise_while_waiting("evlife.Reader.close", py::none());
   }
 
   /// f(reader) under the lock that read() and close() take, the GIL released
@@ -174,15 +160,10 @@ class Reader {
   template <class F>
   auto query(F f) const {
     std::optional<decltype(f(std::declval<const io::EventReader&>()))> value;
-    SignalCheck waiting;
-    bool locked = false;
-    {
-      ReleasedGil release;
-      std::unique_lock lock(mutex_, std::defer_lock);
-      locked = lock_unless_interrupted(lock, waiting);
-      if (locked && reader_) value.emplace(f(*reader_));
-    }
-    if (!locked) raise_while_waiting("evlife.Reader (reading a property)", py::none());
+    if (!run_locked_unless_interrupted(mutex_, [&] {
+          if (reader_) value.emplace(f(*reader_));
+        }))
+      raise_while_waiting("evlife.Reader (reading a property)", py::none());
     if (!value) throw py::value_error("the reader is closed");
     return std::move(*value);
   }
@@ -199,11 +180,9 @@ class Reader {
   mutable std::timed_mutex mutex_;
 
   // Ctrl-C while another thread's call held the reader: nothing read.
-  [[noreturn]] static void raise_while_waiting(const char* what, py::object partial) {
-    SignalCheck::raise(std::string(what) +
-                           ": interrupted while another thread's call held the reader; nothing read, the next "
-                           "read goes on where it was",
-                       std::move(partial), 0, py::none());
+  [[noreturn]] static void raise_while_waiting(const char* who, py::object partial) {
+    raise_interrupted_while_waiting(who, "the reader", "nothing read, the next read goes on where it was",
+                                    std::move(partial));
   }
 };
 

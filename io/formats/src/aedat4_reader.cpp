@@ -34,11 +34,14 @@ struct StreamInfo {
 constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kSkippedPacketKinds{{
     {"IMUS", "imu-packet"}, {"TRIG", "trigger-packet"}, {"FRME", "frame-packet"}, {"", "other-packet"}}};
 
+// Whether a stream's node states typeIdentifier `type` (EVTS, IMUS, ...).
+bool stream_type_is(std::string_view node, std::string_view type) {
+  return node.find("key=\"typeIdentifier\" type=\"string\">" + std::string(type) + "<") != std::string_view::npos;
+}
+
 std::size_t packet_kind_of(std::string_view node) {
-  for (std::size_t k = 0; k + 1 < kSkippedPacketKinds.size(); ++k) {
-    const std::string tag = "key=\"typeIdentifier\" type=\"string\">" + std::string(kSkippedPacketKinds[k].first) + "<";
-    if (node.find(tag) != std::string_view::npos) return k;
-  }
+  for (std::size_t k = 0; k + 1 < kSkippedPacketKinds.size(); ++k)
+    if (stream_type_is(node, kSkippedPacketKinds[k].first)) return k;
   return kSkippedPacketKinds.size() - 1;
 }
 
@@ -72,7 +75,7 @@ StreamInfo find_event_stream(std::string_view xml) {
     const std::size_t begin = streams[i].second;
     const std::size_t end = i + 1 < streams.size() ? streams[i + 1].second : xml.size();
     const std::string_view node = xml.substr(begin, end - begin);
-    if (info.id >= 0 || node.find("key=\"typeIdentifier\" type=\"string\">EVTS<") == std::string_view::npos) {
+    if (info.id >= 0 || !stream_type_is(node, "EVTS")) {
       info.others.emplace_back(streams[i].first, packet_kind_of(node));
       continue;
     }
