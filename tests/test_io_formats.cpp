@@ -651,6 +651,40 @@ std::vector<std::uint8_t> event_packet(const std::vector<Event>& events) {
   return b;
 }
 
+// Size-prefixed TriggerPacket "TRIG": a vector of Trigger tables (field 0
+// timestamp int64, field 1 type int8) sharing one vtable, laid out 8-aligned.
+struct DvTrigger {
+  std::int64_t t_us;
+  std::int8_t type;  // dv::TriggerType: 1-3 external input, 4-5 generator, 0 reset, 6-9 APS markers
+};
+std::vector<std::uint8_t> trigger_packet(const std::vector<DvTrigger>& triggers) {
+  const std::size_t n = triggers.size();
+  const std::size_t vtable = 32 + 4 * n;
+  const std::size_t first = (vtable + 8 + 7) / 8 * 8;
+  std::vector<std::uint8_t> b(first + 16 * n, 0);
+  put_u32(b, 0, static_cast<std::uint32_t>(b.size() - 4));
+  put_u32(b, 4, 16);  // root table at p+20
+  std::memcpy(&b[8], "TRIG", 4);
+  put_u16(b, 12, 6);  // the root's vtable: elements at +4
+  put_u16(b, 14, 8);
+  put_u16(b, 16, 4);
+  put_u32(b, 20, 20 - 12);
+  put_u32(b, 24, 4);  // -> the vector at 28
+  put_u32(b, 28, static_cast<std::uint32_t>(n));
+  put_u16(b, vtable, 8);  // the triggers' vtable: timestamp at +8, type at +4
+  put_u16(b, vtable + 2, 16);
+  put_u16(b, vtable + 4, 8);
+  put_u16(b, vtable + 6, 4);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t table = first + 16 * i;
+    put_u32(b, 32 + 4 * i, static_cast<std::uint32_t>(table - (32 + 4 * i)));
+    put_u32(b, table, static_cast<std::uint32_t>(table - vtable));
+    b[table + 4] = static_cast<std::uint8_t>(triggers[i].type);
+    put_i64(b, table + 8, triggers[i].t_us);
+  }
+  return b;
+}
+
 // A size-prefixed FileDataTable listing `packets` (byte_offset, stream id,
 // size): one shared vtable for its definitions, laid out 8-aligned.
 struct ListedPacket {
@@ -688,12 +722,16 @@ std::vector<std::uint8_t> file_table(const std::vector<ListedPacket>& packets) {
 // their 8-byte headers, uncompressed: Aedat4FileOutputStream).
 enum class FileTable { none, dv, jaer };
 
+// `triggers[k]`, if given, follows event packet k as a packet of trigger stream 5.
 std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vector<std::vector<Event>>& packets,
-                                      FileTable table = FileTable::none) {
+                                      FileTable table = FileTable::none,
+                                      const std::vector<std::vector<DvTrigger>>& triggers = {}) {
   const std::string xml =
       "<dv version=\"2.0\"><node name=\"outInfo\" path=\"/mainloop/Recorder/outInfo/\">"
       "<node name=\"3\" path=\"/mainloop/Recorder/outInfo/3/\">"
       "<attr key=\"typeIdentifier\" type=\"string\">IMUS</attr></node>"
+      "<node name=\"5\" path=\"/mainloop/Recorder/outInfo/5/\">"
+      "<attr key=\"typeIdentifier\" type=\"string\">TRIG</attr></node>"
       "<node name=\"7\" path=\"/mainloop/Recorder/outInfo/7/\">"
       "<attr key=\"typeIdentifier\" type=\"string\">EVTS</attr>"
       "<node name=\"info\" path=\"/mainloop/Recorder/outInfo/7/info/\">"
@@ -721,9 +759,10 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
     file.insert(file.end(), head.begin(), head.end());
     file.insert(file.end(), payload.begin(), payload.end());
   };
-  for (const auto& p : packets) {
+  for (std::size_t k = 0; k < packets.size(); ++k) {
     add_packet(3, std::vector<std::uint8_t>(100, 0xAB));  // an IMU packet: skipped
-    add_packet(7, event_packet(p));
+    add_packet(7, event_packet(packets[k]));
+    if (k < triggers.size()) add_packet(5, trigger_packet(triggers[k]));
   }
   if (table != FileTable::none) {
     put_i64(file, 14 + 32, static_cast<std::int64_t>(file.size()));  // io_header()'s dataTablePosition
@@ -761,6 +800,57 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
     ASSERT_EQ(r.events.size(), expected.size());
     EXPECT_TRUE(is_prefix(r.events, expected));
   }
+}
+
+// The trigger stream's packets were skipped undecoded: `triggers 0` for a
+// recording with external triggers. Only the external input's edges and
+// pulses count (as AEDAT 3's special events), not the generator's edges,
+// timestamp resets or APS frame and exposure markers.
+TEST(IoFormatsAedat4Synthetic, ExternalTriggersAreCountedFromTheTriggerPackets) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::vector<Event>> packets = {std::vector<Event>(40, Event{10, 1, 2, 1}),
+                                                   std::vector<Event>(30, Event{20, 3, 4, -1})};
+  std::vector<std::vector<DvTrigger>> triggers(2);
+  for (std::int8_t type = 0; type <= 9; ++type) triggers[0].push_back({10 + type, type});  // 3 external
+  triggers[1] = {{21, 1}, {22, 2}, {23, 8}};  // 2 external
+  for (const std::int32_t compression : {0, 3}) {
+    const std::string path = dir.save("triggers.aedat4", aedat4_file(compression, packets, FileTable::dv, triggers));
+    auto reader = evlife::io::open_event_reader(path);
+    std::vector<Event> all(100);
+    std::size_t events = 0;
+    while (const std::size_t n = reader->read(all)) events += n;
+    EXPECT_EQ(events, 70u) << compression;
+    EXPECT_EQ(reader->trigger_count(), 5u) << compression;
+    EXPECT_EQ(evlife::io::skipped_kinds_text(*reader), "imu-packet 2, trigger-packet 2") << compression;
+  }
+}
+
+// A trigger packet that does not verify is an input error at its offset,
+// after the events before it (it was skipped unseen before it was decoded).
+TEST(IoFormatsAedat4Synthetic, CorruptTriggerPacketIsReported) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::vector<Event>> packets = {std::vector<Event>(40, Event{10, 1, 2, 1}),
+                                                   std::vector<Event>(30, Event{20, 3, 4, -1})};
+  std::vector<std::uint8_t> bytes = aedat4_file(0, packets, FileTable::none, {{{11, 1}}, {{21, 1}}});
+  std::uint32_t header_bytes;
+  std::memcpy(&header_bytes, &bytes[14], 4);
+  std::size_t offset = 14 + 4 + header_bytes;
+  std::size_t first_trigger_packet = 0;
+  while (offset + 8 <= bytes.size()) {
+    std::uint32_t stream, size;
+    std::memcpy(&stream, &bytes[offset], 4);
+    std::memcpy(&size, &bytes[offset + 4], 4);
+    if (stream == 5 && first_trigger_packet == 0) first_trigger_packet = offset;
+    offset += 8 + size;
+  }
+  ASSERT_NE(first_trigger_packet, 0u);
+  put_u32(bytes, first_trigger_packet + 8 + 32, 0x7FFF'0000);  // the first trigger's offset: past the packet
+  const ReadResult r = read_all(dir.save("bad_trigger.aedat4", bytes), 64);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(first_trigger_packet)) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find("trigger packet does not verify"), std::string::npos)
+      << r.error->what();
+  EXPECT_EQ(r.events.size(), 40u);
 }
 
 TEST(IoFormatsAedat4Synthetic, EventOutsideTheStatedSensorIsReported) {

@@ -68,6 +68,52 @@ for _ in range(2):
 put('aedat4', 'real_first_packets.aedat4', d[:pos])
 put('aedat4', 'header_only.aedat4', d[:18 + hs])
 
+
+def aedat4_io_header(xml):
+    # size-prefixed IOHeader (compression NONE, no data table, infoNode = xml), as tests/test_io_formats.cpp
+    b = bytearray((44 + 4 + len(xml) + 1 + 3) // 4 * 4)
+    struct.pack_into('<II4sHHHHHxxIIqII', b, 0, len(b) - 4, 20, b'IOHE', 10, 20, 4, 8, 16, 12, 0, -1, 4, len(xml))
+    b[48:48 + len(xml)] = xml
+    return bytes(b)
+
+
+def aedat4_trigger_packet(triggers):
+    # size-prefixed TriggerPacket: Trigger tables (timestamp int64, type int8) sharing one vtable
+    n = len(triggers)
+    vtable = 32 + 4 * n
+    first = (vtable + 8 + 7) // 8 * 8
+    b = bytearray(first + 16 * n)
+    struct.pack_into('<II4sHHHxxIII', b, 0, len(b) - 4, 16, b'TRIG', 6, 8, 4, 8, 4, n)
+    struct.pack_into('<HHHH', b, vtable, 8, 16, 8, 4)
+    for i, (t, kind) in enumerate(triggers):
+        table = first + 16 * i
+        struct.pack_into('<I', b, 32 + 4 * i, table - (32 + 4 * i))
+        struct.pack_into('<Ibxxxq', b, table, table - vtable, kind, t)
+    return bytes(b)
+
+
+# A trigger stream (5) beside the events (7): a trigger packet of every type between event packets.
+xml = (b'<dv version="2.0"><node name="outInfo" path="/mainloop/Recorder/outInfo/">'
+       b'<node name="5" path="/mainloop/Recorder/outInfo/5/"><attr key="typeIdentifier" type="string">TRIG</attr></node>'
+       b'<node name="7" path="/mainloop/Recorder/outInfo/7/"><attr key="typeIdentifier" type="string">EVTS</attr>'
+       b'<node name="info" path="/mainloop/Recorder/outInfo/7/info/"><attr key="sizeX" type="int">346</attr>'
+       b'<attr key="sizeY" type="int">260</attr></node></node></node></dv>')
+
+
+def aedat4_event_packet(t0):
+    # size-prefixed EventPacket, its vector of eight 16-byte events at 36
+    events = b''.join(struct.pack('<qhhBxxx', t0 + i, 37 * i % 346, 91 * i % 260, i % 2) for i in range(8))
+    b = bytearray(40)
+    struct.pack_into('<II4sHHHxxII', b, 0, 40 + len(events) - 4, 16, b'EVTS', 6, 8, 4, 8, 12)
+    struct.pack_into('<I', b, 36, 8)
+    return bytes(b) + events
+
+
+trig = aedat4_trigger_packet([(1000 + 2 * k, k) for k in range(10)])
+body = b''.join(struct.pack('<ii', stream, len(p)) + p
+                for stream, p in ((7, aedat4_event_packet(1000)), (5, trig), (7, aedat4_event_packet(1100))))
+put('aedat4', 'synthetic_triggers.aedat4', b'#!AER-DAT4.0\r\n' + aedat4_io_header(xml) + body)
+
 # ---- Prophesee RAW EVT 2.0 / 3.0: '%' header, then 32-bit / 16-bit words.
 for what, rel, word in (('evt2', 'evt2/evt2_sample.raw', 4), ('evt3', 'evt3/evt3_sample.raw', 2)):
     d = read(rel)

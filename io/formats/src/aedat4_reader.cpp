@@ -33,6 +33,7 @@ struct StreamInfo {
 // skipped_record_kinds(), in that order (the last for any other type).
 constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kSkippedPacketKinds{{
     {"IMUS", "imu-packet"}, {"TRIG", "trigger-packet"}, {"FRME", "frame-packet"}, {"", "other-packet"}}};
+constexpr std::size_t kTriggerKind = 1;  // decoded: its external edges are trigger_count()
 
 // Whether a stream's node states typeIdentifier `type` (EVTS, IMUS, ...).
 bool stream_type_is(std::string_view node, std::string_view type) {
@@ -271,6 +272,35 @@ bool Aedat4Reader::data_table_ends_the_packets() {
   return true;
 }
 
+bool Aedat4Reader::load_packet(std::int64_t offset, std::int32_t size) {
+  std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
+  if (raw.size() < static_cast<std::size_t>(size)) raw.resize(static_cast<std::size_t>(size));
+  (compression_ == Compression::none ? packet_bytes_ : compressed_bytes_) = static_cast<std::size_t>(size);
+  if (file_.read(raw.data(), static_cast<std::size_t>(size)) != static_cast<std::size_t>(size)) {
+    fail(offset, "truncated AEDAT 4.0 packet");
+    return false;
+  }
+  return compression_ == Compression::none || decompress(offset);
+}
+
+bool Aedat4Reader::count_triggers(std::int64_t offset) {
+  flatbuffers::Verifier verifier(packet_.data(), packet_bytes_);
+  if (!verifier.VerifySizePrefixedBuffer<aedat4::TriggerPacket>(nullptr)) {
+    fail(offset, "AEDAT 4.0 trigger packet does not verify (corrupt FlatBuffer)");
+    return false;
+  }
+  const auto* packet = flatbuffers::GetSizePrefixedRoot<aedat4::TriggerPacket>(packet_.data());
+  if (packet->elements() == nullptr) return true;
+  for (const aedat4::Trigger* trigger : *packet->elements()) {
+    // The external input's edges and pulses: what the other formats' `triggers` count (AEDAT 3's
+    // special events too: the generator's own edges are not an input).
+    const auto type = trigger->type();
+    trigger_count_ += type >= aedat4::TriggerType::EXTERNAL_SIGNAL_RISING_EDGE &&
+                      type <= aedat4::TriggerType::EXTERNAL_SIGNAL_PULSE;
+  }
+  return true;
+}
+
 bool Aedat4Reader::next_packet() {
   while (true) {
     if (file_.offset() >= data_end_) {
@@ -300,7 +330,9 @@ bool Aedat4Reader::next_packet() {
       for (const auto& [id, k] : other_streams_)
         if (id == stream_id) kind = k;
       ++skipped_by_kind_[kind];
-      if (file_.available() >= static_cast<std::size_t>(size)) {
+      if (kind == kTriggerKind) {
+        if (!load_packet(offset, size) || !count_triggers(offset)) return false;
+      } else if (file_.available() >= static_cast<std::size_t>(size)) {
         file_.consume(static_cast<std::size_t>(size));
       } else {
         file_.seek(offset + 8 + size);
@@ -308,14 +340,7 @@ bool Aedat4Reader::next_packet() {
       continue;
     }
     packet_offset_ = offset;
-    std::vector<std::uint8_t>& raw = compression_ == Compression::none ? packet_ : compressed_;
-    if (raw.size() < static_cast<std::size_t>(size)) raw.resize(static_cast<std::size_t>(size));
-    (compression_ == Compression::none ? packet_bytes_ : compressed_bytes_) = static_cast<std::size_t>(size);
-    if (file_.read(raw.data(), static_cast<std::size_t>(size)) != static_cast<std::size_t>(size)) {
-      fail(offset, "truncated AEDAT 4.0 packet");
-      return false;
-    }
-    if (compression_ != Compression::none && !decompress(offset)) return false;
+    if (!load_packet(offset, size)) return false;
 
     flatbuffers::Verifier verifier(packet_.data(), packet_bytes_);
     if (!aedat4::VerifySizePrefixedEventPacketBuffer(verifier)) {

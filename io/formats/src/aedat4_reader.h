@@ -36,10 +36,12 @@ class Aedat4Reader final : public EventReader {
   std::string_view format_name() const override { return "aedat4"; }
   const std::string& path() const override { return file_.path(); }
   /// Packets of other streams (frames, IMU, triggers) skipped: whole
-  /// packets, each of many samples, not decoded.
+  /// packets, each of many samples; only the triggers' are decoded.
   std::uint64_t skipped_record_count() const override { return skipped_packets_; }
   /// By their stream's type: imu-packet, trigger-packet, frame-packet, other-packet.
   std::vector<SkippedKindCount> skipped_record_kinds() const override;
+  /// External input edges and pulses of the trigger streams' packets.
+  std::uint64_t trigger_count() const override { return trigger_count_; }
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());
   }
@@ -51,6 +53,11 @@ class Aedat4Reader final : public EventReader {
   /// Loads the next event packet; false at the end or on a fault (error_ set).
   bool next_packet();
   bool decompress(std::int64_t packet_offset);
+  /// The packet of `size` bytes after its header at `offset`, decompressed
+  /// into packet_; false on a fault (error_ set).
+  bool load_packet(std::int64_t offset, std::int32_t size);
+  /// Adds a trigger packet's (in packet_) external edges to trigger_count_.
+  bool count_triggers(std::int64_t offset);
   /// At data_end_: the file table there must decode and list packets that
   /// end there (a corrupt dataTablePosition ended the reading early, silently).
   bool data_table_ends_the_packets();
@@ -73,6 +80,7 @@ class Aedat4Reader final : public EventReader {
   std::size_t events_pos_ = 0;
   std::int64_t packet_offset_ = 0;
   std::uint64_t skipped_packets_ = 0;
+  std::uint64_t trigger_count_ = 0;
   std::array<std::uint64_t, 4> skipped_by_kind_{};  // [kind] (aedat4_reader.cpp: kSkippedPacketKinds)
   std::vector<std::pair<std::int32_t, std::size_t>> other_streams_;  // the header's other streams: id, kind
   std::int64_t event_count_ = 0;
