@@ -4,6 +4,7 @@ after the whole input, and the result was lost)."""
 import os
 import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -161,7 +162,6 @@ def test_a_daemon_thread_inside_a_call_at_the_scripts_end_does_not_abort_the_pro
 def test_an_interrupted_synth_stops_soon(scene, pixel):
     # A review helper's finding: synth ran deaf to Ctrl-C to its end (13 s for "large", duration=60),
     # then the KeyboardInterrupt dropped the scene all the same.
-    import time
     started = time.monotonic()
     e = interrupt_during(lambda: evlife.synth(scene, duration=60, pixel=pixel))
     assert time.monotonic() - started < 5  # stopped within a slice or a tile of the signal, not at the end
@@ -174,8 +174,8 @@ def test_ctrl_c_while_another_threads_call_holds_the_estimator_ends_the_wait():
     # A call waiting for an estimator that another thread's long call holds
     # waited for that call's end, deaf to Ctrl-C (1.4-1.7 s for a signal sent
     # at 0.2 s in a review). Nothing of the waiting call is done. (evlife.Reader
-    # waits for its lock the same way, lock_unless_interrupted(); its reads of
-    # the files here end too soon to be caught waiting.)
+    # waits for its lock the same way, run_locked_unless_interrupted(): the
+    # next test.)
     big = stripes_tiled(30)  # 10 M events: seconds of work for the other thread
     est = evlife.LifetimeEstimator(sensor=(128, 128))
     other = threading.Thread(target=est.process, args=(big,))
@@ -192,3 +192,39 @@ def test_ctrl_c_while_another_threads_call_holds_the_estimator_ends_the_wait():
         other.join()
     stats = est.stats  # the other call's alone: not reset, no event of the interrupted calls
     assert stats["events"] == len(big), stats
+
+
+def test_ctrl_c_while_another_threads_read_holds_the_reader_ends_the_wait(large_h5):
+    # evlife.Reader waits for its lock as the estimator does. Another thread reads the whole file in one chunk (~0.2 s idle); Ctrl-C
+    # reaches this thread's read while it waits for that one. An attempt in
+    # which the other read ended first (a busy machine) is tried again.
+    whole_events = len(evlife.read(large_h5))
+    for _ in range(10):
+        reader = evlife.open(large_h5, chunk_events=whole_events)
+        other_read = []
+        other = threading.Thread(target=lambda: other_read.append(reader.read()))
+        other.start()
+        time.sleep(0.005)  # the other read takes the lock first
+        timer = threading.Timer(0.02, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        waited = None
+        try:
+            try:
+                reader.read(10)
+            except evlife.Interrupted as e:
+                waited = e
+            waiting_then = other.is_alive()
+            timer.join()
+        except KeyboardInterrupt:  # landed outside the call, in Python: tried again
+            timer.join()
+            waited = None
+        other.join()
+        reader.close()
+        if waited is not None and waiting_then:
+            break
+    else:
+        pytest.fail("in 10 tries the other thread's read never outlasted the signal")
+    assert "evlife.Reader.read: interrupted while another thread's call held the reader" in str(waited), waited
+    assert waited.events_processed == 0 and len(waited.partial) == 0
+    # Nothing of the interrupted read was taken: the other read got every event.
+    assert len(other_read) == 1 and len(other_read[0]) == whole_events
