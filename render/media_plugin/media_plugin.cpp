@@ -1,5 +1,6 @@
 // libevlife_media.so: image files, video files and windows with OpenCV's
 // heavy modules, loaded on demand by render/src/media.cpp.
+#include <cstdarg>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -12,8 +13,34 @@
 
 #include "../src/media_backend.h"
 
+// FFmpeg's log (libavutil, loaded with OpenCV's video backend; weak: null
+// where no FFmpeg is loaded). Declared here, not linked: the plugin builds
+// where libavutil's headers are not installed.
+extern "C" {
+__attribute__((weak)) void av_log_set_callback(void (*callback)(void*, int, const char*, std::va_list));
+__attribute__((weak)) void av_log_default_callback(void* avcl, int level, const char* fmt, std::va_list args);
+}
+
 namespace evlife::render::detail {
 namespace {
+
+// FFmpeg's log dropped while a check reads back a video that may be cut: its
+// "moov atom not found" came before evlife's own message. (The level would
+// not do: OpenCV sets it again at every open.)
+class QuietFfmpeg {
+ public:
+  QuietFfmpeg() {
+    if (quiet_) av_log_set_callback([](void*, int, const char*, std::va_list) {});
+  }
+  ~QuietFfmpeg() {
+    if (quiet_) av_log_set_callback(av_log_default_callback);
+  }
+  QuietFfmpeg(const QuietFfmpeg&) = delete;
+  QuietFfmpeg& operator=(const QuietFfmpeg&) = delete;
+
+ private:
+  const bool quiet_ = av_log_set_callback != nullptr && av_log_default_callback != nullptr;
+};
 
 class OpenCvVideo final : public VideoFile {
  public:
@@ -39,14 +66,20 @@ class OpenCvVideo final : public VideoFile {
     if (!writer_.isOpened()) return;
     writer_.release();
     if (frames_ == 0) return;
-    cv::VideoCapture check(path_, cv::CAP_FFMPEG);  // the backend that reads what the writer wrote
-    const double counted = check.isOpened() ? check.get(cv::CAP_PROP_FRAME_COUNT) : 0.0;
-    bool complete = check.isOpened() && counted >= static_cast<double>(frames_);
-    if (complete) complete = check.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(frames_ - 1)) && check.grab();
+    bool complete = false;
+    bool opened = false;
+    {
+      const QuietFfmpeg quiet;
+      cv::VideoCapture check(path_, cv::CAP_FFMPEG);  // the backend that reads what the writer wrote
+      opened = check.isOpened();
+      const double counted = opened ? check.get(cv::CAP_PROP_FRAME_COUNT) : 0.0;
+      complete = opened && counted >= static_cast<double>(frames_);
+      if (complete) complete = check.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(frames_ - 1)) && check.grab();
+    }
     if (!complete)
       throw std::runtime_error("the video " + path_ + " is incomplete: " + std::to_string(frames_) +
                                " frames written, " +
-                               (check.isOpened() ? "not all of them readable" : "the file does not open") +
+                               (opened ? "not all of them readable" : "the file does not open") +
                                " (disk full?)");
   }
 
