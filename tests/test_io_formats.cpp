@@ -519,6 +519,37 @@ TEST(IoFormatsWordStreams, PropheseeTimeBaseFollowsTheSpecification) {
   }
 }
 
+// An EVT 3.0 stream cut after its time base but before its first row
+// (ADDR_Y) or vector base (VECT_BASE_X): the events there have no known
+// address. They were made up at y = 0 / x = 0.., uncounted; now skipped and
+// counted, as the events before the first TIME_HIGH.
+TEST(IoFormatsWordStreams, Evt3EventsBeforeTheirRowOrVectorBaseAreSkippedAndCounted) {
+  const ScratchDir dir("test_io_formats");
+  const std::string path = dir.save("evt3_no_row.raw", with_words(
+      "% format EVT3;height=720;width=1280\n",
+      std::vector<std::uint16_t>{
+          0x8005, 0x6064,    // TIME_HIGH 5, TIME_LOW 100
+          0x2800 | 10,       // ADDR_X 10 ON: no row yet
+          0x0000 | 20,       // ADDR_Y 20
+          0x4000 | 0xFFF,    // VECT_12, 12 events: no vector base yet
+          0x2800 | 11,       // ADDR_X 11 ON: an event
+          0x3000 | 0x800 | 40,  // VECT_BASE_X 40 ON
+          0x5000 | 0x3,      // VECT_8: x = 40, 41
+      }));
+  const ReadResult r = read_all(path, 4);
+  ASSERT_FALSE(r.error) << r.error->what();
+  const std::int64_t t = (5 << 12) | 100;
+  const std::vector<Event> expected = {{t, 11, 20, 1}, {t, 40, 20, 1}, {t, 41, 20, 1}};
+  ASSERT_EQ(r.events.size(), expected.size());
+  EXPECT_TRUE(is_prefix(r.events, expected));
+  EXPECT_EQ(r.skipped, 13u);
+  auto reader = evlife::io::open_event_reader(path);
+  std::vector<Event> all(16);
+  while (reader->read(all) > 0) {
+  }
+  EXPECT_EQ(evlife::io::skipped_kinds_text(*reader), "event-before-its-row-or-vector-base 13");
+}
+
 TEST(IoFormatsWordStreams, Evt21ByteOrderFromTheWordsThemselves) {
   using evlife::io::Evt21Reader;
   const std::vector<std::uint64_t> words = {evt21_time_high(7), evt21_event(1, 1, 64, 2, 0x00F0F00Fu),

@@ -40,6 +40,7 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
           break;
         }
         y_ = w & 0x7FFu;
+        has_y_ = true;
         break;
       case 0x2: {  // ADDR_X: one event
         const std::uint32_t x = w & 0x7FFu;
@@ -52,12 +53,17 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
           ++before_time_base_count_;
           break;
         }
+        if (!has_y_) {  // nor its row (a stream cut between ADDR_Y and its events)
+          ++before_address_count_;
+          break;
+        }
         out[n++] = Event{t_us_, static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y_),
                          (w & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1}};
         break;
       }
       case 0x3:  // VECT_BASE_X
         base_x_ = w & 0x7FFu;
+        has_base_x_ = true;
         vector_p_ = (w & 0x800u) != 0 ? std::int8_t{1} : std::int8_t{-1};
         break;
       case 0x4:    // VECT_12
@@ -71,6 +77,9 @@ Evt3Decoder::Result Evt3Decoder::decode(const std::uint8_t* bytes, std::size_t w
         }
         if (!has_time_base_) {
           before_time_base_count_ += static_cast<std::uint64_t>(std::popcount(mask));
+          mask = 0;
+        } else if (!has_y_ || !has_base_x_) {  // row or first column not known: skipped, counted
+          before_address_count_ += static_cast<std::uint64_t>(std::popcount(mask));
           mask = 0;
         }
         while (mask != 0) {

@@ -62,6 +62,9 @@ class Evt3Decoder {
   std::uint64_t other_count() const noexcept { return other_count_; }
   /// Events before the stream's first TIME_HIGH (a file cut mid-stream): skipped.
   std::uint64_t before_time_base_count() const noexcept { return before_time_base_count_; }
+  /// Events (after the time base) before the stream's first ADDR_Y, or vector
+  /// events before its first VECT_BASE_X: row or column unknown, skipped.
+  std::uint64_t before_address_count() const noexcept { return before_address_count_; }
   void set_trigger_sink(Evt3TriggerSink* sink) noexcept { trigger_sink_ = sink; }
 
  private:
@@ -76,7 +79,10 @@ class Evt3Decoder {
   std::uint64_t trigger_count_ = 0;
   std::uint64_t other_count_ = 0;
   std::uint64_t before_time_base_count_ = 0;
+  std::uint64_t before_address_count_ = 0;
   bool has_time_base_ = false;  // a TIME_HIGH was seen
+  bool has_y_ = false;          // an ADDR_Y was seen
+  bool has_base_x_ = false;     // a VECT_BASE_X was seen
   Evt3TriggerSink* trigger_sink_ = nullptr;
   std::uint16_t fault_word_ = 0;
   // The last word decoded (CONTINUED's check reads its type, the zero-fill

@@ -26,10 +26,12 @@ class Evt3Reader final : public EventReader {
   std::string_view format_name() const override { return "evt3"; }
   const std::string& path() const override { return file_.path(); }
   std::uint64_t skipped_record_count() const override {
-    return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count();
+    return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count() +
+           decoder_.before_address_count();
   }
   std::vector<SkippedKindCount> skipped_record_kinds() const override {
-    return prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(), decoder_.before_time_base_count());
+    return prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(), decoder_.before_time_base_count(),
+                                   decoder_.before_address_count());
   }
   std::uint64_t bytes_consumed() const override {
     return static_cast<std::uint64_t>(file_.offset());

@@ -36,12 +36,15 @@ class PropheseeTimeHigh {
 };
 
 /// What a Prophesee stream skipped, by kind (EventReader::skipped_record_kinds()).
+/// (`before_address`: EVT 3.0's events before the first row or vector base.)
 inline std::vector<SkippedKindCount> prophesee_skipped_kinds(std::uint64_t triggers, std::uint64_t others,
-                                                             std::uint64_t before_time_base) {
+                                                             std::uint64_t before_time_base,
+                                                             std::uint64_t before_address = 0) {
   std::vector<SkippedKindCount> kinds;
   if (triggers > 0) kinds.push_back({"trigger", triggers});
   if (others > 0) kinds.push_back({"other-or-continued", others});
   if (before_time_base > 0) kinds.push_back({"event-before-the-first-time-high", before_time_base});
+  if (before_address > 0) kinds.push_back({"event-before-its-row-or-vector-base", before_address});
   return kinds;
 }
 

@@ -98,6 +98,7 @@ class MessageDecoder {
   std::uint64_t other_count() const noexcept { return evt3_.other_count(); }
   /// EVT 3.0 events before the stream's first TIME_HIGH: no time, skipped.
   std::uint64_t before_time_base_count() const noexcept { return evt3_.before_time_base_count(); }
+  std::uint64_t before_address_count() const noexcept { return evt3_.before_address_count(); }
   /// libcaer events without their valid mark: skipped.
   std::uint64_t libcaer_invalid_count() const noexcept { return libcaer_invalid_; }
   void set_trigger_sink(Evt3TriggerSink* sink) noexcept { evt3_.set_trigger_sink(sink); }

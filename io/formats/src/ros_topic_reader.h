@@ -33,11 +33,11 @@ class TopicEventReader : public EventReader {
   std::optional<SensorSize> sensor_size() const final { return sensor_; }
   std::uint64_t skipped_record_count() const final {
     return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count() +
-           decoder_.libcaer_invalid_count();
+           decoder_.before_address_count() + decoder_.libcaer_invalid_count();
   }
   std::vector<SkippedKindCount> skipped_record_kinds() const final {
-    auto kinds =
-        prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(), decoder_.before_time_base_count());
+    auto kinds = prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(),
+                                         decoder_.before_time_base_count(), decoder_.before_address_count());
     if (const std::uint64_t n = decoder_.libcaer_invalid_count(); n > 0) kinds.push_back({"libcaer-event-marked-invalid", n});
     return kinds;
   }
