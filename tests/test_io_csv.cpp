@@ -87,6 +87,32 @@ TEST(IoCsv, TimeUnitOptionOverrides) {
   }
 }
 
+// Without a unit the first lines' times tell it: whole -> µs. A fraction
+// after them was rounded to µs, silently (or, with fewer whole lines first,
+// made the whole file seconds): now an input error that asks for the unit.
+TEST(IoCsv, AFractionAfterTheWholeTimesThatMadeTheUnitUsAsksForTheUnit) {
+  const ScratchDir dir("test_io_csv");
+  std::string text = "x,y,t,p\n";
+  for (int i = 0; i < 1500; ++i) text += "1,1," + std::to_string(i) + ",1\n";  // past the lines sampled
+  text += "1,1,1500.5,0\n";
+  const std::string path = dir.save("whole_then_fraction.csv", text);
+  const ReadAll r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1500u);
+  EXPECT_EQ(r.error->event_index(), 1500);
+  EXPECT_NE(std::string(r.error->what()).find("line 1502: '1,1,1500.5,0': its t is a fraction, but the whole times "
+                                              "of the first lines made the unit µs"),
+            std::string::npos)
+      << r.error->what();
+  // Said in seconds or µs, it reads.
+  const ReadAll s = read_all(path, "s");
+  ASSERT_FALSE(s.error) << s.error->what();
+  EXPECT_EQ(s.events.back().t_us, 1'500'500'000);
+  const ReadAll us = read_all(path, "us");
+  ASSERT_FALSE(us.error) << us.error->what();
+  EXPECT_EQ(us.events.back().t_us, 1501);  // rounded to nearest, as the unit was given
+}
+
 // NumPy's savetxt writes every column as "%.18e" by default: times in seconds
 // as 9.999999999999999547e-07, coordinates as 1.000000000000000000e+00.
 std::string savetxt(const std::vector<std::vector<double>>& rows, const char* sep, const char* header = "") {

@@ -54,6 +54,21 @@ def test_not_a_time_is_an_error_after_the_events_before(tmp_path):
     assert len(e.value.partial) == 7
 
 
+def test_a_fraction_after_the_whole_float_times_that_made_the_unit_us_asks_for_the_unit(tmp_path):
+    # Float times, whole in the first rows: µs; a fraction after them was
+    # rounded to µs, silently (with fewer whole rows first: all in seconds).
+    t = np.arange(1500, dtype="<f8")
+    t = np.append(t, 1500.5)
+    a = np.zeros(len(t), dtype=[("t", "<f8"), ("x", "<u2"), ("y", "<u2"), ("p", "i1")])
+    a["t"] = t
+    np.save(tmp_path / "f.npy", a)
+    with pytest.raises(evlife.InputError, match="record 1500: its field 't' = 1500.5 is a fraction, but the whole "
+                                                "times of the first rows made the unit µs") as e:
+        evlife.read(tmp_path / "f.npy")
+    assert len(e.value.partial) == 1500
+    assert evlife.read(tmp_path / "f.npy", time_unit="s")["t"][-1] == 1_500_500_000
+
+
 def test_records_larger_than_a_buffer_read(tmp_path):
     # 2.4 MB a record: before, 0 events and no error.
     a = structured([("t", "<i8"), ("x", "<u2"), ("y", "<u2"), ("p", "?"), ("blob", "<f8", (300_000,))],

@@ -245,6 +245,7 @@ class CsvTextReader final : public EventReader {
       unit_ns_ = d.unit_ns;
     } else {
       unit_ns_ = time_has_point(d) ? 1'000'000'000 : 1'000;
+      unit_from_whole_times_ = unit_ns_ == 1'000;
     }
   }
 
@@ -261,7 +262,7 @@ class CsvTextReader final : public EventReader {
         if (skip_header_) {
           skip_header_ = false;
         } else if (const Parsed parsed = parse(line.data(), end, out[n]); parsed != Parsed::ok) {
-          fail(lines_.offset(), std::string(line.substr(0, 80)), parsed == Parsed::time_too_large);
+          fail(lines_.offset(), std::string(line.substr(0, 80)), parsed);
           break;
         } else {
           line_offsets_.set(n, lines_.offset());
@@ -311,7 +312,7 @@ class CsvTextReader final : public EventReader {
     return false;
   }
 
-  enum class Parsed { ok, bad, time_too_large };
+  enum class Parsed { ok, bad, time_too_large, fraction_after_whole_times };
 
   Parsed parse(const char* p, const char* end, Event& e) const noexcept {
     std::array<Field, 64> f{};
@@ -325,6 +326,9 @@ class CsvTextReader final : public EventReader {
       return Parsed::bad;
     e = Event{};  // a whole event (EventReader::read)
     if (!as_uint16(x, e.x) || !as_uint16(y, e.y)) return Parsed::bad;
+    // A fraction where the first lines' whole times made the unit µs: seconds
+    // after all? (Rounded to µs it was read as another unit, silently.)
+    if (unit_from_whole_times_ && written_as_fraction(t)) return Parsed::fraction_after_whole_times;
     if (!to_us(t, unit_ns_, e.t_us)) return Parsed::time_too_large;
     if (!pol.integral || pol.int_part > 1) return Parsed::bad;
     e.p = (pol.int_part == 1 && !pol.negative) ? std::int8_t{1} : std::int8_t{-1};
@@ -342,15 +346,21 @@ class CsvTextReader final : public EventReader {
     return next == LineReader::Next::line;
   }
 
-  void fail(std::uint64_t line_offset, const std::string& text, bool time_too_large = false) {
-    const std::string layout = layout_text(layout_, columns_);
+  void fail(std::uint64_t line_offset, const std::string& text, Parsed why = Parsed::bad) {
+    const std::string line = "line " + std::to_string(line_number_) + ": ";
+    std::string what;
+    if (why == Parsed::fraction_after_whole_times) {
+      what = "'" + text + "': its t is a fraction, but the whole times of the first lines made the unit µs (a file "
+             "without a unit is in seconds when its times are fractions): say the unit with --time-unit s|ms|us|ns";
+    } else {
+      what = "expected " + std::to_string(columns_) + " fields '" + layout_text(layout_, columns_) +
+             "' (x y integers, p 0/1/-1, t a number), got '" + text + "'" +
+             (why == Parsed::time_too_large ? "; its t is out of range for the time unit (epoch nanoseconds? "
+                                              "--time-unit ns)"
+                                            : "");
+    }
     pending_.emplace(lines_.path(), static_cast<std::int64_t>(line_offset), static_cast<std::int64_t>(next_index_),
-                     "line " + std::to_string(line_number_) + ": expected " + std::to_string(columns_) +
-                         " fields '" + layout +
-                         "' (x y integers, p 0/1/-1, t a number), got '" + text + "'" +
-                         (time_too_large ? "; its t is too large for the time unit (epoch nanoseconds? "
-                                           "--time-unit ns)"
-                                         : ""));
+                     line + what);
   }
 
   LineReader lines_;
@@ -361,6 +371,7 @@ class CsvTextReader final : public EventReader {
   int columns_ = 4;
   bool skip_header_ = false;
   std::int64_t unit_ns_ = 1000;
+  bool unit_from_whole_times_ = false;  // µs, told from the first lines' whole times alone
   std::optional<ReadError> pending_;
   BatchLineOffsets line_offsets_;
 };

@@ -354,6 +354,7 @@ class NpyEventReader final : public EventReader {
         fractional = v.f != std::floor(v.f);
       }
       t_unit_ns_ = fractional ? 1'000'000'000 : 1'000;
+      unit_from_whole_times_ = !fractional;
     }
   }
 
@@ -367,6 +368,11 @@ class NpyEventReader final : public EventReader {
     if (!as_integer(x, 0, 65535, xv)) return fail(kX, x, "not a coordinate (an integer 0..65535)");
     if (!as_integer(y, 0, 65535, yv)) return fail(kY, y, "not a coordinate (an integer 0..65535)");
     if (!as_integer(p, -1, 1, pv)) return fail(kP, p, "not a polarity (1 ON, 0 or -1 OFF)");
+    // A fraction where the first rows' whole times made the unit µs: seconds
+    // after all? (Rounded to µs it was read as another unit, silently.)
+    if (unit_from_whole_times_ && t.is_float && t.f != std::floor(t.f))
+      return fail(kT, t, "a fraction, but the whole times of the first rows made the unit µs (float times are in "
+                         "seconds when they are fractions): say the unit with --time-unit s|ms|us|ns");
     if (!to_microseconds(t, t_unit_ns_, tv))
       return fail(kT, t, "not a time in " + unit_name() + " that fits in 64-bit µs (--time-unit?)");
     e = Event{tv, static_cast<std::uint16_t>(xv), static_cast<std::uint16_t>(yv),
@@ -447,6 +453,7 @@ class NpyEventReader final : public EventReader {
   std::array<Column, 4> columns_{};  ///< by Role
   std::int64_t name_unit_ns_ = 0;
   std::int64_t t_unit_ns_ = 1000;
+  bool unit_from_whole_times_ = false;  // µs, told from the first rows' whole float times alone
   std::string layout_;
   std::optional<ReadError> pending_;
 };
