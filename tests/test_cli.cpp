@@ -939,6 +939,20 @@ TEST_F(CliTest, ARefusedRunLeavesAnExistingOutputAsItWas) {
   EXPECT_NE(large.output.find("exceed MPEG-4's 8191 px a side"), std::string::npos) << large.output;
   EXPECT_NE(large.output.find(out + " left as it was"), std::string::npos) << large.output;
   EXPECT_TRUE(evlife::test::read_text_file(out) == before);
+  // A file stating a sensor no estimator takes is an input error, as `process` says it (run: exit 2).
+  const std::string huge = path("huge.raw").string();
+  {
+    std::ofstream raw(huge, std::ios::binary);
+    raw << "% evt 2.0\n% format EVT2;height=10;width=5000\n% end\n";
+    for (const std::uint32_t w : {0x80000001u, 0x10000000u | (5u << 11) | 3u}) raw.write(reinterpret_cast<const char*>(&w), 4);
+  }
+  for (const char* command : {"process", "run"}) {
+    const RunResult r = run(std::string(command) + " '" + huge + "' -q -o " + out);
+    EXPECT_EQ(r.exit_code, 3) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("sensor 5000x10"), std::string::npos) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("is not usable"), std::string::npos) << command << ": " << r.output;
+  }
+  EXPECT_TRUE(evlife::test::read_text_file(out) == before);
 }
 
 // An input that fails while the output fails too: the output's error decides

@@ -657,6 +657,16 @@ int run_engine(int argc, char** argv) {
     return kExitInterrupted;
   }
   warn_user_sensor_ignored("run", args.sensor, args.config, file_of_source(args.source), source->sensor_size());
+  // A size the file states (or its events span) that no estimator takes: the
+  // input's fault, as `evlife process` says it (it was exit 2, a usage error).
+  if (LifetimeOptions sized = args.engine.lifetime; is_file_source(args.source)) {
+    sized.sensor = source->sensor_size();
+    if (const std::string why = validate_lifetime_options(sized); !why.empty()) {
+      std::fprintf(stderr, "evlife run: input error: %s: sensor %dx%d is not usable: %s\n", source->describe().c_str(),
+                   sized.sensor.width, sized.sensor.height, why.c_str());
+      return kExitInput;
+    }
+  }
   // Every refusal before the output is opened: opening it empties a file of that name.
   if (const auto refusal = estimator_memory_refusal(source->sensor_size(), args.engine.workers)) {
     std::fprintf(stderr, "evlife run: %s: use fewer --workers or a smaller --sensor\n", refusal->c_str());
