@@ -392,6 +392,27 @@ TEST_F(Writers, AVersionOneHeaderOfOtherSizesIsRefusedALaterVersionsIsRead) {
                                                 std::to_string(bytes.size())),
             std::string::npos)
       << cut.error->what();
+  // A header stating a sensor with one side of 0 px (0x0: none stated) is corrupt, said at its offset:
+  // it was read, and every event was then blamed for lying outside the 10x0 sensor.
+  const auto with_u32 = [&](std::string b, std::size_t at, unsigned value) {
+    return with_u16(with_u16(std::move(b), at, value & 0xFFFF), at + 2, value >> 16);
+  };
+  for (const auto& [width, height] : {std::pair{10u, 0u}, std::pair{0u, 7u}, std::pair{70000u, 10u}}) {
+    const std::string bad_sensor = path("bad_sensor.bin");
+    std::ofstream(bad_sensor, std::ios::binary) << with_u32(with_u32(bytes, 16, width), 20, height);
+    const Readback bad = read_back(bad_sensor);
+    ASSERT_TRUE(bad.error) << width << "x" << height;
+    EXPECT_EQ(bad.error->byte_offset(), 16);
+    EXPECT_NE(std::string(bad.error->what()).find("implausible sensor size in the header: " + std::to_string(width) +
+                                                  "x" + std::to_string(height)),
+              std::string::npos)
+        << bad.error->what();
+  }
+  const std::string unstated = path("no_sensor.bin");
+  std::ofstream(unstated, std::ios::binary) << with_u32(with_u32(bytes, 16, 0), 20, 0);
+  const Readback none = read_back(unstated);
+  ASSERT_FALSE(none.error) << none.error->what();
+  EXPECT_EQ(none.events.size(), events.size());
 }
 
 // A CSV cut inside a row (a full disk) delivers the complete rows, then an

@@ -41,8 +41,12 @@ class AugmentedBinReader final : public AugmentedEventReader {
                           std::to_string(file_.size_bytes()));
     const auto width = get<std::uint32_t>(header, 16);
     const auto height = get<std::uint32_t>(header, 20);
-    if (width > 65536 || height > 65536)
-      throw ReadError(path, 16, -1, "implausible sensor size in header");
+    // 0x0: no size stated (convert of a CSV without --sensor). One side of
+    // 0 px blamed every event for lying outside the sensor.
+    if ((width == 0) != (height == 0) || width > 65536 || height > 65536)
+      throw ReadError(path, 16, -1,
+                      "implausible sensor size in the header: " + std::to_string(width) + "x" + std::to_string(height) +
+                          " (corrupt header?)");
     sensor_ = SensorSize{static_cast<int>(width), static_cast<int>(height)};
     offset_ = header_bytes_;
     buffer_.resize(record_bytes_ * 8192);
