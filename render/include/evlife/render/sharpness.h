@@ -1,8 +1,9 @@
 // A sharpness figure for event images, measured the same way for every
 // method (lifetime or fixed window): how much of what is drawn lies on thin
 // edges. Per active pixel, the run of active pixels through it is measured in
-// 4 directions (horizontal, vertical, both diagonals): the shortest run is
-// the local thickness, the longest its extent. A pixel lies on an edge when
+// 4 directions (horizontal, vertical, both diagonals): the longest run is its
+// extent, the shorter of the horizontal and vertical runs its local thickness
+// (diagonal runs would call a blurred band's corners thin). A pixel lies on an edge when
 // its extent is >= 3 px (isolated dots are not edges), on a thin edge when in
 // addition its thickness is <= 2 px (motion blur makes edges thick).
 #pragma once
