@@ -457,10 +457,31 @@ TEST(PixelModel, SynthCommandLine) {
   const SyntheticScene expected = io::generate_scene(spec);
   EXPECT_TRUE(same_events(test::read_all(out).events, expected.events));
   const std::string csv = test::read_text_file(truth);
-  EXPECT_EQ(csv.rfind("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n", 0), 0u);
+  EXPECT_EQ(csv.rfind("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot,travel_px,margin_px,scorable,feature\n", 0),
+            0u);
   std::size_t followers = 0;
   for (const EventTruth& t : expected.truth) followers += t.burst_index > 0 ? 1 : 0;
   ASSERT_GT(followers, 0u);
+  // Every row holds its event's truth, the scoring columns too (an outside scorer had no margin,
+  // travel, scorable or feature: the README's accuracy figures could not be reproduced from it).
+  std::istringstream rows(csv);
+  std::string row;
+  std::getline(rows, row);
+  for (std::size_t i = 0; i < expected.truth.size(); ++i) {
+    ASSERT_TRUE(std::getline(rows, row)) << i;
+    const EventTruth& t = expected.truth[i];
+    double travel = -1.0;
+    unsigned margin = 0;
+    int scorable = -1, feature = -2;
+    ASSERT_EQ(std::sscanf(row.c_str(), "%*d,%*d,%*d,%*d,%*d,%*g,%*g,%*g,%*u,%*d,%lg,%u,%d,%d", &travel, &margin,
+                          &scorable, &feature),
+              4)
+        << row;
+    ASSERT_NEAR(travel, t.travel_px, 1e-5 * std::max(1.0, t.travel_px)) << i;
+    ASSERT_EQ(margin, t.margin_px) << i;
+    ASSERT_EQ(scorable, t.scorable ? 1 : 0) << i;
+    ASSERT_EQ(feature, t.feature) << i;
+  }
 
   // The photoreceptor's bandwidth and the readout's quantum (every pixel
   // option of io::pixel_parameters() is a flag).

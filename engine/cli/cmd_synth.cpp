@@ -122,12 +122,18 @@ void print_help(std::FILE* out) {
       "  --timestamp-quantum-us Q  stamps floored to multiples of Q us (0: 1 us): a\n"
       "                       frame-based emulator's interval, a busy readout's steps.\n"
       "  --truth FILE         also write the ground truth as CSV, one row per event in\n"
-      "                       the same order: t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n"
+      "                       the same order: t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot,\n"
+      "                       travel_px,margin_px,scorable,feature\n"
       "                       where p is +1 = ON, -1 = OFF (as in .h5 and process's .csv;\n"
       "                       the .txt writes OFF as 0), (nx, ny) is the unit direction of\n"
       "                       motion of the edge, noise rows have lifetime 0, burst_index is\n"
       "                       0 for the first event of an edge's burst and hot is 1 for\n"
-      "                       hot-pixel events.\n"
+      "                       hot-pixel events; travel_px is how far the edge has moved since\n"
+      "                       its motion began, margin_px the distance to the border of its\n"
+      "                       region (of the sensor for noise), scorable 0 where the time\n"
+      "                       surface is no plane (near a rotation centre), feature the\n"
+      "                       edge's index (-1 noise): what the README's accuracy figures\n"
+      "                       score by (README, Synthetic scenes).\n"
       "  -q, --quiet          no summary.\n"
       "  -h, --help           this text.\n"
       "\n"
@@ -169,7 +175,7 @@ class TruthCsv {
       throw io::WriteError(path, folder_problem_.empty() ? std::string("cannot create: ") + std::strerror(errno)
                                                          : folder_problem_);
     }
-    put("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot\n");
+    put("t_us,x,y,p,noise,lifetime_us,nx,ny,burst_index,hot,travel_px,margin_px,scorable,feature\n");
   }
   ~TruthCsv() {
     if (file_ != nullptr) std::fclose(file_);
@@ -178,15 +184,16 @@ class TruthCsv {
   TruthCsv& operator=(const TruthCsv&) = delete;
 
   void write(std::span<const Event> events, std::span<const io::EventTruth> truth) {
-    char line[160];
+    char line[224];
     for (std::size_t i = 0; i < events.size(); ++i) {
       const Event& e = events[i];
       const io::EventTruth& t = truth[i];
-      const int n = std::snprintf(line, sizeof line, "%lld,%u,%u,%d,%d,%.6g,%.6f,%.6f,%u,%d\n",
+      const int n = std::snprintf(line, sizeof line, "%lld,%u,%u,%d,%d,%.6g,%.6f,%.6f,%u,%d,%.6g,%u,%d,%d\n",
                                   static_cast<long long>(e.t_us), static_cast<unsigned>(e.x),
                                   static_cast<unsigned>(e.y), e.p > 0 ? 1 : -1, t.is_noise ? 1 : 0,
                                   t.lifetime_us, t.nx, t.ny, static_cast<unsigned>(t.burst_index),
-                                  t.is_hot ? 1 : 0);
+                                  t.is_hot ? 1 : 0, t.travel_px, static_cast<unsigned>(t.margin_px),
+                                  t.scorable ? 1 : 0, static_cast<int>(t.feature));
       if (std::fwrite(line, 1, static_cast<std::size_t>(n), file_) != static_cast<std::size_t>(n)) {
         throw io::WriteError(path_, std::string("write failed: ") + std::strerror(errno), errno);
       }
