@@ -383,6 +383,22 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   EXPECT_EQ(r.events.size(), 1u);
   EXPECT_EQ(r.error->event_index(), 1);
   EXPECT_NE(std::string(r.error->what()).find("x is not"), std::string::npos) << r.error->what();
+  // A t past int64 µs (9.3e18) is said to be that: "not a finite integer" named a finite number.
+  path = dir_.file("big_t.mat");
+  {
+    std::vector<double> data = {1, 2, 1, 2, 1, -1, 10, 9.3e18};
+    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+    std::size_t dims[2] = {2, 4};
+    matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
+    Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
+    Mat_VarFree(var);
+    Mat_Close(mat);
+  }
+  r = read_all(path);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1u);
+  EXPECT_NE(std::string(r.error->what()).find("t is NaN, infinite or beyond +-9.2e18 us"), std::string::npos)
+      << r.error->what();
 }
 
 TEST_F(MatFiles, TruncatedCompressedFileDeliversAnExactPrefixThenNamesTheFile) {

@@ -209,7 +209,9 @@ class MatReader final : public EventReader {
             decode(data_type_, raw.data(), got, values_[c].data(), c == 3 ? Convert::round : Convert::exact);
         if (decoded < good) {
           good = decoded;
-          fault = std::string(kColumnNames[c]) + " is not a finite integer";
+          // (t is rounded to µs: only NaN, infinity or a value past int64 stops it.)
+          fault = std::string(kColumnNames[c]) +
+                  (c == 3 ? " is NaN, infinite or beyond +-9.2e18 us" : " is not a finite integer");
         }
       }
       const std::int64_t* xs = values_[0].data();
