@@ -7,7 +7,7 @@ import numpy.typing as npt
 
 from . import batch as batch
 
-StrPath = Union[str, PathLike[str]]
+StrPath = Union[str, bytes, PathLike[str], PathLike[bytes]]
 Sensor = Tuple[int, int]
 
 EVENT_DTYPE: np.dtype[np.void]      # t int64 µs, x uint16, y uint16, p int8 (+1/-1); 16 bytes
@@ -22,7 +22,7 @@ class InputError(ValueError):
     partial: Optional[npt.NDArray[np.void]]
     events_written: Optional[int]  # process_file: the events its output holds
 
-class Interrupted(KeyboardInterrupt):  # Ctrl-C during read(), process(), process_file(), synth() or LifetimeEstimator.process()
+class Interrupted(KeyboardInterrupt):  # Ctrl-C during read(), Reader.read(), scan(), process(), process_file(), synth() or LifetimeEstimator.process()
     partial: Optional[npt.NDArray[np.void]]  # the outputs of the events processed
     events_processed: int
     events_written: Optional[int]  # process_file: the events its output holds
@@ -71,7 +71,8 @@ def write(path: StrPath, augmented: npt.NDArray[np.void], sensor: Sensor) -> Non
 
 # Keyword options: every `estimator.` key of config/evlife.yaml (see estimator_options()).
 class LifetimeEstimator:
-    def __init__(self, sensor: Sensor, *, config: Optional[StrPath] = None,
+    # sensor: required unless config= states estimator.sensor
+    def __init__(self, sensor: Optional[Sensor] = None, *, config: Optional[StrPath] = None,
                  window_size: int = ..., outlier_fraction: float = ...,
                  ransac_confidence: float = ..., inlier_tolerance_us: float = ...,
                  inlier_tolerance_lifetime_fraction: float = ...,

@@ -19,7 +19,53 @@ def public(wrapper, qualname=None):
     to a Dask worker or a multiprocessing.Pool."""
     wrapper.__module__ = "evlife"
     wrapper.__qualname__ = qualname or wrapper.__name__
+    wrapped = getattr(wrapper, "__wrapped__", None)
+    if wrapped is not None:
+        try:
+            inspect.signature(wrapped)
+        except ValueError:  # a C++ function: inspect.signature() and help() had none
+            wrapper.__signature__ = _shown_signature(wrapped)
     return wrapper
+
+
+class _Default:
+    """A default as pybind11 wrote it, where it is no Python literal: shown as written."""
+
+    def __init__(self, text):
+        self.text = text
+
+    def __repr__(self):
+        return self.text
+
+
+def _shown_signature(function):
+    """The signature pybind11 writes first in a C++ function's __doc__, with its annotations and
+    defaults as written, for inspect.signature() and help()."""
+    line = function.__doc__.partition("\n")[0]
+    head = line[line.index("("):]
+    params, _, returns = head.rpartition(" -> ")
+    a = ast.parse("def f%s: pass" % params).body[0].args
+
+    def annotation(node):
+        return _P.empty if node is None else ast.unparse(node)
+
+    def default(node):
+        try:
+            return ast.literal_eval(node)
+        except ValueError:
+            return _Default(ast.unparse(node))
+    positional = a.posonlyargs + a.args
+    first_default = len(positional) - len(a.defaults)
+    parameters = [_P(p.arg, _P.POSITIONAL_ONLY if i < len(a.posonlyargs) or (i, p.arg) == (0, "self")
+                     else _P.POSITIONAL_OR_KEYWORD, annotation=_P.empty if p.arg == "self" else annotation(p.annotation),
+                     default=_P.empty if i < first_default else default(a.defaults[i - first_default]))
+                  for i, p in enumerate(positional)]
+    parameters += [_P(a.vararg.arg, _P.VAR_POSITIONAL)] if a.vararg else []
+    parameters += [_P(p.arg, _P.KEYWORD_ONLY, annotation=annotation(p.annotation),
+                      default=_P.empty if d is None else default(d))
+                   for p, d in zip(a.kwonlyargs, a.kw_defaults)]
+    parameters += [_P(a.kwarg.arg, _P.VAR_KEYWORD)] if a.kwarg else []
+    return inspect.Signature(parameters, return_annotation=returns.strip() or _P.empty)
 
 
 def naming_arguments(function, qualname=None):

@@ -42,7 +42,7 @@ from . import _evlife
 from . import _streams
 from ._arguments import checking
 
-__all__ = ["FileResult", "BatchResult", "process_files", "process_slices"]
+__all__ = ["FileResult", "BatchResult", "local_cluster", "process_files", "process_slices"]
 
 FileResult = namedtuple("FileResult", "path events lifetime_share seconds output error")
 FileResult.__doc__ = """One recording's row: path, events, lifetime_share (share of events

@@ -505,7 +505,7 @@ void bind_estimator(py::module_& m) {
              ReleasedGil release;
              return std::make_unique<Estimator>(std::move(r));
            }),
-           py::arg("sensor"), py::kw_only(), py::arg("config") = py::none())
+           py::arg("sensor") = py::none(), py::kw_only(), py::arg("config") = py::none())
       .def(
           "process",
           [](Estimator& e, const py::handle& events, const py::kwargs& kw) {
@@ -532,9 +532,11 @@ or a bad polarity; then nothing of this call is processed and the state is uncha
   m.def(
       "process",
       [](const py::object& input, const py::object& sensor, const py::object& config,
-         bool one_thread, const OptionalFloatArgument& from_s_arg, const OptionalFloatArgument& to_s_arg,
-         const OptionalStrArgument& topic_arg, const OptionalStrArgument& time_unit_arg,
-         const OptionalStrArgument& polarity_arg, const py::kwargs& kw) -> py::array {
+         const BoolArgument& one_thread_arg, const OptionalFloatArgument& from_s_arg,
+         const OptionalFloatArgument& to_s_arg, const OptionalStrArgument& topic_arg,
+         const OptionalStrArgument& time_unit_arg, const OptionalStrArgument& polarity_arg,
+         const py::kwargs& kw) -> py::array {
+        const bool one_thread = bool_argument("evlife.process", "one_thread", one_thread_arg);
         const auto [from_s, to_s, topic, time_unit, polarity] =
             reader_arguments("evlife.process", from_s_arg, to_s_arg, topic_arg, time_unit_arg, polarity_arg);
         if (py::isinstance<py::str>(input) || py::isinstance<py::bytes>(input) || py::hasattr(input, "__fspath__")) {
@@ -610,10 +612,11 @@ records of a recording that are not events (triggers, IMU samples, frames).)");
   m.def(
       "process_file",
       [](const py::object& input, const py::object& output, const py::object& sensor,
-         const py::object& config, bool one_thread, const OptionalFloatArgument& from_s,
+         const py::object& config, const BoolArgument& one_thread_arg, const OptionalFloatArgument& from_s,
          const OptionalFloatArgument& to_s, const OptionalStrArgument& topic,
          const OptionalStrArgument& time_unit, const OptionalStrArgument& polarity,
          const py::kwargs& kw) {
+        const bool one_thread = bool_argument("evlife.process_file", "one_thread", one_thread_arg);
         const std::string in = path_from_python(input), out = path_from_python(output);
         return process_to_file(in, out, sensor,
                                reader_options("evlife.process_file", std::nullopt, from_s, to_s, topic, time_unit,

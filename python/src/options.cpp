@@ -136,6 +136,11 @@ std::optional<std::string> optional_str_argument(const std::string& where, const
   return str_argument(where, name, value);
 }
 
+bool bool_argument(const std::string& where, const char* name, const py::handle& value) {
+  if (!is_a_bool(value)) raise_argument_type_error(where, name, "True or False", value);
+  return py::cast<bool>(py::bool_(py::reinterpret_borrow<py::object>(value)));
+}
+
 std::string misspelled_keyword(std::string_view keyword, const std::vector<std::string_view>& keywords,
                                const std::vector<std::string_view>& others) {
   std::vector<std::string_view> candidates(keywords.begin(), keywords.end());

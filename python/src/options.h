@@ -38,6 +38,7 @@ EVLIFE_ARGUMENT_TYPE(StrArgument)            // str
 EVLIFE_ARGUMENT_TYPE(OptionalFloatArgument)  // Optional[float]
 EVLIFE_ARGUMENT_TYPE(OptionalIntArgument)    // Optional[int]
 EVLIFE_ARGUMENT_TYPE(OptionalStrArgument)    // Optional[str]
+EVLIFE_ARGUMENT_TYPE(BoolArgument)           // bool
 #undef EVLIFE_ARGUMENT_TYPE
 
 /// The conversions of those arguments, as pybind11 made them (the same values
@@ -50,6 +51,9 @@ std::optional<double> optional_float_argument(const std::string& where, const ch
                                               const char* unit);
 std::string str_argument(const std::string& where, const char* name, const py::handle& value);
 std::optional<std::string> optional_str_argument(const std::string& where, const char* name, const py::handle& value);
+/// True or False (Python's or NumPy's bool): no truth value of another type
+/// ("no" was a pybind11 error printing the whole input, None and 1 passed).
+bool bool_argument(const std::string& where, const char* name, const py::handle& value);
 /// TypeError "WHERE(): NAME must be EXPECTED, got TYPE REPR".
 [[noreturn]] void raise_argument_type_error(const std::string& where, const char* name, const std::string& expected,
                                             const py::handle& value);
@@ -177,5 +181,6 @@ EVLIFE_ARGUMENT_TYPE_NAME(StrArgument, "str")
 EVLIFE_ARGUMENT_TYPE_NAME(OptionalFloatArgument, "Optional[float]")
 EVLIFE_ARGUMENT_TYPE_NAME(OptionalIntArgument, "Optional[int]")
 EVLIFE_ARGUMENT_TYPE_NAME(OptionalStrArgument, "Optional[str]")
+EVLIFE_ARGUMENT_TYPE_NAME(BoolArgument, "bool")
 #undef EVLIFE_ARGUMENT_TYPE_NAME
 }  // namespace pybind11::detail

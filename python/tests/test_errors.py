@@ -238,13 +238,15 @@ def test_a_misspelled_or_missing_required_argument_is_named(tmp_path):
         (lambda: evlife.write(out, augmented), "write", "sensor"),
         (lambda: evlife.frame(augmented), "frame", "t_us"),
         (lambda: estimator.process(), "LifetimeEstimator.process", "events"),
-        (lambda: evlife.LifetimeEstimator(window_size=7), "LifetimeEstimator", "sensor"),
     ]
     for call, function, name in missing:
         with pytest.raises(TypeError) as e:
             call()
         assert str(e.value) == "evlife.%s() missing required argument '%s'" % (function, name)
     assert not out.exists()
+    # The estimator's sensor may come from config= (below): without either, its own message.
+    with pytest.raises(TypeError, match=r"^evlife.LifetimeEstimator: sensor=\(width, height\) is required"):
+        evlife.LifetimeEstimator(window_size=7)
     # The calls that fit are as before, by position or keyword.
     assert len(evlife.read(path=path)) == len(augmented) == len(estimator.process(events=evlife.read(path)))
 
@@ -274,9 +276,9 @@ def test_too_many_positional_arguments_are_said_as_python_says_them():
         # A class is called by its name, without self: its count is the call's (it said "takes 2
         # positional arguments but 3 were given" of LifetimeEstimator((8, 8), 1)).
         (lambda: evlife.LifetimeEstimator((8, 8), 1),
-         "evlife.LifetimeEstimator() takes 1 positional argument but 2 were given"),
+         "evlife.LifetimeEstimator() takes from 0 to 1 positional arguments but 2 were given"),
         (lambda: evlife.LifetimeEstimator((8, 8), 1, 2),
-         "evlife.LifetimeEstimator() takes 1 positional argument but 3 were given"),
+         "evlife.LifetimeEstimator() takes from 0 to 1 positional arguments but 3 were given"),
         # The methods that take nothing (pybind11 said "close(): incompatible function arguments").
         (lambda: evlife.LifetimeEstimator((8, 8)).reset(True),
          "evlife.LifetimeEstimator.reset() takes 1 positional argument but 2 were given"),
@@ -612,3 +614,28 @@ def test_a_fault_before_the_first_event_gives_an_empty_partial(tmp_path):
             call(cut)
         assert "cut.bag" in str(e.value)
         assert e.value.partial is not None and len(e.value.partial) == 0, call.__name__
+
+
+def test_one_thread_takes_a_bool_only(tmp_path):
+    # An API audit's finding: one_thread="no" was pybind11's "incompatible function arguments" printing
+    # the whole input array and naming no argument; None and 1 were taken silently.
+    events = evlife.read(data(RECORDINGS["mat"]))[:100]
+    for value, shown in [("no", "str 'no'"), (None, "NoneType None"), (1, "int 1")]:
+        with pytest.raises(TypeError) as e:
+            evlife.process(events, (128, 128), one_thread=value)
+        assert str(e.value) == "evlife.process(): one_thread must be True or False, got %s" % shown
+        with pytest.raises(TypeError, match=r"^evlife.process_file\(\): one_thread must be True or False"):
+            evlife.process_file(data(RECORDINGS["mat"]), tmp_path / "x.bin", one_thread=value)
+    assert not (tmp_path / "x.bin").exists()
+    same = evlife.process(events, (128, 128), one_thread=np.bool_(True))  # a mask's element is a bool too
+    assert same.tobytes() == evlife.process(events, (128, 128)).tobytes()
+
+
+def test_an_estimators_sensor_may_come_from_its_config_alone(tmp_path):
+    # Its error said "sensor=(width, height) is required (or a config= file stating estimator.sensor)",
+    # but LifetimeEstimator(config=...) was refused: "missing required argument 'sensor'".
+    config = tmp_path / "sensor.yaml"
+    config.write_text("estimator:\n  sensor:\n    width: 200\n    height: 150\n")
+    assert evlife.LifetimeEstimator(config=config).sensor == (200, 150)
+    with pytest.raises(TypeError, match=r"sensor=\(width, height\) is required \(or a config= file stating"):
+        evlife.LifetimeEstimator()

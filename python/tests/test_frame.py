@@ -94,6 +94,11 @@ def test_a_misspelled_keyword_or_a_mode_of_the_wrong_type_is_named_without_the_a
     cases = [
         (lambda: evlife.frame(augmented, t, sensor, mode=3), "evlife.frame(): mode must be a str, got int 3"),
         (lambda: evlife.frame(augmented, t, sensor, color=None), "evlife.frame(): color must be a str, got NoneType None"),
+        # (an API audit's finding: caption="no" drew the caption, any object having a truth value)
+        (lambda: evlife.frame(augmented, t, sensor, caption="no"), "evlife.frame(): caption must be True or False, got "
+         "str 'no'"),
+        (lambda: evlife.frame(augmented, t, sensor, thinning=0), "evlife.frame(): thinning must be True or False, got "
+         "int 0"),
         (lambda: evlife.frame(augmented, t, sensor, scal=2),
          "evlife.frame() got an unexpected keyword argument 'scal' (did you mean 'scale'?)"),
         (lambda: evlife.frame(augmented, t, sensr=sensor), "evlife.frame() got an unexpected keyword argument 'sensr' "
