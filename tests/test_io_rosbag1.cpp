@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "evlife/io/event_reader.h"
@@ -393,6 +394,34 @@ TEST_F(Rosbag1Faults, ACorruptRecordInAChunkStopsThereWithOrWithoutTheIndex) {
   ASSERT_EQ(scanned.events.size(), indexed.events.size());
   EXPECT_EQ(0, std::memcmp(scanned.events.data(), indexed.events.data(), scanned.events.size() * sizeof(Event)));
   ASSERT_EQ(scanned.streams.size(), 1u);
+}
+
+// A record whose op is damaged or gone was skipped with the messages it held:
+// a chunk's (a whole chunk lost) or a message's, exit 0, nothing counted.
+// Now the error at its offset, after the events before it.
+TEST_F(Rosbag1Faults, ARecordOfAnotherOpOrNoneIsAnErrorNotSkipped) {
+  const std::vector<char> good = load(kBags + "evt3_none.bag");
+  const ReadAll whole = read_all(save("whole.bag", good));
+  ASSERT_FALSE(whole.error) << whole.error->what();
+  const auto ops = [&](char op) {  // the "op=" fields whose value is `op`
+    std::vector<std::size_t> at;
+    for (const std::size_t i : find_all(good, "op=")) if (good[i + 3] == op) at.push_back(i + 3);
+    return at;
+  };
+  const std::vector<std::size_t> chunks = ops('\x05'), messages = ops('\x02');
+  ASSERT_GE(chunks.size(), 2u);
+  ASSERT_GE(messages.size(), 2u);
+  for (const auto& [name, at, value, said] :
+       {std::tuple{"chunk_op.bag", chunks[1], '\x0b', "op 0x0b where the chunks are"},
+        std::tuple{"message_op.bag", messages[1], '\x09', "of a ROS 1 chunk: op 0x09"}}) {
+    std::vector<char> bytes = good;
+    bytes[at] = value;
+    const ReadAll r = read_all(save(name, bytes));
+    ASSERT_TRUE(r.error) << name << ": " << r.events.size() << " of " << whole.events.size() << " events, no error";
+    EXPECT_NE(std::string(r.error->what()).find(said), std::string::npos) << r.error->what();
+    EXPECT_LT(r.events.size(), whole.events.size());
+    EXPECT_EQ(0, std::memcmp(r.events.data(), whole.events.data(), r.events.size() * sizeof(Event))) << name;
+  }
 }
 
 }  // namespace

@@ -256,6 +256,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
         const std::uint64_t next = read_record(at, f, data_at, data_len);
         std::uint8_t op = 0;
         std::uint32_t size = 0;
+        check_top_level_op(at, f);
         if (field(f, "op", op) && op == kChunk) {
           if (may_be_open && data_len == 0 && field(f, "size", size) && size == 0) {
             scan_open_chunk(at, f, data_at);
@@ -367,8 +368,12 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     if (dlen > chunk_.size() - data) bad();
     chunk_pos_ = data + dlen;
     r.op = 0;
-    field(record_fields_, "op", r.op);
     r.has_conn = field(record_fields_, "conn", r.conn);
+    // A chunk holds messages and connections, each naming its connection: a
+    // record of another op, or none, was skipped with its messages, unsaid.
+    if (!field(record_fields_, "op", r.op) || (r.op != kMessage && r.op != kConnection) || !r.has_conn)
+      fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk: " + op_text(record_fields_) +
+                          (r.has_conn ? "" : ", no conn") + " (a chunk holds message 0x02 and connection 0x07 records)");
     r.data = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
     return true;
   }
@@ -455,9 +460,28 @@ class Rosbag1Reader final : public ros::TopicEventReader {
         pos_ = chunks_end_;
         continue;
       }
+      check_top_level_op(at, f);
       std::uint8_t op = 0;
       if (field(f, "op", op) && op == kChunk) load_chunk(at, f, data_at, data_len);
     }
+  }
+
+  /// The records between the bag header and the index: chunks and their index
+  /// data (connections and chunk infos where a writer puts them there); a
+  /// record of another op, or none, was skipped with the messages it held.
+  void check_top_level_op(std::uint64_t at, const HeaderFields& f) const {
+    std::uint8_t op = 0;
+    if (!field(f, "op", op) || (op != kChunk && op != kIndex && op != kConnection && op != kChunkInfo))
+      fail(at, "corrupt ROS 1 record: " + op_text(f) + " where the chunks are (chunk 0x05, index data 0x04)");
+  }
+
+  static std::string op_text(const HeaderFields& f) {
+    const auto it = f.find("op");
+    if (it == f.end()) return "no op field";
+    if (it->second.size() != 1) return "an op of " + std::to_string(it->second.size()) + " bytes";
+    static constexpr char kHex[] = "0123456789abcdef";
+    const auto op = static_cast<unsigned char>(it->second[0]);
+    return std::string("op 0x") + kHex[op >> 4] + kHex[op & 15];
   }
 
   bool next_message(Message& m) override {
