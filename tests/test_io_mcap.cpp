@@ -362,6 +362,53 @@ TEST(McapFaults, CorruptRecordInsideAChunkKeepsTheMessagesBeforeItInThatChunk) {
   EXPECT_EQ(0, std::memcmp(r.events.data(), full.data(), expected * sizeof(Event)));
 }
 
+// A Message on a channel no Channel record defines, or a Channel record that
+// gives a known id another topic: its messages were dropped (or went to the
+// other topic), exit 0, uncounted. The spec forbids both: now an input error
+// at the chunk, after the messages before it.
+TEST(McapFaults, AMessageOfAnUndefinedChannelOrARedefinedChannelIsAnError) {
+  const ScratchDir dir{"test_io_mcap"};
+  const std::string source = "evt3_none.mcap";
+  const std::vector<Event> full = read_all(kMcap + source).events;
+  const std::vector<char> good = bytes_of(kMcap + source);
+  {
+    std::vector<char> b = good;
+    const std::uint64_t chunk = chunk_offsets(b).at(2);
+    std::memset(b.data() + chunk + 9 + 24, 0, 4);  // its CRC: not given (as above)
+    const std::uint64_t first = chunk + 9 + 40;      // its first record: a Message
+    ASSERT_EQ(b[first], 0x05);
+    b[first + 9] = 9;  // channel_id 9
+    b[first + 10] = 0;
+    const std::string path = dir.file("undefined_channel.mcap");
+    write_bytes(path, b);
+    const ReadAll r = read_all(path);
+    ASSERT_TRUE(r.error);
+    EXPECT_NE(std::string(r.error->what()).find("is on channel 9, which no Channel record defines before it"),
+              std::string::npos) << r.error->what();
+    EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(chunk));
+    ASSERT_GT(r.events.size(), 0u);
+    ASSERT_LT(r.events.size(), full.size());
+    EXPECT_EQ(0, std::memcmp(r.events.data(), full.data(), r.events.size() * sizeof(Event)));
+  }
+  {
+    // The first chunk's Channel record renamed (same length): the summary's channel 1 is the topic.
+    std::vector<char> b = good;
+    const std::uint64_t chunk = chunk_offsets(b).at(0);
+    std::memset(b.data() + chunk + 9 + 24, 0, 4);
+    const std::string topic = "/event_camera/events";
+    const auto it = std::search(b.begin() + static_cast<std::ptrdiff_t>(chunk), b.end(), topic.begin(), topic.end());
+    ASSERT_NE(it, b.end());
+    *(it + static_cast<std::ptrdiff_t>(topic.size()) - 1) = 'z';
+    const std::string path = dir.file("redefined_channel.mcap");
+    write_bytes(path, b);
+    const ReadAll r = read_all(path);
+    ASSERT_TRUE(r.error);
+    EXPECT_NE(std::string(r.error->what()).find("redefined as topic '/event_camera/eventz'"), std::string::npos)
+        << r.error->what();
+    EXPECT_TRUE(r.events.empty());
+  }
+}
+
 TEST(McapFaults, UnknownCompressionIsNamed) {
   const ScratchDir dir{"test_io_mcap"};
   const std::vector<Event> full = read_all(kMcap + "evt3_zstd.mcap").events;

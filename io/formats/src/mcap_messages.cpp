@@ -146,7 +146,7 @@ void McapMessages::scan_data_section() {
     while (next_unit(pos, u)) {
       if (u.op != kChunk) {
         if (!visit(Record{u.op, u.content})) {
-          stopped_at(u.at, "record");
+          stopped_at(u.at, ("record" + learn_fault()).c_str());
           break;
         }
         continue;
@@ -158,7 +158,7 @@ void McapMessages::scan_data_section() {
         if (r) at += kRecordPrefix + r->content.size();
       }
       if (!ok) {
-        stopped_at(u.at, "record in the chunk");
+        stopped_at(u.at, ("record in the chunk" + learn_fault()).c_str());
         break;
       }
     }
@@ -171,13 +171,28 @@ void McapMessages::scan_data_section() {
 }
 
 bool McapMessages::learn(const Record& r) {
+  learn_fault_.clear();
   if (r.op == kSchema) {
     Schema s;
     if (!parse_schema(r.content, s)) return false;
-    if (s.id != 0) schemas_[s.id] = std::move(s);
+    if (s.id == 0) return true;
+    if (const auto known = schemas_.find(s.id);
+        known != schemas_.end() && known->second.name != s.name) {  // (mcap convert: one name, two encodings)
+      learn_fault_ = "Schema " + std::to_string(s.id) + " redefined as '" + s.name + "', it was '" +
+                     known->second.name + "' (one id, one schema)";
+      return false;
+    }
+    schemas_[s.id] = std::move(s);
   } else if (r.op == kChannel) {
     Channel c;
     if (!parse_channel(r.content, c)) return false;
+    if (const auto known = channels_.find(c.id);
+        known != channels_.end() && (known->second.topic != c.topic || known->second.schema_id != c.schema_id)) {
+      learn_fault_ = "Channel " + std::to_string(c.id) + " redefined as topic '" + c.topic + "' (schema " +
+                     std::to_string(c.schema_id) + "), it was '" + known->second.topic + "' (schema " +
+                     std::to_string(known->second.schema_id) + "): one id, one channel";
+      return false;
+    }
     channels_[c.id] = std::move(c);
   }
   return true;
@@ -273,7 +288,14 @@ void McapMessages::load_chunk(const Unit& u) {
     if (!r || !learn(*r) || (r->op == kMessage && !parse_message(r->content, m))) {
       // Deliver the chunk's messages before the fault first.
       chunk_fault_.emplace(file_.path(), static_cast<std::int64_t>(u.at),
-                           "corrupt record at byte " + std::to_string(at) + " of the MCAP chunk at this offset");
+                           "corrupt record at byte " + std::to_string(at) + " of the MCAP chunk at this offset" +
+                               (r ? learn_fault() : std::string()));
+      break;
+    }
+    if (r->op == kMessage && !channels_.count(m.channel_id)) {
+      chunk_fault_.emplace(file_.path(), static_cast<std::int64_t>(u.at),
+                           "MCAP Message at byte " + std::to_string(at) + " of the chunk at this offset is on channel " +
+                               std::to_string(m.channel_id) + ", which no Channel record defines before it");
       break;
     }
     if (r->op == kMessage && wanted(m.channel_id)) {
@@ -306,10 +328,14 @@ bool McapMessages::next(Message& m) {
     if (u.op == kChunk) {
       load_chunk(u);
     } else if (u.op == kSchema || u.op == kChannel) {
-      if (!learn(Record{u.op, u.content})) fail(u.at, "corrupt MCAP " + std::string(u.op == kSchema ? "Schema" : "Channel") + " record");
+      if (!learn(Record{u.op, u.content}))
+        fail(u.at, "corrupt MCAP " + std::string(u.op == kSchema ? "Schema" : "Channel") + " record" + learn_fault());
     } else if (u.op == kMessage) {
       mcap::Message msg;
       if (!parse_message(u.content, msg)) fail(u.at, "corrupt MCAP Message record");
+      if (!channels_.count(msg.channel_id))
+        fail(u.at, "MCAP Message on channel " + std::to_string(msg.channel_id) +
+                       ", which no Channel record defines before it");
       if (wanted(msg.channel_id)) {
         m = Message{msg.data, msg.log_time, next_index_++, u.at};
         return true;

@@ -79,8 +79,12 @@ class McapMessages {
   [[noreturn]] void fail(std::uint64_t at, const std::string& what) const;
   void read_summary(const Footer& footer, std::uint64_t footer_at);
   void scan_data_section();
-  /// Schema and Channel records (wherever found); false if malformed.
+  /// Schema and Channel records (wherever found); false if malformed, or if
+  /// it redefines a known id otherwise (the spec forbids it: the messages of
+  /// one id went to another topic, unsaid), said in learn_fault_.
   bool learn(const Record& r);
+  /// What learn() found wrong, after ": " (empty: malformed).
+  std::string learn_fault() const { return learn_fault_.empty() ? std::string() : ": " + learn_fault_; }
   void build_topics(const std::map<std::uint16_t, std::uint64_t>& counts);
   void load_chunk(const Unit& u);
   bool wanted(std::uint16_t channel_id) const;
@@ -91,6 +95,7 @@ class McapMessages {
   bool has_footer_ = false;
   std::map<std::uint16_t, Schema> schemas_;
   std::map<std::uint16_t, Channel> channels_;
+  std::string learn_fault_;
   std::vector<ros::TopicInfo> topics_;
   std::string topic_;
   bool selected_ = false;
