@@ -884,6 +884,36 @@ TEST(IoFormatsAedat4Synthetic, CorruptTriggerPacketIsReported) {
   EXPECT_EQ(r.events.size(), 40u);
 }
 
+// A compressed packet holds one frame, as DV writes it: bytes after it (a
+// second frame, garbage) were never read, exit 0. Now an input error at the
+// packet, after the events before it.
+TEST(IoFormatsAedat4Synthetic, BytesAfterAPacketsCompressedFrameAreAnError) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<Event> events(500, Event{5, 1, 2, 1});
+  std::vector<std::uint8_t> bytes = aedat4_file(3, {events, events});
+  std::uint32_t header_bytes;
+  std::memcpy(&header_bytes, &bytes[14], 4);
+  std::size_t offset = 14 + 4 + header_bytes, last_event_packet = 0;
+  while (offset + 8 <= bytes.size()) {
+    std::uint32_t stream, size;
+    std::memcpy(&stream, &bytes[offset], 4);
+    std::memcpy(&size, &bytes[offset + 4], 4);
+    if (stream == 7) last_event_packet = offset;
+    offset += 8 + size;
+  }
+  ASSERT_EQ(offset, bytes.size());  // the file ends with that packet: 8 bytes appended to it
+  std::uint32_t size;
+  std::memcpy(&size, &bytes[last_event_packet + 4], 4);
+  put_u32(bytes, last_event_packet + 4, size + 8);
+  bytes.insert(bytes.end(), 8, 0x42);
+  const ReadResult r = read_all(dir.save("trailing.aedat4", bytes));
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->byte_offset(), static_cast<std::int64_t>(last_event_packet)) << r.error->what();
+  EXPECT_NE(std::string(r.error->what()).find("8 bytes after its compressed frame"), std::string::npos)
+      << r.error->what();
+  EXPECT_EQ(r.events.size(), 500u);
+}
+
 TEST(IoFormatsAedat4Synthetic, EventOutsideTheStatedSensorIsReported) {
   const ScratchDir dir("test_io_formats");
   std::vector<Event> good(300, Event{10, 345, 259, 1});

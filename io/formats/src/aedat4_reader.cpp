@@ -280,7 +280,15 @@ bool Aedat4Reader::load_packet(std::int64_t offset, std::int32_t size) {
     fail(offset, "truncated AEDAT 4.0 packet");
     return false;
   }
-  return compression_ == Compression::none || decompress(offset);
+  if (compression_ == Compression::none) return true;
+  if (!decompress(offset)) return false;
+  // One frame per packet, as DV writes it: what follows it was never read.
+  if (compressed_used_ < compressed_bytes_) {
+    fail(offset, "AEDAT 4.0 packet: " + std::to_string(compressed_bytes_ - compressed_used_) +
+                     " bytes after its compressed frame (a second frame, or garbage), which were not read");
+    return false;
+  }
+  return true;
 }
 
 bool Aedat4Reader::count_triggers(std::int64_t offset) {
