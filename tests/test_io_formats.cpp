@@ -753,10 +753,16 @@ std::vector<std::uint8_t> file_table(const std::vector<ListedPacket>& packets) {
 // their 8-byte headers, uncompressed: Aedat4FileOutputStream).
 enum class FileTable { none, dv, jaer };
 
-// `triggers[k]`, if given, follows event packet k as a packet of trigger stream 5.
+// `triggers[k]`, if given, follows event packet k as a packet of trigger stream 5;
+// `second_camera`: each event packet again on stream 9, a second EVTS stream.
 std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vector<std::vector<Event>>& packets,
                                       FileTable table = FileTable::none,
-                                      const std::vector<std::vector<DvTrigger>>& triggers = {}) {
+                                      const std::vector<std::vector<DvTrigger>>& triggers = {},
+                                      bool second_camera = false) {
+  const std::string second =
+      second_camera ? "<node name=\"9\" path=\"/mainloop/Recorder/outInfo/9/\">"
+                      "<attr key=\"typeIdentifier\" type=\"string\">EVTS</attr></node>"
+                    : "";
   const std::string xml =
       "<dv version=\"2.0\"><node name=\"outInfo\" path=\"/mainloop/Recorder/outInfo/\">"
       "<node name=\"3\" path=\"/mainloop/Recorder/outInfo/3/\">"
@@ -767,7 +773,7 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
       "<attr key=\"typeIdentifier\" type=\"string\">EVTS</attr>"
       "<node name=\"info\" path=\"/mainloop/Recorder/outInfo/7/info/\">"
       "<attr key=\"sizeX\" type=\"int\">346</attr><attr key=\"sizeY\" type=\"int\">260</attr>"
-      "</node></node></node></dv>";
+      "</node></node>" + second + "</node></dv>";
   std::vector<std::uint8_t> file = {'#', '!', 'A', 'E', 'R', '-', 'D', 'A', 'T', '4', '.', '0', '\r', '\n'};
   const auto header = io_header(compression, xml);
   file.insert(file.end(), header.begin(), header.end());
@@ -794,6 +800,7 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
     add_packet(3, std::vector<std::uint8_t>(100, 0xAB));  // an IMU packet: skipped
     add_packet(7, event_packet(packets[k]));
     if (k < triggers.size()) add_packet(5, trigger_packet(triggers[k]));
+    if (second_camera) add_packet(9, event_packet(packets[k]));
   }
   if (table != FileTable::none) {
     put_i64(file, 14 + 32, static_cast<std::int64_t>(file.size()));  // io_header()'s dataTablePosition
@@ -845,14 +852,18 @@ TEST(IoFormatsAedat4Synthetic, ExternalTriggersAreCountedFromTheTriggerPackets) 
   for (std::int8_t type = 0; type <= 9; ++type) triggers[0].push_back({10 + type, type});  // 3 external
   triggers[1] = {{21, 1}, {22, 2}, {23, 8}};  // 2 external
   for (const std::int32_t compression : {0, 3}) {
-    const std::string path = dir.save("triggers.aedat4", aedat4_file(compression, packets, FileTable::dv, triggers));
+    const std::string path =
+        dir.save("triggers.aedat4", aedat4_file(compression, packets, FileTable::dv, triggers, /*second_camera=*/true));
     auto reader = evlife::io::open_event_reader(path);
     std::vector<Event> all(100);
     std::size_t events = 0;
     while (const std::size_t n = reader->read(all)) events += n;
-    EXPECT_EQ(events, 70u) << compression;
+    EXPECT_EQ(events, 70u) << compression;  // the first EVTS stream's
     EXPECT_EQ(reader->trigger_count(), 5u) << compression;
-    EXPECT_EQ(evlife::io::skipped_kinds_text(*reader), "imu-packet 2, trigger-packet 2") << compression;
+    // (A second camera's polarity packets were "other-packet".)
+    EXPECT_EQ(evlife::io::skipped_kinds_text(*reader),
+              "imu-packet 2, trigger-packet 2, event-packet-of-another-stream 2")
+        << compression;
   }
 }
 

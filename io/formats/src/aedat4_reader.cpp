@@ -31,8 +31,13 @@ struct StreamInfo {
 
 // What a skipped packet holds, by its stream's typeIdentifier: the kinds of
 // skipped_record_kinds(), in that order (the last for any other type).
-constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kSkippedPacketKinds{{
-    {"IMUS", "imu-packet"}, {"TRIG", "trigger-packet"}, {"FRME", "frame-packet"}, {"", "other-packet"}}};
+// (EVTS: a second polarity stream, another camera's: only the first is read.)
+constexpr std::array<std::pair<std::string_view, std::string_view>, 5> kSkippedPacketKinds{{
+    {"IMUS", "imu-packet"},
+    {"TRIG", "trigger-packet"},
+    {"FRME", "frame-packet"},
+    {"EVTS", "event-packet-of-another-stream"},
+    {"", "other-packet"}}};
 constexpr std::size_t kTriggerKind = 1;  // decoded: its external edges are trigger_count()
 
 // Whether a stream's node states typeIdentifier `type` (EVTS, IMUS, ...).

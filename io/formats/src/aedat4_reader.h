@@ -38,7 +38,8 @@ class Aedat4Reader final : public EventReader {
   /// Packets of other streams (frames, IMU, triggers) skipped: whole
   /// packets, each of many samples; only the triggers' are decoded.
   std::uint64_t skipped_record_count() const override { return skipped_packets_; }
-  /// By their stream's type: imu-packet, trigger-packet, frame-packet, other-packet.
+  /// By their stream's type: imu-packet, trigger-packet, frame-packet,
+  /// event-packet-of-another-stream (a second camera's), other-packet.
   std::vector<SkippedKindCount> skipped_record_kinds() const override;
   /// External input edges and pulses of the trigger streams' packets.
   std::uint64_t trigger_count() const override { return trigger_count_; }
@@ -81,7 +82,7 @@ class Aedat4Reader final : public EventReader {
   std::int64_t packet_offset_ = 0;
   std::uint64_t skipped_packets_ = 0;
   std::uint64_t trigger_count_ = 0;
-  std::array<std::uint64_t, 4> skipped_by_kind_{};  // [kind] (aedat4_reader.cpp: kSkippedPacketKinds)
+  std::array<std::uint64_t, 5> skipped_by_kind_{};  // [kind] (aedat4_reader.cpp: kSkippedPacketKinds)
   std::vector<std::pair<std::int32_t, std::size_t>> other_streams_;  // the header's other streams: id, kind
   std::int64_t event_count_ = 0;
   std::optional<ReadError> error_;
