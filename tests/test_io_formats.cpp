@@ -810,6 +810,37 @@ std::vector<std::uint8_t> aedat4_file(std::int32_t compression, const std::vecto
   return file;
 }
 
+// The packets of a file aedat4_file() wrote (no file table): each one's
+// offset (of its 8-byte header), stream and size, in file order; and where
+// they end.
+struct WrittenPacket {
+  std::size_t at;
+  std::uint32_t stream;
+  std::uint32_t size;
+};
+std::vector<WrittenPacket> packets_of(const std::vector<std::uint8_t>& bytes, std::size_t* end = nullptr) {
+  std::uint32_t header_bytes;
+  std::memcpy(&header_bytes, &bytes[14], 4);
+  std::vector<WrittenPacket> packets;
+  std::size_t offset = 14 + 4 + header_bytes;
+  while (offset + 8 <= bytes.size()) {
+    WrittenPacket p{offset, 0, 0};
+    std::memcpy(&p.stream, &bytes[offset], 4);
+    std::memcpy(&p.size, &bytes[offset + 4], 4);
+    packets.push_back(p);
+    offset += 8 + p.size;
+  }
+  if (end != nullptr) *end = offset;
+  return packets;
+}
+/// The offset of the last (or first) packet of `stream`; 0 for none.
+std::size_t packet_of_stream(const std::vector<std::uint8_t>& bytes, std::uint32_t stream, bool first = false) {
+  std::size_t found = 0;
+  for (const WrittenPacket& p : packets_of(bytes))
+    if (p.stream == stream && (found == 0 || !first)) found = p.at;
+  return found;
+}
+
 TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
   const ScratchDir dir("test_io_formats");
   std::vector<std::vector<Event>> packets(3);
@@ -874,17 +905,7 @@ TEST(IoFormatsAedat4Synthetic, CorruptTriggerPacketIsReported) {
   const std::vector<std::vector<Event>> packets = {std::vector<Event>(40, Event{10, 1, 2, 1}),
                                                    std::vector<Event>(30, Event{20, 3, 4, -1})};
   std::vector<std::uint8_t> bytes = aedat4_file(0, packets, FileTable::none, {{{11, 1}}, {{21, 1}}});
-  std::uint32_t header_bytes;
-  std::memcpy(&header_bytes, &bytes[14], 4);
-  std::size_t offset = 14 + 4 + header_bytes;
-  std::size_t first_trigger_packet = 0;
-  while (offset + 8 <= bytes.size()) {
-    std::uint32_t stream, size;
-    std::memcpy(&stream, &bytes[offset], 4);
-    std::memcpy(&size, &bytes[offset + 4], 4);
-    if (stream == 5 && first_trigger_packet == 0) first_trigger_packet = offset;
-    offset += 8 + size;
-  }
+  const std::size_t first_trigger_packet = packet_of_stream(bytes, 5, /*first=*/true);
   ASSERT_NE(first_trigger_packet, 0u);
   put_u32(bytes, first_trigger_packet + 8 + 32, 0x7FFF'0000);  // the first trigger's offset: past the packet
   const ReadResult r = read_all(dir.save("bad_trigger.aedat4", bytes), 64);
@@ -902,17 +923,10 @@ TEST(IoFormatsAedat4Synthetic, BytesAfterAPacketsCompressedFrameAreAnError) {
   const ScratchDir dir("test_io_formats");
   const std::vector<Event> events(500, Event{5, 1, 2, 1});
   std::vector<std::uint8_t> bytes = aedat4_file(3, {events, events});
-  std::uint32_t header_bytes;
-  std::memcpy(&header_bytes, &bytes[14], 4);
-  std::size_t offset = 14 + 4 + header_bytes, last_event_packet = 0;
-  while (offset + 8 <= bytes.size()) {
-    std::uint32_t stream, size;
-    std::memcpy(&stream, &bytes[offset], 4);
-    std::memcpy(&size, &bytes[offset + 4], 4);
-    if (stream == 7) last_event_packet = offset;
-    offset += 8 + size;
-  }
-  ASSERT_EQ(offset, bytes.size());  // the file ends with that packet: 8 bytes appended to it
+  std::size_t end = 0;
+  const std::size_t last_event_packet = packets_of(bytes, &end).back().at;
+  ASSERT_EQ(end, bytes.size());  // the file ends with an event packet: 8 bytes appended to it
+  ASSERT_EQ(last_event_packet, packet_of_stream(bytes, 7));
   std::uint32_t size;
   std::memcpy(&size, &bytes[last_event_packet + 4], 4);
   put_u32(bytes, last_event_packet + 4, size + 8);
@@ -943,18 +957,10 @@ TEST(IoFormatsAedat4Synthetic, CorruptZstdPacketIsReported) {
   std::vector<Event> events(500, Event{5, 1, 2, 1});
   std::vector<std::uint8_t> bytes = aedat4_file(3, {events, events});
   // Break the zstd magic of the last packet (the file ends with it).
-  std::uint32_t header_bytes;
-  std::memcpy(&header_bytes, &bytes[14], 4);
-  std::size_t offset = 14 + 4 + header_bytes;
-  std::size_t last_event_packet = 0;
-  while (offset + 8 <= bytes.size()) {
-    std::uint32_t stream, size;
-    std::memcpy(&stream, &bytes[offset], 4);
-    std::memcpy(&size, &bytes[offset + 4], 4);
-    if (stream == 7) last_event_packet = offset;
-    offset += 8 + size;
-  }
-  ASSERT_EQ(offset, bytes.size());
+  std::size_t end = 0;
+  const std::size_t last_event_packet = packet_of_stream(bytes, 7);
+  ASSERT_EQ(packets_of(bytes, &end).back().at, last_event_packet);
+  ASSERT_EQ(end, bytes.size());
   bytes[last_event_packet + 8] ^= 0xFF;
   const ReadResult r = read_all(dir.save("bad_zstd.aedat4", bytes));
   ASSERT_TRUE(r.error);

@@ -358,6 +358,16 @@ TEST_F(MatFiles, ACutOrCorruptVariableTagIsNamedAtItsOffset) {
       << r.error->what();
 }
 
+// `events` of two rows [x y p t], column-major doubles, written by matio.
+void write_two_rows(const std::string& path, std::vector<double> column_major, matio_compression compression) {
+  mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  std::size_t dims[2] = {2, 4};
+  matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, column_major.data(), 0);
+  Mat_VarWrite(mat, var, compression);
+  Mat_VarFree(var);
+  Mat_Close(mat);
+}
+
 TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   // rows: (1,1,1,0) (2,2,5,1) → polarity 5 at index 1
   std::string path = write("pol.mat", handmade_mat(3, {1, 2, 1, 2, 1, 5, 0, 1}, 2, 4, "events"));
@@ -369,15 +379,7 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   // A double x = 2.5 at row 2 (index 1).
   std::vector<Event> ev = some_events(2);
   path = dir_.file("frac.mat");
-  {
-    std::vector<double> data = {1, 2.5, 1, 1, 1, -1, 10, 20};
-    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
-    std::size_t dims[2] = {2, 4};
-    matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
-    Mat_VarWrite(mat, var, MAT_COMPRESSION_ZLIB);
-    Mat_VarFree(var);
-    Mat_Close(mat);
-  }
+  write_two_rows(path, {1, 2.5, 1, 1, 1, -1, 10, 20}, MAT_COMPRESSION_ZLIB);
   r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 1u);
@@ -385,15 +387,7 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   EXPECT_NE(std::string(r.error->what()).find("x is not"), std::string::npos) << r.error->what();
   // A t past int64 µs (9.3e18) is said to be that: "not a finite integer" named a finite number.
   path = dir_.file("big_t.mat");
-  {
-    std::vector<double> data = {1, 2, 1, 2, 1, -1, 10, 9.3e18};
-    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
-    std::size_t dims[2] = {2, 4};
-    matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
-    Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
-    Mat_VarFree(var);
-    Mat_Close(mat);
-  }
+  write_two_rows(path, {1, 2, 1, 2, 1, -1, 10, 9.3e18}, MAT_COMPRESSION_NONE);
   r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 1u);
