@@ -304,6 +304,18 @@ TEST_F(CliFlags, PrintedConfigurationGivenBackConfiguresTheSameRun) {
   // Set by the user, the size is printed as values (both keys: one alone is refused).
   const RunResult set = run("process --print-config --set estimator.sensor.width=300 --set estimator.sensor.height=200");
   EXPECT_TRUE(has(set, "    width: 300\n    height: 200\n")) << set.output;
+  // --sensor too, the size of the run it prints (it stayed a comment: the file given back ran at another size).
+  const RunResult flag = run("process --print-config --sensor 400x300");
+  EXPECT_TRUE(has(flag, "    width: 400\n    height: 300\n")) << flag.output;
+  std::ofstream(path("sized.yaml")) << flag.output;
+  ASSERT_EQ(run("process -q " + scene + " --sensor 400x300 -o " + path("c.bin")).exit_code, 0);
+  ASSERT_EQ(run("process -q " + scene + " --config " + path("sized.yaml") + " -o " + path("d.bin")).exit_code, 0);
+  EXPECT_EQ(evlife::test::read_text_file(path("c.bin")), evlife::test::read_text_file(path("d.bin")));
+  // A newline in a --set (its key is trimmed) stays inside the header's comment: the file loads back.
+  const RunResult newline = run("process --print-config --set '\nestimator.window_size=7'");
+  ASSERT_EQ(newline.exit_code, 0) << newline.output;
+  std::ofstream(path("newline.yaml")) << newline.output;
+  EXPECT_EQ(run("process --print-config --config " + path("newline.yaml")).exit_code, 0);
   // `run` prints the engine's flags as the configuration they make, and checks them.
   const RunResult engine = run("run --print-config --workers 3 --tiles 2x2");
   EXPECT_TRUE(has(engine, "workers: 3\n")) << engine.output;
@@ -337,6 +349,14 @@ TEST_F(CliFlags, ConfigurationFilesThatSayTooMuchOrNothingAreNamed) {
   const RunResult dir = run("process --print-config --config " + dir_.path().string());
   EXPECT_EQ(dir.exit_code, 2) << dir.output;
   EXPECT_TRUE(has(dir, "is a directory, not a configuration file")) << dir.output;
+  // A path the system cannot even look at (a symlink loop) is the file's fault, exit 2 (it was
+  // exit 1, "unexpected error: filesystem error: status: Too many levels of symbolic links").
+  std::filesystem::create_symlink(path("loop2.yaml"), path("loop1.yaml"));
+  std::filesystem::create_symlink(path("loop1.yaml"), path("loop2.yaml"));
+  const RunResult loop = run("process --print-config --config " + path("loop1.yaml"));
+  EXPECT_EQ(loop.exit_code, 2) << loop.output;
+  EXPECT_TRUE(has(loop, "loop1.yaml: cannot read the configuration file: Too many levels of symbolic links"))
+      << loop.output;
   EXPECT_EQ(run("process --print-config --config ''").exit_code, 2);
   // A section whose keys are all commented out sets nothing.
   std::ofstream(path("c.yaml")) << "estimator:\n  sensor:\n    # width: 300\n";
@@ -834,6 +854,10 @@ TEST_F(CliFlags, SelectionsAndFlagsThatCanDoNothingAreSaid) {
   const RunResult engine_key = run("process " + sample() + " --set engine.workers=32 -q -o " + path("e.bin"));
   EXPECT_EQ(engine_key.exit_code, 2) << engine_key.output;
   EXPECT_TRUE(has(engine_key, "--set engine.workers=32: engine settings are `evlife run`'s")) << engine_key.output;
+  // The key as --set reads it (blanks dropped): a leading blank passed the refusal, then the setting was ignored.
+  const RunResult blank_key = run("process " + sample() + " --set ' engine.workers=32' -q -o " + path("e.bin"));
+  EXPECT_EQ(blank_key.exit_code, 2) << blank_key.output;
+  EXPECT_TRUE(has(blank_key, "engine settings are `evlife run`'s")) << blank_key.output;
 }
 
 // Every command given a named pipe names the pipe as given in its messages:

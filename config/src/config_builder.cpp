@@ -181,10 +181,17 @@ std::vector<YAML::Mark> first_two_document_starts(const std::string& text) {
 }  // namespace
 
 void ConfigBuilder::load_file(const std::string& path, bool by_user) {
-  if (!std::filesystem::exists(path)) {
+  // The non-throwing checks: a symlink loop, a name too long or a folder not
+  // to be searched is the file's fault, said so (it was an "unexpected error").
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error && error != std::errc::no_such_file_or_directory) {
+    throw ConfigError(path + ": cannot read the configuration file: " + error.message());
+  }
+  if (!std::filesystem::exists(status)) {
     throw ConfigError(path + ": configuration file not found");
   }
-  if (std::filesystem::is_directory(path)) {
+  if (std::filesystem::is_directory(status)) {
     throw ConfigError(path + ": is a directory, not a configuration file");
   }
   const std::string text = read_config_text(path);
@@ -262,9 +269,14 @@ void ConfigBuilder::load_file(const std::string& path, bool by_user) {
 
 std::string ConfigBuilder::load_default_file_if_present() {
   const std::string path = default_config_path();
-  if (path.empty() || !std::filesystem::exists(path)) return {};
+  std::error_code error;  // (unreadable: load_file says why)
+  if (path.empty() || (!std::filesystem::exists(path, error) && !error)) return {};
   load_file(path, /*by_user=*/false);
   return path;
+}
+
+std::string ConfigBuilder::key_of_assignment(std::string_view assignment) {
+  return trim(assignment.substr(0, assignment.find('=')));
 }
 
 void ConfigBuilder::set(std::string_view assignment) {

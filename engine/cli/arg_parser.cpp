@@ -146,16 +146,16 @@ bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop) {
   // process, render, eval run no engine: an engine key set for them would be ignored.
   // (A --config file's engine: section is left alone: one file serves every command.)
   for (const std::string& v : a.values("set"))
-    if (v.starts_with("engine."))
+    if (config::ConfigBuilder::key_of_assignment(v).starts_with("engine."))
       throw UsageError("--set " + v + ": engine settings are `evlife run`'s; this command runs no engine (one "
                        "thread, in order)");
   out.print_config = a.has("print-config");
   out.quiet = a.has("quiet");
+  if (const auto s = a.value("sensor")) out.sensor = parse_sensor_size(*s);  // (--print-config shows it)
   if (out.print_config) return false;
   if (a.positional.empty()) throw UsageError("missing INPUT");
   if (a.positional.size() > 1) throw UsageError("more than one INPUT: '" + a.positional[1] + "'");
   out.input = a.positional.front();
-  if (const auto s = a.value("sensor")) out.sensor = parse_sensor_size(*s);
   out.input_options = parse_input_options(a, crop);
   return true;
 }
@@ -175,15 +175,24 @@ config::LoadedConfig load_command_config(const ParsedArgs& a) {
   return config::load_config(path.value_or(""), a.values("set"));
 }
 
-void print_config(const config::LoadedConfig& c) {
-  // What the input decides stays a comment unless the user set it, so the
-  // output given back with --config configures the same run.
-  const bool user_set_them = c.builder.user_origin_of_input_keys() != nullptr;
+void print_config(const config::LoadedConfig& c, std::optional<SensorSize> sensor_flag) {
+  // What the input decides stays a comment unless the user set it (--sensor
+  // too: the run's size), so the output given back with --config configures
+  // the same run.
+  config::Config shown = c.config;
+  std::string from = c.describe();
+  if (sensor_flag) {
+    shown.estimator.sensor = *sensor_flag;
+    from += ", --sensor " + std::to_string(sensor_flag->width) + "x" + std::to_string(sensor_flag->height);
+  }
+  const bool user_set_them = sensor_flag || c.builder.user_origin_of_input_keys() != nullptr;
   const auto from_input = [&](std::string_view key) {
     return config::is_taken_from_the_input(key) && !user_set_them;
   };
-  std::fprintf(stdout, "# effective configuration (from %s)\n%s", c.describe().c_str(),
-               config::to_yaml(c.config, from_input).c_str());
+  // One comment line whatever the path or --set held (a newline there ended it: the file did not load back).
+  for (char& ch : from)
+    if (ch == '\n' || ch == '\r') ch = ' ';
+  std::fprintf(stdout, "# effective configuration (from %s)\n%s", from.c_str(), config::to_yaml(shown, from_input).c_str());
 }
 
 std::optional<SensorSize> user_sensor_size(std::optional<SensorSize> flag, const config::LoadedConfig& c) {
@@ -342,7 +351,9 @@ void refuse_estimator_settings_for_augmented(std::string_view command, const Com
                                              const std::vector<std::string>& set_values) {
   std::string sets, from_files;
   for (const std::string& v : set_values)
-    if (v.starts_with("estimator.") && !sizes_the_sensor(v)) sets += (sets.empty() ? "--set " : ", --set ") + v;
+    if (const std::string key = config::ConfigBuilder::key_of_assignment(v);
+        key.starts_with("estimator.") && !sizes_the_sensor(key))
+      sets += (sets.empty() ? "--set " : ", --set ") + v;
   // A --config file's keys, but only values that differ from the defaults:
   // `--print-config`'s file given back restates all of them, changing nothing.
   std::optional<config::Config> standard;  // built when a file sets an estimator key

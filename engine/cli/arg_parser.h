@@ -122,8 +122,9 @@ bool parse_common_args(const ParsedArgs& a, CommonArgs& out, bool crop = true);
 /// the one loading path). Throws config::ConfigError.
 config::LoadedConfig load_command_config(const ParsedArgs& a);
 
-/// --print-config: the effective configuration as YAML, on stdout.
-void print_config(const config::LoadedConfig& c);
+/// --print-config: the effective configuration as YAML, on stdout, with
+/// --sensor (`sensor_flag`) as the estimator's sensor.
+void print_config(const config::LoadedConfig& c, std::optional<SensorSize> sensor_flag = std::nullopt);
 
 /// The sensor size the user gave, the second step of every command's sensor
 /// rule (the size the format states first, a scan of the data last):

@@ -160,7 +160,7 @@ int eval_recording(int argc, char** argv) {
   std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy
   if (const auto done = spool_stream_input("eval", args.input, args.quiet, spool)) return *done;
   if (args.print_config) {
-    print_config(args.config);
+    print_config(args.config, args.sensor);
     return kExitOk;
   }
   std::error_code ec;

@@ -246,7 +246,7 @@ int process_recording(int argc, char** argv) {
     return *done;
   }
   if (args.print_config) {
-    print_config(args.config);
+    print_config(args.config, args.sensor);
     return kExitOk;
   }
   std::optional<InputSpool> spool;  // INPUT `-` or a pipe: read from a copy

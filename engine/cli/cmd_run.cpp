@@ -283,6 +283,7 @@ RunArgs parse_run_args(int argc, char** argv) {
   r.engine = engine_flags(a, r.config.config);
   if (r.print_config) {  // the engine's flags shown as the configuration they make
     r.config.config.engine = r.engine;
+    if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
     return r;
   }
   if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
@@ -606,7 +607,7 @@ int run_engine(int argc, char** argv) {
     return *done;
   }
   if (args.print_config) {
-    print_config(args.config);
+    print_config(args.config, args.sensor);
     return kExitOk;
   }
   std::optional<InputSpool> spool;  // a file source `-` or a pipe: replayed from a copy

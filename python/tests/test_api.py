@@ -35,6 +35,11 @@ def test_every_estimator_key_of_the_yaml_is_a_keyword_with_its_default():
         assert table[k]["default"] == v, k
         evlife.LifetimeEstimator(sensor=(32, 32), **{k: v})  # accepted as given
     assert {"window_size", "regularization", "seed"} <= set(table)
+    # Its allowed text is the rule the estimator checks (it said "[0, 112]", but 1 and, at N = 5, 13 are refused).
+    assert table["continuation_min_support"]["allowed"] == "0 or 2..(N^2-1)/2, N = window_size"
+    for refused in (1, 13):
+        with pytest.raises(ValueError, match="continuation_min_support"):
+            evlife.LifetimeEstimator(sensor=(32, 32), continuation_min_support=refused)
 
 
 def test_config_file_as_cli_config(tmp_path):

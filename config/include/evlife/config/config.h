@@ -66,6 +66,8 @@ class ConfigBuilder {
 
   /// Applies one "dotted.key=value" override (the value as in YAML).
   void set(std::string_view assignment);
+  /// The key of such an override as set() reads it (blanks around it dropped).
+  static std::string key_of_assignment(std::string_view assignment);
 
   /// Same for one key and its value, `where` naming the origin in messages
   /// (e.g. a Python keyword argument). Throws ConfigError as set() does.
