@@ -156,6 +156,7 @@ struct FileRun {
   std::optional<io::ReadError> fault;  // the events before it were handed to the sink
   bool interrupted = false;            // Ctrl-C: the events before were handed to the sink
   LifetimeStats stats;  // the estimator's, at the end (rejected(): the CLI summary's "rejected" line)
+  std::string sensor_ignored;  // "sensor=(W, H)" or config='s size, where the file states another
 
   void note_skipped(const io::EventReader& reader) {  // at the end of the pass
     skipped_records = reader.skipped_record_count();
@@ -174,8 +175,14 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
                  io::ReaderOptions crop, bool one_thread, SignalCheck& signals, OnSensor&& on_sensor, Sink&& sink) {
   FileRun run;
   const auto probe = io::open_unchecked_event_reader(path, whole_stream(crop));
-  if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
-  else if (user) run.sensor = *user;  // --sensor
+  if (const auto stated = io::stated_sensor_size(*probe, user)) {
+    run.sensor = *stated;
+    // As the CLI warns of --sensor (or a configured size) the file's own size overrules.
+    const std::optional<SensorSize> asked = user ? user : r.sensor;
+    if (asked && *asked != *stated)
+      run.sensor_ignored = (user ? "sensor=(" : "config='s estimator.sensor (") + std::to_string(asked->width) +
+                           ", " + std::to_string(asked->height) + ")";
+  } else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
   else run.sensor = io::sensor_size_from_data_until(path, whole_stream(crop), [&signals] { return signals.pending(); });
   crop.sensor = run.sensor;
@@ -239,6 +246,14 @@ void warn_rejected(const std::string& path, const FileRun& run) {
     warn_at_callers_line(text);
 }
 
+// The CLI's warning that --sensor is ignored (the file states its size).
+void warn_sensor_ignored(const std::string& function, const std::string& path, const FileRun& run) {
+  if (run.sensor_ignored.empty()) return;
+  warn_at_callers_line(function + ": " + run.sensor_ignored + " ignored: " + path + " states " +
+                       std::to_string(run.sensor.width) + "x" + std::to_string(run.sensor.height) +
+                       " (a size given is for formats that state none)");
+}
+
 // The warnings evlife.process gives of what a file's run dropped (rejected
 // events, skipped records), from process_file's result: evlife.batch gives
 // them at its caller's line, for the workers' runs.
@@ -291,6 +306,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
     signals.raise(path + ": interrupted; the first " + std::to_string(run.events) + " events were processed (.partial)",
                   result, run.events, py::none());
   }
+  warn_sensor_ignored("evlife.process", path, run);
   warn_rejected(path, run);
   warn_empty_crop("evlife.process", path, crop, run.events);
   warn_skipped_records("evlife.process", path, run.skipped_records, run.skipped_kinds);
@@ -336,6 +352,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     signals.raise("interrupted; the first " + std::to_string(run.events) + " events were written to " + output,
                   py::none(), run.events, py::int_(run.events));
   }
+  warn_sensor_ignored("evlife.process_file", path, run);
   warn_empty_crop("evlife.process_file", path, crop, run.events);
   py::dict d;
   d["events"] = run.events;

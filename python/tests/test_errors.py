@@ -639,3 +639,21 @@ def test_an_estimators_sensor_may_come_from_its_config_alone(tmp_path):
     assert evlife.LifetimeEstimator(config=config).sensor == (200, 150)
     with pytest.raises(TypeError, match=r"sensor=\(width, height\) is required \(or a config= file stating"):
         evlife.LifetimeEstimator()
+
+
+def test_a_sensor_the_file_overrules_is_warned_of_as_the_cli_does(tmp_path):
+    # An audit's finding: evlife.process(path, sensor=...) of a file stating its size ignored the
+    # size unsaid (the CLI warns: "--sensor ... ignored: ... states 320x240").
+    path = data("aedat4/sample.aedat4")
+    with pytest.warns(RuntimeWarning, match=r"evlife.process: sensor=\(640, 480\) ignored: .*sample.aedat4 states "
+                                             r"320x240"):
+        evlife.process(path, sensor=(640, 480))
+    config = tmp_path / "sensor.yaml"
+    config.write_text("estimator:\n  sensor:\n    width: 200\n    height: 150\n")
+    with pytest.warns(RuntimeWarning, match=r"evlife.process_file: config='s estimator.sensor \(200, 150\) ignored"):
+        evlife.process_file(path, tmp_path / "x.bin", config=config)
+    import warnings
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        evlife.process(path, sensor=(320, 240))  # the size it states: nothing to say
+    assert not [w for w in caught if "ignored" in str(w.message)]
