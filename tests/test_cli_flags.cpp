@@ -548,7 +548,11 @@ TEST_F(CliFlags, AFlagWithNothingToActOnIsRefused) {
   const RunResult period = run("run " + sample() + " --stats-period 1e-9 -q");
   EXPECT_EQ(period.exit_code, 2) << period.output;
   EXPECT_TRUE(has(period, "--stats-period 1e-9: expected a time such as")) << period.output;
-  EXPECT_TRUE(has(period, "0 or at least 1us")) << period.output;
+  EXPECT_TRUE(has(period, "0 or at least 1us (to the nearest us), at most 1e9s")) << period.output;
+  // The upper bound is said (a time past it was told the form, which it had).
+  const RunResult far = run("render " + sample() + " --at 1000000001 --frames " + path("far"));
+  EXPECT_EQ(far.exit_code, 2) << far.output;
+  EXPECT_TRUE(has(far, "at most 1e9s")) << far.output;
   EXPECT_EQ(run("run " + sample() + " --stats-period 0.6us -q").exit_code, 0);
   // The same rule for its key (it read 1e-9 s as a period of 1 ns: a progress line every few ms),
   // as a configuration error naming where it was set, in every command (process took it).

@@ -23,6 +23,7 @@ bool is_decimal_integer(std::string_view text) noexcept;
 std::optional<std::int64_t> parse_time_us(std::string_view text) noexcept;
 
 /// What parse_time_us accepts, for error messages.
-inline constexpr std::string_view kTimeExamples = "a time such as 1.5s, 500ms, 20us or 0.5 (seconds), 0 or at least 1us";
+inline constexpr std::string_view kTimeExamples =
+    "a time such as 1.5s, 500ms, 20us or 0.5 (seconds), 0 or at least 1us (to the nearest us), at most 1e9s";
 
 }  // namespace evlife
