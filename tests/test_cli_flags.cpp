@@ -956,3 +956,20 @@ TEST_F(CliFlags, AnEmptyEntryOfAnInstantListIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// --at instants on the same microsecond (as written, or rounded to it) are
+// drawn once, and now said so (four asked, two frames, no word before).
+TEST_F(CliFlags, RepeatedAtInstantsAreSaidToBeDrawnOnce) {
+  const RunResult r = run("render " + sample() + " --at 0.0000012,0.0000014,0.1,100ms --frames " + path("at"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r, "note: --at: 2 of its 4 instants repeat a microsecond already given")) << r.output;
+  std::size_t frames = 0;
+  for (const auto& entry : fs::directory_iterator(path("at"))) frames += entry.path().extension() == ".png";
+  EXPECT_EQ(frames, 2u);
+  const RunResult distinct = run("render " + sample() + " --at 0.1,0.2 --frames " + path("at2"));
+  EXPECT_FALSE(has(distinct, "repeat a microsecond")) << distinct.output;
+}
+
+}  // namespace

@@ -267,7 +267,8 @@ SensorSize parse_sensor_size(std::string_view text) {
   return size;
 }
 
-std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text) {
+std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text,
+                                            std::string_view command) {
   if (text.empty()) throw UsageError("--" + std::string(option) + ": no time given");
   const std::size_t entries = static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1;
   std::vector<std::int64_t> instants;
@@ -284,6 +285,11 @@ std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::
   }
   std::sort(instants.begin(), instants.end());
   instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
+  if (instants.size() < entries)  // (they were merged unsaid: 4 instants asked, 2 frames drawn)
+    std::fprintf(stderr, "evlife %.*s: note: --%.*s: %zu of its %zu instants repeat a microsecond already given (as "
+                         "written or rounded to the us): %zu drawn, each once\n",
+                 static_cast<int>(command.size()), command.data(), static_cast<int>(option.size()), option.data(),
+                 entries - instants.size(), entries, instants.size());
   return instants;
 }
 

@@ -192,8 +192,10 @@ bool has_extension(const std::string& path, std::initializer_list<std::string_vi
 
 /// "T1,T2,..." (seconds, or with a unit: 250ms, 40us) -> microseconds,
 /// sorted, without repeats; `option` names the flag in errors. Throws UsageError,
-/// also for an empty entry ("0.5,,0.6").
-std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text);
+/// also for an empty entry ("0.5,,0.6"). `command`: repeats (the same
+/// microsecond, as written or rounded) are said on stderr, each drawn once.
+std::vector<std::int64_t> parse_instants_us(std::string_view option, const std::string& text,
+                                            std::string_view command);
 
 /// The input selection shared by every command that reads events: --topic
 /// (ROS bags). Add kInputOptionSpecs' entries to the command's option table

@@ -168,7 +168,7 @@ RenderArgs parse_render_args(int argc, char** argv) {
   if (a.has("at") && (a.has("fps") || a.has("from") || a.has("to"))) {
     throw UsageError("--at cannot be combined with --fps/--from/--to");
   }
-  if (const auto at = a.value("at")) r.job.at_us = parse_instants_us("at", *at);
+  if (const auto at = a.value("at")) r.job.at_us = parse_instants_us("at", *at, "render");
   if (r.job.single_png && r.job.at_us.size() != 1) {
     throw UsageError("-o " + r.job.output + ": a single PNG needs exactly one --at instant (use a directory for more)");
   }

@@ -334,7 +334,7 @@ RunArgs parse_run_args(int argc, char** argv) {
       throw UsageError("--fps " + *s + ": expected " + range);
     }
   }
-  if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s);
+  if (const auto s = a.value("at")) r.render.at_us = parse_instants_us("at", *s, "run");
   if (!r.video.empty() && r.render.fps == 0)
     throw UsageError("--video needs --fps > 0 (it plays at that rate)");
   if (a.has("fps") && r.render.fps == 0 && r.render.at_us.empty())
