@@ -285,7 +285,7 @@ void ConfigBuilder::set(std::string_view assignment) {
     throw ConfigError("--set " + std::string(assignment) + ": expected key=value, e.g. --set " +
                       "estimator.window_size=7");
   }
-  const std::string key = trim(assignment.substr(0, eq));
+  const std::string key = key_of_assignment(assignment);
   std::string value = trim(assignment.substr(eq + 1));
   if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
       value.back() == value.front()) {

@@ -281,9 +281,9 @@ RunArgs parse_run_args(int argc, char** argv) {
   r.config = load_command_config(a);
   r.print_config = a.has("print-config");
   r.engine = engine_flags(a, r.config.config);
+  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);  // (--print-config shows it)
   if (r.print_config) {  // the engine's flags shown as the configuration they make
     r.config.config.engine = r.engine;
-    if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
     return r;
   }
   if (a.positional.size() > 1) throw UsageError("unexpected argument '" + a.positional[1] + "'");
@@ -295,7 +295,6 @@ RunArgs parse_run_args(int argc, char** argv) {
   r.source = src ? *src : a.positional.front();  // `run FILE` = --source FILE
   if (is_file_source(r.source) && file_of_source(r.source).empty())
     throw UsageError("--source " + r.source + ": a file source needs a path (file:PATH or PATH)");
-  if (const auto s = a.value("sensor")) r.sensor = parse_sensor_size(*s);
   r.user_sensor = user_sensor_size(r.sensor, r.config);
   r.input_options = parse_input_options(a);
   if (const auto s = a.value("realtime")) r.speed = parse_number<double>("realtime", *s, 1e-6, 1e6);

@@ -150,17 +150,13 @@ def frame(augmented, t_us, sensor=None, mode="lifetime", *, color="lifetime", sc
     than the memory available raises MemoryError naming its size.
     """
     instant = _whole_microseconds(t_us)
-    for name, value in (("caption", caption), ("legend", legend), ("thinning", thinning)):
-        if not isinstance(value, (bool, _np.bool_)):  # "no" drew the caption: any object has a truth value
-            raise TypeError("evlife.frame(): %s must be True or False, got %s %s"
-                            % (name, type(value).__name__, _short_repr(value)))
     try:
         low_ms, high_ms = (float(v) for v in lifetime_range_ms)
     except (TypeError, ValueError):
         raise ValueError("frame: lifetime_range_ms must be (MIN, MAX) in milliseconds, got %r"
                          % (lifetime_range_ms,)) from None
     return _evlife._frame(_as_augmented(augmented), instant, sensor, mode, color, scale,
-                          bool(caption), bool(legend), bool(thinning), (low_ms, high_ms))
+                          caption, legend, thinning, (low_ms, high_ms))  # True or False only: "no" drew the caption
 
 
 def _whole_microseconds(t_us):

@@ -20,11 +20,8 @@ def public(wrapper, qualname=None):
     wrapper.__module__ = "evlife"
     wrapper.__qualname__ = qualname or wrapper.__name__
     wrapped = getattr(wrapper, "__wrapped__", None)
-    if wrapped is not None:
-        try:
-            inspect.signature(wrapped)
-        except ValueError:  # a C++ function: inspect.signature() and help() had none
-            wrapper.__signature__ = _shown_signature(wrapped)
+    if wrapped is not None:  # a C++ function's: inspect.signature() and help() had none
+        wrapper.__signature__ = _signature(wrapped)
     return wrapper
 
 
@@ -38,9 +35,15 @@ class _Default:
         return self.text
 
 
-def _shown_signature(function):
-    """The signature pybind11 writes first in a C++ function's __doc__, with its annotations and
-    defaults as written, for inspect.signature() and help()."""
+def _signature(function):
+    """A Python function's signature; a C++ function's from the line pybind11 writes first in its
+    __doc__ ("read(path: os.PathLike, sensor: object = None, *, from_s: ... = None, **kwargs) ->
+    numpy.ndarray"), with its annotations and defaults as written and a method's self positional
+    only."""
+    try:
+        return inspect.signature(function)
+    except ValueError:  # a C++ function
+        pass
     line = function.__doc__.partition("\n")[0]
     head = line[line.index("("):]
     params, _, returns = head.rpartition(" -> ")
@@ -107,28 +110,6 @@ def checking(function, qualname=None):
                 raise e from None
             raise
     return checked
-
-
-def _signature(function):
-    """A Python function's signature; a C++ function's from the line pybind11 writes first in its
-    __doc__ ("read(path: os.PathLike, sensor: object = None, *, from_s: ... = None, **kwargs) ->
-    numpy.ndarray"), with a method's self positional only and each default as None (only there)."""
-    try:
-        return inspect.signature(function)
-    except ValueError:  # a C++ function
-        pass
-    line = function.__doc__.partition("\n")[0]
-    a = ast.parse("def f%s: pass" % line[line.index("("):line.rindex(" -> ")]).body[0].args
-    positional = a.posonlyargs + a.args
-    required = len(positional) - len(a.defaults)
-    parameters = [_P(p.arg, _P.POSITIONAL_ONLY if i < len(a.posonlyargs) or (i, p.arg) == (0, "self")
-                     else _P.POSITIONAL_OR_KEYWORD, default=_P.empty if i < required else None)
-                  for i, p in enumerate(positional)]
-    parameters += [_P(a.vararg.arg, _P.VAR_POSITIONAL)] if a.vararg else []
-    parameters += [_P(p.arg, _P.KEYWORD_ONLY, default=_P.empty if d is None else None)
-                   for p, d in zip(a.kwonlyargs, a.kw_defaults)]
-    parameters += [_P(a.kwarg.arg, _P.VAR_KEYWORD)] if a.kwarg else []
-    return inspect.Signature(parameters)
 
 
 def _refuse_call(where, signature, args, kwargs):

@@ -46,12 +46,16 @@ class ArraySource final : public render::AugmentedSource {
 
 py::array frame(const py::array& augmented, std::int64_t t_us, const py::object& sensor_obj,
                 const StrArgument& mode_arg, const StrArgument& color_arg, const py::object& scale_obj,
-                bool caption, bool legend, bool thinning, std::pair<double, double> range_ms) {
+                const BoolArgument& caption_arg, const BoolArgument& legend_arg, const BoolArgument& thinning_arg,
+                std::pair<double, double> range_ms) {
   if (!is_exact(augmented, augmented_dtype())) {
     throw py::type_error("frame: expected a 1-D contiguous array of evlife.AUGMENTED_DTYPE");
   }
   const std::string mode = str_argument("evlife.frame", "mode", mode_arg);
   const std::string color = str_argument("evlife.frame", "color", color_arg);
+  const bool caption = bool_argument("evlife.frame", "caption", caption_arg);
+  const bool legend = bool_argument("evlife.frame", "legend", legend_arg);
+  const bool thinning = bool_argument("evlife.frame", "thinning", thinning_arg);
   const std::span events(static_cast<const AugmentedEvent*>(augmented.data()),
                          static_cast<std::size_t>(augmented.shape(0)));
   SensorSize sensor;

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "evlife/io/event_reader.h"
+#include "hex_byte.h"
 #include "ros_topics.h"
 
 namespace evlife::io::mcap {
@@ -14,10 +15,6 @@ constexpr std::uint64_t kMaxRecordBytes = std::uint64_t{1} << 28;   // one messa
 constexpr std::uint64_t kMaxSummaryBytes = std::uint64_t{1} << 26;  // else: scan instead
 constexpr std::uint64_t kFooterRecord = kRecordPrefix + kFooterContent;
 
-std::string hex_opcode(std::uint8_t op) {
-  constexpr char digits[] = "0123456789abcdef";
-  return std::string("0x") + digits[op >> 4] + digits[op & 15];
-}
 
 }  // namespace
 
@@ -225,7 +222,7 @@ bool McapMessages::next_unit(std::uint64_t& pos, Unit& u, std::uint32_t* crc) {
   u.at = pos;
   u.content = {};
   if (len > data_limit_ - pos - kRecordPrefix)
-    fail(pos, "MCAP record (opcode " + hex_opcode(u.op) + ") of " + std::to_string(len) + " bytes runs past the " +
+    fail(pos, "MCAP record (opcode " + detail::hex_byte(u.op) + ") of " + std::to_string(len) + " bytes runs past the " +
                   (has_footer_ ? "data section" : "end of the file (truncated)"));
   if (u.op == kDataEnd && crc != nullptr) {
     std::array<std::uint8_t, kDataEndContent> content{};

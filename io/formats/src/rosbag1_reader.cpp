@@ -25,6 +25,7 @@
 #include <optional>
 
 #include "cut_stream.h"
+#include "hex_byte.h"
 #include "input_file.h"
 #include "reader_registry.h"
 #include "ros_messages.h"  // EVLIFE_ROS_EVENT_MESSAGE_TYPES
@@ -479,9 +480,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     const auto it = f.find("op");
     if (it == f.end()) return "no op field";
     if (it->second.size() != 1) return "an op of " + std::to_string(it->second.size()) + " bytes";
-    static constexpr char kHex[] = "0123456789abcdef";
-    const auto op = static_cast<unsigned char>(it->second[0]);
-    return std::string("op 0x") + kHex[op >> 4] + kHex[op & 15];
+    return "op " + detail::hex_byte(static_cast<std::uint8_t>(it->second[0]));
   }
 
   bool next_message(Message& m) override {
