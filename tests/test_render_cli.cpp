@@ -403,6 +403,27 @@ TEST_F(RenderCliTest, TheSummarySaysWhereNoiseIsDrawn) {
   }
 }
 
+// A fixed window has no lifetime to colour by: `--color lifetime` (the
+// default) of windows alone draws them plain, and the caption and summary say
+// so (they said "colour lifetime"); thinning is said to spare the windows.
+TEST_F(RenderCliTest, WindowModeSaysItsEventsAreDrawnPlain) {
+  const auto as_lifetime = run("render '" + kStripes + "' -o '" + path("wl.png") + "' --at 0.5 --mode window:30ms");
+  const auto as_plain = run("render '" + kStripes + "' -o '" + path("wp.png") + "' --at 0.5 --mode window:30ms --color plain");
+  ASSERT_EQ(as_lifetime.exit_code, 0) << as_lifetime.output;
+  ASSERT_EQ(as_plain.exit_code, 0) << as_plain.output;
+  for (const auto* r : {&as_lifetime, &as_plain}) {
+    EXPECT_NE(r->output.find("mode window:30ms, colour plain)"), std::string::npos) << r->output;
+    EXPECT_NE(r->output.find(" thinned (by the estimator; a fixed window draws them)"), std::string::npos) << r->output;
+  }
+  const cv::Mat a = cv::imread(path("wl.png"));
+  const cv::Mat b = cv::imread(path("wp.png"));
+  ASSERT_FALSE(a.empty());
+  ASSERT_EQ(a.size, b.size);
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0) << "the captions differ";
+  const auto lifetime = run("render '" + kStripes + "' -o '" + path("ll.png") + "' --at 0.5");
+  EXPECT_NE(lifetime.output.find("mode lifetime, colour lifetime)"), std::string::npos) << lifetime.output;
+}
+
 // A text file of eval's that the disk refuses (here /dev/full: its writes fail
 // at the flush) is an output error naming it, not an empty file and exit 0.
 TEST_F(RenderCliTest, EvalReportsATextFileTheDiskRefused) {
@@ -484,6 +505,21 @@ TEST_F(RenderCliTest, EvalOfACutRecordingEvaluatesTheEventsBeforeTheFault) {
     const std::string text((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("stopped by an input fault"), std::string::npos) << cut;
   }
+}
+
+// A selection of no event, evaluated into a folder an earlier run wrote: the
+// earlier compare frame is removed (it stayed beside this run's empty report)
+// and no time range is made up (it said "t = 0 .. 0 us (0.000000 s long)").
+TEST_F(RenderCliTest, EvalOfNoEventLeavesNoEarlierCompareFrameAndNoTimeRange) {
+  const std::string dir = path("reused");
+  ASSERT_EQ(run("eval '" + kGarfield + "' --to 0.1 -o '" + dir + "' -q").exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir + "/compare_frame.png"));
+  const auto r = run("eval '" + kGarfield + "' --from 10 -o '" + dir + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/compare_frame.png"));
+  EXPECT_NE(r.output.find("time range                 no event\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no instant sampled: no event to sample"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("s long)"), std::string::npos) << r.output;
 }
 
 // Events the frames leave out (outside a --sensor smaller than the events')
@@ -913,6 +949,15 @@ TEST_F(RenderCliTest, EvalCountsTheInstantsOfAPauseInsteadOfSamplingThem) {
   // One row per method and sampled instant.
   const std::string csv = evlife::test::read_text_file(path("ev") + "/sharpness.csv");
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), 1 + 4 * instants);
+}
+
+// runs.csv of an augmented input leaves the estimator's options empty: the
+// file does not say which made its lifetimes (it said window 0, not regularized).
+TEST_F(RenderCliTest, RunsCsvOfAnAugmentedInputStatesNoEstimatorOptions) {
+  ASSERT_EQ(run("process '" + kGarfield + "' -o '" + path("g.bin") + "' --to 0.1 -q").exit_code, 0);
+  ASSERT_EQ(run("eval '" + path("g.bin") + "' -o '" + path("ev_aug") + "' -q").exit_code, 0);
+  const std::string csv = evlife::test::read_text_file(path("ev_aug") + "/runs.csv");
+  EXPECT_NE(csv.find("\n\"lifetimes from the file\",,,"), std::string::npos) << csv;
 }
 
 // An augmented CSV (it states no sensor) cut short: the sensor scan stopped

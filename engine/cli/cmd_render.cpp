@@ -251,9 +251,10 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
                    const render::RecordingRenderResult& r, double wall_s) {
   const auto& st = r.stats;
   std::fprintf(stdout, "evlife render: %s -> %s\n", source.description().c_str(), args.job.output.c_str());
+  const std::vector<render::View> views = render::parse_view_mode(args.job.mode);
   std::fprintf(stdout, "  frames              %zu (%dx%d px, sensor %dx%d x%d, mode %s, colour %s)\n",
                r.frames, r.frame_size.width, r.frame_size.height, source.sensor().width, source.sensor().height, r.scale,
-               args.job.mode.c_str(), std::string(render::to_string(args.job.color)).c_str());
+               args.job.mode.c_str(), std::string(render::to_string(render::color_drawn(args.job.color, views))).c_str());
   if (args.job.video) {
     const render::VideoFrameSize video = render::video_frame_size(r.frame_size.width, r.frame_size.height);
     std::fprintf(stdout, "  video               plays at %g fps%s\n", r.video_fps,
@@ -262,15 +263,18 @@ void print_summary(const RenderArgs& args, const render::AugmentedSource& source
       std::fprintf(stdout, "  video size          %dx%d px: frames padded black at the right and bottom (encoders need "
                            "even sides of at least %d px)\n", video.width, video.height, render::kMinVideoSidePx);
   }
-  // Noise has no lifetime: the lifetime view never draws it, a fixed window does.
-  const std::vector<render::View> views = render::parse_view_mode(args.job.mode);
+  // Noise has no lifetime: the lifetime view never draws it, a fixed window does;
+  // thinning removes events from the lifetime view only.
   const auto lifetime_views = std::count_if(views.begin(), views.end(), [](const render::View& v) { return v.lifetime; });
   std::fprintf(stdout, "  events              %llu read, %llu noise (%s), %llu thinned%s\n",
                static_cast<unsigned long long>(st.fed), static_cast<unsigned long long>(st.noise),
                lifetime_views == static_cast<std::ptrdiff_t>(views.size()) ? "never drawn"
                : lifetime_views > 0                                        ? "drawn in the fixed windows only"
                                                                            : "drawn as any event",
-               static_cast<unsigned long long>(st.thinned), args.job.thinning ? "" : " (thinning off)");
+               static_cast<unsigned long long>(st.thinned),
+               !args.job.thinning    ? " (thinning off)"
+               : lifetime_views == 0 ? " (by the estimator; a fixed window draws them)"
+                                     : "");
   if (render::ignored_events(st) > 0) std::fprintf(stdout, "  ignored             %s\n", render::ignored_events_text(st).c_str());
   if (const io::EventReader* reader = source.event_reader(); reader && reader->skipped_record_count() > 0)
     std::fprintf(stdout, "  skipped records     %s\n", io::skipped_records_text(*reader).c_str());

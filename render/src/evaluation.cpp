@@ -300,6 +300,7 @@ std::string no_sharpness_instant(const EvaluationOptions& args, const RunResult&
     return "no instant sampled: no fixed window drew a pixel at any of the " + std::to_string(sharp.empty_instants) +
            " instants";
   }
+  if (r.events == 0) return "no instant sampled: no event to sample";
   return fmt("no instant sampled: the recording (%.6f s) is shorter than", seconds_between(r.first_t_us, r.last_t_us)) +
          fmt(" --sample-every (%.6f s)", static_cast<double>(args.sample_every_us) * 1e-6);
 }
@@ -451,7 +452,14 @@ void write_sharpness([[maybe_unused]] const EvaluationOptions& args, [[maybe_unu
     }
     sum.close();
   }
-  if (!sharp.compare_frame.empty()) write_png(dir / report::kCompareFrame, sharp.compare_frame);
+  const fs::path compare_frame = dir / report::kCompareFrame;
+  if (!sharp.compare_frame.empty()) {
+    write_png(compare_frame, sharp.compare_frame);
+  } else {  // no event to draw: an earlier run's frame in a reused folder is not this run's
+    std::error_code ec;
+    fs::remove(compare_frame, ec);
+    if (ec) throw OutputError("cannot remove an earlier run's " + compare_frame.string() + ": " + ec.message());
+  }
 
 }
 
@@ -466,7 +474,12 @@ void write_runs_csv([[maybe_unused]] const EvaluationOptions& args, [[maybe_unus
            "median_abs_error_ms,share_abs_error_below_10ms,wall_s,share_with_lifetime,share_with_prediction,"
            "median_abs_error_over_lifetime\n";
     for (const auto& r : runs) {
-      csv << "\"" << r.label << "\"," << r.window_size << "," << (r.regularization ? 1 : 0) << "," << r.events
+      csv << "\"" << r.label << "\",";
+      if (r.from_file)  // the file's lifetimes: it does not say which estimator options made them
+        csv << ",";
+      else
+        csv << r.window_size << "," << (r.regularization ? 1 : 0);
+      csv << "," << r.events
           << "," << r.noise << "," << (r.events ? static_cast<double>(r.noise) / static_cast<double>(r.events) : 0.0)
           << "," << r.predictions << "," << r.median_lifetime_ms() << ","
           << r.median_abs_error_ms() << "," << r.share_abs_error_below_10ms() << "," << r.wall_s
@@ -647,9 +660,12 @@ void print_evaluation_summary(std::FILE* out, const EvaluationOptions& args, con
   std::fprintf(out, "evlife eval: %s -> %s/%s\n", description.c_str(), args.output.c_str(), report::kSummary);
   if (!runs.empty()) {
     const RunResult& r = runs[ev.primary_index];
-    std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
-                 static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
-                 seconds_between(r.first_t_us, r.last_t_us));
+    if (r.events == 0)  // no first or last time to give (it said "t = 0 .. 0 us (0.000000 s long)")
+      std::fprintf(out, "  time range                 no event\n");
+    else
+      std::fprintf(out, "  time range                 t = %lld .. %lld us (%.6f s long)\n",
+                   static_cast<long long>(r.first_t_us), static_cast<long long>(r.last_t_us),
+                   seconds_between(r.first_t_us, r.last_t_us));
     // (Not for the default instant: a recording shorter than it is no mistake of the user's.)
     if (args.frame_at_given && r.events > 0 && args.frame_at_us > seconds_between(r.first_t_us, r.last_t_us) * 1e6)
       std::fprintf(stderr, "evlife eval: warning: --frame-at %.6f s lies after the last event; the "

@@ -52,6 +52,13 @@ std::vector<View> parse_view_mode(std::string_view mode) {
                               "' (use lifetime, window:<duration> e.g. window:30ms, or compare)");
 }
 
+ColorMode color_drawn(ColorMode asked, const std::vector<View>& views) noexcept {
+  if (asked != ColorMode::lifetime) return asked;
+  for (const auto& v : views)
+    if (v.lifetime) return asked;
+  return ColorMode::plain;
+}
+
 FrameComposer::FrameComposer(std::vector<View> views, FrameStyle style, std::string mode_name)
     : views_(std::move(views)), style_(style),
       colormap_(style.lifetime_min_us, style.lifetime_max_us), mode_name_(std::move(mode_name)) {
@@ -122,7 +129,7 @@ const cv::Mat& FrameComposer::compose(const ActiveEventMap& set, const FixedWind
     char text[160];
     std::snprintf(text, sizeof text, "t = %.6f s   mode: %s   colour: %s",
                   static_cast<double>(caption_t_us.value_or(t_us)) * 1e-6, mode_name_.c_str(),
-                  std::string(to_string(style_.color)).c_str());
+                  std::string(to_string(color_drawn(style_.color, views_))).c_str());
     cv::putText(frame_, text, {4, size.height - 7}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
                 {255, 255, 255}, 1, cv::LINE_AA);
   }

@@ -30,6 +30,10 @@ struct View {
 /// the lifetime image, as paper Figs. 8, 13, 14). Throws std::invalid_argument.
 std::vector<View> parse_view_mode(std::string_view mode);
 
+/// The colouring the views show: a fixed window has no lifetime to colour by,
+/// so `lifetime` asked of windows alone draws them plain (what captions say).
+ColorMode color_drawn(ColorMode asked, const std::vector<View>& views) noexcept;
+
 /// "30ms", "500us", "0.25s", "2.5" (bare number = seconds) -> microseconds.
 /// Throws std::invalid_argument naming the text.
 std::int64_t parse_duration_us(std::string_view text);
