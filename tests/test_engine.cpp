@@ -37,6 +37,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/synthetic_scene.h"
 #include "evlife/io/write_error.h"
+#include "sanitizer_build.h"
 
 namespace ee = evlife::engine;
 using evlife::AugmentedEvent;
@@ -840,17 +841,7 @@ TEST(Pipeline, AMonitorReadsTheCountsWhileTheHostPushes) {
 // ---- Real-time settings (realtime_options.h) ---------------------------------
 
 namespace {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitizerBuild = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitizerBuild = true;
-#else
-constexpr bool kSanitizerBuild = false;
-#endif
-#else
-constexpr bool kSanitizerBuild = false;
-#endif
+using evlife::test::kSanitizerBuild;
 
 // Whether this process may use SCHED_FIFO and pin to CPU 0 (probed on the
 // calling thread, then restored).

@@ -25,6 +25,7 @@
 
 #include "cli_runner.h"
 #include "evlife/render/evaluation.h"
+#include "sanitizer_build.h"
 #include "scratch_dir.h"
 
 namespace {
@@ -461,6 +462,26 @@ TEST_F(RenderCliTest, AnImageTheDiskCutsAtItsLastBytesIsAnOutputError) {
   EXPECT_EQ(r.exit_code, 4) << r.output;
   EXPECT_NE(r.output.find("cannot write " + cut + ": File too large"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(cut)) << "the cut image is removed, not left to read as one";
+}
+
+// A frame larger than an address-space limit (`ulimit -v`) lets the process
+// map is refused up front as one larger than the machine's memory is (it
+// exited 1 with OpenCV's "Insufficient memory ... OutOfMemoryError").
+TEST_F(RenderCliTest, AFrameBeyondTheAddressSpaceLimitIsRefusedUpFront) {
+  if (evlife::test::kSanitizerBuild) GTEST_SKIP() << "a sanitizer's shadow memory exceeds any such limit";
+  const std::string evt3 = kData + "/evt3/evt3_sample.raw";  // 1280x720: 2.8 GB at --scale 32
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &before), 0);
+  const rlim_t limit = rlim_t{1500} << 20;
+  if (before.rlim_max != RLIM_INFINITY && before.rlim_max < limit) GTEST_SKIP() << "a lower hard limit";
+  rlimit limited = before;
+  limited.rlim_cur = limit;
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &limited), 0);
+  const auto r = run("render '" + evt3 + "' --at 0.001 --scale 32 -o '" + path("huge.png") + "'");
+  setrlimit(RLIMIT_AS, &before);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("a frame of 41060x23086 px needs at least 2.8 GB, more than the "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" this process may still map (its address-space limit, ulimit -v)"), std::string::npos) << r.output;
 }
 
 // An empty output is a bad command line, as `run -o ''` is; a folder that

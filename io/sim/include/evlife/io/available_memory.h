@@ -17,7 +17,8 @@ std::optional<std::uint64_t> available_memory_bytes();
 std::string gigabytes_text(std::uint64_t bytes);
 
 /// ", more than the A GB of memory available" when `bytes` exceed
-/// MemAvailable; nothing when they fit or it is unknown.
+/// MemAvailable, or what an address-space limit (`ulimit -v`) leaves the
+/// process to map (said as such); nothing when they fit or it is unknown.
 std::optional<std::string> beyond_available_memory(std::uint64_t bytes);
 
 }  // namespace evlife::io
