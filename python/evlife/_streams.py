@@ -199,6 +199,12 @@ class StreamReader:
     def __getattr__(self, name):
         return getattr(self._reader, name)
 
+    # isinstance(r, evlife.Reader) holds for a stream's reader as for a file's
+    # (isinstance consults __class__ where type() is not a subclass).
+    @property
+    def __class__(self):
+        return type(self._reader)
+
     @property
     def path(self):
         return os.fsdecode(os.fspath(self._stream))

@@ -76,6 +76,7 @@ def test_open_keeps_the_copy_while_its_reader_lives(tmp_path, temp_dir):
         fifo, writer = pipe(tmp_path, f.read())
     reader = evlife.open(fifo, chunk_events=7000)
     writer.join()
+    assert isinstance(reader, evlife.Reader)  # as a file's reader (it was a StreamReader only)
     assert len(list(temp_dir.iterdir())) == 1
     chunks = list(reader)
     assert np.array_equal(np.concatenate(chunks), evlife.read(path))
