@@ -651,6 +651,12 @@ TEST_F(RenderCliTest, EvalSaysNaWhereAFigureHasNoValue) {
       << r.output;
   std::string runs = evlife::test::read_text_file(path("mono") + "/runs.csv");
   EXPECT_NE(runs.find(",0,nan,nan,nan,"), std::string::npos) << runs;  // predictions, medians, share below 10 ms
+  // Every run is a column of the CDF, empty without a prediction (the runs were left out unsaid).
+  const std::string cdf = evlife::test::read_text_file(path("mono") + "/prediction_error_cdf.csv");
+  EXPECT_EQ(cdf.substr(0, cdf.find('\n')),
+            "abs_error_ms,\"N=3, not regularized\",\"N=3, regularized\",\"N=5, not regularized\",\"N=5, regularized\","
+            "\"N=7, not regularized\",\"N=7, regularized\"");
+  EXPECT_NE(cdf.find("\n0.1,,,,,,\n"), std::string::npos) << cdf.substr(0, 300);
   r = run("eval '" + kData + "/prophesee_dat/NCARS_obj_004397_td.dat' -o '" + path("ncars") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("fixed window 1 ms      0.0 %       n/a"), std::string::npos) << r.output;

@@ -357,15 +357,18 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
   // Fig. 9: CDF of |prediction error|.
   {
     std::vector<render::PlotSeries> plot;
-    std::vector<const RunResult*> with_predictions;
-    for (const auto& r : runs)
-      if (r.predictions > 0) with_predictions.push_back(&r);
     const double x_max_ms = 50.0;
-    for (const RunResult* r : with_predictions) {
+    for (const RunResult& run : runs) {
+      const RunResult* r = &run;
       render::PlotSeries s;
       s.label = r->label;
       s.color = render::series_color(r->from_file ? 0 : (r->window_size - 3) / 2);
       s.dashed = !r->regularization && !r->from_file;
+      if (r->predictions == 0) {  // in the legend, said, not left out of the comparison
+        s.label += " (no prediction)";
+        plot.push_back(std::move(s));
+        continue;
+      }
       s.x.push_back(0.0);
       s.y.push_back(0.0);  // no prediction has a negative error
       for (std::size_t b = 0; b < r->abs_error_us.bins(); ++b) {
@@ -388,11 +391,14 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
     write_png(dir / (std::string(report::kPredictionErrorCdf) + ".png"), render::draw_plot(o, plot));
     TextFile csv(dir / (std::string(report::kPredictionErrorCdf) + ".csv"));
     csv << "abs_error_ms";
-    for (const RunResult* r : with_predictions) csv << ",\"" << r->label << "\"";
+    for (const RunResult& r : runs) csv << ",\"" << r.label << "\"";
     csv << "\n";
     for (std::size_t b = 0; b < 5000; ++b) {
       csv << static_cast<double>(b + 1) * 0.1;
-      for (const RunResult* r : with_predictions) csv << "," << r->abs_error_us.cdf_at_bin_end(b);
+      for (const RunResult& r : runs) {  // a run without predictions has no distribution: empty fields
+        csv << ",";
+        if (r.predictions > 0) csv << r.abs_error_us.cdf_at_bin_end(b);
+      }
       csv << "\n";
     }
     csv.close();
