@@ -89,15 +89,17 @@ def run_once(binary, args, out_path):
 
 
 def collect(args):
-    """results[binary][benchmark] = one list of repetition values per round."""
-    results = {b: {} for b in args.binaries}
+    """results[i][benchmark] = one list of repetition values per round, i the
+    binary's place on the command line (a binary given twice, an A/A run, is
+    two places)."""
+    results = [{} for _ in args.binaries]
     with tempfile.TemporaryDirectory() as tmp:
         out_path = os.path.join(tmp, "run.json")
         for r in range(args.rounds):
-            for binary in args.binaries:
+            for i, binary in enumerate(args.binaries):
                 print(f"round {r + 1}/{args.rounds}: {binary}", file=sys.stderr, flush=True)
                 for name, vals in run_once(binary, args, out_path).items():
-                    results[binary].setdefault(name, []).append(vals)
+                    results[i].setdefault(name, []).append(vals)
     return results
 
 
@@ -110,11 +112,11 @@ def fmt(v):
 
 def report(args, results):
     lines = []
-    reference = results[args.binaries[0]]
-    for name in sorted({n for per in results.values() for n in per}):
+    reference = results[0]
+    for name in sorted({n for per in results for n in per}):
         lines.append(name)
-        for binary in args.binaries:
-            rounds = results[binary].get(name)
+        for i, binary in enumerate(args.binaries):
+            rounds = results[i].get(name)
             if not rounds:
                 lines.append(f"  {binary}: not run")
                 continue
@@ -124,7 +126,7 @@ def report(args, results):
             text += " rounds " + " ".join(fmt(m) for m in medians)
             if args.below is not None:
                 text += f"; below {fmt(args.below)} in {sum(v < args.below for v in runs)} of {len(runs)}"
-            if binary != args.binaries[0] and name in reference:
+            if i > 0 and name in reference:
                 ref_medians = [statistics.median(rnd) for rnd in reference[name]]
                 ratios = [m / ref for m, ref in zip(medians, ref_medians) if ref]
                 text += "; ratio to the first by round " + " ".join(f"{x:.3f}" for x in ratios)

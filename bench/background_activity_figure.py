@@ -14,6 +14,8 @@ only; the runaway of a band that is too wide at 10 Hz/px takes seconds
 import argparse
 import subprocess
 
+import sweep_table  # bench/, beside this script
+
 RATES_HZ_PER_PX = [0.1, 0.3, 1.0, 2.0, 3.0, 5.0, 10.0]
 NOISE_FLOOR = 0.97
 
@@ -21,12 +23,18 @@ NOISE_FLOOR = 0.97
 def sweep(binary, rate, config):
     """[(scene, share, noise)] of accuracy_sweep's four rows at `rate`."""
     args = [binary, "--noise-rate", str(rate)] + (["--config", config] if config else [])
-    lines = subprocess.run(args, capture_output=True, text=True, check=True).stdout.strip().split("\n")[-4:]
+    try:
+        run = subprocess.run(args, capture_output=True, text=True)
+    except OSError as e:
+        raise SystemExit(f"background_activity_figure: cannot run {binary}: {e.strerror} (build it, or give --sweep)")
+    if run.returncode != 0:
+        raise SystemExit(f"background_activity_figure: {' '.join(args)} failed (exit {run.returncode}):\n{run.stderr}")
+    out = run.stdout
+    columns = sweep_table.header_columns(out)
     rows = []
-    for line in lines:
-        fields = line.split()
-        share, noise = float(fields[-5]) / 100.0, float(fields[-1]) / 100.0
-        rows.append((" ".join(fields[:-5]), share, noise))
+    for line in out.strip().split("\n")[-4:]:
+        scene, (share, noise) = sweep_table.row_values(line, columns, ["share%", "noise%"])
+        rows.append((scene, share / 100.0, noise / 100.0))
     return rows
 
 

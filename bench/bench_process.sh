@@ -15,6 +15,7 @@ runs=${2:-5}
 seconds=${3:-10}
 need_executable "$cli"
 need_count runs "$runs"
+need_time
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$cli" synth --scene mixed --sensor 346x260 --duration "$seconds" -o "$tmp/scene.h5" --quiet
@@ -40,7 +41,7 @@ row() {  # command input ext
   same=no
   cmp -s "$tmp/last_over.$3" "$tmp/last_one.$3" && same=yes
   o=$(med "$tmp/over"); s=$(med "$tmp/one")
-  printf '%-22s %14s %14s %8.2f  %s\n' "$1 $2 -> .$3" "$o" "$s" "$(echo "$s / $o" | bc -l)" "$same"
+  printf '%-22s %14s %14s %8.2f  %s\n' "$1 $2 -> .$3" "$o" "$s" "$(echo "$s $o" | awk '{ printf "%.4f", $1 / $2 }')" "$same"
 }
 printf '%-22s %14s %14s %8s  %s\n' run overlapped_s one_thread_s ratio same_bytes
 for ext in ${FORMATS-bin csv h5}; do

@@ -28,7 +28,8 @@ help_ms=$(median_ms "$cli" --help)  # an assignment: a failure ends the script (
 process_ms=$(median_ms "$cli" process "$tmp/three.txt" --sensor 8x8 -o "$tmp/three.bin" -q)
 echo "evlife --help: $help_ms ms"
 echo "evlife process (3 events): $process_ms ms"
-echo "shared libraries loaded: $(ldd "$cli" | wc -l)"
+# ldd's lines: the libraries ("=> /path") plus the loader and the vDSO.
+echo "shared libraries loaded: $(ldd "$cli" | wc -l) ldd lines ($(ldd "$cli" | grep -c '=> /') libraries, the loader and the vDSO)"
 # Page faults and CPU of each start (perf, from Debian's linux-perf, when the
 # machine lets it count): where page faults are dear, they are the start-up.
 if command -v perf > /dev/null 2>&1; then

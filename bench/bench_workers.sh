@@ -22,6 +22,7 @@ runs=${2:-5}
 format=${3:-dat}
 need_executable "$cli"
 need_count runs "$runs"
+need_time
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 synth="--scene large --sensor 240x180 --duration 0.6 --quiet"

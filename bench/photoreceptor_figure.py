@@ -16,6 +16,8 @@ import argparse
 import math
 import subprocess
 
+import sweep_table  # bench/, beside this script
+
 CUTOFFS_HZ = [3000.0, 1000.0, 300.0, 100.0, 30.0]
 
 
@@ -27,6 +29,7 @@ def parse_bands(text, scene):
     """[(lo_us, hi_us, share, median)] of the band rows that follow `scene`'s
     "by true lifetime" header in accuracy_sweep --bands output (fractions)."""
     rows, inside = [], False
+    columns = sweep_table.header_columns(text)
     for line in text.splitlines():
         if "by true lifetime" in line:
             inside = line.startswith(scene + ",") or line.startswith(scene + " ")
@@ -41,14 +44,20 @@ def parse_bands(text, scene):
             lo, hi = float(fields[2]), math.inf
         else:
             lo, hi = (float(v) for v in fields[1].split(".."))
-        share, median = float(fields[-5]) / 100.0, float(fields[-4]) / 100.0
-        rows.append((lo, hi, share, median))
+        _, (share, median) = sweep_table.row_values(line, columns, ["share%", "med%"])
+        rows.append((lo, hi, share / 100.0, median / 100.0))
     return rows
 
 
 def sweep(binary, cutoff_hz, scene, extra):
     args = [binary, "--bands", "--pixel", f"cutoff-hz={cutoff_hz:g}"] + extra
-    out = subprocess.run(args, capture_output=True, text=True, check=True).stdout
+    try:
+        run = subprocess.run(args, capture_output=True, text=True)
+    except OSError as e:
+        raise SystemExit(f"photoreceptor_figure: cannot run {binary}: {e.strerror} (build it, or give --sweep)")
+    if run.returncode != 0:
+        raise SystemExit(f"photoreceptor_figure: {' '.join(args)} failed (exit {run.returncode}):\n{run.stderr}")
+    out = run.stdout
     rows = parse_bands(out, scene)
     if not rows:
         raise SystemExit(f"photoreceptor_figure: no band rows for scene '{scene}' in {' '.join(args)}")

@@ -129,6 +129,12 @@ def synthetic_late_burst_share(evlife_cli, blur_px):
         return late_burst_share(truth, 346)
 
 
+def sensor_of(path):
+    """The sensor `evlife process` uses for the file: the one it states, else
+    its events' extent (a .mat states none: Reader.sensor is None)."""
+    return evlife.scan(path)["sensor"]
+
+
 def pixel_rates(ev, width):
     """Each event's pixel (y * width + x), the events per pixel and the recording's length in s."""
     pixel = ev["y"].astype(np.int64) * width + ev["x"].astype(np.int64)
@@ -155,7 +161,7 @@ def isolated_share(ev, width, horizon_us=10_000):
 
 def static_scene_figures(path, name):
     ev = evlife.read(path)
-    width, height = evlife.open(path).sensor
+    width, height = sensor_of(path)
     pixel, count, seconds = pixel_rates(ev, width)
     t = ev["t"].astype(np.int64) - int(ev["t"][0])
     tenths = np.bincount(time_bins(t, 10), minlength=10)
@@ -175,7 +181,7 @@ def static_scene_figures(path, name):
 
 def hot_pixels_of_a_recording(path, name, min_hz=200):
     ev = evlife.read(path)
-    sensor = evlife.open(path).sensor
+    sensor = sensor_of(path)
     pixel, count, seconds = pixel_rates(ev, sensor[0])
     t = ev["t"].astype(np.int64) - int(ev["t"][0])
     hot = np.flatnonzero(count >= min_hz * seconds)
@@ -211,6 +217,8 @@ def main():
     parser.add_argument("--evlife", metavar="PATH", help="the evlife tool, for the pixel model's burst tails (5)")
     args = parser.parse_args()
     data = args.data
+    if not os.path.isdir(f"{data}/reference"):
+        raise SystemExit(f"real_data_figures: {data} is not the shared data folder (no reference/ in it)")
     support = past_support(f"{data}/evt3/evt3_sample.raw", 1280, 720)
     print(f"evt3_sample.raw: {np.mean(support >= 3):.3f} of events have >= 3 past same-polarity "
           f"events in their 5x5 window, {np.mean(support >= 7):.3f} have >= 7")
@@ -223,7 +231,7 @@ def main():
 
     path = f"{data}/reference/garfield.mat"
     ev = evlife.read(path)
-    out = evlife.LifetimeEstimator(evlife.open(path).sensor, prediction_expiry_lifetimes=0).process(ev)
+    out = evlife.LifetimeEstimator(sensor_of(path), prediction_expiry_lifetimes=0).process(ev)
     err = out["prediction_error"][np.isfinite(out["prediction_error"])]
     miss = err[np.abs(err) > 10_000]
     print(f"garfield.mat, predictions never expiring: {len(err)} predictions, "

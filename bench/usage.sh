@@ -25,3 +25,11 @@ need_count() {
   echo "$(basename "$0"): $1 must be a whole number, at least 1 (got '$2')" >&2
   exit 2
 }
+# need_time: GNU time, whose -f/-o the scripts read (`time` is a shell keyword
+# without them; Debian's package `time`, in .ci/debian-packages).
+need_time() {
+  if [ ! -x /usr/bin/time ]; then
+    echo "$(basename "$0"): needs /usr/bin/time (apt-get install time)" >&2
+    exit 2
+  fi
+}

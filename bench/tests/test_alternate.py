@@ -113,3 +113,15 @@ def test_a_filter_that_matches_nothing_says_so(tmp_path):
     done = run(tmp_path, ["--filter", "NOPE", str(empty)], {})
     assert done.returncode == 1
     assert "no benchmark matches --filter 'NOPE'" in done.stderr
+
+
+def test_a_binary_given_twice_is_an_a_a_run_with_ratios(tmp_path):
+    a = make_fake(tmp_path, "a")
+    done = run(tmp_path, ["--rounds", "2", "--repetitions", "2", a, a], {"a": {"BM_x": [100.0, 110.0]}})
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "log").read_text().split("\n")[:-1] == ["a True False"] * 4
+    lines = done.stdout.splitlines()
+    runs = [line for line in lines if line.startswith(f"  {a}:")]
+    assert len(runs) == 2, done.stdout  # one line per place on the command line
+    assert all("over 4 runs; rounds 105.0 105.0" in line for line in runs), done.stdout
+    assert "ratio" not in runs[0] and "ratio to the first by round 1.000 1.000" in runs[1], done.stdout
