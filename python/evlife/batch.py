@@ -36,6 +36,7 @@ import threading
 import time
 import uuid
 import warnings
+import zlib
 from collections import Counter, namedtuple
 
 from . import _evlife
@@ -100,12 +101,15 @@ def _output_names(paths, extension, out_dir=None):
                                                                  os.path.basename(p))):
                 if os.path.dirname(name_path) == here:
                     taken.add(os.path.basename(name_path).lower())
+    next_number = {}  # per stem: where its search for a free a-N resumes (10,000 events.txt: 9 s before)
     for p in paths:
-        stem = os.path.splitext(os.path.basename(p))[0] or "recording"
-        name, n = stem + extension, 1
+        # A folder given with its slash (a rosbag2 bag, as the shell completes it) is named by the folder.
+        stem = os.path.splitext(os.path.basename(os.path.normpath(p)))[0] or "recording"
+        name, n = stem + extension, next_number.get(stem.lower(), 1)
         while name.lower() in taken:
             n += 1
             name = "%s-%d%s" % (stem, n, extension)
+        next_number[stem.lower()] = n
         taken.add(name.lower())
         names.append(name)
     return names
@@ -134,7 +138,21 @@ def _partial_name(output, run):
     A worker stopped mid-write leaves no file under the output's name that
     reads as a shorter recording, and no earlier file of that name replaced."""
     folder, name = os.path.split(output)
-    return os.path.join(folder, ".evlife-partial-%s.%s" % (run, name))
+    partial = ".evlife-partial-%s.%s" % (run, name)
+    try:
+        name_max = os.pathconf(folder or ".", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        name_max = 255
+    over = len(os.fsencode(partial)) - name_max
+    if over <= 0:
+        return os.path.join(folder, partial)
+    # A name the output has room for but its partial has not (the prefix's 25
+    # bytes): the stem cut, the extension kept (it names the format), and a
+    # hash of the whole name that keeps two such outputs apart.
+    stem, ext = os.path.splitext(name)
+    tag = "%08x" % (zlib.crc32(os.fsencode(name)) & 0xFFFFFFFF)
+    room = max(0, len(os.fsencode(stem)) - over - len(tag) - 1)
+    return os.path.join(folder, ".evlife-partial-%s.%s.%s%s" % (run, tag, os.fsdecode(os.fsencode(stem)[:room]), ext))
 
 
 # progress=True: a line on stderr whenever no task has finished for this long, so a
@@ -288,8 +306,8 @@ def _process_one(path, output, run, sensor, config, one_thread, crop, options, s
     if _stopped(stop):
         return FileResult(path, None, None, math.nan, None, _NOTHING_WRITTEN), []
     partial = _partial_name(output, run)
-    _streams._remove(partial)  # a retry's (a worker died): not this attempt's
     try:
+        _streams._remove(partial)  # a retry's (a worker died): not this attempt's
         from evlife import _evlife as core
         # Kept for the caller (process_files warns at its line): the worker printed
         # them on its stderr at Dask's line (distributed/worker.py), never caught.
@@ -564,7 +582,11 @@ def _sigint_deferred():
     (it printed an AssertionError at exit). Yields a list, non-empty once
     pressed; main thread only (elsewhere no signal arrives)."""
     pressed = []
-    if threading.current_thread() is not threading.main_thread():
+    # Off the main thread no signal arrives; a caller that ignores SIGINT (a job
+    # started with `&` by a script) keeps ignoring it: its workers, spawned
+    # meanwhile, inherit SIG_IGN (a handler of ours they reset to the default,
+    # and a Ctrl-C to the process group killed them: the batch waited for ever).
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         yield pressed
         return
     previous = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
@@ -681,6 +703,9 @@ def process_files(paths, out_dir, scheduler=None, *, workers=2, sensor=None, con
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)
     if sensor is not None:
         _evlife._check_sensor(sensor)  # not LifetimeEstimator(sensor): 1.4 GB for the largest
+    _evlife._check_str("evlife.batch.process_files", "extension", extension)
+    _evlife._check_bool("evlife.batch.process_files", "one_thread", one_thread)
+    _evlife._check_bool("evlife.batch.process_files", "progress", progress)
     if extension.lower() not in OUTPUT_EXTENSIONS:
         raise ValueError("extension: %r is none of %s" % (extension, ", ".join(OUTPUT_EXTENSIONS)))
     _evlife._check_reader_options(from_s, to_s, time_unit, polarity, where="evlife.batch.process_files")
@@ -915,6 +940,7 @@ def process_slices(path, output, slices=2, warmup_ms=100.0, scheduler=None, *, w
         raise ValueError("process_slices writes a .bin file: %s" % output)
     if not 0.0 <= float(warmup_ms) < float("inf"):  # NaN too; checked here, not once per worker
         raise ValueError("warmup_ms must be a finite number of milliseconds >= 0, got %r" % (warmup_ms,))
+    _evlife._check_bool("evlife.batch.process_slices", "progress", progress)
     _evlife._check_options("evlife.batch.process_slices", _own_keywords(process_slices), config=config, **options)
     _evlife.LifetimeEstimator(sensor=(1, 1), config=config, **options)  # bad options: now
     _check_topic(topic)

@@ -705,6 +705,21 @@ as evlife.process.)");
       "`where`() (evlife.batch's functions); one near a name of own_keywords is said to be its misspelling.");
 
   m.def(
+      "_check_bool",
+      [](const std::string& where, const std::string& name, const py::object& value) {
+        (void)bool_argument(where, name.c_str(), value);
+      },
+      py::arg("where"), py::arg("name"), py::arg("value"),
+      "TypeError unless value is True or False (Python's or NumPy's bool), as evlife.process checks one_thread,\n"
+      "named as `where`(): `name` (evlife.batch's flags).");
+  m.def(
+      "_check_str",
+      [](const std::string& where, const std::string& name, const py::object& value) {
+        (void)str_argument(where, name.c_str(), value);
+      },
+      py::arg("where"), py::arg("name"), py::arg("value"), "TypeError unless value is a str, named as `where`(): `name`.");
+
+  m.def(
       "_check_sensor", [](const py::object& sensor) { (void)sensor_from_python(sensor); }, py::arg("sensor"),
       "TypeError/ValueError unless sensor is a camera's (width, height), as LifetimeEstimator checks it\n"
       "(without making one: up to 1.4 GB for the largest).");

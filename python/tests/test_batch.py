@@ -121,6 +121,38 @@ def test_output_names_are_unique_whatever_the_recordings_are_called():
     assert names[:2] == ["g.bin", "g-2.bin"]
 
 
+def test_a_folder_given_with_its_slash_names_its_output_and_duplicates_count_on():
+    # A rosbag2 folder as the shell completes it ("bag/"): named "recording.bin" before.
+    from evlife import batch
+    assert batch._output_names(["ds/a/bag/", "ds/b/bag//", "c/events.txt"], ".bin") == [
+        "bag.bin", "bag-2.bin", "events.bin"]
+    # One name for every sequence: numbered in order (the search for a free number resumes where it
+    # stopped: 10,000 took 9 s counting from 2 each time), a recording named events-3 keeps its own.
+    names = batch._output_names(["s%d/events.txt" % i for i in range(5)] + ["events-3.txt", "s5/events.txt"], ".bin")
+    assert names == ["events.bin", "events-2.bin", "events-3.bin", "events-4.bin", "events-5.bin",
+                     "events-3-2.bin", "events-6.bin"]
+
+
+def test_a_partial_name_fits_where_its_outputs_name_does(tmp_path):
+    # The partial's prefix is 25 bytes: an output name of 231..255 bytes failed its row (the command
+    # line wrote it) with "File name too long", raised out of the task.
+    from evlife import batch
+    name_max = os.pathconf(tmp_path, "PC_NAME_MAX")
+    stems = ["r" * (name_max - 4 - 1) + c for c in "ab"]  # two names that differ at their end only
+    partials = [batch._partial_name(str(tmp_path / (stem + ".bin")), "0123abcd") for stem in stems]
+    for partial in partials:
+        assert len(os.fsencode(os.path.basename(partial))) <= name_max
+        assert os.path.basename(partial).startswith(".evlife-partial-0123abcd.") and partial.endswith(".bin")
+        open(partial, "wb").close()  # the file system takes it
+    assert partials[0] != partials[1]
+    assert batch._partial_name(str(tmp_path / "short.bin"), "0123abcd") == str(tmp_path / ".evlife-partial-0123abcd.short.bin")
+    recording = tmp_path / ("r" * (name_max - 4) + ".mat")
+    shutil.copy(data("reference/garfield.mat"), recording)
+    table = batch.process_files([recording], tmp_path / "out", workers=1, progress=False)
+    assert table[0].error is None, table[0].error
+    assert os.path.basename(table[0].output) == "r" * (name_max - 4) + ".bin"
+
+
 def test_outputs_never_take_the_name_of_a_recording_in_the_output_folder(tmp_path):
     from evlife import batch
     (tmp_path / "x.csv").write_text("")
@@ -167,6 +199,16 @@ def test_bad_batch_arguments_fail_before_any_task(tmp_path):
         batch.process_slices(path, tmp_path / "x.bin", time_unit=1)
     with pytest.raises(ValueError, match="polarity: expected 'on', 'off' or 'both', got 'up'"):
         batch.process_files([path], tmp_path, polarity="up")
+    # Flags as evlife.process checks them, before the cluster starts (one_thread="no" failed every
+    # row, progress="no" printed progress, extension=None raised an AttributeError).
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_files\(\): one_thread must be True or False, got str 'no'$"):
+        batch.process_files([path], tmp_path, one_thread="no")
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_files\(\): progress must be True or False, got str 'no'$"):
+        batch.process_files([path], tmp_path, progress="no")
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_slices\(\): progress must be True or False, got int 0$"):
+        batch.process_slices(path, tmp_path / "x.bin", progress=0)
+    with pytest.raises(TypeError, match=r"^evlife.batch.process_files\(\): extension must be a str, got NoneType None$"):
+        batch.process_files([path], tmp_path, extension=None)
     with pytest.raises(ValueError, match="time_unit"):
         batch.process_slices(path, tmp_path / "x.bin", time_unit="fortnights")
     # A LocalCluster of no worker would wait for ever.
@@ -447,6 +489,34 @@ def test_ctrl_c_while_the_cluster_starts_is_interrupted_with_every_row(tmp_path,
     assert os.listdir(tmp_path / "out") == []
     assert started and started[0].status.name == "closed"
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_a_caller_that_ignores_ctrl_c_starts_workers_that_ignore_it_too(tmp_path):
+    # A script started with `&` by a shell script ignores SIGINT, yet a Ctrl-C reaches its process group:
+    # the handler installed while the cluster started was reset to the default in the workers spawned
+    # then, which died of it, and the batch waited for ever. Now SIG_IGN stays, and the workers inherit it.
+    import signal
+    import subprocess
+    import sys
+    script = tmp_path / "ignoring.py"
+    script.write_text(
+        "import os, signal\n"
+        "from evlife import batch\n"
+        "if __name__ == '__main__':\n"
+        "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+        "    with batch._sigint_deferred():\n"
+        "        print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)\n"
+        "    client, to_close = batch._client(None, 1)\n"
+        "    pids = client.run(os.getpid)\n"
+        "    for pid in pids.values():\n"
+        "        mask = [l for l in open('/proc/%d/status' % pid) if l.startswith('SigIgn:')][0].split()[1]\n"
+        "        print(bool(int(mask, 16) & (1 << (signal.SIGINT - 1))))\n"
+        "    for c in to_close:\n"
+        "        c.close()\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ), cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["True", "True"], done.stdout + done.stderr
 
 
 def test_ctrl_c_while_connecting_to_a_cluster_says_nothing_was_submitted(tmp_path, monkeypatch):
