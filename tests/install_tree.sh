@@ -56,6 +56,8 @@ EOF
 app/build/embedding >/dev/null || fail "the example built with find_package failed"
 pc_dir=$(dirname "$(find "$scratch/algo" -name evlife-algo.pc)")
 flags=$(PKG_CONFIG_PATH=$pc_dir pkg-config --cflags --libs evlife-algo) || fail "pkg-config evlife-algo failed"
+# Built with exceptions: nothing says otherwise (a -fno-exceptions build adds -DEVLIFE_ALGO_NO_EXCEPTIONS=1).
+case $flags in *EVLIFE_ALGO_NO_EXCEPTIONS*) fail "pkg-config says a library with exceptions has none: $flags" ;; esac
 # shellcheck disable=SC2086  # the flags are words
 "$cxx" -std=c++20 "$source/algo/example/minimal_embedding.cpp" $flags -o embedding_pc ||
   fail "the example did not build with pkg-config's flags: $flags"

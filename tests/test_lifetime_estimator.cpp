@@ -51,7 +51,24 @@ bool interior(const Event& e, SensorSize s, int margin) {
   return e.x >= margin && e.y >= margin && e.x < s.width - margin && e.y < s.height - margin;
 }
 
+// evlife::algo tells the code built against it whether its constructors throw
+// or abort (EVLIFE_ALGO_NO_EXCEPTIONS, an INTERFACE definition, installed with
+// it); this test is built as the library is, so the two agree.
+#if defined(__cpp_exceptions) == defined(EVLIFE_ALGO_NO_EXCEPTIONS)
+#error "EVLIFE_ALGO_NO_EXCEPTIONS does not say how evlife::algo was built"
+#endif
+
 TEST(LifetimeOptions, DefaultsAreValid) { EXPECT_EQ(validate_lifetime_options({}), ""); }
+
+// A value far outside an odd-only range is out of it, without casting it to
+// an integer first (1e23 is no long long: undefined behaviour, which a
+// constant expression refuses to compile, as UBSan reports it at run time).
+TEST(LifetimeOptions, AnOddOnlyRangeRefusesAValueNoIntegerHolds) {
+  constexpr evlife::OptionInfo odd{"window_size", "", 3.0, 15.0, false, false, true, false, "doc"};
+  static_assert(!odd.contains(1e23) && !odd.contains(-1e23) && odd.contains(5.0) && !odd.contains(4.0));
+  volatile double far = 1e23;  // and at run time
+  EXPECT_FALSE(odd.contains(far));
+}
 
 TEST(LifetimeOptions, InvalidValuesNameTheField) {
   struct Case {

@@ -68,8 +68,8 @@ class ActiveEventMap {
   explicit ActiveEventMap(SensorSize sensor, bool edge_thinning = true);
 
   /// Adds one augmented event. Events should come in non-decreasing time; one
-  /// more than ~35 min older than the map's newest (its 32-bit range) is
-  /// counted late and ignored.
+  /// older than the map's 32-bit range, which reaches 45 to 62 min back from
+  /// its newest (the range moves in steps), is counted late and ignored.
   void feed(const AugmentedEvent& a) noexcept;
   void feed(std::span<const AugmentedEvent> events) noexcept {
     for (const auto& a : events) feed(a);

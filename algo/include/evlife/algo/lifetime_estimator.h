@@ -98,7 +98,10 @@ std::string rejected_events_text(const LifetimeStats& stats);
 
 class LifetimeEstimator {
  public:
-  /// Throws std::invalid_argument (naming the field) on invalid options.
+  /// Throws std::invalid_argument (naming the field) on invalid options; a
+  /// library built without exceptions (EVLIFE_ALGO_NO_EXCEPTIONS, defined for
+  /// the code built against it) aborts instead: validate with
+  /// make_lifetime_estimator() (make_lifetime_estimator.h).
   explicit LifetimeEstimator(const LifetimeOptions& options);
 
   /// Estimates the lifetime and velocity of one event. Events must arrive in

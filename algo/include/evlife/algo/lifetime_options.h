@@ -234,7 +234,7 @@ struct LifetimeOptions {
   /// so half a window of supporters comes by chance. With 1 s, a static scene
   /// under 1 Hz/px passed 3-5 % of its noise once every pixel had fired
   /// (tests/test_long_recordings.cpp); with 0.3 s, 0.1 %. Edges slower than
-  /// 3.3 px/s are labelled noise. Microseconds, > 0.
+  /// 3.3 px/s are labelled noise. Microseconds, (0, 1e9].
   double max_lifetime_us = 3.0e5;
 
   /// The plane of the inliers alone (the least-squares plane with its own

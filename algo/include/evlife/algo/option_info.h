@@ -31,8 +31,8 @@ struct OptionInfo {
     if (!(v == v)) return false;  // NaN
     const bool lo_ok = lo_open ? v > lo : v >= lo;
     const bool hi_ok = hi_open ? v < hi : v <= hi;
-    const bool odd_ok = !odd || static_cast<long long>(v) % 2 != 0;
-    return lo_ok && hi_ok && odd_ok;
+    if (!lo_ok || !hi_ok) return false;  // before the cast: 1e23 is no long long
+    return !odd || static_cast<long long>(v) % 2 != 0;
   }
 
   /// "odd, [3, 15]", "-1 (auto) or [0, 1024]", "(0, 0.9]".
