@@ -12,7 +12,6 @@ only; the runaway of a band that is too wide at 10 Hz/px takes seconds
 (tests/test_long_recordings.cpp).
 """
 import argparse
-import subprocess
 
 import sweep_table  # bench/, beside this script
 
@@ -23,13 +22,7 @@ NOISE_FLOOR = 0.97
 def sweep(binary, rate, config):
     """[(scene, share, noise)] of accuracy_sweep's four rows at `rate`."""
     args = [binary, "--noise-rate", str(rate)] + (["--config", config] if config else [])
-    try:
-        run = subprocess.run(args, capture_output=True, text=True)
-    except OSError as e:
-        raise SystemExit(f"background_activity_figure: cannot run {binary}: {e.strerror} (build it, or give --sweep)")
-    if run.returncode != 0:
-        raise SystemExit(f"background_activity_figure: {' '.join(args)} failed (exit {run.returncode}):\n{run.stderr}")
-    out = run.stdout
+    out = sweep_table.run_sweep("background_activity_figure", args)
     columns = sweep_table.header_columns(out)
     rows = []
     for line in out.strip().split("\n")[-4:]:

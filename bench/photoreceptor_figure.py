@@ -14,7 +14,6 @@ pick another of accuracy_sweep's rows). Extra accuracy_sweep arguments after
 """
 import argparse
 import math
-import subprocess
 
 import sweep_table  # bench/, beside this script
 
@@ -51,13 +50,7 @@ def parse_bands(text, scene):
 
 def sweep(binary, cutoff_hz, scene, extra):
     args = [binary, "--bands", "--pixel", f"cutoff-hz={cutoff_hz:g}"] + extra
-    try:
-        run = subprocess.run(args, capture_output=True, text=True)
-    except OSError as e:
-        raise SystemExit(f"photoreceptor_figure: cannot run {binary}: {e.strerror} (build it, or give --sweep)")
-    if run.returncode != 0:
-        raise SystemExit(f"photoreceptor_figure: {' '.join(args)} failed (exit {run.returncode}):\n{run.stderr}")
-    out = run.stdout
+    out = sweep_table.run_sweep("photoreceptor_figure", args)
     rows = parse_bands(out, scene)
     if not rows:
         raise SystemExit(f"photoreceptor_figure: no band rows for scene '{scene}' in {' '.join(args)}")

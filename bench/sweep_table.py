@@ -2,6 +2,19 @@
 a column added to the sweep then shifts nothing a script reads (two scripts
 read fixed positions from the end and took med% for the share once
 all_noise% was added)."""
+import subprocess
+
+
+def run_sweep(script, args):
+    """accuracy_sweep's stdout for `args` (its path first); a missing binary or a
+    failed run ends the calling script with the sweep's own message."""
+    try:
+        run = subprocess.run(args, capture_output=True, text=True)
+    except OSError as e:
+        raise SystemExit(f"{script}: cannot run {args[0]}: {e.strerror} (build it, or give --sweep)")
+    if run.returncode != 0:
+        raise SystemExit(f"{script}: {' '.join(args)} failed (exit {run.returncode}):\n{run.stderr}")
+    return run.stdout
 
 
 def header_columns(text):
