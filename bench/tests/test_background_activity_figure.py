@@ -1,20 +1,15 @@
 """bench/background_activity_figure.py against a stand-in for accuracy_sweep
 (its table as printed today, with the all_noise% column it once misread)."""
-import importlib.util
-import os
-import stat
 import subprocess
 import sys
 import textwrap
 
 import pytest
 
-BENCH = os.path.join(os.path.dirname(__file__), os.pardir)
-SCRIPT = os.path.join(BENCH, "background_activity_figure.py")
-sys.path.insert(0, BENCH)  # the script's own modules (sweep_table)
-spec = importlib.util.spec_from_file_location("background_activity_figure", SCRIPT)
-figure = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(figure)
+from stand_ins import load_script, script_path, sweep_stand_in
+
+SCRIPT = script_path("background_activity_figure")
+figure = load_script("background_activity_figure")
 
 SWEEP_OUTPUT = textwrap.dedent("""\
     scene                                                            share%     med%     p90%  dir_deg   noise% all_noise%
@@ -25,15 +20,8 @@ SWEEP_OUTPUT = textwrap.dedent("""\
     """)
 
 
-def stand_in(tmp_path, body):
-    path = tmp_path / "accuracy_sweep"
-    path.write_text(f"#!{sys.executable}\n" + body)
-    path.chmod(path.stat().st_mode | stat.S_IEXEC)
-    return str(path)
-
-
 def test_the_share_and_the_noise_are_read_by_their_column_names(tmp_path):
-    sweep = stand_in(tmp_path, f"import sys\nsys.stdout.write({SWEEP_OUTPUT!r})\n")
+    sweep = sweep_stand_in(tmp_path, f"import sys\nsys.stdout.write({SWEEP_OUTPUT!r})\n")
     rows = figure.sweep(sweep, 1.0, None)
     assert [r[0] for r in rows] == ["edges 346x260, 0.6 s, dvs pixels",
                                     "rotating bar 346x260, 150->1200 deg/s in 0.6 s, dvs pixels",
@@ -44,7 +32,7 @@ def test_the_share_and_the_noise_are_read_by_their_column_names(tmp_path):
 
 
 def test_a_failing_or_missing_sweep_is_said_without_a_traceback(tmp_path):
-    sweep = stand_in(tmp_path, "import sys\nsys.stderr.write('accuracy_sweep: bad --config\\\\n')\nsys.exit(2)\n")
+    sweep = sweep_stand_in(tmp_path, "import sys\nsys.stderr.write('accuracy_sweep: bad --config\\\\n')\nsys.exit(2)\n")
     run = subprocess.run([sys.executable, SCRIPT, "--sweep", sweep], capture_output=True, text=True)
     assert run.returncode != 0
     assert "failed (exit 2)" in run.stderr and "accuracy_sweep: bad --config" in run.stderr

@@ -1,21 +1,16 @@
 """bench/photoreceptor_figure.py's parser and driver against a stand-in for
 accuracy_sweep (rows laid out as accuracy_sweep --bands prints them)."""
-import importlib.util
 import math
-import os
-import stat
 import subprocess
 import sys
 import textwrap
 
 import pytest
 
-BENCH = os.path.join(os.path.dirname(__file__), os.pardir)
-SCRIPT = os.path.join(BENCH, "photoreceptor_figure.py")
-sys.path.insert(0, BENCH)  # the script's own modules (sweep_table)
-spec = importlib.util.spec_from_file_location("photoreceptor_figure", SCRIPT)
-figure = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(figure)
+from stand_ins import load_script, script_path, sweep_stand_in
+
+SCRIPT = script_path("photoreceptor_figure")
+figure = load_script("photoreceptor_figure")
 
 # With all_noise%, the column the sweep added after the scripts were written
 # (they read fixed positions from the end, and took med% for the share).
@@ -53,16 +48,10 @@ def test_band_centres_and_time_constant():
     assert figure.time_constant_us(100.0) == pytest.approx(1591.549, rel=1e-6)
 
 
-def stand_in(tmp_path, body):
-    path = tmp_path / "accuracy_sweep"
-    path.write_text(f"#!{sys.executable}\n" + body)
-    path.chmod(path.stat().st_mode | stat.S_IEXEC)
-    return str(path)
-
 
 def test_every_cutoff_is_swept_and_printed(tmp_path):
     log = tmp_path / "args.log"
-    sweep = stand_in(tmp_path, textwrap.dedent(f"""\
+    sweep = sweep_stand_in(tmp_path, textwrap.dedent(f"""\
         import sys
         with open({str(log)!r}, "a") as f:
             f.write(" ".join(sys.argv[1:]) + "\\n")
@@ -76,7 +65,7 @@ def test_every_cutoff_is_swept_and_printed(tmp_path):
 
 
 def test_a_scene_without_band_rows_is_an_error(tmp_path):
-    sweep = stand_in(tmp_path, f"import sys\nsys.stdout.write({SWEEP_OUTPUT!r})\n")
+    sweep = sweep_stand_in(tmp_path, f"import sys\nsys.stdout.write({SWEEP_OUTPUT!r})\n")
     run = subprocess.run([sys.executable, SCRIPT, "--sweep", sweep, "--scene", "rotating bar"],
                          capture_output=True, text=True)
     assert run.returncode != 0

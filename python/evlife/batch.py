@@ -101,7 +101,7 @@ def _output_names(paths, extension, out_dir=None):
                                                                  os.path.basename(p))):
                 if os.path.dirname(name_path) == here:
                     taken.add(os.path.basename(name_path).lower())
-    next_number = {}  # per stem: where its search for a free a-N resumes (10,000 events.txt: 9 s before)
+    next_number = {}  # per stem: where its search for a free a-N resumes (from 2 each time: quadratic)
     for p in paths:
         # A folder given with its slash (a rosbag2 bag, as the shell completes it) is named by the folder.
         stem = os.path.splitext(os.path.basename(os.path.normpath(p)))[0] or "recording"

@@ -358,24 +358,23 @@ void write_prediction_error_cdf([[maybe_unused]] const EvaluationOptions& args, 
   {
     std::vector<render::PlotSeries> plot;
     const double x_max_ms = 50.0;
-    for (const RunResult& run : runs) {
-      const RunResult* r = &run;
+    for (const RunResult& r : runs) {
       render::PlotSeries s;
-      s.label = r->label;
-      s.color = render::series_color(r->from_file ? 0 : (r->window_size - 3) / 2);
-      s.dashed = !r->regularization && !r->from_file;
-      if (r->predictions == 0) {  // in the legend, said, not left out of the comparison
+      s.label = r.label;
+      s.color = render::series_color(r.from_file ? 0 : (r.window_size - 3) / 2);
+      s.dashed = !r.regularization && !r.from_file;
+      if (r.predictions == 0) {  // in the legend, said, not left out of the comparison
         s.label += " (no prediction)";
         plot.push_back(std::move(s));
         continue;
       }
       s.x.push_back(0.0);
       s.y.push_back(0.0);  // no prediction has a negative error
-      for (std::size_t b = 0; b < r->abs_error_us.bins(); ++b) {
-        const double x = r->abs_error_us.bin_start(b + 1) / 1000.0;
+      for (std::size_t b = 0; b < r.abs_error_us.bins(); ++b) {
+        const double x = r.abs_error_us.bin_start(b + 1) / 1000.0;
         if (x > x_max_ms) break;
         s.x.push_back(x);
-        s.y.push_back(r->abs_error_us.cdf_at_bin_end(b));
+        s.y.push_back(r.abs_error_us.cdf_at_bin_end(b));
       }
       plot.push_back(std::move(s));
     }

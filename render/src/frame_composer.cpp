@@ -69,10 +69,7 @@ FrameComposer::FrameComposer(std::vector<View> views, FrameStyle style, std::str
 }
 
 bool FrameComposer::has_legend() const noexcept {
-  if (!style_.legend || style_.color != ColorMode::lifetime) return false;
-  for (const auto& v : views_)
-    if (v.lifetime) return true;
-  return false;
+  return style_.legend && color_drawn(style_.color, views_) == ColorMode::lifetime;
 }
 
 int FrameComposer::label_height() const noexcept {
