@@ -119,6 +119,37 @@ TEST(Dvs128Cli, RunFromTheCameraWritesEverythingReadThenReportsTheUnplug) {
   std::remove(out_path.c_str());
 }
 
+// A timestamp wrap word lost on the way: the words after it read as earlier
+// than the event before them, and the decoder stamps them with its time. The
+// run says how many, in its summary and (whatever -q says) on stderr; before,
+// the counter was kept and never shown.
+TEST(Dvs128Cli, EventsStampedWithAnEarlierEventsTimeAreCountedAndShown) {
+  std::vector<std::uint32_t> words = {kResetWord, dvs128_word(5, 5, true, 16000), dvs128_word(6, 5, true, 16300)};
+  for (int i = 0; i < 4; ++i) words.push_back(dvs128_word(7 + i, 5, true, 10 * (i + 1)));  // the wrap word lost
+  const std::string out_path = std::string(EVLIFE_BINARY_DIR) + "/test_dvs128_cli_regressions.bin";
+  for (const bool quiet : {false, true}) {
+    UsbTestbed bed;
+    auto& cam = bed.add_dvs128("SN-4");
+    cam.push_packet(words_to_bytes(words));
+    CliResult r;
+    std::thread cli([&] {
+      r = run_cli(std::string("run --source dvs128:SN-4 ") + (quiet ? "--quiet " : "") + "-o " + out_path,
+                  quiet ? "regressions_q" : "regressions");
+    });
+    EXPECT_TRUE(cam.wait_for([&] { return cam.queued_packets() == 0; }, std::chrono::seconds(10)));
+    cam.unplug();
+    cli.join();
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("warning: 4 events of"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("were stamped with its time"), std::string::npos) << r.err;
+    if (!quiet) {
+      EXPECT_NE(r.out.find("camera : 7 words: 6 events, 0 special (sync), 0 timestamp wraps, 1 resets; 4 stamped"),
+                std::string::npos) << r.out;
+    }
+  }
+  std::remove(out_path.c_str());
+}
+
 // A --biases file that cannot be read, or holds a bad line, is a setting
 // refused: exit 2 (as a bad --config), the file and line named, no request
 // sent to the camera. It was exit 3, "input error", as if the camera's

@@ -237,6 +237,14 @@ int open_fault_exit(std::string_view command, const std::string& input, const io
   return kExitInput;
 }
 
+int output_open_fault_exit(std::string_view command, std::string_view what, std::string_view suffix) {
+  const bool stopped = io::stop_requested();
+  std::fprintf(stderr, "evlife %.*s: %s: %.*s%.*s\n", static_cast<int>(command.size()), command.data(),
+               stopped ? "interrupted" : "output error", static_cast<int>(what.size()), what.data(),
+               static_cast<int>(suffix.size()), suffix.data());
+  return stopped ? kExitInterrupted : kExitOutput;
+}
+
 std::string no_event_text(const std::string& input, const io::ReaderOptions& selection) {
   std::string text = "no event of " + io::name_in_messages(input);
   if (selection.polarity != io::PolarityFilter::both)

@@ -20,6 +20,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
+#include "evlife/io/stop.h"
 #include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 #include "input_spool.h"
@@ -87,7 +88,8 @@ void print_help(std::FILE* out) {
       "a message naming the file and the event index / byte offset; the events before\n"
       "the fault are written and flushed.\n"
       "\n"
-      "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error.\n"
+      "Exit status: 0 done; 2 bad command line; 3 input error; 4 output error;\n"
+      "             130 interrupted (the events before the stop written).\n"
       "\n"
       "Examples:\n"
       "  evlife convert recording.aedat4 recording.h5\n"
@@ -160,9 +162,10 @@ class EventsOfAugmented {
 int report(const Outcome& o, const std::string& input, const std::string& output,
            const std::string& what, bool quiet) {
   if (o.output_fault) {  // what the file holds, the writer's error says (output_file.h)
-    std::fprintf(stderr, "evlife convert: output error: %s (%llu events read before it)\n",
-                 o.output_fault->c_str(), o.read);
-    return kExitOutput;
+    const bool stopped = io::stop_requested();  // a stop while the output's reader took nothing
+    std::fprintf(stderr, "evlife convert: %s: %s (%llu events read before it)\n",
+                 stopped ? "interrupted; output" : "output error", o.output_fault->c_str(), o.read);
+    return stopped ? kExitInterrupted : kExitOutput;
   }
   if (!quiet) {
     std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", io::name_in_messages(input).c_str(),
@@ -227,8 +230,7 @@ int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const st
     auto writer = io::open_augmented_writer(output, sensor);
     return report(copy_all<AugmentedEvent>(checked, *writer, stop), input, output, "augmented events", quiet);
   } catch (const io::WriteError& e) {
-    std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
-    return kExitOutput;
+    return output_open_fault_exit("convert", e.what());
   }
 }
 
@@ -266,8 +268,7 @@ int convert_events(const std::string& input, const std::string& output,
   try {
     writer = io::open_event_writer(output, sensor);
   } catch (const io::WriteError& e) {
-    std::fprintf(stderr, "evlife convert: output error: %s\n", e.what());
-    return kExitOutput;
+    return output_open_fault_exit("convert", e.what());
   }
   if (!one_thread) reader = std::make_unique<engine::PrefetchReader>(std::move(reader));
   const Outcome o = copy_all<Event>(*reader, *writer, stop);

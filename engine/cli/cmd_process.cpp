@@ -289,8 +289,7 @@ int process_recording(int argc, char** argv) {
   try {
     writer = io::open_augmented_writer(args.output, sensor.size);
   } catch (const io::WriteError& e) {
-    std::fprintf(stderr, "evlife process: output error: %s\n", e.what());
-    return kExitOutput;
+    return output_open_fault_exit("process", e.what());
   }
 
   if (!args.one_thread) {  // the same events in, the same bytes out: only sooner

@@ -496,6 +496,14 @@ void print_run_summary(const RunArgs& args, const engine::EventSource& src,
     std::fprintf(stdout, "skipped: %llu records %s\n", static_cast<unsigned long long>(reader->skipped_record_count()),
                  io::skipped_records_note(*reader).c_str());
   }
+  if (const auto* camera = dynamic_cast<const engine::Dvs128Source*>(&src)) {
+    const io::Dvs128DecoderCounters& c = camera->decoder_counters();
+    std::fprintf(stdout, "camera : %llu words: %llu events, %llu special (sync), %llu timestamp wraps, %llu resets; "
+                 "%llu stamped with the time of the event before them (they came earlier: a word lost or corrupt)\n",
+                 static_cast<unsigned long long>(c.words), static_cast<unsigned long long>(c.pixel_events),
+                 static_cast<unsigned long long>(c.sync_events), static_cast<unsigned long long>(c.wraps),
+                 static_cast<unsigned long long>(c.resets), static_cast<unsigned long long>(c.time_regressions));
+  }
   if (render_stage && render_stage->frames_written() == 0 && !args.video.empty()) {
     // The video is opened with its first frame: a file of that name is untouched.
     std::fprintf(stdout, "frames : none drawn: %s not written (a file of that name is left as it was)\n",
@@ -723,8 +731,7 @@ int run_engine(int argc, char** argv) {
       writer_sink = std::make_unique<engine::WriterSink>(
           io::open_augmented_writer(args.output, source->sensor_size()));
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "evlife run: output error: %s\n", e.what());
-      return kExitOutput;
+      return output_open_fault_exit("run", e.what());
     }
   }
   // -q: nothing to count (and no per-pixel counts to allocate).
@@ -774,6 +781,14 @@ int run_engine(int argc, char** argv) {
   if (result.status == engine::RunStatus::completed && result.stats.events_in == 0)  // as process
     warn_empty_crop("run", std::string(file_of_source(args.source)), args.input_options);
   if (frame_sink) warn_earlier_frames("run", args.frames_dir, frame_sink->earlier_frames_left());
+  // Times the camera's decoder changed are named whatever -q says (never a silent change).
+  if (const auto* camera = dynamic_cast<const engine::Dvs128Source*>(source.get())) {
+    if (const std::uint64_t n = camera->decoder_counters().time_regressions; n > 0) {
+      std::fprintf(stderr, "evlife run: warning: %llu events of %s came earlier than the event before them (a word "
+                   "lost or corrupt on the way) and were stamped with its time\n",
+                   static_cast<unsigned long long>(n), source->describe().c_str());
+    }
+  }
   if (render_stage && result.status == engine::RunStatus::completed && result.stats.has_time_range) {
     const auto& stats = result.stats;
     const std::uint64_t read_us = span_us(stats.first_t_us, stats.last_t_us);

@@ -15,10 +15,32 @@
 
 namespace evlife::io::detail {
 
+namespace {
+
+// open() of a FIFO for writing blocks until a reader opens it, deaf to a
+// stop (SA_RESTART restarts it): a FIFO is opened without blocking, in steps
+// of 100 ms while it has no reader, until a stop (stop.h) ends the wait with
+// a WriteError. Else a plain open(); -1 and errno on failure.
+int open_output(const std::string& path) {
+  constexpr int kStepMs = 100;  // how soon a stop is noticed
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode)) {
+    return ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  }
+  for (;;) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0 || (errno != ENXIO && errno != EINTR)) return fd;  // ENXIO: no reader yet
+    if (stop_requested()) throw WriteError(path, "stopped while no reader had opened this FIFO (nothing written)");
+    ::poll(nullptr, 0, kStepMs);
+  }
+}
+
+}  // namespace
+
 OutputFile::OutputFile(const std::string& path, OutputRecords records)
     : path_(path), buffer_(kBufferBytes), records_(records) {
   const std::string folder_problem = create_output_folders(path);
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  fd_ = open_output(path);
   if (fd_ < 0) {
     const int err = errno;
     throw WriteError(path, folder_problem.empty() ? std::string("cannot create: ") + std::strerror(err) : folder_problem,
