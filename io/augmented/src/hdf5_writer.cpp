@@ -172,7 +172,7 @@ class Hdf5ColumnFile {
 
   void close() {
     if (file_ < 0) return;
-    if (failed_) throw WriteError(path_, "an earlier write failed");
+    if (failed_) throw WriteError(path_, "an earlier write failed", 0, written_);
     flush();
     const Hdf5ErrorSilencer silence;
     bool ok = true;
@@ -231,6 +231,13 @@ class Hdf5ColumnFile {
   void flush() {
     const std::size_t count = columns_.x.size();
     if (count == 0 || file_ < 0) return;
+    // The chunks and metadata libhdf5 still holds in its caches are not in the
+    // file's size yet (a run that passed this check then failed to close):
+    // written out first, so that the size measured is what the file takes.
+    if (const Hdf5ErrorSilencer silence; H5Fflush(file_, H5F_SCOPE_LOCAL) < 0) {
+      failed_ = true;
+      throw WriteError(path_, "writing HDF5 events before " + std::to_string(written_) + " failed (disk full?)");
+    }
     // The chunk uncompressed: an upper bound of what it takes on disk.
     const std::uint64_t free = free_bytes(path_), below_limit = bytes_below_size_limit(path_);
     if (const std::uint64_t room = std::min(free, below_limit); room < count * event_bytes_ + kCloseReserveBytes) {
@@ -242,7 +249,7 @@ class Hdf5ColumnFile {
                            ": events " + std::to_string(written_) + ".." + std::to_string(written_ + count) +
                            " not written, so that the HDF5 file can still be closed with the " +
                            std::to_string(written_) + " before them",
-                       limit ? EFBIG : ENOSPC);
+                       limit ? EFBIG : ENOSPC, written_);
     }
     const Hdf5ErrorSilencer silence;
     const hsize_t start[1] = {written_};
