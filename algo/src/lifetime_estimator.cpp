@@ -50,7 +50,7 @@ int ransac_iterations_for(double outlier_fraction, double confidence) {
 // The RANSAC iterations that draw an all-inlier pair with ransac_confidence,
 // indexed by how many of `count` past events are inliers (precomputed in the
 // constructor).
-const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
+inline const int* LifetimeEstimator::iterations_needed(int count) const noexcept {
   return &iterations_table_[static_cast<std::size_t>(count) * (detail::kMaxNeighbours + 1)];
 }
 
@@ -177,7 +177,7 @@ void LifetimeEstimator::prefetch(const Event& e) const noexcept {
 // budget starts at the count for the expected outlier fraction and shrinks as
 // better support is found. (first_gx, first_gy): a candidate to try first,
 // (0, 0) for none.
-detail::PlaneCandidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
+inline detail::PlaneCandidate LifetimeEstimator::best_plane(const detail::WindowSamples& nb, detail::EventRng& rng,
                                                      float tol_floor2, float tol_fraction2, float first_gx,
                                                      float first_gy) const noexcept {
   const int count = nb.count;
@@ -195,14 +195,14 @@ detail::PlaneCandidate LifetimeEstimator::best_plane(const detail::WindowSamples
 
 // Weight of a prior plane that predicted this event with error err_us
 // (paper eq. 13, in our units).
-double LifetimeEstimator::prior_weight(double err_us) const noexcept {
+inline double LifetimeEstimator::prior_weight(double err_us) const noexcept {
   return options_.lambda_unit_px2 *
          (options_.lambda_offset + options_.lambda_gain * std::exp(-options_.lambda_decay_per_us * err_us));
 }
 
 // True when the event at a pixel comes too early or too late for the edge
 // whose prediction waits there: it passed without firing here.
-bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept {
+inline bool LifetimeEstimator::prediction_expired(const PixelState& state, std::int64_t t_us) const noexcept {
   if (options_.prediction_expiry_lifetimes <= 0.0) return false;
   const double err_us = std::fabs(detail::difference_us(t_us, state.prediction_t_us));
   const double gx = static_cast<double>(state.prediction_gx_us_px);
@@ -390,7 +390,7 @@ bool LifetimeEstimator::any_upstream(int pol, int x, int y, const PixelState& st
 
 // Eq. 8's m for a window of which `pixels` count (halfway between them and
 // the full window: process()).
-int LifetimeEstimator::eq8_min_support(int pixels, int full_window) const noexcept {
+inline int LifetimeEstimator::eq8_min_support(int pixels, int full_window) const noexcept {
   return std::max(4, static_cast<int>(std::ceil(min_support_fraction_ * (pixels + full_window) * 0.25 - 1e-9)));
 }
 
