@@ -90,17 +90,22 @@ struct Finished {
   std::string err;
 };
 
-Finished wait_cli(const Child& c) {
-  int status = 0;
-  while (waitpid(c.pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("waitpid failed");
-  }
+// What ended `c` (its wait status) and what it wrote.
+Finished finished(const Child& c, int status) {
   Finished f;
   f.exited = WIFEXITED(status);
   f.code = f.exited ? WEXITSTATUS(status) : WTERMSIG(status);
   f.out = slurp(c.out_log);
   f.err = slurp(c.err_log);
   return f;
+}
+
+Finished wait_cli(const Child& c) {
+  int status = 0;
+  while (waitpid(c.pid, &status, 0) < 0) {
+    if (errno != EINTR) throw std::runtime_error("waitpid failed");
+  }
+  return finished(c, status);
 }
 
 Finished run_cli(const std::vector<std::string>& args, const ScratchDir& dir) {
@@ -581,14 +586,7 @@ std::optional<Finished> wait_cli_within(const Child& c, std::chrono::seconds lim
   const auto deadline = std::chrono::steady_clock::now() + limit;
   while (std::chrono::steady_clock::now() < deadline) {
     int status = 0;
-    if (waitpid(c.pid, &status, WNOHANG) == c.pid) {
-      Finished f;
-      f.exited = WIFEXITED(status);
-      f.code = f.exited ? WEXITSTATUS(status) : WTERMSIG(status);
-      f.out = slurp(c.out_log);
-      f.err = slurp(c.err_log);
-      return f;
-    }
+    if (waitpid(c.pid, &status, WNOHANG) == c.pid) return finished(c, status);
     std::this_thread::sleep_for(10ms);
   }
   kill(c.pid, SIGKILL);
