@@ -237,7 +237,7 @@ int open_fault_exit(std::string_view command, const std::string& input, const io
   return kExitInput;
 }
 
-int output_open_fault_exit(std::string_view command, std::string_view what, std::string_view suffix) {
+int output_fault_exit(std::string_view command, std::string_view what, std::string_view suffix) {
   const bool stopped = io::stop_requested();
   std::fprintf(stderr, "evlife %.*s: %s: %.*s%.*s\n", static_cast<int>(command.size()), command.data(),
                stopped ? "interrupted" : "output error", static_cast<int>(what.size()), what.data(),

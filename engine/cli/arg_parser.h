@@ -150,11 +150,11 @@ int usage_exit(std::string_view command, std::string_view message);
 /// (io::OptionNotTaken) is a usage error, exit 2; else "input error: WHAT", exit 3.
 int open_fault_exit(std::string_view command, const std::string& input, const io::ReadError& e);
 
-/// An output error met while COMMAND opened its output (`what`: the error's
-/// text, which names the file): "interrupted: WHAT" and exit 130 where a stop
-/// signal came (a FIFO's writer waits for its reader so, io/stop.h); else
-/// "output error: WHAT" and `suffix`, exit 4.
-int output_open_fault_exit(std::string_view command, std::string_view what, std::string_view suffix = {});
+/// An output error of COMMAND (`what`: the error's text, which names the
+/// file), opening or writing: "interrupted: WHAT" and exit 130 where a stop
+/// signal came (a FIFO's writer gives up waiting for its reader so,
+/// io/stop.h); else "output error: WHAT", exit 4; `suffix` follows WHAT.
+int output_fault_exit(std::string_view command, std::string_view what, std::string_view suffix = {});
 
 /// "no event of INPUT", and where --from/--to selected the events, how to
 /// read them (a warning's text: process and eval say it alike).

@@ -20,7 +20,6 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/event_writer.h"
 #include "evlife/io/hdf5_writer.h"
-#include "evlife/io/stop.h"
 #include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 #include "input_spool.h"
@@ -163,10 +162,7 @@ class EventsOfAugmented {
 int report(const Outcome& o, const std::string& input, const std::string& output,
            const std::string& what, bool quiet) {
   if (o.output_fault) {  // what the file holds, the writer's error says (output_file.h)
-    const bool stopped = io::stop_requested();  // a stop while the output's reader took nothing
-    std::fprintf(stderr, "evlife convert: %s: %s (%llu events read before it)\n",
-                 stopped ? "interrupted; output" : "output error", o.output_fault->c_str(), o.read);
-    return stopped ? kExitInterrupted : kExitOutput;
+    return output_fault_exit("convert", *o.output_fault, " (" + std::to_string(o.read) + " events read before it)");
   }
   if (!quiet) {
     std::fprintf(stdout, "evlife convert: %s -> %s: %llu %s written\n", io::name_in_messages(input).c_str(),
@@ -231,7 +227,7 @@ int convert_augmented(std::unique_ptr<io::AugmentedEventReader> reader, const st
     auto writer = io::open_augmented_writer(output, sensor);
     return report(copy_all<AugmentedEvent>(checked, *writer, stop), input, output, "augmented events", quiet);
   } catch (const io::WriteError& e) {
-    return output_open_fault_exit("convert", e.what());
+    return output_fault_exit("convert", e.what());
   }
 }
 
@@ -269,7 +265,7 @@ int convert_events(const std::string& input, const std::string& output,
   try {
     writer = io::open_event_writer(output, sensor);
   } catch (const io::WriteError& e) {
-    return output_open_fault_exit("convert", e.what());
+    return output_fault_exit("convert", e.what());
   }
   if (!one_thread) reader = std::make_unique<engine::PrefetchReader>(std::move(reader));
   const Outcome o = copy_all<Event>(*reader, *writer, stop);

@@ -26,7 +26,6 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
-#include "evlife/io/stop.h"
 #include "evlife/io/stream_copy_name.h"
 #include "exit_code.h"
 #include "input_spool.h"
@@ -214,10 +213,7 @@ void print_summary(const ProcessArgs& args, const io::EventReader& reader,
 int exit_status(const ProcessArgs& args, const engine::ProcessStreamResult& result) {
   const unsigned long long written = result.events_written;
   if (result.output_fault) {
-    const bool stopped = io::stop_requested();  // a stop while the output's reader took nothing
-    std::fprintf(stderr, "evlife process: %s: %s (%llu events processed before it)\n",
-                 stopped ? "interrupted; output" : "output error", result.output_fault->c_str(), written);
-    return stopped ? kExitInterrupted : kExitOutput;
+    return output_fault_exit("process", *result.output_fault, " (" + std::to_string(written) + " events processed before it)");
   }
   if (result.input_fault) {
     std::fprintf(stderr,
@@ -289,7 +285,7 @@ int process_recording(int argc, char** argv) {
   try {
     writer = io::open_augmented_writer(args.output, sensor.size);
   } catch (const io::WriteError& e) {
-    return output_open_fault_exit("process", e.what());
+    return output_fault_exit("process", e.what());
   }
 
   if (!args.one_thread) {  // the same events in, the same bytes out: only sooner

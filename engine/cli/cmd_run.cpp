@@ -731,7 +731,7 @@ int run_engine(int argc, char** argv) {
       writer_sink = std::make_unique<engine::WriterSink>(
           io::open_augmented_writer(args.output, source->sensor_size()));
     } catch (const std::exception& e) {
-      return output_open_fault_exit("run", e.what());
+      return output_fault_exit("run", e.what());
     }
   }
   // -q: nothing to count (and no per-pixel counts to allocate).
