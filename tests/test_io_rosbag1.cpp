@@ -164,7 +164,7 @@ TEST_F(Rosbag1Faults, ACutBagDeliversItsWholeChunksThenTheCut) {
   const ReadAll in_index = read_cut(index_pos + 30);
   ASSERT_TRUE(in_index.error);
   EXPECT_NE(std::string(in_index.error->what())
-                .find("(in the bag's index, after its chunks: a file cut short; the chunks were read without it)"),
+                .find("(in the bag's index, after its chunks: a file cut short or corrupt; the chunks were read without it)"),
             std::string::npos)
       << in_index.error->what();
   for (const ReadAll* r : {&at_index, &in_index}) {
@@ -421,6 +421,56 @@ TEST_F(Rosbag1Faults, ARecordOfAnotherOpOrNoneIsAnErrorNotSkipped) {
     EXPECT_NE(std::string(r.error->what()).find(said), std::string::npos) << r.error->what();
     EXPECT_LT(r.events.size(), whole.events.size());
     EXPECT_EQ(0, std::memcmp(r.events.data(), whole.events.data(), r.events.size() * sizeof(Event))) << name;
+  }
+}
+
+
+// A damaged conn field hid messages: the index naming the event topic's
+// connection by another number read 0 of 100 events, a message's conn
+// changed to an unknown or to the other topic's connection lost it; exit 0
+// each time. Now an error, after every event the chunks hold or those
+// before the message.
+TEST_F(Rosbag1Faults, AMessageNoConnectionRecordNamesIsAnErrorNotSkipped) {
+  const std::vector<char> good = load(kBags + "mono_dvs.bag");  // /dvs/events: 2 messages of 50 events; /notes
+  const ReadAll whole = read_all(save("whole.bag", good));
+  ASSERT_FALSE(whole.error) << whole.error->what();
+  ASSERT_EQ(whole.events.size(), 100u);
+  const auto conn_value_after = [&](std::size_t at) {  // the value of the first conn= field after `at`
+    for (const std::size_t i : find_all(good, "conn=")) if (i > at) return i + 5;
+    return good.size();
+  };
+  std::uint64_t index_pos = 0;
+  std::memcpy(&index_pos, good.data() + find_all(good, "index_pos=").at(0) + 10, sizeof index_pos);
+  std::size_t index_connection = 0;  // the index's connection record of /dvs/events: op, topic, conn
+  for (const std::size_t i : find_all(good, std::string("op=\x07", 4)))
+    if (i > index_pos && std::string(good.data() + i + 8, 17) == "topic=/dvs/events") index_connection = i;
+  ASSERT_GT(index_connection, 0u);
+  const std::vector<std::size_t> messages = find_all(good, std::string("op=\x02", 4));
+  ASSERT_EQ(messages.size(), 4u);  // /dvs/events, /notes, /dvs/events, /notes
+  const std::size_t second_events_message = conn_value_after(messages[2]);
+  ASSERT_EQ(good[second_events_message], 0);
+
+  struct Case {
+    const char* name;
+    std::size_t at;
+    char value;
+    const char* said;
+    std::size_t events;
+  };
+  for (const Case& c : {Case{"index_conn.bag", conn_value_after(index_connection), '\x7f',
+                             "index counts 2 messages of connection 0, which none of its connection records names", 100},
+                        Case{"message_conn_unknown.bag", second_events_message, '\x7f',
+                             "message of connection 127, which no connection record names", 50},
+                        Case{"message_conn_other.bag", second_events_message, '\x01',
+                             "index counts 2 messages of connection 0 (topic /dvs/events), its chunks hold 1", 50}}) {
+    std::vector<char> bytes = good;
+    bytes[c.at] = c.value;
+    const ReadAll r = read_all(save(c.name, bytes));
+    ASSERT_TRUE(r.error) << c.name << ": " << r.events.size() << " of 100 events, no error";
+    EXPECT_NE(std::string(r.error->what()).find(c.said), std::string::npos) << c.name << ": " << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find(c.name), std::string::npos) << r.error->what();
+    ASSERT_EQ(r.events.size(), c.events) << c.name;
+    EXPECT_TRUE(same(r.events, whole.events, c.events)) << c.name;
   }
 }
 

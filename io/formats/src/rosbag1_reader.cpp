@@ -100,6 +100,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       try {
         read_index();
         chunks_end_ = index_pos_;
+        counts_from_index_ = true;
       } catch (const ros::ContainerFault& index_fault) {
         reading_index_ = false;
         scan_chunks(index_pos_, false);
@@ -133,6 +134,8 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::string topic;
     std::string type;
     std::uint64_t messages = 0;
+    bool recorded = false;  // a connection record names it (else only a count or a message does)
+    std::uint64_t delivered = 0;  // its messages next_in_chunks returned
   };
 
   /// A record of a chunk: its op, connection and data.
@@ -156,7 +159,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const {
     // In the index (past the chunks): a file cut there; its chunks are then scanned.
     throw ros::ContainerFault(file_.path(), static_cast<std::int64_t>(offset),
-                              reading_index_ ? what + " (in the bag's index, after its chunks: a file cut short; the "
+                              reading_index_ ? what + " (in the bag's index, after its chunks: a file cut short or corrupt; the "
                                                       "chunks were read without it)"
                                              : what);
   }
@@ -222,6 +225,11 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       fail(file_.size_bytes(), "ROS 1 bag index ends after " + std::to_string(connection_records) + " of its " +
                                    std::to_string(conn_count_) + " connection records and " + std::to_string(chunk_infos) +
                                    " of its " + std::to_string(chunk_count_) + " chunk infos");
+    // A corrupt conn field would otherwise hide its messages (no topic names them).
+    for (const auto& [conn, c] : connections_)
+      if (!c.recorded)
+        fail(index_pos_, "ROS 1 bag index counts " + std::to_string(c.messages) + " messages of connection " +
+                             std::to_string(conn) + ", which none of its connection records names");
     reading_index_ = false;
     list_topics();
   }
@@ -233,6 +241,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     Connection& c = connections_[conn];
     c.topic = f.count("topic") ? f.at("topic") : "";
     c.type = connection_fields_.count("type") ? connection_fields_.at("type") : "";
+    c.recorded = true;
     return true;
   }
 
@@ -358,6 +367,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   bool next_chunk_record(ChunkRecord& r) {
     if (chunk_pos_ >= chunk_.size()) return false;
     const std::size_t at = chunk_pos_;
+    chunk_record_at_ = at;
     const auto bad = [&] { fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk"); };
     std::uint32_t hlen = 0, dlen = 0;
     if (chunk_.size() - at < 4) bad();
@@ -432,11 +442,20 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     ChunkRecord r;
     while (true) {
       if (in_chunk_) {
-        while (next_chunk_record(r))
-          if (r.op == kMessage && r.has_conn && std::find(wanted_.begin(), wanted_.end(), r.conn) != wanted_.end()) {
+        while (next_chunk_record(r)) {
+          if (r.op != kMessage) continue;
+          const auto c = connections_.find(r.conn);
+          // A message no connection record names may be of the wanted topic (a corrupt conn field).
+          if (c == connections_.end() || !c->second.recorded)
+            fail(chunk_at_, "ROS 1 message of connection " + std::to_string(r.conn) +
+                                ", which no connection record names (at byte " + std::to_string(chunk_record_at_) +
+                                " of the chunk at this offset)");
+          if (std::find(wanted_.begin(), wanted_.end(), r.conn) != wanted_.end()) {
+            ++c->second.delivered;
             message = r.data;
             return true;
           }
+        }
         in_chunk_ = false;
       }
       if (pos_ >= chunks_end_) {
@@ -445,6 +464,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
           fault_.reset();
           throw fault;
         }
+        if (counts_from_index_) check_index_counts();
         return false;
       }
       std::uint64_t data_at = 0;
@@ -464,6 +484,19 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       check_top_level_op(at, f);
       std::uint8_t op = 0;
       if (field(f, "op", op) && op == kChunk) load_chunk(at, f, data_at, data_len);
+    }
+  }
+
+  /// At the end of an indexed bag's chunks: each wanted connection delivered
+  /// what its chunk infos count (a message whose conn was changed to another
+  /// connection's is otherwise lost unsaid).
+  void check_index_counts() {
+    for (const std::uint32_t conn : wanted_) {
+      const Connection& c = connections_.at(conn);
+      if (c.delivered != c.messages)
+        fail(index_pos_, "ROS 1 bag index counts " + std::to_string(c.messages) + " messages of connection " +
+                             std::to_string(conn) + " (topic " + c.topic + "), its chunks hold " +
+                             std::to_string(c.delivered));
     }
   }
 
@@ -518,7 +551,9 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::vector<std::uint8_t> chunk_;
   std::uint64_t chunk_at_ = 0;
   std::size_t chunk_pos_ = 0;
+  std::size_t chunk_record_at_ = 0;  // byte of chunk_ where the last record read begins
   bool in_chunk_ = false;
+  bool counts_from_index_ = false;  // connections_' counts are the index's (else a scan's)
 };
 
 }  // namespace
