@@ -163,6 +163,9 @@ def _whole_microseconds(t_us):
     """t_us as an int; a fraction is refused (0.5 meant as seconds was drawn at 0), so is what is no
     number (None, a text, an array: the float() or pybind11 error named no argument) or lies beyond
     int64 (pybind11's TypeError printed the whole augmented array)."""
+    message = "frame: t_us is microseconds on the recording's clock (an integer), got %s"
+    if isinstance(t_us, (bool, _np.bool_)):  # True is no instant (it was drawn at t = 1 µs)
+        raise TypeError(message % t_us)
     try:
         instant = _operator.index(t_us)
     except TypeError:
@@ -171,8 +174,7 @@ def _whole_microseconds(t_us):
                 raise TypeError
             value = float(t_us)
         except (TypeError, ValueError):
-            raise TypeError("frame: t_us is microseconds on the recording's clock (an integer), got %s"
-                            % _short_repr(t_us)) from None
+            raise TypeError(message % _short_repr(t_us)) from None
         if not value.is_integer():
             raise ValueError("frame: t_us is microseconds on the recording's clock, got %r (not whole: seconds? "
                              "augmented['t'][0] + 500_000 is 0.5 s in)" % (t_us,))

@@ -127,7 +127,8 @@ def _refuse_call(where, signature, args, kwargs):
     unknown = [k for k in kwargs if k not in keywords
                and (not any_keyword or _evlife._misspelled_keyword(k, missing, keywords))]
     if unknown:
-        _evlife._refuse_keywords(where, {unknown[0]: kwargs[unknown[0]]}, keywords)
+        # A name the call already gives is not what it misspelled.
+        _evlife._refuse_keywords(where, {unknown[0]: kwargs[unknown[0]]}, [k for k in keywords if k not in given])
     twice = [k for k in kwargs if k in by_position]
     if twice:
         raise TypeError("%s() got multiple values for argument '%s'" % (where, twice[0]))

@@ -643,9 +643,10 @@ def _batch_function(function):
 
 def _own_keywords(function):
     """The named parameters of `function` (through _batch_function to the function's own signature):
-    a misspelling of one is said so, not taken for an estimator key."""
+    a misspelling of one is said so, not taken for an estimator key. Not the required ones: the call
+    gave them (outdir= beside out_dir= is no misspelling of it)."""
     return tuple(name for name, parameter in inspect.signature(function).parameters.items()
-                 if parameter.kind is not parameter.VAR_KEYWORD)
+                 if parameter.kind is not parameter.VAR_KEYWORD and parameter.default is not parameter.empty)
 
 
 @_batch_function

@@ -185,6 +185,10 @@ FileRun run_file(const std::string& path, std::optional<SensorSize> user, Resolv
   } else if (user) run.sensor = *user;  // --sensor
   else if (r.sensor) run.sensor = *r.sensor;  // estimator.sensor of the user's config file
   else run.sensor = io::sensor_size_from_data_until(path, whole_stream(crop), [&signals] { return signals.pending(); });
+  if (signals.pending()) {  // the scan stopped early: its size is not the recording's, nothing is opened with it
+    run.interrupted = true;
+    return run;
+  }
   crop.sensor = run.sensor;
   std::unique_ptr<io::EventReader> reader = io::open_event_reader(path, crop);
   run.format = std::string(reader->format_name());
@@ -324,6 +328,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   if (const auto refusal = io::output_overwrites_input(path, output)) throw std::invalid_argument(*refusal);
   FileRun run;
   SignalCheck signals;
+  bool opened = false;  // the output
   {
     ReleasedGil release;
     std::unique_ptr<io::AugmentedEventWriter> writer;
@@ -332,6 +337,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
           path, user, r, crop, one_thread, signals,
           [&](SensorSize s) {
             writer = io::open_augmented_writer(output, s);
+            opened = true;
             if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
           },
           [&](std::span<const AugmentedEvent> block) { writer->write(block); });
@@ -349,7 +355,9 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     }
   }
   if (run.interrupted || signals.pending_now()) {  // as `evlife process` on SIGINT
-    signals.raise("interrupted; the first " + std::to_string(run.events) + " events were written to " + output,
+    signals.raise(opened ? "interrupted; the first " + std::to_string(run.events) + " events were written to " + output
+                         : "interrupted while finding the sensor size of " + path + "; " + output +
+                               " was not opened, nothing written",
                   py::none(), run.events, py::int_(run.events));
   }
   warn_sensor_ignored("evlife.process_file", path, run);
@@ -382,18 +390,20 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
     else if (user) run.sensor = *user;
     else if (r.sensor) run.sensor = *r.sensor;
     else run.sensor = io::sensor_size_from_data_until(path, source, [&signals] { return signals.pending(); });
-    source.sensor = run.sensor;
-    auto reader = io::open_event_reader(path, source);
-    run.format = std::string(reader->format_name());
-    std::vector<Event> in(kBlockEvents);
-    while (!signals.pending()) {
-      const std::size_t n = reader->read(in);  // a fault: InputError
-      if (n == 0) break;
-      if (count == 0) first = in[0].t_us;
-      last = in[n - 1].t_us;
-      count += n;
+    if (!signals.pending()) {  // (a scan stopped early found a size that is not the recording's)
+      source.sensor = run.sensor;
+      auto reader = io::open_event_reader(path, source);
+      run.format = std::string(reader->format_name());
+      std::vector<Event> in(kBlockEvents);
+      while (!signals.pending()) {
+        const std::size_t n = reader->read(in);  // a fault: InputError
+        if (n == 0) break;
+        if (count == 0) first = in[0].t_us;
+        last = in[n - 1].t_us;
+        count += n;
+      }
+      run.note_skipped(*reader);
     }
-    run.note_skipped(*reader);
   }
   if (signals.pending_now()) {
     SignalCheck::raise("evlife.scan: interrupted after " + std::to_string(count) + " events of " + path, py::none(),

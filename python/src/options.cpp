@@ -21,12 +21,6 @@ bool is_estimator_key(const config::ConfigKey& k) {
          k.name.rfind("estimator.sensor.", 0) != 0;  // the sensor has its own argument
 }
 
-// A Python bool, or NumPy's (np.bool_, e.g. a mask's element), which has no
-// __index__.
-bool is_a_bool(const py::handle& value) {
-  return py::isinstance<py::bool_>(value) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
-}
-
 // The Python value as the YAML scalar the key's parser takes. Types are
 // strict (a bool is no number, a float no integer); a str passes as written,
 // as on the command line.
@@ -84,6 +78,10 @@ std::string short_repr(const py::handle& value) {
 
 }  // namespace
 
+bool is_a_bool(const py::handle& value) {
+  return py::isinstance<py::bool_>(value) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
+}
+
 void raise_argument_type_error(const std::string& where, const char* name, const std::string& expected,
                                const py::handle& value) {
   throw py::type_error(where + "(): " + name + " must be " + expected + ", got " +
@@ -108,11 +106,12 @@ std::string path_argument(const std::string& where, const char* name, const py::
 }
 
 double float_argument(const std::string& where, const char* name, const py::handle& value, const char* unit) {
+  const std::string expected = std::string("a number") + (*unit ? std::string(" (") + unit + ")" : "");
+  if (is_a_bool(value)) raise_argument_type_error(where, name, expected, value);  // True is no 1.0 s
   try {
     return py::cast<double>(value);
   } catch (const py::cast_error&) {
-    raise_argument_type_error(where, name, std::string("a number") + (*unit ? std::string(" (") + unit + ")" : ""),
-                              value);
+    raise_argument_type_error(where, name, expected, value);
   }
 }
 

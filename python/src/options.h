@@ -60,9 +60,14 @@ bool bool_argument(const std::string& where, const char* name, const py::handle&
 /// ValueError "WHERE(): NAME must be at least MIN, got VALUE" (or beyond MAX).
 [[noreturn]] void raise_argument_range_error(const std::string& where, const char* name, long long min,
                                              unsigned long long max, const py::handle& value);
+/// A Python bool, or NumPy's (np.bool_, e.g. a mask's element, which has no
+/// __index__): no number where a number is asked (True passed as 1).
+bool is_a_bool(const py::handle& value);
 template <class Int>
 Int int_argument(const std::string& where, const char* name, const py::handle& value, const char* unit,
                  long long min) {
+  const std::string expected = std::string("a whole number") + (*unit ? std::string(" (") + unit + ")" : "");
+  if (is_a_bool(value)) raise_argument_type_error(where, name, expected, value);
   try {
     return py::cast<Int>(value);
   } catch (const py::cast_error&) {
@@ -70,8 +75,7 @@ Int int_argument(const std::string& where, const char* name, const py::handle& v
   if (!PyFloat_Check(value.ptr()) && py::hasattr(value, "__index__"))  // a whole number the type cannot hold
     raise_argument_range_error(where, name, min, static_cast<unsigned long long>(std::numeric_limits<Int>::max()),
                                value);
-  raise_argument_type_error(where, name, std::string("a whole number") + (*unit ? std::string(" (") + unit + ")" : ""),
-                            value);
+  raise_argument_type_error(where, name, expected, value);
 }
 template <class Int>
 std::optional<Int> optional_int_argument(const std::string& where, const char* name, const py::handle& value,

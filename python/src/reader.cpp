@@ -416,12 +416,13 @@ from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
         std::optional<io::ReadError> fault;
         std::optional<SensorSize> sensor;
         std::size_t good = 0;  // events.size() beyond it: a block being filled
+        SignalCheck signals;
         {
           ReleasedGil release;
           try {
             reader = open_augmented_or_say_a_recording(path);
             sensor = reader->sensor_size();
-            for (;;) {
+            while (!signals.pending()) {
               events.resize(good + kReadBlock);
               const std::size_t n = reader->read(std::span(events.data() + good, kReadBlock));
               good += n;
@@ -434,6 +435,11 @@ from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
         }
         py::array out = adopt(std::move(events), augmented_dtype());
         if (fault) raise_input_error(*fault, reader ? py::object(out) : py::none());
+        if (signals.pending_now()) {
+          SignalCheck::raise("evlife.read_augmented: interrupted after " + std::to_string(good) + " events of " + path +
+                                 " (in .partial)",
+                             out, good, py::none());
+        }
         return py::make_tuple(out, sensor_tuple(sensor));
       },
       py::arg("path"),
@@ -441,7 +447,7 @@ from_s, to_s, topic, time_unit, polarity and errors as evlife.read.)");
 
 Returns (events, sensor): events in evlife.AUGMENTED_DTYPE, sensor
 (width, height) as the .bin header or the .h5 attributes state it, None
-for CSV.)");
+for CSV. Ctrl-C: evlife.Interrupted with the events read in .partial.)");
 
   m.def(
       "write",
@@ -459,10 +465,23 @@ for CSV.)");
           raise_input_error(io::ReadError("augmented", -1, static_cast<std::int64_t>(bad.index),
                                           bad.what + "; nothing was written to " + path));
         }
-        ReleasedGil release;
-        auto writer = io::open_augmented_writer(path, s);
-        writer->write(std::span(data, n));
-        writer->close();
+        SignalCheck signals;
+        std::size_t written = 0;
+        {
+          ReleasedGil release;
+          auto writer = io::open_augmented_writer(path, s);
+          while (written < n && !signals.pending()) {  // blocks: Ctrl-C is heard between them
+            const std::size_t block = std::min(n - written, kReadBlock);
+            writer->write(std::span(data + written, block));
+            written += block;
+          }
+          writer->close();  // what was written reaches the disk, interrupted or not
+        }
+        if (written < n) {
+          SignalCheck::raise("evlife.write: interrupted after " + std::to_string(written) + " of " +
+                                 std::to_string(n) + " events; " + path + " holds the first " + std::to_string(written),
+                             py::none(), written, py::int_(written));
+        }
       },
       py::arg("path"), py::arg("augmented"), py::arg("sensor"),
       R"(Write augmented events as `evlife process -o` does: .bin (the binary format
@@ -471,7 +490,9 @@ output of evlife.process, or any array with its fields (joined chunks, a
 slice; prediction_error NaN where missing), as evlife.frame takes. Raises
 OSError when the file cannot be written, TypeError for a field missing,
 evlife.InputError (nothing written) for a record evlife.read_augmented would
-refuse: polarity not +1/-1, outside `sensor`, time going backwards.)");
+refuse: polarity not +1/-1, outside `sensor`, time going backwards;
+evlife.Interrupted on Ctrl-C, the file then holding the first
+.events_written events.)");
 }
 
 }  // namespace evlife::python

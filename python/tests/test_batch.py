@@ -111,6 +111,11 @@ def test_a_batch_call_that_does_not_fit_is_said_as_evlifes_functions_say_it(tmp_
         with pytest.raises(TypeError) as e:
             call()
         assert str(e.value) == "evlife.batch." + message
+    # A misspelling is not taken for an argument the call gives (it said "did you mean 'out_dir'?").
+    with pytest.raises(TypeError) as e:
+        batch.process_files([path], out_dir=o, outdir=o)
+    assert str(e.value).startswith("evlife.batch.process_files() got an unexpected keyword argument 'outdir'")
+    assert "out_dir" not in str(e.value)
     assert not o.exists()
 
 

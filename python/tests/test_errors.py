@@ -125,6 +125,15 @@ def test_reading_functions_name_a_misspelled_keyword_and_an_argument_of_the_wron
          "evlife.process(): to_s must be a number (seconds), got str '1'"),
         (lambda: evlife.process_file(path, tmp_path / "x.bin", from_s="0.5"), TypeError,
          "evlife.process_file(): from_s must be a number (seconds), got str '0.5'"),
+        # A bool is no number (True passed as 1: from 1 s, 1 event per chunk, a frame at 1 µs, a 1 s scene).
+        (lambda: evlife.read(path, from_s=True), TypeError, "evlife.read(): from_s must be a number (seconds), got bool True"),
+        (lambda: evlife.open(path, chunk_events=np.bool_(True)), TypeError,
+         "evlife.open(): chunk_events must be a whole number (events), got bool_ True"),
+        (lambda: reader.read(True), TypeError, "evlife.Reader.read(): max_events must be a whole number (events), got bool True"),
+        (lambda: evlife.synth(duration=True), TypeError, "evlife.synth(): duration must be a number (seconds), got bool True"),
+        (lambda: evlife.synth(duration=0.01, seed=False), TypeError, "evlife.synth(): seed must be a whole number, got bool False"),
+        (lambda: evlife.frame(np.zeros(0, evlife.AUGMENTED_DTYPE), True, (8, 8)), TypeError,
+         "frame: t_us is microseconds on the recording's clock (an integer), got True"),
         # A long value is cut short, not printed whole.
         (lambda: evlife.read(path, from_s=np.arange(10000)), TypeError,
          "evlife.read(): from_s must be a number (seconds), got ndarray array([   0,    1,    2, ..., 9997, 9998, 9999])"),

@@ -228,3 +228,30 @@ def test_ctrl_c_while_another_threads_read_holds_the_reader_ends_the_wait(large_
     assert waited.events_processed == 0 and len(waited.partial) == 0
     # Nothing of the interrupted read was taken: the other read got every event.
     assert len(other_read) == 1 and len(other_read[0]) == whole_events
+
+
+def test_an_interrupted_write_or_augmented_read_keeps_what_was_done(large_h5, tmp_path):
+    # Both ran to the end deaf to Ctrl-C (seconds for a CSV of millions of rows).
+    augmented = evlife.process(large_h5)[:2_000_000]
+    sensor = evlife.scan(large_h5)["sensor"]
+    whole_csv = tmp_path / "whole.csv"
+    evlife.write(str(whole_csv), augmented, sensor)
+    whole, _ = evlife.read_augmented(str(whole_csv))
+    cut_csv = tmp_path / "cut.csv"
+    for _ in range(5):
+        e = interrupt_during(lambda: evlife.write(str(cut_csv), augmented, sensor))
+        if e.events_written < len(augmented):
+            break
+    assert e.events_processed == e.events_written < len(augmented) and e.partial is None
+    assert "evlife.write: interrupted after %d of %d events; %s holds the first %d" % (
+        e.events_written, len(augmented), cut_csv, e.events_written) in str(e)
+    cut, _ = evlife.read_augmented(str(cut_csv))  # flushed: every row written reads back
+    assert len(cut) == e.events_written
+    assert_same_events(cut, whole[:e.events_written])
+    for _ in range(5):
+        e = interrupt_during(lambda: evlife.read_augmented(str(whole_csv)))
+        if e.events_processed < len(whole):
+            break
+    assert len(e.partial) == e.events_processed < len(whole)
+    assert "evlife.read_augmented: interrupted after %d events of %s" % (e.events_processed, whole_csv) in str(e)
+    assert_same_events(e.partial, whole[:e.events_processed])
