@@ -395,6 +395,56 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
       << r.error->what();
 }
 
+// MATLAB users save t in seconds: rounded to µs, every event's time was 0 or
+// 1, exit 0. Fractions among the first 1000 rows make t seconds (the CSV and
+// NumPy readers' rule), whatever the caller's reads; a fraction after whole
+// first rows is an error at its row, no longer rounded.
+TEST_F(MatFiles, TimesInSecondsAreSecondsAndAFractionAfterWholeTimesIsAnError) {
+  const std::vector<Event> events = some_events(3000);
+  const std::size_t n = events.size();
+  const auto columns = [&](auto t_of) {
+    std::vector<double> data(4 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      data[i] = events[i].x;
+      data[n + i] = events[i].y;
+      data[2 * n + i] = events[i].p;
+      data[3 * n + i] = t_of(i);
+    }
+    return data;
+  };
+  const auto save = [&](const std::string& name, std::vector<double> data, matio_compression compression) {
+    const std::string path = dir_.file(name);
+    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+    std::size_t dims[2] = {n, 4};
+    matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
+    Mat_VarWrite(mat, var, compression);
+    Mat_VarFree(var);
+    Mat_Close(mat);
+    return path;
+  };
+  const std::vector<double> seconds = columns([&](std::size_t i) { return static_cast<double>(events[i].t_us) * 1e-6; });
+  for (const matio_compression compression : {MAT_COMPRESSION_NONE, MAT_COMPRESSION_ZLIB}) {
+    const std::string path = save(compression == MAT_COMPRESSION_NONE ? "s_raw.mat" : "s_zlib.mat", seconds, compression);
+    for (const std::size_t block : {std::size_t{1}, std::size_t{4096}}) {
+      SCOPED_TRACE(path + ", reads of " + std::to_string(block));
+      const ReadAll r = read_all(path, {}, block);
+      ASSERT_FALSE(r.error) << r.error->what();
+      ASSERT_EQ(r.events.size(), n);
+      for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same(r.events[i], events[i])) << i;
+    }
+  }
+  const std::string late = save("late_fraction.mat", columns([&](std::size_t i) {
+    return static_cast<double>(events[i].t_us) + (i == 1500 ? 0.5 : 0.0);
+  }), MAT_COMPRESSION_ZLIB);
+  const ReadAll r = read_all(late);
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.events.size(), 1500u);
+  EXPECT_EQ(r.error->event_index(), 1500);
+  EXPECT_NE(std::string(r.error->what()).find("is a fraction, but the whole times of the first rows made the unit µs"),
+            std::string::npos)
+      << r.error->what();
+}
+
 TEST_F(MatFiles, TruncatedCompressedFileDeliversAnExactPrefixThenNamesTheFile) {
   const std::vector<char> bytes = file_bytes(kGarfield);
   const std::vector<Event> oracle = matio_events(kGarfield);

@@ -1,6 +1,9 @@
 // MATLAB v5 .mat files of the reference code: variable `events`, an N×4
 // numeric matrix with rows [x y p t] — t in µs, p ∈ {-1, 1} (0 also read as
-// OFF), x y as stored. The reference files hold 0-based coordinates (both
+// OFF), x y as stored. t stored as fractions among the first 1000 rows is in
+// seconds (the CSV and NumPy readers' rule: MATLAB users save seconds, which
+// rounded to µs made every event's time 0 or 1), else in whole µs (a fraction
+// after whole first rows is an input error, not rounded). The reference files hold 0-based coordinates (both
 // axes span exactly 0..127, a DVS128's range; 1-based data would span
 // 1..128), so nothing is added or subtracted. The format states no sensor
 // size (sensor_size() = nullopt; the CLI then takes --sensor or the data's
@@ -17,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -126,11 +130,16 @@ MatrixHeader parse_matrix_header(Cursor& c, Fail fail) {
   return h;
 }
 
-enum class Convert { exact, round };
+enum class Convert { exact, seconds_to_us };
+
+constexpr std::size_t kUnitSampleRows = 1000;  // the first rows, whose t tells seconds from µs
+
+bool is_float_storage(std::uint32_t type) { return type == miSINGLE || type == miDOUBLE; }
 
 // Decodes `n` values of storage `type` into int64; for floating types checks
-// they are integers (exact) or rounds them (round). Returns the number of
-// values decoded before a non-integer / non-finite one.
+// they are integers (exact) or takes them as seconds, rounded to the nearest
+// µs (seconds_to_us). Returns the number of values decoded before a
+// non-integer / non-finite one.
 std::size_t decode(std::uint32_t type, const std::byte* src, std::size_t n, std::int64_t* dst,
                    Convert convert) {
   auto ints = [&](auto tag) {
@@ -147,9 +156,9 @@ std::size_t decode(std::uint32_t type, const std::byte* src, std::size_t n, std:
     for (std::size_t i = 0; i < n; ++i) {
       T v;
       std::memcpy(&v, src + i * sizeof(T), sizeof(T));
-      const double d = static_cast<double>(v);
+      const double d = convert == Convert::seconds_to_us ? static_cast<double>(v) * 1e6 : static_cast<double>(v);
       if (!(std::fabs(d) < 9.2e18)) return i;  // NaN, inf, out of int64
-      const double r = convert == Convert::round ? std::nearbyint(d) : d;
+      const double r = convert == Convert::seconds_to_us ? std::nearbyint(d) : d;
       if (r != std::floor(r)) return i;
       dst[i] = static_cast<std::int64_t>(r);
     }
@@ -205,13 +214,11 @@ class MatReader final : public EventReader {
           good = got;
           fault = cursors_[c]->error();
         }
-        const std::size_t decoded =
-            decode(data_type_, raw.data(), got, values_[c].data(), c == 3 ? Convert::round : Convert::exact);
+        const std::size_t decoded = decode(data_type_, raw.data(), got, values_[c].data(),
+                                           c == 3 && t_in_seconds_ ? Convert::seconds_to_us : Convert::exact);
         if (decoded < good) {
           good = decoded;
-          // (t is rounded to µs: only NaN, infinity or a value past int64 stops it.)
-          fault = std::string(kColumnNames[c]) +
-                  (c == 3 ? " is NaN, infinite or beyond +-9.2e18 us" : " is not a finite integer");
+          fault = c != 3 ? std::string(kColumnNames[c]) + " is not a finite integer" : time_fault(raw.data(), decoded);
         }
       }
       const std::int64_t* xs = values_[0].data();
@@ -263,6 +270,56 @@ class MatReader final : public EventReader {
  private:
   static constexpr const char* kColumnNames[4] = {"x", "y", "p", "t"};
 
+  /// Whether float t values hold a fraction among the first kUnitSampleRows
+  /// rows (read by a cursor of their own: the unit never depends on how the
+  /// caller's reads cut the rows).
+  bool first_times_hold_fractions(const MatrixHeader& h) {
+    if (!is_float_storage(data_type_) || rows_ == 0) return false;
+    const std::uint64_t column_bytes = rows_ * value_bytes_;
+    std::unique_ptr<Cursor> t;
+    if (h.small) {
+      const auto first = h.small_data.begin() + static_cast<std::ptrdiff_t>(3 * column_bytes);
+      t = std::make_unique<MemoryCursor>(std::vector<std::byte>(first, first + static_cast<std::ptrdiff_t>(column_bytes)));
+    } else if (!compressed_) {
+      t = std::make_unique<RawCursor>(file_, data_file_offset_ + 3 * column_bytes, data_file_offset_ + 4 * column_bytes);
+    } else {
+      t = std::make_unique<InflateCursor>(*static_cast<const InflateCursor*>(cursors_[3].get()));
+    }
+    std::vector<std::byte> raw(static_cast<std::size_t>(std::min<std::uint64_t>(rows_, kUnitSampleRows)) * value_bytes_);
+    const std::size_t n = t->read(raw) / value_bytes_;  // fewer at a fault: read() reports it
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = float_at(raw.data(), i);
+      if (std::isfinite(d) && d != std::floor(d)) return true;
+    }
+    return false;
+  }
+
+  double float_at(const std::byte* raw, std::size_t i) const {
+    if (data_type_ == miSINGLE) {
+      float v;
+      std::memcpy(&v, raw + i * sizeof v, sizeof v);
+      return v;
+    }
+    double v;
+    std::memcpy(&v, raw + i * sizeof v, sizeof v);
+    return v;
+  }
+
+  /// Why t value `i` of the block did not decode.
+  std::string time_fault(const std::byte* raw, std::size_t i) const {
+    const double d = float_at(raw, i);
+    if (!t_in_seconds_ && std::isfinite(d) && std::fabs(d) < 9.2e18)
+      return "t = " + fmt_double(d) + " is a fraction, but the whole times of the first rows made the unit µs (t "
+             "stored as fractions there is read as seconds): save t as whole µs, or as seconds throughout";
+    return "t is NaN, infinite or beyond +-9.2e18 us";
+  }
+
+  static std::string fmt_double(double d) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", d);
+    return text;
+  }
+
   [[noreturn]] void fail(std::int64_t offset, const std::string& what) const {
     throw ReadError(file_.path(), offset, -1, what);
   }
@@ -299,6 +356,7 @@ class MatReader final : public EventReader {
         const MatrixHeader h = parse_matrix_header(*probe, header_fail);
         if (h.name == "events") {
           setup(h, type == miCOMPRESSED, offset, std::move(probe));
+          t_in_seconds_ = first_times_hold_fractions(h);
           find_trailing_fault(payload + bytes);
           return;
         }
@@ -407,6 +465,7 @@ class MatReader final : public EventReader {
   std::uint64_t rows_ = 0;
   std::uint64_t next_index_ = 0;
   std::uint32_t data_type_ = 0;
+  bool t_in_seconds_ = false;  // float t with fractions among the first rows
   std::size_t value_bytes_ = 0;
   bool compressed_ = false;
   bool end_checked_ = false;
