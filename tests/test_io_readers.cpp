@@ -359,9 +359,10 @@ TEST_F(MatFiles, ACutOrCorruptVariableTagIsNamedAtItsOffset) {
 }
 
 // `events` of two rows [x y p t], column-major doubles, written by matio.
-void write_two_rows(const std::string& path, std::vector<double> column_major, matio_compression compression) {
+/// A double N×4 `events` (N = column_major.size() / 4) written by libmatio.
+void write_rows(const std::string& path, std::vector<double> column_major, matio_compression compression) {
   mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
-  std::size_t dims[2] = {2, 4};
+  std::size_t dims[2] = {column_major.size() / 4, 4};
   matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, column_major.data(), 0);
   Mat_VarWrite(mat, var, compression);
   Mat_VarFree(var);
@@ -379,7 +380,7 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   // A double x = 2.5 at row 2 (index 1).
   std::vector<Event> ev = some_events(2);
   path = dir_.file("frac.mat");
-  write_two_rows(path, {1, 2.5, 1, 1, 1, -1, 10, 20}, MAT_COMPRESSION_ZLIB);
+  write_rows(path, {1, 2.5, 1, 1, 1, -1, 10, 20}, MAT_COMPRESSION_ZLIB);
   r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 1u);
@@ -387,7 +388,7 @@ TEST_F(MatFiles, BadPolarityAndNonIntegerCoordinateStopAtTheirRow) {
   EXPECT_NE(std::string(r.error->what()).find("x is not"), std::string::npos) << r.error->what();
   // A t past int64 µs (9.3e18) is said to be that: "not a finite integer" named a finite number.
   path = dir_.file("big_t.mat");
-  write_two_rows(path, {1, 2, 1, 2, 1, -1, 10, 9.3e18}, MAT_COMPRESSION_NONE);
+  write_rows(path, {1, 2, 1, 2, 1, -1, 10, 9.3e18}, MAT_COMPRESSION_NONE);
   r = read_all(path);
   ASSERT_TRUE(r.error);
   EXPECT_EQ(r.events.size(), 1u);
@@ -414,12 +415,7 @@ TEST_F(MatFiles, TimesInSecondsAreSecondsAndAFractionAfterWholeTimesIsAnError) {
   };
   const auto save = [&](const std::string& name, std::vector<double> data, matio_compression compression) {
     const std::string path = dir_.file(name);
-    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
-    std::size_t dims[2] = {n, 4};
-    matvar_t* var = Mat_VarCreate("events", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
-    Mat_VarWrite(mat, var, compression);
-    Mat_VarFree(var);
-    Mat_Close(mat);
+    write_rows(path, std::move(data), compression);
     return path;
   };
   const std::vector<double> seconds = columns([&](std::size_t i) { return static_cast<double>(events[i].t_us) * 1e-6; });
