@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "evlife/config/config.h"
+#include "evlife/io/stop.h"
 #include "evlife/io/write_error.h"
 
 namespace evlife::python {
@@ -95,6 +96,20 @@ bool SignalCheck::pending_now() {
   if (!interrupted_ && enabled_) interrupted_ = PyOS_InterruptOccurred() != 0;
   return interrupted_;
 }
+
+IoStopScope::IoStopScope(SignalCheck& signals) noexcept {
+  io::set_thread_stop_check(
+      [](void* context) noexcept {
+        try {
+          return static_cast<SignalCheck*>(context)->pending();
+        } catch (...) {  // (taking the GIL at the interpreter's end)
+          return false;
+        }
+      },
+      &signals);
+}
+
+IoStopScope::~IoStopScope() { io::set_thread_stop_check(nullptr, nullptr); }
 
 void raise_interrupted_while_waiting(const std::string& who, const char* object, const char* nothing,
                                      py::object partial) {

@@ -55,6 +55,20 @@ class SignalCheck {
   std::chrono::steady_clock::time_point next_check_{};
 };
 
+/// While it lives, io::stop_requested() on this thread asks `signals`: the
+/// io calls that wait or work long without a loop of ours between (a FIFO
+/// output no reader opens or drains, a NAME.db3.zstd decompressed at its
+/// opening) stop on Ctrl-C with their error, which the call raises as
+/// evlife.Interrupted where signals.pending() is then true. Construct it on
+/// the thread that runs those calls, with `signals` outliving it.
+class IoStopScope {
+ public:
+  explicit IoStopScope(SignalCheck& signals) noexcept;
+  ~IoStopScope();
+  IoStopScope(const IoStopScope&) = delete;
+  IoStopScope& operator=(const IoStopScope&) = delete;
+};
+
 /// Runs f() holding `mutex` (an object's lock that another Python thread's
 /// long call may hold: an estimator's process, a reader's read), the GIL
 /// released; waits in steps of 20 ms, so that Ctrl-C on the main thread ends

@@ -22,6 +22,7 @@
 #include "evlife/io/event_reader.h"
 #include "evlife/io/output_path.h"
 #include "evlife/io/sensor_size_from_data.h"
+#include "evlife/io/write_error.h"
 #include "options.h"
 
 namespace evlife::python {
@@ -295,6 +296,7 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
   SignalCheck signals;
   {
     ReleasedGil release;
+    const IoStopScope io_stop(signals);  // a NAME.db3.zstd's decompression
     try {
       run = run_file(path, user, r, crop, one_thread, signals, [](SensorSize) {},
                      [&](std::span<const AugmentedEvent> block) {
@@ -305,6 +307,9 @@ py::array process_file(const std::string& path, const py::object& sensor, const 
     }
   }
   py::array result = adopt(std::move(out), augmented_dtype());  // .partial: empty, not None, as evlife.read's
+  if (run.fault && signals.pending_now()) {  // the io call stopped by Ctrl-C
+    signals.raise(path + ": interrupted: " + run.fault->what(), result, run.events, py::none());
+  }
   if (run.fault) raise_input_error(*run.fault, result);
   if (run.interrupted || signals.pending_now()) {
     signals.raise(path + ": interrupted; the first " + std::to_string(run.events) + " events were processed (.partial)",
@@ -331,6 +336,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   bool opened = false;  // the output
   {
     ReleasedGil release;
+    const IoStopScope io_stop(signals);  // a FIFO output no reader opens, a NAME.db3.zstd's decompression
     std::unique_ptr<io::AugmentedEventWriter> writer;
     try {
       run = run_file(
@@ -343,10 +349,18 @@ py::dict process_to_file(const std::string& path, const std::string& output,
           [&](std::span<const AugmentedEvent> block) { writer->write(block); });
     } catch (const io::ReadError& e) {  // before the output was opened: nothing written, as the CLI
       run.fault = e;
+    } catch (const io::WriteError&) {
+      if (!signals.pending()) throw;
+      run.interrupted = true;  // the output's open or write, stopped by Ctrl-C
     }
-    if (writer) writer->close();  // everything before a fault reaches the disk
+    try {
+      if (writer) writer->close();  // everything before a fault reaches the disk
+    } catch (const io::WriteError&) {
+      if (!run.interrupted) throw;  // (a FIFO still undrained: its error was the stop's)
+    }
   }
-  if (run.fault) {
+  if (run.fault && signals.pending_now()) run.interrupted = true;  // the io call stopped by Ctrl-C
+  if (run.fault && !run.interrupted) {
     try {
       raise_input_error(*run.fault);
     } catch (py::error_already_set& error) {
@@ -356,8 +370,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   }
   if (run.interrupted || signals.pending_now()) {  // as `evlife process` on SIGINT
     signals.raise(opened ? "interrupted; the first " + std::to_string(run.events) + " events were written to " + output
-                         : "interrupted while finding the sensor size of " + path + "; " + output +
-                               " was not opened, nothing written",
+                         : "interrupted before " + output + " was opened; nothing written",
                   py::none(), run.events, py::int_(run.events));
   }
   warn_sensor_ignored("evlife.process_file", path, run);

@@ -21,6 +21,7 @@
 #include "evlife/io/augmented_event_writer.h"
 #include "evlife/io/event_reader.h"
 #include "evlife/io/sensor_size_from_data.h"
+#include "evlife/io/write_error.h"
 #include "options.h"
 
 namespace evlife::python {
@@ -245,12 +246,16 @@ py::array read_events(const std::string& path, const io::ReaderOptions& options)
   SignalCheck signals;
   {
     ReleasedGil release;
+    const IoStopScope io_stop(signals);  // a NAME.db3.zstd's decompression
     try {
       reader = io::open_event_reader(path, with_stated_sensor(path, options));
     } catch (const io::ReadError& e) {
       fault.emplace(e);
     }
   }
+  if (fault && signals.pending_now())
+    SignalCheck::raise("evlife.read: interrupted while opening " + path + ": " + fault->what(),
+                       adopt(std::vector<Event>{}, event_dtype()), 0, py::none());
   // A fault at open (a bag cut before its first message): no event before it,
   // an empty .partial as for a fault at the first event, not None.
   if (fault) raise_input_error(*fault, adopt(std::vector<Event>{}, event_dtype()));
@@ -467,15 +472,25 @@ for CSV. Ctrl-C: evlife.Interrupted with the events read in .partial.)");
         }
         SignalCheck signals;
         std::size_t written = 0;
+        std::optional<std::string> stopped;  // a FIFO output no reader opened or drained, stopped by Ctrl-C
         {
           ReleasedGil release;
-          auto writer = io::open_augmented_writer(path, s);
-          while (written < n && !signals.pending()) {  // blocks: Ctrl-C is heard between them
-            const std::size_t block = std::min(n - written, kReadBlock);
-            writer->write(std::span(data + written, block));
-            written += block;
+          const IoStopScope io_stop(signals);
+          try {
+            auto writer = io::open_augmented_writer(path, s);
+            while (written < n && !signals.pending()) {  // blocks: Ctrl-C is heard between them
+              const std::size_t block = std::min(n - written, kReadBlock);
+              writer->write(std::span(data + written, block));
+              written += block;
+            }
+            writer->close();  // what was written reaches the disk, interrupted or not
+          } catch (const io::WriteError& e) {
+            if (!signals.pending()) throw;
+            stopped = e.what();
           }
-          writer->close();  // what was written reaches the disk, interrupted or not
+        }
+        if (stopped) {
+          SignalCheck::raise("evlife.write: interrupted: " + *stopped, py::none(), written, py::none());
         }
         if (written < n) {
           SignalCheck::raise("evlife.write: interrupted after " + std::to_string(written) + " of " +

@@ -255,3 +255,18 @@ def test_an_interrupted_write_or_augmented_read_keeps_what_was_done(large_h5, tm
     assert len(e.partial) == e.events_processed < len(whole)
     assert "evlife.read_augmented: interrupted after %d events of %s" % (e.events_processed, whole_csv) in str(e)
     assert_same_events(e.partial, whole[:e.events_processed])
+
+
+def test_ctrl_c_ends_a_wait_for_an_output_fifos_reader(tmp_path):
+    # A FIFO no reader opens: process_file and write waited in its open for ever, deaf to Ctrl-C
+    # (the command line's stop flag is not Python's SIGINT, which only the main thread sees).
+    fifo = tmp_path / "out.bin"
+    os.mkfifo(fifo)
+    e = interrupt_during(lambda: evlife.process_file(data("reference/stripes.mat"), str(fifo)))
+    assert "interrupted before %s was opened; nothing written" % fifo in str(e)
+    assert e.events_written == 0 and e.events_processed == 0
+    augmented = np.zeros(3, evlife.AUGMENTED_DTYPE)
+    augmented["p"] = 1
+    e = interrupt_during(lambda: evlife.write(str(fifo), augmented, (8, 8)))
+    assert "evlife.write: interrupted: " in str(e) and "no reader had opened this FIFO" in str(e)
+    assert e.events_processed == 0

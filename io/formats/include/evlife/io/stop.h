@@ -19,7 +19,13 @@ namespace evlife::io {
 /// signal handlers) for the whole process.
 void set_stop_flag(const std::atomic<bool>* flag) noexcept;
 
-/// True once a stop flag is set and true.
+/// A stop that only the calling thread can see (Python's Ctrl-C: its
+/// signal is seen by the interpreter's main thread alone): stop_requested()
+/// on this thread also asks `check(context)`. nullptr: none.
+using ThreadStopCheck = bool (*)(void* context) noexcept;
+void set_thread_stop_check(ThreadStopCheck check, void* context) noexcept;
+
+/// True once a stop flag is set and true, or this thread's check says so.
 bool stop_requested() noexcept;
 
 }  // namespace evlife::io
