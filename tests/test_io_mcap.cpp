@@ -552,3 +552,58 @@ TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
 }
 
 }  // namespace
+
+// A Chunk whose opcode byte is damaged: into a Footer or DataEnd it ended the
+// read there, into 0x00 or a private record (0x80-0xFF) it was skipped with its
+// messages; exit 0 each time, even where every CRC was present (a Footer
+// ended the stream before the DataEnd CRC). Now an error at the chunk after
+// the events before it, or, for the private record the specification says to
+// skip, a skipped record counted and the summary's Statistics count not met.
+TEST(McapFaults, AChunkWhoseOpcodeIsDamagedIsAnErrorNotAnEnd) {
+  const ScratchDir dir{"test_io_mcap"};
+  const std::vector<Event> full = read_all(kMcap + "evt3_none.mcap").events;
+  const auto damaged = [&](const char* name, char opcode) {
+    return read_damaged(dir, "evt3_none.mcap", name, [opcode](std::vector<char>& b, const auto& chunks) {
+      b[chunks[2]] = opcode;
+      return chunks[2];
+    });
+  };
+  expect_fault(damaged("footer_op.mcap", '\x02'), full, "footer_op.mcap", "MCAP Footer record inside the data section");
+  expect_fault(damaged("reserved_op.mcap", '\x00'), full, "reserved_op.mcap", "opcode 0x00 in the data section");
+  expect_fault(damaged("reserved_op2.mcap", '\x42'), full, "reserved_op2.mcap", "opcode 0x42 in the data section");
+  const Faulty data_end = damaged("data_end_op.mcap", '\x0f');
+  ASSERT_TRUE(data_end.r.error);
+  EXPECT_EQ(data_end.r.error->byte_offset(), static_cast<std::int64_t>(data_end.chunk_at)) << data_end.r.error->what();
+  EXPECT_EQ(data_end.r.events.size(), data_end.expected_events);
+
+  // A private record is skipped as the specification says, and counted; here the data CRC fails.
+  const Faulty skipped = damaged("private_op.mcap", '\xf9');
+  ASSERT_TRUE(skipped.r.error);
+  EXPECT_GT(skipped.r.events.size(), skipped.expected_events);  // the chunks after it, then the DataEnd CRC
+  EXPECT_LT(skipped.r.events.size(), full.size());
+  const auto private_records = [](const std::string& path) {
+    const std::unique_ptr<io::EventReader> reader = io::open_event_reader(path);
+    std::vector<Event> block(1 << 16);
+    try {
+      while (reader->read(block) > 0) {
+      }
+    } catch (const io::ReadError&) {
+    }
+    for (const auto& k : reader->skipped_record_kinds())
+      if (k.kind == "mcap-private-record") return k.count;
+    return std::uint64_t{0};
+  };
+  EXPECT_EQ(private_records(dir.file("private_op.mcap")), 1u);
+  // Without a data CRC (the mcap library's default): the summary's Statistics count is not met.
+  std::vector<char> b = bytes_of(std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/corpus/mcap/mono_none.mcap");
+  ASSERT_EQ(b.at(48), '\x06');  // its only Chunk
+  b[48] = '\xf9';
+  const std::string no_crc = dir.file("private_op_no_crc.mcap");
+  write_bytes(no_crc, b);
+  const ReadAll r = read_all(no_crc);
+  ASSERT_TRUE(r.error) << r.events.size() << " events, no error";
+  EXPECT_NE(std::string(r.error->what()).find("MCAP summary's Statistics count 2 messages on topic"), std::string::npos)
+      << r.error->what();
+  EXPECT_EQ(r.events.size(), 0u);
+  EXPECT_EQ(private_records(no_crc), 1u);
+}

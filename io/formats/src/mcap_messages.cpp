@@ -122,7 +122,18 @@ void McapMessages::read_summary(const Footer& footer, std::uint64_t footer_at) {
     }
     pos += kRecordPrefix + r->content.size();
   }
-  if (has_statistics && !channels_.empty()) build_topics(counts);
+  if (has_statistics && !channels_.empty()) {
+    build_topics(counts);
+    counts_from_statistics_ = true;
+  }
+}
+
+void McapMessages::check_statistics_count() const {
+  if (!counts_from_statistics_) return;
+  for (const ros::TopicInfo& t : topics_)
+    if (t.name == topic_ && t.message_count != next_index_)
+      fail(pos_, "MCAP summary's Statistics count " + std::to_string(t.message_count) + " messages on topic " + topic_ +
+                     ", the data section holds " + std::to_string(next_index_) + " (records lost to a corruption?)");
 }
 
 void McapMessages::scan_data_section() {
@@ -237,7 +248,17 @@ bool McapMessages::next_unit(std::uint64_t& pos, Unit& u, std::uint32_t* crc) {
                      std::to_string(expected) + "): the data section is corrupt");
   }
   pos += kRecordPrefix + len;
-  if (u.op == kDataEnd || u.op == kFooter) return false;
+  // A Footer is the file's last record; DataEnd ends the data section where the
+  // Footer says (a chunk's opcode damaged into one ended the read there, unsaid).
+  if (u.op == kFooter || (u.op == kDataEnd && has_footer_ && pos != data_limit_))
+    fail(u.at, "MCAP " + std::string(u.op == kFooter ? "Footer" : "DataEnd") + " record inside the data section, " +
+                   std::to_string(data_limit_ - pos) + " bytes before its end (a corrupt opcode?)");
+  if (u.op == kDataEnd) return false;
+  // Opcodes 0x80-0xFF are private records, skipped as the specification says;
+  // 0x00, a second Header and 0x10-0x7F are no record (a damaged opcode hid
+  // a Chunk or a Message, skipped with its events).
+  if (u.op == 0x00 || u.op == kHeader || (u.op > kDataEnd && u.op < 0x80))
+    fail(u.at, "corrupt MCAP record: opcode " + detail::hex_byte(u.op) + " in the data section");
   if (u.op != kSchema && u.op != kChannel && u.op != kMessage && u.op != kChunk) {  // skipped
     if (crc != nullptr) *crc = crc_of_file(u.at, pos, *crc);
     return true;
@@ -267,6 +288,7 @@ void McapMessages::select(const std::string& name) {
   pending_next_ = 0;
   chunk_fault_.reset();
   next_index_ = 0;
+  private_skipped_ = 0;
   if (data_crc_wanted_) data_crc_ = crc_of_file(0, data_start_, 0);  // magic and Header
 }
 
@@ -282,7 +304,9 @@ void McapMessages::load_chunk(const Unit& u) {
   for (std::size_t at = 0; at < u.content.size();) {
     const std::optional<Record> r = record_at(u.content, at);
     mcap::Message m;
-    if (!r || !learn(*r) || (r->op == kMessage && !parse_message(r->content, m))) {
+    // A chunk holds Schema, Channel and Message records (another opcode hid a Message).
+    if (!r || (r->op != kSchema && r->op != kChannel && r->op != kMessage) || !learn(*r) ||
+        (r->op == kMessage && !parse_message(r->content, m))) {
       // Deliver the chunk's messages before the fault first.
       chunk_fault_.emplace(file_.path(), static_cast<std::int64_t>(u.at),
                            "corrupt record at byte " + std::to_string(at) + " of the MCAP chunk at this offset" +
@@ -320,6 +344,7 @@ bool McapMessages::next(Message& m) {
     if (!next_unit(pos_, u, data_crc_wanted_ ? &data_crc_ : nullptr)) {
       ended_ = true;
       if (summary_fault_) throw *summary_fault_;  // after every event
+      check_statistics_count();
       return false;
     }
     if (u.op == kChunk) {
@@ -337,6 +362,8 @@ bool McapMessages::next(Message& m) {
         m = Message{msg.data, msg.log_time, next_index_++, u.at};
         return true;
       }
+    } else if (u.op >= 0x80) {
+      ++private_skipped_;
     }
   }
 }

@@ -34,7 +34,15 @@ class McapReader final : public ros::TopicEventReader {
  private:
   bool next_message(Message& m) override {
     mcap::McapMessages::Message message;
-    if (!bag_.next(message)) return false;
+    bool got = false;
+    try {
+      got = bag_.next(message);
+    } catch (const ReadError&) {  // (the skips before the fault are shown with it)
+      set_container_skipped("mcap-private-record", bag_.private_records_skipped());
+      throw;
+    }
+    set_container_skipped("mcap-private-record", bag_.private_records_skipped());
+    if (!got) return false;
     m = Message{message.data, nullptr, static_cast<std::int64_t>(message.record_at), " (in the record at this offset)"};
     return true;
   }
