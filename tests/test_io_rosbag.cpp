@@ -748,6 +748,31 @@ TEST(Rosbag2Reader, MessagesOfNoListedTopicAreCounted) {
   const ReadAll right = read_all(path, "/right/events");
   ASSERT_FALSE(right.error);
   EXPECT_EQ(right.events.size(), 50u);  // the topic's own events, as before
+  // Every command's summary shows them too (`convert` said nothing: exit 0, unsaid).
+  EXPECT_EQ(reader->skipped_record_count(), 2u);
+  ASSERT_EQ(reader->skipped_record_kinds().size(), 1u);
+  EXPECT_EQ(reader->skipped_record_kinds()[0].kind, "message-of-a-topic-id-no-topics-row-lists");
+}
+
+// One byte of the topics table's schema text damaged (`id INTEGER PRIMARY
+// KEY` no longer the rowid): every id reads NULL, the JOIN matches no message
+// and NOT IN counted none as unlisted: 0 of 100 events, nothing said, exit 0.
+TEST(Rosbag2Reader, TopicIdsThatReadNullLeaveTheirMessagesCountedAsUnlisted) {
+  const ScratchDir dir{"test_io_rosbag"};
+  std::ifstream in(std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/corpus/rosbag2/mono_cd.db3", std::ios::binary);
+  std::vector<char> bytes{std::istreambuf_iterator<char>(in), {}};
+  const std::string schema = "CREATE TABLE topics(id INTEGER PRIMARY KEY";
+  const auto at = std::search(bytes.begin(), bytes.end(), schema.begin(), schema.end());
+  ASSERT_NE(at, bytes.end());
+  at[std::string("CREATE TABLE topics(id INTEGER P").size()] ^= static_cast<char>(0xFF);  // PRIMARY KEY no more
+  const std::string path = dir.file("null_ids.db3");
+  std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const auto reader = io::open_unchecked_event_reader(path, {});
+  std::vector<Event> block(1024);
+  std::size_t events = 0;
+  while (const std::size_t n = reader->read(block)) events += n;
+  EXPECT_EQ(events, 0u);
+  EXPECT_EQ(reader->skipped_record_count(), 2u) << "the bag's 2 messages, of no listed topic";
 }
 
 // ---- the CLI, as a user runs it ----

@@ -33,13 +33,14 @@ class TopicEventReader : public EventReader {
   std::optional<SensorSize> sensor_size() const final { return sensor_; }
   std::uint64_t skipped_record_count() const final {
     return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count() +
-           decoder_.before_address_count() + decoder_.libcaer_invalid_count() + container_skipped_;
+           decoder_.before_address_count() + decoder_.libcaer_invalid_count() + container_skipped_ + unlisted_messages_;
   }
   std::vector<SkippedKindCount> skipped_record_kinds() const final {
     auto kinds = prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(),
                                          decoder_.before_time_base_count(), decoder_.before_address_count());
     if (const std::uint64_t n = decoder_.libcaer_invalid_count(); n > 0) kinds.push_back({"libcaer-event-marked-invalid", n});
     if (container_skipped_ > 0) kinds.push_back({container_skipped_kind_, container_skipped_});
+    if (unlisted_messages_ > 0) kinds.push_back({"message-of-a-topic-id-no-topics-row-lists", unlisted_messages_});
     return kinds;
   }
   std::uint64_t trigger_count() const final { return decoder_.trigger_count(); }

@@ -296,7 +296,8 @@ void Rosbag2Messages::read_topics(std::size_t i, std::map<std::string, std::size
       add_topic(topics_, by_name,
                 TopicInfo{db.text(0), db.text(1), db.text(2), static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 3)), {}});
     }
-    db.prepare("SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)");
+    // NOT EXISTS, not NOT IN: a topics row whose id reads NULL (a damaged schema) made NOT IN false for every message.
+    db.prepare("SELECT COUNT(*) FROM messages m WHERE NOT EXISTS (SELECT 1 FROM topics t WHERE t.id = m.topic_id)");
     if (db.step("cannot count the messages of no topic"))
       unlisted_messages_ += static_cast<std::uint64_t>(sqlite3_column_int64(db.stmt, 0));
   }
