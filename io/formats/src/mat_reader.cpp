@@ -1,9 +1,10 @@
 // MATLAB v5 .mat files of the reference code: variable `events`, an N×4
 // numeric matrix with rows [x y p t] — t in µs, p ∈ {-1, 1} (0 also read as
-// OFF), x y as stored. t stored as fractions among the first 1000 rows is in
-// seconds (the CSV and NumPy readers' rule: MATLAB users save seconds, which
-// rounded to µs made every event's time 0 or 1), else in whole µs (a fraction
-// after whole first rows is an input error, not rounded). The reference files hold 0-based coordinates (both
+// OFF), x y as stored. t in seconds where most of the first 1000 rows' float
+// times lie over 0.001 from a whole number (MATLAB users save seconds, which
+// rounded to µs made every event's time 0 or 1), else in µs, rounded to the
+// nearest (µs computed as seconds x 1e6 carry float noise; a corrupt value
+// among the first rows does not make the file seconds). The reference files hold 0-based coordinates (both
 // axes span exactly 0..127, a DVS128's range; 1-based data would span
 // 1..128), so nothing is added or subtracted. The format states no sensor
 // size (sensor_size() = nullopt; the CLI then takes --sensor or the data's
@@ -20,7 +21,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -130,9 +130,10 @@ MatrixHeader parse_matrix_header(Cursor& c, Fail fail) {
   return h;
 }
 
-enum class Convert { exact, seconds_to_us };
+enum class Convert { exact, round_us, seconds_to_us };
 
 constexpr std::size_t kUnitSampleRows = 1000;  // the first rows, whose t tells seconds from µs
+constexpr double kFractionOverNoise = 1e-3;  // further from a whole number: a fraction, not float noise
 
 bool is_float_storage(std::uint32_t type) { return type == miSINGLE || type == miDOUBLE; }
 
@@ -158,7 +159,7 @@ std::size_t decode(std::uint32_t type, const std::byte* src, std::size_t n, std:
       std::memcpy(&v, src + i * sizeof(T), sizeof(T));
       const double d = convert == Convert::seconds_to_us ? static_cast<double>(v) * 1e6 : static_cast<double>(v);
       if (!(std::fabs(d) < 9.2e18)) return i;  // NaN, inf, out of int64
-      const double r = convert == Convert::seconds_to_us ? std::nearbyint(d) : d;
+      const double r = convert == Convert::exact ? d : std::nearbyint(d);
       if (r != std::floor(r)) return i;
       dst[i] = static_cast<std::int64_t>(r);
     }
@@ -215,10 +216,13 @@ class MatReader final : public EventReader {
           fault = cursors_[c]->error();
         }
         const std::size_t decoded = decode(data_type_, raw.data(), got, values_[c].data(),
-                                           c == 3 && t_in_seconds_ ? Convert::seconds_to_us : Convert::exact);
+                                           c != 3 ? Convert::exact
+                                           : t_in_seconds_ ? Convert::seconds_to_us
+                                                           : Convert::round_us);
         if (decoded < good) {
           good = decoded;
-          fault = c != 3 ? std::string(kColumnNames[c]) + " is not a finite integer" : time_fault(raw.data(), decoded);
+          fault = std::string(kColumnNames[c]) +
+                  (c == 3 ? " is NaN, infinite or beyond +-9.2e18 us" : " is not a finite integer");
         }
       }
       const std::int64_t* xs = values_[0].data();
@@ -270,10 +274,10 @@ class MatReader final : public EventReader {
  private:
   static constexpr const char* kColumnNames[4] = {"x", "y", "p", "t"};
 
-  /// Whether float t values hold a fraction among the first kUnitSampleRows
-  /// rows (read by a cursor of their own: the unit never depends on how the
-  /// caller's reads cut the rows).
-  bool first_times_hold_fractions(const MatrixHeader& h) {
+  /// Whether most float t values of the first kUnitSampleRows rows are
+  /// fractions (read by a cursor of their own: the unit never depends on how
+  /// the caller's reads cut the rows).
+  bool most_first_times_are_fractions(const MatrixHeader& h) {
     if (!is_float_storage(data_type_) || rows_ == 0) return false;
     const std::uint64_t column_bytes = rows_ * value_bytes_;
     std::unique_ptr<Cursor> t;
@@ -287,11 +291,12 @@ class MatReader final : public EventReader {
     }
     std::vector<std::byte> raw(static_cast<std::size_t>(std::min<std::uint64_t>(rows_, kUnitSampleRows)) * value_bytes_);
     const std::size_t n = t->read(raw) / value_bytes_;  // fewer at a fault: read() reports it
+    std::size_t fractions = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const double d = float_at(raw.data(), i);
-      if (std::isfinite(d) && d != std::floor(d)) return true;
+      fractions += std::isfinite(d) && std::fabs(d - std::nearbyint(d)) > kFractionOverNoise;
     }
-    return false;
+    return 2 * fractions > n;
   }
 
   double float_at(const std::byte* raw, std::size_t i) const {
@@ -305,20 +310,6 @@ class MatReader final : public EventReader {
     return v;
   }
 
-  /// Why t value `i` of the block did not decode.
-  std::string time_fault(const std::byte* raw, std::size_t i) const {
-    const double d = float_at(raw, i);
-    if (!t_in_seconds_ && std::isfinite(d) && std::fabs(d) < 9.2e18)
-      return "t = " + fmt_double(d) + " is a fraction, but the whole times of the first rows made the unit µs (t "
-             "stored as fractions there is read as seconds): save t as whole µs, or as seconds throughout";
-    return "t is NaN, infinite or beyond +-9.2e18 us";
-  }
-
-  static std::string fmt_double(double d) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.17g", d);
-    return text;
-  }
 
   [[noreturn]] void fail(std::int64_t offset, const std::string& what) const {
     throw ReadError(file_.path(), offset, -1, what);
@@ -356,7 +347,7 @@ class MatReader final : public EventReader {
         const MatrixHeader h = parse_matrix_header(*probe, header_fail);
         if (h.name == "events") {
           setup(h, type == miCOMPRESSED, offset, std::move(probe));
-          t_in_seconds_ = first_times_hold_fractions(h);
+          t_in_seconds_ = most_first_times_are_fractions(h);
           find_trailing_fault(payload + bytes);
           return;
         }
@@ -465,7 +456,7 @@ class MatReader final : public EventReader {
   std::uint64_t rows_ = 0;
   std::uint64_t next_index_ = 0;
   std::uint32_t data_type_ = 0;
-  bool t_in_seconds_ = false;  // float t with fractions among the first rows
+  bool t_in_seconds_ = false;  // most float t of the first rows are fractions
   std::size_t value_bytes_ = 0;
   bool compressed_ = false;
   bool end_checked_ = false;
