@@ -871,6 +871,28 @@ TEST(IoFormatsAedat4Synthetic, UncompressedAndZstdPacketsDecode) {
   }
 }
 
+// An event packet whose elements field is damaged reads as one without
+// events: it was passed over uncounted (8 of 16 events, exit 0, the skipped
+// line unchanged). Now counted and shown as a skipped record of its kind.
+TEST(IoFormatsAedat4Synthetic, AnEventPacketWithoutEventsIsCountedAsSkipped) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::vector<Event>> packets = {std::vector<Event>(8, Event{10, 1, 2, 1}), {},
+                                                   std::vector<Event>(8, Event{20, 3, 4, -1})};
+  const std::string path = dir.save("empty_packet.aedat4", aedat4_file(0, packets));
+  const ReadResult r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 16u);
+  EXPECT_EQ(r.skipped, 4u);  // the file's 3 other packets and the empty one
+  const auto reader = evlife::io::open_event_reader(path);
+  std::vector<Event> block(64);
+  while (reader->read(block) > 0) {
+  }
+  const auto kinds = reader->skipped_record_kinds();
+  ASSERT_FALSE(kinds.empty());
+  EXPECT_EQ(kinds.back().kind, "event-packet-without-events");
+  EXPECT_EQ(kinds.back().count, 1u);
+}
+
 // The trigger stream's packets were skipped undecoded: `triggers 0` for a
 // recording with external triggers. Only the external input's edges and
 // pulses count (as AEDAT 3's special events), not the generator's edges,

@@ -368,6 +368,7 @@ bool Aedat4Reader::next_packet() {
       events_size_ = packet->elements()->size();
     }
     if (events_size_ > 0) return true;
+    ++empty_event_packets_;  // (a damaged elements field reads as none: said, not silent)
   }
 }
 
@@ -452,6 +453,7 @@ std::vector<SkippedKindCount> Aedat4Reader::skipped_record_kinds() const {
   std::vector<SkippedKindCount> kinds;
   for (std::size_t k = 0; k < kSkippedPacketKinds.size(); ++k)
     if (skipped_by_kind_[k] > 0) kinds.push_back({kSkippedPacketKinds[k].second, skipped_by_kind_[k]});
+  if (empty_event_packets_ > 0) kinds.push_back({"event-packet-without-events", empty_event_packets_});
   return kinds;
 }
 

@@ -37,7 +37,7 @@ class Aedat4Reader final : public EventReader {
   const std::string& path() const override { return file_.path(); }
   /// Packets of other streams (frames, IMU, triggers) skipped: whole
   /// packets, each of many samples; only the triggers' are decoded.
-  std::uint64_t skipped_record_count() const override { return skipped_packets_; }
+  std::uint64_t skipped_record_count() const override { return skipped_packets_ + empty_event_packets_; }
   /// By their stream's type: imu-packet, trigger-packet, frame-packet,
   /// event-packet-of-another-stream (a second camera's), other-packet.
   std::vector<SkippedKindCount> skipped_record_kinds() const override;
@@ -81,6 +81,7 @@ class Aedat4Reader final : public EventReader {
   std::size_t events_pos_ = 0;
   std::int64_t packet_offset_ = 0;
   std::uint64_t skipped_packets_ = 0;
+  std::uint64_t empty_event_packets_ = 0;  // event packets without elements (a damaged vector drops them)
   std::uint64_t trigger_count_ = 0;
   std::array<std::uint64_t, 5> skipped_by_kind_{};  // [kind] (aedat4_reader.cpp: kSkippedPacketKinds)
   std::vector<std::pair<std::int32_t, std::size_t>> other_streams_;  // the header's other streams: id, kind
