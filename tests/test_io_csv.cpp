@@ -44,6 +44,27 @@ TEST(IoCsv, MetavisionXypt) {
   EXPECT_TRUE(same(r.events, kExpected));
 }
 
+// A line whose first byte became '#' (or '%') was dropped as a comment,
+// uncounted (39 of 40 events, exit 0). Comment lines after the first event
+// are now counted and shown as skipped records; those before it (a header's
+// notes, as Metavision writes) are not.
+TEST(IoCsv, CommentLinesAmongTheEventsAreCountedAsSkipped) {
+  const ScratchDir dir("test_io_csv");
+  const ReadAll before = read_all(dir.save("notes.csv", "# recorded 2026\n%% by me\n10,20,1,1000\n11,21,0,1500\n\n639,479,1,2250\n"));
+  ASSERT_FALSE(before.error) << before.error->what();
+  EXPECT_TRUE(same(before.events, kExpected));
+  EXPECT_EQ(before.skipped, 0u);
+  const ReadAll among = read_all(dir.save("hash.csv", "10,20,1,1000\n#1,21,0,1500\n11,21,0,1500\n%39,479,1,2250\n639,479,1,2250\n"));
+  ASSERT_FALSE(among.error) << among.error->what();
+  EXPECT_TRUE(same(among.events, kExpected));
+  EXPECT_EQ(among.skipped, 2u);
+  const ReadAll rpg = read_all(dir.save("hash.txt", "0.001000 10 20 1\n#.001500 11 21 0\n0.002250 639 479 1\n"));
+  ASSERT_FALSE(rpg.error) << rpg.error->what();
+  EXPECT_EQ(rpg.format, "rpg-text");
+  EXPECT_EQ(rpg.events.size(), 2u);
+  EXPECT_EQ(rpg.skipped, 1u);
+}
+
 TEST(IoCsv, XytpWithHeaderTabSeparated) {
   const ScratchDir dir("test_io_csv");
   const ReadAll r = read_all(dir.save("a.tsv", "x\ty\tt\tp\n10\t20\t1000\t1\n11\t21\t1500\t0\n639\t479\t2250\t1\n"));

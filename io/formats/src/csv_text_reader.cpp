@@ -95,6 +95,11 @@ char separator_of(const char* p, const char* end) {
   return ' ';
 }
 
+bool is_blank_line(const char* p, const char* end) {
+  while (p < end && is_blank(*p)) ++p;
+  return p == end;
+}
+
 bool is_comment_or_blank(const char* p, const char* end) {
   while (p < end && is_blank(*p)) ++p;
   return p == end || *p == '#' || *p == '%';
@@ -258,7 +263,9 @@ class CsvTextReader final : public EventReader {
       if (!next_line(line)) break;
       const char* end = line.data() + line.size();
       ++line_number_;
-      if (!is_comment_or_blank(line.data(), end)) {
+      if (is_comment_or_blank(line.data(), end)) {
+        comments_among_events_ += next_index_ > 0 && !is_blank_line(line.data(), end);
+      } else {
         if (skip_header_) {
           skip_header_ = false;
         } else if (const Parsed parsed = parse(line.data(), end, out[n]); parsed != Parsed::ok) {
@@ -282,6 +289,13 @@ class CsvTextReader final : public EventReader {
   std::uint64_t bytes_consumed() const override { return lines_.offset(); }
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return line_offsets_.of(event_index, next_index_, pending_);
+  }
+  // A line after the first event that reads as a comment may be an event
+  // whose first byte was damaged: counted and shown, never dropped unsaid.
+  std::uint64_t skipped_record_count() const override { return comments_among_events_; }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override {
+    if (comments_among_events_ == 0) return {};
+    return {{"comment-line-among-the-events", comments_among_events_}};
   }
 
  private:
@@ -366,6 +380,7 @@ class CsvTextReader final : public EventReader {
   LineReader lines_;
   std::uint64_t line_number_ = 0;
   std::uint64_t next_index_ = 0;
+  std::uint64_t comments_among_events_ = 0;  // comment lines after the first event
   char sep_ = ',';
   Layout layout_{};
   int columns_ = 4;

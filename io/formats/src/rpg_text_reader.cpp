@@ -99,6 +99,7 @@ class RpgTextReader final : public EventReader {
         out[n++] = e;
         ++next_index_;
       }
+      comments_among_events_ += kind == LineKind::comment && next_index_ > 0;
     }
     if (n == 0 && pending_) throw *pending_;
     return n;
@@ -111,13 +112,21 @@ class RpgTextReader final : public EventReader {
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return line_offsets_.of(event_index, next_index_, pending_);
   }
+  // A line after the first event that reads as a comment may be an event
+  // whose first byte was damaged: counted and shown, never dropped unsaid.
+  std::uint64_t skipped_record_count() const override { return comments_among_events_; }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override {
+    if (comments_among_events_ == 0) return {};
+    return {{"comment-line-among-the-events", comments_among_events_}};
+  }
 
  private:
-  enum class LineKind { event, skip, bad };
+  enum class LineKind { event, comment, skip, bad };
 
   LineKind parse_line(const char* p, const char* end, Event& e) const noexcept {
     skip_spaces(p, end);
-    if (p == end || *p == '#') return LineKind::skip;
+    if (p == end) return LineKind::skip;
+    if (*p == '#') return LineKind::comment;
     if (parse_plain_line(p, end, e)) return LineKind::event;
     return parse_exponent_line(p, end, e) ? LineKind::event : LineKind::bad;
   }
@@ -215,6 +224,7 @@ class RpgTextReader final : public EventReader {
   LineReader lines_;
   std::uint64_t line_number_ = 0;  // lines consumed
   std::uint64_t next_index_ = 0;
+  std::uint64_t comments_among_events_ = 0;
   BatchLineOffsets line_offsets_;
   std::optional<SensorSize> sensor_;
   std::optional<ReadError> pending_;
