@@ -554,10 +554,10 @@ TEST(McapFaults, NotAnMcapFileAndACutHeaderAreRefusedAtOpen) {
 }  // namespace
 
 // A Chunk whose opcode byte is damaged: into a Footer or DataEnd it ended the
-// read there, into 0x00 or a private record (0x80-0xFF) it was skipped with its
-// messages; exit 0 each time, even where every CRC was present (a Footer
+// read there, into 0x00, a reserved or a private opcode it was skipped with
+// its messages; exit 0 each time, even where every CRC was present (a Footer
 // ended the stream before the DataEnd CRC). Now an error at the chunk after
-// the events before it, or, for the private record the specification says to
+// the events before it, or, for the unknown opcodes the specification says to
 // skip, a skipped record counted and the summary's Statistics count not met.
 TEST(McapFaults, AChunkWhoseOpcodeIsDamagedIsAnErrorNotAnEnd) {
   const ScratchDir dir{"test_io_mcap"};
@@ -569,14 +569,13 @@ TEST(McapFaults, AChunkWhoseOpcodeIsDamagedIsAnErrorNotAnEnd) {
     });
   };
   expect_fault(damaged("footer_op.mcap", '\x02'), full, "footer_op.mcap", "MCAP Footer record inside the data section");
-  expect_fault(damaged("reserved_op.mcap", '\x00'), full, "reserved_op.mcap", "opcode 0x00 in the data section");
-  expect_fault(damaged("reserved_op2.mcap", '\x42'), full, "reserved_op2.mcap", "opcode 0x42 in the data section");
+  expect_fault(damaged("header_op.mcap", '\x01'), full, "header_op.mcap", "a second Header in the data section");
   const Faulty data_end = damaged("data_end_op.mcap", '\x0f');
   ASSERT_TRUE(data_end.r.error);
   EXPECT_EQ(data_end.r.error->byte_offset(), static_cast<std::int64_t>(data_end.chunk_at)) << data_end.r.error->what();
   EXPECT_EQ(data_end.r.events.size(), data_end.expected_events);
 
-  // A private record is skipped as the specification says, and counted; here the data CRC fails.
+  // An unknown opcode is skipped as the specification says, and counted; here the data CRC fails.
   const Faulty skipped = damaged("private_op.mcap", '\xf9');
   ASSERT_TRUE(skipped.r.error);
   EXPECT_GT(skipped.r.events.size(), skipped.expected_events);  // the chunks after it, then the DataEnd CRC
@@ -590,20 +589,57 @@ TEST(McapFaults, AChunkWhoseOpcodeIsDamagedIsAnErrorNotAnEnd) {
     } catch (const io::ReadError&) {
     }
     for (const auto& k : reader->skipped_record_kinds())
-      if (k.kind == "mcap-private-record") return k.count;
+      if (k.kind == "mcap-record-of-an-unknown-opcode") return k.count;
     return std::uint64_t{0};
   };
   EXPECT_EQ(private_records(dir.file("private_op.mcap")), 1u);
   // Without a data CRC (the mcap library's default): the summary's Statistics count is not met.
+  const std::vector<char> mono = bytes_of(std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/corpus/mcap/mono_none.mcap");
+  ASSERT_EQ(mono.at(48), '\x06');  // its only Chunk
+  for (const char opcode : {'\x00', '\x42', '\xf9'}) {
+    std::vector<char> b = mono;
+    b[48] = opcode;
+    const std::string no_crc = dir.file("unknown_op_no_crc.mcap");
+    write_bytes(no_crc, b);
+    const ReadAll r = read_all(no_crc);
+    ASSERT_TRUE(r.error) << r.events.size() << " events, no error";
+    EXPECT_NE(std::string(r.error->what()).find("MCAP summary's Statistics count 2 messages on topic"), std::string::npos)
+        << r.error->what();
+    EXPECT_EQ(r.events.size(), 0u);
+    EXPECT_EQ(private_records(no_crc), 1u);
+  }
+}
+
+// A Statistics record whose channel_message_counts map is empty ("this
+// statistic is not available", the spec): the topics are counted by a scan,
+// and nothing is checked against the empty map (an early version of the
+// check refused the file: "count 0 messages …, the data section holds 2").
+TEST(McapReader, StatisticsWithoutChannelCountsAreNotAFault) {
+  const ScratchDir dir{"test_io_mcap"};
   std::vector<char> b = bytes_of(std::string(EVLIFE_SOURCE_DIR) + "/tests/fuzz/corpus/mcap/mono_none.mcap");
-  ASSERT_EQ(b.at(48), '\x06');  // its only Chunk
-  b[48] = '\xf9';
-  const std::string no_crc = dir.file("private_op_no_crc.mcap");
-  write_bytes(no_crc, b);
-  const ReadAll r = read_all(no_crc);
-  ASSERT_TRUE(r.error) << r.events.size() << " events, no error";
-  EXPECT_NE(std::string(r.error->what()).find("MCAP summary's Statistics count 2 messages on topic"), std::string::npos)
-      << r.error->what();
-  EXPECT_EQ(r.events.size(), 0u);
-  EXPECT_EQ(private_records(no_crc), 1u);
+  const std::size_t footer = b.size() - 8 - 29;
+  ASSERT_EQ(b[footer], '\x02');
+  std::uint64_t summary_start = 0, summary_offset_start = 0;
+  std::memcpy(&summary_start, b.data() + footer + 9, 8);
+  std::memcpy(&summary_offset_start, b.data() + footer + 17, 8);
+  const std::uint64_t end = summary_offset_start != 0 ? summary_offset_start : footer;
+  bool emptied = false;
+  for (std::uint64_t pos = summary_start; pos < end;) {
+    std::uint64_t len = 0;
+    std::memcpy(&len, b.data() + pos + 1, 8);
+    if (b[pos] == '\x0b') {  // Statistics: its map's byte length after 42 bytes of counts and times
+      const std::uint32_t none = 0;
+      std::memcpy(b.data() + pos + 9 + 42, &none, 4);
+      emptied = true;
+    }
+    pos += 9 + len;
+  }
+  ASSERT_TRUE(emptied);
+  const std::uint32_t no_crc = 0;
+  std::memcpy(b.data() + footer + 25, &no_crc, 4);  // the summary CRC, which the change breaks
+  const std::string path = dir.file("empty_statistics.mcap");
+  write_bytes(path, b);
+  const ReadAll r = read_all(path);
+  ASSERT_FALSE(r.error) << r.error->what();
+  EXPECT_EQ(r.events.size(), 100u);
 }

@@ -420,6 +420,13 @@ TEST_F(MatFiles, TimesInSecondsAreSecondsAndMicrosecondsWithNoiseStayMicrosecond
     return path;
   };
   const std::vector<double> seconds = columns([&](std::size_t i) { return static_cast<double>(events[i].t_us) * 1e-6; });
+  // A million events a second from t = 0 (the first 1000 within 1 ms of a whole second): seconds too.
+  const std::string fast = save("fast_s.mat", columns([&](std::size_t i) { return static_cast<double>(i) * 1e-6; }),
+                                MAT_COMPRESSION_NONE);
+  const ReadAll f = read_all(fast);
+  ASSERT_FALSE(f.error) << f.error->what();
+  ASSERT_EQ(f.events.size(), n);
+  for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(f.events[i].t_us, static_cast<std::int64_t>(i)) << i;
   for (const matio_compression compression : {MAT_COMPRESSION_NONE, MAT_COMPRESSION_ZLIB}) {
     const std::string path = save(compression == MAT_COMPRESSION_NONE ? "s_raw.mat" : "s_zlib.mat", seconds, compression);
     for (const std::size_t block : {std::size_t{1}, std::size_t{4096}}) {

@@ -1,10 +1,11 @@
 // MATLAB v5 .mat files of the reference code: variable `events`, an N×4
 // numeric matrix with rows [x y p t] — t in µs, p ∈ {-1, 1} (0 also read as
 // OFF), x y as stored. t in seconds where most of the first 1000 rows' float
-// times lie over 0.001 from a whole number (MATLAB users save seconds, which
-// rounded to µs made every event's time 0 or 1), else in µs, rounded to the
-// nearest (µs computed as seconds x 1e6 carry float noise; a corrupt value
-// among the first rows does not make the file seconds). The reference files hold 0-based coordinates (both
+// times are fractions (MATLAB users save seconds, which rounded to µs made
+// every event's time 0 or 1), else in µs, rounded to the nearest. A fraction:
+// further from a whole number than float noise (1e-12 of the value: µs
+// computed as seconds x 1e6 stay µs); most, not any: one corrupt value among
+// the first rows does not make a µs file seconds. The reference files hold 0-based coordinates (both
 // axes span exactly 0..127, a DVS128's range; 1-based data would span
 // 1..128), so nothing is added or subtracted. The format states no sensor
 // size (sensor_size() = nullopt; the CLI then takes --sensor or the data's
@@ -133,7 +134,7 @@ MatrixHeader parse_matrix_header(Cursor& c, Fail fail) {
 enum class Convert { exact, round_us, seconds_to_us };
 
 constexpr std::size_t kUnitSampleRows = 1000;  // the first rows, whose t tells seconds from µs
-constexpr double kFractionOverNoise = 1e-3;  // further from a whole number: a fraction, not float noise
+constexpr double kNoiseOfValue = 1e-12;  // float noise, relative: closer to a whole number is no fraction
 
 bool is_float_storage(std::uint32_t type) { return type == miSINGLE || type == miDOUBLE; }
 
@@ -294,7 +295,7 @@ class MatReader final : public EventReader {
     std::size_t fractions = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const double d = float_at(raw.data(), i);
-      fractions += std::isfinite(d) && std::fabs(d - std::nearbyint(d)) > kFractionOverNoise;
+      fractions += std::isfinite(d) && std::fabs(d - std::nearbyint(d)) > kNoiseOfValue * std::max(1.0, std::fabs(d));
     }
     return 2 * fractions > n;
   }

@@ -11,6 +11,9 @@
 namespace evlife::io::mcap {
 namespace {
 
+/// 0x00 and the opcodes past DataEnd (reserved for later versions, or private).
+bool is_unknown_op(std::uint8_t op) { return op == 0x00 || op > kDataEnd; }
+
 constexpr std::uint64_t kMaxRecordBytes = std::uint64_t{1} << 28;   // one message or chunk
 constexpr std::uint64_t kMaxSummaryBytes = std::uint64_t{1} << 26;  // else: scan instead
 constexpr std::uint64_t kFooterRecord = kRecordPrefix + kFooterContent;
@@ -116,7 +119,8 @@ void McapMessages::read_summary(const Footer& footer, std::uint64_t footer_at) {
     if (!r) return;  // a corrupt summary: the scan decides
     if (r->op == kStatistics) {
       if (!parse_statistics(r->content, counts)) return;
-      has_statistics = true;
+      // An empty map: "this statistic is not available" (the spec); the scan counts.
+      has_statistics = !counts.empty();
     } else if (!learn(*r)) {
       return;
     }
@@ -124,12 +128,16 @@ void McapMessages::read_summary(const Footer& footer, std::uint64_t footer_at) {
   }
   if (has_statistics && !channels_.empty()) {
     build_topics(counts);
-    counts_from_statistics_ = true;
+    for (const auto& [id, n] : counts) counted_channels_.insert(id);
   }
 }
 
 void McapMessages::check_statistics_count() const {
-  if (!counts_from_statistics_) return;
+  // Only where the Statistics count every channel of the topic (a channel it leaves out: unknown).
+  bool counted = !counted_channels_.empty();
+  for (const auto& [id, c] : channels_)
+    if (c.topic == topic_ && !counted_channels_.count(id)) counted = false;
+  if (!counted) return;
   for (const ros::TopicInfo& t : topics_)
     if (t.name == topic_ && t.message_count != next_index_)
       fail(pos_, "MCAP summary's Statistics count " + std::to_string(t.message_count) + " messages on topic " + topic_ +
@@ -254,11 +262,11 @@ bool McapMessages::next_unit(std::uint64_t& pos, Unit& u, std::uint32_t* crc) {
     fail(u.at, "MCAP " + std::string(u.op == kFooter ? "Footer" : "DataEnd") + " record inside the data section, " +
                    std::to_string(data_limit_ - pos) + " bytes before its end (a corrupt opcode?)");
   if (u.op == kDataEnd) return false;
-  // Opcodes 0x80-0xFF are private records, skipped as the specification says;
-  // 0x00, a second Header and 0x10-0x7F are no record (a damaged opcode hid
-  // a Chunk or a Message, skipped with its events).
-  if (u.op == 0x00 || u.op == kHeader || (u.op > kDataEnd && u.op < 0x80))
-    fail(u.at, "corrupt MCAP record: opcode " + detail::hex_byte(u.op) + " in the data section");
+  // A second Header is no record of the data section. Unknown opcodes (0x00,
+  // 0x10-0x7F reserved for later versions, 0x80-0xFF private) are skipped, as
+  // the specification says, and next() counts them: a damaged opcode hides a
+  // Chunk or Message that way.
+  if (u.op == kHeader) fail(u.at, "corrupt MCAP record: a second Header in the data section");
   if (u.op != kSchema && u.op != kChannel && u.op != kMessage && u.op != kChunk) {  // skipped
     if (crc != nullptr) *crc = crc_of_file(u.at, pos, *crc);
     return true;
@@ -288,7 +296,7 @@ void McapMessages::select(const std::string& name) {
   pending_next_ = 0;
   chunk_fault_.reset();
   next_index_ = 0;
-  private_skipped_ = 0;
+  unknown_skipped_ = 0;
   if (data_crc_wanted_) data_crc_ = crc_of_file(0, data_start_, 0);  // magic and Header
 }
 
@@ -304,7 +312,12 @@ void McapMessages::load_chunk(const Unit& u) {
   for (std::size_t at = 0; at < u.content.size();) {
     const std::optional<Record> r = record_at(u.content, at);
     mcap::Message m;
-    // A chunk holds Schema, Channel and Message records (another opcode hid a Message).
+    if (r && is_unknown_op(r->op)) {  // skipped and counted, as at the top level
+      ++unknown_skipped_;
+      at += kRecordPrefix + r->content.size();
+      continue;
+    }
+    // A chunk holds Schema, Channel and Message records (another known opcode hid a Message).
     if (!r || (r->op != kSchema && r->op != kChannel && r->op != kMessage) || !learn(*r) ||
         (r->op == kMessage && !parse_message(r->content, m))) {
       // Deliver the chunk's messages before the fault first.
@@ -362,8 +375,8 @@ bool McapMessages::next(Message& m) {
         m = Message{msg.data, msg.log_time, next_index_++, u.at};
         return true;
       }
-    } else if (u.op >= 0x80) {
-      ++private_skipped_;
+    } else if (is_unknown_op(u.op)) {
+      ++unknown_skipped_;
     }
   }
 }

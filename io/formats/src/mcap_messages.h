@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
@@ -57,10 +58,10 @@ class McapMessages {
   /// ros::ContainerFault (truncation, corrupt chunk or record, unknown compression).
   bool next(Message& m);
 
-  /// Private records (opcodes 0x80-0xFF) the stream skipped, as the
-  /// specification says: a Chunk or Message whose opcode was damaged into one
-  /// is among them.
-  std::uint64_t private_records_skipped() const noexcept { return private_skipped_; }
+  /// Records of unknown opcodes (0x00, 0x10-0x7F reserved, 0x80-0xFF private)
+  /// the stream skipped, as the specification says: a Chunk or Message whose
+  /// opcode was damaged is among them.
+  std::uint64_t unknown_records_skipped() const noexcept { return unknown_skipped_; }
   /// File offset reached by the stream.
   std::uint64_t bytes_consumed() const noexcept { return pos_; }
   const std::string& path() const noexcept { return file_.path(); }
@@ -93,7 +94,7 @@ class McapMessages {
   void load_chunk(const Unit& u);
   bool wanted(std::uint16_t channel_id) const;
   /// At the stream's end: the topic's messages as many as the summary's
-  /// Statistics record counts (where the topics came from it).
+  /// Statistics record counts (where it counts each of the topic's channels).
   void check_statistics_count() const;
 
   detail::InputFile file_;
@@ -125,8 +126,8 @@ class McapMessages {
   std::uint32_t data_crc_ = 0;   ///< of the bytes streamed so far
   std::vector<std::uint8_t> scratch_;  ///< for CRCs of records not otherwise read
   std::uint64_t next_index_ = 0;
-  std::uint64_t private_skipped_ = 0;
-  bool counts_from_statistics_ = false;  ///< topics_' counts are the summary's Statistics
+  std::uint64_t unknown_skipped_ = 0;
+  std::set<std::uint16_t> counted_channels_;  ///< the channels the summary's Statistics count
 };
 
 /// True when `head` starts with the MCAP magic.

@@ -38,10 +38,10 @@ class McapReader final : public ros::TopicEventReader {
     try {
       got = bag_.next(message);
     } catch (const ReadError&) {  // (the skips before the fault are shown with it)
-      set_container_skipped("mcap-private-record", bag_.private_records_skipped());
+      set_container_skipped("mcap-record-of-an-unknown-opcode", bag_.unknown_records_skipped());
       throw;
     }
-    set_container_skipped("mcap-private-record", bag_.private_records_skipped());
+    set_container_skipped("mcap-record-of-an-unknown-opcode", bag_.unknown_records_skipped());
     if (!got) return false;
     m = Message{message.data, nullptr, static_cast<std::int64_t>(message.record_at), " (in the record at this offset)"};
     return true;
