@@ -60,7 +60,8 @@ class SignalCheck {
 /// output no reader opens or drains, a NAME.db3.zstd decompressed at its
 /// opening) stop on Ctrl-C with their error, which the call raises as
 /// evlife.Interrupted where signals.pending() is then true. Construct it on
-/// the thread that runs those calls, with `signals` outliving it.
+/// the thread that runs those calls (not a write-behind thread's: its waits
+/// hear nothing), with `signals` outliving it; scopes do not nest.
 class IoStopScope {
  public:
   explicit IoStopScope(SignalCheck& signals) noexcept;

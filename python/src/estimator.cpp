@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -334,6 +335,7 @@ py::dict process_to_file(const std::string& path, const std::string& output,
   FileRun run;
   SignalCheck signals;
   bool opened = false;  // the output
+  std::string stopped_write;  // the output's error where Ctrl-C stopped its wait (what it did not write)
   {
     ReleasedGil release;
     const IoStopScope io_stop(signals);  // a FIFO output no reader opens, a NAME.db3.zstd's decompression
@@ -344,14 +346,19 @@ py::dict process_to_file(const std::string& path, const std::string& output,
           [&](SensorSize s) {
             writer = io::open_augmented_writer(output, s);
             opened = true;
-            if (!one_thread) writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
+            // Not behind a FIFO: its wait for a reader that stopped draining must run on this
+            // thread, the one whose io waits hear Ctrl-C (IoStopScope).
+            std::error_code fifo_error;
+            if (!one_thread && !std::filesystem::is_fifo(output, fifo_error))
+              writer = std::make_unique<engine::WriteBehindWriter>(std::move(writer));
           },
           [&](std::span<const AugmentedEvent> block) { writer->write(block); });
     } catch (const io::ReadError& e) {  // before the output was opened: nothing written, as the CLI
       run.fault = e;
-    } catch (const io::WriteError&) {
+    } catch (const io::WriteError& e) {
       if (!signals.pending()) throw;
       run.interrupted = true;  // the output's open or write, stopped by Ctrl-C
+      if (opened) stopped_write = e.what();
     }
     try {
       if (writer) writer->close();  // everything before a fault reaches the disk
@@ -369,8 +376,10 @@ py::dict process_to_file(const std::string& path, const std::string& output,
     }
   }
   if (run.interrupted || signals.pending_now()) {  // as `evlife process` on SIGINT
-    signals.raise(opened ? "interrupted; the first " + std::to_string(run.events) + " events were written to " + output
-                         : "interrupted before " + output + " was opened; nothing written",
+    signals.raise(!opened                  ? "interrupted before " + output + " was opened; nothing written"
+                  : stopped_write.empty() ? "interrupted; the first " + std::to_string(run.events) +
+                                                " events were written to " + output
+                                          : "interrupted while writing: " + stopped_write,
                   py::none(), run.events, py::int_(run.events));
   }
   warn_sensor_ignored("evlife.process_file", path, run);
@@ -398,24 +407,29 @@ py::dict scan_file(const std::string& path, const py::object& sensor, const py::
   SignalCheck signals;
   {
     ReleasedGil release;
-    const auto probe = io::open_unchecked_event_reader(path, source);
-    if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
-    else if (user) run.sensor = *user;
-    else if (r.sensor) run.sensor = *r.sensor;
-    else run.sensor = io::sensor_size_from_data_until(path, source, [&signals] { return signals.pending(); });
-    if (!signals.pending()) {  // (a scan stopped early found a size that is not the recording's)
-      source.sensor = run.sensor;
-      auto reader = io::open_event_reader(path, source);
-      run.format = std::string(reader->format_name());
-      std::vector<Event> in(kBlockEvents);
-      while (!signals.pending()) {
-        const std::size_t n = reader->read(in);  // a fault: InputError
-        if (n == 0) break;
-        if (count == 0) first = in[0].t_us;
-        last = in[n - 1].t_us;
-        count += n;
+    const IoStopScope io_stop(signals);  // a NAME.db3.zstd's decompression
+    try {
+      const auto probe = io::open_unchecked_event_reader(path, source);
+      if (const auto stated = io::stated_sensor_size(*probe, user)) run.sensor = *stated;
+      else if (user) run.sensor = *user;
+      else if (r.sensor) run.sensor = *r.sensor;
+      else run.sensor = io::sensor_size_from_data_until(path, source, [&signals] { return signals.pending(); });
+      if (!signals.pending()) {  // (a scan stopped early found a size that is not the recording's)
+        source.sensor = run.sensor;
+        auto reader = io::open_event_reader(path, source);
+        run.format = std::string(reader->format_name());
+        std::vector<Event> in(kBlockEvents);
+        while (!signals.pending()) {
+          const std::size_t n = reader->read(in);  // a fault: InputError
+          if (n == 0) break;
+          if (count == 0) first = in[0].t_us;
+          last = in[n - 1].t_us;
+          count += n;
+        }
+        run.note_skipped(*reader);
       }
-      run.note_skipped(*reader);
+    } catch (const io::ReadError&) {
+      if (!signals.pending()) throw;  // else: its decompression stopped by Ctrl-C
     }
   }
   if (signals.pending_now()) {

@@ -507,7 +507,8 @@ OSError when the file cannot be written, TypeError for a field missing,
 evlife.InputError (nothing written) for a record evlife.read_augmented would
 refuse: polarity not +1/-1, outside `sensor`, time going backwards;
 evlife.Interrupted on Ctrl-C, the file then holding the first
-.events_written events.)");
+.events_written events (None where a FIFO's reader took nothing: the
+message says how many bytes were not written).)");
 }
 
 }  // namespace evlife::python

@@ -270,3 +270,18 @@ def test_ctrl_c_ends_a_wait_for_an_output_fifos_reader(tmp_path):
     e = interrupt_during(lambda: evlife.write(str(fifo), augmented, (8, 8)))
     assert "evlife.write: interrupted: " in str(e) and "no reader had opened this FIFO" in str(e)
     assert e.events_processed == 0
+
+
+def test_ctrl_c_ends_a_wait_for_an_output_fifo_whose_reader_takes_nothing(tmp_path):
+    # The reader opens the FIFO but never reads: the default write-behind thread waited for it
+    # for ever, deaf to Ctrl-C (only the calling thread's io waits can hear it).
+    fifo = tmp_path / "out.bin"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        # (sensor given: no scan for it, so the signal lands while the FIFO is full)
+        e = interrupt_during(lambda: evlife.process_file(data("reference/stripes.mat"), str(fifo), sensor=(128, 128)))
+    finally:
+        os.close(reader)
+    assert "interrupted while writing: %s: stopped while the reader of this FIFO took no data" % fifo in str(e)
+    assert "bytes not written" in str(e)
