@@ -304,7 +304,7 @@ class MatReader final : public EventReader {
     if (data_type_ == miSINGLE) {
       float v;
       std::memcpy(&v, raw + i * sizeof v, sizeof v);
-      return v;
+      return static_cast<double>(v);
     }
     double v;
     std::memcpy(&v, raw + i * sizeof v, sizeof v);
