@@ -395,8 +395,24 @@ good events come first, the next chunk raises evlife.InputError.)")
                                                             "events", 1);
         const io::ReaderOptions options =
             reader_options("evlife.open", size, from_s, to_s, topic, time_unit, polarity);
-        ReleasedGil release;
-        return std::make_unique<Reader>(path, with_stated_sensor(path, options), chunk_events);
+        SignalCheck signals;
+        std::unique_ptr<Reader> reader;
+        std::optional<io::ReadError> stopped;
+        {
+          ReleasedGil release;
+          const IoStopScope io_stop(signals);  // a NAME.db3.zstd's decompression
+          try {
+            reader = std::make_unique<Reader>(path, with_stated_sensor(path, options), chunk_events);
+          } catch (const io::ReadError& e) {
+            if (!signals.pending()) throw;
+            stopped = e;
+          }
+        }
+        if (stopped) {
+          SignalCheck::raise("evlife.open: interrupted while opening " + path + ": " + stopped->what(), py::none(), 0,
+                             py::none());
+        }
+        return reader;
       },
       py::arg("path"), py::arg("sensor") = py::none(), py::arg("chunk_events") = 1 << 20, py::kw_only(),
       py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("topic") = py::none(),
