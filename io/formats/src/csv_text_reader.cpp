@@ -264,7 +264,7 @@ class CsvTextReader final : public EventReader {
       const char* end = line.data() + line.size();
       ++line_number_;
       if (is_comment_or_blank(line.data(), end)) {
-        comments_among_events_ += next_index_ > 0 && !is_blank_line(line.data(), end);
+        comments_.count += next_index_ > 0 && !is_blank_line(line.data(), end);
       } else {
         if (skip_header_) {
           skip_header_ = false;
@@ -290,13 +290,8 @@ class CsvTextReader final : public EventReader {
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return line_offsets_.of(event_index, next_index_, pending_);
   }
-  // A line after the first event that reads as a comment may be an event
-  // whose first byte was damaged: counted and shown, never dropped unsaid.
-  std::uint64_t skipped_record_count() const override { return comments_among_events_; }
-  std::vector<SkippedKindCount> skipped_record_kinds() const override {
-    if (comments_among_events_ == 0) return {};
-    return {{"comment-line-among-the-events", comments_among_events_}};
-  }
+  std::uint64_t skipped_record_count() const override { return comments_.count; }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override { return comments_.kinds(); }
 
  private:
   bool time_has_point(const Detection& d) const {
@@ -380,7 +375,7 @@ class CsvTextReader final : public EventReader {
   LineReader lines_;
   std::uint64_t line_number_ = 0;
   std::uint64_t next_index_ = 0;
-  std::uint64_t comments_among_events_ = 0;  // comment lines after the first event
+  CommentsAmongEvents comments_;
   char sep_ = ',';
   Layout layout_{};
   int columns_ = 4;

@@ -10,10 +10,22 @@
 #include <string_view>
 #include <vector>
 
+#include "evlife/io/event_reader.h"  // SkippedKindCount
 #include "evlife/io/uninitialized_array.h"
 #include "input_file.h"
 
 namespace evlife::io::detail {
+
+/// Comment lines after a text file's first event (CSV, RPG text): an event
+/// whose first byte was damaged into '#' reads as one, so they are counted
+/// and shown as skipped records, never dropped unsaid.
+struct CommentsAmongEvents {
+  std::uint64_t count = 0;
+  std::vector<SkippedKindCount> kinds() const {
+    if (count == 0) return {};
+    return {{"comment-line-among-the-events", count}};
+  }
+};
 
 /// A UTF-8 byte-order mark, which Excel's "CSV UTF-8", PowerShell and
 /// Notepad write before the first line: not part of that line.

@@ -34,17 +34,12 @@ class McapReader final : public ros::TopicEventReader {
  private:
   bool next_message(Message& m) override {
     mcap::McapMessages::Message message;
-    bool got = false;
-    try {
-      got = bag_.next(message);
-    } catch (const ReadError&) {  // (the skips before the fault are shown with it)
-      set_container_skipped("mcap-record-of-an-unknown-opcode", bag_.unknown_records_skipped());
-      throw;
-    }
-    set_container_skipped("mcap-record-of-an-unknown-opcode", bag_.unknown_records_skipped());
-    if (!got) return false;
+    if (!bag_.next(message)) return false;
     m = Message{message.data, nullptr, static_cast<std::int64_t>(message.record_at), " (in the record at this offset)"};
     return true;
+  }
+  SkippedKindCount container_skipped() const override {
+    return {"mcap-record-of-an-unknown-opcode", bag_.unknown_records_skipped()};
   }
 
   mcap::McapMessages bag_;

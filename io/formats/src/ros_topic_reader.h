@@ -33,13 +33,14 @@ class TopicEventReader : public EventReader {
   std::optional<SensorSize> sensor_size() const final { return sensor_; }
   std::uint64_t skipped_record_count() const final {
     return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count() +
-           decoder_.before_address_count() + decoder_.libcaer_invalid_count() + container_skipped_ + unlisted_messages_;
+           decoder_.before_address_count() + decoder_.libcaer_invalid_count() + container_skipped().count +
+           unlisted_messages_;
   }
   std::vector<SkippedKindCount> skipped_record_kinds() const final {
     auto kinds = prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(),
                                          decoder_.before_time_base_count(), decoder_.before_address_count());
     if (const std::uint64_t n = decoder_.libcaer_invalid_count(); n > 0) kinds.push_back({"libcaer-event-marked-invalid", n});
-    if (container_skipped_ > 0) kinds.push_back({container_skipped_kind_, container_skipped_});
+    if (const SkippedKindCount c = container_skipped(); c.count > 0) kinds.push_back(c);
     if (unlisted_messages_ > 0) kinds.push_back({"message-of-a-topic-id-no-topics-row-lists", unlisted_messages_});
     return kinds;
   }
@@ -65,21 +66,15 @@ class TopicEventReader : public EventReader {
   void start(const std::vector<TopicInfo>& topics, const TopicInfo& topic, Serialization serialization);
   /// A rosbag2's messages whose topic_id no topics row lists (streams() shows them).
   void set_unlisted_messages(std::uint64_t count) noexcept { unlisted_messages_ = count; }
-  /// Records of the container skipped on purpose so far (an MCAP file's
-  /// private records, which may have held messages): counted and shown as
-  /// skipped records of `kind` (a string literal).
-  void set_container_skipped(const char* kind, std::uint64_t count) noexcept {
-    container_skipped_kind_ = kind;
-    container_skipped_ = count;
-  }
+  /// Records of the container skipped on purpose so far (an MCAP file's of
+  /// unknown opcodes, which may have held messages): shown as skipped records.
+  virtual SkippedKindCount container_skipped() const { return {}; }
 
  private:
   void load_message();
 
   std::vector<TopicInfo> topics_;
   std::uint64_t unlisted_messages_ = 0;
-  const char* container_skipped_kind_ = "";
-  std::uint64_t container_skipped_ = 0;
   std::string topic_;
   MessageDecoder decoder_{MessageKind::not_events};
   std::optional<SensorSize> sensor_;

@@ -138,12 +138,13 @@ class Rosbag1Reader final : public ros::TopicEventReader {
     std::uint64_t delivered = 0;  // its messages next_in_chunks returned
   };
 
-  /// A record of a chunk: its op, connection and data.
+  /// A record of a chunk: its op, connection, data and where it begins.
   struct ChunkRecord {
     std::uint8_t op = 0;
     std::uint32_t conn = 0;
     bool has_conn = false;
     std::span<const std::uint8_t> data;
+    std::size_t at = 0;  // byte of chunk_
   };
 
   /// ros::choose_topic, given the fault of a scan that stopped before the
@@ -367,7 +368,6 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   bool next_chunk_record(ChunkRecord& r) {
     if (chunk_pos_ >= chunk_.size()) return false;
     const std::size_t at = chunk_pos_;
-    chunk_record_at_ = at;
     const auto bad = [&] { fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk"); };
     std::uint32_t hlen = 0, dlen = 0;
     if (chunk_.size() - at < 4) bad();
@@ -386,6 +386,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
       fail(chunk_at_, "corrupt record at byte " + std::to_string(at) + " of a ROS 1 chunk: " + op_text(record_fields_) +
                           (r.has_conn ? "" : ", no conn") + " (a chunk holds message 0x02 and connection 0x07 records)");
     r.data = std::span<const std::uint8_t>(chunk_.data() + data, dlen);
+    r.at = at;
     return true;
   }
 
@@ -448,7 +449,7 @@ class Rosbag1Reader final : public ros::TopicEventReader {
           // A message no connection record names may be of the wanted topic (a corrupt conn field).
           if (c == connections_.end() || !c->second.recorded)
             fail(chunk_at_, "ROS 1 message of connection " + std::to_string(r.conn) +
-                                ", which no connection record names (at byte " + std::to_string(chunk_record_at_) +
+                                ", which no connection record names (at byte " + std::to_string(r.at) +
                                 " of the chunk at this offset)");
           if (std::find(wanted_.begin(), wanted_.end(), r.conn) != wanted_.end()) {
             ++c->second.delivered;
@@ -551,7 +552,6 @@ class Rosbag1Reader final : public ros::TopicEventReader {
   std::vector<std::uint8_t> chunk_;
   std::uint64_t chunk_at_ = 0;
   std::size_t chunk_pos_ = 0;
-  std::size_t chunk_record_at_ = 0;  // byte of chunk_ where the last record read begins
   bool in_chunk_ = false;
   bool counts_from_index_ = false;  // connections_' counts are the index's (else a scan's)
 };

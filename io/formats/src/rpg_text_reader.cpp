@@ -99,7 +99,7 @@ class RpgTextReader final : public EventReader {
         out[n++] = e;
         ++next_index_;
       }
-      comments_among_events_ += kind == LineKind::comment && next_index_ > 0;
+      comments_.count += kind == LineKind::comment && next_index_ > 0;
     }
     if (n == 0 && pending_) throw *pending_;
     return n;
@@ -112,13 +112,8 @@ class RpgTextReader final : public EventReader {
   std::int64_t byte_offset_of_event(std::int64_t event_index) const override {
     return line_offsets_.of(event_index, next_index_, pending_);
   }
-  // A line after the first event that reads as a comment may be an event
-  // whose first byte was damaged: counted and shown, never dropped unsaid.
-  std::uint64_t skipped_record_count() const override { return comments_among_events_; }
-  std::vector<SkippedKindCount> skipped_record_kinds() const override {
-    if (comments_among_events_ == 0) return {};
-    return {{"comment-line-among-the-events", comments_among_events_}};
-  }
+  std::uint64_t skipped_record_count() const override { return comments_.count; }
+  std::vector<SkippedKindCount> skipped_record_kinds() const override { return comments_.kinds(); }
 
  private:
   enum class LineKind { event, comment, skip, bad };
@@ -224,7 +219,7 @@ class RpgTextReader final : public EventReader {
   LineReader lines_;
   std::uint64_t line_number_ = 0;  // lines consumed
   std::uint64_t next_index_ = 0;
-  std::uint64_t comments_among_events_ = 0;
+  CommentsAmongEvents comments_;
   BatchLineOffsets line_offsets_;
   std::optional<SensorSize> sensor_;
   std::optional<ReadError> pending_;
