@@ -893,6 +893,28 @@ TEST(IoFormatsAedat4Synthetic, AnEventPacketWithoutEventsIsCountedAsSkipped) {
   EXPECT_EQ(kinds.back().count, 1u);
 }
 
+// An event packet whose count was shortened by a damaged byte read its
+// first events and dropped the rest unsaid (exit 0). The elements vector
+// ends every written packet, so room for events after it is a fault.
+TEST(IoFormatsAedat4Synthetic, AShortenedEventCountIsAnErrorNotALoss) {
+  const ScratchDir dir("test_io_formats");
+  const std::vector<std::vector<Event>> packets = {std::vector<Event>(8, Event{10, 1, 2, 1}),
+                                                   std::vector<Event>(8, Event{20, 3, 4, -1})};
+  std::vector<std::uint8_t> bytes = aedat4_file(0, packets);
+  const std::size_t second = packet_of_stream(bytes, 7);
+  ASSERT_EQ(bytes[second + 8 + 36], 8u);  // event_packet()'s vector length
+  for (const std::uint8_t count : {std::uint8_t{7}, std::uint8_t{1}}) {
+    bytes[second + 8 + 36] = count;
+    const ReadResult r = read_all(dir.save("short_count.aedat4", bytes));
+    ASSERT_TRUE(r.error) << "count " << int{count} << ": read " << r.events.size() << " events, no error";
+    EXPECT_EQ(r.events.size(), 8u);  // the first packet's
+    EXPECT_NE(std::string(r.error->what()).find("counts " + std::to_string(count) + " events"), std::string::npos)
+        << r.error->what();
+    EXPECT_NE(std::string(r.error->what()).find("byte offset " + std::to_string(second)), std::string::npos)
+        << r.error->what();
+  }
+}
+
 // The trigger stream's packets were skipped undecoded: `triggers 0` for a
 // recording with external triggers. Only the external input's edges and
 // pulses count (as AEDAT 3's special events), not the generator's edges,

@@ -366,6 +366,18 @@ bool Aedat4Reader::next_packet() {
     if (packet->elements() != nullptr) {
       events_ = reinterpret_cast<const std::uint8_t*>(packet->elements()->Data());
       events_size_ = packet->elements()->size();
+      // A FlatBufferBuilder creates the elements vector first, so it ends
+      // the buffer: room for a whole event after it means a damaged count
+      // (a shortened one would drop the packet's tail unsaid).
+      const auto after_events = static_cast<std::size_t>(packet_.data() + packet_bytes_ - events_) -
+                                events_size_ * kEventBytes;
+      if (after_events >= kEventBytes) {
+        fail(offset, "AEDAT 4.0 event packet counts " + std::to_string(events_size_) + " events, yet " +
+                         std::to_string(after_events) +
+                         " bytes follow them inside the packet, which its events end when written "
+                         "(a damaged count; the packet is not read)");
+        return false;
+      }
     }
     if (events_size_ > 0) return true;
     ++empty_event_packets_;  // (a damaged elements field reads as none: said, not silent)

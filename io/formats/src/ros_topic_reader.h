@@ -34,7 +34,7 @@ class TopicEventReader : public EventReader {
   std::uint64_t skipped_record_count() const final {
     return decoder_.trigger_count() + decoder_.other_count() + decoder_.before_time_base_count() +
            decoder_.before_address_count() + decoder_.libcaer_invalid_count() + container_skipped().count +
-           unlisted_messages_;
+           unlisted_messages_ + missing_messages_;
   }
   std::vector<SkippedKindCount> skipped_record_kinds() const final {
     auto kinds = prophesee_skipped_kinds(decoder_.trigger_count(), decoder_.other_count(),
@@ -42,6 +42,7 @@ class TopicEventReader : public EventReader {
     if (const std::uint64_t n = decoder_.libcaer_invalid_count(); n > 0) kinds.push_back({"libcaer-event-marked-invalid", n});
     if (const SkippedKindCount c = container_skipped(); c.count > 0) kinds.push_back(c);
     if (unlisted_messages_ > 0) kinds.push_back({"message-of-a-topic-id-no-topics-row-lists", unlisted_messages_});
+    if (missing_messages_ > 0) kinds.push_back({"message-metadata-yaml-counts-and-no-file-holds", missing_messages_});
     return kinds;
   }
   std::uint64_t trigger_count() const final { return decoder_.trigger_count(); }
@@ -66,6 +67,8 @@ class TopicEventReader : public EventReader {
   void start(const std::vector<TopicInfo>& topics, const TopicInfo& topic, Serialization serialization);
   /// A rosbag2's messages whose topic_id no topics row lists (streams() shows them).
   void set_unlisted_messages(std::uint64_t count) noexcept { unlisted_messages_ = count; }
+  /// A rosbag2's messages of the topic that metadata.yaml counts and no file holds.
+  void set_missing_messages(std::uint64_t count) noexcept { missing_messages_ = count; }
   /// Records of the container skipped on purpose so far (an MCAP file's of
   /// unknown opcodes, which may have held messages): shown as skipped records.
   virtual SkippedKindCount container_skipped() const { return {}; }
@@ -75,6 +78,7 @@ class TopicEventReader : public EventReader {
 
   std::vector<TopicInfo> topics_;
   std::uint64_t unlisted_messages_ = 0;
+  std::uint64_t missing_messages_ = 0;
   std::string topic_;
   MessageDecoder decoder_{MessageKind::not_events};
   std::optional<SensorSize> sensor_;

@@ -63,7 +63,30 @@ struct BagMetadata {
   std::string storage, compression_format, compression_mode;
   std::vector<std::string> files;  // relative_file_paths, as listed
   bool has_file_list = false;      // the key is there (maybe with no file)
+  std::map<std::string, std::uint64_t> message_counts;  // topics_with_message_count, by topic name
 };
+
+/// topics_with_message_count's entries (topic_metadata: {name}, message_count);
+/// an entry without both is passed over: the counts only check the files.
+std::map<std::string, std::uint64_t> topic_message_counts(const YAML::Node& list) {
+  // (A missing key gives an invalid node: only IsDefined() may be asked of it.)
+  const auto defined = [](const YAML::Node& n) { return n.IsDefined(); };
+  std::map<std::string, std::uint64_t> counts;
+  if (!defined(list) || !list.IsSequence()) return counts;
+  for (const YAML::Node& entry : list) {
+    if (!entry.IsMap()) continue;
+    const YAML::Node topic = entry["topic_metadata"];
+    const YAML::Node count = entry["message_count"];
+    if (!defined(topic) || !defined(count) || !topic.IsMap() || !count.IsScalar()) continue;
+    const YAML::Node name = topic["name"];
+    if (!defined(name) || !name.IsScalar()) continue;
+    const std::string& digits = count.Scalar();
+    if (digits.empty() || digits.size() > 19 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
+    counts[name.Scalar()] += std::stoull(digits);
+  }
+  return counts;
+}
 
 /// metadata.yaml's keys evlife uses, under rosbag2_bagfile_information (or
 /// at the top, where another writer left that key out). Parsed as YAML
@@ -94,6 +117,7 @@ BagMetadata read_bag_metadata(const std::string& path) {
   m.compression_format = text("compression_format");
   m.compression_mode = text("compression_mode");
   m.version = std::atoi(text("version").c_str());
+  m.message_counts = topic_message_counts(info["topics_with_message_count"]);
   const YAML::Node files = info["relative_file_paths"];
   m.has_file_list = files.IsDefined();
   if (!m.has_file_list) return m;
@@ -108,12 +132,13 @@ BagMetadata read_bag_metadata(const std::string& path) {
   return m;
 }
 
-/// The .db3 files of a bag folder, in reading order.
-std::vector<std::string> bag_folder_files(const std::string& dir) {
+/// The .db3 files of a bag folder, in reading order; `m` gets its
+/// metadata.yaml's (none: left as it is).
+std::vector<std::string> bag_folder_files(const std::string& dir, BagMetadata& m) {
   std::vector<std::string> files;
   const fs::path metadata = fs::path(dir) / "metadata.yaml";
   if (std::ifstream in(metadata); in) {
-    const BagMetadata m = read_bag_metadata(metadata.string());
+    m = read_bag_metadata(metadata.string());
     const std::string &storage = m.storage, &compression_format = m.compression_format,
                       &compression_mode = m.compression_mode;
     // Up to version 3 rosbag2 wrote the paths with the bag folder's name in
@@ -266,7 +291,9 @@ struct Rosbag2Messages::Db {
 
 Rosbag2Messages::Rosbag2Messages(const std::string& path) {
   std::error_code ec;
-  files_ = fs::is_directory(path, ec) ? bag_folder_files(path) : std::vector<std::string>{path};
+  BagMetadata metadata;
+  files_ = fs::is_directory(path, ec) ? bag_folder_files(path, metadata) : std::vector<std::string>{path};
+  metadata_counts_ = std::move(metadata.message_counts);
   std::map<std::string, std::size_t> by_name;
   for (std::size_t i = 0; i < files_.size(); ++i) {
     try {
@@ -331,6 +358,17 @@ void Rosbag2Messages::select(const std::string& name) {
   topic_ = name;
   next_index_ = 0;
   selected_ = true;
+  // metadata.yaml counts what rosbag2 was given to write: rows lost from a
+  // .db3 (a damaged or salvaged database), a file missing from its list, or
+  // messages a recorder's full cache dropped (counted before the cache by
+  // rosbag2 up to Humble) leave the files fewer. No error (a recording with
+  // drops is whole), but counted and shown; messages of no listed topic may
+  // be the same ones, and are shown as such.
+  const auto counted = metadata_counts_.find(name);
+  const auto held = std::find_if(topics_.begin(), topics_.end(), [&](const TopicInfo& t) { return t.name == name; });
+  missing_messages_ = 0;
+  if (!fault_ && counted != metadata_counts_.end() && held != topics_.end() && held->message_count < counted->second)
+    missing_messages_ = counted->second - held->message_count - std::min(counted->second - held->message_count, unlisted_messages_);
   open_file(0);
 }
 

@@ -51,6 +51,10 @@ class Rosbag2Messages {
   /// never read, counted for `evlife info`.
   std::uint64_t unlisted_message_count() const noexcept { return unlisted_messages_; }
 
+  /// Messages of the selected topic that metadata.yaml counts and no file
+  /// holds (beyond those unlisted_message_count() may be).
+  std::uint64_t missing_message_count() const noexcept { return missing_messages_; }
+
   /// Starts streaming the messages of topic `name` (from the first file).
   void select(const std::string& name);
 
@@ -83,6 +87,8 @@ class Rosbag2Messages {
   std::shared_ptr<const detail::ZstdTempCopy> copy_;  // of the file being read, if compressed
   std::optional<ReadError> fault_;  // of a later file, raised after the files before it
   std::vector<TopicInfo> topics_;
+  std::map<std::string, std::uint64_t> metadata_counts_;  // metadata.yaml's messages by topic (none: empty)
+  std::uint64_t missing_messages_ = 0;
   std::uint64_t unlisted_messages_ = 0;
   std::unique_ptr<Db> db_;
   std::size_t file_index_ = 0;

@@ -24,6 +24,7 @@ class Rosbag2Reader final : public ros::TopicEventReader {
     bag_.select(topic.name);
     start(bag_.topics(), topic, ros::Serialization::cdr);
     set_unlisted_messages(bag_.unlisted_message_count());
+    set_missing_messages(bag_.missing_message_count());
   }
 
   std::string_view format_name() const override { return "rosbag2"; }
