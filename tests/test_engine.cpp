@@ -1059,6 +1059,12 @@ TEST(EngineConfig, SectionDefaultsEqualEngineOptions) {
   fixed.idle_spin_us = 7;
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, true), 7);
   EXPECT_EQ(ee::effective_idle_spin_us(fixed, false), 7);
+  // SCHED_FIFO threads do not poll unless told to (RT throttling).
+  ee::EngineOptions realtime;
+  realtime.realtime.rt_priority = 50;
+  EXPECT_EQ(ee::effective_idle_spin_us(realtime, true), 0);
+  realtime.idle_spin_us = 100;
+  EXPECT_EQ(ee::effective_idle_spin_us(realtime, true), 100);
   EXPECT_EQ(o.replay_packet_us, ee::ReplaySource::kDefaultPacketUs);
 }
 

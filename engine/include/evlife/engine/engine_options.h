@@ -58,7 +58,8 @@ struct EngineOptions {
   /// How long an idle worker polls its queue (yielding the core between
   /// looks) before it sleeps in the kernel, microseconds, 0..100000; -1:
   /// automatic (kAutoIdleSpinUs for live sources, where latency counts; 0
-  /// for offline ones). 0: sleep at once, no CPU burnt while idle. Waking a
+  /// for offline ones, and under realtime.rt_priority, whose polling threads
+  /// trip the kernel's RT throttling). 0: sleep at once, no CPU burnt while idle. Waking a
   /// sleeping worker costs a thread wake-up (on the 2-vCPU VM of the README:
   /// ~30 us median, 60-100 us p99, bench/bench_wakeup.cpp); polling avoids it
   /// for batches that come within the window, at the price of cores kept
