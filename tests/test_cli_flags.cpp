@@ -427,6 +427,7 @@ TEST_F(CliFlags, EveryHelpNamesEveryFlagTheCommandTakesAndGivesAnExample) {
     }
     EXPECT_TRUE(has(help, "Example")) << command << " --help has no example";
   }
+  EXPECT_TRUE(has(run("devices --help"), "Example")) << "devices --help has no example";
 }
 
 // A lifetime range's MIN has one range, whether zero or negative.

@@ -312,6 +312,16 @@ TEST(IoCsv, AFilesLastLineWithoutNewlineReadsAsWithIt) {
       << cut.error->what();
   EXPECT_NE(evlife::test::open_error(dir.save("cut_only.csv", "1,2,1")).find("a line has 3 fields, not 4"),
             std::string::npos);
+  // A Metavision x,y,p,t file cut inside its last time: that line (126 after
+  // 1259) told the layout too, none fitted, and the file was refused with
+  // none of its events (a shift hunt's finding). Now the lines before it tell
+  // the layout, they are read, and the cut line is the error.
+  const ReadAll cut_time = read_all(dir.save("cut_time.csv", "19,94,1,1000\n50,275,1,1007\n424,105,0,1014\n136,278,1,126"));
+  ASSERT_TRUE(cut_time.error);
+  EXPECT_EQ(cut_time.events.size(), 3U);
+  EXPECT_EQ(cut_time.error->event_index(), 3);
+  EXPECT_NE(std::string(cut_time.error->what()).find("timestamp goes backwards"), std::string::npos)
+      << cut_time.error->what();
 }
 
 // A line longer than the reader's 1 MiB buffer stops the file there, the

@@ -21,7 +21,10 @@ void print_help(std::FILE* out) {
                "  dvs128:SERIAL   DVS128 serial SERIAL (bus B device D, firmware F)\n\n"
                "A camera that cannot be used is listed with the reason after \"--\".\n\n"
                "Exit status: 0 at least one usable camera listed, 3 none (the USB devices seen\n"
-               "and what to check are printed), 1 libusb cannot start.\n");
+               "and what to check are printed), 1 libusb cannot start.\n\n"
+               "Example:\n"
+               "  evlife devices                       # dvs128:0123 DVS128 serial 0123 (...)\n"
+               "  evlife run dvs128:0123 -o live.bin   # then record from that camera\n");
 }
 
 int run_devices(int argc, char** argv) {

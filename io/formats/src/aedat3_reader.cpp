@@ -120,16 +120,29 @@ class Aedat3Reader final : public EventReader {
     std::array<std::byte, kPacketHeader> h{};
     if (file_.read_at(at, h) != h.size()) return fault(at, "truncated AEDAT 3.1 packet header");
     std::int16_t type = 0, source = 0;
-    std::int32_t size = 0, overflow = 0, number = 0;
+    std::int32_t size = 0, ts_offset = 0, overflow = 0, capacity = 0, number = 0, valid = 0;
     std::memcpy(&type, h.data(), 2);
     std::memcpy(&source, h.data() + 2, 2);
     std::memcpy(&size, h.data() + 4, 4);
+    std::memcpy(&ts_offset, h.data() + 8, 4);
     std::memcpy(&overflow, h.data() + 12, 4);
+    std::memcpy(&capacity, h.data() + 16, 4);
     std::memcpy(&number, h.data() + 20, 4);
+    std::memcpy(&valid, h.data() + 24, 4);
     if (size <= 0 || number < 0 ||
         static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number) > kAedat3MaxPacketBytes)
       return fault(at, "corrupt AEDAT 3.1 packet header (event size " + std::to_string(size) + ", " +
                            std::to_string(number) + " events)");
+    // What every packet's header holds (libcaer): the timestamp inside the
+    // event and after its first byte (every event type's valid mark), at
+    // most `capacity` events, at most `number` of them valid. A header read
+    // from the wrong offset (bytes lost before it) rarely holds it, and was
+    // skipped as a packet of some other type, exit 0.
+    if (ts_offset < 1 || ts_offset > size - 4 || capacity < number || valid < 0 || valid > number)
+      return fault(at, "corrupt AEDAT 3.1 packet header (type " + std::to_string(type) + ", event size " +
+                           std::to_string(size) + ", timestamp offset " + std::to_string(ts_offset) + ", capacity " +
+                           std::to_string(capacity) + ", " + std::to_string(number) + " events, " +
+                           std::to_string(valid) + " valid; bytes lost or damaged before it?)");
     const std::uint64_t bytes = static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(number);
     const std::uint64_t body = at + kPacketHeader;
     const std::uint64_t available = std::min<std::uint64_t>(bytes, file_.size_bytes() - std::min(body, file_.size_bytes()));

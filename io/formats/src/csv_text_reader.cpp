@@ -117,8 +117,10 @@ struct Detection {
   std::string why;           // when !ok
 };
 
-/// `whole_file`: [p, end) ends the file, so a last line without '\n' is whole
-/// (a file's only line often lacks it); else that line may be cut and is not looked at.
+/// `whole_file`: [p, end) ends the file. A last line without '\n' may be cut
+/// (a file cut short) and is looked at only where it is the only event line
+/// (which often lacks it): a cut one decided against the layout that fits
+/// the lines before it, and the file was refused with none of its events.
 Detection detect(const char* p, const char* end, bool whole_file) {
   Detection d;
   std::vector<std::array<DecimalNumber, 4>> rows;
@@ -128,7 +130,7 @@ Detection detect(const char* p, const char* end, bool whole_file) {
   bool first = true;
   while (p < end && rows.size() < kSampleLines) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (nl == nullptr && !whole_file) break;  // whole lines only
+    if (nl == nullptr && (!whole_file || !rows.empty())) break;  // whole lines only
     if (nl == nullptr) nl = end;
     const char* line = p;
     p = nl == end ? end : nl + 1;
