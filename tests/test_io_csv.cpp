@@ -292,6 +292,9 @@ TEST(IoCsv, AFilesLastLineWithoutNewlineReadsAsWithIt) {
   for (const Case& c : {Case{"one.csv", "10,20,1,1000", "csv", 1}, Case{"header.csv", "x,y,t,p", "csv", 0},
                         Case{"one.data", "10,20,1,1000", "csv", 1}, Case{"header.data", "x,y,t,p", "csv", 0},
                         Case{"two.csv", "10,20,1,1000\n11,21,0,1500", "csv", 2},
+                        // t,x,y,p: the first line alone fits x,y,t,p too; the last tells them apart.
+                        Case{"txyp.csv", "0,292,281,0\n100,41,136,1", "csv", 2},
+                        Case{"xytp.csv", "283,102,100,1\n182,212,105,1", "csv", 2},
                         Case{"rpg.data", "0.000001 1 1 1", "rpg-text", 1}}) {
     for (const std::string& text : {c.text, c.text + "\n"}) {
       const ReadAll r = read_all(dir.save(c.name, text));

@@ -114,14 +114,13 @@ struct Detection {
   int columns = 0;
   std::int64_t unit_ns = 0;  // 0 = not stated
   bool rpg_like = false;     // t,x,y,p with t in seconds: the rpg-text reader's
+  bool no_layout_fits = false;  // the event lines were read, and no accepted layout fits them
   std::string why;           // when !ok
 };
 
-/// `whole_file`: [p, end) ends the file. A last line without '\n' may be cut
-/// (a file cut short) and is looked at only where it is the only event line
-/// (which often lacks it): a cut one decided against the layout that fits
-/// the lines before it, and the file was refused with none of its events.
-Detection detect(const char* p, const char* end, bool whole_file) {
+/// `whole_file`: [p, end) ends the file, so a last line without '\n' is whole
+/// (a file's only line often lacks it); else that line may be cut and is not looked at.
+Detection detect_lines(const char* p, const char* end, bool whole_file) {
   Detection d;
   std::vector<std::array<DecimalNumber, 4>> rows;
   std::vector<std::array<Field, 4>> row_fields;  // as written (views of the head), for the messages
@@ -130,7 +129,7 @@ Detection detect(const char* p, const char* end, bool whole_file) {
   bool first = true;
   while (p < end && rows.size() < kSampleLines) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (nl == nullptr && (!whole_file || !rows.empty())) break;  // whole lines only
+    if (nl == nullptr && !whole_file) break;  // whole lines only
     if (nl == nullptr) nl = end;
     const char* line = p;
     p = nl == end ? end : nl + 1;
@@ -221,6 +220,7 @@ Detection detect(const char* p, const char* end, bool whole_file) {
       return std::string(written.begin, written.end);
     };
     d.why = "no accepted layout fits the first lines (" + no_layout_reasons(traits, line, field, value) + ")";
+    d.no_layout_fits = true;
     return d;
   }
   if (choice.fitting > 1) {
@@ -232,6 +232,18 @@ Detection detect(const char* p, const char* end, bool whole_file) {
   d.columns = 4;
   d.rpg_like = d.layout == Layout{1, 2, 0, 3} && traits[0].fractional && d.sep == ' ';
   return d;
+}
+
+/// The layout of the head [p, end). A whole file's last line without '\n'
+/// tells it too (in a small file it may be what tells t from x, y and p),
+/// but it may be cut: where no layout fits with it (not where several do),
+/// the lines before it decide, and the reader names the cut line after
+/// their events (a cut file was refused with none of its events).
+Detection detect(const char* p, const char* end, bool whole_file) {
+  Detection d = detect_lines(p, end, whole_file);
+  if (!d.no_layout_fits || !whole_file || p == end || end[-1] == '\n') return d;
+  Detection before_last = detect_lines(p, end, false);
+  return before_last.ok ? before_last : d;
 }
 
 class CsvTextReader final : public EventReader {
