@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string_view>
 
@@ -83,7 +84,8 @@ std::map<std::string, std::uint64_t> topic_message_counts(const YAML::Node& list
     const std::string& digits = count.Scalar();
     if (digits.empty() || digits.size() > 19 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
       continue;
-    counts[name.Scalar()] += std::stoull(digits);
+    std::uint64_t& sum = counts[name.Scalar()];  // (a topic listed twice: both counts, saturating)
+    sum += std::min<std::uint64_t>(std::stoull(digits), std::numeric_limits<std::uint64_t>::max() - sum);
   }
   return counts;
 }
