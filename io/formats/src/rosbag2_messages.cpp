@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -71,21 +72,21 @@ struct BagMetadata {
 /// an entry without both is passed over: the counts only check the files.
 std::map<std::string, std::uint64_t> topic_message_counts(const YAML::Node& list) {
   // (A missing key gives an invalid node: only IsDefined() may be asked of it.)
-  const auto defined = [](const YAML::Node& n) { return n.IsDefined(); };
   std::map<std::string, std::uint64_t> counts;
-  if (!defined(list) || !list.IsSequence()) return counts;
+  if (!list.IsDefined() || !list.IsSequence()) return counts;
   for (const YAML::Node& entry : list) {
     if (!entry.IsMap()) continue;
     const YAML::Node topic = entry["topic_metadata"];
     const YAML::Node count = entry["message_count"];
-    if (!defined(topic) || !defined(count) || !topic.IsMap() || !count.IsScalar()) continue;
+    if (!topic.IsDefined() || !count.IsDefined() || !topic.IsMap() || !count.IsScalar()) continue;
     const YAML::Node name = topic["name"];
-    if (!defined(name) || !name.IsScalar()) continue;
+    if (!name.IsDefined() || !name.IsScalar()) continue;
     const std::string& digits = count.Scalar();
-    if (digits.empty() || digits.size() > 19 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
-      continue;
+    std::uint64_t value = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec != std::errc{} || end != digits.data() + digits.size()) continue;  // not a whole count
     std::uint64_t& sum = counts[name.Scalar()];  // (a topic listed twice: both counts, saturating)
-    sum += std::min<std::uint64_t>(std::stoull(digits), std::numeric_limits<std::uint64_t>::max() - sum);
+    sum += std::min(value, std::numeric_limits<std::uint64_t>::max() - sum);
   }
   return counts;
 }
@@ -369,8 +370,10 @@ void Rosbag2Messages::select(const std::string& name) {
   const auto counted = metadata_counts_.find(name);
   const auto held = std::find_if(topics_.begin(), topics_.end(), [&](const TopicInfo& t) { return t.name == name; });
   missing_messages_ = 0;
-  if (!fault_ && counted != metadata_counts_.end() && held != topics_.end() && held->message_count < counted->second)
-    missing_messages_ = counted->second - held->message_count - std::min(counted->second - held->message_count, unlisted_messages_);
+  if (!fault_ && counted != metadata_counts_.end() && held != topics_.end() && held->message_count < counted->second) {
+    const std::uint64_t shortfall = counted->second - held->message_count;
+    missing_messages_ = shortfall - std::min(shortfall, unlisted_messages_);
+  }
   open_file(0);
 }
 
